@@ -1,0 +1,27 @@
+// Area-weighted vertex normals of a triangle mesh, full and sparse (only around changed vertices).
+#pragma once
+
+#include <vector>
+
+#include "core/mesh_types.h"
+
+namespace sculpt::core {
+
+// Vertex -> incident triangles, in CSR form. Built once per topology.
+struct VertexTriangles {
+    std::vector<int> offsets;    // #V + 1
+    std::vector<int> triangles;  // offsets[v] .. offsets[v+1]-1 are the triangles around v
+};
+
+VertexTriangles buildVertexTriangles(int vertexCount, const Triangles& triangles);
+
+// normals: resized to #V x 3. Each normal is the normalised sum of the (area-weighted) face normals
+// around the vertex; a vertex with no non-degenerate incident triangle gets (0,0,1), never NaN.
+void computeVertexNormals(const Positions& positions, const Triangles& triangles, Positions& normals);
+
+// Recomputes normals only for the vertices that share a triangle with a vertex in changedVertices
+// (positions of those moved). normals must already be #V x 3. Parallel over vertices.
+void updateVertexNormals(const Positions& positions, const Triangles& triangles, const VertexTriangles& adjacency,
+                         const std::vector<int>& changedVertices, Positions& normals);
+
+}  // namespace sculpt::core
