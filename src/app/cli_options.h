@@ -1,0 +1,35 @@
+// Command-line options of the sculpt executable, parsed without side effects so tests can check them.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+
+namespace sculpt::app {
+
+struct CliOptions {
+    bool headless = false;
+    bool help = false;
+    std::string input;        // mesh; empty = the bundled default mesh
+    std::string script;       // OPS.json (headless)
+    std::string output;       // OUT.obj (headless)
+    std::string report;       // REPORT.json (optional)
+    std::string screenshot;   // PNG written after the script (optional)
+    int width = 1280, height = 800;
+    std::optional<std::array<double, 3>> camera;  // yaw, pitch (degrees), distance
+    std::vector<std::string> overlays;            // jacobian | affected | lattice | wireframe
+    std::string glBackend = "auto";               // auto | osmesa | egl
+};
+
+// argv[1..argc) -> options. Errors name the offending argument.
+Status parseCommandLine(int argc, const char* const* argv, CliOptions& out);
+
+const char* usageText();
+
+// The bundled default mesh (assets/default.obj), found next to the source tree or the executable.
+std::string defaultMeshPath(const char* argv0);
+
+}  // namespace sculpt::app

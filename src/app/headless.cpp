@@ -1,0 +1,86 @@
+#include "app/headless.h"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "app/screenshot_hook.h"
+#include "core/script.h"
+#include "core/session.h"
+#include "io/atomic_file.h"
+#include "io/obj_mesh.h"
+#include "io/script_json.h"
+
+namespace sculpt::app {
+
+int runHeadless(const CliOptions& options, const char* argv0) {
+    const std::string input = options.input.empty() ? defaultMeshPath(argv0) : options.input;
+
+    core::Script script;
+    if (Status s = io::loadScript(options.script, script); !s) {
+        std::cerr << "sculpt: " << s.message << "\n";
+        return kExitBadInput;
+    }
+    io::ObjMesh mesh;
+    std::vector<std::string> warnings;
+    const auto loadStart = std::chrono::steady_clock::now();
+    if (Status s = io::loadObj(input, mesh, &warnings); !s) {
+        std::cerr << "sculpt: " << s.message << "\n";
+        return kExitBadInput;
+    }
+    for (const std::string& w : warnings) std::cerr << "sculpt: warning: " << w << "\n";
+    const double loadMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loadStart).count();
+
+    core::Session session;
+    if (Status s = session.setMesh(mesh.positions, mesh.triangles, script.lattice); !s) {
+        std::cerr << "sculpt: " << input << ": " << s.message << "\n";
+        return kExitBadInput;
+    }
+    std::printf("loaded %s: %d vertices, %d triangles (%.0f ms); lattice %dx%dx%d, degree %d/%d/%d\n", input.c_str(),
+                static_cast<int>(mesh.positions.rows()), static_cast<int>(mesh.triangles.rows()), loadMs,
+                session.lattice().count[0], session.lattice().count[1], session.lattice().count[2],
+                session.lattice().degree[0], session.lattice().degree[1], session.lattice().degree[2]);
+
+    ScreenshotRenderer screenshots(options);
+    core::ScriptReport report;
+    const core::ScreenshotHook hook = [&](const core::Session& current, const core::ScriptOp& op) {
+        return screenshots.capture(current, op.path);
+    };
+    if (Status s = core::runScript(session, script, report, hook); !s) {
+        std::cerr << "sculpt: " << options.script << ": " << s.message << "\n";
+        std::cerr << "sculpt: nothing was written\n";
+        return kExitBadInput;
+    }
+    for (size_t i = 0; i < report.ops.size(); ++i) {
+        const core::OpReport& r = report.ops[i];
+        std::printf("  op %zu %-18s %-8s %s (%.2f ms)\n", i, r.op.c_str(), core::opStatusName(r.status), r.reason.c_str(),
+                    r.wallMs);
+    }
+
+    if (Status s = io::saveObj(options.output, mesh, session.positions()); !s) {
+        std::cerr << "sculpt: " << s.message << "\n";
+        return kExitWriteFailed;
+    }
+    std::printf("wrote %s\n", options.output.c_str());
+    if (!options.report.empty()) {
+        io::ReportContext context{input, options.script, options.output, static_cast<int>(mesh.positions.rows()),
+                                  static_cast<int>(mesh.triangles.rows()),
+                                  (mesh.positions.colwise().maxCoeff() - mesh.positions.colwise().minCoeff()).norm()};
+        if (Status s = io::writeFileAtomically(options.report, io::reportToJson(report, session, context)); !s) {
+            std::cerr << "sculpt: " << s.message << "\n";
+            return kExitWriteFailed;
+        }
+        std::printf("wrote %s\n", options.report.c_str());
+    }
+    if (!options.screenshot.empty()) {
+        if (Status s = screenshots.capture(session, options.screenshot); !s) {
+            std::cerr << "sculpt: " << s.message << "\n";
+            return kExitWriteFailed;
+        }
+        std::printf("wrote %s\n", options.screenshot.c_str());
+    }
+    return kExitOk;
+}
+
+}  // namespace sculpt::app

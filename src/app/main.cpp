@@ -1,0 +1,27 @@
+// sculpt: the DMFFD Sculpt executable. `--headless` runs a script without a display; otherwise the window.
+#include <exception>
+#include <iostream>
+
+#include "app/cli_options.h"
+#include "app/headless.h"
+
+int main(int argc, char** argv) {
+    try {
+        sculpt::app::CliOptions options;
+        if (sculpt::Status s = sculpt::app::parseCommandLine(argc, argv, options); !s) {
+            std::cerr << "sculpt: " << s.message << "\n" << sculpt::app::usageText();
+            return sculpt::app::kExitBadInput;
+        }
+        if (options.help) {
+            std::cout << sculpt::app::usageText();
+            return sculpt::app::kExitOk;
+        }
+        if (options.headless) return sculpt::app::runHeadless(options, argv[0]);
+        std::cerr << "sculpt: the interactive window is not built yet; run a script with --headless.\n"
+                  << sculpt::app::usageText();
+        return sculpt::app::kExitBadInput;
+    } catch (const std::exception& e) {
+        std::cerr << "sculpt: internal error: " << e.what() << "\n";
+        return sculpt::app::kExitInternal;
+    }
+}

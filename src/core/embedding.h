@@ -1,0 +1,46 @@
+// Embedding of mesh vertices in the lattice, and evaluation of the deformed positions.
+//
+// Each vertex inside the box gets its parameters by the box's linear map (O(1), no iteration) and its cell
+// (knot-span triple). Vertices are binned by cell once: rest positions do not change while sculpting, so
+// the hot loop walks cells and, inside a cell, vertices whose 64 (cubic) control points are the same;
+// that lets the kernel keep the cell's control displacements in registers and vectorise over vertices
+// (design.md, "Numbers to keep in mind").
+#pragma once
+
+#include <vector>
+
+#include "core/lattice.h"
+#include "core/mesh_types.h"
+
+namespace sculpt::core {
+
+struct Embedding {
+    int vertexCount = 0;
+    std::vector<int> order;      // ids of the vertices inside the box, grouped by cell (original order within a cell)
+    std::vector<int> cellStart;  // cellCount + 1 offsets into order
+    // Per entry of `order` (structure of arrays, so the kernel reads them with unit stride):
+    std::vector<double> localX, localY, localZ;  // local coordinates in [0,1] inside the cell
+    std::vector<double> restX, restY, restZ;     // rest positions
+    int insideCount() const { return static_cast<int>(order.size()); }
+};
+
+// rest: #V x 3. Vertices outside the lattice box are left out (they never move).
+Embedding embedVertices(const Lattice& lattice, const Positions& rest);
+
+// Cells (linear index su + Su*(sv + Sv*sw)) whose evaluation depends on any of the given control points:
+// the cells within `degree` spans of the point along each axis. Sorted, unique.
+std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int>& controlPoints);
+
+// positions[v] = rest[v] + sum R_ijk(t_v) delta_ijk for every embedded vertex (in parallel).
+// positions must be #V x 3; rows of vertices outside the box are not written.
+void evaluateAll(const Lattice& lattice, const Embedding& embedding, Positions& positions);
+
+// The same, for the vertices of the given cells only (the sparse update after a local change).
+// If movedVertices is not null, the ids of the vertices written are appended to it.
+void evaluateCells(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& cells,
+                   Positions& positions, std::vector<int>* movedVertices = nullptr);
+
+// Name of the kernel variant chosen for this CPU ("avx2-fma" or "generic"), for reports and benchmarks.
+const char* evaluationKernelName();
+
+}  // namespace sculpt::core

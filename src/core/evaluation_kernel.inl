@@ -1,0 +1,136 @@
+// Body of the evaluation kernel, included by evaluation_kernel_generic.cpp and evaluation_kernel_avx2.cpp
+// (the latter compiled with -mavx2 -mfma). Define SCULPT_KERNEL_NAME before including.
+//
+// Per cell: gather the (p+1)^3 control displacements once (homogeneous W*delta and W when rational,
+// Hu et al. 2001 eq. 2), then for each vertex evaluate the three univariate bases from their per-span
+// polynomials (Horner, no divisions) and contract the tensor product axis by axis:
+//   (p+1)^3 * 3 + (p+1)^2 * 3 + (p+1) * 3 multiply-adds, vectorised across the vertices of the cell.
+#include <algorithm>
+
+#include "core/evaluation_kernel.h"
+
+namespace sculpt::core::detail {
+
+namespace {
+
+template <int P, bool Rational>
+void evaluateCellFixed(const Lattice& lattice, const Embedding& e, int cell, double* out) {
+    constexpr int N = P + 1;
+    const std::array<int, 3> spans = lattice.spans();
+    const int su = cell % spans[0];
+    const int sv = (cell / spans[0]) % spans[1];
+    const int sw = cell / (spans[0] * spans[1]);
+    constexpr int H = Rational ? 4 : 3;
+    alignas(64) double block[N][N][N][H];  // [k][j][i][component]
+    for (int k = 0; k < N; ++k)
+        for (int j = 0; j < N; ++j)
+            for (int i = 0; i < N; ++i) {
+                const int idx = lattice.index(su + i, sv + j, sw + k);
+                const double w = Rational ? lattice.weights[idx] : 1.0;
+                for (int c = 0; c < 3; ++c) block[k][j][i][c] = w * lattice.displacement(idx, c);
+                if constexpr (Rational) block[k][j][i][3] = w;
+            }
+    double cu[N][N], cv[N][N], cw[N][N];
+    std::copy_n(lattice.axes[0].coefficients.data() + static_cast<size_t>(su) * N * N, N * N, &cu[0][0]);
+    std::copy_n(lattice.axes[1].coefficients.data() + static_cast<size_t>(sv) * N * N, N * N, &cv[0][0]);
+    std::copy_n(lattice.axes[2].coefficients.data() + static_cast<size_t>(sw) * N * N, N * N, &cw[0][0]);
+
+    const int begin = e.cellStart[cell], end = e.cellStart[cell + 1];
+    const double* lx = e.localX.data();
+    const double* ly = e.localY.data();
+    const double* lz = e.localZ.data();
+    const double* rx = e.restX.data();
+    const double* ry = e.restY.data();
+    const double* rz = e.restZ.data();
+    const int* order = e.order.data();
+#pragma omp simd
+    for (int v = begin; v < end; ++v) {
+        double bu[N], bv[N], bw[N];
+        for (int i = 0; i < N; ++i) {
+            double a = cu[i][P], b = cv[i][P], c = cw[i][P];
+            for (int d = P - 1; d >= 0; --d) {
+                a = a * lx[v] + cu[i][d];
+                b = b * ly[v] + cv[i][d];
+                c = c * lz[v] + cw[i][d];
+            }
+            bu[i] = a;
+            bv[i] = b;
+            bw[i] = c;
+        }
+        double sum[H] = {};
+        for (int k = 0; k < N; ++k) {
+            double sk[H] = {};
+            for (int j = 0; j < N; ++j) {
+                double sj[H] = {};
+                for (int i = 0; i < N; ++i)
+                    for (int c = 0; c < H; ++c) sj[c] += bu[i] * block[k][j][i][c];
+                for (int c = 0; c < H; ++c) sk[c] += bv[j] * sj[c];
+            }
+            for (int c = 0; c < H; ++c) sum[c] += bw[k] * sk[c];
+        }
+        double scale = 1.0;
+        if constexpr (Rational) scale = 1.0 / sum[3];
+        double* o = out + 3 * static_cast<size_t>(order[v]);
+        o[0] = rx[v] + sum[0] * scale;
+        o[1] = ry[v] + sum[1] * scale;
+        o[2] = rz[v] + sum[2] * scale;
+    }
+}
+
+// Any mix of degrees: the same contraction with run-time loop bounds (slower, rarely used).
+void evaluateCellMixed(const Lattice& lattice, const Embedding& e, int cell, double* out) {
+    const std::array<int, 3> spans = lattice.spans();
+    const int su = cell % spans[0];
+    const int sv = (cell / spans[0]) % spans[1];
+    const int sw = cell / (spans[0] * spans[1]);
+    const int nu = lattice.degree[0] + 1, nv = lattice.degree[1] + 1, nw = lattice.degree[2] + 1;
+    for (int v = e.cellStart[cell]; v < e.cellStart[cell + 1]; ++v) {
+        double bu[kMaxDegree + 1], bv[kMaxDegree + 1], bw[kMaxDegree + 1];
+        lattice.axes[0].evaluate(su, e.localX[v], bu);
+        lattice.axes[1].evaluate(sv, e.localY[v], bv);
+        lattice.axes[2].evaluate(sw, e.localZ[v], bw);
+        double sum[4] = {};
+        for (int k = 0; k < nw; ++k)
+            for (int j = 0; j < nv; ++j)
+                for (int i = 0; i < nu; ++i) {
+                    const int idx = lattice.index(su + i, sv + j, sw + k);
+                    const double w = lattice.weights[idx] * bu[i] * bv[j] * bw[k];
+                    for (int c = 0; c < 3; ++c) sum[c] += w * lattice.displacement(idx, c);
+                    sum[3] += w;
+                }
+        const double scale = lattice.rational ? 1.0 / sum[3] : 1.0;
+        double* o = out + 3 * static_cast<size_t>(e.order[v]);
+        o[0] = e.restX[v] + sum[0] * scale;
+        o[1] = e.restY[v] + sum[1] * scale;
+        o[2] = e.restZ[v] + sum[2] * scale;
+    }
+}
+
+template <bool Rational>
+void evaluateCellDispatch(const Lattice& lattice, const Embedding& e, int cell, double* out) {
+    const int p = lattice.degree[0];
+    if (lattice.degree[1] != p || lattice.degree[2] != p) return evaluateCellMixed(lattice, e, cell, out);
+    switch (p) {
+        case 1: return evaluateCellFixed<1, Rational>(lattice, e, cell, out);
+        case 2: return evaluateCellFixed<2, Rational>(lattice, e, cell, out);
+        case 3: return evaluateCellFixed<3, Rational>(lattice, e, cell, out);
+        case 4: return evaluateCellFixed<4, Rational>(lattice, e, cell, out);
+        default: return evaluateCellFixed<5, Rational>(lattice, e, cell, out);
+    }
+}
+
+}  // namespace
+
+void SCULPT_KERNEL_NAME(const Lattice& lattice, const Embedding& embedding, const int* cells, int cellCount,
+                        double* positions) {
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int c = 0; c < cellCount; ++c) {
+        if (embedding.cellStart[cells[c]] == embedding.cellStart[cells[c] + 1]) continue;
+        if (lattice.rational)
+            evaluateCellDispatch<true>(lattice, embedding, cells[c], positions);
+        else
+            evaluateCellDispatch<false>(lattice, embedding, cells[c], positions);
+    }
+}
+
+}  // namespace sculpt::core::detail

@@ -1,0 +1,234 @@
+// NURBS volume lattice (Hu et al. 2001, eq. 1-2) over an axis-aligned box.
+#include "core/lattice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <Eigen/LU>
+
+namespace sculpt::core {
+
+namespace {
+
+bool finite3(const Eigen::Vector3d& v) { return v.allFinite(); }
+
+std::string axisName(int a) { return std::string(1, "uvw"[a]); }
+
+// Non-zero basis values and derivatives along the three axes at t.
+struct AxisBases {
+    std::array<int, 3> span{};
+    double value[3][kMaxDegree + 1] = {};
+    double derivative[3][kMaxDegree + 1] = {};
+};
+
+AxisBases axisBases(const Lattice& lattice, const Eigen::Vector3d& params, bool withDerivatives) {
+    AxisBases b;
+    for (int a = 0; a < 3; ++a) {
+        double local = 0.0;
+        b.span[a] = lattice.axes[a].locate(params[a], local);
+        lattice.axes[a].evaluate(b.span[a], local, b.value[a]);
+        if (withDerivatives) lattice.axes[a].evaluateDerivative(b.span[a], local, b.derivative[a]);
+    }
+    return b;
+}
+
+}  // namespace
+
+std::array<int, 3> Lattice::ijk(int idx) const {
+    return {idx % count[0], (idx / count[0]) % count[1], idx / (count[0] * count[1])};
+}
+
+Eigen::Vector3d Lattice::restControlPoint(int idx) const {
+    const std::array<int, 3> c = ijk(idx);
+    Eigen::Vector3d p;
+    for (int a = 0; a < 3; ++a) p[a] = boxMin[a] + axes[a].greville[c[a]] * (boxMax[a] - boxMin[a]);
+    return p;
+}
+
+Status validateLatticeSettings(const LatticeSettings& s) {
+    for (int a = 0; a < 3; ++a) {
+        if (s.degree[a] < kMinDegree || s.degree[a] > kMaxDegree)
+            return Status::error("lattice degree along " + axisName(a) + " is " + std::to_string(s.degree[a]) +
+                                 "; it must be in [1, 5]");
+        if (s.resolution[a] < s.degree[a] + 1 || s.resolution[a] > kMaxControlPointsPerAxis)
+            return Status::error("lattice resolution along " + axisName(a) + " is " + std::to_string(s.resolution[a]) +
+                                 "; it must be in [degree+1 = " + std::to_string(s.degree[a] + 1) + ", 64]");
+        if (2 * s.pinLayers >= s.resolution[a] && s.pinLayers > 0)
+            return Status::error("pin_layers " + std::to_string(s.pinLayers) + " would pin every control point along " +
+                                 axisName(a) + " (resolution " + std::to_string(s.resolution[a]) + ")");
+    }
+    if (!std::isfinite(s.padding) || s.padding < 0.0 || s.padding > 10.0)
+        return Status::error("lattice padding must be a finite number in [0, 10]");
+    if (s.pinLayers < 0 || s.pinLayers > 3) return Status::error("pin_layers must be in [0, 3]");
+    if (s.hasRegion) {
+        if (!finite3(s.regionMin) || !finite3(s.regionMax)) return Status::error("lattice region has a non-finite corner");
+        for (int a = 0; a < 3; ++a)
+            if (s.regionMin[a] > s.regionMax[a])
+                return Status::error("lattice region min exceeds max along " + std::string(1, "xyz"[a]));
+    }
+    return Status::success();
+}
+
+Status makeLattice(const LatticeSettings& settings, const Positions& points, Lattice& out) {
+    if (Status s = validateLatticeSettings(settings); !s) return s;
+    Eigen::Vector3d lo, hi;
+    if (settings.hasRegion) {
+        lo = settings.regionMin;
+        hi = settings.regionMax;
+    } else {
+        if (points.rows() == 0) return Status::error("cannot place a lattice around an empty mesh");
+        if (!points.allFinite()) return Status::error("mesh has non-finite vertex coordinates");
+        lo = points.colwise().minCoeff().transpose();
+        hi = points.colwise().maxCoeff().transpose();
+    }
+    const double diagonal = (hi - lo).norm();
+    // note: a planar mesh has a zero extent and a single point has no extent at all; give each side a
+    // minimum size so the parameter map stays finite and the lattice stays usable.
+    const double minimumSide = diagonal > 0.0 ? 1e-3 * diagonal : 1.0;
+    const double reference = diagonal > 0.0 ? diagonal : 1.0;
+    for (int a = 0; a < 3; ++a) {
+        const double centre = 0.5 * (lo[a] + hi[a]);
+        const double half = 0.5 * std::max(hi[a] - lo[a], minimumSide) + settings.padding * reference;
+        lo[a] = centre - half;
+        hi[a] = centre + half;
+    }
+
+    Lattice lattice;
+    lattice.count = settings.resolution;
+    lattice.degree = settings.degree;
+    for (int a = 0; a < 3; ++a) lattice.axes[a] = makeSplineAxis(settings.resolution[a], settings.degree[a]);
+    lattice.boxMin = lo;
+    lattice.boxMax = hi;
+    const int n = lattice.controlPointCount();
+    lattice.weights.assign(n, 1.0);
+    lattice.displacement = Positions::Zero(n, 3);
+    lattice.pinned.assign(n, 0);
+    const int k = settings.pinLayers;
+    for (int idx = 0; idx < n; ++idx) {
+        const std::array<int, 3> c = lattice.ijk(idx);
+        for (int a = 0; a < 3; ++a)
+            if (c[a] < k || c[a] >= lattice.count[a] - k) lattice.pinned[idx] = 1;
+    }
+    out = std::move(lattice);
+    return Status::success();
+}
+
+bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen::Vector3d& params) {
+    Eigen::Vector3d t;
+    for (int a = 0; a < 3; ++a) {
+        if (!(point[a] >= lattice.boxMin[a] && point[a] <= lattice.boxMax[a])) return false;  // also rejects NaN
+        // note: the faces map to exactly 0 and 1 (x - min is exact at x == min; at x == max the quotient of
+        // two equal doubles is 1), and the clamp only guards the last ulp.
+        t[a] = std::clamp((point[a] - lattice.boxMin[a]) / (lattice.boxMax[a] - lattice.boxMin[a]), 0.0, 1.0);
+    }
+    params = t;
+    return true;
+}
+
+void supportWeights(const Lattice& lattice, const Eigen::Vector3d& params, SupportWeights& out) {
+    const AxisBases b = axisBases(lattice, params, false);
+    const int nu = lattice.degree[0] + 1, nv = lattice.degree[1] + 1, nw = lattice.degree[2] + 1;
+    out.count = 0;
+    double sum = 0.0;
+    for (int k = 0; k < nw; ++k)
+        for (int j = 0; j < nv; ++j)
+            for (int i = 0; i < nu; ++i) {
+                const int idx = lattice.index(b.span[0] + i, b.span[1] + j, b.span[2] + k);
+                const double w = lattice.weights[idx] * b.value[0][i] * b.value[1][j] * b.value[2][k];
+                out.index[out.count] = idx;
+                out.weight[out.count] = w;
+                sum += w;
+                ++out.count;
+            }
+    // Eq. 2's denominator; for unit weights it is 1 up to rounding and the division is skipped so the
+    // polynomial case stays exactly the tensor-product B-spline.
+    if (lattice.rational)
+        for (int c = 0; c < out.count; ++c) out.weight[c] /= sum;
+}
+
+Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& params) {
+    SupportWeights support;
+    supportWeights(lattice, params, support);
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    for (int c = 0; c < support.count; ++c) d += support.weight[c] * lattice.displacement.row(support.index[c]).transpose();
+    return d;
+}
+
+Eigen::Vector3d volumePoint(const Lattice& lattice, const Eigen::Vector3d& params) {
+    SupportWeights support;
+    supportWeights(lattice, params, support);
+    Eigen::Vector3d q = Eigen::Vector3d::Zero();
+    for (int c = 0; c < support.count; ++c) q += support.weight[c] * lattice.controlPoint(support.index[c]);
+    return q;
+}
+
+void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, Eigen::Vector3d& displacement,
+                         Eigen::Matrix3d& jacobian) {
+    const AxisBases b = axisBases(lattice, params, true);
+    const int nu = lattice.degree[0] + 1, nv = lattice.degree[1] + 1, nw = lattice.degree[2] + 1;
+    // Homogeneous sums: numerator N = sum W B B B delta, denominator D = sum W B B B, and their t-gradients.
+    Eigen::Vector3d numerator = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d numeratorGrad = Eigen::Matrix3d::Zero();  // column a = dN/dt_a
+    double denominator = 0.0;
+    Eigen::Vector3d denominatorGrad = Eigen::Vector3d::Zero();
+    for (int k = 0; k < nw; ++k)
+        for (int j = 0; j < nv; ++j)
+            for (int i = 0; i < nu; ++i) {
+                const int idx = lattice.index(b.span[0] + i, b.span[1] + j, b.span[2] + k);
+                const double w = lattice.weights[idx];
+                const double basis = b.value[0][i] * b.value[1][j] * b.value[2][k];
+                const Eigen::Vector3d grad(b.derivative[0][i] * b.value[1][j] * b.value[2][k],
+                                           b.value[0][i] * b.derivative[1][j] * b.value[2][k],
+                                           b.value[0][i] * b.value[1][j] * b.derivative[2][k]);
+                const Eigen::Vector3d delta = lattice.displacement.row(idx).transpose();
+                numerator += w * basis * delta;
+                numeratorGrad += w * delta * grad.transpose();
+                denominator += w * basis;
+                denominatorGrad += w * grad;
+            }
+    Eigen::Matrix3d dDisplacementDt;
+    if (lattice.rational) {
+        displacement = numerator / denominator;
+        dDisplacementDt = (numeratorGrad - displacement * denominatorGrad.transpose()) / denominator;
+    } else {
+        displacement = numerator;
+        dDisplacementDt = numeratorGrad;
+    }
+    const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
+    jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal();
+}
+
+Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deformedPoint, Eigen::Vector3d& params,
+                           double tolerance) {
+    if (!finite3(deformedPoint)) return Status::error("point has non-finite coordinates");
+    const double diagonal = lattice.diagonal();
+    const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
+    Eigen::Vector3d rest = deformedPoint.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+    for (int iteration = 0; iteration < 60; ++iteration) {
+        const Eigen::Vector3d t = ((rest - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
+        Eigen::Vector3d displacement;
+        Eigen::Matrix3d jacobian;
+        deformationJacobian(lattice, t, displacement, jacobian);
+        const Eigen::Vector3d residual = rest + displacement - deformedPoint;
+        if (residual.norm() <= tolerance * diagonal) {
+            params = t;
+            return Status::success();
+        }
+        const Eigen::Vector3d step = jacobian.fullPivLu().solve(residual);
+        if (!step.allFinite()) break;
+        // Damped step: never move more than a quarter of the box per iteration, stay inside the box.
+        const double limit = 0.25 * diagonal;
+        const double scale = step.norm() > limit ? limit / step.norm() : 1.0;
+        rest = (rest - scale * step).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+    }
+    return Status::error("point (" + std::to_string(deformedPoint.x()) + ", " + std::to_string(deformedPoint.y()) + ", " +
+                         std::to_string(deformedPoint.z()) + ") is not inside the deformed lattice");
+}
+
+bool isUndeformed(const Lattice& lattice) {
+    return (lattice.displacement.array() == 0.0).all();
+}
+
+}  // namespace sculpt::core

@@ -1,0 +1,99 @@
+// The control lattice: a tensor-product NURBS volume around (part of) the mesh.
+// Hu et al. 2001, eq. 1-2: Q(u,v,w) = sum_ijk P_ijk R_ijk(u,v,w),
+// R_ijk = W_ijk B_i(u) B_j(v) B_k(w) / sum W B B B.
+// The lattice stores its control points as rest position P0 (Greville grid in the box, implicit) plus an
+// accumulated displacement; the deformed image of a point with parameters t is
+//   x(t) = X0 + sum R_ijk(t) delta_ijk,
+// i.e. the displacement field is evaluated and added to the rest position (design.md step 6), which keeps
+// untouched vertices bitwise unchanged.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/bspline_basis.h"
+#include "core/mesh_types.h"
+#include "core/status.h"
+
+namespace sculpt::core {
+
+struct LatticeSettings {
+    std::array<int, 3> resolution{8, 8, 8};  // control points per axis, in [degree+1, 64]
+    std::array<int, 3> degree{3, 3, 3};      // per axis, in [1, 5]
+    double padding = 0.05;                   // added on every side, as a fraction of the box diagonal; >= 0
+    bool hasRegion = false;                  // false: the box is the mesh bounds
+    Eigen::Vector3d regionMin = Eigen::Vector3d::Zero();  // with hasRegion: the user-given box (then padded)
+    Eigen::Vector3d regionMax = Eigen::Vector3d::Zero();
+    int pinLayers = 0;                       // pin the k outer layers of control points, k in [0, 3]
+};
+
+// Checks ranges and finiteness; the message names the offending field.
+Status validateLatticeSettings(const LatticeSettings& settings);
+
+// Up to (kMaxDegree+1)^3 control points with their basis weights R_ijk at one parameter point.
+struct SupportWeights {
+    int count = 0;
+    std::array<int, 216> index{};
+    std::array<double, 216> weight{};
+};
+
+struct Lattice {
+    std::array<int, 3> count{};   // control points per axis
+    std::array<int, 3> degree{};
+    std::array<SplineAxis, 3> axes;
+    Eigen::Vector3d boxMin = Eigen::Vector3d::Zero();
+    Eigen::Vector3d boxMax = Eigen::Vector3d::Ones();
+    std::vector<double> weights;        // #P NURBS weights W_ijk (all 1 unless the user changes them)
+    bool rational = false;              // some weight differs from 1
+    Positions displacement;             // #P x 3, delta_ijk accumulated since set-up
+    std::vector<std::uint8_t> pinned;   // #P, 1 = the solver never moves this control point
+
+    int controlPointCount() const { return count[0] * count[1] * count[2]; }
+    int index(int i, int j, int k) const { return i + count[0] * (j + count[1] * k); }
+    std::array<int, 3> ijk(int index) const;
+    std::array<int, 3> spans() const { return {axes[0].spans, axes[1].spans, axes[2].spans}; }
+    int cellCount() const { return axes[0].spans * axes[1].spans * axes[2].spans; }
+    double diagonal() const { return (boxMax - boxMin).norm(); }
+    // P0_ijk: the rest position, boxMin + greville * size per axis.
+    Eigen::Vector3d restControlPoint(int index) const;
+    // P0 + delta.
+    Eigen::Vector3d controlPoint(int index) const { return restControlPoint(index) + displacement.row(index).transpose(); }
+};
+
+// Builds the lattice around `points` (or settings' region), padded; flat or degenerate bounds (a plane, a
+// line, a single point) get a usable box (each side at least 1e-3 of the diagonal, or 1 if all points
+// coincide). Fails on invalid settings, an empty point set, or non-finite points. Pins the outer layers.
+Status makeLattice(const LatticeSettings& settings, const Positions& points, Lattice& out);
+
+// Parameters t in [0,1]^3 of a rest-space point, by the linear map of the box (O(1), no iteration).
+// Returns false (t untouched) for points outside the closed box; points on a face get exactly 0 or 1.
+bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen::Vector3d& params);
+
+// R_ijk(t) for the (p+1)(q+1)(r+1) control points whose basis is non-zero at t (Hu et al. 2001, eq. 2).
+void supportWeights(const Lattice& lattice, const Eigen::Vector3d& params, SupportWeights& out);
+
+// sum_ijk R_ijk(t) delta_ijk.
+Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& params);
+
+// The NURBS volume itself, Q(t) = sum R_ijk(t) (P0_ijk + delta_ijk) (eq. 1). Equals the rest point for an
+// undeformed lattice with unit weights.
+Eigen::Vector3d volumePoint(const Lattice& lattice, const Eigen::Vector3d& params);
+
+// The deformation of rest space, x(X0) = X0 + displacementAt(t(X0)), and its Jacobian dx/dX0 at the point
+// with parameters t. Rational weights are differentiated with the quotient rule.
+void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, Eigen::Vector3d& displacement,
+                         Eigen::Matrix3d& jacobian);
+
+// Finds the rest-space parameters whose deformed image is `deformedPoint` by damped Newton iteration
+// started at the point's own box parameters. Fails if the point is outside the deformed lattice, or the
+// iteration does not converge to tolerance * diagonal.
+Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deformedPoint, Eigen::Vector3d& params,
+                           double tolerance = 1e-12);
+
+// True if every control point displacement is exactly zero.
+bool isUndeformed(const Lattice& lattice);
+
+}  // namespace sculpt::core

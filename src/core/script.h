@@ -1,0 +1,48 @@
+// The headless operation list: what a script (or a recorded session) asks the engine to do, and the
+// report of what each operation did. Parsing and printing live in io/script_json.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/lattice.h"
+#include "core/session.h"
+#include "core/status.h"
+
+namespace sculpt::core {
+
+struct ScriptOp {
+    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot };
+    Kind kind = Kind::Undo;
+    std::vector<PointConstraint> constraints;      // Drag
+    int vertex = -1;                               // DragVertex
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();
+    std::vector<std::array<int, 3>> controlPoints; // MoveControlPoint: (i,j,k) per point
+    Eigen::MatrixX3d values;                       //   "to" positions or "by" offsets, one row per point
+    bool relative = false;                         //   true for "by"
+    std::string path;                              // Screenshot: where to write (handled by the caller's hook)
+};
+
+const char* scriptOpName(ScriptOp::Kind kind);
+
+struct Script {
+    LatticeSettings lattice;
+    std::vector<ScriptOp> ops;
+};
+
+struct ScriptReport {
+    std::vector<OpReport> ops;
+};
+
+// Called for screenshot ops with the session as it is at that point of the script.
+using ScreenshotHook = std::function<Status(const Session& session, const ScriptOp& op)>;
+
+// Runs the ops in order on a session whose mesh and lattice are already set up. Stops at the first op with
+// bad input and returns its error prefixed with "op N (kind): "; the report then holds the ops before it.
+Status runScript(Session& session, const Script& script, ScriptReport& report, const ScreenshotHook& screenshot = {});
+
+}  // namespace sculpt::core

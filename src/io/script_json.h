@@ -1,0 +1,32 @@
+// OPS.json scripts and REPORT.json reports (README "Script format").
+#pragma once
+
+#include <string>
+
+#include "core/script.h"
+#include "core/status.h"
+
+namespace sculpt::io {
+
+// Parses a script. Unknown fields, wrong types, non-finite numbers and out-of-range settings are errors
+// whose message names the file, the field path (e.g. "ops[2].constraints[0].target") and what was expected.
+// `out` is untouched on failure.
+Status parseScript(const std::string& text, const std::string& displayName, core::Script& out);
+Status loadScript(const std::string& path, core::Script& out);
+
+// The report as JSON text: the input and output files, the lattice, and per op its status, reason,
+// residuals, control points changed, vertices moved and wall time.
+struct ReportContext {
+    std::string input;
+    std::string script;
+    std::string output;
+    int vertexCount = 0;
+    int triangleCount = 0;
+    double diagonal = 0.0;
+};
+std::string reportToJson(const core::ScriptReport& report, const core::Session& session, const ReportContext& context);
+
+// Reads a whole file; the error names the path and the reason.
+Status readTextFile(const std::string& path, std::string& out);
+
+}  // namespace sculpt::io

@@ -1,0 +1,90 @@
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include "core/embedding.h"
+#include "test_support.h"
+
+using namespace sculpt;
+using namespace sculpt::core;
+
+namespace {
+
+// Independent scalar evaluation through the public single-point path.
+Positions referencePositions(const Lattice& lattice, const Positions& rest) {
+    Positions out = rest;
+    for (Eigen::Index v = 0; v < rest.rows(); ++v) {
+        Eigen::Vector3d t;
+        if (restParameters(lattice, rest.row(v).transpose(), t)) out.row(v) += displacementAt(lattice, t).transpose();
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("embedding: kernel evaluation equals the scalar NURBS evaluation", "[core]") {
+    std::mt19937 rng(31);
+    for (int trial = 0; trial < 40; ++trial) {
+        Positions points;
+        Lattice lattice = test::randomLattice(rng, /*mixedDegrees=*/trial % 3 == 0, &points);
+        test::randomDisplacement(rng, lattice, 0.05);
+        if (trial % 4 == 1) {
+            for (double& w : lattice.weights) w = std::uniform_real_distribution<double>(0.5, 2.0)(rng);
+            lattice.rational = true;
+        }
+        // Points inside, on faces and outside the box.
+        const int n = test::randomInt(rng, 1, 3000);
+        const Eigen::Vector3d margin = 0.1 * (lattice.boxMax - lattice.boxMin);
+        Positions rest = test::randomPoints(rng, n, lattice.boxMin - margin, lattice.boxMax + margin);
+        rest.row(0) = lattice.boxMax.transpose();
+        const Embedding embedding = embedVertices(lattice, rest);
+        Positions positions = rest;
+        evaluateAll(lattice, embedding, positions);
+        const Positions reference = referencePositions(lattice, rest);
+        REQUIRE((positions - reference).cwiseAbs().maxCoeff() <= 1e-13 * lattice.diagonal());
+        for (Eigen::Index v = 0; v < n; ++v) {
+            Eigen::Vector3d t;
+            if (!restParameters(lattice, rest.row(v).transpose(), t)) REQUIRE(positions.row(v) == rest.row(v));
+        }
+    }
+}
+
+TEST_CASE("embedding: sparse update equals full evaluation, untouched vertices stay bitwise", "[core]") {
+    std::mt19937 rng(32);
+    for (int trial = 0; trial < 30; ++trial) {
+        Lattice lattice = test::randomLattice(rng, trial % 2 == 0);
+        const Positions rest = test::randomPoints(rng, 5000, lattice.boxMin, lattice.boxMax);
+        const Embedding embedding = embedVertices(lattice, rest);
+        Positions positions = rest;
+        // Change a few random control points, update sparsely.
+        std::vector<int> changed;
+        for (int c = 0; c < test::randomInt(rng, 1, 4); ++c) {
+            const int idx = test::randomInt(rng, 0, lattice.controlPointCount() - 1);
+            lattice.displacement.row(idx) += 0.05 * lattice.diagonal() * test::randomVector(rng, -1, 1).transpose();
+            changed.push_back(idx);
+        }
+        std::vector<int> moved;
+        evaluateCells(lattice, embedding, cellsInfluencedBy(lattice, changed), positions, &moved);
+        Positions full = rest;
+        evaluateAll(lattice, embedding, full);
+        REQUIRE(positions == full);  // same kernel, same arithmetic: identical
+        std::vector<char> isMoved(rest.rows(), 0);
+        for (int v : moved) isMoved[v] = 1;
+        for (Eigen::Index v = 0; v < rest.rows(); ++v)
+            if (!isMoved[v]) REQUIRE(positions.row(v) == rest.row(v));
+    }
+}
+
+TEST_CASE("embedding: every embedded vertex appears once, grouped by cell", "[core]") {
+    std::mt19937 rng(33);
+    for (int trial = 0; trial < 10; ++trial) {
+        const Lattice lattice = test::randomLattice(rng);
+        const Positions rest = test::randomPoints(rng, 2000, lattice.boxMin, lattice.boxMax);
+        const Embedding embedding = embedVertices(lattice, rest);
+        REQUIRE(embedding.insideCount() == 2000);
+        std::vector<int> sorted = embedding.order;
+        std::sort(sorted.begin(), sorted.end());
+        for (int v = 0; v < 2000; ++v) REQUIRE(sorted[v] == v);
+        REQUIRE(embedding.cellStart.back() == 2000);
+    }
+}

@@ -1,0 +1,154 @@
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include "core/session.h"
+#include "test_support.h"
+
+using namespace sculpt;
+using namespace sculpt::core;
+
+namespace {
+
+Session randomSession(std::mt19937& rng, int n, LatticeSettings settings = {}) {
+    Session session;
+    const Positions points = test::randomPoints(rng, n, Eigen::Vector3d(-1, -2, 0), Eigen::Vector3d(2, 1, 0.5));
+    Triangles triangles(n / 3, 3);
+    for (int t = 0; t < n / 3; ++t) triangles.row(t) << 3 * t, 3 * t + 1, 3 * t + 2;
+    REQUIRE(session.setMesh(points, triangles, settings).ok);
+    return session;
+}
+
+bool sameState(const Session& a, const Positions& positions, const Positions& displacement, int cursor) {
+    return a.positions() == positions && a.lattice().displacement == displacement && a.historyCursor() == cursor;
+}
+
+}  // namespace
+
+TEST_CASE("session: a drag puts the source on the target; undo and redo restore", "[core]") {
+    std::mt19937 rng(51);
+    for (int trial = 0; trial < 20; ++trial) {
+        Session session = randomSession(rng, 3000);
+        const double diagonal = session.lattice().diagonal();
+        const Positions original = session.positions();
+        std::vector<Positions> states{original};
+        for (int op = 0; op < 5; ++op) {
+            const int v = test::randomInt(rng, 0, 2999);
+            const Eigen::Vector3d target = session.positions().row(v).transpose() + 0.05 * diagonal * test::randomVector(rng, -1, 1);
+            OpReport report;
+            REQUIRE(session.dragVertex(v, target, report).ok);
+            REQUIRE(report.status == OpStatus::Applied);
+            REQUIRE((session.positions().row(v).transpose() - target).norm() <= 1e-9 * diagonal);
+            REQUIRE(report.residuals.size() == 1);
+            REQUIRE(report.controlPointsChanged <= 64);
+            states.push_back(session.positions());
+        }
+        OpReport report;
+        for (int op = 5; op > 0; --op) {
+            REQUIRE(session.undo(report).ok);
+            REQUIRE((session.positions() - states[op - 1]).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        }
+        REQUIRE(session.undo(report).ok);
+        REQUIRE(report.status == OpStatus::NoOp);
+        for (int op = 1; op <= 5; ++op) {
+            REQUIRE(session.redo(report).ok);
+            REQUIRE((session.positions() - states[op]).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        }
+        REQUIRE(session.redo(report).ok);
+        REQUIRE(report.status == OpStatus::NoOp);
+    }
+}
+
+TEST_CASE("session: a world-space source on a deformed lattice is found and moved", "[core]") {
+    std::mt19937 rng(52);
+    for (int trial = 0; trial < 20; ++trial) {
+        Session session = randomSession(rng, 300);
+        const double diagonal = session.lattice().diagonal();
+        OpReport report;
+        REQUIRE(session.dragVertex(5, session.positions().row(5).transpose() + Eigen::Vector3d(0.05, 0.02, -0.03) * diagonal, report).ok);
+        // A second drag given in world coordinates of the deformed shape.
+        const Eigen::Vector3d source = session.positions().row(7).transpose();
+        const Eigen::Vector3d target = source + 0.03 * diagonal * test::randomVector(rng, -1, 1);
+        REQUIRE(session.drag({PointConstraint{source, target}}, report).ok);
+        REQUIRE((session.positions().row(7).transpose() - target).norm() <= 1e-8 * diagonal);
+    }
+}
+
+TEST_CASE("session: bad input is refused with a message and changes nothing", "[core]") {
+    std::mt19937 rng(53);
+    Session session = randomSession(rng, 300);
+    OpReport report;
+    REQUIRE(session.dragVertex(1, session.positions().row(1).transpose() + Eigen::Vector3d(0.1, 0, 0), report).ok);
+    const Positions positions = session.positions();
+    const Positions displacement = session.lattice().displacement;
+    const double inf = std::numeric_limits<double>::infinity();
+    const Eigen::Vector3d inside = session.positions().row(2).transpose();
+
+    auto refused = [&](Status status, const std::string& fragment) {
+        REQUIRE_FALSE(status.ok);
+        INFO(status.message);
+        REQUIRE(status.message.find(fragment) != std::string::npos);
+        REQUIRE(sameState(session, positions, displacement, 1));
+    };
+    refused(session.drag({}, report), "no constraints");
+    refused(session.drag({PointConstraint{inside, Eigen::Vector3d(inf, 0, 0)}}, report), "non-finite");
+    refused(session.drag({PointConstraint{Eigen::Vector3d(std::nan(""), 0, 0), inside}}, report), "non-finite");
+    refused(session.drag({PointConstraint{inside, inside}, PointConstraint{Eigen::Vector3d(100, 100, 100), inside}}, report),
+            "constraint 1 source");
+    refused(session.dragVertex(300, inside, report), "out of range");
+    refused(session.dragVertex(-1, inside, report), "out of range");
+    refused(session.moveControlPoints({100000}, Eigen::MatrixX3d::Zero(1, 3), true, report), "outside the lattice");
+    refused(session.moveControlPoints({3}, Eigen::MatrixX3d::Constant(1, 3, std::nan("")), true, report), "non-finite");
+
+    Session pinnedSession = randomSession(rng, 300, [] { LatticeSettings s; s.pinLayers = 1; return s; }());
+    const Status pinned = pinnedSession.moveControlPoints({0}, Eigen::MatrixX3d::Ones(1, 3), true, report);
+    REQUIRE_FALSE(pinned.ok);
+    REQUIRE(pinned.message.find("pinned") != std::string::npos);
+
+    Session empty;
+    REQUIRE_FALSE(empty.setMesh(Positions(0, 3), Triangles(0, 3)).ok);
+    REQUIRE_FALSE(empty.hasMesh());
+}
+
+TEST_CASE("session: control point edits move exactly those points and undo", "[core]") {
+    std::mt19937 rng(54);
+    for (int trial = 0; trial < 20; ++trial) {
+        Session session = randomSession(rng, 1500);
+        const Positions original = session.positions();
+        const int n = session.lattice().controlPointCount();
+        std::vector<int> ids{test::randomInt(rng, 0, n - 1), test::randomInt(rng, 0, n - 1)};
+        Eigen::MatrixX3d to(2, 3);
+        for (int c = 0; c < 2; ++c) to.row(c) = session.lattice().controlPoint(ids[c]).transpose() + 0.1 * test::randomVector(rng, -1, 1).transpose();
+        if (ids[0] == ids[1]) to.row(0) = to.row(1);
+        OpReport report;
+        REQUIRE(session.moveControlPoints(ids, to, false, report).ok);
+        for (int c = 0; c < 2; ++c) REQUIRE((session.lattice().controlPoint(ids[c]) - to.row(c).transpose()).norm() <= 1e-12);
+        for (int idx = 0; idx < n; ++idx)
+            if (idx != ids[0] && idx != ids[1]) REQUIRE(session.lattice().displacement.row(idx).isZero(0.0));
+        REQUIRE(session.undo(report).ok);
+        REQUIRE((session.positions() - original).cwiseAbs().maxCoeff() <= 1e-12);
+    }
+}
+
+TEST_CASE("session: an interactive drag of many small moves is one history entry equal to one big drag", "[core]") {
+    std::mt19937 rng(55);
+    for (int trial = 0; trial < 10; ++trial) {
+        Session incremental = randomSession(rng, 900);
+        Session direct = incremental;
+        const double diagonal = incremental.lattice().diagonal();
+        Eigen::Vector3d params;
+        REQUIRE(incremental.parametersOfVertex(10, params).ok);
+        const Eigen::Vector3d start = incremental.positions().row(10).transpose();
+        const Eigen::Vector3d end = start + 0.1 * diagonal * test::randomVector(rng, -1, 1);
+        REQUIRE(incremental.beginDrag({params}).ok);
+        OpReport report;
+        for (int step = 1; step <= 20; ++step)
+            REQUIRE(incremental.updateDrag({start + (end - start) * (step / 20.0) + 0.01 * diagonal * test::randomVector(rng, -1, 1) * (step < 20)}, report).ok);
+        incremental.endDrag();
+        REQUIRE(incremental.history().size() == 1);
+        REQUIRE(direct.dragVertex(10, end, report).ok);
+        REQUIRE((incremental.positions() - direct.positions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        REQUIRE(incremental.undo(report).ok);
+        REQUIRE((incremental.positions() - incremental.restPositions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    }
+}
