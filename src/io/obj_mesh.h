@@ -1,0 +1,82 @@
+// Wavefront OBJ in and out, faithful enough that a loaded file written back compares line by line.
+//
+// Reading is validated twice: a strict pre-pass of our own (obj_scan.h) checks every line and
+// reports "file:line: what is wrong", then tinyobjloader (double build, no triangulation) parses the
+// same text and must agree with the pre-pass face by face. Positions and texture coordinates come
+// from the pre-pass because tinyobjloader's number parser is not correctly rounded (and keeps only
+// two texture components). Writing recomputes normals from the deformed positions and keeps the
+// polygons, groups and materials of the input.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/mesh_types.h"
+#include "core/status.h"
+
+namespace sculpt::io {
+
+// #VT x 2 or #VT x 3 texture coordinates, one row per `vt` line.
+using Texcoords = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// An OBJ surface as the engine uses it (welded positions + triangles) plus the polygon data needed
+// to write it back. Invariants (checkObjMesh verifies them):
+//   - faceStart has #F + 1 entries, faceStart[0] = 0, strictly increasing by >= 3 per face,
+//     faceStart[#F] = #C (the corner count); cornerVertex/cornerTexcoord/cornerNormal have #C entries.
+//   - triangles is the fan triangulation (c0, ci, ci+1) of every face in face order;
+//     triangleFace[t] is the face triangle t came from.
+//   - groupNames[0] is always "" (the default group of faces before any `g`/`o` line); the other
+//     names appear in the order faces first use them, each once.
+//   - materialNames appear in the order faces first use them, each once; faceMaterial -1 = none.
+struct ObjMesh {
+    Positions positions;            // #V x 3, one row per `v` line in file order (the welded vertices)
+    Triangles triangles;            // #T x 3 indices into positions, fan triangulation of the faces
+    std::vector<int> triangleFace;  // #T, face index of each triangle
+
+    std::vector<int> faceStart;       // #F + 1 offsets into the corner arrays
+    std::vector<int> cornerVertex;    // #C indices into positions
+    std::vector<int> cornerTexcoord;  // #C indices into texcoords, -1 where the corner has none
+    std::vector<int> cornerNormal;    // #C indices into the file's `vn` lines, -1 where none (normals
+                                      // themselves are not kept: saveObj recomputes them)
+    Texcoords texcoords;              // #VT x 2 or 3 (3 if any `vt` line had a w; missing ones are 0)
+
+    std::vector<int> faceGroup;            // #F indices into groupNames
+    std::vector<std::string> groupNames;   // see invariants; `o` names are kept as groups too
+    std::vector<int> faceMaterial;         // #F indices into materialNames, -1 = no `usemtl` yet
+    std::vector<std::string> materialNames;
+    std::vector<std::string> materialLibraries;  // `mtllib` arguments as written, first use order
+
+    int vertexCount() const { return static_cast<int>(positions.rows()); }
+    int faceCount() const { return faceStart.empty() ? 0 : static_cast<int>(faceStart.size()) - 1; }
+    int cornerCount() const { return static_cast<int>(cornerVertex.size()); }
+};
+
+// Reads the OBJ file at path into out. warnings (may be null) receives non-fatal notes such as a
+// missing or refused .mtl, ignored line/point elements or unused vertices, each prefixed with path.
+// Errors name the file and line: "mesh.obj:12: face index 7 is out of range (file has 5 vertices)".
+// On failure out is left untouched; no exception escapes (out of memory becomes an error too).
+// .mtl files are only opened when named by a plain file name in the OBJ's own folder.
+Status loadObj(const std::string& path, ObjMesh& out, std::vector<std::string>* warnings = nullptr);
+
+// Same as loadObj for OBJ text already in memory. displayName prefixes messages ("mesh.obj");
+// baseDir is the folder `mtllib` names are looked up in ("" = never open any file).
+Status loadObjFromText(const std::string& text, const std::string& displayName, const std::string& baseDir,
+                       ObjMesh& out, std::vector<std::string>* warnings);
+
+// Checks the ObjMesh invariants above plus what the writer needs (finite texcoords, names without
+// line breaks, single-token material names). Returns an error naming the first violation.
+Status checkObjMesh(const ObjMesh& mesh);
+
+// Serialises mesh with deformedPositions (#V x 3, same row count as mesh.positions, all finite) in
+// place of mesh.positions. Positions and texture coordinates are printed in the shortest form that
+// reads back to the identical double. Normals are recomputed from deformedPositions, one `vn` per
+// vertex, so a corner's normal index equals its vertex index. Faces keep their polygons, groups and
+// materials. On error text is left untouched.
+Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std::string& text);
+
+// serializeObj, then writeFileAtomically: on any error the file at path is left as it was.
+Status saveObj(const std::string& path, const ObjMesh& mesh, const Positions& deformedPositions);
+
+}  // namespace sculpt::io

@@ -1,0 +1,517 @@
+// The validating OBJ pre-pass. It mirrors tinyobjloader 2.0.0rc10's LoadObj (tiny_obj_loader.h):
+// lines end at "\n", "\r\n" or a lone "\r" (safeGetline); leading spaces/tabs are skipped; keywords
+// are recognised by the same tests in the same order (`v`+blank, `vn`+blank, `vt`+blank, `vw`+blank,
+// `l`, `p`, `f`, "usemtl" as a bare prefix, "mtllib"+blank, `g`, `o`, `t`, `s`); tokens are split on
+// spaces and tabs only. Where tinyobjloader would guess (atoi, a number parser that maps junk to 0),
+// the pre-pass reports an error with the line number instead.
+#include "io/obj_scan.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <climits>
+#include <cstdio>
+#include <cstring>
+#include <system_error>
+#include <unordered_map>
+
+namespace sculpt::io {
+
+namespace {
+
+inline bool isBlank(char c) { return c == ' ' || c == '\t'; }
+inline bool isDigit(char c) { return c >= '0' && c <= '9'; }
+
+// The next space/tab separated token of [p, end); false when only blanks are left.
+inline bool nextToken(const char*& p, const char* end, const char*& tokenBegin, const char*& tokenEnd) {
+    while (p < end && isBlank(*p)) ++p;
+    if (p == end) return false;
+    tokenBegin = p;
+    while (p < end && !isBlank(*p)) ++p;
+    tokenEnd = p;
+    return true;
+}
+
+// A token as it may appear in a message: at most 40 bytes, non-printable bytes as '?'.
+std::string quoted(const char* begin, const char* end) {
+    std::string s = "'";
+    const size_t length = static_cast<size_t>(end - begin);
+    for (size_t i = 0; i < length && i < 40; ++i) {
+        const unsigned char c = static_cast<unsigned char>(begin[i]);
+        s += (c < 0x20 || c == 0x7f) ? '?' : static_cast<char>(c);
+    }
+    if (length > 40) s += "...";
+    return s + "'";
+}
+
+enum class NumberResult { ok, malformed, outOfRange };
+
+NumberResult parseNumber(const char* begin, const char* end, double& value) {
+    const char* p = begin;
+    // note: std::from_chars is correctly rounded (libstdc++ 12 uses fast_float) and, unlike strtod,
+    // independent of the C locale and never skips leading white space. It does not take a '+' sign,
+    // and it does take "inf"/"nan"/hex forms, so the grammar is checked here first.
+    if (p < end && (*p == '+' || *p == '-')) ++p;
+    if (p == end || !(isDigit(*p) || *p == '.')) return NumberResult::malformed;
+    for (const char* q = p; q < end; ++q)
+        if (!(isDigit(*q) || *q == '.' || *q == 'e' || *q == 'E' || *q == '+' || *q == '-'))
+            return NumberResult::malformed;
+    const char* start = (*begin == '+') ? begin + 1 : begin;
+    double parsed = 0.0;
+    const std::from_chars_result result = std::from_chars(start, end, parsed, std::chars_format::general);
+    if (result.ec == std::errc::result_out_of_range) return NumberResult::outOfRange;
+    if (result.ec != std::errc() || result.ptr != end) return NumberResult::malformed;
+    value = parsed;
+    return NumberResult::ok;
+}
+
+enum class IndexResult { ok, malformed, zero };
+
+// [-]digits as a whole token. Values beyond int range are clamped to +-(INT_MAX + 1LL) so that the
+// range check reports them instead of wrapping like atoi.
+IndexResult parseIndex(const char* begin, const char* end, long long& value) {
+    const char* p = begin;
+    const bool negative = p < end && *p == '-';
+    if (negative) ++p;
+    if (p == end) return IndexResult::malformed;
+    long long magnitude = 0;
+    for (; p < end; ++p) {
+        if (!isDigit(*p)) return IndexResult::malformed;
+        if (magnitude <= INT_MAX) magnitude = magnitude * 10 + (*p - '0');
+    }
+    if (magnitude > INT_MAX) magnitude = INT_MAX + 1LL;
+    if (magnitude == 0) return IndexResult::zero;
+    value = negative ? -magnitude : magnitude;
+    return IndexResult::ok;
+}
+
+class Scanner {
+public:
+    Scanner(const std::string& text, const std::string& displayName, ObjScan& scan)
+        : text_(text), name_(displayName), scan_(scan) {}
+
+    Status run();
+
+private:
+    Status error(const std::string& what) const { return Status::error(name_ + ":" + std::to_string(line_) + ": " + what); }
+    Status fileError(const std::string& what) const { return Status::error(name_ + ": " + what); }
+    void warn(const std::string& what) { scan_.warnings.push_back(name_ + ": " + what); }
+
+    // The sanitized copy at the same offset as p in text_, copied on first use.
+    char* editable(const char* p) {
+        if (scan_.sanitizedText.empty()) scan_.sanitizedText = text_;
+        return &scan_.sanitizedText[static_cast<size_t>(p - text_.data())];
+    }
+    // Turns a whole statement into a comment line.
+    void commentOut(const char* p, const char* end) {
+        char* q = editable(p);
+        q[0] = '#';
+        for (ptrdiff_t i = 1; i < end - p; ++i) q[i] = ' ';
+    }
+    // Blanks the rest of a line (a trailing comment).
+    void blankOut(const char* p, const char* end) {
+        char* q = editable(p);
+        for (ptrdiff_t i = 0; i < end - p; ++i) q[i] = ' ';
+    }
+
+    Status line(const char* p, const char* end);
+    Status numbers(const char* p, const char* end, const char* keyword, double* values, int maxCount, int& count);
+    Status face(const char* p, const char* end);
+    Status corner(const char* begin, const char* end, int& v, int& vt, int& vn);
+    Status resolve(long long index, int definedSoFar, const char* what, int& resolved);
+    void group(const char* p, const char* end);
+    void material(const char* p, const char* end);
+    void library(const char* p, const char* end);
+    void ignored(const char* keywordBegin, const char* keywordEnd, const char* lineEnd, bool mustComment);
+    Status finish();
+
+    const std::string& text_;
+    const std::string& name_;
+    ObjScan& scan_;
+    size_t line_ = 0;
+
+    std::string groupName_;  // current `g`/`o` name, normalized
+    int groupIndex_ = 0;     // its index in groupNames, -1 until a face uses it
+    std::unordered_map<std::string, int> groupIndices_{{std::string(), 0}};
+    std::string materialName_;
+    int materialIndex_ = -1;  // -1 = none or not yet resolved (see materialResolved_)
+    bool materialResolved_ = true;
+    std::unordered_map<std::string, int> materialIndices_;
+
+    // Positive indices are checked once the whole file is read (forward references are legal).
+    int maxVertex_ = -1, maxTexcoord_ = -1, maxNormal_ = -1;
+    size_t repeatedCornerFaces_ = 0, firstRepeatedCornerLine_ = 0;
+    size_t ignoredElements_ = 0, firstIgnoredElementLine_ = 0;
+    size_t ignoredStatements_ = 0, firstIgnoredStatementLine_ = 0;
+    std::string firstIgnoredStatement_;
+};
+
+Status Scanner::run() {
+    const char* begin = text_.data();
+    const char* const end = begin + text_.size();
+    if (text_.empty()) return fileError("the file is empty");
+
+    const auto* bytes = reinterpret_cast<const unsigned char*>(begin);
+    if (text_.size() >= 2 && ((bytes[0] == 0xff && bytes[1] == 0xfe) || (bytes[0] == 0xfe && bytes[1] == 0xff))) {
+        line_ = 1;
+        return error("the file is UTF-16 encoded (byte order mark); save it as UTF-8 or ASCII");
+    }
+    if (text_.size() >= 3 && bytes[0] == 0xef && bytes[1] == 0xbb && bytes[2] == 0xbf) {
+        // tinyobjloader would read "\xEF\xBB\xBFv" as an unknown keyword and drop the first vertex.
+        char* bom = editable(begin);
+        bom[0] = bom[1] = bom[2] = ' ';
+        begin += 3;
+    }
+
+    const char* p = begin;
+    while (p < end) {
+        ++line_;
+        const char* lineBegin = p;
+        // One pass finds the line end and rejects binary data. note: this is the hot loop for large
+        // files; it allocates nothing.
+        while (p < end) {
+            const unsigned char c = static_cast<unsigned char>(*p);
+            if (c < 0x20 || c == 0x7f) {
+                if (c == '\n' || c == '\r') break;
+                if (c == 0)
+                    return error("NUL byte: the file looks like UTF-16 text or binary data, not an OBJ text file");
+                if (c != '\t' && c != '\f' && c != '\v') {
+                    char hex[8];
+                    std::snprintf(hex, sizeof hex, "0x%02x", c);
+                    return error(std::string("control byte ") + hex + ": the file looks like binary data, not OBJ text");
+                }
+            }
+            ++p;
+        }
+        const char* lineEnd = p;
+        if (p < end) p += (*p == '\r' && p + 1 < end && p[1] == '\n') ? 2 : 1;
+        Status status = line(lineBegin, lineEnd);
+        if (!status) return status;
+    }
+    return finish();
+}
+
+Status Scanner::line(const char* p, const char* end) {
+    while (p < end && isBlank(*p)) ++p;
+    if (p == end || *p == '#') return Status::success();
+    const ptrdiff_t n = end - p;
+    auto blankAt = [&](ptrdiff_t i) { return i < n && isBlank(p[i]); };
+
+    if (p[0] == 'v' && blankAt(1)) {
+        if (scan_.positions.size() / 3 >= static_cast<size_t>(INT_MAX)) return error("too many vertices");
+        double xyz[7];
+        int count = 0;
+        Status status = numbers(p + 2, end, "v", xyz, 7, count);
+        if (!status) return status;
+        if (count < 3) return error("a 'v' line needs x y z (found " + std::to_string(count) + " numbers)");
+        scan_.positions.insert(scan_.positions.end(), xyz, xyz + 3);
+        return Status::success();
+    }
+    if (p[0] == 'v' && n >= 2 && p[1] == 'n' && blankAt(2)) {
+        if (scan_.normalCount == INT_MAX) return error("too many normals");
+        double xyz[3];
+        int count = 0;
+        Status status = numbers(p + 3, end, "vn", xyz, 3, count);
+        if (!status) return status;
+        if (count != 3) return error("a 'vn' line needs x y z (found " + std::to_string(count) + " numbers)");
+        ++scan_.normalCount;
+        return Status::success();
+    }
+    if (p[0] == 'v' && n >= 2 && p[1] == 't' && blankAt(2)) {
+        if (scan_.texcoords.size() / 3 >= static_cast<size_t>(INT_MAX)) return error("too many texture coordinates");
+        double uvw[3] = {0.0, 0.0, 0.0};
+        int count = 0;
+        Status status = numbers(p + 3, end, "vt", uvw, 3, count);
+        if (!status) return status;
+        if (count < 1) return error("a 'vt' line needs u [v [w]] (found no numbers)");
+        if (count == 3) scan_.texcoordComponents = 3;
+        scan_.texcoords.insert(scan_.texcoords.end(), uvw, uvw + 3);
+        return Status::success();
+    }
+    if (p[0] == 'v' && n >= 2 && p[1] == 'w' && blankAt(2)) {
+        ignored(p, p + 2, end, true);  // tinyobjloader's skin-weight extension; it fails on some of them
+        return Status::success();
+    }
+    if ((p[0] == 'l' || p[0] == 'p') && blankAt(1)) {
+        // Line and point elements are not part of the surface; commented out so tinyobjloader does
+        // not resolve their (unchecked) indices.
+        commentOut(p, end);
+        if (ignoredElements_++ == 0) firstIgnoredElementLine_ = line_;
+        return Status::success();
+    }
+    if (p[0] == 'f' && blankAt(1)) return face(p + 2, end);
+    if (n >= 6 && std::memcmp(p, "usemtl", 6) == 0) {
+        material(p + 6, end);
+        return Status::success();
+    }
+    if (n >= 6 && std::memcmp(p, "mtllib", 6) == 0 && blankAt(6)) {
+        library(p + 7, end);
+        return Status::success();
+    }
+    if ((p[0] == 'g' || p[0] == 'o') && blankAt(1)) {
+        group(p + 2, end);
+        return Status::success();
+    }
+    if (p[0] == 't' && blankAt(1)) {
+        // note: tinyobjloader's subdivision tags allocate up to 3 x 8192 values per line and copy all of
+        // them into every shape; a small hostile file could exhaust memory. Not used here, so removed.
+        ignored(p, p + 1, end, true);
+        return Status::success();
+    }
+    if (p[0] == 's' && blankAt(1)) return Status::success();  // smoothing groups: normals are recomputed
+    const char* keywordEnd = p;
+    while (keywordEnd < end && !isBlank(*keywordEnd)) ++keywordEnd;
+    ignored(p, keywordEnd, end, false);
+    return Status::success();
+}
+
+void Scanner::ignored(const char* keywordBegin, const char* keywordEnd, const char* lineEnd, bool mustComment) {
+    if (mustComment) commentOut(keywordBegin, lineEnd);
+    if (ignoredStatements_++ == 0) {
+        firstIgnoredStatementLine_ = line_;
+        firstIgnoredStatement_ = quoted(keywordBegin, keywordEnd);
+    }
+}
+
+Status Scanner::numbers(const char* p, const char* end, const char* keyword, double* values, int maxCount,
+                        int& count) {
+    const char* tokenBegin;
+    const char* tokenEnd;
+    count = 0;
+    while (nextToken(p, end, tokenBegin, tokenEnd)) {
+        if (*tokenBegin == '#') break;  // trailing comment
+        if (count == maxCount)
+            return error(std::string("too many numbers in a '") + keyword + "' line (at most " +
+                         std::to_string(maxCount) + ")");
+        switch (parseNumber(tokenBegin, tokenEnd, values[count])) {
+            case NumberResult::ok: break;
+            case NumberResult::malformed:
+                return error(quoted(tokenBegin, tokenEnd) + " in a '" + keyword +
+                             "' line is not a finite decimal number");
+            case NumberResult::outOfRange:
+                return error(quoted(tokenBegin, tokenEnd) + " in a '" + keyword +
+                             "' line is out of the range of a double");
+        }
+        ++count;
+    }
+    return Status::success();
+}
+
+Status Scanner::resolve(long long index, int definedSoFar, const char* what, int& resolved) {
+    if (index > 0) {
+        // Checked against the final count in finish(); INT_MAX + 1 maps to a value finish() rejects.
+        resolved = index > INT_MAX ? INT_MAX : static_cast<int>(index - 1);
+        return Status::success();
+    }
+    const long long relative = definedSoFar + index;  // OBJ: -1 is the last one defined so far
+    if (relative < 0)
+        return error(std::string("relative ") + what + " index " + std::to_string(index) +
+                     " points before the first one (" + std::to_string(definedSoFar) + " defined so far)");
+    resolved = static_cast<int>(relative);
+    return Status::success();
+}
+
+Status Scanner::corner(const char* begin, const char* end, int& v, int& vt, int& vn) {
+    // v, v/vt, v//vn or v/vt/vn
+    const char* part[3] = {begin, nullptr, nullptr};
+    const char* partEnd[3] = {end, nullptr, nullptr};
+    int parts = 1;
+    for (const char* q = begin; q < end; ++q) {
+        if (*q != '/') continue;
+        if (parts == 3) return error("bad face corner " + quoted(begin, end) + " (more than two '/')");
+        partEnd[parts - 1] = q;
+        part[parts] = q + 1;
+        partEnd[parts] = end;
+        ++parts;
+    }
+    static const char* const kWhat[3] = {"face", "texture coordinate", "normal"};
+    const int defined[3] = {static_cast<int>(scan_.positions.size() / 3), static_cast<int>(scan_.texcoords.size() / 3),
+                            scan_.normalCount};
+    int resolved[3] = {-1, -1, -1};
+    for (int i = 0; i < parts; ++i) {
+        if (part[i] == partEnd[i] && i == 1 && parts == 3) continue;  // v//vn
+        long long index = 0;
+        switch (parseIndex(part[i], partEnd[i], index)) {
+            case IndexResult::ok: break;
+            case IndexResult::zero:
+                return error(std::string(kWhat[i]) + " index 0 in " + quoted(begin, end) +
+                             " is invalid (OBJ indices start at 1)");
+            case IndexResult::malformed:
+                return error("bad face corner " + quoted(begin, end) +
+                             " (expected v, v/vt, v//vn or v/vt/vn with integer indices)");
+        }
+        Status status = resolve(index, defined[i], kWhat[i], resolved[i]);
+        if (!status) return status;
+    }
+    v = resolved[0];
+    vt = resolved[1];
+    vn = resolved[2];
+    return Status::success();
+}
+
+Status Scanner::face(const char* p, const char* end) {
+    const int cornerBegin = scan_.faceStart.back();
+    const char* tokenBegin;
+    const char* tokenEnd;
+    int corners = 0;
+    while (nextToken(p, end, tokenBegin, tokenEnd)) {
+        if (*tokenBegin == '#') {
+            blankOut(tokenBegin, end);  // tinyobjloader would read '#' as index 0 and fail
+            break;
+        }
+        if (scan_.cornerVertex.size() >= static_cast<size_t>(INT_MAX - 1)) return error("too many face corners");
+        int v, vt, vn;
+        Status status = corner(tokenBegin, tokenEnd, v, vt, vn);
+        if (!status) return status;
+        scan_.cornerVertex.push_back(v);
+        scan_.cornerTexcoord.push_back(vt);
+        scan_.cornerNormal.push_back(vn);
+        maxVertex_ = std::max(maxVertex_, v);
+        maxTexcoord_ = std::max(maxTexcoord_, vt);
+        maxNormal_ = std::max(maxNormal_, vn);
+        // note: tinyobjloader stores corner counts in an unsigned char; more would silently wrap.
+        if (++corners > 255) return error("a face has more than 255 corners, which is not supported");
+    }
+    if (corners < 3)
+        return error("a face needs at least 3 corners (found " + std::to_string(corners) + ")");
+    // A vertex used twice makes a degenerate triangle; worth a warning, not an error. note: sorted
+    // copy on the stack, so a 255-corner face costs n log n and no allocation.
+    std::array<int, 256> sorted;
+    std::copy(scan_.cornerVertex.begin() + cornerBegin, scan_.cornerVertex.end(), sorted.begin());
+    std::sort(sorted.begin(), sorted.begin() + corners);
+    if (std::adjacent_find(sorted.begin(), sorted.begin() + corners) != sorted.begin() + corners &&
+        repeatedCornerFaces_++ == 0)
+        firstRepeatedCornerLine_ = line_;
+
+    if (groupIndex_ < 0) {
+        const auto inserted = groupIndices_.emplace(groupName_, static_cast<int>(scan_.groupNames.size()));
+        if (inserted.second) scan_.groupNames.push_back(groupName_);
+        groupIndex_ = inserted.first->second;
+    }
+    if (!materialResolved_) {
+        const auto inserted = materialIndices_.emplace(materialName_, static_cast<int>(scan_.materialNames.size()));
+        if (inserted.second) scan_.materialNames.push_back(materialName_);
+        materialIndex_ = inserted.first->second;
+        materialResolved_ = true;
+    }
+    scan_.faceStart.push_back(cornerBegin + corners);
+    scan_.faceLine.push_back(static_cast<int>(std::min<size_t>(line_, INT_MAX)));
+    scan_.faceGroup.push_back(groupIndex_);
+    scan_.faceMaterial.push_back(materialIndex_);
+    return Status::success();
+}
+
+void Scanner::group(const char* p, const char* end) {
+    // tinyobjloader joins the names of a `g` line with single spaces and takes an `o` line verbatim;
+    // both end up as the normalized name.
+    groupName_.clear();
+    const char* tokenBegin;
+    const char* tokenEnd;
+    while (nextToken(p, end, tokenBegin, tokenEnd)) {
+        if (!groupName_.empty()) groupName_ += ' ';
+        groupName_.append(tokenBegin, tokenEnd);
+    }
+    groupIndex_ = -1;
+}
+
+void Scanner::material(const char* p, const char* end) {
+    // As tinyobjloader: the first token after "usemtl" ("usemtlfoo" names "foo").
+    const char* tokenBegin;
+    const char* tokenEnd;
+    if (nextToken(p, end, tokenBegin, tokenEnd)) {
+        materialName_.assign(tokenBegin, tokenEnd);
+        materialResolved_ = false;
+    } else {
+        materialIndex_ = -1;  // an empty `usemtl` means no material, as writeObj emits it
+        materialResolved_ = true;
+    }
+}
+
+void Scanner::library(const char* p, const char* end) {
+    while (p < end && isBlank(*p)) ++p;
+    while (end > p && isBlank(end[-1])) --end;
+    if (p == end) {
+        warn("line " + std::to_string(line_) + ": 'mtllib' without a file name");
+        return;
+    }
+    std::string name(p, end);
+    for (const std::string& known : scan_.materialLibraries)
+        if (known == name) return;
+    scan_.materialLibraries.push_back(std::move(name));
+}
+
+Status Scanner::finish() {
+    const int vertexCount = static_cast<int>(scan_.positions.size() / 3);
+    const int texcoordCount = static_cast<int>(scan_.texcoords.size() / 3);
+    const int faceCount = static_cast<int>(scan_.faceLine.size());
+    if (vertexCount == 0) return fileError("no vertices ('v' lines) found; is this an OBJ file?");
+    if (faceCount == 0)
+        return fileError(ignoredElements_ > 0 ? "no faces ('f' lines) found, only line/point elements"
+                                              : "no faces ('f' lines) found");
+
+    struct Check {
+        const std::vector<int>& corners;
+        int max;
+        int count;
+        const char* what;
+        const char* plural;
+    };
+    const Check checks[3] = {{scan_.cornerVertex, maxVertex_, vertexCount, "face", "vertices"},
+                             {scan_.cornerTexcoord, maxTexcoord_, texcoordCount, "texture coordinate",
+                              "texture coordinates"},
+                             {scan_.cornerNormal, maxNormal_, scan_.normalCount, "normal", "normals"}};
+    for (const Check& check : checks) {
+        if (check.max < check.count) continue;
+        // Report the first offending corner in file order.
+        for (int f = 0; f < faceCount; ++f)
+            for (int c = scan_.faceStart[f]; c < scan_.faceStart[f + 1]; ++c)
+                if (check.corners[c] >= check.count) {
+                    line_ = static_cast<size_t>(scan_.faceLine[f]);
+                    const std::string index =
+                        check.corners[c] == INT_MAX ? std::string("beyond 2^31") : std::to_string(check.corners[c] + 1LL);
+                    return error(std::string(check.what) + " index " + index + " is out of range (file has " +
+                                 std::to_string(check.count) + " " + check.plural + ")");
+                }
+    }
+
+    if (ignoredElements_ > 0)
+        warn(std::to_string(ignoredElements_) + " line/point element(s) ignored (first on line " +
+             std::to_string(firstIgnoredElementLine_) + ")");
+    if (ignoredStatements_ > 0)
+        warn(std::to_string(ignoredStatements_) + " unsupported statement(s) ignored (first on line " +
+             std::to_string(firstIgnoredStatementLine_) + ": " + firstIgnoredStatement_ + ")");
+    if (repeatedCornerFaces_ > 0)
+        warn(std::to_string(repeatedCornerFaces_) + " face(s) use a vertex twice (first on line " +
+             std::to_string(firstRepeatedCornerLine_) + ")");
+    std::vector<char> used(static_cast<size_t>(vertexCount), 0);
+    for (int v : scan_.cornerVertex) used[static_cast<size_t>(v)] = 1;
+    size_t unused = 0;
+    for (char u : used) unused += u ? 0 : 1;
+    if (unused > 0) warn(std::to_string(unused) + " vertex/vertices not used by any face");
+    return Status::success();
+}
+
+}  // namespace
+
+std::string normalizeObjName(const std::string& name) {
+    std::string normalized;
+    const char* p = name.data();
+    const char* const end = p + name.size();
+    const char* tokenBegin;
+    const char* tokenEnd;
+    while (nextToken(p, end, tokenBegin, tokenEnd)) {
+        if (!normalized.empty()) normalized += ' ';
+        normalized.append(tokenBegin, tokenEnd);
+    }
+    return normalized;
+}
+
+Status scanObjText(const std::string& text, const std::string& displayName, ObjScan& scan) {
+    return Scanner(text, displayName, scan).run();
+}
+
+bool parseObjNumber(const char* begin, const char* end, double& value) {
+    return parseNumber(begin, end, value) == NumberResult::ok;
+}
+
+}  // namespace sculpt::io

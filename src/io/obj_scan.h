@@ -1,0 +1,51 @@
+// The validating pre-pass over OBJ text, run before tinyobjloader sees it (internal to io).
+//
+// Why a pre-pass: Debian's tinyobjloader 2.0.0rc10 accepts negative indices pointing outside the
+// file (CVE-2020-28589), only warns on out-of-range indices, turns junk/nan/inf into 0 without a word
+// and is not correctly rounded. The pre-pass follows tinyobjloader's own line splitting and keyword
+// rules exactly (so both see the same lines), is strict where tinyobjloader guesses, and remembers
+// the line of every face for error messages.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+
+namespace sculpt::io {
+
+struct ObjScan {
+    std::vector<double> positions;  // 3 per `v` line, correctly rounded (std::from_chars)
+    std::vector<double> texcoords;  // 3 per `vt` line, missing components 0
+    int texcoordComponents = 2;     // 3 if any `vt` line had a w
+    int normalCount = 0;            // number of `vn` lines (values are validated, not kept)
+
+    std::vector<int> faceStart{0};  // #F + 1
+    std::vector<int> cornerVertex, cornerTexcoord, cornerNormal;  // resolved 0-based, -1 = none
+    std::vector<int> faceLine;      // #F, 1-based line of each face
+    std::vector<int> faceGroup;     // #F, into groupNames (groupNames[0] = "")
+    std::vector<std::string> groupNames{std::string()};
+    std::vector<int> faceMaterial;  // #F, into materialNames, -1 = none
+    std::vector<std::string> materialNames;
+    std::vector<std::string> materialLibraries;
+
+    // A copy of the text with the lines tinyobjloader must not interpret turned into comments
+    // (`l`, `p`, `t`, `vw`, trailing `# ...` on face lines, a UTF-8 byte order mark). Empty when the
+    // original text can be handed over as is, which is the usual case (no copy of a large file).
+    std::string sanitizedText;
+    std::vector<std::string> warnings;  // already prefixed with the display name
+};
+
+// Collapses runs of spaces/tabs to one space and trims them at both ends: the group name tinyobjloader
+// would produce for a `g` line, applied to `o` names too so both read back the same after writing.
+std::string normalizeObjName(const std::string& name);
+
+// Scans text; on success fills scan (which must be default-constructed). Errors read
+// "<displayName>:<line>: <what is wrong>". Never throws except std::bad_alloc.
+Status scanObjText(const std::string& text, const std::string& displayName, ObjScan& scan);
+
+// Parses one number token of a `v`/`vt`/`vn` line: [+-]digits[.digits][(e|E)[+-]digits], the whole
+// token, finite and within double range. Exposed for tests.
+bool parseObjNumber(const char* begin, const char* end, double& value);
+
+}  // namespace sculpt::io
