@@ -1,0 +1,172 @@
+// sculpt_bench: speed of the engine's hot paths (README "Benchmark"). One JSON line per case, median of
+// >= 10 runs. Not a test: nothing here asserts a time.
+//
+// Usage: sculpt_bench [case-name-substring ...]   (no argument: every case)
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <omp.h>
+
+#include "bench_support.h"
+#include "core/direct_manipulation.h"
+#include "core/embedding.h"
+#include "core/lattice.h"
+#include "core/session.h"
+#ifdef SCULPT_BENCH_RENDER
+#include "render_bench.h"
+#endif
+
+using namespace sculpt;
+using namespace sculpt::core;
+
+namespace {
+
+std::vector<std::string> gFilters;
+
+bool wanted(const std::string& name) {
+    if (gFilters.empty()) return true;
+    for (const std::string& f : gFilters)
+        if (name.find(f) != std::string::npos) return true;
+    return false;
+}
+
+// n points on a slightly bumpy sphere in latitude-longitude order (the vertex order of a typical mesh: rows
+// of neighbouring vertices, not cell order).
+Positions sphereCloud(int n) {
+    Positions p(n, 3);
+    const int rings = static_cast<int>(std::sqrt(n / 2.0)) + 1;
+    const int perRing = (n + rings - 1) / rings;
+    for (int v = 0; v < n; ++v) {
+        const double theta = M_PI * ((v / perRing) + 0.5) / rings;
+        const double phi = 2.0 * M_PI * (v % perRing) / perRing;
+        const double r = 1.0 + 0.05 * std::sin(5 * theta) * std::cos(3 * phi);
+        p.row(v) << r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi), r * std::cos(theta);
+    }
+    return p;
+}
+
+Lattice cubicLattice(int resolution, const Positions& points) {
+    LatticeSettings s;
+    s.resolution = {resolution, resolution, resolution};
+    Lattice lattice;
+    makeLattice(s, points, lattice);
+    return lattice;
+}
+
+void benchEvaluation(const Positions& points) {
+    const int n = static_cast<int>(points.rows());
+    for (int resolution : {8, 16}) {
+        const std::string name = "eval_full_" + std::to_string(resolution);
+        if (!wanted(name)) continue;
+        Lattice lattice = cubicLattice(resolution, points);
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<double> d(-0.05, 0.05);
+        for (int c = 0; c < lattice.controlPointCount(); ++c) lattice.displacement.row(c) << d(rng), d(rng), d(rng);
+        const Embedding embedding = embedVertices(lattice, points);
+        Positions positions = points;
+        const double ms = bench::medianMs(15, [&] { evaluateAll(lattice, embedding, positions); });
+        bench::printCase(name, n, ms, std::string("\"kernel\": \"") + evaluationKernelName() + "\", \"precision\": \"double\"");
+    }
+}
+
+void benchSparseUpdate(const Positions& points) {
+    if (!wanted("update_sparse_16")) return;
+    const int n = static_cast<int>(points.rows());
+    Session session;
+    LatticeSettings s;
+    s.resolution = {16, 16, 16};
+    Triangles none(0, 3);
+    session.setMesh(points, none, s);
+    // A drag of a surface point: the solve, the lattice update and the sparse re-evaluation.
+    Eigen::Vector3d params;
+    session.parametersOfVertex(n / 3, params);
+    const Eigen::Vector3d start = session.positions().row(n / 3).transpose();
+    int step = 0;
+    session.beginDrag({params});
+    OpReport report;
+    const double ms = bench::medianMs(15, [&] {
+        ++step;
+        session.updateDrag({start + Eigen::Vector3d(0.001 * step, 0.0005 * step, 0.0)}, report);
+    });
+    session.endDrag();
+    char extra[160];
+    std::snprintf(extra, sizeof extra, "\"vertices_moved\": %d, \"fraction\": %.4f", report.verticesMoved,
+                  static_cast<double>(report.verticesMoved) / n);
+    bench::printCase("update_sparse_16", n, ms, extra);
+}
+
+void benchSolves() {
+    Positions box(2, 3);
+    box << 0, 0, 0, 1, 1, 1;
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    if (wanted("solve_single")) {
+        const Lattice lattice = cubicLattice(16, box);
+        const Eigen::Vector3d t(unit(rng), unit(rng), unit(rng));
+        Eigen::MatrixX3d d(1, 3);
+        d << 0.1, 0.0, -0.05;
+        const int inner = 1000;
+        const double ms = bench::medianMs(11, [&] {
+            for (int i = 0; i < inner; ++i) {
+                const DirectManipulationResult r = directManipulation(lattice, {t}, d);
+                if (r.delta.indices.empty()) std::abort();
+            }
+        });
+        bench::printCase("solve_single", 1, ms / inner, "\"median_us\": " + std::to_string(1000.0 * ms / inner));
+    }
+    if (wanted("solve_multi_32")) {
+        const Lattice lattice = cubicLattice(16, box);
+        std::vector<Eigen::Vector3d> params;
+        Eigen::MatrixX3d d(32, 3);
+        for (int f = 0; f < 32; ++f) {
+            params.emplace_back(unit(rng), unit(rng), unit(rng));
+            d.row(f) << unit(rng) * 0.1, unit(rng) * 0.1, unit(rng) * 0.1;
+        }
+        const double ms = bench::medianMs(21, [&] {
+            const DirectManipulationResult r = directManipulation(lattice, params, d);
+            if (r.delta.indices.empty()) std::abort();
+        });
+        bench::printCase("solve_multi_32", 32, ms);
+    }
+}
+
+void benchParameters(const Positions& points) {
+    if (!wanted("params_1m")) return;
+    const Lattice lattice = cubicLattice(16, points);
+    const int n = static_cast<int>(points.rows());
+    std::vector<double> out(3 * static_cast<size_t>(n));
+    const double ms = bench::medianMs(15, [&] {
+#pragma omp parallel for schedule(static)
+        for (int v = 0; v < n; ++v) {
+            Eigen::Vector3d t;
+            restParameters(lattice, points.row(v).transpose(), t);
+            out[3 * static_cast<size_t>(v)] = t.x();
+            out[3 * static_cast<size_t>(v) + 1] = t.y();
+            out[3 * static_cast<size_t>(v) + 2] = t.z();
+        }
+    });
+    bench::printCase("params_1m", n, ms);
+    if (wanted("embed_1m")) {
+        const double embedMs = bench::medianMs(10, [&] { Embedding e = embedVertices(lattice, points); });
+        bench::printCase("embed_1m", n, embedMs);
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) gFilters.emplace_back(argv[i]);
+    std::fprintf(stderr, "sculpt_bench: %d OpenMP threads, evaluation kernel %s\n", omp_get_max_threads(),
+                 evaluationKernelName());
+    const Positions points = sphereCloud(1000000);
+    benchEvaluation(points);
+    benchSparseUpdate(points);
+    benchSolves();
+    benchParameters(points);
+#ifdef SCULPT_BENCH_RENDER
+    sculpt::render::runRenderBenchmarks(std::cout);
+#endif
+    return 0;
+}

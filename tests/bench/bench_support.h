@@ -1,0 +1,33 @@
+// Timing helpers for the benchmark executable: median of repeated runs, one JSON line per case.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace sculpt::bench {
+
+// Runs `work` `runs` times (after one warm-up) and returns the median wall time in milliseconds.
+inline double medianMs(int runs, const std::function<void()>& work, const std::function<void()>& before = {}) {
+    std::vector<double> times;
+    for (int r = 0; r <= runs; ++r) {
+        if (before) before();
+        const auto start = std::chrono::steady_clock::now();
+        work();
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        if (r > 0) times.push_back(ms);
+    }
+    std::sort(times.begin(), times.end());
+    return times[times.size() / 2];
+}
+
+inline void printCase(const std::string& name, long long n, double medianMilliseconds, const std::string& extra = "") {
+    std::printf("{\"case\": \"%s\", \"n\": %lld, \"median_ms\": %.4f%s}\n", name.c_str(), n, medianMilliseconds,
+                extra.empty() ? "" : (", " + extra).c_str());
+    std::fflush(stdout);
+}
+
+}  // namespace sculpt::bench
