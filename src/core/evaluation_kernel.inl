@@ -140,7 +140,11 @@ void evaluateCellDispatch(const Lattice& lattice, const Embedding& e, int cell, 
 
 void SCULPT_KERNEL_NAME(const Lattice& lattice, const Embedding& embedding, const int* cells, int cellCount,
                         double* positions) {
-#pragma omp parallel for schedule(dynamic, 4)
+    // note: a small update (a few thousand vertices) is done on the calling thread; waking the team costs
+    // more than it saves and, on a busy machine, can cost a scheduler quantum.
+    long long work = 0;
+    for (int c = 0; c < cellCount; ++c) work += embedding.cellStart[cells[c] + 1] - embedding.cellStart[cells[c]];
+#pragma omp parallel for schedule(dynamic, 4) if (work > 20000)
     for (int c = 0; c < cellCount; ++c) {
         if (embedding.cellStart[cells[c]] == embedding.cellStart[cells[c] + 1]) continue;
         if (lattice.rational)

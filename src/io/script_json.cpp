@@ -168,6 +168,8 @@ Status parseScript(const std::string& text, const std::string& displayName, core
         root = json::parse(text);
     } catch (const json::parse_error& e) {
         return Status::error(displayName + ":" + std::to_string(lineOfByte(text, e.byte)) + ": invalid JSON (" + e.what() + ")");
+    } catch (const json::exception& e) {  // e.g. a number too large for a double (1e999)
+        return Status::error(displayName + ": invalid JSON (" + e.what() + ")");
     }
     try {
         core::Script script;

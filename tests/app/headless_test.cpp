@@ -1,0 +1,148 @@
+// The headless command line end to end: real files in a temporary folder, the same entry point main() uses.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli_options.h"
+#include "app/headless.h"
+#include "io/obj_mesh.h"
+
+namespace fs = std::filesystem;
+using namespace sculpt;
+
+namespace {
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        static int counter = 0;
+        path = fs::temp_directory_path() / ("sculpt_headless_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+void writeText(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+std::string readText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// A closed octahedron-like test mesh, small enough to reason about.
+std::string cubeObj() {
+    return "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+           "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+}
+
+int run(const std::vector<std::string>& args) {
+    std::vector<const char*> argv{"sculpt"};
+    for (const auto& a : args) argv.push_back(a.c_str());
+    app::CliOptions options;
+    if (!app::parseCommandLine(static_cast<int>(argv.size()), argv.data(), options)) return app::kExitBadInput;
+    return app::runHeadless(options, "sculpt");
+}
+
+}  // namespace
+
+TEST_CASE("headless: a script deforms the mesh, writes it and a report", "[app]") {
+    TempDir dir;
+    writeText(dir.file("cube.obj"), cubeObj());
+    writeText(dir.file("ops.json"), R"({
+      "lattice": {"resolution": [6,6,6], "degree": [3,3,3], "padding": 0.1},
+      "ops": [ {"op": "drag_vertex", "vertex": 6, "target": [1.3, 1.2, 1.1]},
+               {"op": "drag", "constraints": [{"source": [-1,-1,-1], "target": [-1.2,-1,-1]},
+                                              {"source": [1,-1,-1], "target": [1.2,-1.1,-1]}]},
+               {"op": "move_control_point", "index": [3,3,3], "by": [0, 0.05, 0]},
+               {"op": "undo"}, {"op": "redo"}, {"op": "redo"} ] })");
+    REQUIRE(run({"--headless", "--input", dir.file("cube.obj"), "--script", dir.file("ops.json"), "--output",
+                 dir.file("out.obj"), "--report", dir.file("report.json")}) == app::kExitOk);
+    io::ObjMesh out;
+    REQUIRE(io::loadObj(dir.file("out.obj"), out).ok);
+    REQUIRE(out.positions.rows() == 8);
+    const double diagonal = std::sqrt(12.0);
+    // The drag_vertex target was met before the later ops; the drag's sources sit on their targets after it.
+    const auto report = nlohmann::json::parse(readText(dir.file("report.json")));
+    REQUIRE(report["ops"].size() == 6);
+    for (int i = 0; i < 5; ++i) REQUIRE(report["ops"][i]["status"] == "applied");
+    REQUIRE(report["ops"][5]["status"] == "no-op");
+    REQUIRE(report["ops"][5]["reason"] == "nothing to redo");
+    REQUIRE(report["ops"][1]["residuals"].size() == 2);
+    REQUIRE(report["ops"][1]["max_residual"].get<double>() <= 1e-9 * diagonal);
+    REQUIRE(report["ops"][0]["control_points_changed"].get<int>() == 64);
+    REQUIRE(report["ops"][2]["control_points_changed"].get<int>() == 1);
+    REQUIRE(report["ops"][0].contains("wall_ms"));
+    // The vertex dragged first has since been moved a little by the later drags, but not far.
+    REQUIRE((out.positions.row(6) - Eigen::RowVector3d(1.3, 1.2, 1.1)).norm() < 0.2);
+}
+
+TEST_CASE("headless: bad input exits 2, says why and writes nothing", "[app]") {
+    TempDir dir;
+    writeText(dir.file("cube.obj"), cubeObj());
+    writeText(dir.file("out.obj"), "precious user data\n");
+    const std::vector<std::pair<std::string, std::string>> scripts = {
+        {"unknown op", R"({"ops": [{"op": "explode"}]})"},
+        {"non-finite", R"({"ops": [{"op": "drag_vertex", "vertex": 1, "target": [1, 2, 1e999]}]})"},
+        {"outside", R"({"ops": [{"op": "drag", "constraints": [{"source": [50,0,0], "target": [0,0,0]}]}]})"},
+        {"vertex range", R"({"ops": [{"op": "drag_vertex", "vertex": 8, "target": [0,0,0]}]})"},
+        {"degree", R"({"lattice": {"degree": [3,9,3]}, "ops": []})"},
+        {"resolution", R"({"lattice": {"resolution": [2,8,8]}, "ops": []})"},
+        {"control point", R"({"ops": [{"op": "move_control_point", "index": [8,0,0], "to": [0,0,0]}]})"},
+        {"late failure", R"({"ops": [{"op": "drag_vertex", "vertex": 1, "target": [1.1,-1,-1]},
+                                     {"op": "drag_vertex", "vertex": -3, "target": [0,0,0]}]})"},
+        {"not json", "{ops: nope"},
+        {"unknown field", R"({"ops": [], "colour": 3})"},
+    };
+    for (const auto& [name, text] : scripts) {
+        INFO(name);
+        writeText(dir.file("ops.json"), text);
+        REQUIRE(run({"--headless", "--input", dir.file("cube.obj"), "--script", dir.file("ops.json"), "--output",
+                     dir.file("out.obj"), "--report", dir.file("report.json")}) == app::kExitBadInput);
+        REQUIRE(readText(dir.file("out.obj")) == "precious user data\n");
+        REQUIRE_FALSE(fs::exists(dir.file("report.json")));
+    }
+    // A malformed mesh and a missing one are bad input too.
+    writeText(dir.file("ops.json"), R"({"ops": []})");
+    writeText(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+    REQUIRE(run({"--headless", "--input", dir.file("bad.obj"), "--script", dir.file("ops.json"), "--output", dir.file("out.obj")}) ==
+            app::kExitBadInput);
+    REQUIRE(run({"--headless", "--input", dir.file("missing.obj"), "--script", dir.file("ops.json"), "--output", dir.file("out.obj")}) ==
+            app::kExitBadInput);
+    REQUIRE(readText(dir.file("out.obj")) == "precious user data\n");
+}
+
+TEST_CASE("headless: an unwritable output exits 3 and leaves no partial file", "[app]") {
+    TempDir dir;
+    writeText(dir.file("cube.obj"), cubeObj());
+    writeText(dir.file("ops.json"), R"({"ops": []})");
+    REQUIRE(run({"--headless", "--input", dir.file("cube.obj"), "--script", dir.file("ops.json"), "--output",
+                 dir.file("no/such/folder/out.obj")}) == app::kExitWriteFailed);
+    REQUIRE_FALSE(fs::exists(dir.file("no")));
+}
+
+TEST_CASE("headless: command line errors name the argument", "[app]") {
+    auto parse = [](std::vector<const char*> args) {
+        args.insert(args.begin(), "sculpt");
+        app::CliOptions options;
+        return app::parseCommandLine(static_cast<int>(args.size()), args.data(), options);
+    };
+    REQUIRE(parse({"--headless", "--output", "x.obj"}).message.find("--script") != std::string::npos);
+    REQUIRE(parse({"--headless", "--script", "x.json"}).message.find("--output") != std::string::npos);
+    REQUIRE(parse({"--frobnicate"}).message.find("--frobnicate") != std::string::npos);
+    REQUIRE(parse({"--headless", "--script", "a", "--output", "b", "--size", "12by4"}).message.find("--size") != std::string::npos);
+    REQUIRE(parse({"--headless", "--script", "a", "--output", "b", "--camera", "1,2"}).message.find("--camera") != std::string::npos);
+    REQUIRE(parse({"--headless", "--script", "a", "--output", "b", "--overlay", "xray"}).message.find("--overlay") != std::string::npos);
+    REQUIRE(parse({"--headless", "--script"}).message.find("needs a value") != std::string::npos);
+    REQUIRE(parse({"--headless", "--script", "a", "--output", "b", "--camera", "30,20,4", "--size", "640x480"}).ok);
+}
