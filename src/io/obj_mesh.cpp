@@ -152,7 +152,11 @@ void addTinyobjWarnings(const std::string& warn, const std::string& displayName,
         if (end == std::string::npos) end = warn.size();
         const std::string line = warn.substr(begin, end - begin);
         begin = end + 1;
-        if (line.empty() || line == "." || line.rfind("Failed to load material file(s)", 0) == 0) continue;
+        // Skipped: notes our own warnings already give ("Failed to load material file(s)"), and the
+        // unnamed-group note for "g " which serializeObj writes on purpose.
+        if (line.empty() || line == "." || line.rfind("Failed to load material file(s)", 0) == 0 ||
+            line.rfind("Empty group name", 0) == 0)
+            continue;
         warnings.push_back(displayName + ": " + line);
     }
 }

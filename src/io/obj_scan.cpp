@@ -114,6 +114,7 @@ private:
         for (ptrdiff_t i = 0; i < end - p; ++i) q[i] = ' ';
     }
 
+    void reserve(const char* p, const char* end);
     Status line(const char* p, const char* end);
     Status numbers(const char* p, const char* end, const char* keyword, double* values, int maxCount, int& count);
     Status face(const char* p, const char* end);
@@ -163,6 +164,7 @@ Status Scanner::run() {
         begin += 3;
     }
 
+    reserve(begin, end);
     const char* p = begin;
     while (p < end) {
         ++line_;
@@ -189,6 +191,30 @@ Status Scanner::run() {
         if (!status) return status;
     }
     return finish();
+}
+
+// note: a quick count of `v`, `vt` and `f` lines (memchr per line, no parsing) so the arrays are
+// allocated once: on a 1M-vertex file, growing them by doubling cost more than this pass, mostly in
+// page faults and copies. Triangles are assumed; polygon files grow the corner arrays once or twice.
+void Scanner::reserve(const char* p, const char* end) {
+    size_t vertices = 0, texcoords = 0, faces = 0;
+    while (p < end) {
+        while (p < end && isBlank(*p)) ++p;
+        if (end - p >= 2 && isBlank(p[1])) {
+            vertices += *p == 'v';
+            faces += *p == 'f';
+        } else if (end - p >= 3 && p[0] == 'v' && p[1] == 't' && isBlank(p[2])) {
+            ++texcoords;
+        }
+        const void* newline = std::memchr(p, '\n', static_cast<size_t>(end - p));
+        p = newline ? static_cast<const char*>(newline) + 1 : end;
+    }
+    scan_.positions.reserve(3 * vertices);
+    scan_.texcoords.reserve(3 * texcoords);
+    scan_.faceStart.reserve(faces + 1);
+    for (std::vector<int>* corners : {&scan_.cornerVertex, &scan_.cornerTexcoord, &scan_.cornerNormal})
+        corners->reserve(3 * faces);
+    for (std::vector<int>* perFace : {&scan_.faceLine, &scan_.faceGroup, &scan_.faceMaterial}) perFace->reserve(faces);
 }
 
 Status Scanner::line(const char* p, const char* end) {
