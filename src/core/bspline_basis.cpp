@@ -82,8 +82,9 @@ SplineAxis makeSplineAxis(int count, int degree) {
 
 int SplineAxis::locate(double u, double& local) const {
     const double scaled = u * spans;
-    int span = static_cast<int>(std::floor(scaled));
-    span = std::clamp(span, 0, spans - 1);
+    // note: truncation is floor for u >= 0 (and much cheaper than a libm call); u < 0 clamps to span 0.
+    int span = scaled > 0.0 ? static_cast<int>(scaled) : 0;
+    span = std::min(span, spans - 1);
     local = scaled - span;
     return span;
 }

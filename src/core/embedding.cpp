@@ -27,32 +27,70 @@ const detail::CellKernel gKernel = chooseKernel(&gKernelName);
 
 const char* evaluationKernelName() { return gKernelName; }
 
+namespace {
+
+// Cell of one axis and the local coordinate in it, for a point known to be inside the box.
+// note: u * spans >= 0, so truncation is floor (std::floor is a libm call in the default x86-64 build).
+inline int spanOf(double u, int spans, double& local) {
+    const double scaled = u * spans;
+    int span = static_cast<int>(scaled);
+    if (span > spans - 1) span = spans - 1;
+    local = scaled - span;
+    return span;
+}
+
+}  // namespace
+
 Embedding embedVertices(const Lattice& lattice, const Positions& rest) {
     Embedding e;
+    embedVertices(lattice, rest, e);
+    return e;
+}
+
+void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) {
     const int n = static_cast<int>(rest.rows());
     e.vertexCount = n;
     const std::array<int, 3> spans = lattice.spans();
     const int cellCount = lattice.cellCount();
-    // Counting sort by cell: stable, O(n + cells).
-    std::vector<int> cellOf(n, -1);
-    std::vector<double> local(3 * static_cast<size_t>(n));
+    const double lo[3] = {lattice.boxMin.x(), lattice.boxMin.y(), lattice.boxMin.z()};
+    const double hi[3] = {lattice.boxMax.x(), lattice.boxMax.y(), lattice.boxMax.z()};
+    const double* positions = rest.data();
+    // The parameters are the box's linear map (restParameters), inlined here: this runs on every re-embedding.
+    auto parameters = [&](int v, double t[3]) {
+        for (int a = 0; a < 3; ++a) {
+            const double x = positions[3 * static_cast<size_t>(v) + a];
+            if (!(x >= lo[a] && x <= hi[a])) return false;
+            t[a] = std::clamp((x - lo[a]) / (hi[a] - lo[a]), 0.0, 1.0);
+        }
+        return true;
+    };
+
+    // Pass 1: the cell of every vertex (-1 outside the box).
+    std::vector<int>& cellOf = e.scratchCell;
+    cellOf.resize(n);
 #pragma omp parallel for schedule(static)
     for (int v = 0; v < n; ++v) {
-        Eigen::Vector3d t;
-        if (!restParameters(lattice, rest.row(v).transpose(), t)) continue;
-        int s[3];
-        for (int a = 0; a < 3; ++a) s[a] = lattice.axes[a].locate(t[a], local[3 * static_cast<size_t>(v) + a]);
-        cellOf[v] = s[0] + spans[0] * (s[1] + spans[1] * s[2]);
+        double t[3], local;
+        if (!parameters(v, t)) {
+            cellOf[v] = -1;
+            continue;
+        }
+        cellOf[v] = spanOf(t[0], spans[0], local) + spans[0] * (spanOf(t[1], spans[1], local) + spans[1] * spanOf(t[2], spans[2], local));
     }
+    // Counting sort by cell: stable, O(n + cells).
     e.cellStart.assign(static_cast<size_t>(cellCount) + 1, 0);
-    for (int v = 0; v < n; ++v)
-        if (cellOf[v] >= 0) ++e.cellStart[cellOf[v] + 1];
+    for (int v = 0; v < n; ++v) ++e.cellStart[cellOf[v] + 1];  // outside vertices land in slot 0, dropped below
+    e.cellStart[0] = 0;
     std::partial_sum(e.cellStart.begin(), e.cellStart.end(), e.cellStart.begin());
     const int inside = e.cellStart.back();
     e.order.resize(inside);
-    std::vector<int> cursor(e.cellStart.begin(), e.cellStart.end() - 1);
-    for (int v = 0; v < n; ++v)
-        if (cellOf[v] >= 0) e.order[cursor[cellOf[v]]++] = v;
+    {
+        std::vector<int>& cursor = e.scratchCursor;
+        cursor.assign(e.cellStart.begin(), e.cellStart.end() - 1);
+        for (int v = 0; v < n; ++v)
+            if (cellOf[v] >= 0) e.order[cursor[cellOf[v]]++] = v;
+    }
+    // Pass 2: local coordinates and rest positions in cell order, so the kernel reads them sequentially.
     e.localX.resize(inside);
     e.localY.resize(inside);
     e.localZ.resize(inside);
@@ -62,14 +100,15 @@ Embedding embedVertices(const Lattice& lattice, const Positions& rest) {
 #pragma omp parallel for schedule(static)
     for (int s = 0; s < inside; ++s) {
         const int v = e.order[s];
-        e.localX[s] = local[3 * static_cast<size_t>(v) + 0];
-        e.localY[s] = local[3 * static_cast<size_t>(v) + 1];
-        e.localZ[s] = local[3 * static_cast<size_t>(v) + 2];
-        e.restX[s] = rest(v, 0);
-        e.restY[s] = rest(v, 1);
-        e.restZ[s] = rest(v, 2);
+        double t[3];
+        parameters(v, t);
+        spanOf(t[0], spans[0], e.localX[s]);
+        spanOf(t[1], spans[1], e.localY[s]);
+        spanOf(t[2], spans[2], e.localZ[s]);
+        e.restX[s] = positions[3 * static_cast<size_t>(v)];
+        e.restY[s] = positions[3 * static_cast<size_t>(v) + 1];
+        e.restZ[s] = positions[3 * static_cast<size_t>(v) + 2];
     }
-    return e;
 }
 
 std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int>& controlPoints) {

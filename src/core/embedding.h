@@ -22,10 +22,15 @@ struct Embedding {
     std::vector<double> localX, localY, localZ;  // local coordinates in [0,1] inside the cell
     std::vector<double> restX, restY, restZ;     // rest positions
     int insideCount() const { return static_cast<int>(order.size()); }
+    // Working storage kept between re-embeddings (fresh pages cost ~10 us each on this machine class).
+    std::vector<int> scratchCell, scratchCursor;
 };
 
 // rest: #V x 3. Vertices outside the lattice box are left out (they never move).
 Embedding embedVertices(const Lattice& lattice, const Positions& rest);
+// The same, refilling `embedding` in place and reusing its storage (no page faults when re-embedding a
+// mesh of the same size, as adaptive subdivision does).
+void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& embedding);
 
 // Cells (linear index su + Su*(sv + Sv*sw)) whose evaluation depends on any of the given control points:
 // the cells within `degree` spans of the point along each axis. Sorted, unique.
