@@ -1,0 +1,28 @@
+// Screen-space markers (control points, constraint handles): each instance is a quad of a fixed pixel
+// size centred on a 3D point, depth-tested at the centre's depth.
+layout(location = ATTRIB_MARKER_CENTER) in vec3 aCenter;
+layout(location = ATTRIB_MARKER_COLOR) in vec4 aColor;
+layout(location = ATTRIB_MARKER_STYLE) in vec2 aStyle;  // (diameter in pixels, shape: 0 disc, 1 square)
+
+uniform mat4 uViewProjection;
+uniform vec2 uViewport;     // pixels
+uniform float uSizeScale;   // multiplies every diameter (HiDPI, pass emphasis)
+
+out vec4 vColor;
+out vec2 vPixels;           // offset from the centre, pixels
+flat out float vRadius;
+flat out float vShape;
+
+void main() {
+    vec2 corner = vec2((gl_VertexID & 1) == 0 ? -1.0 : 1.0, gl_VertexID >= 2 ? 1.0 : -1.0);
+    vRadius = 0.5 * aStyle.x * uSizeScale;
+    float extent = vRadius + 1.0;  // one pixel of fringe for antialiasing
+    vec4 clip = uViewProjection * vec4(aCenter, 1.0);
+    vPixels = corner * extent;
+    clip.xy += vPixels / (0.5 * uViewport) * clip.w;
+    // Behind the eye: put the vertex outside the clip volume so nothing is drawn.
+    if (clip.w <= 0.0) clip = vec4(2.0, 2.0, 2.0, 1.0);
+    gl_Position = clip;
+    vColor = aColor;
+    vShape = aStyle.y;
+}

@@ -1,0 +1,698 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "core/vertex_normals.h"
+#include "render/gl_functions.h"
+#include "render/shader_program.h"
+
+namespace sculpt::render {
+
+namespace {
+
+// Colours are sRGB + alpha; sizes are pixels at pixel scale 1. The README's colour legend describes these.
+struct Rgba {
+    float r, g, b, a;
+};
+constexpr Rgba kControlPointColor = {1.00f, 0.55f, 0.10f, 1.0f};  // orange disc
+constexpr Rgba kSelectedPointColor = {1.00f, 0.90f, 0.15f, 1.0f}; // yellow, larger
+constexpr Rgba kPinnedPointColor = {0.20f, 0.20f, 0.22f, 1.0f};   // dark grey square, light outline
+constexpr Rgba kLatticeEdgeColor = {1.00f, 0.66f, 0.32f, 0.42f};  // thin, semi-transparent
+constexpr Rgba kSelectedEdgeColor = {1.00f, 0.92f, 0.35f, 0.70f};
+constexpr Rgba kPinnedEdgeColor = {0.62f, 0.62f, 0.66f, 0.42f};
+constexpr Rgba kSourceColor = {0.92f, 0.16f, 0.12f, 1.0f};        // constraint source S: red
+constexpr Rgba kTargetColor = {0.18f, 0.46f, 1.00f, 1.0f};        // constraint target T: blue
+constexpr Rgba kWireColor = {0.10f, 0.10f, 0.12f, 0.40f};
+constexpr Rgba kHandleShadow = {0.04f, 0.04f, 0.05f, 0.55f};      // dark underlay of constraint lines
+
+constexpr float kControlPointSize = 8.0f;
+constexpr float kSelectedPointSize = 11.0f;
+constexpr float kPinnedPointSize = 9.0f;
+constexpr float kHandleSize = 11.0f;
+constexpr float kLatticeEdgeWidth = 1.0f;
+constexpr float kHandleLineWidth = 2.5f;
+constexpr float kHandleShadowWidth = 5.0f;
+// Parts of the lattice hidden behind the mesh are still drawn, this much fainter, so the user sees the
+// whole control volume without it competing with the surface.
+constexpr float kOccludedAlpha = 0.3f;
+
+// More than this fraction of changed vertices: recompute all normals and rewrite the whole buffer.
+constexpr int kFullUploadDivisor = 4;
+// Changed vertex runs closer than this many vertices are uploaded as one range (fewer GL calls).
+constexpr int kRangeMergeGap = 32;
+
+constexpr int kVertexFloats = 6;  // position xyz, normal xyz
+constexpr int kLineFloats = 14;   // start xyz, end xyz, colour start rgba, colour end rgba
+constexpr int kMarkerFloats = 9;  // centre xyz, colour rgba, (diameter, shape)
+
+struct InstanceBatch {
+    GLuint vao = 0;
+    GLuint buffer = 0;
+    int count = 0;
+};
+
+struct MeshUniforms {
+    GLint view = -1, projection = -1, mode = -1, wireColor = -1, showJacobian = -1, showAffected = -1;
+};
+struct BackgroundUniforms {
+    GLint topColor = -1, bottomColor = -1;
+};
+struct LineUniforms {
+    GLint viewProjection = -1, viewport = -1, width = -1, tint = -1, alphaScale = -1;
+};
+struct PointUniforms {
+    GLint viewProjection = -1, viewport = -1, sizeScale = -1, alphaScale = -1;
+};
+
+void appendPoint(std::vector<float>& out, const Positions& points, Eigen::Index row) {
+    out.push_back(float(points(row, 0)));
+    out.push_back(float(points(row, 1)));
+    out.push_back(float(points(row, 2)));
+}
+
+void appendColor(std::vector<float>& out, const Rgba& color) {
+    out.insert(out.end(), {color.r, color.g, color.b, color.a});
+}
+
+std::string glErrorText(GLenum error) {
+    switch (error) {
+        case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+        case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+        case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+        case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+        case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+        default: return "GL error " + std::to_string(error);
+    }
+}
+
+Status checkFinite(const Positions& points, const char* what) {
+    for (Eigen::Index i = 0; i < points.rows(); ++i)
+        if (!points.row(i).allFinite())
+            return Status::error(std::string(what) + " row " + std::to_string(i) + " is not finite (NaN or infinity)");
+    return Status::success();
+}
+
+}  // namespace
+
+struct Renderer::State {
+    GlFunctions gl;
+    bool ready = false;
+    float pixelScale = 1.0f;
+
+    GLuint backgroundProgram = 0, meshProgram = 0, lineProgram = 0, pointProgram = 0;
+    BackgroundUniforms backgroundUniforms;
+    MeshUniforms meshUniforms;
+    LineUniforms lineUniforms;
+    PointUniforms pointUniforms;
+    GLuint emptyVao = 0;  // core profile draws need a bound VAO even without attributes
+
+    // Mesh on the GPU: interleaved position + normal records, 32-bit indices, optional fields.
+    GLuint meshVao = 0, vertexBuffer = 0, indexBuffer = 0, jacobianBuffer = 0, affectedBuffer = 0;
+    bool hasJacobian = false, hasAffected = false;
+    // ... and the CPU copy that sparse updates start from.
+    Positions positions, normals;
+    Triangles triangles;
+    core::VertexTriangles adjacency;
+    std::vector<std::uint8_t> staleMarks;  // #V, all zero between updates
+    std::vector<float> staging;
+    UploadStats lastUpload;
+
+    InstanceBatch latticeEdges, latticePoints, handleLines, handlePoints;
+    Bounds latticeBounds;
+
+    GLint uniform(GLuint program, const char* name) const { return gl.GetUniformLocation(program, name); }
+    void packVertices(int first, int last);  // into staging, vertices [first, last)
+    void uploadVertexRange(int first, int last);
+    Status buildPrograms();
+    void createObjects();
+    void setupLineBatch(InstanceBatch& batch);
+    void setupPointBatch(InstanceBatch& batch);
+    void uploadBatch(InstanceBatch& batch, const std::vector<float>& data, int floatsPerInstance);
+    void drawLines(const InstanceBatch& batch, const glm::mat4& viewProjection, int width, int height,
+                   float lineWidth, const Rgba& tint, float alphaScale) const;
+    void drawPoints(const InstanceBatch& batch, const glm::mat4& viewProjection, int width, int height,
+                    float alphaScale) const;
+};
+
+Renderer::Renderer() : state_(std::make_unique<State>()) {}
+Renderer::~Renderer() = default;
+
+bool Renderer::initialized() const { return state_->ready; }
+
+Status Renderer::init(GlGetProc getProc) {
+    GlFunctions gl;
+    if (Status status = loadGlFunctions(getProc, gl); !status) return status;
+    return init(gl);
+}
+
+Status Renderer::init(const GlFunctions& gl) {
+    release();
+    state_->gl = gl;
+    if (Status status = checkGlVersion(gl, nullptr); !status) return status;
+    while (gl.GetError() != GL_NO_ERROR) {
+    }  // errors left by whoever used the context before us are not ours
+    if (Status status = state_->buildPrograms(); !status) {
+        release();
+        return status;
+    }
+    state_->createObjects();
+    if (const GLenum error = gl.GetError(); error != GL_NO_ERROR) {
+        release();
+        return Status::error("creating the renderer's GL objects failed: " + glErrorText(error));
+    }
+    state_->ready = true;
+    return Status::success();
+}
+
+Status Renderer::State::buildPrograms() {
+    if (Status status = buildEmbeddedProgram(gl, "background", backgroundProgram); !status) return status;
+    if (Status status = buildEmbeddedProgram(gl, "mesh", meshProgram); !status) return status;
+    if (Status status = buildEmbeddedProgram(gl, "line", lineProgram); !status) return status;
+    if (Status status = buildEmbeddedProgram(gl, "point", pointProgram); !status) return status;
+    backgroundUniforms = {uniform(backgroundProgram, "uTopColor"), uniform(backgroundProgram, "uBottomColor")};
+    meshUniforms = {uniform(meshProgram, "uView"),       uniform(meshProgram, "uProjection"),
+                    uniform(meshProgram, "uMode"),       uniform(meshProgram, "uWireColor"),
+                    uniform(meshProgram, "uShowJacobian"), uniform(meshProgram, "uShowAffected")};
+    lineUniforms = {uniform(lineProgram, "uViewProjection"), uniform(lineProgram, "uViewport"),
+                    uniform(lineProgram, "uWidth"), uniform(lineProgram, "uTint"),
+                    uniform(lineProgram, "uAlphaScale")};
+    pointUniforms = {uniform(pointProgram, "uViewProjection"), uniform(pointProgram, "uViewport"),
+                     uniform(pointProgram, "uSizeScale"), uniform(pointProgram, "uAlphaScale")};
+    return Status::success();
+}
+
+void Renderer::State::createObjects() {
+    gl.GenVertexArrays(1, &emptyVao);
+
+    gl.GenVertexArrays(1, &meshVao);
+    gl.GenBuffers(1, &vertexBuffer);
+    gl.GenBuffers(1, &indexBuffer);
+    gl.GenBuffers(1, &jacobianBuffer);
+    gl.GenBuffers(1, &affectedBuffer);
+    gl.BindVertexArray(meshVao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, vertexBuffer);
+    const GLsizei stride = kVertexFloats * sizeof(float);
+    gl.EnableVertexAttribArray(kAttribPosition);
+    gl.VertexAttribPointer(kAttribPosition, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+    gl.EnableVertexAttribArray(kAttribNormal);
+    gl.VertexAttribPointer(kAttribNormal, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(3 * sizeof(float)));
+    gl.BindBuffer(GL_ARRAY_BUFFER, jacobianBuffer);
+    gl.VertexAttribPointer(kAttribJacobian, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.BindBuffer(GL_ARRAY_BUFFER, affectedBuffer);
+    gl.VertexAttribPointer(kAttribAffected, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer);  // recorded in the VAO
+    gl.BindVertexArray(0);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+
+    setupLineBatch(latticeEdges);
+    setupLineBatch(handleLines);
+    setupPointBatch(latticePoints);
+    setupPointBatch(handlePoints);
+}
+
+void Renderer::State::setupLineBatch(InstanceBatch& batch) {
+    gl.GenVertexArrays(1, &batch.vao);
+    gl.GenBuffers(1, &batch.buffer);
+    gl.BindVertexArray(batch.vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, batch.buffer);
+    const GLsizei stride = kLineFloats * sizeof(float);
+    const GLuint locations[4] = {kAttribSegmentStart, kAttribSegmentEnd, kAttribColorStart, kAttribColorEnd};
+    const GLint sizes[4] = {3, 3, 4, 4};
+    size_t offset = 0;
+    for (int a = 0; a < 4; ++a) {
+        gl.EnableVertexAttribArray(locations[a]);
+        gl.VertexAttribPointer(locations[a], sizes[a], GL_FLOAT, GL_FALSE, stride,
+                               reinterpret_cast<void*>(offset * sizeof(float)));
+        gl.VertexAttribDivisor(locations[a], 1);
+        offset += size_t(sizes[a]);
+    }
+    gl.BindVertexArray(0);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+void Renderer::State::setupPointBatch(InstanceBatch& batch) {
+    gl.GenVertexArrays(1, &batch.vao);
+    gl.GenBuffers(1, &batch.buffer);
+    gl.BindVertexArray(batch.vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, batch.buffer);
+    const GLsizei stride = kMarkerFloats * sizeof(float);
+    const GLuint locations[3] = {kAttribMarkerCenter, kAttribMarkerColor, kAttribMarkerStyle};
+    const GLint sizes[3] = {3, 4, 2};
+    size_t offset = 0;
+    for (int a = 0; a < 3; ++a) {
+        gl.EnableVertexAttribArray(locations[a]);
+        gl.VertexAttribPointer(locations[a], sizes[a], GL_FLOAT, GL_FALSE, stride,
+                               reinterpret_cast<void*>(offset * sizeof(float)));
+        gl.VertexAttribDivisor(locations[a], 1);
+        offset += size_t(sizes[a]);
+    }
+    gl.BindVertexArray(0);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+void Renderer::State::uploadBatch(InstanceBatch& batch, const std::vector<float>& data, int floatsPerInstance) {
+    gl.BindBuffer(GL_ARRAY_BUFFER, batch.buffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.empty() ? nullptr : data.data(),
+                  GL_DYNAMIC_DRAW);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    batch.count = int(data.size()) / floatsPerInstance;
+}
+
+void Renderer::release() {
+    State& s = *state_;
+    // Also after a failed init, which may have created some objects (glDelete* ignores name 0).
+    if (s.gl.DeleteProgram) {
+        const GlFunctions& gl = s.gl;
+        for (GLuint program : {s.backgroundProgram, s.meshProgram, s.lineProgram, s.pointProgram})
+            if (program) gl.DeleteProgram(program);
+        for (GLuint* vao : {&s.emptyVao, &s.meshVao, &s.latticeEdges.vao, &s.latticePoints.vao, &s.handleLines.vao,
+                            &s.handlePoints.vao})
+            gl.DeleteVertexArrays(1, vao);
+        for (GLuint* buffer : {&s.vertexBuffer, &s.indexBuffer, &s.jacobianBuffer, &s.affectedBuffer,
+                               &s.latticeEdges.buffer, &s.latticePoints.buffer, &s.handleLines.buffer,
+                               &s.handlePoints.buffer})
+            gl.DeleteBuffers(1, buffer);
+    }
+    const float pixelScale = s.pixelScale;
+    *state_ = State{};
+    state_->pixelScale = pixelScale;
+}
+
+// ---- mesh ----------------------------------------------------------------------------------------
+
+void Renderer::State::packVertices(int first, int last) {
+    staging.resize(size_t(last - first) * kVertexFloats);
+    float* out = staging.data();
+#pragma omp parallel for schedule(static) if (last - first > 65536)
+    for (int v = first; v < last; ++v) {
+        float* record = out + size_t(v - first) * kVertexFloats;
+        for (int c = 0; c < 3; ++c) {
+            record[c] = float(positions(v, c));
+            record[3 + c] = float(normals(v, c));
+        }
+    }
+}
+
+void Renderer::State::uploadVertexRange(int first, int last) {
+    packVertices(first, last);
+    gl.BufferSubData(GL_ARRAY_BUFFER, GLintptr(first) * kVertexFloats * GLintptr(sizeof(float)),
+                     GLsizeiptr(staging.size() * sizeof(float)), staging.data());
+}
+
+Status Renderer::setMesh(const Positions& positions, const Triangles& triangles) {
+    State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    if (Status status = checkFinite(positions, "mesh position"); !status) return status;
+    const Eigen::Index vertexCount = positions.rows();
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+        for (int c = 0; c < 3; ++c)
+            if (triangles(t, c) < 0 || triangles(t, c) >= vertexCount)
+                return Status::error("triangle " + std::to_string(t) + " has vertex index " +
+                                     std::to_string(triangles(t, c)) + ", outside [0, " +
+                                     std::to_string(vertexCount) + ")");
+    s.positions = positions;
+    s.triangles = triangles;
+    core::computeVertexNormals(s.positions, s.triangles, s.normals);
+    s.adjacency = core::buildVertexTriangles(int(vertexCount), s.triangles);
+    s.staleMarks.assign(size_t(vertexCount), 0);
+
+    const GlFunctions& gl = s.gl;
+    s.packVertices(0, int(vertexCount));
+    gl.BindBuffer(GL_ARRAY_BUFFER, s.vertexBuffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(s.staging.size() * sizeof(float)),
+                  s.staging.empty() ? nullptr : s.staging.data(), GL_DYNAMIC_DRAW);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    gl.BindVertexArray(s.meshVao);  // the element buffer binding belongs to the VAO
+    // note: Triangles is row-major int; validated non-negative, so its bytes are valid GL_UNSIGNED_INT indices.
+    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(s.triangles.size() * sizeof(int)),
+                  s.triangles.size() ? s.triangles.data() : nullptr, GL_STATIC_DRAW);
+    gl.BindVertexArray(0);
+    s.lastUpload = {int(vertexCount), 1, true};
+    setJacobianField({});
+    setAffectedWeights({});
+    s.staging.clear();
+    s.staging.shrink_to_fit();
+    return Status::success();
+}
+
+Status Renderer::updatePositions(const Positions& positions, const std::vector<int>& changedVertices) {
+    State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    const int vertexCount = int(s.positions.rows());
+    if (positions.rows() != vertexCount)
+        return Status::error("updatePositions: " + std::to_string(positions.rows()) +
+                             " positions given for a mesh of " + std::to_string(vertexCount) + " vertices");
+    for (int v : changedVertices) {
+        if (v < 0 || v >= vertexCount)
+            return Status::error("updatePositions: changed vertex " + std::to_string(v) + " is outside [0, " +
+                                 std::to_string(vertexCount) + ")");
+        if (!positions.row(v).allFinite())
+            return Status::error("updatePositions: position of vertex " + std::to_string(v) +
+                                 " is not finite (NaN or infinity); nothing was uploaded");
+    }
+    s.lastUpload = {};
+    if (changedVertices.empty()) return Status::success();
+    for (int v : changedVertices) s.positions.row(v) = positions.row(v);
+
+    const GlFunctions& gl = s.gl;
+    gl.BindBuffer(GL_ARRAY_BUFFER, s.vertexBuffer);
+    if (changedVertices.size() * kFullUploadDivisor > size_t(vertexCount)) {
+        core::computeVertexNormals(s.positions, s.triangles, s.normals);
+        s.packVertices(0, vertexCount);
+        // Re-specifying the whole store lets the driver orphan the old one instead of waiting for draws.
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(s.staging.size() * sizeof(float)), s.staging.data(),
+                      GL_DYNAMIC_DRAW);
+        s.lastUpload = {vertexCount, 1, true};
+    } else {
+        core::updateVertexNormals(s.positions, s.triangles, s.adjacency, changedVertices, s.normals);
+        // Stale records: each changed vertex (position) and every vertex sharing a triangle with it (normal),
+        // the same ring updateVertexNormals recomputed.
+        int lowest = vertexCount, highest = -1;
+        const auto mark = [&](int v) {
+            s.staleMarks[size_t(v)] = 1;
+            lowest = std::min(lowest, v);
+            highest = std::max(highest, v);
+        };
+        for (int v : changedVertices) {
+            mark(v);
+            for (int k = s.adjacency.offsets[v]; k < s.adjacency.offsets[v + 1]; ++k)
+                for (int c = 0; c < 3; ++c) mark(s.triangles(s.adjacency.triangles[k], c));
+        }
+        // Contiguous runs of marked vertices, merged across small gaps, one glBufferSubData each.
+        int runStart = -1, lastMarked = -1;
+        for (int v = lowest; v <= highest; ++v) {
+            if (!s.staleMarks[size_t(v)]) continue;
+            s.staleMarks[size_t(v)] = 0;
+            if (runStart >= 0 && v - lastMarked > kRangeMergeGap) {
+                s.uploadVertexRange(runStart, lastMarked + 1);
+                s.lastUpload.verticesUploaded += lastMarked + 1 - runStart;
+                ++s.lastUpload.ranges;
+                runStart = -1;
+            }
+            if (runStart < 0) runStart = v;
+            lastMarked = v;
+        }
+        if (runStart >= 0) {
+            s.uploadVertexRange(runStart, lastMarked + 1);
+            s.lastUpload.verticesUploaded += lastMarked + 1 - runStart;
+            ++s.lastUpload.ranges;
+        }
+    }
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    return Status::success();
+}
+
+Status Renderer::setJacobianField(const std::vector<float>& jacobianDet) {
+    State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    if (!jacobianDet.empty() && jacobianDet.size() != size_t(s.positions.rows()))
+        return Status::error("Jacobian field has " + std::to_string(jacobianDet.size()) + " values for " +
+                             std::to_string(s.positions.rows()) + " vertices");
+    for (size_t i = 0; i < jacobianDet.size(); ++i)
+        if (!std::isfinite(jacobianDet[i]))
+            return Status::error("Jacobian field value " + std::to_string(i) + " is not finite");
+    const GlFunctions& gl = s.gl;
+    gl.BindVertexArray(s.meshVao);
+    if (jacobianDet.empty()) {
+        gl.DisableVertexAttribArray(kAttribJacobian);
+    } else {
+        gl.BindBuffer(GL_ARRAY_BUFFER, s.jacobianBuffer);
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(jacobianDet.size() * sizeof(float)), jacobianDet.data(),
+                      GL_DYNAMIC_DRAW);
+        gl.EnableVertexAttribArray(kAttribJacobian);
+        gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    }
+    gl.BindVertexArray(0);
+    s.hasJacobian = !jacobianDet.empty();
+    return Status::success();
+}
+
+Status Renderer::setAffectedWeights(const std::vector<float>& affectedWeight) {
+    State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    if (!affectedWeight.empty() && affectedWeight.size() != size_t(s.positions.rows()))
+        return Status::error("affected-region field has " + std::to_string(affectedWeight.size()) +
+                             " values for " + std::to_string(s.positions.rows()) + " vertices");
+    for (size_t i = 0; i < affectedWeight.size(); ++i)
+        if (std::isnan(affectedWeight[i]))
+            return Status::error("affected-region weight " + std::to_string(i) + " is NaN");
+    const GlFunctions& gl = s.gl;
+    gl.BindVertexArray(s.meshVao);
+    if (affectedWeight.empty()) {
+        gl.DisableVertexAttribArray(kAttribAffected);
+    } else {
+        gl.BindBuffer(GL_ARRAY_BUFFER, s.affectedBuffer);
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(affectedWeight.size() * sizeof(float)), affectedWeight.data(),
+                      GL_DYNAMIC_DRAW);
+        gl.EnableVertexAttribArray(kAttribAffected);
+        gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    }
+    gl.BindVertexArray(0);
+    s.hasAffected = !affectedWeight.empty();
+    return Status::success();
+}
+
+// ---- lattice and constraints ---------------------------------------------------------------------
+
+Status Renderer::setLattice(const LatticeView& lattice) {
+    State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    std::vector<float> edges, points;
+    Bounds bounds;
+    if (lattice.nu != 0 || lattice.nv != 0 || lattice.nw != 0) {
+        if (lattice.nu < 1 || lattice.nv < 1 || lattice.nw < 1)
+            return Status::error("lattice size " + std::to_string(lattice.nu) + " x " + std::to_string(lattice.nv) +
+                                 " x " + std::to_string(lattice.nw) + ": each dimension must be at least 1");
+        const Eigen::Index count = Eigen::Index(lattice.nu) * lattice.nv * lattice.nw;
+        if (lattice.controlPoints.rows() != count)
+            return Status::error("lattice " + std::to_string(lattice.nu) + " x " + std::to_string(lattice.nv) +
+                                 " x " + std::to_string(lattice.nw) + " needs " + std::to_string(count) +
+                                 " control points, got " + std::to_string(lattice.controlPoints.rows()));
+        if (!lattice.selected.empty() && lattice.selected.size() != size_t(count))
+            return Status::error("lattice selection has " + std::to_string(lattice.selected.size()) +
+                                 " flags for " + std::to_string(count) + " control points");
+        if (!lattice.pinned.empty() && lattice.pinned.size() != size_t(count))
+            return Status::error("lattice pin flags: " + std::to_string(lattice.pinned.size()) + " for " +
+                                 std::to_string(count) + " control points");
+        if (Status status = checkFinite(lattice.controlPoints, "lattice control point"); !status) return status;
+
+        const auto isSelected = [&](Eigen::Index p) { return !lattice.selected.empty() && lattice.selected[p]; };
+        const auto isPinned = [&](Eigen::Index p) { return !lattice.pinned.empty() && lattice.pinned[p]; };
+        const auto edgeColor = [&](Eigen::Index p) {
+            return isSelected(p) ? kSelectedEdgeColor : isPinned(p) ? kPinnedEdgeColor : kLatticeEdgeColor;
+        };
+        const auto index = [&](int i, int j, int k) { return Eigen::Index(i) + lattice.nu * (Eigen::Index(j) + Eigen::Index(lattice.nv) * k); };
+        const auto addEdge = [&](Eigen::Index a, Eigen::Index b) {
+            appendPoint(edges, lattice.controlPoints, a);
+            appendPoint(edges, lattice.controlPoints, b);
+            appendColor(edges, edgeColor(a));
+            appendColor(edges, edgeColor(b));
+        };
+        for (int k = 0; k < lattice.nw; ++k)
+            for (int j = 0; j < lattice.nv; ++j)
+                for (int i = 0; i < lattice.nu; ++i) {
+                    const Eigen::Index p = index(i, j, k);
+                    if (i + 1 < lattice.nu) addEdge(p, index(i + 1, j, k));
+                    if (j + 1 < lattice.nv) addEdge(p, index(i, j + 1, k));
+                    if (k + 1 < lattice.nw) addEdge(p, index(i, j, k + 1));
+                }
+        // Plain points first, then pinned, then selected, so the ones the user works with draw on top.
+        for (int pass = 0; pass < 3; ++pass)
+            for (Eigen::Index p = 0; p < count; ++p) {
+                const int kind = isSelected(p) ? 2 : isPinned(p) ? 1 : 0;
+                if (kind != pass) continue;
+                appendPoint(points, lattice.controlPoints, p);
+                appendColor(points, kind == 2 ? kSelectedPointColor : kind == 1 ? kPinnedPointColor : kControlPointColor);
+                points.push_back(kind == 2 ? kSelectedPointSize : kind == 1 ? kPinnedPointSize : kControlPointSize);
+                points.push_back(isPinned(p) ? 1.0f : 0.0f);  // pinned: square, even when selected
+            }
+        bounds = boundsOf(lattice.controlPoints);
+    }
+    s.uploadBatch(s.latticeEdges, edges, kLineFloats);
+    s.uploadBatch(s.latticePoints, points, kMarkerFloats);
+    s.latticeBounds = bounds;
+    return Status::success();
+}
+
+Status Renderer::setConstraints(const ConstraintView& constraints) {
+    State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    if (constraints.sources.rows() != constraints.targets.rows())
+        return Status::error("constraints: " + std::to_string(constraints.sources.rows()) + " sources but " +
+                             std::to_string(constraints.targets.rows()) + " targets");
+    if (Status status = checkFinite(constraints.sources, "constraint source"); !status) return status;
+    if (Status status = checkFinite(constraints.targets, "constraint target"); !status) return status;
+    std::vector<float> lines, points;
+    for (Eigen::Index c = 0; c < constraints.sources.rows(); ++c) {
+        appendPoint(lines, constraints.sources, c);
+        appendPoint(lines, constraints.targets, c);
+        appendColor(lines, kSourceColor);
+        appendColor(lines, kTargetColor);
+    }
+    for (Eigen::Index c = 0; c < constraints.sources.rows(); ++c) {
+        appendPoint(points, constraints.sources, c);
+        appendColor(points, kSourceColor);
+        points.insert(points.end(), {kHandleSize, 0.0f});
+    }
+    for (Eigen::Index c = 0; c < constraints.targets.rows(); ++c) {
+        appendPoint(points, constraints.targets, c);
+        appendColor(points, kTargetColor);
+        points.insert(points.end(), {kHandleSize, 0.0f});
+    }
+    s.uploadBatch(s.handleLines, lines, kLineFloats);
+    s.uploadBatch(s.handlePoints, points, kMarkerFloats);
+    return Status::success();
+}
+
+Status Renderer::setScene(const SceneData& scene) {
+    if (Status status = setMesh(scene.positions, scene.triangles); !status) return status;
+    if (Status status = setJacobianField(scene.jacobianDet); !status) return status;
+    if (Status status = setAffectedWeights(scene.affectedWeight); !status) return status;
+    if (Status status = setLattice(scene.lattice); !status) return status;
+    return setConstraints(scene.constraints);
+}
+
+// ---- drawing -------------------------------------------------------------------------------------
+
+void Renderer::State::drawLines(const InstanceBatch& batch, const glm::mat4& viewProjection, int width,
+                                int height, float lineWidth, const Rgba& tint, float alphaScale) const {
+    if (batch.count == 0) return;
+    gl.UseProgram(lineProgram);
+    gl.UniformMatrix4fv(lineUniforms.viewProjection, 1, GL_FALSE, glm::value_ptr(viewProjection));
+    gl.Uniform2f(lineUniforms.viewport, float(width), float(height));
+    gl.Uniform1f(lineUniforms.width, lineWidth * pixelScale);
+    gl.Uniform4f(lineUniforms.tint, tint.r, tint.g, tint.b, tint.a);
+    gl.Uniform1f(lineUniforms.alphaScale, alphaScale);
+    gl.BindVertexArray(batch.vao);
+    gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, batch.count);
+}
+
+void Renderer::State::drawPoints(const InstanceBatch& batch, const glm::mat4& viewProjection, int width,
+                                 int height, float alphaScale) const {
+    if (batch.count == 0) return;
+    gl.UseProgram(pointProgram);
+    gl.UniformMatrix4fv(pointUniforms.viewProjection, 1, GL_FALSE, glm::value_ptr(viewProjection));
+    gl.Uniform2f(pointUniforms.viewport, float(width), float(height));
+    gl.Uniform1f(pointUniforms.sizeScale, pixelScale);
+    gl.Uniform1f(pointUniforms.alphaScale, alphaScale);
+    gl.BindVertexArray(batch.vao);
+    gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, batch.count);
+}
+
+Status Renderer::draw(const Camera& camera, const DrawOptions& options, int width, int height) const {
+    const State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    if (width <= 0 || height <= 0)
+        return Status::error("viewport size " + std::to_string(width) + " x " + std::to_string(height) +
+                             " is empty: width and height must be at least 1");
+    const GlFunctions& gl = s.gl;
+    const float aspect = float(width) / float(height);
+    const glm::mat4 view = camera.view();
+    const glm::mat4 projection = camera.projection(aspect);
+    const glm::mat4 viewProjection = projection * view;
+    constexpr Rgba kNoTint = {0, 0, 0, 0};
+
+    gl.Viewport(0, 0, width, height);
+    gl.Disable(GL_SCISSOR_TEST);
+    gl.Disable(GL_STENCIL_TEST);
+    gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_BLEND);
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl.DepthMask(GL_TRUE);
+    gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    gl.ClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+    gl.ClearDepth(1.0);
+    gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+    if (options.background) {
+        gl.Disable(GL_DEPTH_TEST);
+        gl.UseProgram(s.backgroundProgram);
+        gl.Uniform3f(s.backgroundUniforms.topColor, kBackgroundTop[0], kBackgroundTop[1], kBackgroundTop[2]);
+        gl.Uniform3f(s.backgroundUniforms.bottomColor, kBackgroundBottom[0], kBackgroundBottom[1],
+                     kBackgroundBottom[2]);
+        gl.BindVertexArray(s.emptyVao);
+        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LESS);
+    const GLsizei indexCount = GLsizei(s.triangles.size());
+    if (indexCount > 0) {
+        gl.UseProgram(s.meshProgram);
+        gl.UniformMatrix4fv(s.meshUniforms.view, 1, GL_FALSE, glm::value_ptr(view));
+        gl.UniformMatrix4fv(s.meshUniforms.projection, 1, GL_FALSE, glm::value_ptr(projection));
+        gl.Uniform1i(s.meshUniforms.mode, 0);
+        gl.Uniform1i(s.meshUniforms.showJacobian, options.jacobian ? 1 : 0);
+        gl.Uniform1i(s.meshUniforms.showAffected, options.affected ? 1 : 0);
+        // Absent fields read as constants: det J = 1 (unchanged), weight 0 (unaffected).
+        if (!s.hasJacobian) gl.VertexAttrib1f(kAttribJacobian, 1.0f);
+        if (!s.hasAffected) gl.VertexAttrib1f(kAttribAffected, 0.0f);
+        gl.BindVertexArray(s.meshVao);
+        if (options.wireframe) {
+            // Push the surface back a little so its own edges pass the depth test on top of it.
+            gl.Enable(GL_POLYGON_OFFSET_FILL);
+            gl.PolygonOffset(1.0f, 1.0f);
+        }
+        gl.DrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
+        gl.Disable(GL_POLYGON_OFFSET_FILL);
+        if (options.wireframe) {
+            gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+            gl.Enable(GL_BLEND);
+            gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+            gl.DepthFunc(GL_LEQUAL);
+            gl.DepthMask(GL_FALSE);
+            gl.Uniform1i(s.meshUniforms.mode, 1);
+            gl.Uniform4f(s.meshUniforms.wireColor, kWireColor.r, kWireColor.g, kWireColor.b, kWireColor.a);
+            gl.DrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
+            gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+            gl.DepthMask(GL_TRUE);
+            gl.DepthFunc(GL_LESS);
+        }
+    }
+
+    // Overlays blend over the surface and never write depth.
+    gl.Enable(GL_BLEND);
+    gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    gl.DepthMask(GL_FALSE);
+    if (options.lattice) {
+        // Two passes: the parts behind the mesh faint, the visible parts at full (still translucent) strength.
+        gl.DepthFunc(GL_GREATER);
+        s.drawLines(s.latticeEdges, viewProjection, width, height, kLatticeEdgeWidth, kNoTint, kOccludedAlpha);
+        s.drawPoints(s.latticePoints, viewProjection, width, height, kOccludedAlpha);
+        gl.DepthFunc(GL_LEQUAL);
+        s.drawLines(s.latticeEdges, viewProjection, width, height, kLatticeEdgeWidth, kNoTint, 1.0f);
+        s.drawPoints(s.latticePoints, viewProjection, width, height, 1.0f);
+    }
+    if (options.constraints) {
+        // Handles are what the user is manipulating: always on top (Hu et al. 2001, Fig. 1 style).
+        gl.Disable(GL_DEPTH_TEST);
+        s.drawLines(s.handleLines, viewProjection, width, height, kHandleShadowWidth, kHandleShadow, 1.0f);
+        s.drawLines(s.handleLines, viewProjection, width, height, kHandleLineWidth, kNoTint, 1.0f);
+        s.drawPoints(s.handlePoints, viewProjection, width, height, 1.0f);
+    }
+
+    gl.Disable(GL_BLEND);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LESS);
+    gl.DepthMask(GL_TRUE);
+    gl.BindVertexArray(0);
+    gl.UseProgram(0);
+    if (const GLenum error = gl.GetError(); error != GL_NO_ERROR)
+        return Status::error("drawing failed: " + glErrorText(error));
+    return Status::success();
+}
+
+void Renderer::setPixelScale(float scale) { state_->pixelScale = scale > 0.0f ? scale : 1.0f; }
+int Renderer::vertexCount() const { return int(state_->positions.rows()); }
+int Renderer::triangleCount() const { return int(state_->triangles.rows()); }
+Bounds Renderer::meshBounds() const { return boundsOf(state_->positions); }
+Bounds Renderer::latticeBounds() const { return state_->latticeBounds; }
+const Positions& Renderer::positions() const { return state_->positions; }
+const Positions& Renderer::normals() const { return state_->normals; }
+UploadStats Renderer::lastUpload() const { return state_->lastUpload; }
+
+}  // namespace sculpt::render

@@ -1,0 +1,97 @@
+// The OpenGL 3.3 core renderer: shaded mesh (+ wireframe, det J and affected-region overlays), control
+// lattice, constraint handles, background. It draws into whatever framebuffer is bound in the current
+// context and knows nothing of windows; the window (GLFW) and the offscreen contexts (OSMesa, EGL) both
+// use it. All GL calls go through a GlFunctions table loaded from the context (see gl_functions.h).
+//
+// Lifetime: init() and every other member that touches GL need the context current. GL objects are freed
+// by release() (also with the context current); the destructor makes no GL calls.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "core/mesh_types.h"
+#include "core/status.h"
+#include "render/camera.h"
+#include "render/gl_proc.h"
+#include "render/scene.h"
+
+namespace sculpt::render {
+
+struct GlFunctions;
+
+// Background gradient, sRGB in [0, 1], interpolated in sRGB from the top row to the bottom row.
+inline constexpr std::array<float, 3> kBackgroundTop = {0.345f, 0.365f, 0.400f};
+inline constexpr std::array<float, 3> kBackgroundBottom = {0.125f, 0.133f, 0.149f};
+
+// What the last setMesh / updatePositions sent to the GPU (for tests and benchmarks).
+struct UploadStats {
+    int verticesUploaded = 0;  // vertex records (position + normal) written
+    int ranges = 0;            // glBufferSubData calls for the vertex buffer
+    bool fullUpload = false;   // the whole buffer was rewritten
+};
+
+class Renderer {
+public:
+    Renderer();
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Loads GL entry points with getProc (glfwGetProcAddress, OSMesaGetProcAddress, eglGetProcAddress),
+    // checks for GL >= 3.3 and builds the shader programs. Fails with the driver's log on a shader error.
+    Status init(GlGetProc getProc);
+    Status init(const GlFunctions& gl);
+    void release();  // frees all GL objects; init() may be called again
+    bool initialized() const;
+
+    // Replaces the mesh. positions #V x 3 (all finite), triangles #F x 3 (indices in [0, #V)).
+    // Computes area-weighted vertex normals and uploads everything. Clears the per-vertex fields.
+    // An empty mesh (#V = 0) is valid and draws nothing. On failure the previous mesh stays.
+    Status setMesh(const Positions& positions, const Triangles& triangles);
+
+    // positions: the mesh's full current #V x 3 array, but only the rows listed in changedVertices are
+    // read (their values must be finite; indices in [0, #V), duplicates allowed). Recomputes the normals
+    // around them (core::updateVertexNormals) and re-uploads only the changed vertex ranges, or the whole
+    // buffer when more than a quarter of the vertices changed. On failure nothing changes.
+    Status updatePositions(const Positions& positions, const std::vector<int>& changedVertices);
+
+    // Per-vertex fields: #V values, or empty to clear. det J must not be NaN (any value <= 0 is a
+    // fold-over); weights are clamped to [0, 1] when drawn.
+    Status setJacobianField(const std::vector<float>& jacobianDet);
+    Status setAffectedWeights(const std::vector<float>& affectedWeight);
+
+    // nu = 0 clears. Otherwise nu, nv, nw >= 1, controlPoints (nu*nv*nw) x 3 finite, selected / pinned
+    // empty or one per control point.
+    Status setLattice(const LatticeView& lattice);
+    // sources and targets #C x 3 each (finite); C = 0 clears.
+    Status setConstraints(const ConstraintView& constraints);
+
+    // All of the above from one struct; on failure the renderer keeps its previous state for the part
+    // that failed and every part before it has been replaced.
+    Status setScene(const SceneData& scene);
+
+    // Draws into the currently bound framebuffer, viewport (0, 0, width, height): clears colour and depth,
+    // then background, mesh, wireframe, lattice, constraints. Leaves VAO 0, program 0, polygon mode FILL,
+    // blending off, depth test on and depth writes on. Fails (drawing nothing) on a non-positive size or
+    // before init(); reports a GL error raised while drawing.
+    Status draw(const Camera& camera, const DrawOptions& options, int width, int height) const;
+
+    // Screen-space sizes (line widths, marker diameters) are multiplied by this; 2 for a HiDPI window.
+    void setPixelScale(float scale);
+
+    int vertexCount() const;
+    int triangleCount() const;
+    Bounds meshBounds() const;     // of the current positions
+    Bounds latticeBounds() const;  // of the control points (empty without a lattice)
+    const Positions& positions() const;  // current positions, as uploaded
+    const Positions& normals() const;    // current vertex normals, as uploaded
+    UploadStats lastUpload() const;
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace sculpt::render

@@ -1,0 +1,50 @@
+// What the renderer draws, as plain arrays. Independent of the engine's types (lattice, solver, history):
+// the app or CLI copies what it wants shown into these structs.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/mesh_types.h"
+
+namespace sculpt::render {
+
+// The control lattice: an nu x nv x nw grid of control points.
+struct LatticeView {
+    int nu = 0, nv = 0, nw = 0;  // 0 = no lattice; otherwise each >= 1
+    // (nu*nv*nw) x 3; control point (i, j, k) is row i + nu*(j + nv*k).
+    Positions controlPoints;
+    // Empty, or one entry per control point (nonzero = true). Selected points are drawn yellow and
+    // larger, pinned ones as squares (dark grey unless also selected), the rest as orange discs.
+    std::vector<std::uint8_t> selected;
+    std::vector<std::uint8_t> pinned;
+};
+
+// Direct-manipulation constraints (Hu et al. 2001, Fig. 1): each source point S is carried to its target T.
+struct ConstraintView {
+    Positions sources;  // #C x 3, drawn red
+    Positions targets;  // #C x 3, drawn blue, joined to its source by a red-to-blue line
+};
+
+struct SceneData {
+    Positions positions;  // #V x 3; every value finite
+    Triangles triangles;  // #F x 3 indices into positions
+    // Optional per-vertex fields: empty, or exactly #V values.
+    std::vector<float> jacobianDet;     // det J of the deformation at each vertex, relative to rest (1 = unchanged)
+    std::vector<float> affectedWeight;  // in [0, 1]: how much a constraint / the selection influences the vertex
+    LatticeView lattice;                // nu == 0: none
+    ConstraintView constraints;         // empty: none
+};
+
+// Which layers draw() shows. Layers whose data is absent are skipped (a Jacobian overlay without a
+// jacobianDet field shows the plain material, since det J = 1 everywhere).
+struct DrawOptions {
+    bool lattice = false;      // lattice edges and control points
+    bool constraints = true;   // source/target handles, drawn on top of everything
+    bool wireframe = false;    // mesh edges over the shaded surface
+    bool jacobian = false;     // per-vertex det J colour map
+    bool affected = false;     // tint of the affected region
+    bool background = true;    // gradient; false clears to transparent black (alpha 0) for compositing
+};
+
+}  // namespace sculpt::render

@@ -1,0 +1,119 @@
+#include "render/shader_program.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "render/embedded_shaders.h"
+
+namespace sculpt::render {
+
+namespace {
+
+std::string shaderLog(const GlFunctions& gl, GLuint shader) {
+    GLint length = 0;
+    gl.GetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    if (length <= 1) return "(no log)";
+    std::vector<char> log(static_cast<size_t>(length));
+    gl.GetShaderInfoLog(shader, length, nullptr, log.data());
+    return std::string(log.data());
+}
+
+std::string programLog(const GlFunctions& gl, GLuint program) {
+    GLint length = 0;
+    gl.GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+    if (length <= 1) return "(no log)";
+    std::vector<char> log(static_cast<size_t>(length));
+    gl.GetProgramInfoLog(program, length, nullptr, log.data());
+    return std::string(log.data());
+}
+
+Status compileStage(const GlFunctions& gl, GLenum stage, const std::string& label, std::string_view source,
+                    GLuint& shader) {
+    shader = gl.CreateShader(stage);
+    if (shader == 0) return Status::error("glCreateShader failed for " + label);
+    // note: the preamble is a separate string, so the driver's line numbers are off by its line count;
+    // the message says so rather than rewriting the log.
+    const std::string preamble = shaderPreamble();
+    const GLchar* strings[2] = {preamble.c_str(), source.data()};
+    const GLint lengths[2] = {static_cast<GLint>(preamble.size()), static_cast<GLint>(source.size())};
+    gl.ShaderSource(shader, 2, strings, lengths);
+    gl.CompileShader(shader);
+    GLint compiled = GL_FALSE;
+    gl.GetShaderiv(shader, GL_COMPILE_STATUS, &compiled);
+    if (compiled != GL_TRUE) {
+        const std::string log = shaderLog(gl, shader);
+        gl.DeleteShader(shader);
+        shader = 0;
+        return Status::error("shader '" + label + "' failed to compile (log line numbers include a " +
+                             std::to_string(std::count(preamble.begin(), preamble.end(), '\n')) +
+                             "-line preamble):\n" + log);
+    }
+    return Status::success();
+}
+
+}  // namespace
+
+std::string shaderPreamble() {
+    std::string text = "#version 330 core\n";
+    const auto define = [&](const char* name, AttributeLocation location) {
+        text += "#define ";
+        text += name;
+        text += ' ';
+        text += std::to_string(static_cast<unsigned>(location));
+        text += '\n';
+    };
+    define("ATTRIB_POSITION", kAttribPosition);
+    define("ATTRIB_NORMAL", kAttribNormal);
+    define("ATTRIB_JACOBIAN", kAttribJacobian);
+    define("ATTRIB_AFFECTED", kAttribAffected);
+    define("ATTRIB_SEGMENT_START", kAttribSegmentStart);
+    define("ATTRIB_SEGMENT_END", kAttribSegmentEnd);
+    define("ATTRIB_COLOR_START", kAttribColorStart);
+    define("ATTRIB_COLOR_END", kAttribColorEnd);
+    define("ATTRIB_MARKER_CENTER", kAttribMarkerCenter);
+    define("ATTRIB_MARKER_COLOR", kAttribMarkerColor);
+    define("ATTRIB_MARKER_STYLE", kAttribMarkerStyle);
+    return text;
+}
+
+Status buildProgram(const GlFunctions& gl, std::string_view name, std::string_view vertexSource,
+                    std::string_view fragmentSource, GLuint& program) {
+    program = 0;
+    const std::string base(name);
+    GLuint vertexShader = 0, fragmentShader = 0;
+    if (Status status = compileStage(gl, GL_VERTEX_SHADER, base + ".vert", vertexSource, vertexShader); !status)
+        return status;
+    if (Status status = compileStage(gl, GL_FRAGMENT_SHADER, base + ".frag", fragmentSource, fragmentShader);
+        !status) {
+        gl.DeleteShader(vertexShader);
+        return status;
+    }
+    const GLuint linked = gl.CreateProgram();
+    gl.AttachShader(linked, vertexShader);
+    gl.AttachShader(linked, fragmentShader);
+    gl.LinkProgram(linked);
+    // Flagged for deletion; freed with the program.
+    gl.DeleteShader(vertexShader);
+    gl.DeleteShader(fragmentShader);
+    GLint ok = GL_FALSE;
+    gl.GetProgramiv(linked, GL_LINK_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        const std::string log = programLog(gl, linked);
+        gl.DeleteProgram(linked);
+        return Status::error("program '" + base + "' failed to link:\n" + log);
+    }
+    program = linked;
+    return Status::success();
+}
+
+Status buildEmbeddedProgram(const GlFunctions& gl, std::string_view name, GLuint& program) {
+    program = 0;
+    const std::string base(name);
+    const std::string_view vertexSource = embeddedShaderSource(base + ".vert");
+    const std::string_view fragmentSource = embeddedShaderSource(base + ".frag");
+    if (vertexSource.empty() || fragmentSource.empty())
+        return Status::error("no embedded shaders/" + base + ".vert and .frag in this binary");
+    return buildProgram(gl, name, vertexSource, fragmentSource, program);
+}
+
+}  // namespace sculpt::render

@@ -1,0 +1,38 @@
+// GLSL program building: every compile and link log is checked and returned as a Status.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "render/gl_functions.h"
+
+namespace sculpt::render {
+
+// Vertex attribute locations, declared once here. buildProgram prepends them to every shader as
+// `#define ATTRIB_<NAME> <n>`, so the GLSL writes `layout(location = ATTRIB_POSITION)`.
+enum AttributeLocation : GLuint {
+    kAttribPosition = 0,       // mesh: vec3 position
+    kAttribNormal = 1,         // mesh: vec3 normal
+    kAttribJacobian = 2,       // mesh: float det J relative to rest (1 = unchanged)
+    kAttribAffected = 3,       // mesh: float affected-region weight in [0, 1]
+    kAttribSegmentStart = 4,   // line (per instance): vec3 start point
+    kAttribSegmentEnd = 5,     // line (per instance): vec3 end point
+    kAttribColorStart = 6,     // line (per instance): vec4 colour at start
+    kAttribColorEnd = 7,       // line (per instance): vec4 colour at end
+    kAttribMarkerCenter = 8,   // point (per instance): vec3 centre
+    kAttribMarkerColor = 9,    // point (per instance): vec4 fill colour
+    kAttribMarkerStyle = 10,   // point (per instance): vec2 (size in pixels, shape: 0 disc, 1 square)
+};
+
+// The text prepended to every shader: `#version 330 core` and the ATTRIB_* defines above.
+std::string shaderPreamble();
+
+// Compiles both stages (preamble prepended) and links them into `program` (0 on failure).
+// `name` is used in messages only. On failure the message names the stage and carries the driver's log.
+Status buildProgram(const GlFunctions& gl, std::string_view name, std::string_view vertexSource,
+                    std::string_view fragmentSource, GLuint& program);
+
+// buildProgram with shaders/<name>.vert and shaders/<name>.frag from the embedded table.
+Status buildEmbeddedProgram(const GlFunctions& gl, std::string_view name, GLuint& program);
+
+}  // namespace sculpt::render
