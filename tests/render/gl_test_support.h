@@ -1,0 +1,25 @@
+// Shared pieces of the GL tests: one offscreen renderer per test process, golden-image comparison.
+#pragma once
+
+#include <string>
+
+#include "render/offscreen_renderer.h"
+
+namespace sculpt::test {
+
+// The process-wide renderer (backend from SCULPT_GL_BACKEND: osmesa (default), egl or auto), made current.
+// REQUIREs that it could be created, so a machine without GL fails loudly, naming the reason.
+render::OffscreenRenderer& glTestRenderer();
+
+// Folder for test output (actual and diff images of failed comparisons); created on first use.
+std::string glTestOutputDir();
+
+// Compares `actual` with tests/golden/<name>.png (see the thresholds in gl_test_support.cpp). On a
+// mismatch writes <output>/<name>_actual.png and <name>_diff.png and fails, saying where they are.
+// With SCULPT_UPDATE_GOLDEN=1 in the environment writes the golden instead (and warns).
+void checkGolden(const render::Rgba8Image& actual, const std::string& name);
+
+// Largest per-channel difference between two pixels at (x, y), or 255 if the sizes differ.
+int pixelDifference(const render::Rgba8Image& a, const render::Rgba8Image& b, int x, int y);
+
+}  // namespace sculpt::test
