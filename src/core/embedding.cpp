@@ -70,7 +70,7 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
     cellOf.resize(n);
 #pragma omp parallel for schedule(static)
     for (int v = 0; v < n; ++v) {
-        double t[3], local;
+        double t[3] = {0.0, 0.0, 0.0}, local = 0.0;
         if (!parameters(v, t)) {
             cellOf[v] = -1;
             continue;
@@ -100,8 +100,8 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
 #pragma omp parallel for schedule(static)
     for (int s = 0; s < inside; ++s) {
         const int v = e.order[s];
-        double t[3];
-        parameters(v, t);
+        double t[3] = {0.0, 0.0, 0.0};
+        parameters(v, t);  // inside by construction of `order`
         spanOf(t[0], spans[0], e.localX[s]);
         spanOf(t[1], spans[1], e.localY[s]);
         spanOf(t[2], spans[2], e.localZ[s]);
