@@ -81,9 +81,9 @@ glm::vec3 Camera::eye() const {
 glm::mat4 Camera::view() const { return glm::lookAt(eye(), target, glm::vec3(0.0f, 1.0f, 0.0f)); }
 
 glm::mat4 Camera::projection(float aspect) const {
-    // Near and far hug the content (twice its radius around the target, for lattices and handles that
-    // stick out) so the 24-bit depth buffer keeps its precision on the surface.
-    const float reach = 2.0f * sceneRadius;
+    // Near and far hug the content (four times its radius around the target, for padded lattices and
+    // handles that stick out) so the 24-bit depth buffer keeps its precision on the surface.
+    const float reach = 4.0f * sceneRadius;
     const float farPlane = distance + reach;
     const float nearPlane = std::max(distance - reach, farPlane * 1e-3f);
     return glm::perspective(glm::radians(fovYDeg), std::max(aspect, 1e-3f), nearPlane, farPlane);

@@ -98,6 +98,7 @@ public:
                std::string platform)
         : library_(library), display_(display), context_(context), surface_(surface), platform_(std::move(platform)) {}
     ~EglBackend() override {
+        if (processExiting()) return;  // the driver may already be torn down (see offscreen_backend.h)
         if (library_.getCurrentContext() == context_)
             library_.makeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         if (surface_ != EGL_NO_SURFACE) library_.destroySurface(display_, surface_);
@@ -112,8 +113,15 @@ public:
         // the driver to bind again.
         if (library_.getCurrentContext() == context_)
             library_.makeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-        if (!library_.makeCurrent(display_, surface_, surface_, context_))
-            return Status::error("eglMakeCurrent failed: EGL error " + eglErrorText(library_.getError()));
+        if (!library_.makeCurrent(display_, surface_, surface_, context_)) {
+            const EGLint error = library_.getError();
+            // note: glvnd refuses to make an EGL context current while a GLX context (e.g. a GLFW window's)
+            // is current on this thread.
+            return Status::error("eglMakeCurrent failed: EGL error " + eglErrorText(error) +
+                                 (error == EGL_BAD_ACCESS ? " (a window's GLX context is current on this thread: "
+                                                            "release it first, or use the osmesa backend)"
+                                                          : ""));
+        }
         return Status::success();
     }
     GlGetProc getProcAddress() const override { return reinterpret_cast<GlGetProc>(library_.getProcAddress); }

@@ -1,9 +1,27 @@
 #include "render/offscreen_context.h"
 
+#include <atomic>
+#include <cstdlib>
+
 #include "render/gl_functions.h"
 #include "render/offscreen_backend.h"
 
 namespace sculpt::render {
+
+namespace {
+
+std::atomic<bool> gProcessExiting{false};
+
+}  // namespace
+
+bool processExiting() { return gProcessExiting.load(); }
+
+void watchProcessExit() {
+    // note: exit handlers run in reverse order of registration, so one registered after Mesa's (which
+    // exist once a context was created) runs before Mesa destroys its screens and threads.
+    static const bool installed = [] { return std::atexit([] { gProcessExiting.store(true); }) == 0; }();
+    (void)installed;
+}
 
 Status parseGlBackend(std::string_view text, GlBackend& backend) {
     if (text == "auto") backend = GlBackend::Auto;
@@ -37,6 +55,7 @@ Status OffscreenContext::create(GlBackend requested, std::unique_ptr<OffscreenCo
         Status status = createOsMesaBackend(backend);
         if (!status) return why.empty() ? status : Status::error(why + "\n" + status.message);
     }
+    watchProcessExit();
     std::unique_ptr<OffscreenContext> created(new OffscreenContext());
     created->backend_ = std::move(backend);
     created->gl_ = std::make_unique<GlFunctions>();

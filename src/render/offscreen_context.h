@@ -31,6 +31,9 @@ enum class GlBackend {
 Status parseGlBackend(std::string_view text, GlBackend& backend);
 const char* glBackendName(GlBackend backend);
 
+// Several contexts, of either backend, may live in one process. On one thread, switch between them with
+// makeCurrent(). In a process with a window: OSMesa works while the window's context exists; EGL needs the
+// window's (GLX) context released on this thread first (glvnd refuses otherwise, EGL_BAD_ACCESS).
 class OffscreenContext {
 public:
     // Creates a context (GL >= 3.3 core) and makes it current on this thread. No default framebuffer worth

@@ -4,6 +4,7 @@
 
 #include "io/png_image.h"
 #include "render/gl_functions.h"
+#include "render/offscreen_backend.h"
 
 namespace sculpt::render {
 
@@ -38,8 +39,9 @@ Status OffscreenRenderer::create(GlBackend backend, std::unique_ptr<OffscreenRen
 }
 
 OffscreenRenderer::~OffscreenRenderer() {
-    // GL objects go before their context; only possible while it is current.
-    if (context_ && context_->makeCurrent()) {
+    // GL objects go before their context; only possible while it is current. At process exit the
+    // driver may be gone already: leave everything to the operating system.
+    if (context_ && !processExiting() && context_->makeCurrent()) {
         if (renderer_) renderer_->release();
         if (target_) target_->release();
     }

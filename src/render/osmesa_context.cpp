@@ -54,6 +54,7 @@ class OsMesaBackend final : public OffscreenContext::Backend {
 public:
     OsMesaBackend(const OsMesaLibrary& library, OSMesaContext context) : library_(library), context_(context) {}
     ~OsMesaBackend() override {
+        if (processExiting()) return;  // Mesa may already be torn down (see offscreen_backend.h)
         if (library_.getCurrentContext() == context_) library_.makeCurrent(nullptr, nullptr, 0, 0, 0);
         library_.destroyContext(context_);
     }

@@ -8,37 +8,13 @@
 
 #include "core/vertex_normals.h"
 #include "render/gl_functions.h"
+#include "render/overlay_geometry.h"
+#include "render/palette.h"
 #include "render/shader_program.h"
 
 namespace sculpt::render {
 
 namespace {
-
-// Colours are sRGB + alpha; sizes are pixels at pixel scale 1. The README's colour legend describes these.
-struct Rgba {
-    float r, g, b, a;
-};
-constexpr Rgba kControlPointColor = {1.00f, 0.55f, 0.10f, 1.0f};  // orange disc
-constexpr Rgba kSelectedPointColor = {1.00f, 0.90f, 0.15f, 1.0f}; // yellow, larger
-constexpr Rgba kPinnedPointColor = {0.20f, 0.20f, 0.22f, 1.0f};   // dark grey square, light outline
-constexpr Rgba kLatticeEdgeColor = {1.00f, 0.66f, 0.32f, 0.42f};  // thin, semi-transparent
-constexpr Rgba kSelectedEdgeColor = {1.00f, 0.92f, 0.35f, 0.70f};
-constexpr Rgba kPinnedEdgeColor = {0.62f, 0.62f, 0.66f, 0.42f};
-constexpr Rgba kSourceColor = {0.92f, 0.16f, 0.12f, 1.0f};        // constraint source S: red
-constexpr Rgba kTargetColor = {0.18f, 0.46f, 1.00f, 1.0f};        // constraint target T: blue
-constexpr Rgba kWireColor = {0.10f, 0.10f, 0.12f, 0.40f};
-constexpr Rgba kHandleShadow = {0.04f, 0.04f, 0.05f, 0.55f};      // dark underlay of constraint lines
-
-constexpr float kControlPointSize = 8.0f;
-constexpr float kSelectedPointSize = 11.0f;
-constexpr float kPinnedPointSize = 9.0f;
-constexpr float kHandleSize = 11.0f;
-constexpr float kLatticeEdgeWidth = 1.0f;
-constexpr float kHandleLineWidth = 2.5f;
-constexpr float kHandleShadowWidth = 5.0f;
-// Parts of the lattice hidden behind the mesh are still drawn, this much fainter, so the user sees the
-// whole control volume without it competing with the surface.
-constexpr float kOccludedAlpha = 0.3f;
 
 // More than this fraction of changed vertices: recompute all normals and rewrite the whole buffer.
 constexpr int kFullUploadDivisor = 4;
@@ -46,8 +22,6 @@ constexpr int kFullUploadDivisor = 4;
 constexpr int kRangeMergeGap = 32;
 
 constexpr int kVertexFloats = 6;  // position xyz, normal xyz
-constexpr int kLineFloats = 14;   // start xyz, end xyz, colour start rgba, colour end rgba
-constexpr int kMarkerFloats = 9;  // centre xyz, colour rgba, (diameter, shape)
 
 struct InstanceBatch {
     GLuint vao = 0;
@@ -68,16 +42,6 @@ struct PointUniforms {
     GLint viewProjection = -1, viewport = -1, sizeScale = -1, alphaScale = -1;
 };
 
-void appendPoint(std::vector<float>& out, const Positions& points, Eigen::Index row) {
-    out.push_back(float(points(row, 0)));
-    out.push_back(float(points(row, 1)));
-    out.push_back(float(points(row, 2)));
-}
-
-void appendColor(std::vector<float>& out, const Rgba& color) {
-    out.insert(out.end(), {color.r, color.g, color.b, color.a});
-}
-
 std::string glErrorText(GLenum error) {
     switch (error) {
         case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
@@ -87,13 +51,6 @@ std::string glErrorText(GLenum error) {
         case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
         default: return "GL error " + std::to_string(error);
     }
-}
-
-Status checkFinite(const Positions& points, const char* what) {
-    for (Eigen::Index i = 0; i < points.rows(); ++i)
-        if (!points.row(i).allFinite())
-            return Status::error(std::string(what) + " row " + std::to_string(i) + " is not finite (NaN or infinity)");
-    return Status::success();
 }
 
 }  // namespace
@@ -461,59 +418,11 @@ Status Renderer::setAffectedWeights(const std::vector<float>& affectedWeight) {
 Status Renderer::setLattice(const LatticeView& lattice) {
     State& s = *state_;
     if (!s.ready) return Status::error("renderer not initialised");
-    std::vector<float> edges, points;
+    std::vector<float> edges, markers;
     Bounds bounds;
-    if (lattice.nu != 0 || lattice.nv != 0 || lattice.nw != 0) {
-        if (lattice.nu < 1 || lattice.nv < 1 || lattice.nw < 1)
-            return Status::error("lattice size " + std::to_string(lattice.nu) + " x " + std::to_string(lattice.nv) +
-                                 " x " + std::to_string(lattice.nw) + ": each dimension must be at least 1");
-        const Eigen::Index count = Eigen::Index(lattice.nu) * lattice.nv * lattice.nw;
-        if (lattice.controlPoints.rows() != count)
-            return Status::error("lattice " + std::to_string(lattice.nu) + " x " + std::to_string(lattice.nv) +
-                                 " x " + std::to_string(lattice.nw) + " needs " + std::to_string(count) +
-                                 " control points, got " + std::to_string(lattice.controlPoints.rows()));
-        if (!lattice.selected.empty() && lattice.selected.size() != size_t(count))
-            return Status::error("lattice selection has " + std::to_string(lattice.selected.size()) +
-                                 " flags for " + std::to_string(count) + " control points");
-        if (!lattice.pinned.empty() && lattice.pinned.size() != size_t(count))
-            return Status::error("lattice pin flags: " + std::to_string(lattice.pinned.size()) + " for " +
-                                 std::to_string(count) + " control points");
-        if (Status status = checkFinite(lattice.controlPoints, "lattice control point"); !status) return status;
-
-        const auto isSelected = [&](Eigen::Index p) { return !lattice.selected.empty() && lattice.selected[p]; };
-        const auto isPinned = [&](Eigen::Index p) { return !lattice.pinned.empty() && lattice.pinned[p]; };
-        const auto edgeColor = [&](Eigen::Index p) {
-            return isSelected(p) ? kSelectedEdgeColor : isPinned(p) ? kPinnedEdgeColor : kLatticeEdgeColor;
-        };
-        const auto index = [&](int i, int j, int k) { return Eigen::Index(i) + lattice.nu * (Eigen::Index(j) + Eigen::Index(lattice.nv) * k); };
-        const auto addEdge = [&](Eigen::Index a, Eigen::Index b) {
-            appendPoint(edges, lattice.controlPoints, a);
-            appendPoint(edges, lattice.controlPoints, b);
-            appendColor(edges, edgeColor(a));
-            appendColor(edges, edgeColor(b));
-        };
-        for (int k = 0; k < lattice.nw; ++k)
-            for (int j = 0; j < lattice.nv; ++j)
-                for (int i = 0; i < lattice.nu; ++i) {
-                    const Eigen::Index p = index(i, j, k);
-                    if (i + 1 < lattice.nu) addEdge(p, index(i + 1, j, k));
-                    if (j + 1 < lattice.nv) addEdge(p, index(i, j + 1, k));
-                    if (k + 1 < lattice.nw) addEdge(p, index(i, j, k + 1));
-                }
-        // Plain points first, then pinned, then selected, so the ones the user works with draw on top.
-        for (int pass = 0; pass < 3; ++pass)
-            for (Eigen::Index p = 0; p < count; ++p) {
-                const int kind = isSelected(p) ? 2 : isPinned(p) ? 1 : 0;
-                if (kind != pass) continue;
-                appendPoint(points, lattice.controlPoints, p);
-                appendColor(points, kind == 2 ? kSelectedPointColor : kind == 1 ? kPinnedPointColor : kControlPointColor);
-                points.push_back(kind == 2 ? kSelectedPointSize : kind == 1 ? kPinnedPointSize : kControlPointSize);
-                points.push_back(isPinned(p) ? 1.0f : 0.0f);  // pinned: square, even when selected
-            }
-        bounds = boundsOf(lattice.controlPoints);
-    }
+    if (Status status = buildLatticeInstances(lattice, edges, markers, bounds); !status) return status;
     s.uploadBatch(s.latticeEdges, edges, kLineFloats);
-    s.uploadBatch(s.latticePoints, points, kMarkerFloats);
+    s.uploadBatch(s.latticePoints, markers, kMarkerFloats);
     s.latticeBounds = bounds;
     return Status::success();
 }
@@ -521,30 +430,10 @@ Status Renderer::setLattice(const LatticeView& lattice) {
 Status Renderer::setConstraints(const ConstraintView& constraints) {
     State& s = *state_;
     if (!s.ready) return Status::error("renderer not initialised");
-    if (constraints.sources.rows() != constraints.targets.rows())
-        return Status::error("constraints: " + std::to_string(constraints.sources.rows()) + " sources but " +
-                             std::to_string(constraints.targets.rows()) + " targets");
-    if (Status status = checkFinite(constraints.sources, "constraint source"); !status) return status;
-    if (Status status = checkFinite(constraints.targets, "constraint target"); !status) return status;
-    std::vector<float> lines, points;
-    for (Eigen::Index c = 0; c < constraints.sources.rows(); ++c) {
-        appendPoint(lines, constraints.sources, c);
-        appendPoint(lines, constraints.targets, c);
-        appendColor(lines, kSourceColor);
-        appendColor(lines, kTargetColor);
-    }
-    for (Eigen::Index c = 0; c < constraints.sources.rows(); ++c) {
-        appendPoint(points, constraints.sources, c);
-        appendColor(points, kSourceColor);
-        points.insert(points.end(), {kHandleSize, 0.0f});
-    }
-    for (Eigen::Index c = 0; c < constraints.targets.rows(); ++c) {
-        appendPoint(points, constraints.targets, c);
-        appendColor(points, kTargetColor);
-        points.insert(points.end(), {kHandleSize, 0.0f});
-    }
-    s.uploadBatch(s.handleLines, lines, kLineFloats);
-    s.uploadBatch(s.handlePoints, points, kMarkerFloats);
+    std::vector<float> segments, markers;
+    if (Status status = buildConstraintInstances(constraints, segments, markers); !status) return status;
+    s.uploadBatch(s.handleLines, segments, kLineFloats);
+    s.uploadBatch(s.handlePoints, markers, kMarkerFloats);
     return Status::success();
 }
 

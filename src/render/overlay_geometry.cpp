@@ -1,0 +1,118 @@
+#include "render/overlay_geometry.h"
+
+#include <string>
+
+#include "render/palette.h"
+
+namespace sculpt::render {
+
+namespace {
+
+void appendPoint(std::vector<float>& out, const Positions& points, Eigen::Index row) {
+    out.push_back(float(points(row, 0)));
+    out.push_back(float(points(row, 1)));
+    out.push_back(float(points(row, 2)));
+}
+
+void appendColor(std::vector<float>& out, const Rgba& color) {
+    out.insert(out.end(), {color.r, color.g, color.b, color.a});
+}
+
+}  // namespace
+
+Status checkFinite(const Positions& points, const char* what) {
+    for (Eigen::Index i = 0; i < points.rows(); ++i)
+        if (!points.row(i).allFinite())
+            return Status::error(std::string(what) + " row " + std::to_string(i) + " is not finite (NaN or infinity)");
+    return Status::success();
+}
+
+Status buildLatticeInstances(const LatticeView& lattice, std::vector<float>& edgesOut, std::vector<float>& markersOut,
+                             Bounds& boundsOut) {
+    std::vector<float> edges, points;
+    Bounds bounds;
+    if (lattice.nu != 0 || lattice.nv != 0 || lattice.nw != 0) {
+        if (lattice.nu < 1 || lattice.nv < 1 || lattice.nw < 1)
+            return Status::error("lattice size " + std::to_string(lattice.nu) + " x " + std::to_string(lattice.nv) +
+                                 " x " + std::to_string(lattice.nw) + ": each dimension must be at least 1");
+        const Eigen::Index count = Eigen::Index(lattice.nu) * lattice.nv * lattice.nw;
+        if (lattice.controlPoints.rows() != count)
+            return Status::error("lattice " + std::to_string(lattice.nu) + " x " + std::to_string(lattice.nv) +
+                                 " x " + std::to_string(lattice.nw) + " needs " + std::to_string(count) +
+                                 " control points, got " + std::to_string(lattice.controlPoints.rows()));
+        if (!lattice.selected.empty() && lattice.selected.size() != size_t(count))
+            return Status::error("lattice selection has " + std::to_string(lattice.selected.size()) +
+                                 " flags for " + std::to_string(count) + " control points");
+        if (!lattice.pinned.empty() && lattice.pinned.size() != size_t(count))
+            return Status::error("lattice pin flags: " + std::to_string(lattice.pinned.size()) + " for " +
+                                 std::to_string(count) + " control points");
+        if (Status status = checkFinite(lattice.controlPoints, "lattice control point"); !status) return status;
+
+        const auto isSelected = [&](Eigen::Index p) { return !lattice.selected.empty() && lattice.selected[p]; };
+        const auto isPinned = [&](Eigen::Index p) { return !lattice.pinned.empty() && lattice.pinned[p]; };
+        const auto edgeColor = [&](Eigen::Index p) {
+            return isSelected(p) ? kSelectedEdgeColor : isPinned(p) ? kPinnedEdgeColor : kLatticeEdgeColor;
+        };
+        const auto index = [&](int i, int j, int k) { return Eigen::Index(i) + lattice.nu * (Eigen::Index(j) + Eigen::Index(lattice.nv) * k); };
+        const auto addEdge = [&](Eigen::Index a, Eigen::Index b) {
+            appendPoint(edges, lattice.controlPoints, a);
+            appendPoint(edges, lattice.controlPoints, b);
+            appendColor(edges, edgeColor(a));
+            appendColor(edges, edgeColor(b));
+        };
+        for (int k = 0; k < lattice.nw; ++k)
+            for (int j = 0; j < lattice.nv; ++j)
+                for (int i = 0; i < lattice.nu; ++i) {
+                    const Eigen::Index p = index(i, j, k);
+                    if (i + 1 < lattice.nu) addEdge(p, index(i + 1, j, k));
+                    if (j + 1 < lattice.nv) addEdge(p, index(i, j + 1, k));
+                    if (k + 1 < lattice.nw) addEdge(p, index(i, j, k + 1));
+                }
+        // Plain points first, then pinned, then selected, so the ones the user works with draw on top.
+        for (int pass = 0; pass < 3; ++pass)
+            for (Eigen::Index p = 0; p < count; ++p) {
+                const int kind = isSelected(p) ? 2 : isPinned(p) ? 1 : 0;
+                if (kind != pass) continue;
+                appendPoint(points, lattice.controlPoints, p);
+                appendColor(points, kind == 2 ? kSelectedPointColor : kind == 1 ? kPinnedPointColor : kControlPointColor);
+                points.push_back(kind == 2 ? kSelectedPointSize : kind == 1 ? kPinnedPointSize : kControlPointSize);
+                points.push_back(isPinned(p) ? 1.0f : 0.0f);  // pinned: square, even when selected
+            }
+        bounds = boundsOf(lattice.controlPoints);
+    }
+    edgesOut.swap(edges);
+    markersOut.swap(points);
+    boundsOut = bounds;
+    return Status::success();
+}
+
+Status buildConstraintInstances(const ConstraintView& constraints, std::vector<float>& segments,
+                                std::vector<float>& markers) {
+    if (constraints.sources.rows() != constraints.targets.rows())
+        return Status::error("constraints: " + std::to_string(constraints.sources.rows()) + " sources but " +
+                             std::to_string(constraints.targets.rows()) + " targets");
+    if (Status status = checkFinite(constraints.sources, "constraint source"); !status) return status;
+    if (Status status = checkFinite(constraints.targets, "constraint target"); !status) return status;
+    std::vector<float> lines, points;
+    for (Eigen::Index c = 0; c < constraints.sources.rows(); ++c) {
+        appendPoint(lines, constraints.sources, c);
+        appendPoint(lines, constraints.targets, c);
+        appendColor(lines, kSourceColor);
+        appendColor(lines, kTargetColor);
+    }
+    for (Eigen::Index c = 0; c < constraints.sources.rows(); ++c) {
+        appendPoint(points, constraints.sources, c);
+        appendColor(points, kSourceColor);
+        points.insert(points.end(), {kHandleSize, 0.0f});
+    }
+    for (Eigen::Index c = 0; c < constraints.targets.rows(); ++c) {
+        appendPoint(points, constraints.targets, c);
+        appendColor(points, kTargetColor);
+        points.insert(points.end(), {kHandleSize, 0.0f});
+    }
+    segments.swap(lines);
+    markers.swap(points);
+    return Status::success();
+}
+
+}  // namespace sculpt::render

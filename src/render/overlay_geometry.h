@@ -1,0 +1,30 @@
+// CPU side of the lattice and constraint overlays: validates the plain scene structs and turns them into
+// the per-instance arrays the line and point shaders draw (one quad per segment / marker).
+#pragma once
+
+#include <vector>
+
+#include "core/status.h"
+#include "render/camera.h"
+#include "render/scene.h"
+
+namespace sculpt::render {
+
+inline constexpr int kLineFloats = 14;   // per segment: start xyz, end xyz, colour at start rgba, at end rgba
+inline constexpr int kMarkerFloats = 9;  // per marker: centre xyz, colour rgba, diameter (pixels), shape (0 disc, 1 square)
+
+// Edges between neighbouring control points (i+1, j+1, k+1) and one marker per control point (plain points
+// first, then pinned, then selected, so the ones the user works with draw on top). nu = nv = nw = 0 gives
+// empty arrays. Fails, leaving the outputs unchanged, on inconsistent sizes or non-finite points.
+Status buildLatticeInstances(const LatticeView& lattice, std::vector<float>& edges, std::vector<float>& markers,
+                             Bounds& bounds);
+
+// One red-to-blue segment per constraint, then the source markers, then the target markers.
+// Fails, leaving the outputs unchanged, on different source/target counts or non-finite points.
+Status buildConstraintInstances(const ConstraintView& constraints, std::vector<float>& segments,
+                                std::vector<float>& markers);
+
+// Error naming the first non-finite row of points ("<what> row 7 is not finite ..."), or success.
+Status checkFinite(const Positions& points, const char* what);
+
+}  // namespace sculpt::render

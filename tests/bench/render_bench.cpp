@@ -1,0 +1,151 @@
+#include "render_bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "../render/test_meshes.h"
+#include "core/vertex_normals.h"
+#include "render/offscreen_renderer.h"
+
+namespace sculpt::render {
+
+namespace {
+
+constexpr int kWidth = 1280;
+constexpr int kHeight = 800;
+constexpr int kSamples = 4;
+constexpr int kRuns = 10;
+
+double medianMs(int runs, const std::function<void()>& work, const std::function<void()>& before = {}) {
+    std::vector<double> times;
+    for (int r = 0; r <= runs; ++r) {  // run 0 is a warm-up
+        if (before) before();
+        const auto start = std::chrono::steady_clock::now();
+        work();
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        if (r > 0) times.push_back(ms);
+    }
+    std::sort(times.begin(), times.end());
+    return times[times.size() / 2];
+}
+
+// JSON string contents: quotes and backslashes escaped, control characters dropped.
+std::string jsonText(const std::string& text) {
+    std::string escaped;
+    for (char c : text) {
+        if (c == '"' || c == '\\') escaped += '\\';
+        if (static_cast<unsigned char>(c) >= 0x20) escaped += c;
+    }
+    return escaped;
+}
+
+void printError(std::ostream& out, const char* name, const std::string& message) {
+    out << "{\"case\": \"" << name << "\", \"error\": \"" << jsonText(message) << "\"}" << std::endl;
+}
+
+// Camera at the distance where a unit sphere's silhouette touches the top and bottom of the picture:
+// a disc of diameter = picture height, i.e. pi/4 * 800/1280 = 49% of the pixels.
+Camera halfScreenCamera() {
+    Camera camera;
+    camera.target = glm::vec3(0.0f);
+    camera.sceneRadius = 1.0f;
+    camera.distance = 1.0f / std::sin(glm::radians(camera.fovYDeg) * 0.5f);
+    return camera;
+}
+
+void benchFrames(std::ostream& out, OffscreenRenderer& offscreen, const char* name, int segments, int rings) {
+    const test::TestMesh sphere = test::makeUvSphere(segments, rings);
+    Renderer& renderer = offscreen.renderer();
+    if (Status status = renderer.setMesh(sphere.positions, sphere.triangles); !status)
+        return printError(out, name, status.message);
+    const Camera camera = halfScreenCamera();
+    DrawOptions options;
+    Status failed;
+    // Coverage check from one read-back frame (background pixels have alpha 0 with background off).
+    DrawOptions noBackground = options;
+    noBackground.background = false;
+    Rgba8Image image;
+    if (Status status = offscreen.render(camera, noBackground, kWidth, kHeight, kSamples, &image); !status)
+        return printError(out, name, status.message);
+    long covered = 0;
+    for (size_t p = 3; p < image.pixels.size(); p += 4) covered += image.pixels[p] > 0;
+    const double ms = medianMs(kRuns, [&] {
+        if (Status status = offscreen.render(camera, options, kWidth, kHeight, kSamples, nullptr); !status)
+            failed = status;
+    });
+    if (!failed) return printError(out, name, failed.message);
+    out << "{\"case\": \"" << name << "\", \"n\": " << sphere.triangles.rows() << ", \"fps\": " << 1000.0 / ms
+        << ", \"median_ms\": " << ms << ", \"width\": " << kWidth << ", \"height\": " << kHeight
+        << ", \"msaa\": " << kSamples << ", \"coverage\": " << double(covered) / (double(kWidth) * kHeight)
+        << ", \"backend\": \"" << jsonText(offscreen.context().description()) << "\"}" << std::endl;
+}
+
+void benchUploads(std::ostream& out, OffscreenRenderer& offscreen) {
+    // 1000 x 1001 latitude-longitude sphere: 1,000,002 vertices (2M triangles).
+    const test::TestMesh sphere = test::makeUvSphere(1000, 1001);
+    const int vertexCount = int(sphere.positions.rows());
+    Renderer& renderer = offscreen.renderer();
+    if (Status status = renderer.setMesh(sphere.positions, sphere.triangles); !status)
+        return printError(out, "upload_1m", status.message);
+    const auto& gl = offscreen.context().gl();
+    Positions moved = sphere.positions;
+    std::vector<int> all(static_cast<size_t>(vertexCount));
+    for (int v = 0; v < vertexCount; ++v) all[size_t(v)] = v;
+    Status failed;
+    int step = 0;
+    const double fullMs = medianMs(
+        kRuns,
+        [&] {
+            if (Status status = renderer.updatePositions(moved, all); !status) failed = status;
+            gl.Finish();  // the upload has reached the GL
+        },
+        [&] { moved = sphere.positions * (1.0 + 0.01 * ++step); });
+    if (!failed) return printError(out, "upload_1m", failed.message);
+    Positions normals;
+    const double normalsMs = medianMs(kRuns, [&] { core::computeVertexNormals(moved, sphere.triangles, normals); });
+    out << "{\"case\": \"upload_1m\", \"n\": " << vertexCount << ", \"median_ms\": " << fullMs
+        << ", \"normals_ms\": " << normalsMs << ", \"full_upload\": " << (renderer.lastUpload().fullUpload ? "true" : "false")
+        << "}" << std::endl;
+
+    // A local edit: 2% of the vertices, a cap around the north pole (vertices are stored by latitude, so it is
+    // one contiguous range, like the engine's cell-sorted output).
+    std::vector<int> cap(static_cast<size_t>(vertexCount / 50));
+    for (size_t v = 0; v < cap.size(); ++v) cap[v] = int(v);
+    const double localMs = medianMs(
+        kRuns,
+        [&] {
+            if (Status status = renderer.updatePositions(moved, cap); !status) failed = status;
+            gl.Finish();
+        },
+        [&] {
+            const double scale = 1.0 + 0.01 * (++step % 7);
+            for (int v : cap) moved.row(v) = sphere.positions.row(v) * scale;
+        });
+    if (!failed) return printError(out, "upload_1m_local", failed.message);
+    const UploadStats stats = renderer.lastUpload();
+    out << "{\"case\": \"upload_1m_local\", \"n\": " << cap.size() << ", \"median_ms\": " << localMs
+        << ", \"vertices_uploaded\": " << stats.verticesUploaded << ", \"ranges\": " << stats.ranges << "}" << std::endl;
+}
+
+}  // namespace
+
+void runRenderBenchmarks(std::ostream& out) {
+    GlBackend backend = GlBackend::Auto;
+    if (const char* value = std::getenv("SCULPT_GL_BACKEND")) {
+        if (Status status = parseGlBackend(value, backend); !status) return printError(out, "render", status.message);
+    }
+    std::unique_ptr<OffscreenRenderer> offscreen;
+    if (Status status = OffscreenRenderer::create(backend, offscreen); !status)
+        return printError(out, "render", status.message);
+    offscreen->renderer().setPixelScale(1.0f);
+    benchFrames(out, *offscreen, "render_100k", 250, 201);   // 2 * 250 * 200 = 100,000 triangles
+    benchFrames(out, *offscreen, "render_1m", 1000, 501);    // 2 * 1000 * 500 = 1,000,000 triangles
+    benchUploads(out, *offscreen);
+}
+
+}  // namespace sculpt::render

@@ -1,0 +1,72 @@
+#include <catch2/catch.hpp>
+
+#include "render/overlay_geometry.h"
+#include "render/palette.h"
+#include "test_meshes.h"
+
+using namespace sculpt;
+
+TEST_CASE("overlay geometry: lattice edges join exactly the grid neighbours", "[gl]") {
+    for (const auto& [nu, nv, nw] : {std::tuple{1, 1, 1}, std::tuple{2, 3, 4}, std::tuple{5, 1, 2}}) {
+        render::LatticeView lattice = test::makeBoxLattice({-1, -1, -1}, {1, 2, 3}, nu, nv, nw);
+        std::vector<float> edges, markers;
+        render::Bounds bounds;
+        REQUIRE(render::buildLatticeInstances(lattice, edges, markers, bounds).ok);
+        const size_t expectedEdges = size_t((nu - 1) * nv * nw + nu * (nv - 1) * nw + nu * nv * (nw - 1));
+        CHECK(edges.size() == expectedEdges * render::kLineFloats);
+        CHECK(markers.size() == size_t(nu * nv * nw) * render::kMarkerFloats);
+        for (size_t e = 0; e < expectedEdges; ++e) {
+            const float* segment = &edges[e * render::kLineFloats];
+            // Neighbours differ in exactly one coordinate.
+            int differing = 0;
+            for (int c = 0; c < 3; ++c) differing += segment[c] != segment[3 + c];
+            CHECK(differing == 1);
+        }
+        if (nu > 1 && nv > 1 && nw > 1) {  // (a dimension of 1 sits in the middle of the box)
+            CHECK(bounds.min == glm::vec3(-1, -1, -1));
+            CHECK(bounds.max == glm::vec3(1, 2, 3));
+        }
+    }
+}
+
+TEST_CASE("overlay geometry: selected markers come last, pinned ones are squares", "[gl]") {
+    render::LatticeView lattice = test::makeBoxLattice({0, 0, 0}, {1, 1, 1}, 2, 2, 2);
+    lattice.selected.assign(8, 0);
+    lattice.pinned.assign(8, 0);
+    lattice.selected[0] = 1;
+    lattice.pinned[0] = 1;  // selected and pinned: a yellow square
+    lattice.pinned[5] = 1;
+    std::vector<float> edges, markers;
+    render::Bounds bounds;
+    REQUIRE(render::buildLatticeInstances(lattice, edges, markers, bounds).ok);
+    const auto marker = [&](int m) { return &markers[size_t(m) * render::kMarkerFloats]; };
+    CHECK(marker(7)[3] == render::kSelectedPointColor.r);
+    CHECK(marker(7)[5] == render::kSelectedPointColor.b);
+    CHECK(marker(7)[8] == 1.0f);  // square
+    CHECK(marker(6)[5] == render::kPinnedPointColor.b);
+    CHECK(marker(6)[8] == 1.0f);
+    for (int m = 0; m < 6; ++m) CHECK(marker(m)[8] == 0.0f);  // discs
+
+    lattice.selected.resize(3);
+    const std::vector<float> before = edges;
+    CHECK_FALSE(render::buildLatticeInstances(lattice, edges, markers, bounds).ok);
+    CHECK(edges == before);  // unchanged on failure
+    render::LatticeView empty;
+    REQUIRE(render::buildLatticeInstances(empty, edges, markers, bounds).ok);
+    CHECK(edges.empty());
+    CHECK(bounds.empty);
+}
+
+TEST_CASE("overlay geometry: constraints give a red-to-blue segment and two handles each", "[gl]") {
+    render::ConstraintView constraints;
+    constraints.sources = Positions::Random(3, 3);
+    constraints.targets = Positions::Random(3, 3);
+    std::vector<float> segments, markers;
+    REQUIRE(render::buildConstraintInstances(constraints, segments, markers).ok);
+    CHECK(segments.size() == 3 * size_t(render::kLineFloats));
+    CHECK(markers.size() == 6 * size_t(render::kMarkerFloats));
+    CHECK(segments[6] == render::kSourceColor.r);
+    CHECK(segments[12] == render::kTargetColor.b);
+    constraints.targets = Positions::Random(2, 3);
+    CHECK_FALSE(render::buildConstraintInstances(constraints, segments, markers).ok);
+}
