@@ -89,5 +89,9 @@ TEST_CASE("showcase: golden scenes at screenshot size", "[gl][.showcase]") {
     save(renderGolden(jacobianScene(), overlays(false, false, true, false), 1280, 800), "showcase_jacobian");
     save(renderGolden(wireframeScene(), overlays(false, true, false, false), 1280, 800), "showcase_wireframe");
     save(renderGolden(affectedScene(), overlays(false, false, false, true), 1280, 800), "showcase_affected");
+    render::SceneData everything = latticeScene();
+    everything.jacobianDet = jacobianScene().jacobianDet;
+    everything.affectedWeight = affectedScene().affectedWeight;
+    save(renderGolden(everything, overlays(true, true, true, true), 1280, 800), "showcase_everything");
     WARN("wrote showcase_*.png to " << dir);
 }
