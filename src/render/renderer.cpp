@@ -110,8 +110,10 @@ Status Renderer::init(const GlFunctions& gl) {
     release();
     state_->gl = gl;
     if (Status status = checkGlVersion(gl, nullptr); !status) return status;
-    while (gl.GetError() != GL_NO_ERROR) {
-    }  // errors left by whoever used the context before us are not ours
+    // Errors left by whoever used the context before us are not ours. (Bounded: a lost context may report
+    // GL_CONTEXT_LOST forever.)
+    for (int i = 0; i < 32 && gl.GetError() != GL_NO_ERROR; ++i) {
+    }
     if (Status status = state_->buildPrograms(); !status) {
         release();
         return status;
@@ -485,6 +487,8 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
     const glm::mat4 viewProjection = projection * view;
     constexpr Rgba kNoTint = {0, 0, 0, 0};
 
+    for (int i = 0; i < 32 && gl.GetError() != GL_NO_ERROR; ++i) {
+    }  // only errors raised below are reported
     gl.Viewport(0, 0, width, height);
     gl.Disable(GL_SCISSOR_TEST);
     gl.Disable(GL_STENCIL_TEST);
