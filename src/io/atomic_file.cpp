@@ -89,7 +89,8 @@ Status writeFileAtomically(const std::string& path, const std::string& contents)
         temporary = temporaryName(folder, name);
         // 0666 lets the umask decide the mode of a new file, as a plain fopen would.
         fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0 && errno != EEXIST) return failure(path, "cannot create a temporary file in '" + folder + "'", errno);
+        if (fd < 0 && errno != EEXIST)
+            return failure(path, "cannot create a temporary file in '" + folder + "'", errno);
     }
     if (fd < 0) return failure(path, "cannot create a unique temporary file in '" + folder + "'", EEXIST);
 
@@ -101,7 +102,8 @@ Status writeFileAtomically(const std::string& path, const std::string& contents)
     };
 
     // note: keep the permission bits of the file being replaced (a 0600 file stays private).
-    if (exists && ::fchmod(fd, existing.st_mode & 07777) != 0) return abandon("cannot copy the file's permissions", errno);
+    if (exists && ::fchmod(fd, existing.st_mode & 07777) != 0)
+        return abandon("cannot copy the file's permissions", errno);
     if (!writeAll(fd, contents.data(), contents.size())) return abandon("write failed", errno);
     // fsync before rename: otherwise a crash can leave the new name pointing at an empty file.
     if (::fsync(fd) != 0) return abandon("fsync failed", errno);

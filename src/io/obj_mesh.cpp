@@ -202,7 +202,8 @@ Status checkAgreement(const ObjScan& scan, const tinyobj::attrib_t& attrib, cons
             if (f >= faceCount) return disagree(0, "face count");
             const size_t line = static_cast<size_t>(scan.faceLine[f]);
             const size_t start = static_cast<size_t>(scan.faceStart[f]);
-            if (static_cast<size_t>(scan.faceStart[f + 1]) - start != cornersInFace) return disagree(line, "corner count");
+            if (static_cast<size_t>(scan.faceStart[f + 1]) - start != cornersInFace)
+                return disagree(line, "corner count");
             if (corner + cornersInFace > shape.mesh.indices.size()) return disagree(line, "corner count");
             for (size_t k = 0; k < cornersInFace; ++k) {
                 const tinyobj::index_t& index = shape.mesh.indices[corner + k];
@@ -257,8 +258,8 @@ Status loadChecked(const std::string& text, const std::string& displayName, cons
     mesh.positions = Eigen::Map<const Positions>(scan.positions.data(), vertexCount, 3);
     scan.positions = std::vector<double>();
     const Eigen::Index texcoordCount = static_cast<Eigen::Index>(scan.texcoords.size() / 3);
-    mesh.texcoords = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-                         scan.texcoords.data(), texcoordCount, 3)
+    mesh.texcoords = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(scan.texcoords.data(),
+                                                                                                 texcoordCount, 3)
                          .leftCols(scan.texcoordComponents);
 
     mesh.faceStart = std::move(scan.faceStart);

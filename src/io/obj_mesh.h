@@ -42,9 +42,9 @@ struct ObjMesh {
                                       // themselves are not kept: saveObj recomputes them)
     Texcoords texcoords;              // #VT x 2 or 3 (3 if any `vt` line had a w; missing ones are 0)
 
-    std::vector<int> faceGroup;            // #F indices into groupNames
-    std::vector<std::string> groupNames;   // see invariants; `o` names are kept as groups too
-    std::vector<int> faceMaterial;         // #F indices into materialNames, -1 = no `usemtl` yet
+    std::vector<int> faceGroup;           // #F indices into groupNames
+    std::vector<std::string> groupNames;  // see invariants; `o` names are kept as groups too
+    std::vector<int> faceMaterial;        // #F indices into materialNames, -1 = no `usemtl` yet
     std::vector<std::string> materialNames;
     std::vector<std::string> materialLibraries;  // `mtllib` arguments as written, first use order
 

@@ -93,7 +93,9 @@ public:
     Status run();
 
 private:
-    Status error(const std::string& what) const { return Status::error(name_ + ":" + std::to_string(line_) + ": " + what); }
+    Status error(const std::string& what) const {
+        return Status::error(name_ + ":" + std::to_string(line_) + ": " + what);
+    }
     Status fileError(const std::string& what) const { return Status::error(name_ + ": " + what); }
     void warn(const std::string& what) { scan_.warnings.push_back(name_ + ": " + what); }
 
@@ -180,7 +182,8 @@ Status Scanner::run() {
                 if (c != '\t' && c != '\f' && c != '\v') {
                     char hex[8];
                     std::snprintf(hex, sizeof hex, "0x%02x", c);
-                    return error(std::string("control byte ") + hex + ": the file looks like binary data, not OBJ text");
+                    return error(std::string("control byte ") + hex +
+                                 ": the file looks like binary data, not OBJ text");
                 }
             }
             ++p;
@@ -299,8 +302,7 @@ void Scanner::ignored(const char* keywordBegin, const char* keywordEnd, const ch
     }
 }
 
-Status Scanner::numbers(const char* p, const char* end, const char* keyword, double* values, int maxCount,
-                        int& count) {
+Status Scanner::numbers(const char* p, const char* end, const char* keyword, double* values, int maxCount, int& count) {
     const char* tokenBegin;
     const char* tokenEnd;
     count = 0;
@@ -310,7 +312,8 @@ Status Scanner::numbers(const char* p, const char* end, const char* keyword, dou
             return error(std::string("too many numbers in a '") + keyword + "' line (at most " +
                          std::to_string(maxCount) + ")");
         switch (parseNumber(tokenBegin, tokenEnd, values[count])) {
-            case NumberResult::ok: break;
+            case NumberResult::ok:
+                break;
             case NumberResult::malformed:
                 return error(quoted(tokenBegin, tokenEnd) + " in a '" + keyword +
                              "' line is not a finite decimal number");
@@ -358,7 +361,8 @@ Status Scanner::corner(const char* begin, const char* end, int& v, int& vt, int&
         if (part[i] == partEnd[i] && i == 1 && parts == 3) continue;  // v//vn
         long long index = 0;
         switch (parseIndex(part[i], partEnd[i], index)) {
-            case IndexResult::ok: break;
+            case IndexResult::ok:
+                break;
             case IndexResult::zero:
                 return error(std::string(kWhat[i]) + " index 0 in " + quoted(begin, end) +
                              " is invalid (OBJ indices start at 1)");
@@ -398,8 +402,7 @@ Status Scanner::face(const char* p, const char* end) {
         // note: tinyobjloader stores corner counts in an unsigned char; more would silently wrap.
         if (++corners > 255) return error("a face has more than 255 corners, which is not supported");
     }
-    if (corners < 3)
-        return error("a face needs at least 3 corners (found " + std::to_string(corners) + ")");
+    if (corners < 3) return error("a face needs at least 3 corners (found " + std::to_string(corners) + ")");
     // A vertex used twice makes a degenerate triangle; worth a warning, not an error. note: sorted
     // copy on the stack, so a 255-corner face costs n log n and no allocation.
     std::array<int, 256> sorted;
@@ -482,10 +485,10 @@ Status Scanner::finish() {
         const char* what;
         const char* plural;
     };
-    const Check checks[3] = {{scan_.cornerVertex, maxVertex_, vertexCount, "face", "vertices"},
-                             {scan_.cornerTexcoord, maxTexcoord_, texcoordCount, "texture coordinate",
-                              "texture coordinates"},
-                             {scan_.cornerNormal, maxNormal_, scan_.normalCount, "normal", "normals"}};
+    const Check checks[3] = {
+        {scan_.cornerVertex, maxVertex_, vertexCount, "face", "vertices"},
+        {scan_.cornerTexcoord, maxTexcoord_, texcoordCount, "texture coordinate", "texture coordinates"},
+        {scan_.cornerNormal, maxNormal_, scan_.normalCount, "normal", "normals"}};
     for (const Check& check : checks) {
         if (check.max < check.count) continue;
         // Report the first offending corner in file order.
@@ -493,8 +496,8 @@ Status Scanner::finish() {
             for (int c = scan_.faceStart[f]; c < scan_.faceStart[f + 1]; ++c)
                 if (check.corners[c] >= check.count) {
                     line_ = static_cast<size_t>(scan_.faceLine[f]);
-                    const std::string index =
-                        check.corners[c] == INT_MAX ? std::string("beyond 2^31") : std::to_string(check.corners[c] + 1LL);
+                    const std::string index = check.corners[c] == INT_MAX ? std::string("beyond 2^31")
+                                                                          : std::to_string(check.corners[c] + 1LL);
                     return error(std::string(check.what) + " index " + index + " is out of range (file has " +
                                  std::to_string(check.count) + " " + check.plural + ")");
                 }

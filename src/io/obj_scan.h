@@ -20,10 +20,10 @@ struct ObjScan {
     int texcoordComponents = 2;     // 3 if any `vt` line had a w
     int normalCount = 0;            // number of `vn` lines (values are validated, not kept)
 
-    std::vector<int> faceStart{0};  // #F + 1
+    std::vector<int> faceStart{0};                                // #F + 1
     std::vector<int> cornerVertex, cornerTexcoord, cornerNormal;  // resolved 0-based, -1 = none
-    std::vector<int> faceLine;      // #F, 1-based line of each face
-    std::vector<int> faceGroup;     // #F, into groupNames (groupNames[0] = "")
+    std::vector<int> faceLine;                                    // #F, 1-based line of each face
+    std::vector<int> faceGroup;                                   // #F, into groupNames (groupNames[0] = "")
     std::vector<std::string> groupNames{std::string()};
     std::vector<int> faceMaterial;  // #F, into materialNames, -1 = none
     std::vector<std::string> materialNames;

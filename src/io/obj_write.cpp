@@ -86,11 +86,12 @@ Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std
         Status status = checkObjMesh(mesh);
         if (!status) return status;
         if (deformedPositions.rows() != mesh.positions.rows())
-            return Status::error("cannot write OBJ: " + std::to_string(deformedPositions.rows()) + " positions for a mesh with " +
-                                 std::to_string(mesh.positions.rows()) + " vertices");
+            return Status::error("cannot write OBJ: " + std::to_string(deformedPositions.rows()) +
+                                 " positions for a mesh with " + std::to_string(mesh.positions.rows()) + " vertices");
         for (Eigen::Index v = 0; v < deformedPositions.rows(); ++v)
             if (!deformedPositions.row(v).allFinite())
-                return Status::error("cannot write OBJ: vertex " + std::to_string(v + 1) + " has a non-finite position");
+                return Status::error("cannot write OBJ: vertex " + std::to_string(v + 1) +
+                                     " has a non-finite position");
 
         Positions normals;
         core::computeVertexNormals(deformedPositions, mesh.triangles, normals);

@@ -31,20 +31,29 @@ Vec3 normalized(const Vec3& v) {
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 struct Sphere {
-    std::vector<Vec3> directions;         // unit vectors
+    std::vector<Vec3> directions;           // unit vectors
     std::vector<std::array<int, 3>> faces;  // counter-clockwise seen from outside
 };
 
 Sphere icosphere(int subdivisions) {
     const double phi = (1.0 + std::sqrt(5.0)) / 2.0;
     Sphere sphere;
-    for (const Vec3& v : std::vector<Vec3>{{-1, phi, 0}, {1, phi, 0}, {-1, -phi, 0}, {1, -phi, 0},
-                                           {0, -1, phi}, {0, 1, phi}, {0, -1, -phi}, {0, 1, -phi},
-                                           {phi, 0, -1}, {phi, 0, 1}, {-phi, 0, -1}, {-phi, 0, 1}})
+    for (const Vec3& v : std::vector<Vec3>{{-1, phi, 0},
+                                           {1, phi, 0},
+                                           {-1, -phi, 0},
+                                           {1, -phi, 0},
+                                           {0, -1, phi},
+                                           {0, 1, phi},
+                                           {0, -1, -phi},
+                                           {0, 1, -phi},
+                                           {phi, 0, -1},
+                                           {phi, 0, 1},
+                                           {-phi, 0, -1},
+                                           {-phi, 0, 1}})
         sphere.directions.push_back(normalized(v));
-    sphere.faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+    sphere.faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                     {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                    {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+                    {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (int level = 0; level < subdivisions; ++level) {
         std::map<std::pair<int, int>, int> midpoints;  // shared edge -> its new vertex, so edges weld
         auto midpoint = [&](int a, int b) {

@@ -33,7 +33,8 @@ void requireSameSurface(const sculpt::io::ObjMesh& a, const sculpt::io::ObjMesh&
     if (a.faceMaterial != b.faceMaterial || a.materialNames != b.materialNames)
         fail("materials differ after a round trip", text);
     if (a.materialLibraries != b.materialLibraries) fail("material libraries differ after a round trip", text);
-    if (a.triangles != b.triangles || a.triangleFace != b.triangleFace) fail("triangles differ after a round trip", text);
+    if (a.triangles != b.triangles || a.triangleFace != b.triangleFace)
+        fail("triangles differ after a round trip", text);
 }
 
 }  // namespace
@@ -46,7 +47,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const sculpt::Status loaded = sculpt::io::loadObjFromText(text, "fuzz.obj", "", mesh, &warnings);
     if (!loaded) {
         if (loaded.message.rfind("fuzz.obj", 0) != 0) fail("error message does not name the file", loaded.message);
-        if (mesh.faceStart.size() != 0 || mesh.positions.size() != 0) fail("out was modified on failure", loaded.message);
+        // The pre-pass and tinyobjloader disagreeing is a bug in the pre-pass's mirror of tinyobjloader,
+        // even though the user only sees a clean error.
+        if (loaded.message.find("internal error") != std::string::npos) fail("readers disagree", loaded.message);
+        if (loaded.message.find("tinyobjloader rejected") != std::string::npos)
+            fail("tinyobjloader rejected what the pre-pass accepted", loaded.message);
+        if (mesh.faceStart.size() != 0 || mesh.positions.size() != 0)
+            fail("out was modified on failure", loaded.message);
         return 0;
     }
     const sculpt::Status consistent = sculpt::io::checkObjMesh(mesh);

@@ -48,7 +48,8 @@ bool trianglesIntersect(const std::array<Vec3, 3>& s, const std::array<Vec3, 3>&
 TEST_CASE("obj: the default mesh is closed, manifold, outward and free of self-intersections") {
     ObjMesh mesh;
     std::vector<std::string> warnings;
-    const sculpt::Status status = sculpt::io::loadObj(std::string(SCULPT_SOURCE_DIR) + "/assets/default.obj", mesh, &warnings);
+    const sculpt::Status status =
+        sculpt::io::loadObj(std::string(SCULPT_SOURCE_DIR) + "/assets/default.obj", mesh, &warnings);
     INFO(status.message);
     REQUIRE(status);
     REQUIRE(warnings.empty());
@@ -72,7 +73,8 @@ TEST_CASE("obj: the default mesh is closed, manifold, outward and free of self-i
     // Vertex-manifold: the triangles around each vertex form one closed fan.
     std::vector<std::unordered_map<int, int>> fanNext(static_cast<size_t>(vertexCount));
     for (int t = 0; t < triangleCount; ++t)
-        for (int c = 0; c < 3; ++c) fanNext[mesh.triangles(t, c)][mesh.triangles(t, (c + 1) % 3)] = mesh.triangles(t, (c + 2) % 3);
+        for (int c = 0; c < 3; ++c)
+            fanNext[mesh.triangles(t, c)][mesh.triangles(t, (c + 1) % 3)] = mesh.triangles(t, (c + 2) % 3);
     for (int v = 0; v < vertexCount; ++v) {
         const auto& next = fanNext[static_cast<size_t>(v)];
         REQUIRE(next.size() >= 3);
@@ -91,7 +93,8 @@ TEST_CASE("obj: the default mesh is closed, manifold, outward and free of self-i
 
     // Outward: positive enclosed volume (divergence theorem over the oriented triangles).
     double volume = 0.0;
-    for (int t = 0; t < triangleCount; ++t) volume += corner(mesh, t, 0).dot(corner(mesh, t, 1).cross(corner(mesh, t, 2))) / 6.0;
+    for (int t = 0; t < triangleCount; ++t)
+        volume += corner(mesh, t, 0).dot(corner(mesh, t, 1).cross(corner(mesh, t, 2))) / 6.0;
     REQUIRE(volume > 1.0);
 
     // No degenerate triangles and no sharp folds between neighbours (the pair test below skips
@@ -106,7 +109,8 @@ TEST_CASE("obj: the default mesh is closed, manifold, outward and free of self-i
     for (int t = 0; t < triangleCount; ++t)
         for (int c = 0; c < 3; ++c) edgeTriangle[{mesh.triangles(t, c), mesh.triangles(t, (c + 1) % 3)}] = t;
     for (const auto& [edge, t] : edgeTriangle)
-        REQUIRE(normals[static_cast<size_t>(t)].dot(normals[static_cast<size_t>(edgeTriangle.at({edge.second, edge.first}))]) > 0.5);
+        REQUIRE(normals[static_cast<size_t>(t)].dot(
+                    normals[static_cast<size_t>(edgeTriangle.at({edge.second, edge.first}))]) > 0.5);
 
     // Self-intersection: bucket triangle bounding boxes in a uniform grid and test each pair that
     // shares a cell once (in the cell holding the min corner of the two boxes' overlap).
@@ -116,7 +120,8 @@ TEST_CASE("obj: the default mesh is closed, manifold, outward and free of self-i
     const Vec3 cellSize = (upper - lower) / cellsPerAxis;
     auto cellOf = [&](const Vec3& p) {
         std::array<int, 3> cell;
-        for (int k = 0; k < 3; ++k) cell[k] = std::clamp(static_cast<int>((p[k] - lower[k]) / cellSize[k]), 0, cellsPerAxis - 1);
+        for (int k = 0; k < 3; ++k)
+            cell[k] = std::clamp(static_cast<int>((p[k] - lower[k]) / cellSize[k]), 0, cellsPerAxis - 1);
         return cell;
     };
     std::vector<Vec3> boxMin(static_cast<size_t>(triangleCount)), boxMax(static_cast<size_t>(triangleCount));
@@ -137,7 +142,8 @@ TEST_CASE("obj: the default mesh is closed, manifold, outward and free of self-i
         for (size_t i = 0; i < members.size(); ++i)
             for (size_t j = i + 1; j < members.size(); ++j) {
                 const int s = members[i], t = members[j];
-                if ((boxMin[s].array() > boxMax[t].array()).any() || (boxMin[t].array() > boxMax[s].array()).any()) continue;
+                if ((boxMin[s].array() > boxMax[t].array()).any() || (boxMin[t].array() > boxMax[s].array()).any())
+                    continue;
                 if (static_cast<size_t>(cellIndex(cellOf(boxMin[s].cwiseMax(boxMin[t])))) != cell) continue;
                 bool adjacent = false;
                 for (int a = 0; a < 3; ++a)

@@ -94,12 +94,18 @@ double randomDouble(std::mt19937_64& random) {
     std::uniform_int_distribution<int> kind(0, 6);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     switch (kind(random)) {
-        case 0: return unit(random);
-        case 1: return unit(random) * 1e-300;
-        case 2: return unit(random) * 1e300;
-        case 3: return unit(random) * 4.9e-324 * 1000.0;  // subnormal
-        case 4: return std::uniform_int_distribution<int>(0, 1)(random) ? 0.0 : -0.0;
-        case 5: return std::round(unit(random) * 1000.0) / 8.0;
+        case 0:
+            return unit(random);
+        case 1:
+            return unit(random) * 1e-300;
+        case 2:
+            return unit(random) * 1e300;
+        case 3:
+            return unit(random) * 4.9e-324 * 1000.0;  // subnormal
+        case 4:
+            return std::uniform_int_distribution<int>(0, 1)(random) ? 0.0 : -0.0;
+        case 5:
+            return std::round(unit(random) * 1000.0) / 8.0;
         default: {
             for (;;) {  // any finite bit pattern
                 const std::uint64_t bits = random();
@@ -145,12 +151,15 @@ ObjMesh randomMesh(std::mt19937_64& random, int vertexCount, int faceCount) {
     std::vector<int> rows;
     for (int f = 0; f < faceCount; ++f)
         for (int c = mesh.faceStart[f] + 1; c + 1 < mesh.faceStart[f + 1]; ++c) {
-            rows.insert(rows.end(), {mesh.cornerVertex[mesh.faceStart[f]], mesh.cornerVertex[c], mesh.cornerVertex[c + 1]});
+            rows.insert(rows.end(),
+                        {mesh.cornerVertex[mesh.faceStart[f]], mesh.cornerVertex[c], mesh.cornerVertex[c + 1]});
             mesh.triangleFace.push_back(f);
         }
     mesh.triangles = Eigen::Map<sculpt::Triangles>(rows.data(), static_cast<Eigen::Index>(rows.size() / 3), 3);
     // Names only count once a face uses them (the reader's rule), so drop unused ones.
-    auto used = [](const std::vector<int>& index, int i) { return std::find(index.begin(), index.end(), i) != index.end(); };
+    auto used = [](const std::vector<int>& index, int i) {
+        return std::find(index.begin(), index.end(), i) != index.end();
+    };
     while (mesh.groupNames.size() > 1 && !used(mesh.faceGroup, static_cast<int>(mesh.groupNames.size()) - 1))
         mesh.groupNames.pop_back();
     while (!mesh.materialNames.empty() && !used(mesh.faceMaterial, static_cast<int>(mesh.materialNames.size()) - 1))
@@ -218,9 +227,10 @@ TEST_CASE("obj: written normals are the recomputed, outward normals of the defor
 
 TEST_CASE("obj: numbers are read correctly rounded and written in shortest round-trip form") {
     ObjMesh mesh;
-    REQUIRE(loadText("v 0.1 -0 +2.5e-3\nv 2.4703282292062328e-324 1.7976931348623157e308 .5\n"
-                     "v 0.30000000000000004 1E2 -7.\nf 1 2 3\n",
-                     mesh));
+    REQUIRE(
+        loadText("v 0.1 -0 +2.5e-3\nv 2.4703282292062328e-324 1.7976931348623157e308 .5\n"
+                 "v 0.30000000000000004 1E2 -7.\nf 1 2 3\n",
+                 mesh));
     REQUIRE(sameBits(mesh.positions(0, 0), 0.1));
     REQUIRE(sameBits(mesh.positions(0, 1), -0.0));
     REQUIRE(sameBits(mesh.positions(0, 2), 2.5e-3));
@@ -257,7 +267,8 @@ TEST_CASE("obj: round trip through saveObj and loadObj keeps deformed positions 
     std::mt19937_64 random(99);
     const ObjMesh mesh = randomMesh(random, 500, 400);
     Positions deformed = mesh.positions;
-    for (Eigen::Index v = 0; v < deformed.rows(); ++v) deformed.row(v) = deformed.row(v) * 0.5 + Eigen::RowVector3d(0.1, -1e-7, 3.0);
+    for (Eigen::Index v = 0; v < deformed.rows(); ++v)
+        deformed.row(v) = deformed.row(v) * 0.5 + Eigen::RowVector3d(0.1, -1e-7, 3.0);
     REQUIRE(deformed.allFinite());
     REQUIRE(sculpt::io::saveObj(folder.file("out.obj"), mesh, deformed));
     ObjMesh reread;
@@ -272,14 +283,15 @@ TEST_CASE("obj: round trip through saveObj and loadObj keeps deformed positions 
 TEST_CASE("obj: groups, materials and 3-component texture coordinates are kept") {
     ObjMesh mesh;
     std::vector<std::string> warnings;
-    REQUIRE(loadText("mtllib  shop.mtl \n"
-                     "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
-                     "vt 0 0 0.5\nvt 1 0\nvt 0.25\n"
-                     "f 1/1 2/2 3/3\n"
-                     "o   head   part\nusemtl skin extra\nf 2/1 4/2 3/3\n"
-                     "g tail\nf 1 2 4\n"
-                     "g head part\nusemtl\nf 3 2 1\n",
-                     mesh, &warnings));
+    REQUIRE(
+        loadText("mtllib  shop.mtl \n"
+                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                 "vt 0 0 0.5\nvt 1 0\nvt 0.25\n"
+                 "f 1/1 2/2 3/3\n"
+                 "o   head   part\nusemtl skin extra\nf 2/1 4/2 3/3\n"
+                 "g tail\nf 1 2 4\n"
+                 "g head part\nusemtl\nf 3 2 1\n",
+                 mesh, &warnings));
     REQUIRE(mesh.groupNames == std::vector<std::string>{"", "head part", "tail"});
     REQUIRE(mesh.faceGroup == std::vector<int>{0, 1, 2, 1});
     REQUIRE(mesh.materialNames == std::vector<std::string>{"skin"});
@@ -390,9 +402,10 @@ TEST_CASE("obj: a missing or unreadable file is an error naming it") {
 TEST_CASE("obj: line, point and unknown statements are ignored with a warning") {
     ObjMesh mesh;
     std::vector<std::string> warnings;
-    REQUIRE(loadText("v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2 99\np -7\nt crease 2/0/0 1 2\nvw 0 -1 0.5\n"
-                     "curv 0 1 1 2\ns 1\nf 1 2 3\n",
-                     mesh, &warnings));
+    REQUIRE(
+        loadText("v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2 99\np -7\nt crease 2/0/0 1 2\nvw 0 -1 0.5\n"
+                 "curv 0 1 1 2\ns 1\nf 1 2 3\n",
+                 mesh, &warnings));
     REQUIRE(mesh.faceCount() == 1);
     REQUIRE(anyContains(warnings, "2 line/point element(s) ignored (first on line 4)"));
     REQUIRE(anyContains(warnings, "unsupported statement(s) ignored"));
@@ -543,8 +556,8 @@ TEST_CASE("obj: checkObjMesh and serializeObj refuse inconsistent meshes") {
 
 TEST_CASE("obj: parseObjNumber accepts exactly the decimal grammar") {
     const char* good[] = {"0", "-0", "+1", "1.", ".5", "-.5", "1e5", "1E-5", "1.5e+300", "0001"};
-    const char* bad[] = {"", "-", "+", ".", "e5", "1e", "1e+", "nan", "-inf", "infinity", "0x1p3", "1,5", "1.2.3",
-                         "--1", "+-1", "1e999", "-1e999", "1e-400"};
+    const char* bad[] = {"",         "-",     "+",   ".",     "e5",  "1e",  "1e+",   "nan",    "-inf",
+                         "infinity", "0x1p3", "1,5", "1.2.3", "--1", "+-1", "1e999", "-1e999", "1e-400"};
     double value = 0.0;
     for (const char* s : good) {
         INFO(s);
