@@ -23,7 +23,7 @@ const char* usageText() {
     return "usage:\n"
            "  sculpt [MESH.obj]                      open the interactive window\n"
            "  sculpt --headless [--input MESH.obj] --script OPS.json --output OUT.obj\n"
-           "         [--report REPORT.json] [--screenshot OUT.png [--size WxH]\n"
+           "         [--report REPORT.json] [--save-session SESSION.json] [--screenshot OUT.png [--size WxH]\n"
            "         [--camera yaw,pitch,distance] [--overlay jacobian|affected|lattice|wireframe]...]\n"
            "         [--gl-backend auto|osmesa|egl]\n"
            "exit codes: 0 success, 2 bad input (nothing written), 3 output could not be written, 1 internal error\n";
@@ -46,6 +46,7 @@ Status parseCommandLine(int argc, const char* const* argv, CliOptions& out) {
         else if (arg == "--script") s = value(o.script);
         else if (arg == "--output") s = value(o.output);
         else if (arg == "--report") s = value(o.report);
+        else if (arg == "--save-session") s = value(o.saveSession);
         else if (arg == "--screenshot") s = value(o.screenshot);
         else if (arg == "--gl-backend") {
             s = value(o.glBackend);

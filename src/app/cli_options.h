@@ -17,6 +17,7 @@ struct CliOptions {
     std::string script;       // OPS.json (headless)
     std::string output;       // OUT.obj (headless)
     std::string report;       // REPORT.json (optional)
+    std::string saveSession;  // the applied history as a replayable OPS.json (optional)
     std::string screenshot;   // PNG written after the script (optional)
     int width = 1280, height = 800;
     std::optional<std::array<double, 3>> camera;  // yaw, pitch (degrees), distance

@@ -37,6 +37,7 @@ int runHeadless(const CliOptions& options, const char* argv0) {
         std::cerr << "sculpt: " << input << ": " << s.message << "\n";
         return kExitBadInput;
     }
+    session.setInjectivity(script.injectivity);
     std::printf("loaded %s: %d vertices, %d triangles (%.0f ms); lattice %dx%dx%d, degree %d/%d/%d\n", input.c_str(),
                 static_cast<int>(mesh.positions.rows()), static_cast<int>(mesh.triangles.rows()), loadMs,
                 session.lattice().count[0], session.lattice().count[1], session.lattice().count[2],
@@ -54,8 +55,9 @@ int runHeadless(const CliOptions& options, const char* argv0) {
     }
     for (size_t i = 0; i < report.ops.size(); ++i) {
         const core::OpReport& r = report.ops[i];
-        std::printf("  op %zu %-18s %-8s %s (%.2f ms)\n", i, r.op.c_str(), core::opStatusName(r.status), r.reason.c_str(),
-                    r.wallMs);
+        std::printf("  op %zu %-18s %-8s %s%s (%.2f ms", i, r.op.c_str(), core::opStatusName(r.status), r.reason.c_str(),
+                    r.subSteps > 1 ? (" [" + std::to_string(r.subSteps) + " injective steps]").c_str() : "", r.wallMs);
+        std::printf(")\n");
     }
 
     if (Status s = io::saveObj(options.output, mesh, session.positions()); !s) {
@@ -72,6 +74,13 @@ int runHeadless(const CliOptions& options, const char* argv0) {
             return kExitWriteFailed;
         }
         std::printf("wrote %s\n", options.report.c_str());
+    }
+    if (!options.saveSession.empty()) {
+        if (Status s = io::writeFileAtomically(options.saveSession, io::scriptToJson(core::recordSession(session))); !s) {
+            std::cerr << "sculpt: " << s.message << "\n";
+            return kExitWriteFailed;
+        }
+        std::printf("wrote %s\n", options.saveSession.c_str());
     }
     if (!options.screenshot.empty()) {
         if (Status s = screenshots.capture(session, options.screenshot); !s) {

@@ -71,7 +71,7 @@ Status validateLatticeSettings(const LatticeSettings& s) {
     return Status::success();
 }
 
-Status makeLattice(const LatticeSettings& settings, const Positions& points, Lattice& out) {
+Status latticeBox(const LatticeSettings& settings, const Positions& points, Eigen::Vector3d& boxMin, Eigen::Vector3d& boxMax) {
     if (Status s = validateLatticeSettings(settings); !s) return s;
     Eigen::Vector3d lo, hi;
     if (settings.hasRegion) {
@@ -94,13 +94,23 @@ Status makeLattice(const LatticeSettings& settings, const Positions& points, Lat
         lo[a] = centre - half;
         hi[a] = centre + half;
     }
+    if (!lo.allFinite() || !hi.allFinite()) return Status::error("the lattice box is not finite");
+    boxMin = lo;
+    boxMax = hi;
+    return Status::success();
+}
 
+Status makeLatticeInBox(const LatticeSettings& settings, const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax,
+                        Lattice& out) {
+    if (Status s = validateLatticeSettings(settings); !s) return s;
+    if (!boxMin.allFinite() || !boxMax.allFinite() || !(boxMin.array() < boxMax.array()).all())
+        return Status::error("the lattice box must be finite with min < max on every axis");
     Lattice lattice;
     lattice.count = settings.resolution;
     lattice.degree = settings.degree;
     for (int a = 0; a < 3; ++a) lattice.axes[a] = makeSplineAxis(settings.resolution[a], settings.degree[a]);
-    lattice.boxMin = lo;
-    lattice.boxMax = hi;
+    lattice.boxMin = boxMin;
+    lattice.boxMax = boxMax;
     const int n = lattice.controlPointCount();
     lattice.weights.assign(n, 1.0);
     lattice.displacement = Positions::Zero(n, 3);
@@ -113,6 +123,12 @@ Status makeLattice(const LatticeSettings& settings, const Positions& points, Lat
     }
     out = std::move(lattice);
     return Status::success();
+}
+
+Status makeLattice(const LatticeSettings& settings, const Positions& points, Lattice& out) {
+    Eigen::Vector3d lo, hi;
+    if (Status s = latticeBox(settings, points, lo, hi); !s) return s;
+    return makeLatticeInBox(settings, lo, hi, out);
 }
 
 bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen::Vector3d& params) {

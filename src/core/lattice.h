@@ -68,6 +68,13 @@ struct Lattice {
 // coincide). Fails on invalid settings, an empty point set, or non-finite points. Pins the outer layers.
 Status makeLattice(const LatticeSettings& settings, const Positions& points, Lattice& out);
 
+// The box makeLattice would use: settings' region or the points' bounds, made non-degenerate, padded.
+Status latticeBox(const LatticeSettings& settings, const Positions& points, Eigen::Vector3d& boxMin, Eigen::Vector3d& boxMax);
+
+// A lattice in exactly the given box (settings' region and padding are ignored), pins from pinLayers.
+Status makeLatticeInBox(const LatticeSettings& settings, const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax,
+                        Lattice& out);
+
 // Parameters t in [0,1]^3 of a rest-space point, by the linear map of the box (O(1), no iteration).
 // Returns false (t untouched) for points outside the closed box; points on a face get exactly 0 or 1.
 bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen::Vector3d& params);

@@ -12,6 +12,7 @@ const char* scriptOpName(ScriptOp::Kind kind) {
         case ScriptOp::Kind::Undo: return "undo";
         case ScriptOp::Kind::Redo: return "redo";
         case ScriptOp::Kind::Screenshot: return "screenshot";
+        case ScriptOp::Kind::SetupLattice: return "setup_lattice";
     }
     return "?";
 }
@@ -36,6 +37,8 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
             }
             return session.moveControlPoints(ids, op.values, op.relative, report);
         }
+        case ScriptOp::Kind::SetupLattice:
+            return session.setupLattice(op.hasSettings ? op.settings : session.latticeSettings(), report);
         case ScriptOp::Kind::Undo: return session.undo(report);
         case ScriptOp::Kind::Redo: return session.redo(report);
         case ScriptOp::Kind::Screenshot: {
@@ -65,6 +68,64 @@ Status runScript(Session& session, const Script& script, ScriptReport& report, c
         report.ops.push_back(std::move(opReport));
     }
     return Status::success();
+}
+
+Script recordSession(const Session& session) {
+    Script script;
+    script.lattice = session.initialSettings();
+    script.lattice.hasRegion = true;
+    script.lattice.regionMin = session.initialBoxMin();
+    script.lattice.regionMax = session.initialBoxMax();
+    script.lattice.padding = 0.0;
+    script.injectivity = session.injectivity();
+    for (int i = 0; i < session.historyCursor(); ++i) {
+        const Operation& operation = session.history()[i];
+        switch (operation.kind) {
+            case OperationKind::Drag:
+                if (!operation.interactive) {
+                    ScriptOp op;
+                    op.kind = ScriptOp::Kind::Drag;
+                    op.constraints = operation.constraints;
+                    script.ops.push_back(op);
+                    break;
+                }
+                // An interactive drag was tested increment by increment; replaying its steps (each one in
+                // its own fresh lattice where the original entered one) reproduces it exactly.
+                for (const Step& step : operation.steps) {
+                    if (step.freshFrame) {
+                        ScriptOp fresh;
+                        fresh.kind = ScriptOp::Kind::SetupLattice;
+                        script.ops.push_back(fresh);
+                    }
+                    ScriptOp op;
+                    op.kind = ScriptOp::Kind::Drag;
+                    op.constraints = step.constraints;
+                    script.ops.push_back(op);
+                }
+                break;
+            case OperationKind::ControlPointEdit: {
+                ScriptOp op;
+                op.kind = ScriptOp::Kind::MoveControlPoint;
+                op.relative = true;
+                op.values = operation.offsets;
+                const auto& resolution = operation.steps.front().settings.resolution;
+                for (int idx : operation.controlPoints)
+                    op.controlPoints.push_back({idx % resolution[0], (idx / resolution[0]) % resolution[1],
+                                                idx / (resolution[0] * resolution[1])});
+                script.ops.push_back(op);
+                break;
+            }
+            case OperationKind::LatticeSetup: {
+                ScriptOp op;
+                op.kind = ScriptOp::Kind::SetupLattice;
+                op.hasSettings = true;
+                op.settings = operation.settings;
+                script.ops.push_back(op);
+                break;
+            }
+        }
+    }
+    return script;
 }
 
 }  // namespace sculpt::core

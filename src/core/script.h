@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "core/injectivity.h"
 #include "core/lattice.h"
 #include "core/session.h"
 #include "core/status.h"
@@ -16,7 +17,7 @@
 namespace sculpt::core {
 
 struct ScriptOp {
-    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot };
+    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice };
     Kind kind = Kind::Undo;
     std::vector<PointConstraint> constraints;      // Drag
     int vertex = -1;                               // DragVertex
@@ -25,14 +26,22 @@ struct ScriptOp {
     Eigen::MatrixX3d values;                       //   "to" positions or "by" offsets, one row per point
     bool relative = false;                         //   true for "by"
     std::string path;                              // Screenshot: where to write (handled by the caller's hook)
+    bool hasSettings = false;                      // SetupLattice: new settings, or (false) a fresh lattice
+    LatticeSettings settings;                      //   with the current ones around the current shape
 };
 
 const char* scriptOpName(ScriptOp::Kind kind);
 
 struct Script {
     LatticeSettings lattice;
+    InjectivitySettings injectivity;  // applies to every operation of the script
     std::vector<ScriptOp> ops;
 };
+
+// The applied part of a session's history as a script that replays it: the lattice placed in the box the
+// session started with (so the same deformation of space is applied to any mesh it is replayed on), the
+// injectivity settings, and every applied operation (interactive drags step by step).
+Script recordSession(const Session& session);
 
 struct ScriptReport {
     std::vector<OpReport> ops;

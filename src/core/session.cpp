@@ -1,9 +1,13 @@
+// Session: operations, InjectSubdiv (Gain & Dodgson 2001, section 8 and Appendix) and undo as inverse
+// manipulations (Hu et al. 2001, section 4; design.md "Two kinds of composition").
 #include "core/session.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
+
+#include <Eigen/LU>
 
 namespace sculpt::core {
 
@@ -21,6 +25,46 @@ std::string vectorText(const Eigen::Vector3d& v) {
     return buffer;
 }
 
+bool sameSettings(const LatticeSettings& a, const LatticeSettings& b) {
+    return a.resolution == b.resolution && a.degree == b.degree && a.padding == b.padding && a.hasRegion == b.hasRegion &&
+           a.regionMin == b.regionMin && a.regionMax == b.regionMax && a.pinLayers == b.pinLayers;
+}
+
+// Adds b into a (sorted unions of control point ids).
+void mergeDelta(ControlDelta& a, const ControlDelta& b) {
+    ControlDelta merged;
+    merged.deltas.resize(static_cast<Eigen::Index>(a.indices.size() + b.indices.size()), 3);
+    size_t i = 0, j = 0;
+    Eigen::Index row = 0;
+    while (i < a.indices.size() || j < b.indices.size()) {
+        if (j == b.indices.size() || (i < a.indices.size() && a.indices[i] < b.indices[j])) {
+            merged.indices.push_back(a.indices[i]);
+            merged.deltas.row(row++) = a.deltas.row(static_cast<Eigen::Index>(i++));
+        } else if (i == a.indices.size() || b.indices[j] < a.indices[i]) {
+            merged.indices.push_back(b.indices[j]);
+            merged.deltas.row(row++) = b.deltas.row(static_cast<Eigen::Index>(j++));
+        } else {
+            merged.indices.push_back(a.indices[i]);
+            merged.deltas.row(row++) = a.deltas.row(static_cast<Eigen::Index>(i++)) + b.deltas.row(static_cast<Eigen::Index>(j++));
+        }
+    }
+    merged.deltas.conservativeResize(row, 3);
+    a = std::move(merged);
+}
+
+std::vector<int> pinnedByLayers(const Lattice& lattice, int layers) {
+    std::vector<int> ids;
+    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
+        const std::array<int, 3> c = lattice.ijk(idx);
+        for (int a = 0; a < 3; ++a)
+            if (c[a] < layers || c[a] >= lattice.count[a] - layers) {
+                ids.push_back(idx);
+                break;
+            }
+    }
+    return ids;
+}
+
 }  // namespace
 
 const char* opStatusName(OpStatus status) {
@@ -30,6 +74,43 @@ const char* opStatusName(OpStatus status) {
         case OpStatus::NoOp: return "no-op";
     }
     return "?";
+}
+
+Positions invertDeformation(const Lattice& lattice, const Positions& deformed) {
+    Positions rest = deformed;
+    const int n = static_cast<int>(deformed.rows());
+    const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
+    const double tolerance = 1e-14 * lattice.diagonal();
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int v = 0; v < n; ++v) {
+        const Eigen::Vector3d y = deformed.row(v).transpose();
+        Eigen::Vector3d t;
+        // A point whose own displacement is exactly zero is its own preimage (the map is injective), so
+        // vertices the frame never moved come back bitwise.
+        if (restParameters(lattice, y, t) && displacementAt(lattice, t).isZero(0.0)) continue;
+        Eigen::Vector3d x = y.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+        Eigen::Vector3d best = y;
+        double bestResidual = INFINITY;
+        for (int iteration = 0; iteration < 40; ++iteration) {
+            t = ((x - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
+            Eigen::Vector3d displacement;
+            Eigen::Matrix3d jacobian;
+            deformationJacobian(lattice, t, displacement, jacobian);
+            const Eigen::Vector3d residual = x + displacement - y;
+            const double r = residual.norm();
+            if (r < bestResidual) {
+                bestResidual = r;
+                best = x;
+            }
+            if (r <= tolerance) break;
+            const Eigen::Vector3d step = jacobian.partialPivLu().solve(residual);
+            if (!step.allFinite()) break;
+            x = (x - step).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+        }
+        // Outside the box nothing moved: keep y unless Newton found a genuine preimage inside.
+        rest.row(v) = (bestResidual <= 1e-9 * lattice.diagonal() ? best : y).transpose();
+    }
+    return rest;
 }
 
 Status Session::setMesh(const Positions& positions, const Triangles& triangles, const LatticeSettings& settings) {
@@ -43,29 +124,22 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
                                      std::to_string(positions.rows()) + " vertices)");
     Lattice lattice;
     if (Status s = makeLattice(settings, positions, lattice); !s) return s;
-    endDrag();
+    dragActive_ = false;
+    original_ = positions;
     rest_ = positions;
     positions_ = positions;
     triangles_ = triangles;
     settings_ = settings;
+    initialSettings_ = settings;
+    initialBoxMin_ = lattice.boxMin;
+    initialBoxMax_ = lattice.boxMax;
     lattice_ = std::move(lattice);
-    embedding_ = embedVertices(lattice_, rest_);
+    embedVertices(lattice_, rest_, embedding_);
+    frames_.clear();
     history_.clear();
     cursor_ = 0;
     lastMoved_.clear();
-    return Status::success();
-}
-
-Status Session::setupLattice(const LatticeSettings& settings) {
-    if (!hasMesh()) return Status::error("no mesh is loaded");
-    const Positions current = positions_;
-    const Triangles triangles = triangles_;
-    return setMesh(current, triangles, settings);
-}
-
-Status Session::validateSource(const Eigen::Vector3d& params, int constraint) const {
-    if (!params.allFinite())
-        return Status::error("constraint " + std::to_string(constraint) + " has non-finite source parameters");
+    lastMovedAll_ = true;
     return Status::success();
 }
 
@@ -81,8 +155,7 @@ Status Session::parametersOfCurrentPoint(const Eigen::Vector3d& point, Eigen::Ve
             return Status::error("point " + vectorText(point) + " lies outside the lattice box");
         return Status::success();
     }
-    // note: the deformed image of the box is what the user sees; find the rest point that maps onto the
-    // picked one (the deformation is injective where it matters, so Newton converges from the box guess).
+    // The deformed image of the box is what the user sees: find the rest point that maps onto this one.
     return locateDeformedPoint(lattice_, point, params);
 }
 
@@ -95,10 +168,9 @@ Status Session::parametersOfVertex(int vertex, Eigen::Vector3d& params) const {
     return Status::success();
 }
 
-void Session::applyDelta(const ControlDelta& delta, double sign) {
+void Session::applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved) {
     applyControlDelta(lattice_, delta, sign);
-    lastMoved_.clear();
-    evaluateCells(lattice_, embedding_, cellsInfluencedBy(lattice_, delta.indices), positions_, &lastMoved_);
+    evaluateCells(lattice_, embedding_, cellsInfluencedBy(lattice_, delta.indices), positions_, moved);
 }
 
 void Session::pushOperation(Operation operation) {
@@ -107,56 +179,296 @@ void Session::pushOperation(Operation operation) {
     cursor_ = static_cast<int>(history_.size());
 }
 
+size_t Session::historyBytes() const {
+    auto deltaBytes = [](const ControlDelta& d) {
+        return d.indices.capacity() * sizeof(int) + static_cast<size_t>(d.deltas.size()) * sizeof(double);
+    };
+    size_t bytes = history_.capacity() * sizeof(Operation) + frames_.capacity() * sizeof(FrozenFrame);
+    for (const Operation& op : history_) {
+        bytes += op.label.capacity() + op.constraints.capacity() * sizeof(PointConstraint) +
+                 op.controlPoints.capacity() * sizeof(int) + static_cast<size_t>(op.offsets.size()) * sizeof(double) +
+                 op.steps.capacity() * sizeof(Step);
+        for (const Step& step : op.steps) bytes += deltaBytes(step.delta);
+    }
+    for (const FrozenFrame& frame : frames_) bytes += deltaBytes(frame.displacement) + frame.pinToggles.capacity() * sizeof(int);
+    return bytes;
+}
+
+// ---- frames ---------------------------------------------------------------------------------------------
+
+void Session::enterFreshFrame(const LatticeSettings& settings, Progress* progress) {
+    // Freeze the current frame compactly: its box, its non-zero control displacements, its pin edits.
+    FrozenFrame frozen;
+    frozen.settings = settings_;
+    frozen.boxMin = lattice_.boxMin;
+    frozen.boxMax = lattice_.boxMax;
+    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
+        if (!lattice_.displacement.row(idx).isZero(0.0)) frozen.displacement.indices.push_back(idx);
+    frozen.displacement.deltas.resize(static_cast<Eigen::Index>(frozen.displacement.indices.size()), 3);
+    for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
+        frozen.displacement.deltas.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(frozen.displacement.indices[c]);
+    {
+        std::vector<std::uint8_t> layers(lattice_.controlPointCount(), 0);
+        for (int idx : pinnedByLayers(lattice_, settings_.pinLayers)) layers[idx] = 1;
+        for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
+            if (layers[idx] != lattice_.pinned[idx]) frozen.pinToggles.push_back(idx);
+    }
+    if (progress && !progress->snapshot.latticeSaved) {
+        progress->snapshot.latticeSaved = true;
+        progress->snapshot.lattice = lattice_;
+    }
+    if (progress && !progress->snapshot.frameSaved) {
+        progress->snapshot.frameSaved = true;
+        progress->snapshot.rest = rest_;
+        progress->snapshot.settings = settings_;
+        progress->snapshot.frameCount = frames_.size();
+    }
+
+    // The fresh regular lattice. With unchanged settings (adaptive subdivision, or re-freezing) it keeps the
+    // current box, grown to contain the mesh if the deformation carried vertices out of it; new settings
+    // place it as a new set-up would. Either way the placement depends only on the mesh and the settings,
+    // so replaying a recording reproduces it.
+    Eigen::Vector3d lo = lattice_.boxMin, hi = lattice_.boxMax;
+    const bool keepBox = sameSettings(settings, settings_);
+    if (keepBox) {
+        // Only the vertices this lattice deforms count: a region-of-interest lattice never grows to take in
+        // the rest of the mesh.
+        if (embedding_.insideCount() > 0) {
+            Eigen::Vector3d boundsLo = Eigen::Vector3d::Constant(INFINITY), boundsHi = Eigen::Vector3d::Constant(-INFINITY);
+            for (int v : embedding_.order) {
+                boundsLo = boundsLo.cwiseMin(positions_.row(v).transpose());
+                boundsHi = boundsHi.cwiseMax(positions_.row(v).transpose());
+            }
+            const double pad = settings.padding * (boundsHi - boundsLo).norm();
+            for (int a = 0; a < 3; ++a) {
+                if (boundsLo[a] < lo[a]) lo[a] = boundsLo[a] - pad;
+                if (boundsHi[a] > hi[a]) hi[a] = boundsHi[a] + pad;
+            }
+        }
+    } else {
+        latticeBox(settings, positions_, lo, hi);
+    }
+    Lattice fresh;
+    makeLatticeInBox(settings, lo, hi, fresh);
+    if (keepBox)
+        for (int idx : frozen.pinToggles) fresh.pinned[idx] ^= 1;
+    frames_.push_back(std::move(frozen));
+    settings_ = settings;
+    lattice_ = std::move(fresh);
+    rest_ = positions_;
+    embedVertices(lattice_, rest_, embedding_);
+    lastMovedAll_ = true;
+    if (progress) {
+        progress->movedAll = true;
+        progress->appliedInCurrentFrame = false;
+    }
+}
+
+void Session::leaveFrame() {
+    // The frame being left is (up to rounding) undeformed again: the mesh is its rest state, which is what
+    // the previous frame's deformation produced. Invert that deformation to get the previous rest state.
+    FrozenFrame frozen = std::move(frames_.back());
+    frames_.pop_back();
+    positions_ = rest_;
+    Lattice previous;
+    makeLatticeInBox(frozen.settings, frozen.boxMin, frozen.boxMax, previous);
+    for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
+        previous.displacement.row(frozen.displacement.indices[c]) = frozen.displacement.deltas.row(static_cast<Eigen::Index>(c));
+    for (int idx : frozen.pinToggles) previous.pinned[idx] ^= 1;
+    lattice_ = std::move(previous);
+    settings_ = frozen.settings;
+    rest_ = invertDeformation(lattice_, positions_);
+    embedVertices(lattice_, rest_, embedding_);
+    lastMovedAll_ = true;
+}
+
+void Session::restoreSnapshot(Snapshot& snapshot) {
+    if (snapshot.frameSaved) {
+        frames_.resize(snapshot.frameCount);
+        rest_ = snapshot.rest;
+        settings_ = snapshot.settings;
+    }
+    if (snapshot.positionsSaved) positions_ = snapshot.positions;
+    if (snapshot.latticeSaved) lattice_ = snapshot.lattice;
+    if (snapshot.frameSaved) embedVertices(lattice_, rest_, embedding_);
+}
+
+// ---- InjectSubdiv ---------------------------------------------------------------------------------------
+
+bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
+    // Each step after the first is a separate deformation in a fresh regular lattice around the mesh the
+    // earlier steps produced (design.md): with one lattice the halves would just add up to the failing move.
+    bool fresh = false;
+    if (progress.appliedInCurrentFrame) {
+        enterFreshFrame(settings_, &progress);
+        fresh = true;
+    }
+    ControlDelta delta;
+    std::vector<Eigen::Vector3d> params;
+    if (m.kind == OperationKind::Drag) {
+        params.resize(m.sources.size());
+        Eigen::MatrixX3d displacements(static_cast<Eigen::Index>(m.sources.size()), 3);
+        for (size_t f = 0; f < m.sources.size(); ++f) {
+            if (Status s = parametersOfCurrentPoint(m.sources[f], params[f]); !s) {
+                progress.failure = "constraint " + std::to_string(f) + " source left the lattice: " + s.message;
+                return false;
+            }
+            displacements.row(static_cast<Eigen::Index>(f)) = (m.targets[f] - currentImage(params[f])).transpose();
+        }
+        delta = directManipulation(lattice_, params, displacements).delta;  // Hu et al. 2001, eq. 7 / 12
+    } else {
+        delta.indices = m.controlPoints;
+        delta.deltas = m.offsets;
+    }
+
+    // Tentatively change the lattice and test the cells the change reaches (the rest were tested before).
+    if (depth > 0 && !progress.snapshot.positionsSaved) {
+        progress.snapshot.positionsSaved = true;
+        progress.snapshot.positions = positions_;
+    }
+    if (depth > 0 && !progress.snapshot.latticeSaved) {
+        progress.snapshot.latticeSaved = true;
+        progress.snapshot.lattice = lattice_;
+    }
+    Positions saved(static_cast<Eigen::Index>(delta.indices.size()), 3);
+    for (size_t c = 0; c < delta.indices.size(); ++c) saved.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(delta.indices[c]);
+    applyControlDelta(lattice_, delta, 1.0);
+    const std::vector<int> cells = cellsInfluencedBy(lattice_, delta.indices);
+    // note: an empty change (every control point that could move is pinned) reaches no cell; an empty cell
+    // list would mean "all cells" to the checker.
+    InjectivityResult verdict;
+    verdict.certified = true;
+    if (!cells.empty()) verdict = checkInjectivity(lattice_, injectivity_.mode, cells);
+    progress.injectivityMs += verdict.milliseconds;
+    if (!verdict.certified) {
+        for (size_t c = 0; c < delta.indices.size(); ++c) lattice_.displacement.row(delta.indices[c]) = saved.row(static_cast<Eigen::Index>(c));
+        const auto& ijk = verdict.failingCellIjk;
+        progress.failure = std::string(injectivityModeName(injectivity_.mode)) + " test fails in cell [" +
+                           std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "]";
+        if (!verdict.message.empty()) progress.failure += " (" + verdict.message + ")";
+        return false;
+    }
+    evaluateCells(lattice_, embedding_, cells, positions_, &progress.moved);
+
+    Step step;
+    step.freshFrame = fresh;
+    step.settings = settings_;
+    step.delta = std::move(delta);
+    if (m.kind == OperationKind::Drag)
+        for (size_t f = 0; f < m.sources.size(); ++f) step.constraints.push_back({m.sources[f], currentImage(params[f])});
+    progress.operation->steps.push_back(std::move(step));
+    progress.operation->depthReached = std::max(progress.operation->depthReached, depth);
+    progress.appliedInCurrentFrame = true;
+    if (m.kind == OperationKind::Drag)
+        for (size_t f = 0; f < m.sources.size(); ++f) m.sources[f] = currentImage(params[f]);
+    return true;
+}
+
+bool Session::injectSubdiv(Manipulation& m, int depth, Progress& progress) {
+    // Gain & Dodgson 2001, Appendix, InjectSubdiv(F, dF, L, d).
+    if (tryStep(m, depth, progress)) return true;
+    if (depth >= injectivity_.maxDepth || progress.failure.find("left the lattice") != std::string::npos) return false;
+    // (F, dF/2) then (F + dF/2, dF/2): the second half starts where the first left the sources.
+    Manipulation first = m;
+    if (m.kind == OperationKind::Drag) {
+        for (size_t f = 0; f < m.sources.size(); ++f) first.targets[f] = m.sources[f] + 0.5 * (m.targets[f] - m.sources[f]);
+    } else {
+        first.offsets = 0.5 * m.offsets;
+    }
+    if (!injectSubdiv(first, depth + 1, progress)) return false;
+    Manipulation second = m;
+    if (m.kind == OperationKind::Drag) second.sources = first.sources;
+    else second.offsets = m.offsets - first.offsets;
+    if (!injectSubdiv(second, depth + 1, progress)) return false;
+    m.sources = second.sources;
+    return true;
+}
+
+Status Session::runManipulation(Manipulation m, Operation operation, OpReport& report) {
+    const auto start = Clock::now();
+    Progress progress;
+    progress.operation = &operation;
+    const bool ok = injectSubdiv(m, 0, progress);
+    report.injectivityMs = progress.injectivityMs;
+    report.depthReached = operation.depthReached;
+    if (!ok) {
+        restoreSnapshot(progress.snapshot);
+        lastMoved_.clear();
+        lastMovedAll_ = progress.snapshot.frameSaved;
+        report.status = OpStatus::Rejected;
+        report.reason = "no injective subdivision within depth " + std::to_string(injectivity_.maxDepth) + ": " + progress.failure +
+                        "; nothing was changed";
+        if (progress.failure.find("left the lattice") != std::string::npos) report.reason = progress.failure + "; nothing was changed";
+        report.injectivity = "rejected: " + progress.failure;
+        report.subSteps = 0;
+        report.wallMs = millisecondsSince(start);
+        return Status::success();
+    }
+    std::sort(progress.moved.begin(), progress.moved.end());
+    progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
+    lastMoved_ = std::move(progress.moved);
+    lastMovedAll_ = progress.movedAll;
+    report.status = OpStatus::Applied;
+    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    report.subSteps = static_cast<int>(operation.steps.size());
+    std::vector<int> changed;
+    for (const Step& step : operation.steps) changed.insert(changed.end(), step.delta.indices.begin(), step.delta.indices.end());
+    std::sort(changed.begin(), changed.end());
+    report.controlPointsChanged = static_cast<int>(std::unique(changed.begin(), changed.end()) - changed.begin());
+    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+    if (m.kind == OperationKind::Drag)
+        for (size_t f = 0; f < m.sources.size(); ++f) report.residuals.push_back((m.targets[f] - m.sources[f]).norm());
+    pushOperation(std::move(operation));
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+// ---- commands -------------------------------------------------------------------------------------------
+
 Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "drag";
     if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (dragActive_) return Status::error("an interactive drag is in progress");
     if (constraints.empty()) return Status::error("drag has no constraints");
-    std::vector<Eigen::Vector3d> params(constraints.size());
-    Eigen::MatrixX3d displacements(static_cast<Eigen::Index>(constraints.size()), 3);
+    Manipulation m;
+    m.kind = OperationKind::Drag;
+    bool moves = false;
     for (size_t f = 0; f < constraints.size(); ++f) {
         const std::string which = "constraint " + std::to_string(f);
         if (!constraints[f].source.allFinite()) return Status::error(which + " source has non-finite coordinates");
         if (!constraints[f].target.allFinite()) return Status::error(which + " target has non-finite coordinates");
-        if (Status s = parametersOfCurrentPoint(constraints[f].source, params[f]); !s)
+        Eigen::Vector3d params;
+        if (Status s = parametersOfCurrentPoint(constraints[f].source, params); !s)
             return Status::error(which + " source: " + s.message);
-        displacements.row(static_cast<Eigen::Index>(f)) = (constraints[f].target - currentImage(params[f])).transpose();
+        m.sources.push_back(currentImage(params));  // the source as the engine sees it (equal up to rounding)
+        m.targets.push_back(constraints[f].target);
+        moves = moves || m.sources.back() != m.targets.back();
     }
-    if (dragActive_) return Status::error("an interactive drag is in progress");
-
-    if ((displacements.array() == 0.0).all()) {
+    if (!moves) {
         report.status = OpStatus::NoOp;
         report.reason = "every source is already on its target";
         report.residuals.assign(constraints.size(), 0.0);
         report.wallMs = millisecondsSince(start);
         return Status::success();
     }
-    const DirectManipulationResult solved = directManipulation(lattice_, params, displacements);
     Operation operation;
     operation.kind = OperationKind::Drag;
     operation.label = constraints.size() == 1 ? "drag" : "drag (" + std::to_string(constraints.size()) + " points)";
-    operation.sourceParams = params;
-    operation.displacements = displacements;
-    operation.delta = solved.delta;
-    applyDelta(operation.delta, 1.0);
-    report.residuals = solved.residuals;
-    report.rankDeficient = solved.rankDeficient;
-    report.controlPointsChanged = static_cast<int>(operation.delta.indices.size());
-    report.verticesMoved = static_cast<int>(lastMoved_.size());
-    report.status = OpStatus::Applied;
-    pushOperation(std::move(operation));
+    operation.constraints = constraints;
+    const Status status = runManipulation(std::move(m), std::move(operation), report);
     report.wallMs = millisecondsSince(start);
-    return Status::success();
+    return status;
 }
 
 Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report) {
+    report = OpReport{};
+    report.op = "drag_vertex";
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (!target.allFinite()) return Status::error("drag_vertex target has non-finite coordinates");
     Eigen::Vector3d params;
     if (Status s = parametersOfVertex(vertex, params); !s) return s;
-    // The vertex's current position is exactly the current image of its parameters; dragging that point
-    // goes through the same path as any source point.
     const Status status = drag({PointConstraint{positions_.row(vertex).transpose(), target}}, report);
     report.op = "drag_vertex";
     return status;
@@ -168,10 +480,10 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     report = OpReport{};
     report.op = "move_control_point";
     if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (dragActive_) return Status::error("an interactive drag is in progress");
     if (indices.empty()) return Status::error("no control point given");
     if (static_cast<Eigen::Index>(indices.size()) != values.rows())
         return Status::error("control point ids and values differ in count");
-    if (dragActive_) return Status::error("an interactive drag is in progress");
     const int n = lattice_.controlPointCount();
     std::vector<std::pair<int, Eigen::Vector3d>> moves;
     for (size_t c = 0; c < indices.size(); ++c) {
@@ -186,39 +498,75 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
         }
         const Eigen::Vector3d value = values.row(static_cast<Eigen::Index>(c)).transpose();
         if (!value.allFinite()) return Status::error("control point move has non-finite coordinates");
-        const Eigen::Vector3d offset = relative ? value : Eigen::Vector3d(value - lattice_.controlPoint(idx));
-        moves.emplace_back(idx, offset);
+        moves.emplace_back(idx, relative ? value : Eigen::Vector3d(value - lattice_.controlPoint(idx)));
     }
     // The same point listed twice: offsets add up for "by", the last position wins for "to".
-    std::sort(moves.begin(), moves.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    Operation operation;
-    operation.kind = OperationKind::ControlPointEdit;
-    for (size_t c = 0; c < moves.size(); ++c) {
-        if (!operation.delta.indices.empty() && operation.delta.indices.back() == moves[c].first) {
-            if (relative) operation.delta.deltas.row(operation.delta.deltas.rows() - 1) += moves[c].second.transpose();
-            else operation.delta.deltas.row(operation.delta.deltas.rows() - 1) = moves[c].second.transpose();
+    std::stable_sort(moves.begin(), moves.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    Manipulation m;
+    m.kind = OperationKind::ControlPointEdit;
+    std::vector<Eigen::Vector3d> offsets;
+    for (const auto& [idx, offset] : moves) {
+        if (!m.controlPoints.empty() && m.controlPoints.back() == idx) {
+            offsets.back() = relative ? Eigen::Vector3d(offsets.back() + offset) : offset;
             continue;
         }
-        operation.delta.indices.push_back(moves[c].first);
-        operation.delta.deltas.conservativeResize(operation.delta.deltas.rows() + 1, 3);
-        operation.delta.deltas.row(operation.delta.deltas.rows() - 1) = moves[c].second.transpose();
+        m.controlPoints.push_back(idx);
+        offsets.push_back(offset);
     }
-    if ((operation.delta.deltas.array() == 0.0).all()) {
+    m.offsets.resize(static_cast<Eigen::Index>(offsets.size()), 3);
+    for (size_t c = 0; c < offsets.size(); ++c) m.offsets.row(static_cast<Eigen::Index>(c)) = offsets[c].transpose();
+    if ((m.offsets.array() == 0.0).all()) {
         report.status = OpStatus::NoOp;
         report.reason = "the control points are already there";
         report.wallMs = millisecondsSince(start);
         return Status::success();
     }
-    operation.label = operation.delta.indices.size() == 1
-                          ? "move control point"
-                          : "move " + std::to_string(operation.delta.indices.size()) + " control points";
-    applyDelta(operation.delta, 1.0);
-    report.controlPointsChanged = static_cast<int>(operation.delta.indices.size());
-    report.verticesMoved = static_cast<int>(lastMoved_.size());
-    report.status = OpStatus::Applied;
+    Operation operation;
+    operation.kind = OperationKind::ControlPointEdit;
+    operation.label = m.controlPoints.size() == 1 ? "move control point" : "move " + std::to_string(m.controlPoints.size()) + " control points";
+    operation.controlPoints = m.controlPoints;
+    operation.offsets = m.offsets;
+    const Status status = runManipulation(std::move(m), std::move(operation), report);
+    report.wallMs = millisecondsSince(start);
+    return status;
+}
+
+Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "setup_lattice";
+    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    Eigen::Vector3d lo, hi;
+    if (Status s = latticeBox(settings, positions_, lo, hi); !s) return s;
+    Operation operation;
+    operation.kind = OperationKind::LatticeSetup;
+    operation.label = "set up lattice " + std::to_string(settings.resolution[0]) + "x" + std::to_string(settings.resolution[1]) +
+                      "x" + std::to_string(settings.resolution[2]);
+    operation.settings = settings;
+    // A fresh, undeformed lattice is injective: no test needed.
+    Step step;
+    step.freshFrame = true;
+    step.settings = settings;
+    enterFreshFrame(settings, nullptr);
+    operation.steps.push_back(std::move(step));
     pushOperation(std::move(operation));
+    lastMoved_.clear();
+    report.status = OpStatus::Applied;
+    report.subSteps = 1;
+    report.injectivity = "injective";
     report.wallMs = millisecondsSince(start);
     return Status::success();
+}
+
+void Session::undoStep(const Step& step) {
+    applyDelta(step.delta, -1.0, &lastMoved_);  // the inverse manipulation within the step's frame
+    if (step.freshFrame) leaveFrame();          // inverse of the earlier frame's injective FFD
+}
+
+void Session::redoStep(const Step& step) {
+    if (step.freshFrame) enterFreshFrame(step.settings, nullptr);
+    applyDelta(step.delta, 1.0, &lastMoved_);
 }
 
 Status Session::undo(OpReport& report) {
@@ -232,11 +580,15 @@ Status Session::undo(OpReport& report) {
         return Status::success();
     }
     const Operation& operation = history_[--cursor_];
-    applyDelta(operation.delta, -1.0);  // the inverse manipulation
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    for (auto step = operation.steps.rbegin(); step != operation.steps.rend(); ++step) undoStep(*step);
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
-    report.controlPointsChanged = static_cast<int>(operation.delta.indices.size());
-    report.verticesMoved = static_cast<int>(lastMoved_.size());
+    report.subSteps = static_cast<int>(operation.steps.size());
+    report.controlPointsChanged = 0;
+    for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
+    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
@@ -252,57 +604,145 @@ Status Session::redo(OpReport& report) {
         return Status::success();
     }
     const Operation& operation = history_[cursor_++];
-    applyDelta(operation.delta, 1.0);
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    for (const Step& step : operation.steps) redoStep(step);
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;
-    report.controlPointsChanged = static_cast<int>(operation.delta.indices.size());
-    report.verticesMoved = static_cast<int>(lastMoved_.size());
+    report.subSteps = static_cast<int>(operation.steps.size());
+    for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
+    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
 
+// ---- interactive drag -----------------------------------------------------------------------------------
+
 Status Session::beginDrag(const std::vector<Eigen::Vector3d>& sourceParams) {
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (dragActive_) return Status::error("an interactive drag is already in progress");
-    for (size_t f = 0; f < sourceParams.size(); ++f) {
+    if (sourceParams.empty()) return Status::error("a drag needs at least one source");
+    for (size_t f = 0; f < sourceParams.size(); ++f)
         if (!sourceParams[f].allFinite() || (sourceParams[f].array() < 0.0).any() || (sourceParams[f].array() > 1.0).any())
             return Status::error("constraint " + std::to_string(f) + " source is outside the lattice");
-    }
     DirectManipulationData data;
     if (Status s = precomputeDirectManipulation(lattice_, sourceParams, data); !s) return s;
     dragData_ = std::move(data);
     dragOperation_ = Operation{};
     dragOperation_.kind = OperationKind::Drag;
+    dragOperation_.interactive = true;
     dragOperation_.label = sourceParams.size() == 1 ? "drag" : "drag (" + std::to_string(sourceParams.size()) + " points)";
-    dragOperation_.sourceParams = sourceParams;
-    dragOperation_.displacements = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(sourceParams.size()), 3);
-    dragOperation_.delta.indices = dragData_.columns;
-    dragOperation_.delta.deltas = Positions::Zero(static_cast<Eigen::Index>(dragData_.columns.size()), 3);
+    dragSourceWorld_.clear();
+    for (const Eigen::Vector3d& t : sourceParams) {
+        dragSourceWorld_.push_back(currentImage(t));
+        dragOperation_.constraints.push_back({dragSourceWorld_.back(), dragSourceWorld_.back()});
+    }
+    dragParams_ = sourceParams;
+    dragAppliedInFrame_ = false;
     dragActive_ = true;
     return Status::success();
 }
+
+std::vector<Eigen::Vector3d> Session::dragSources() const { return dragSourceWorld_; }
 
 Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "drag";
     if (!dragActive_) return Status::error("no interactive drag is in progress");
-    if (targets.size() != dragOperation_.sourceParams.size()) return Status::error("drag target count changed");
+    if (targets.size() != dragSourceWorld_.size()) return Status::error("drag target count changed");
+    for (const Eigen::Vector3d& t : targets)
+        if (!t.allFinite()) return Status::error("drag target has non-finite coordinates");
+
+    // Fast path: one incremental manipulation omega(S, increment) with the factorisation made at begin.
     Eigen::MatrixX3d increment(static_cast<Eigen::Index>(targets.size()), 3);
-    for (size_t f = 0; f < targets.size(); ++f) {
-        if (!targets[f].allFinite()) return Status::error("drag target has non-finite coordinates");
-        increment.row(static_cast<Eigen::Index>(f)) = (targets[f] - currentImage(dragOperation_.sourceParams[f])).transpose();
+    for (size_t f = 0; f < targets.size(); ++f)
+        increment.row(static_cast<Eigen::Index>(f)) = (targets[f] - currentImage(dragParams_[f])).transpose();
+    if ((increment.array() == 0.0).all()) {
+        report.status = OpStatus::NoOp;
+        report.reason = "the sources are already there";
+        return Status::success();
     }
-    // Each mouse move is omega(S, increment); by the group property the whole drag is omega(S, sum).
     const DirectManipulationResult solved = solveDirectManipulation(dragData_, increment);
-    applyDelta(solved.delta, 1.0);
-    dragOperation_.displacements += increment;
-    dragOperation_.delta.deltas += solved.delta.deltas;
+    Positions saved(static_cast<Eigen::Index>(solved.delta.indices.size()), 3);
+    for (size_t c = 0; c < solved.delta.indices.size(); ++c) saved.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(solved.delta.indices[c]);
+    applyControlDelta(lattice_, solved.delta, 1.0);
+    const std::vector<int> cells = cellsInfluencedBy(lattice_, solved.delta.indices);
+    InjectivityResult verdict;
+    verdict.certified = true;
+    if (!cells.empty()) verdict = checkInjectivity(lattice_, injectivity_.mode, cells);
+    report.injectivityMs = verdict.milliseconds;
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    if (verdict.certified) {
+        evaluateCells(lattice_, embedding_, cells, positions_, &lastMoved_);
+        if (!dragOperation_.steps.empty() && dragAppliedInFrame_) {
+            mergeDelta(dragOperation_.steps.back().delta, solved.delta);
+        } else {
+            Step step;
+            step.settings = settings_;
+            step.delta = solved.delta;
+            for (size_t f = 0; f < targets.size(); ++f) step.constraints.push_back({dragSourceWorld_[f], dragSourceWorld_[f]});
+            dragOperation_.steps.push_back(std::move(step));
+        }
+        for (size_t f = 0; f < targets.size(); ++f) dragOperation_.steps.back().constraints[f].target = currentImage(dragParams_[f]);
+        dragAppliedInFrame_ = true;
+        report.subSteps = 1;
+        report.residuals = solved.residuals;
+        report.rankDeficient = solved.rankDeficient;
+    } else {
+        // Not injective as one step: subdivide this increment like any operation (it may enter fresh frames).
+        for (size_t c = 0; c < solved.delta.indices.size(); ++c) lattice_.displacement.row(solved.delta.indices[c]) = saved.row(static_cast<Eigen::Index>(c));
+        Manipulation m;
+        m.kind = OperationKind::Drag;
+        for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));
+        m.targets = targets;
+        Operation increments;
+        Progress progress;
+        progress.operation = &increments;
+        progress.appliedInCurrentFrame = dragAppliedInFrame_;
+        const bool ok = injectSubdiv(m, 0, progress);
+        report.injectivityMs += progress.injectivityMs;
+        if (!ok) {
+            restoreSnapshot(progress.snapshot);
+            lastMovedAll_ = progress.snapshot.frameSaved;
+            report.status = OpStatus::Rejected;
+            report.reason = "this move would fold the mesh (" + progress.failure + "); the drag stays at the last valid position";
+            report.injectivity = "rejected: " + progress.failure;
+            report.wallMs = millisecondsSince(start);
+            return Status::success();
+        }
+        for (Step& step : increments.steps) {
+            if (!step.freshFrame && !dragOperation_.steps.empty() && dragAppliedInFrame_) {
+                mergeDelta(dragOperation_.steps.back().delta, step.delta);
+                for (size_t f = 0; f < step.constraints.size(); ++f)
+                    dragOperation_.steps.back().constraints[f].target = step.constraints[f].target;
+            } else {
+                dragOperation_.steps.push_back(std::move(step));
+            }
+            dragAppliedInFrame_ = true;
+        }
+        dragOperation_.depthReached = std::max(dragOperation_.depthReached, increments.depthReached);
+        std::sort(progress.moved.begin(), progress.moved.end());
+        progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
+        lastMoved_ = std::move(progress.moved);
+        lastMovedAll_ = progress.movedAll;
+        report.subSteps = static_cast<int>(increments.steps.size());
+        report.depthReached = increments.depthReached;
+        // The frame may have changed: the sources' parameters are re-found where the steps left them.
+        for (size_t f = 0; f < m.sources.size(); ++f) parametersOfCurrentPoint(m.sources[f], dragParams_[f]);
+        DirectManipulationData data;
+        precomputeDirectManipulation(lattice_, dragParams_, data);
+        dragData_ = std::move(data);
+    }
+    for (size_t f = 0; f < targets.size(); ++f) {
+        dragSourceWorld_[f] = currentImage(dragParams_[f]);
+        dragOperation_.constraints[f].target = dragSourceWorld_[f];
+    }
     report.status = OpStatus::Applied;
-    report.residuals = solved.residuals;
-    report.rankDeficient = solved.rankDeficient;
+    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
     report.controlPointsChanged = static_cast<int>(solved.delta.indices.size());
-    report.verticesMoved = static_cast<int>(lastMoved_.size());
+    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
@@ -310,7 +750,7 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport
 void Session::endDrag() {
     if (!dragActive_) return;
     dragActive_ = false;
-    if (!(dragOperation_.delta.deltas.array() == 0.0).all()) pushOperation(std::move(dragOperation_));
+    if (!dragOperation_.steps.empty()) pushOperation(std::move(dragOperation_));
     dragOperation_ = Operation{};
 }
 

@@ -1,8 +1,19 @@
-// Session: the engine's document. One mesh, one lattice around it, and the history of manipulations.
+// Session: the engine's document. One mesh, the lattice it is embedded in, and the history of manipulations.
 // Every user action (window or script) is one of the commands below; the GUI keeps no engine state.
 //
 // Positions follow design.md's data flow: rest positions X0 at lattice set-up, x = X0 + sum R delta,
 // re-evaluated only for the cells whose support contains a changed control point.
+//
+// Injectivity (Gain & Dodgson 2001): after every operation the changed cells of the lattice are tested
+// (conic-hull or exact). An operation that fails is split by InjectSubdiv (section 8, Appendix) into two
+// halves applied one after another, recursively up to the maximum depth; each half after the first is applied
+// in a fresh regular lattice around the mesh the earlier steps produced (a new "frame"), so the composition of
+// injective steps is injective. If the depth is exhausted the operation is rejected and nothing changes.
+//
+// Undo is the inverse manipulation: within one frame it subtracts the step's control displacement (Hu et
+// al. 2001, section 4: the group inverse omega(S, -rho)); across frames it inverts the earlier frame's
+// injective FFD per vertex by Newton's method (injectivity is what makes the inverse exist). The history
+// holds operations and the small frozen frames, never copies of the mesh.
 #pragma once
 
 #include <string>
@@ -12,6 +23,7 @@
 
 #include "core/direct_manipulation.h"
 #include "core/embedding.h"
+#include "core/injectivity.h"
 #include "core/lattice.h"
 #include "core/mesh_types.h"
 #include "core/status.h"
@@ -37,19 +49,44 @@ struct OpReport {
     int controlPointsChanged = 0;
     int verticesMoved = 0;
     double wallMs = 0.0;
+    // Injectivity (Gain & Dodgson 2001): the verdict of the test, how many injective steps the operation was
+    // split into (1 = not subdivided), the deepest recursion level used, and the time spent testing.
+    std::string injectivity;         // "injective", "not checked" (mode off), or why it was rejected
+    int subSteps = 0;
+    int depthReached = 0;
+    double injectivityMs = 0.0;
 };
 
-enum class OperationKind { Drag, ControlPointEdit };
+enum class OperationKind { Drag, ControlPointEdit, LatticeSetup };
 
-// One history entry: the manipulation, enough to apply it again or its inverse, never a copy of the mesh.
-// Within one lattice the manipulations form a commutative group (Hu et al. 2001, section 4): eq. 7 and 12
-// are linear in the displacements D, so the inverse manipulation omega(S, -D) is exactly -delta.
+// One injective deformation: a control displacement in one frame (lattice placement).
+struct Step {
+    bool freshFrame = false;   // a fresh regular lattice was put around the mesh before this step
+    LatticeSettings settings;  // with freshFrame: the settings of that lattice
+    ControlDelta delta;        // the change of the control points in the step's frame
+    std::vector<PointConstraint> constraints;  // drags: where the sources were before and after the step
+};
+
+// One history entry: the manipulation as the user gave it (to record and replay it) and the injective
+// steps it was applied as (to undo and redo it).
 struct Operation {
     OperationKind kind = OperationKind::Drag;
-    std::string label;                         // e.g. "drag (2 points)", for history lists
-    std::vector<Eigen::Vector3d> sourceParams; // drags: the constrained points' lattice parameters
-    Eigen::MatrixX3d displacements;            // drags: total displacement of each source (h x 3)
-    ControlDelta delta;                        // the lattice change the manipulation made
+    std::string label;                            // e.g. "drag (2 points)", for history lists
+    std::vector<PointConstraint> constraints;     // Drag: world-space sources and targets when it was applied
+    std::vector<int> controlPoints;               // ControlPointEdit: ids, and offsets (#ids x 3)
+    Eigen::MatrixX3d offsets;
+    LatticeSettings settings;                     // LatticeSetup
+    std::vector<Step> steps;
+    int depthReached = 0;
+    bool interactive = false;  // an interactive drag (recorded step by step: its increments were tested apart)
+};
+
+// A lattice that was replaced by a fresh one, kept compactly so undo can return to it.
+struct FrozenFrame {
+    LatticeSettings settings;
+    Eigen::Vector3d boxMin, boxMax;
+    ControlDelta displacement;     // its non-zero control displacements at the time it was frozen
+    std::vector<int> pinToggles;   // control points whose pin differs from the settings' pin layers
 };
 
 class Session {
@@ -58,14 +95,18 @@ public:
     // the history. On failure nothing changes.
     Status setMesh(const Positions& positions, const Triangles& triangles, const LatticeSettings& settings = {});
 
-    // Puts a fresh lattice around the current (deformed) mesh: it becomes the new rest state. Clears history.
-    Status setupLattice(const LatticeSettings& settings);
+    // Puts a fresh lattice with new settings around the current (deformed) mesh, as an undoable operation.
+    Status setupLattice(const LatticeSettings& settings, OpReport& report);
+
+    void setInjectivity(const InjectivitySettings& settings) { injectivity_ = settings; }
+    const InjectivitySettings& injectivity() const { return injectivity_; }
 
     // Moves each constraint's source (a point in the current deformed space inside the lattice) onto its
-    // target with the least lattice change (Hu et al. 2001 eq. 7 / 12). Bad input (empty list, non-finite
-    // coordinates, a source outside the lattice) returns an error and changes nothing.
+    // target with the least lattice change (Hu et al. 2001 eq. 7 / 12), subdivided into injective steps as
+    // needed. Bad input (empty list, non-finite coordinates, a source outside the lattice) returns an error
+    // and changes nothing; an operation that cannot be made injective is reported Rejected and changes nothing.
     Status drag(const std::vector<PointConstraint>& constraints, OpReport& report);
-    // Drags a mesh vertex to target (its lattice parameters are exact: no search).
+    // Drags a mesh vertex to target.
     Status dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report);
     // Moves control points (ids as Lattice::index) to absolute positions, or by offsets when relative.
     // values: #indices x 3. Pinned points, ids out of range or non-finite values are errors.
@@ -75,12 +116,15 @@ public:
     Status undo(OpReport& report);
     Status redo(OpReport& report);
 
-    // Interactive drag: the sources are fixed at begin, every update moves them to new targets by an
-    // incremental manipulation, and end() records the whole drag as one history entry.
+    // Interactive drag: the sources are fixed at begin, every update moves them towards new targets by an
+    // incremental manipulation (subdivided or refused like any other), and endDrag() records the whole drag
+    // as one history entry.
     Status beginDrag(const std::vector<Eigen::Vector3d>& sourceParams);
     Status updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
     void endDrag();
     bool dragging() const { return dragActive_; }
+    // Current world positions of the sources of the drag in progress.
+    std::vector<Eigen::Vector3d> dragSources() const;
 
     // Pins or unpins control points (ids as Lattice::index). Not an operation on the shape.
     Status setPinned(const std::vector<int>& indices, bool pinned);
@@ -95,33 +139,88 @@ public:
     bool hasMesh() const { return rest_.rows() > 0; }
     const Positions& positions() const { return positions_; }
     const Positions& restPositions() const { return rest_; }
+    const Positions& originalPositions() const { return original_; }
     const Triangles& triangles() const { return triangles_; }
     const Lattice& lattice() const { return lattice_; }
     const LatticeSettings& latticeSettings() const { return settings_; }
+    const LatticeSettings& initialSettings() const { return initialSettings_; }
+    // The box of the lattice the session started with (for recordings that replay on other meshes).
+    Eigen::Vector3d initialBoxMin() const { return initialBoxMin_; }
+    Eigen::Vector3d initialBoxMax() const { return initialBoxMax_; }
     const Embedding& embedding() const { return embedding_; }
     const std::vector<Operation>& history() const { return history_; }
     int historyCursor() const { return cursor_; }  // entries [0, cursor) are applied
-    // Vertices whose position the last command changed (for sparse normal and buffer updates).
+    int frameDepth() const { return static_cast<int>(frames_.size()); }
+    // Bytes held by the history (operations and frozen frames), not counting the mesh itself.
+    size_t historyBytes() const;
+    // Vertices whose position the last command changed (for sparse normal and buffer updates); when
+    // lastMovedAll() is true every vertex may have changed (a frame was entered or left).
     const std::vector<int>& lastMovedVertices() const { return lastMoved_; }
+    bool lastMovedAll() const { return lastMovedAll_; }
 
 private:
-    // Adds sign * delta to the lattice and re-evaluates the affected cells.
-    void applyDelta(const ControlDelta& delta, double sign);
-    void pushOperation(Operation operation);
-    Status validateSource(const Eigen::Vector3d& params, int constraint) const;
+    // A manipulation being subdivided: world-space sources/targets (drags) or offsets (control points).
+    struct Manipulation {
+        OperationKind kind = OperationKind::Drag;
+        std::vector<Eigen::Vector3d> sources, targets;
+        std::vector<int> controlPoints;
+        Eigen::MatrixX3d offsets;
+    };
+    // State kept while an operation is being applied, so a rejection restores everything bitwise.
+    struct Snapshot {
+        bool positionsSaved = false, frameSaved = false, latticeSaved = false;
+        Positions positions, rest;
+        Lattice lattice;
+        Embedding embedding;
+        LatticeSettings settings;
+        size_t frameCount = 0;
+    };
+    struct Progress {
+        Operation* operation = nullptr;
+        bool appliedInCurrentFrame = false;  // a step of this operation already changed the current frame
+        Snapshot snapshot;
+        std::string failure;
+        double injectivityMs = 0.0;
+        std::vector<int> moved;
+        bool movedAll = false;
+    };
 
-    Positions rest_, positions_;
+    bool injectSubdiv(Manipulation& m, int depth, Progress& progress);
+    bool tryStep(Manipulation& m, int depth, Progress& progress);
+    void enterFreshFrame(const LatticeSettings& settings, Progress* progress);
+    void leaveFrame();
+    void restoreSnapshot(Snapshot& snapshot);
+    Status runManipulation(Manipulation m, Operation operation, OpReport& report);
+    // Adds sign * delta to the lattice and re-evaluates the affected cells; moved vertices are appended.
+    void applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved);
+    void pushOperation(Operation operation);
+    void undoStep(const Step& step);
+    void redoStep(const Step& step);
+
+    Positions original_, rest_, positions_;
     Triangles triangles_;
-    LatticeSettings settings_;
+    LatticeSettings settings_, initialSettings_;
+    Eigen::Vector3d initialBoxMin_ = Eigen::Vector3d::Zero(), initialBoxMax_ = Eigen::Vector3d::Zero();
+    InjectivitySettings injectivity_;
     Lattice lattice_;
     Embedding embedding_;
+    std::vector<FrozenFrame> frames_;
     std::vector<Operation> history_;
     int cursor_ = 0;
     std::vector<int> lastMoved_;
+    bool lastMovedAll_ = false;
 
     bool dragActive_ = false;
     DirectManipulationData dragData_;
     Operation dragOperation_;
+    std::vector<Eigen::Vector3d> dragSourceWorld_;  // where the drag's sources currently are
+    std::vector<Eigen::Vector3d> dragParams_;       // their parameters in the current frame
+    bool dragAppliedInFrame_ = false;
 };
+
+// Inverts an injective lattice deformation per point: finds X with X + sum R(t(X)) delta = y for each row y of
+// `deformed` (Newton from X = y; a point whose displacement is exactly zero is its own preimage, which keeps
+// untouched vertices bitwise identical). Points outside the box are unchanged. Parallel.
+Positions invertDeformation(const Lattice& lattice, const Positions& deformed);
 
 }  // namespace sculpt::core

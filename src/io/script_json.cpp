@@ -128,6 +128,13 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
                     op.values.row(static_cast<Eigen::Index>(c)) = vector3(values[c], vp + "[" + std::to_string(c) + "]").transpose();
             }
         }
+    } else if (name == "setup_lattice") {
+        allowOnly(j, path, {"op", "lattice"});
+        op.kind = core::ScriptOp::Kind::SetupLattice;
+        if (j.contains("lattice") && !j["lattice"].is_null()) {
+            op.hasSettings = true;
+            op.settings = parseLattice(j["lattice"], path + ".lattice");
+        }
     } else if (name == "undo" || name == "redo") {
         allowOnly(j, path, {"op"});
         op.kind = name == "undo" ? core::ScriptOp::Kind::Undo : core::ScriptOp::Kind::Redo;
@@ -139,7 +146,7 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
         op.path = p.get<std::string>();
     } else {
         fail(path + ".op", "unknown op \"" + name +
-                               "\" (known: drag, drag_vertex, move_control_point, undo, redo, screenshot)");
+                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, undo, redo, screenshot)");
     }
     return op;
 }
@@ -175,6 +182,19 @@ Status parseScript(const std::string& text, const std::string& displayName, core
         core::Script script;
         allowOnly(root, "", {"lattice", "ops", "injectivity"});
         if (root.contains("lattice")) script.lattice = parseLattice(root["lattice"], "lattice");
+        if (root.contains("injectivity")) {
+            const json& inj = root["injectivity"];
+            allowOnly(inj, "injectivity", {"mode", "max_depth"});
+            if (inj.contains("mode")) {
+                if (!inj["mode"].is_string() || !core::parseInjectivityMode(inj["mode"].get<std::string>(), script.injectivity.mode))
+                    fail("injectivity.mode", "expected \"off\", \"conic\" or \"exact\"");
+            }
+            if (inj.contains("max_depth")) {
+                script.injectivity.maxDepth = integer(inj["max_depth"], "injectivity.max_depth");
+                if (script.injectivity.maxDepth < 0 || script.injectivity.maxDepth > 12)
+                    fail("injectivity.max_depth", "must be in [0, 12]");
+            }
+        }
         if (root.contains("ops")) {
             const json& ops = root["ops"];
             if (!ops.is_array()) fail("ops", "expected an array");
@@ -188,6 +208,61 @@ Status parseScript(const std::string& text, const std::string& displayName, core
     } catch (const std::exception& e) {
         return Status::error(displayName + ": " + e.what());
     }
+}
+
+namespace {
+
+json vectorJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json latticeJson(const core::LatticeSettings& s) {
+    json j = {{"resolution", s.resolution}, {"degree", s.degree}, {"padding", s.padding}, {"pin_layers", s.pinLayers}};
+    j["region"] = s.hasRegion ? json{{"min", vectorJson(s.regionMin)}, {"max", vectorJson(s.regionMax)}} : json(nullptr);
+    return j;
+}
+
+}  // namespace
+
+std::string scriptToJson(const core::Script& script) {
+    json root;
+    root["lattice"] = latticeJson(script.lattice);
+    root["injectivity"] = {{"mode", core::injectivityModeName(script.injectivity.mode)}, {"max_depth", script.injectivity.maxDepth}};
+    json ops = json::array();
+    for (const core::ScriptOp& op : script.ops) {
+        json j;
+        j["op"] = core::scriptOpName(op.kind);
+        switch (op.kind) {
+            case core::ScriptOp::Kind::Drag: {
+                json constraints = json::array();
+                for (const core::PointConstraint& c : op.constraints)
+                    constraints.push_back({{"source", vectorJson(c.source)}, {"target", vectorJson(c.target)}});
+                j["constraints"] = constraints;
+                break;
+            }
+            case core::ScriptOp::Kind::DragVertex:
+                j["vertex"] = op.vertex;
+                j["target"] = vectorJson(op.target);
+                break;
+            case core::ScriptOp::Kind::MoveControlPoint: {
+                json ids = json::array(), values = json::array();
+                for (size_t c = 0; c < op.controlPoints.size(); ++c) {
+                    ids.push_back(op.controlPoints[c]);
+                    values.push_back(vectorJson(op.values.row(static_cast<Eigen::Index>(c)).transpose()));
+                }
+                j["indices"] = ids;
+                j[op.relative ? "by" : "to"] = values;
+                break;
+            }
+            case core::ScriptOp::Kind::SetupLattice:
+                if (op.hasSettings) j["lattice"] = latticeJson(op.settings);
+                break;
+            case core::ScriptOp::Kind::Screenshot: j["path"] = op.path; break;
+            case core::ScriptOp::Kind::Undo:
+            case core::ScriptOp::Kind::Redo: break;
+        }
+        ops.push_back(j);
+    }
+    root["ops"] = ops;
+    return root.dump(2) + "\n";
 }
 
 Status loadScript(const std::string& path, core::Script& out) {
@@ -224,13 +299,20 @@ std::string reportToJson(const core::ScriptReport& report, const core::Session& 
             op["max_residual"] = worst;
             op["rank_deficient"] = r.rankDeficient;
         }
+        if (!r.injectivity.empty()) op["injectivity"] = r.injectivity;
+        op["sub_steps"] = r.subSteps;
+        op["depth_reached"] = r.depthReached;
+        op["injectivity_ms"] = r.injectivityMs;
         op["control_points_changed"] = r.controlPointsChanged;
         op["vertices_moved"] = r.verticesMoved;
         op["wall_ms"] = r.wallMs;
         ops.push_back(op);
     }
     root["ops"] = ops;
-    root["history"] = {{"entries", session.history().size()}, {"cursor", session.historyCursor()}};
+    root["history"] = {{"entries", session.history().size()}, {"cursor", session.historyCursor()},
+                       {"bytes", session.historyBytes()}, {"lattice_frames", session.frameDepth() + 1}};
+    root["injectivity"] = {{"mode", core::injectivityModeName(session.injectivity().mode)},
+                           {"max_depth", session.injectivity().maxDepth}};
     return root.dump(2) + "\n";
 }
 

@@ -14,6 +14,9 @@ namespace sculpt::io {
 Status parseScript(const std::string& text, const std::string& displayName, core::Script& out);
 Status loadScript(const std::string& path, core::Script& out);
 
+// A script as JSON text in the format parseScript reads (numbers printed so they round-trip exactly).
+std::string scriptToJson(const core::Script& script);
+
 // The report as JSON text: the input and output files, the lattice, and per op its status, reason,
 // residuals, control points changed, vertices moved and wall time.
 struct ReportContext {
