@@ -1,0 +1,579 @@
+// Injectivity tests of the lattice deformation.
+// J.E. Gain and N.A. Dodgson, "Preventing Self-Intersection under Free-Form Deformation", IEEE TVCG 7(4),
+// 2001 (seed 003):
+//   * Theorem 1 (section 5): injective if the deformation is C1 and det J > 0.
+//   * Section 6: the exact test. det J of each cell as a Bezier (Bernstein) polynomial, recursively
+//     subdivided by de Casteljau into octree boxes until every box has only positive coefficients (convex
+//     hull: positive there) or a negative point is met. The paper needed >= 37 s for one cell; here det J
+//     is multiplied out directly in Bernstein form per cell (injectivity_cell.cpp) in microseconds.
+//   * Section 7 and the Appendix (InjectiveTest / FindDeviation): the conic-hull hodograph test.
+//
+// note: the conic test here works on the Bezier hodograph vectors of each cell rather than the B-spline
+// control-point differences of the paper: every Bezier hodograph vector of a cell is a non-negative
+// combination of the B-spline differences in its support, so its cones are never wider (a tighter,
+// still sufficient test).
+#include "core/injectivity.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cassert>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+
+#include "core/bernstein.h"
+#include "core/injectivity_cell.h"
+
+namespace sculpt::core {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double elapsedMs(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+std::array<int, 3> cellIjk(const Lattice& lattice, int cell) {
+    const int s0 = lattice.axes[0].spans, s1 = lattice.axes[1].spans;
+    return {cell % s0, (cell / s0) % s1, cell / (s0 * s1)};
+}
+
+Eigen::Vector3d globalParams(const Lattice& lattice, const std::array<int, 3>& cell, const Eigen::Vector3d& local) {
+    Eigen::Vector3d t;
+    for (int a = 0; a < 3; ++a) t[a] = (cell[a] + local[a]) / lattice.axes[a].spans;
+    return t;
+}
+
+// The requested cells (all for an empty list) that have a non-zero displacement somewhere in their support,
+// in increasing order; cells outside this list have det J == 1 exactly. requestedCount gets the size of the
+// request.
+std::vector<int> deformedCells(const Lattice& lattice, const std::vector<int>& requested, int& requestedCount) {
+    const int cellCount = lattice.cellCount();
+    requestedCount = requested.empty() ? cellCount : static_cast<int>(requested.size());
+    std::vector<int> work;
+    const int support = (lattice.degree[0] + 1) * (lattice.degree[1] + 1) * (lattice.degree[2] + 1);
+    if (!requested.empty() && static_cast<long long>(requested.size()) * support < lattice.controlPointCount()) {
+        // A few cells of a big lattice: look at their supports directly.
+        for (int cell : requested) {
+            assert(cell >= 0 && cell < cellCount);
+            if (!cellIsUndeformed(lattice, cellIjk(lattice, cell))) work.push_back(cell);
+        }
+        std::sort(work.begin(), work.end());
+        work.erase(std::unique(work.begin(), work.end()), work.end());
+        return work;
+    }
+    // Otherwise mark the cells influenced by each moved control point: O(points + moved * support).
+    std::vector<std::uint8_t> deformed(static_cast<size_t>(cellCount), 0);
+    const std::array<int, 3> spans = lattice.spans();
+    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
+        if (lattice.displacement(idx, 0) == 0.0 && lattice.displacement(idx, 1) == 0.0 && lattice.displacement(idx, 2) == 0.0)
+            continue;
+        const std::array<int, 3> c = lattice.ijk(idx);
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {  // control point i is in the support of spans i-p .. i
+            lo[a] = std::max(0, c[a] - lattice.degree[a]);
+            hi[a] = std::min(spans[a] - 1, c[a]);
+        }
+        for (int w = lo[2]; w <= hi[2]; ++w)
+            for (int v = lo[1]; v <= hi[1]; ++v)
+                for (int u = lo[0]; u <= hi[0]; ++u) deformed[u + spans[0] * (v + spans[1] * w)] = 1;
+    }
+    if (requested.empty()) {
+        for (int cell = 0; cell < cellCount; ++cell)
+            if (deformed[cell]) work.push_back(cell);
+    } else {
+        for (int cell : requested) {
+            assert(cell >= 0 && cell < cellCount);
+            if (deformed[cell]) {
+                work.push_back(cell);
+                deformed[cell] = 0;  // once
+            }
+        }
+        std::sort(work.begin(), work.end());
+    }
+    return work;
+}
+
+// note: a check of a few hundred cells is done on the calling thread, as the evaluation kernel does with
+// small updates: waking the team costs more than it saves and, on a busy 2-core machine, can cost a
+// scheduler quantum (~10 ms) while one worker waits to be scheduled. The estimates below are single-core
+// microseconds measured here (cubic: ~0.55 us per cell for the conic test, ~13 us for the exact one).
+constexpr double kParallelMicroseconds = 400.0;
+
+double conicMicrosecondsPerCell(const Lattice& lattice) {
+    const int n0 = lattice.degree[0] + 1, n1 = lattice.degree[1] + 1, n2 = lattice.degree[2] + 1;
+    return 1.8e-4 * 3.0 * n0 * n1 * n2 * (n0 + n1 + n2 + 4);  // the Bezier passes plus the cones
+}
+
+double exactMicrosecondsPerCell(const Lattice& lattice) {
+    const int p = lattice.degree[0], q = lattice.degree[1], r = lattice.degree[2];
+    const double column = static_cast<double>(p) * (q + 1) * (r + 1);  // about the size of each J_a
+    const double cross = (2.0 * p + 1) * (2 * q) * (2 * r);           // J_v x J_w
+    return 2.6e-4 * (6.0 * column * column + 3.0 * column * cross);   // the products dominate
+}
+
+// True if no control point of the outer layer has moved: the clamped volume then maps each face of the box
+// onto itself exactly (only the outer layer is non-zero on a face).
+bool boundaryUnmoved(const Lattice& lattice) {
+    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
+        const std::array<int, 3> c = lattice.ijk(idx);
+        bool outer = false;
+        for (int a = 0; a < 3; ++a) outer = outer || c[a] == 0 || c[a] == lattice.count[a] - 1;
+        if (outer && (lattice.displacement(idx, 0) != 0.0 || lattice.displacement(idx, 1) != 0.0 ||
+                      lattice.displacement(idx, 2) != 0.0))
+            return false;
+    }
+    return true;
+}
+
+void setFailingCell(const Lattice& lattice, int cell, const Eigen::Vector3d& local, InjectivityResult& result) {
+    result.failingCell = cell;
+    result.failingCellIjk = cellIjk(lattice, cell);
+    result.failingLocalParams = local;
+    result.failingParams = globalParams(lattice, result.failingCellIjk, local);
+}
+
+std::string formatPoint(const Eigen::Vector3d& t) {
+    char text[96];
+    std::snprintf(text, sizeof text, "(%.4g, %.4g, %.4g)", t.x(), t.y(), t.z());
+    return text;
+}
+
+std::string formatCell(const std::array<int, 3>& c) {
+    return "(" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " + std::to_string(c[2]) + ")";
+}
+
+// ---- conic-hull hodograph test ------------------------------------------------------------------------
+
+// note: the Appendix compares angles, theta_u + theta_v < pi/2 and then theta_x + theta_w < pi/2 with
+// sin^2 theta_x = sin^2 theta_u + sin^2 theta_v (eq. 10). With s_a = sin^2 theta_a (all angles in
+// [0, pi/2)) the second condition reads s_w < cos^2 theta_x = 1 - s_u - s_v, and it implies the first
+// (s_v < 1 - s_u = cos^2 theta_u). So the whole test is s_u + s_v + s_w < 1, with s = (b^2 + c^2) / |P|^2
+// for a hodograph vector P = (a, b, c) along its axis (FindDeviation's t = tan^2 theta = s / (1 - s)),
+// after FindDeviation's rejection of a <= 0. No trigonometry, and nothing divides by a.
+constexpr double kConicGuard = 1e-12;  // keeps rounding from certifying a sum that is 1 up to an ulp
+
+enum class CellCheck { Certified, Failed, Unsupported };
+
+CellCheck conicCell(const Lattice& lattice, const CellBezierBasis& basis, const std::array<int, 3>& cell, double* bezier) {
+    if (!cellIsPolynomial(lattice, cell)) return CellCheck::Unsupported;
+    cellBezierDisplacement(lattice, basis, cell, bezier);
+    std::array<double, 3> sinSquared{};
+    if (!cellHodographCones(basis, bezier, sinSquared)) return CellCheck::Failed;
+    return sinSquared[0] + sinSquared[1] + sinSquared[2] < 1.0 - kConicGuard ? CellCheck::Certified : CellCheck::Failed;
+}
+
+// ---- exact test ---------------------------------------------------------------------------------------
+
+enum class BoxKind { Positive, Fold, Straddles };
+
+struct Box {
+    double lo[3];
+    int depth = 0;
+    size_t offset = 0;     // into the pool
+    double minimum = 0.0;  // least coefficient (for the search order)
+};
+
+struct ExactWorkspace {
+    std::vector<double> bezier, columnStorage, scratch, root;
+    std::vector<double> halves, quarters, eighths;  // children of one octree split
+    std::vector<double> pool;                       // coefficients of the boxes on the stack
+    std::vector<Box> stack;
+    ExactWorkspace()
+        : bezier(3 * kMaxCellControlPoints),
+          columnStorage(9 * kMaxCellControlPoints),
+          scratch(3 * kMaxDeterminantCoefficients),
+          root(kMaxDeterminantCoefficients),
+          halves(2 * kMaxDeterminantCoefficients),
+          quarters(4 * kMaxDeterminantCoefficients),
+          eighths(8 * kMaxDeterminantCoefficients) {}
+};
+
+struct CellOutcome {
+    enum Kind { Skipped, Positive, Fold, Undecided, Unsupported, NonFinite } kind = Skipped;
+    Eigen::Vector3d local = Eigen::Vector3d::Constant(0.5);  // fold point, or least sampled point if undecided
+    double value = 0.0;                                      // det J there
+    double minSampled = std::numeric_limits<double>::infinity();
+    double lowerBound = std::numeric_limits<double>::infinity();
+    long long boxes = 0;
+};
+
+struct BoxSearch {
+    const double* coefficients;
+    BernsteinDegree degree;
+    double foldThreshold;
+    double certifyThreshold;
+    CellOutcome* outcome;
+};
+
+// Corner coefficients are values of det J (a Bezier box interpolates its corners): a corner at or below the
+// tolerance is a fold point. Otherwise all coefficients above the certify threshold prove the box
+// positive (convex hull, section 6 step 4).
+BoxKind examineBox(const BoxSearch& search, const double* c, const double lo[3], double size, double& minimum) {
+    const BernsteinDegree& d = search.degree;
+    CellOutcome& outcome = *search.outcome;
+    ++outcome.boxes;
+    for (int corner = 0; corner < 8; ++corner) {
+        const int i = (corner & 1) ? d[0] : 0, j = (corner & 2) ? d[1] : 0, k = (corner & 4) ? d[2] : 0;
+        const double value = c[i + (d[0] + 1) * (j + (d[1] + 1) * k)];
+        if (value < outcome.minSampled) outcome.minSampled = value;
+        if (value <= search.foldThreshold) {
+            outcome.kind = CellOutcome::Fold;
+            outcome.local = Eigen::Vector3d(lo[0] + ((corner & 1) ? size : 0.0), lo[1] + ((corner & 2) ? size : 0.0),
+                                            lo[2] + ((corner & 4) ? size : 0.0));
+            outcome.value = value;
+            return BoxKind::Fold;
+        }
+    }
+    double maximum = 0.0;
+    bernsteinCoefficientRange(c, d, minimum, maximum);
+    if (minimum > search.certifyThreshold) {
+        outcome.lowerBound = std::min(outcome.lowerBound, minimum);
+        return BoxKind::Positive;
+    }
+    return BoxKind::Straddles;
+}
+
+// The least corner of a box that could not be decided, for the Undecided report.
+void noteUndecided(const BoxSearch& search, const double* c, const double lo[3], double size) {
+    const BernsteinDegree& d = search.degree;
+    CellOutcome& outcome = *search.outcome;
+    for (int corner = 0; corner < 8; ++corner) {
+        const int i = (corner & 1) ? d[0] : 0, j = (corner & 2) ? d[1] : 0, k = (corner & 4) ? d[2] : 0;
+        const double value = c[i + (d[0] + 1) * (j + (d[1] + 1) * k)];
+        if (outcome.kind != CellOutcome::Undecided || value < outcome.value) {
+            outcome.kind = CellOutcome::Undecided;
+            outcome.value = value;
+            outcome.local = Eigen::Vector3d(lo[0] + ((corner & 1) ? size : 0.0), lo[1] + ((corner & 2) ? size : 0.0),
+                                            lo[2] + ((corner & 4) ? size : 0.0));
+        }
+    }
+}
+
+// Depth-first octree search of one cell's det J (section 6, step 4). Children are split off along u, then
+// v, then w (de Casteljau at 1/2) and the most negative-looking child is searched first, so a fold shows up
+// early; the search stops at the first fold point.
+void searchCell(const BoxSearch& search, const ExactOptions& options, ExactWorkspace& work) {
+    CellOutcome& outcome = *search.outcome;
+    const BernsteinDegree& d = search.degree;
+    const size_t n = static_cast<size_t>(bernsteinCoefficientCount(d));
+    const double rootLo[3] = {0.0, 0.0, 0.0};
+    double rootMinimum = 0.0;
+    const BoxKind rootKind = examineBox(search, search.coefficients, rootLo, 1.0, rootMinimum);
+    if (rootKind == BoxKind::Fold) return;
+    if (rootKind == BoxKind::Positive) {
+        outcome.kind = CellOutcome::Positive;
+        return;
+    }
+    if (options.maxSubdivisionDepth <= 0) {
+        noteUndecided(search, search.coefficients, rootLo, 1.0);
+        return;
+    }
+    work.stack.clear();
+    if (work.pool.size() < n) work.pool.resize(n);
+    std::copy(search.coefficients, search.coefficients + n, work.pool.begin());
+    work.stack.push_back(Box{{0.0, 0.0, 0.0}, 0, 0, rootMinimum});
+    bool undecided = false;
+    while (!work.stack.empty()) {
+        const Box parent = work.stack.back();
+        work.stack.pop_back();
+        if (outcome.boxes >= options.maxBoxesPerCell) {
+            noteUndecided(search, work.pool.data() + parent.offset, parent.lo, std::ldexp(1.0, -parent.depth));
+            undecided = true;
+            continue;  // drain the stack: every box left is undecided
+        }
+        // Split into 8 children: u halves, then v, then w.
+        const double* source = work.pool.data() + parent.offset;
+        splitBernstein(source, d, 0, 0.5, work.halves.data(), work.halves.data() + n);
+        for (int h = 0; h < 2; ++h)
+            splitBernstein(work.halves.data() + h * n, d, 1, 0.5, work.quarters.data() + (2 * h) * n,
+                           work.quarters.data() + (2 * h + 1) * n);
+        for (int q = 0; q < 4; ++q)
+            splitBernstein(work.quarters.data() + q * n, d, 2, 0.5, work.eighths.data() + (2 * q) * n,
+                           work.eighths.data() + (2 * q + 1) * n);
+        const double childSize = std::ldexp(1.0, -(parent.depth + 1));
+        // Child index 2q + e with q = 2h + g: halves along u (h), v (g), w (e).
+        Box pending[8];
+        int pendingCount = 0;
+        for (int child = 0; child < 8; ++child) {
+            const int h = child >> 2, g = (child >> 1) & 1, e = child & 1;
+            Box box;
+            box.lo[0] = parent.lo[0] + h * childSize;
+            box.lo[1] = parent.lo[1] + g * childSize;
+            box.lo[2] = parent.lo[2] + e * childSize;
+            box.depth = parent.depth + 1;
+            const double* c = work.eighths.data() + child * n;
+            const BoxKind kind = examineBox(search, c, box.lo, childSize, box.minimum);
+            if (kind == BoxKind::Fold) return;
+            if (kind == BoxKind::Positive) continue;
+            if (box.depth >= options.maxSubdivisionDepth) {
+                noteUndecided(search, c, box.lo, childSize);
+                undecided = true;
+                continue;
+            }
+            box.offset = static_cast<size_t>(child);  // temporarily: which eighth
+            pending[pendingCount++] = box;
+        }
+        // Push the straddling children, most negative last (searched first). The parent's slot is free now.
+        for (int p = 1; p < pendingCount; ++p)  // insertion sort, descending minimum (at most 8 boxes)
+            for (int q = p; q > 0 && pending[q - 1].minimum < pending[q].minimum; --q) std::swap(pending[q - 1], pending[q]);
+        size_t top = parent.offset;
+        if (work.pool.size() < top + pendingCount * n) work.pool.resize(top + pendingCount * n);
+        for (int p = 0; p < pendingCount; ++p) {
+            const double* c = work.eighths.data() + pending[p].offset * n;
+            std::copy(c, c + n, work.pool.begin() + static_cast<std::ptrdiff_t>(top));
+            pending[p].offset = top;
+            work.stack.push_back(pending[p]);
+            top += n;
+        }
+    }
+    if (undecided && outcome.kind != CellOutcome::Fold) outcome.kind = CellOutcome::Undecided;
+    if (!undecided) outcome.kind = CellOutcome::Positive;
+}
+
+void exactCell(const Lattice& lattice, const CellBezierBasis& basis, const std::array<int, 3>& cell,
+               const ExactOptions& options, ExactWorkspace& work, CellOutcome& outcome) {
+    if (!cellIsPolynomial(lattice, cell)) {
+        outcome.kind = CellOutcome::Unsupported;
+        return;
+    }
+    const int countPerColumn = 3 * kMaxCellControlPoints;
+    double* columns[3] = {work.columnStorage.data(), work.columnStorage.data() + countPerColumn,
+                          work.columnStorage.data() + 2 * countPerColumn};
+    cellBezierDisplacement(lattice, basis, cell, work.bezier.data());
+    cellJacobianColumns(basis, work.bezier.data(), columns);
+    // Bound on the terms of det J = J_u . (J_v x J_w): each Bernstein product coefficient is a convex
+    // combination of products of factor coefficients, so every one of the 6 terms is at most
+    // max|J_u| max|J_v| max|J_w|. The rounding guard is relative to that.
+    double termBound = 6.0;
+    for (int a = 0; a < 3; ++a) {
+        const int count = 3 * bernsteinCoefficientCount(columnDegree(basis, a));
+        double largest = 0.0;
+        for (int i = 0; i < count; ++i) largest = std::max(largest, std::abs(columns[a][i]));
+        termBound *= largest;
+    }
+    cellDeterminantBernstein(basis, columns, work.scratch.data(), work.root.data());
+    // A non-finite displacement would make every box straddle until the work limit: refuse it outright.
+    const int coefficientCount = bernsteinCoefficientCount(determinantDegree(basis));
+    for (int c = 0; c < coefficientCount; ++c)
+        if (!std::isfinite(work.root[c])) {
+            outcome.kind = CellOutcome::NonFinite;
+            outcome.value = std::numeric_limits<double>::quiet_NaN();
+            return;
+        }
+    BoxSearch search{work.root.data(), determinantDegree(basis), options.tolerance,
+                     options.tolerance + options.roundingGuard * termBound, &outcome};
+    searchCell(search, options, work);
+}
+
+ExactWorkspace& exactWorkspace() {
+    // note: one per OpenMP worker, kept between calls so the per-drag check allocates nothing after the first.
+    thread_local ExactWorkspace workspace;
+    return workspace;
+}
+
+}  // namespace
+
+const char* injectivityModeName(InjectivityMode mode) {
+    switch (mode) {
+        case InjectivityMode::Off: return "off";
+        case InjectivityMode::Conic: return "conic";
+        case InjectivityMode::Exact: return "exact";
+    }
+    return "?";
+}
+
+bool parseInjectivityMode(const std::string& name, InjectivityMode& mode) {
+    for (InjectivityMode m : {InjectivityMode::Off, InjectivityMode::Conic, InjectivityMode::Exact})
+        if (name == injectivityModeName(m)) {
+            mode = m;
+            return true;
+        }
+    return false;
+}
+
+const char* injectivityVerdictName(InjectivityVerdict verdict) {
+    switch (verdict) {
+        case InjectivityVerdict::Certified: return "certified";
+        case InjectivityVerdict::NotCertified: return "not certified";
+        case InjectivityVerdict::Fold: return "fold";
+        case InjectivityVerdict::Undecided: return "undecided";
+        case InjectivityVerdict::Unsupported: return "unsupported";
+    }
+    return "?";
+}
+
+double jacobianDeterminant(const Lattice& lattice, const Eigen::Vector3d& params) {
+    std::array<int, 3> cell;
+    Eigen::Vector3d local;
+    for (int a = 0; a < 3; ++a) cell[a] = lattice.axes[a].locate(params[a], local[a]);
+    return jacobianDeterminantInCell(lattice, cell, local);
+}
+
+void vertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, std::vector<double>& out) {
+    const int n = static_cast<int>(rest.rows());
+    out.assign(static_cast<size_t>(n), 1.0);
+#pragma omp parallel for schedule(static) if (n > 2000)
+    for (int v = 0; v < n; ++v) {
+        Eigen::Vector3d t;
+        if (restParameters(lattice, rest.row(v).transpose(), t)) out[static_cast<size_t>(v)] = jacobianDeterminant(lattice, t);
+    }
+}
+
+InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vector<int>& cells) {
+    const Clock::time_point start = Clock::now();
+    InjectivityResult result;
+    const std::vector<int> work = deformedCells(lattice, cells, result.cellsChecked);
+    result.cellsDeformed = static_cast<int>(work.size());
+    result.boundaryFixed = boundaryUnmoved(lattice);
+    const int count = result.cellsDeformed;
+    std::vector<CellCheck> checks(static_cast<size_t>(count), CellCheck::Certified);
+    std::atomic<int> firstFailure{count};
+    if (count > 0) {
+        const CellBezierBasis basis = makeCellBezierBasis(lattice);
+        const bool parallel = count * conicMicrosecondsPerCell(lattice) > kParallelMicroseconds;
+#pragma omp parallel if (parallel)
+        {
+            double bezier[3 * kMaxCellControlPoints];
+#pragma omp for schedule(dynamic, 16)
+            for (int w = 0; w < count; ++w) {
+                // Section 7, step 3: halt at the first failing cell. Cells after a known failure are skipped;
+                // the lowest failing one is always examined, so the report does not depend on timing.
+                if (w > firstFailure.load(std::memory_order_relaxed)) continue;
+                checks[w] = conicCell(lattice, basis, cellIjk(lattice, work[w]), bezier);
+                if (checks[w] != CellCheck::Certified) {
+                    int current = firstFailure.load();
+                    while (w < current && !firstFailure.compare_exchange_weak(current, w)) {
+                    }
+                }
+            }
+        }
+    }
+    const int failing = firstFailure.load();
+    if (failing == count) {
+        result.certified = true;
+        result.verdict = InjectivityVerdict::Certified;
+    } else {
+        setFailingCell(lattice, work[failing], Eigen::Vector3d::Constant(0.5), result);
+        if (checks[failing] == CellCheck::Unsupported) {
+            result.verdict = InjectivityVerdict::Unsupported;
+            result.message = "cell " + formatCell(result.failingCellIjk) +
+                             " has differing NURBS weights; the conic test covers polynomial cells only, so the "
+                             "deformation is not certified";
+        } else {
+            result.verdict = InjectivityVerdict::NotCertified;
+            result.message = "conic test: the hodograph cones of cell " + formatCell(result.failingCellIjk) +
+                             " overlap, so injectivity is not certified there (the deformation may still be injective)";
+        }
+    }
+    result.milliseconds = elapsedMs(start);
+    return result;
+}
+
+InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptions& options, const std::vector<int>& cells) {
+    const Clock::time_point start = Clock::now();
+    InjectivityResult result;
+    const std::vector<int> work = deformedCells(lattice, cells, result.cellsChecked);
+    result.cellsDeformed = static_cast<int>(work.size());
+    result.boundaryFixed = boundaryUnmoved(lattice);
+    const int count = result.cellsDeformed;
+    std::vector<CellOutcome> outcomes(static_cast<size_t>(count));
+    std::atomic<int> firstFold{count};
+    if (count > 0) {
+        const CellBezierBasis basis = makeCellBezierBasis(lattice);
+        const bool parallel = count > 1 && count * exactMicrosecondsPerCell(lattice) > kParallelMicroseconds;
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
+        for (int w = 0; w < count; ++w) {
+            // Skip cells after a known fold; the lowest-index fold is always found (deterministic report).
+            if (w > firstFold.load(std::memory_order_relaxed)) continue;
+            exactCell(lattice, basis, cellIjk(lattice, work[w]), options, exactWorkspace(), outcomes[w]);
+            if (outcomes[w].kind == CellOutcome::Fold) {
+                int current = firstFold.load();
+                while (w < current && !firstFold.compare_exchange_weak(current, w)) {
+                }
+            }
+        }
+    }
+    // Combine in cell order: a fold anywhere decides; otherwise the first undecided / unsupported cell.
+    const bool undeformedChecked = result.cellsChecked > count;
+    double minSampled = undeformedChecked ? 1.0 : std::numeric_limits<double>::infinity();
+    double lowerBound = undeformedChecked ? 1.0 : std::numeric_limits<double>::infinity();
+    int firstOpen = -1;
+    for (int w = 0; w < count; ++w) {
+        const CellOutcome& o = outcomes[w];
+        result.boxesExamined += o.boxes;
+        if (o.kind == CellOutcome::Skipped) continue;
+        minSampled = std::min(minSampled, o.minSampled);
+        lowerBound = std::min(lowerBound, o.lowerBound);
+        if ((o.kind == CellOutcome::Undecided || o.kind == CellOutcome::Unsupported || o.kind == CellOutcome::NonFinite) &&
+            firstOpen < 0)
+            firstOpen = w;
+    }
+    const int fold = firstFold.load();
+    if (fold < count) {
+        const CellOutcome& o = outcomes[fold];
+        setFailingCell(lattice, work[fold], o.local, result);
+        result.verdict = InjectivityVerdict::Fold;
+        result.minDeterminantFound = o.value;
+        char value[48];
+        std::snprintf(value, sizeof value, "%.6g", o.value);
+        result.message = "exact test: det J = " + std::string(value) + " at lattice parameters " +
+                         formatPoint(result.failingParams) + " in cell " + formatCell(result.failingCellIjk) +
+                         (o.value < 0.0 ? ": the deformation folds there (not injective)"
+                                        : ": not above the tolerance there (degenerate or nearly so; not certified)");
+    } else if (firstOpen >= 0) {
+        const CellOutcome& o = outcomes[firstOpen];
+        setFailingCell(lattice, work[firstOpen], o.local, result);
+        result.minDeterminantFound = minSampled;
+        if (o.kind == CellOutcome::Unsupported) {
+            result.verdict = InjectivityVerdict::Unsupported;
+            result.failingLocalParams = Eigen::Vector3d::Constant(0.5);
+            result.failingParams = globalParams(lattice, result.failingCellIjk, result.failingLocalParams);
+            result.message = "cell " + formatCell(result.failingCellIjk) +
+                             " has differing NURBS weights; the exact test covers polynomial cells only, so the "
+                             "deformation is not certified";
+        } else if (o.kind == CellOutcome::NonFinite) {
+            result.verdict = InjectivityVerdict::Undecided;
+            result.failingLocalParams = Eigen::Vector3d::Constant(0.5);
+            result.failingParams = globalParams(lattice, result.failingCellIjk, result.failingLocalParams);
+            result.message = "exact test: cell " + formatCell(result.failingCellIjk) +
+                             " has non-finite control point displacements; not certified";
+        } else {
+            result.verdict = InjectivityVerdict::Undecided;
+            char value[48];
+            std::snprintf(value, sizeof value, "%.6g", o.value);
+            result.message = "exact test: undecided in cell " + formatCell(result.failingCellIjk) +
+                             " after the subdivision limit (det J sampled down to " + std::string(value) + " near " +
+                             formatPoint(result.failingParams) + "); not certified";
+        }
+    } else {
+        result.certified = true;
+        result.verdict = InjectivityVerdict::Certified;
+        result.minDeterminantFound = minSampled;
+        result.determinantLowerBound = lowerBound;
+    }
+    result.milliseconds = elapsedMs(start);
+    return result;
+}
+
+InjectivityResult checkInjectivity(const Lattice& lattice, InjectivityMode mode) {
+    return checkInjectivity(lattice, mode, {});
+}
+
+InjectivityResult checkInjectivity(const Lattice& lattice, InjectivityMode mode, const std::vector<int>& cells) {
+    switch (mode) {
+        case InjectivityMode::Off: {
+            InjectivityResult result;
+            result.certified = true;
+            result.verdict = InjectivityVerdict::Certified;
+            return result;
+        }
+        case InjectivityMode::Conic: return checkInjectivityConic(lattice, cells);
+        case InjectivityMode::Exact: return checkInjectivityExact(lattice, ExactOptions{}, cells);
+    }
+    return {};
+}
+
+}  // namespace sculpt::core

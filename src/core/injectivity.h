@@ -1,0 +1,133 @@
+// Injectivity (freedom from self-intersection) of the lattice deformation, after Gain & Dodgson 2001,
+// "Preventing self-intersection under free-form deformation" (seed 003).
+//
+// Theorem 1 (section 5): a C1 deformation is injective if det J > 0 everywhere (with the boundary caveat
+// under InjectivityResult::boundaryFixed). Two tests of that, per lattice cell:
+//   * conic  (section 7, Appendix "InjectiveTest"): bounds the hodograph control vectors of each cell by
+//            cones around the axes; O(cells), sufficient only: "not certified" does not mean "folds".
+//   * exact  (section 6): det J of each cell in Bernstein form, subdivided by de Casteljau until every box
+//            is proven positive or a point with det J <= 0 is found. Necessary and sufficient up to the
+//            subdivision depth limit and rounding; it never certifies what it has not proven.
+// Both cover polynomial lattices (all weights equal in a cell). A cell of a rational lattice with differing
+// weights is reported as Unsupported (not certified) rather than guessed at.
+//
+// The engine calls checkInjectivity() after every change; pass the cells whose support contains changed
+// control points (cellsInfluencedBy in embedding.h) to check only those.
+#pragma once
+
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/lattice.h"
+#include "core/mesh_types.h"
+
+namespace sculpt::core {
+
+enum class InjectivityMode { Off, Conic, Exact };
+
+// "off", "conic", "exact".
+const char* injectivityModeName(InjectivityMode mode);
+// Parses exactly those names; returns false (mode untouched) for anything else.
+bool parseInjectivityMode(const std::string& name, InjectivityMode& mode);
+
+struct InjectivitySettings {
+    InjectivityMode mode = InjectivityMode::Conic;
+    // Depth of the adaptive subdivision of a failing manipulation (section 8, Appendix "InjectSubdiv"):
+    // how many times the Session may halve a drag before rejecting it. Not used by the tests below.
+    int maxDepth = 6;
+};
+
+enum class InjectivityVerdict {
+    Certified,     // det J > 0 proven in every checked cell: injective there (Theorem 1)
+    NotCertified,  // conic test: some cell's cones overlap; the deformation may still be injective
+    Fold,          // exact test: a point with det J <= tolerance was found (failingParams): with det J < 0 the
+                   // deformation folds (not injective); in [0, tolerance] it is degenerate or nearly so
+    Undecided,     // exact test: subdivision or work limit reached with coefficients still straddling zero
+                   // and no fold point found, or non-finite displacements; treated as not certified
+    Unsupported,   // a checked cell is rational (differing weights): nothing proven there
+};
+const char* injectivityVerdictName(InjectivityVerdict verdict);
+
+struct InjectivityResult {
+    bool certified = false;  // verdict == Certified; false means only "not proven injective" unless Fold
+    InjectivityVerdict verdict = InjectivityVerdict::Undecided;
+    // The reported cell (-1 / {-1,-1,-1} if none): for Fold the lowest-index cell with a fold, otherwise the
+    // lowest-index failing cell.
+    int failingCell = -1;
+    std::array<int, 3> failingCellIjk{-1, -1, -1};
+    // Lattice parameters t in [0,1]^3 of the reported point, and the same point in the cell's local
+    // coordinates [0,1]^3. Fold: a point where det J <= tolerance (evaluate it with
+    // jacobianDeterminantInCell(failingCellIjk, failingLocalParams): on a cell face that is the side the
+    // test saw). Undecided: the sampled point of least det J in the undecided boxes. NotCertified (conic)
+    // and Unsupported: the cell centre. NaN when nothing failed.
+    Eigen::Vector3d failingParams = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    Eigen::Vector3d failingLocalParams = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    // Exact test: the least det J among the points it evaluated (Bezier box corners, i.e. cell corners and
+    // subdivision points). For Fold it is the value at the reported point; otherwise over every checked
+    // cell (undeformed cells contribute 1). An upper bound of the true minimum. +inf for the conic test.
+    double minDeterminantFound = std::numeric_limits<double>::infinity();
+    // Exact test, Certified: det J >= this everywhere in the checked cells (least coefficient of the boxes
+    // that proved positive). -inf otherwise.
+    double determinantLowerBound = -std::numeric_limits<double>::infinity();
+    // No control point of the outer layer has moved, so the box's faces map onto themselves. Only then does
+    // det J > 0 give global injectivity (a local homeomorphism that is one-to-one on the boundary is
+    // one-to-one: Meisters & Olech, the paper's [24]; section 5's remark on the seam with the space around
+    // the hyperpatch). Otherwise "certified" means locally injective: a lattice bent round until two of its
+    // ends overlap has det J > 0 everywhere. Pinning the outer layer (LatticeSettings::pinLayers >= 1)
+    // keeps this true. Not set by InjectivityMode::Off.
+    bool boundaryFixed = false;
+    int cellsChecked = 0;         // cells in the request (all cells for an empty list)
+    int cellsDeformed = 0;        // of those, cells with a non-zero displacement in their support (the rest: det J == 1)
+    long long boxesExamined = 0;  // exact test: Bezier boxes looked at, cells included
+    double milliseconds = 0.0;    // wall time of the check
+    std::string message;          // human-readable verdict, names the cell and point; empty when certified
+};
+
+// Options of the exact test.
+struct ExactOptions {
+    // Octree levels below each cell (section 6, step 4): boxes of 2^-10 of a cell. A box whose coefficients
+    // still straddle zero at this depth, with no sampled det J <= tolerance, makes the verdict Undecided
+    // (not certified): the test never reports injective without a proof.
+    int maxSubdivisionDepth = 10;
+    // det J must exceed this everywhere. 0 is Theorem 1's condition det J > 0; a positive value (det J is 1
+    // for the undeformed lattice) also rejects nearly degenerate deformations. A sampled value <= tolerance
+    // is reported as a Fold.
+    double tolerance = 0.0;
+    // Relative rounding guard: a box is proven positive only if its least coefficient exceeds
+    // tolerance + roundingGuard * (a bound on the magnitude of the terms of det J in that cell), so rounding
+    // in forming the coefficients cannot certify a sign it has not got.
+    double roundingGuard = 1e-12;
+    // Work limit per cell, in boxes; exceeding it makes the verdict Undecided (a zero set of det J that is
+    // tangent along a surface would otherwise cost 4^depth boxes).
+    int maxBoxesPerCell = 20000;
+};
+
+// det of the deformation Jacobian dx/dX0 at lattice parameters t in [0,1]^3 (1 for the undeformed lattice;
+// rational lattices by the quotient rule). On an interior knot the cell above is used (SplineAxis::locate).
+double jacobianDeterminant(const Lattice& lattice, const Eigen::Vector3d& params);
+
+// out[v] = det J at rest vertex v (#V values), for the renderer's colour map; 1 for vertices outside the
+// lattice box (they never move). Parallel over vertices (OpenMP). rest: #V x 3.
+void vertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, std::vector<double>& out);
+
+// Conic-hull hodograph test (section 7, Appendix InjectiveTest) on the Bezier hodographs of each cell.
+// cells: linear cell indices (su + S0*(sv + S1*sw)) to check, each in [0, cellCount) (asserted); empty =
+// all cells. Verdicts: Certified, NotCertified, Unsupported.
+InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vector<int>& cells = {});
+
+// Exact test (section 6). cells as above. Verdicts: Certified, Fold, Undecided, Unsupported (a fold found
+// in any cell takes precedence over the others).
+InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptions& options = {},
+                                        const std::vector<int>& cells = {});
+
+// The engine's entry point: Off -> Certified without looking; Conic / Exact as above (default options).
+// note: an empty `cells` means all cells, so a caller with nothing changed should skip the call rather
+// than pass an empty list.
+InjectivityResult checkInjectivity(const Lattice& lattice, InjectivityMode mode);
+InjectivityResult checkInjectivity(const Lattice& lattice, InjectivityMode mode, const std::vector<int>& cells);
+
+}  // namespace sculpt::core
