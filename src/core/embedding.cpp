@@ -68,7 +68,7 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
     // Pass 1: the cell of every vertex (-1 outside the box).
     std::vector<int>& cellOf = e.scratchCell;
     cellOf.resize(n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 20000)
     for (int v = 0; v < n; ++v) {
         double t[3] = {0.0, 0.0, 0.0}, local = 0.0;
         if (!parameters(v, t)) {
@@ -97,7 +97,7 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
     e.restX.resize(inside);
     e.restY.resize(inside);
     e.restZ.resize(inside);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (inside > 20000)
     for (int s = 0; s < inside; ++s) {
         const int v = e.order[s];
         double t[3] = {0.0, 0.0, 0.0};

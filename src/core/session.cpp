@@ -81,13 +81,23 @@ Positions invertDeformation(const Lattice& lattice, const Positions& deformed) {
     const int n = static_cast<int>(deformed.rows());
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
     const double tolerance = 1e-14 * lattice.diagonal();
-#pragma omp parallel for schedule(dynamic, 256)
+    // With the boundary control points where they started, the clamped volume maps its box onto itself,
+    // so a point outside the box has no preimage inside it and is its own preimage.
+    bool boundaryFixed = true;
+    for (int idx = 0; idx < lattice.controlPointCount() && boundaryFixed; ++idx) {
+        const std::array<int, 3> c = lattice.ijk(idx);
+        bool boundary = false;
+        for (int a = 0; a < 3; ++a) boundary = boundary || c[a] == 0 || c[a] == lattice.count[a] - 1;
+        if (boundary && !lattice.displacement.row(idx).isZero(0.0)) boundaryFixed = false;
+    }
+#pragma omp parallel for schedule(dynamic, 256) if (n > 2000)
     for (int v = 0; v < n; ++v) {
         const Eigen::Vector3d y = deformed.row(v).transpose();
         Eigen::Vector3d t;
         // A point whose own displacement is exactly zero is its own preimage (the map is injective), so
         // vertices the frame never moved come back bitwise.
-        if (restParameters(lattice, y, t) && displacementAt(lattice, t).isZero(0.0)) continue;
+        const bool inside = restParameters(lattice, y, t);
+        if (inside ? displacementAt(lattice, t).isZero(0.0) : boundaryFixed) continue;
         Eigen::Vector3d x = y.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
         Eigen::Vector3d best = y;
         double bestResidual = INFINITY;
@@ -261,6 +271,7 @@ void Session::enterFreshFrame(const LatticeSettings& settings, Progress* progres
     if (progress) {
         progress->movedAll = true;
         progress->appliedInCurrentFrame = false;
+        progress->pendingFreshFrame = true;  // the next step applied belongs to this frame
     }
 }
 
@@ -298,11 +309,7 @@ void Session::restoreSnapshot(Snapshot& snapshot) {
 bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
     // Each step after the first is a separate deformation in a fresh regular lattice around the mesh the
     // earlier steps produced (design.md): with one lattice the halves would just add up to the failing move.
-    bool fresh = false;
-    if (progress.appliedInCurrentFrame) {
-        enterFreshFrame(settings_, &progress);
-        fresh = true;
-    }
+    if (progress.appliedInCurrentFrame) enterFreshFrame(settings_, &progress);
     ControlDelta delta;
     std::vector<Eigen::Vector3d> params;
     if (m.kind == OperationKind::Drag) {
@@ -351,7 +358,8 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
     evaluateCells(lattice_, embedding_, cells, positions_, &progress.moved);
 
     Step step;
-    step.freshFrame = fresh;
+    step.freshFrame = progress.pendingFreshFrame;
+    progress.pendingFreshFrame = false;
     step.settings = settings_;
     step.delta = std::move(delta);
     if (m.kind == OperationKind::Drag)

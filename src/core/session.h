@@ -178,6 +178,7 @@ private:
     struct Progress {
         Operation* operation = nullptr;
         bool appliedInCurrentFrame = false;  // a step of this operation already changed the current frame
+        bool pendingFreshFrame = false;      // a fresh frame was entered and no step has been applied in it yet
         Snapshot snapshot;
         std::string failure;
         double injectivityMs = 0.0;

@@ -52,7 +52,7 @@ void computeVertexNormals(const Positions& positions, const Triangles& triangles
     const int n = static_cast<int>(positions.rows());
     const VertexTriangles adjacency = buildVertexTriangles(n, triangles);
     normals.resize(n, 3);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 20000)
     for (int v = 0; v < n; ++v) storeNormal(accumulatedNormal(positions, triangles, adjacency, v), normals, v);
 }
 
@@ -67,7 +67,7 @@ void updateVertexNormals(const Positions& positions, const Triangles& triangles,
     std::sort(stale.begin(), stale.end());
     stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
     const int count = static_cast<int>(stale.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (count > 20000)
     for (int i = 0; i < count; ++i)
         storeNormal(accumulatedNormal(positions, triangles, adjacency, stale[i]), normals, stale[i]);
 }
