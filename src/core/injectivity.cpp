@@ -415,10 +415,23 @@ double jacobianDeterminant(const Lattice& lattice, const Eigen::Vector3d& params
 void vertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, std::vector<double>& out) {
     const int n = static_cast<int>(rest.rows());
     out.assign(static_cast<size_t>(n), 1.0);
+    // Cells without a moved control point in their support have det J == 1 exactly (J = I): after a local
+    // drag that is most of the mesh, so only the deformed cells' vertices are evaluated.
+    int cellCount = 0;
+    const std::vector<int> deformed = deformedCells(lattice, {}, cellCount);
+    if (deformed.empty()) return;
+    std::vector<std::uint8_t> isDeformed(static_cast<size_t>(cellCount), 0);
+    for (int cell : deformed) isDeformed[cell] = 1;
+    const int s0 = lattice.axes[0].spans, s1 = lattice.axes[1].spans;
 #pragma omp parallel for schedule(static) if (n > 2000)
     for (int v = 0; v < n; ++v) {
         Eigen::Vector3d t;
-        if (restParameters(lattice, rest.row(v).transpose(), t)) out[static_cast<size_t>(v)] = jacobianDeterminant(lattice, t);
+        if (!restParameters(lattice, rest.row(v).transpose(), t)) continue;
+        std::array<int, 3> cell;
+        Eigen::Vector3d local;
+        for (int a = 0; a < 3; ++a) cell[a] = lattice.axes[a].locate(t[a], local[a]);
+        if (isDeformed[cell[0] + s0 * (cell[1] + s1 * cell[2])])
+            out[static_cast<size_t>(v)] = jacobianDeterminantInCell(lattice, cell, local);
     }
 }
 

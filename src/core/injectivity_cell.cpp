@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <limits>
 
 #include <Eigen/LU>
 
@@ -118,8 +119,7 @@ void bezierDisplacementKernel(const Lattice& lattice, const CellBezierBasis& bas
 }
 
 // Section 7, step 2a: the largest sin^2 of the angle between a hodograph vector of axis a and that axis.
-// note: branch-free (max, and an or-ed failure flag) so the compiler can vectorise it; a NaN displacement
-// fails the axial test and so is never certified.
+// note: branch-free (max, and an or-ed failure flag) so the compiler can vectorise it.
 template <int K0, int K1, int K2>
 bool hodographConesKernel(const CellBezierBasis& basis, const double* bezier, std::array<double, 3>& sinSquared) {
     const int n0 = K0 > 0 ? K0 : basis.degree[0] + 1;
@@ -145,8 +145,10 @@ bool hodographConesKernel(const CellBezierBasis& basis, const double* bezier, st
                     const double db = scale * (sideB[at + step] - sideB[at]);
                     const double dc = scale * (sideC[at + step] - sideC[at]);
                     const double side = db * db + dc * dc;
-                    failed |= !(axial > 0.0);  // Appendix, FindDeviation: a <= 0 -> "fail"
-                    worst = std::max(worst, side / (side + axial * axial));
+                    const double norm = side + axial * axial;
+                    // Appendix, FindDeviation: a <= 0 -> "fail"; so does a NaN or infinite vector.
+                    failed |= !(axial > 0.0 && norm <= std::numeric_limits<double>::max());
+                    worst = std::max(worst, side / norm);
                 }
         sinSquared[a] = worst;
     }
@@ -269,7 +271,38 @@ double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3
         lattice.axes[a].evaluate(cell[a], local[a], value[a]);
         lattice.axes[a].evaluateDerivative(cell[a], local[a], derivative[a]);
     }
-    // Homogeneous sums as in deformationJacobian (lattice.cpp): N = sum W B delta, W = sum W B, gradients in t.
+    const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
+    if (!lattice.rational) {
+        // Polynomial lattice: dD/dt_a = sum B'_a (other B) delta, contracted along u first (per row of the
+        // support: one pass for the values, one for the u-derivatives), then v and w together.
+        const double* displacement = lattice.displacement.data();  // row-major #P x 3
+        double du[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, dw[3] = {0, 0, 0};
+        for (int k = 0; k <= lattice.degree[2]; ++k)
+            for (int j = 0; j <= lattice.degree[1]; ++j) {
+                const double* row = displacement + 3 * static_cast<size_t>(lattice.index(cell[0], cell[1] + j, cell[2] + k));
+                double sum[3] = {0, 0, 0}, sumU[3] = {0, 0, 0};
+                for (int i = 0; i <= lattice.degree[0]; ++i)
+                    for (int c = 0; c < 3; ++c) {
+                        sum[c] += value[0][i] * row[3 * i + c];
+                        sumU[c] += derivative[0][i] * row[3 * i + c];
+                    }
+                const double vw = value[1][j] * value[2][k], dvw = derivative[1][j] * value[2][k], vdw = value[1][j] * derivative[2][k];
+                for (int c = 0; c < 3; ++c) {
+                    du[c] += vw * sumU[c];
+                    dv[c] += dvw * sum[c];
+                    dw[c] += vdw * sum[c];
+                }
+            }
+        Eigen::Matrix3d jacobian;
+        for (int c = 0; c < 3; ++c) {
+            jacobian(c, 0) = (c == 0 ? 1.0 : 0.0) + du[c] / size[0];
+            jacobian(c, 1) = (c == 1 ? 1.0 : 0.0) + dv[c] / size[1];
+            jacobian(c, 2) = (c == 2 ? 1.0 : 0.0) + dw[c] / size[2];
+        }
+        return jacobian.determinant();
+    }
+    // Rational: homogeneous sums as in deformationJacobian (lattice.cpp): N = sum W B delta, W = sum W B,
+    // and their gradients in t.
     Eigen::Vector3d numerator = Eigen::Vector3d::Zero();
     Eigen::Matrix3d numeratorGrad = Eigen::Matrix3d::Zero();  // column a = dN/dt_a
     double denominator = 0.0;
@@ -288,9 +321,8 @@ double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3
                 denominator += w * value[0][i] * value[1][j] * value[2][k];
                 denominatorGrad += w * grad;
             }
-    Eigen::Matrix3d dDisplacementDt = numeratorGrad;
-    if (lattice.rational) dDisplacementDt = (numeratorGrad - (numerator / denominator) * denominatorGrad.transpose()) / denominator;
-    const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
+    // Quotient rule for D = N / W.
+    const Eigen::Matrix3d dDisplacementDt = (numeratorGrad - (numerator / denominator) * denominatorGrad.transpose()) / denominator;
     const Eigen::Matrix3d jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal();
     return jacobian.determinant();
 }

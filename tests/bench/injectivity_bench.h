@@ -12,6 +12,7 @@ namespace sculpt::bench {
 //   inject_conic_16_cells  the same, only the cells influenced by the moved control points (per-drag path)
 //   inject_conic_16_dense  conic test, every control point of the 16^3 lattice moved (worst case)
 //   inject_exact_8         exact test, whole 8^3 cubic lattice after a realistic deformation
+//   inject_exact_8_fold    exact test, 8^3 lattice after drags long enough to fold it (finding the fold)
 //   inject_exact_8_dense   exact test, every control point of the 8^3 lattice moved
 // Each prints the median of >= 10 runs (after a warm-up), the minimum and the verdict.
 void runInjectivityBenchmarks(const std::vector<std::string>& filters = {});
