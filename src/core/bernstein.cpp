@@ -81,7 +81,8 @@ double evaluateBernstein(const double* coefficients, const BernsteinDegree& degr
     // Collapse x, then y, then z: (n1 n2) univariate evaluations, then n2, then one.
     double plane[kTableSize * kTableSize];
     for (int k = 0; k < n2; ++k)
-        for (int j = 0; j < n1; ++j) plane[j + n1 * k] = evaluateBernstein1(coefficients + n0 * (j + n1 * k), degree[0], x[0]);
+        for (int j = 0; j < n1; ++j)
+            plane[j + n1 * k] = evaluateBernstein1(coefficients + n0 * (j + n1 * k), degree[0], x[0]);
     double line[kTableSize];
     for (int k = 0; k < n2; ++k) line[k] = evaluateBernstein1(plane + n1 * k, degree[1], x[1]);
     return evaluateBernstein1(line, degree[2], x[2]);

@@ -38,7 +38,7 @@ inline int bernsteinCoefficientCount(const BernsteinDegree& degree) {
 // ---- univariate ---------------------------------------------------------------------------------------
 
 // Bernstein coefficients of the degree-n polynomial sum_k monomial[k] x^k (n+1 values in, n+1 out; the
-// arrays must not overlap). x^k = sum_{l>=k} C(l,k)/C(n,k) b_l^n(x) (Farin, Curves and Surfaces, 5.4).
+// arrays must not overlap). x^k = sum_{l>=k} C(l,k)/C(n,k) b_l^n(x) (Farin, Curves and Surfaces for CAGD).
 void monomialToBernstein(const double* monomial, int degree, double* bernstein);
 
 // Value at x of the univariate Bernstein polynomial with degree+1 coefficients, by de Casteljau.
@@ -68,7 +68,7 @@ void convolveAddScaled(const double* a, const BernsteinDegree& degreeA, const do
 // degree. in, left and right must not overlap.
 void splitBernstein(const double* in, const BernsteinDegree& degree, int axis, double at, double* left, double* right);
 
-// The same polynomial with its degree raised by one along `axis`: out has degree + e_axis (Farin 6.x:
+// The same polynomial with its degree raised by one along `axis`: out has degree + e_axis (Farin, degree elevation:
 // c'_i = i/(n+1) c_{i-1} + (1 - i/(n+1)) c_i). in and out must not overlap.
 void elevateBernstein(const double* in, const BernsteinDegree& degree, int axis, double* out);
 

@@ -68,7 +68,8 @@ std::vector<int> deformedCells(const Lattice& lattice, const std::vector<int>& r
     std::vector<std::uint8_t> deformed(static_cast<size_t>(cellCount), 0);
     const std::array<int, 3> spans = lattice.spans();
     for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
-        if (lattice.displacement(idx, 0) == 0.0 && lattice.displacement(idx, 1) == 0.0 && lattice.displacement(idx, 2) == 0.0)
+        if (lattice.displacement(idx, 0) == 0.0 && lattice.displacement(idx, 1) == 0.0 &&
+            lattice.displacement(idx, 2) == 0.0)
             continue;
         const std::array<int, 3> c = lattice.ijk(idx);
         int lo[3], hi[3];
@@ -110,8 +111,8 @@ double conicMicrosecondsPerCell(const Lattice& lattice) {
 double exactMicrosecondsPerCell(const Lattice& lattice) {
     const int p = lattice.degree[0], q = lattice.degree[1], r = lattice.degree[2];
     const double column = static_cast<double>(p) * (q + 1) * (r + 1);  // about the size of each J_a
-    const double cross = (2.0 * p + 1) * (2 * q) * (2 * r);           // J_v x J_w
-    return 2.6e-4 * (6.0 * column * column + 3.0 * column * cross);   // the products dominate
+    const double cross = (2.0 * p + 1) * (2 * q) * (2 * r);            // J_v x J_w
+    return 2.6e-4 * (6.0 * column * column + 3.0 * column * cross);    // the products dominate
 }
 
 // True if no control point of the outer layer has moved: the clamped volume then maps each face of the box
@@ -153,11 +154,18 @@ std::string formatCell(const std::array<int, 3>& c) {
 // (s_v < 1 - s_u = cos^2 theta_u). So the whole test is s_u + s_v + s_w < 1, with s = (b^2 + c^2) / |P|^2
 // for a hodograph vector P = (a, b, c) along its axis (FindDeviation's t = tan^2 theta = s / (1 - s)),
 // after FindDeviation's rejection of a <= 0. No trigonometry, and nothing divides by a.
+// Why eq. 10 bounds the cross product: for unit n = a x b / |a x b| and a at angle alpha <= theta_u from e_x,
+// write a = cos(alpha) e_x + sin(alpha) a', a' a unit vector orthogonal to e_x; n . a = 0 gives
+// |n_x| cos(alpha) = sin(alpha) |n . a'| <= sin(alpha) sqrt(1 - n_x^2), so n_x^2 <= sin^2 alpha; likewise
+// n_y^2 <= sin^2 theta_v, hence sin^2 of the angle between n and e_z is n_x^2 + n_y^2 <= s_u + s_v < 1; n_z
+// never vanishes on the (connected) cones and is +1 at a = e_x, b = e_y, so n stays near +e_z, and the
+// angle between n and any c in the w cone is below theta_x + theta_w < pi/2: det[a b c] = n . c |a x b| > 0.
 constexpr double kConicGuard = 1e-12;  // keeps rounding from certifying a sum that is 1 up to an ulp
 
 enum class CellCheck { Certified, Failed, Unsupported };
 
-CellCheck conicCell(const Lattice& lattice, const CellBezierBasis& basis, const std::array<int, 3>& cell, double* bezier) {
+CellCheck conicCell(const Lattice& lattice, const CellBezierBasis& basis, const std::array<int, 3>& cell,
+                    double* bezier) {
     if (!cellIsPolynomial(lattice, cell)) return CellCheck::Unsupported;
     cellBezierDisplacement(lattice, basis, cell, bezier);
     std::array<double, 3> sinSquared{};
@@ -318,7 +326,8 @@ void searchCell(const BoxSearch& search, const ExactOptions& options, ExactWorks
         }
         // Push the straddling children, most negative last (searched first). The parent's slot is free now.
         for (int p = 1; p < pendingCount; ++p)  // insertion sort, descending minimum (at most 8 boxes)
-            for (int q = p; q > 0 && pending[q - 1].minimum < pending[q].minimum; --q) std::swap(pending[q - 1], pending[q]);
+            for (int q = p; q > 0 && pending[q - 1].minimum < pending[q].minimum; --q)
+                std::swap(pending[q - 1], pending[q]);
         size_t top = parent.offset;
         if (work.pool.size() < top + pendingCount * n) work.pool.resize(top + pendingCount * n);
         for (int p = 0; p < pendingCount; ++p) {
@@ -485,7 +494,8 @@ InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vecto
     return result;
 }
 
-InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptions& options, const std::vector<int>& cells) {
+InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptions& options,
+                                        const std::vector<int>& cells) {
     const Clock::time_point start = Clock::now();
     InjectivityResult result;
     const std::vector<int> work = deformedCells(lattice, cells, result.cellsChecked);
@@ -520,7 +530,8 @@ InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptio
         if (o.kind == CellOutcome::Skipped) continue;
         minSampled = std::min(minSampled, o.minSampled);
         lowerBound = std::min(lowerBound, o.lowerBound);
-        if ((o.kind == CellOutcome::Undecided || o.kind == CellOutcome::Unsupported || o.kind == CellOutcome::NonFinite) &&
+        if ((o.kind == CellOutcome::Undecided || o.kind == CellOutcome::Unsupported ||
+             o.kind == CellOutcome::NonFinite) &&
             firstOpen < 0)
             firstOpen = w;
     }

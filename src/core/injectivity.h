@@ -80,8 +80,8 @@ struct InjectivityResult {
     // ends overlap has det J > 0 everywhere. Pinning the outer layer (LatticeSettings::pinLayers >= 1)
     // keeps this true. Not set by InjectivityMode::Off.
     bool boundaryFixed = false;
-    int cellsChecked = 0;         // cells in the request (all cells for an empty list)
-    int cellsDeformed = 0;        // of those, cells with a non-zero displacement in their support (the rest: det J == 1)
+    int cellsChecked = 0;   // cells in the request (all cells for an empty list)
+    int cellsDeformed = 0;  // of those, cells with a non-zero displacement in their support (the rest: det J == 1)
     long long boxesExamined = 0;  // exact test: Bezier boxes looked at, cells included
     double milliseconds = 0.0;    // wall time of the check
     std::string message;          // human-readable verdict, names the cell and point; empty when certified

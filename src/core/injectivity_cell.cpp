@@ -78,7 +78,8 @@ void bezierDisplacementKernel(const Lattice& lattice, const CellBezierBasis& bas
     const double* displacement = lattice.displacement.data();  // row-major #P x 3
     for (int k = 0; k < n2; ++k)
         for (int j = 0; j < n1; ++j) {
-            const double* row = displacement + 3 * static_cast<size_t>(lattice.index(cell[0], cell[1] + j, cell[2] + k));
+            const double* row =
+                displacement + 3 * static_cast<size_t>(lattice.index(cell[0], cell[1] + j, cell[2] + k));
             for (int i = 0; i < n0; ++i)
                 for (int c = 0; c < 3; ++c) control[c * n + i + n0 * (j + n1 * k)] = row[3 * i + c];
         }
@@ -204,7 +205,8 @@ void cellJacobianColumns(const CellBezierBasis& basis, const double* bezier, dou
             for (int j = 0; j <= cd[1]; ++j)
                 for (int i = 0; i <= cd[0]; ++i, ++out) {
                     const int at = i + n0 * (j + n1 * k);
-                    // Hodograph of a Bezier volume: p (b_{l+1} - b_l) along the axis; J_a = e_a + dD/dx_a * S_a / size_a.
+                    // Hodograph of a Bezier volume: p (b_{l+1} - b_l) along the axis; J_a = e_a + dD/dx_a * S_a /
+                    // size_a.
                     for (int c = 0; c < 3; ++c) {
                         const double difference = bezier[c * n + at + stride[a]] - bezier[c * n + at];
                         column[a][c * count + out] = (c == a ? 1.0 : 0.0) + scale * difference;
@@ -222,7 +224,8 @@ void cellDeterminantBernstein(const CellBezierBasis& basis, double* const column
     const BernsteinDegree du = columnDegree(basis, 0), dv = columnDegree(basis, 1), dw = columnDegree(basis, 2);
     const BernsteinDegree dx = {dv[0] + dw[0], dv[1] + dw[1], dv[2] + dw[2]};  // J_v x J_w: (2p, 2q-1, 2r-1)
     const BernsteinDegree dd = determinantDegree(basis);
-    const int nu = bernsteinCoefficientCount(du), nv = bernsteinCoefficientCount(dv), nw = bernsteinCoefficientCount(dw);
+    const int nu = bernsteinCoefficientCount(du), nv = bernsteinCoefficientCount(dv),
+              nw = bernsteinCoefficientCount(dw);
     const int nx = bernsteinCoefficientCount(dx), nd = bernsteinCoefficientCount(dd);
 
     // Scaled copies of the three columns (3 components each), then the cross product, in scratch.
@@ -279,14 +282,16 @@ double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3
         double du[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, dw[3] = {0, 0, 0};
         for (int k = 0; k <= lattice.degree[2]; ++k)
             for (int j = 0; j <= lattice.degree[1]; ++j) {
-                const double* row = displacement + 3 * static_cast<size_t>(lattice.index(cell[0], cell[1] + j, cell[2] + k));
+                const double* row =
+                    displacement + 3 * static_cast<size_t>(lattice.index(cell[0], cell[1] + j, cell[2] + k));
                 double sum[3] = {0, 0, 0}, sumU[3] = {0, 0, 0};
                 for (int i = 0; i <= lattice.degree[0]; ++i)
                     for (int c = 0; c < 3; ++c) {
                         sum[c] += value[0][i] * row[3 * i + c];
                         sumU[c] += derivative[0][i] * row[3 * i + c];
                     }
-                const double vw = value[1][j] * value[2][k], dvw = derivative[1][j] * value[2][k], vdw = value[1][j] * derivative[2][k];
+                const double vw = value[1][j] * value[2][k], dvw = derivative[1][j] * value[2][k],
+                             vdw = value[1][j] * derivative[2][k];
                 for (int c = 0; c < 3; ++c) {
                     du[c] += vw * sumU[c];
                     dv[c] += dvw * sum[c];
@@ -322,7 +327,8 @@ double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3
                 denominatorGrad += w * grad;
             }
     // Quotient rule for D = N / W.
-    const Eigen::Matrix3d dDisplacementDt = (numeratorGrad - (numerator / denominator) * denominatorGrad.transpose()) / denominator;
+    const Eigen::Matrix3d dDisplacementDt =
+        (numeratorGrad - (numerator / denominator) * denominatorGrad.transpose()) / denominator;
     const Eigen::Matrix3d jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal();
     return jacobian.determinant();
 }

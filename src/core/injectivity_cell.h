@@ -34,7 +34,7 @@ constexpr int kMaxDeterminantCoefficients = (3 * kMaxDegree) * (3 * kMaxDegree) 
 struct CellBezierBasis {
     std::array<int, 3> degree{};
     std::array<int, 3> spans{};
-    std::array<double, 3> hodographScale{};      // S_a p_a / size_a (see above)
+    std::array<double, 3> hodographScale{};  // S_a p_a / size_a (see above)
     std::array<std::vector<double>, 3> toBezier;
 };
 

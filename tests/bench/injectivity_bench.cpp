@@ -46,8 +46,9 @@ std::vector<int> applyRealisticDrags(Lattice& lattice, double cells) {
         {{0.3, 0.6, 0.75}, {0.0, 0.2, -0.7}},
         {{0.7, 0.35, 0.7}, {0.6, -0.25, 0.15}},
     };
-    const Eigen::Vector3d cell = (lattice.boxMax - lattice.boxMin).cwiseQuotient(
-        Eigen::Vector3d(lattice.axes[0].spans, lattice.axes[1].spans, lattice.axes[2].spans));
+    const Eigen::Vector3d cell =
+        (lattice.boxMax - lattice.boxMin)
+            .cwiseQuotient(Eigen::Vector3d(lattice.axes[0].spans, lattice.axes[1].spans, lattice.axes[2].spans));
     std::vector<int> moved;
     for (const auto& [params, move] : drags) {
         Eigen::MatrixX3d displacement(1, 3);
@@ -64,8 +65,9 @@ std::vector<int> applyRealisticDrags(Lattice& lattice, double cells) {
 void denseDisplacement(Lattice& lattice, double fractionOfCell) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> d(-1.0, 1.0);
-    const Eigen::Vector3d cell = (lattice.boxMax - lattice.boxMin).cwiseQuotient(
-        Eigen::Vector3d(lattice.axes[0].spans, lattice.axes[1].spans, lattice.axes[2].spans));
+    const Eigen::Vector3d cell =
+        (lattice.boxMax - lattice.boxMin)
+            .cwiseQuotient(Eigen::Vector3d(lattice.axes[0].spans, lattice.axes[1].spans, lattice.axes[2].spans));
     for (int c = 0; c < lattice.controlPointCount(); ++c)
         for (int a = 0; a < 3; ++a) lattice.displacement(c, a) = fractionOfCell * cell[a] * d(rng);
 }
@@ -79,7 +81,8 @@ void timeCase(const std::string& name, int runs, const Lattice& lattice, long lo
     const double median = medianMs(runs, [&] {
         const auto start = std::chrono::steady_clock::now();
         last = check();
-        minimum = std::min(minimum, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        minimum = std::min(minimum,
+                           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     });
     char extra[256];
     std::snprintf(extra, sizeof extra,
@@ -102,30 +105,35 @@ void runInjectivityBenchmarks(const std::vector<std::string>& filters) {
         const std::vector<int> moved = applyRealisticDrags(lattice, kDragCells16);
         const std::vector<int> cells = cellsInfluencedBy(lattice, moved);
         if (wanted(filters, "inject_conic_16"))
-            timeCase("inject_conic_16", runs, lattice, lattice.cellCount(), [&] { return checkInjectivityConic(lattice); });
+            timeCase("inject_conic_16", runs, lattice, lattice.cellCount(),
+                     [&] { return checkInjectivityConic(lattice); });
         if (wanted(filters, "inject_conic_16_cells"))
             timeCase("inject_conic_16_cells", runs, lattice, static_cast<long long>(cells.size()),
                      [&] { return checkInjectivityConic(lattice, cells); });
         if (wanted(filters, "inject_conic_16_dense")) {
             Lattice dense = unitCubicLattice(16);
             denseDisplacement(dense, kDenseCells);
-            timeCase("inject_conic_16_dense", runs, dense, dense.cellCount(), [&] { return checkInjectivityConic(dense); });
+            timeCase("inject_conic_16_dense", runs, dense, dense.cellCount(),
+                     [&] { return checkInjectivityConic(dense); });
         }
     }
     {
         Lattice lattice = unitCubicLattice(8);
         applyRealisticDrags(lattice, kDragCells8);
         if (wanted(filters, "inject_exact_8"))
-            timeCase("inject_exact_8", runs, lattice, lattice.cellCount(), [&] { return checkInjectivityExact(lattice); });
+            timeCase("inject_exact_8", runs, lattice, lattice.cellCount(),
+                     [&] { return checkInjectivityExact(lattice); });
         if (wanted(filters, "inject_exact_8_fold")) {  // drags too long for one step: the fold is found and located
             Lattice folded = unitCubicLattice(8);
             applyRealisticDrags(folded, 1.5);
-            timeCase("inject_exact_8_fold", runs, folded, folded.cellCount(), [&] { return checkInjectivityExact(folded); });
+            timeCase("inject_exact_8_fold", runs, folded, folded.cellCount(),
+                     [&] { return checkInjectivityExact(folded); });
         }
         if (wanted(filters, "inject_exact_8_dense")) {
             Lattice dense = unitCubicLattice(8);
             denseDisplacement(dense, kDenseCells);
-            timeCase("inject_exact_8_dense", runs, dense, dense.cellCount(), [&] { return checkInjectivityExact(dense); });
+            timeCase("inject_exact_8_dense", runs, dense, dense.cellCount(),
+                     [&] { return checkInjectivityExact(dense); });
         }
     }
 }

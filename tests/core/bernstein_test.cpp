@@ -34,7 +34,8 @@ double directEvaluate(const BernsteinTensor& f, const Eigen::Vector3d& x) {
 }
 
 BernsteinTensor randomTensor(std::mt19937& rng, int maxDegree) {
-    BernsteinTensor f({test::randomInt(rng, 0, maxDegree), test::randomInt(rng, 0, maxDegree), test::randomInt(rng, 0, maxDegree)});
+    BernsteinTensor f(
+        {test::randomInt(rng, 0, maxDegree), test::randomInt(rng, 0, maxDegree), test::randomInt(rng, 0, maxDegree)});
     std::uniform_real_distribution<double> d(-1.0, 1.0);
     for (double& c : f.coefficients) c = d(rng);
     return f;
@@ -82,7 +83,8 @@ TEST_CASE("bernstein: monomial to Bernstein conversion preserves the polynomial"
         }
 }
 
-TEST_CASE("bernstein: de Casteljau evaluation equals the basis sum; corners interpolate; convex hull bounds", "[core]") {
+TEST_CASE("bernstein: de Casteljau evaluation equals the basis sum; corners interpolate; convex hull bounds",
+          "[core]") {
     std::mt19937 rng(302);
     for (int trial = 0; trial < 200; ++trial) {
         const BernsteinTensor f = randomTensor(rng, 8);
@@ -98,7 +100,8 @@ TEST_CASE("bernstein: de Casteljau evaluation equals the basis sum; corners inte
         }
         for (int corner = 0; corner < 8; ++corner) {
             const Eigen::Vector3d x(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
-            const double expected = f.at((corner & 1) * f.degree[0], ((corner >> 1) & 1) * f.degree[1], ((corner >> 2) & 1) * f.degree[2]);
+            const double expected =
+                f.at((corner & 1) * f.degree[0], ((corner >> 1) & 1) * f.degree[1], ((corner >> 2) & 1) * f.degree[2]);
             REQUIRE(bernsteinEvaluate(f, x) == Approx(expected).margin(1e-15 * scale));
         }
     }
@@ -117,11 +120,13 @@ TEST_CASE("bernstein: product of two tensors evaluates to the product of their v
         }
         // Commutative, and the constant 1 is the identity.
         const BernsteinTensor gf = bernsteinProduct(g, f);
-        for (size_t c = 0; c < fg.coefficients.size(); ++c) REQUIRE(gf.coefficients[c] == Approx(fg.coefficients[c]).margin(1e-14 * scale));
+        for (size_t c = 0; c < fg.coefficients.size(); ++c)
+            REQUIRE(gf.coefficients[c] == Approx(fg.coefficients[c]).margin(1e-14 * scale));
         BernsteinTensor one({0, 0, 0});
         one.coefficients[0] = 1.0;
         const BernsteinTensor f1 = bernsteinProduct(f, one);
-        for (size_t c = 0; c < f.coefficients.size(); ++c) REQUIRE(f1.coefficients[c] == Approx(f.coefficients[c]).margin(1e-15 * scale));
+        for (size_t c = 0; c < f.coefficients.size(); ++c)
+            REQUIRE(f1.coefficients[c] == Approx(f.coefficients[c]).margin(1e-15 * scale));
     }
 }
 
@@ -145,12 +150,14 @@ TEST_CASE("bernstein: the raw kernels accumulate signed products (a*b - c*d)", "
         unscaleFromBinomialForm(out.coefficients.data(), out.degree);
         for (int sample = 0; sample < 10; ++sample) {
             const Eigen::Vector3d x = test::randomParams(rng);
-            const double expected = directEvaluate(a, x) * directEvaluate(b, x) - directEvaluate(c, x) * directEvaluate(d, x);
+            const double expected =
+                directEvaluate(a, x) * directEvaluate(b, x) - directEvaluate(c, x) * directEvaluate(d, x);
             REQUIRE(directEvaluate(out, x) == Approx(expected).margin(1e-11));
         }
         // Scaling then unscaling gives the coefficients back.
         unscaleFromBinomialForm(as.coefficients.data(), da);
-        for (size_t i = 0; i < a.coefficients.size(); ++i) REQUIRE(as.coefficients[i] == Approx(a.coefficients[i]).margin(1e-15));
+        for (size_t i = 0; i < a.coefficients.size(); ++i)
+            REQUIRE(as.coefficients[i] == Approx(a.coefficients[i]).margin(1e-15));
     }
 }
 

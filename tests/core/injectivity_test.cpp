@@ -38,8 +38,8 @@ Lattice smallLattice(std::mt19937& rng, int maxSpans, bool mixedDegrees = true) 
 }
 
 Eigen::Vector3d cellSize(const Lattice& lattice) {
-    return (lattice.boxMax - lattice.boxMin).cwiseQuotient(Eigen::Vector3d(lattice.axes[0].spans, lattice.axes[1].spans,
-                                                                           lattice.axes[2].spans));
+    return (lattice.boxMax - lattice.boxMin)
+        .cwiseQuotient(Eigen::Vector3d(lattice.axes[0].spans, lattice.axes[1].spans, lattice.axes[2].spans));
 }
 
 // Moves each control point with probability `fraction` by up to `amplitude` cells along each axis.
@@ -112,7 +112,8 @@ TEST_CASE("injectivity: det J is exactly 1 for the undeformed lattice, rational 
     for (int trial = 0; trial < 40; ++trial) {
         Lattice lattice = test::randomLattice(rng);
         if (trial % 2) makeRational(rng, lattice);
-        for (int sample = 0; sample < 50; ++sample) REQUIRE(jacobianDeterminant(lattice, test::randomParams(rng)) == 1.0);
+        for (int sample = 0; sample < 50; ++sample)
+            REQUIRE(jacobianDeterminant(lattice, test::randomParams(rng)) == 1.0);
         for (InjectivityMode mode : {InjectivityMode::Conic, InjectivityMode::Exact}) {
             const InjectivityResult result = checkInjectivity(lattice, mode);
             REQUIRE(result.certified);
@@ -168,7 +169,8 @@ TEST_CASE("injectivity: a cell's Bezier forms reproduce the displacement and det
         const Eigen::Vector3d cell = cellSize(lattice);
         const double displacementScale = lattice.displacement.cwiseAbs().maxCoeff();
         for (int c = 0; c < lattice.cellCount(); ++c) {
-            const std::array<int, 3> ijk = {c % lattice.axes[0].spans, (c / lattice.axes[0].spans) % lattice.axes[1].spans,
+            const std::array<int, 3> ijk = {c % lattice.axes[0].spans,
+                                            (c / lattice.axes[0].spans) % lattice.axes[1].spans,
                                             c / (lattice.axes[0].spans * lattice.axes[1].spans)};
             std::vector<double> bezier(3 * kMaxCellControlPoints);
             cellBezierDisplacement(lattice, basis, ijk, bezier.data());
@@ -179,7 +181,8 @@ TEST_CASE("injectivity: a cell's Bezier forms reproduce the displacement and det
             for (int sample = 0; sample < 10; ++sample) {
                 Eigen::Vector3d local = test::randomParams(rng);
                 if (sample == 0) local = Eigen::Vector3d::Zero();
-                const Eigen::Vector3d t((ijk[0] + local[0]) / lattice.axes[0].spans, (ijk[1] + local[1]) / lattice.axes[1].spans,
+                const Eigen::Vector3d t((ijk[0] + local[0]) / lattice.axes[0].spans,
+                                        (ijk[1] + local[1]) / lattice.axes[1].spans,
                                         (ijk[2] + local[2]) / lattice.axes[2].spans);
                 const Eigen::Vector3d expected = displacementAt(lattice, t);
                 const int n = bernsteinCoefficientCount(lattice.degree);
@@ -201,7 +204,8 @@ TEST_CASE("injectivity: undeformed and slightly displaced lattices are certified
         displaceRandomly(rng, lattice, 0.02, trial % 3 == 0 ? 0.2 : 1.0);
         const InjectivityResult conic = checkInjectivityConic(lattice);
         const InjectivityResult exact = checkInjectivityExact(lattice);
-        INFO("degrees " << lattice.degree[0] << lattice.degree[1] << lattice.degree[2] << ": " << conic.message << exact.message);
+        INFO("degrees " << lattice.degree[0] << lattice.degree[1] << lattice.degree[2] << ": " << conic.message
+                        << exact.message);
         REQUIRE(conic.certified);
         REQUIRE(exact.certified);
         REQUIRE(exact.determinantLowerBound > 0.0);
@@ -211,8 +215,10 @@ TEST_CASE("injectivity: undeformed and slightly displaced lattices are certified
     }
 }
 
-TEST_CASE("injectivity: against dense sampling, the exact test never certifies a fold and agrees where the conic "
-          "test certifies", "[core]") {
+TEST_CASE(
+    "injectivity: against dense sampling, the exact test never certifies a fold and agrees where the conic "
+    "test certifies",
+    "[core]") {
     std::mt19937 rng(405);
     const double amplitudes[] = {0.05, 0.2, 0.4, 0.7, 1.0, 1.6};
     int bothCertified = 0, exactOnly = 0, folds = 0, samplingFolds = 0, foldsBetweenSamples = 0, undecided = 0;
@@ -225,7 +231,8 @@ TEST_CASE("injectivity: against dense sampling, the exact test never certifies a
         const InjectivityResult conic = checkInjectivityConic(lattice);
         const InjectivityResult exact = checkInjectivityExact(lattice);
         INFO("trial " << trial << ", degrees " << lattice.degree[0] << lattice.degree[1] << lattice.degree[2]
-                      << ", sampled min det J " << sampled << " at " << where.transpose() << "; exact: " << exact.message);
+                      << ", sampled min det J " << sampled << " at " << where.transpose()
+                      << "; exact: " << exact.message);
         if (sampled <= 0.0) {
             ++samplingFolds;
             REQUIRE_FALSE(exact.certified);
@@ -482,7 +489,8 @@ TEST_CASE("injectivity: results do not depend on the number of threads", "[core]
         REQUIRE(exactSerial.verdict == exactParallel.verdict);
         REQUIRE(exactSerial.failingCell == exactParallel.failingCell);
         REQUIRE(exactSerial.minDeterminantFound == exactParallel.minDeterminantFound);
-        if (exactSerial.verdict == InjectivityVerdict::Fold) REQUIRE(exactSerial.failingParams == exactParallel.failingParams);
+        if (exactSerial.verdict == InjectivityVerdict::Fold)
+            REQUIRE(exactSerial.failingParams == exactParallel.failingParams);
         if (exactSerial.certified) REQUIRE(exactSerial.determinantLowerBound == exactParallel.determinantLowerBound);
     }
 }
@@ -490,7 +498,8 @@ TEST_CASE("injectivity: results do not depend on the number of threads", "[core]
 TEST_CASE("injectivity: non-finite displacements are never certified", "[core]") {
     std::mt19937 rng(412);
     for (int trial = 0; trial < 12; ++trial) {
-        const double bad = trial % 3 == 0 ? std::nan("") : (trial % 3 == 1 ? 1.0 : -1.0) * std::numeric_limits<double>::infinity();
+        const double bad =
+            trial % 3 == 0 ? std::nan("") : (trial % 3 == 1 ? 1.0 : -1.0) * std::numeric_limits<double>::infinity();
         Lattice lattice = smallLattice(rng, 3);
         displaceRandomly(rng, lattice, 0.01, 1.0);
         lattice.displacement(test::randomInt(rng, 0, lattice.controlPointCount() - 1), trial % 3) = bad;
@@ -512,7 +521,8 @@ TEST_CASE("injectivity: boundaryFixed tells whether the box faces stay in place"
     REQUIRE(makeLattice(settings, test::randomPoints(rng, 10, {0, 0, 0}, {1, 1, 1}), lattice).ok);
     const Eigen::Vector3d cell = cellSize(lattice);
     for (int c = 0; c < lattice.controlPointCount(); ++c)  // the solver's rule: pinned points never move
-        if (!lattice.pinned[c]) lattice.displacement.row(c) = (0.02 * cell.cwiseProduct(test::randomVector(rng, -1, 1))).transpose();
+        if (!lattice.pinned[c])
+            lattice.displacement.row(c) = (0.02 * cell.cwiseProduct(test::randomVector(rng, -1, 1))).transpose();
     REQUIRE(checkInjectivityConic(lattice).boundaryFixed);
     REQUIRE(checkInjectivityExact(lattice).boundaryFixed);
     lattice.displacement(lattice.index(0, 3, 3), 0) = 0.01 * cell[0];  // a face point moves
