@@ -38,6 +38,9 @@ int runHeadless(const CliOptions& options, const char* argv0) {
         return kExitBadInput;
     }
     session.setInjectivity(script.injectivity);
+    // The det J colour map shows the whole deformation, across the fresh lattices of subdivided operations.
+    for (const std::string& overlay : options.overlays)
+        if (overlay == "jacobian") session.setTrackJacobian(true);
     std::printf("loaded %s: %d vertices, %d triangles (%.0f ms); lattice %dx%dx%d, degree %d/%d/%d\n", input.c_str(),
                 static_cast<int>(mesh.positions.rows()), static_cast<int>(mesh.triangles.rows()), loadMs,
                 session.lattice().count[0], session.lattice().count[1], session.lattice().count[2],

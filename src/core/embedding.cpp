@@ -131,6 +131,29 @@ std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int
     return cells;
 }
 
+void controlPointInfluence(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& controlPoints,
+                           std::vector<float>& weights) {
+    weights.assign(static_cast<size_t>(embedding.vertexCount), 0.0f);
+    std::vector<std::uint8_t> chosen(lattice.controlPointCount(), 0);
+    for (int idx : controlPoints)
+        if (idx >= 0 && idx < lattice.controlPointCount()) chosen[idx] = 1;
+    const std::array<int, 3> spans = lattice.spans();
+    for (int cell : cellsInfluencedBy(lattice, controlPoints)) {
+        const int cellIndex[3] = {cell % spans[0], (cell / spans[0]) % spans[1], cell / (spans[0] * spans[1])};
+        for (int s = embedding.cellStart[cell]; s < embedding.cellStart[cell + 1]; ++s) {
+            const double local[3] = {embedding.localX[s], embedding.localY[s], embedding.localZ[s]};
+            Eigen::Vector3d t;
+            for (int a = 0; a < 3; ++a) t[a] = std::min(1.0, (cellIndex[a] + local[a]) / spans[a]);
+            SupportWeights support;
+            supportWeights(lattice, t, support);
+            double sum = 0.0;
+            for (int c = 0; c < support.count; ++c)
+                if (chosen[support.index[c]]) sum += support.weight[c];
+            weights[embedding.order[s]] = static_cast<float>(std::clamp(sum, 0.0, 1.0));
+        }
+    }
+}
+
 void evaluateAll(const Lattice& lattice, const Embedding& embedding, Positions& positions) {
     std::vector<int> cells(lattice.cellCount());
     std::iota(cells.begin(), cells.end(), 0);

@@ -45,6 +45,12 @@ void evaluateAll(const Lattice& lattice, const Embedding& embedding, Positions& 
 void evaluateCells(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& cells,
                    Positions& positions, std::vector<int>* movedVertices = nullptr);
 
+// How much the given control points influence each vertex: weights[v] = sum of R_c(t_v) over those control
+// points c, in [0, 1] for unit weights (1 where they carry the whole deformation, 0 outside their support).
+// The region a drag or a control-point selection affects (Hsu et al. 1992 highlight it). weights: #V values.
+void controlPointInfluence(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& controlPoints,
+                           std::vector<float>& weights);
+
 // Name of the kernel variant chosen for this CPU ("avx2-fma" or "generic"), for reports and benchmarks.
 const char* evaluationKernelName();
 

@@ -9,6 +9,8 @@
 
 #include <Eigen/LU>
 
+#include "core/injectivity.h"
+
 namespace sculpt::core {
 
 namespace {
@@ -146,6 +148,7 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     lattice_ = std::move(lattice);
     embedVertices(lattice_, rest_, embedding_);
     frames_.clear();
+    if (trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(rest_.rows()), 1.0);
     history_.clear();
     cursor_ = 0;
     lastMoved_.clear();
@@ -206,7 +209,45 @@ size_t Session::historyBytes() const {
 
 // ---- frames ---------------------------------------------------------------------------------------------
 
+void Session::setTrackJacobian(bool track) {
+    if (track && !trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(rest_.rows()), 1.0);
+    if (!track) frozenJacobian_.clear();
+    trackJacobian_ = track;
+}
+
+void Session::accumulateFrameJacobian(bool divide) {
+    // Only vertices in cells reached by a non-zero control displacement have det J != 1 in this frame.
+    std::vector<int> moving;
+    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
+        if (!lattice_.displacement.row(idx).isZero(0.0)) moving.push_back(idx);
+    const std::vector<int> cells = cellsInfluencedBy(lattice_, moving);
+    const std::array<int, 3> spans = lattice_.spans();
+    const int cellCount = static_cast<int>(cells.size());
+#pragma omp parallel for schedule(dynamic, 4) if (cellCount > 64)
+    for (int c = 0; c < cellCount; ++c) {
+        const int cell = cells[c];
+        const int cellIndex[3] = {cell % spans[0], (cell / spans[0]) % spans[1], cell / (spans[0] * spans[1])};
+        for (int s = embedding_.cellStart[cell]; s < embedding_.cellStart[cell + 1]; ++s) {
+            const double local[3] = {embedding_.localX[s], embedding_.localY[s], embedding_.localZ[s]};
+            Eigen::Vector3d t;
+            for (int a = 0; a < 3; ++a) t[a] = std::min(1.0, (cellIndex[a] + local[a]) / spans[a]);
+            const double det = jacobianDeterminant(lattice_, t);
+            double& product = frozenJacobian_[embedding_.order[s]];
+            product = divide ? product / det : product * det;
+        }
+    }
+}
+
+std::vector<double> Session::totalJacobianDeterminants() const {
+    std::vector<double> det;
+    vertexJacobianDeterminants(lattice_, rest_, det);
+    if (trackJacobian_)
+        for (size_t v = 0; v < det.size(); ++v) det[v] *= frozenJacobian_[v];
+    return det;
+}
+
 void Session::enterFreshFrame(const LatticeSettings& settings, Progress* progress) {
+    if (trackJacobian_) accumulateFrameJacobian(false);
     // Freeze the current frame compactly: its box, its non-zero control displacements, its pin edits.
     FrozenFrame frozen;
     frozen.settings = settings_;
@@ -290,10 +331,15 @@ void Session::leaveFrame() {
     settings_ = frozen.settings;
     rest_ = invertDeformation(lattice_, positions_);
     embedVertices(lattice_, rest_, embedding_);
+    if (trackJacobian_) accumulateFrameJacobian(true);
     lastMovedAll_ = true;
 }
 
 void Session::restoreSnapshot(Snapshot& snapshot) {
+    if (snapshot.frameSaved && trackJacobian_) {
+        // Undo the products of the frames this operation froze, newest first, each with its own lattice.
+        while (frames_.size() > snapshot.frameCount) leaveFrame();
+    }
     if (snapshot.frameSaved) {
         frames_.resize(snapshot.frameCount);
         rest_ = snapshot.rest;

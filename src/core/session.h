@@ -126,6 +126,14 @@ public:
     // Current world positions of the sources of the drag in progress.
     std::vector<Eigen::Vector3d> dragSources() const;
 
+    // Keeps, per vertex, the product of the det J of every frozen frame (the Jacobian of the total
+    // deformation since the mesh was set is that times the current lattice's det J). Costs a det J per vertex
+    // moved in a frame when the frame is frozen or left, so it is off unless a view asks for it.
+    void setTrackJacobian(bool track);
+    // det J of the whole deformation since setMesh at every vertex (1 = unchanged, <= 0 would be a fold).
+    // Tracking must be on for frames frozen before now to count.
+    std::vector<double> totalJacobianDeterminants() const;
+
     // Pins or unpins control points (ids as Lattice::index). Not an operation on the shape.
     Status setPinned(const std::vector<int>& indices, bool pinned);
 
@@ -210,6 +218,9 @@ private:
     int cursor_ = 0;
     std::vector<int> lastMoved_;
     bool lastMovedAll_ = false;
+    bool trackJacobian_ = false;
+    std::vector<double> frozenJacobian_;  // #V, product of the frozen frames' det J (when tracking)
+    void accumulateFrameJacobian(bool divide);
 
     bool dragActive_ = false;
     DirectManipulationData dragData_;

@@ -2,7 +2,9 @@
 // >= 10 runs. Not a test: nothing here asserts a time.
 //
 // Usage: sculpt_bench [case-name-substring ...]   (no argument: every case)
+#include <chrono>
 #include <cstring>
+#include <iostream>
 #include <random>
 #include <string>
 #include <vector>
@@ -10,6 +12,8 @@
 #include <omp.h>
 
 #include "bench_support.h"
+#include "injectivity_bench.h"
+#include "core/injectivity.h"
 #include "core/direct_manipulation.h"
 #include "core/embedding.h"
 #include "core/lattice.h"
@@ -154,6 +158,74 @@ void benchParameters(const Positions& points) {
     }
 }
 
+// Issue 3's cases: a drag that must be subdivided on a 100k-vertex mesh, undoing a 16-step composed
+// operation on 1M vertices, and the history's size after 100 operations on 1M vertices.
+void benchSubdivision() {
+    const LatticeSettings settings = [] {
+        LatticeSettings s;
+        s.resolution = {8, 8, 8};
+        return s;
+    }();
+    Triangles none(0, 3);
+    if (wanted("subdivided_drag_100k")) {
+        const Positions points = sphereCloud(100000);
+        Session session;
+        session.setMesh(points, none, settings);
+        const int v = 100000 / 3;
+        const Eigen::Vector3d source = points.row(v).transpose();
+        // Over-extension: far beyond the support, so the conic test fails and InjectSubdiv splits it.
+        const Eigen::Vector3d target = source + Eigen::Vector3d(0.9, 0.5, -0.6);
+        OpReport report;
+        const double ms = bench::medianMs(10, [&] { session.drag({{source, target}}, report); },
+                                          [&] { if (session.historyCursor() > 0) session.undo(report); });
+        session.undo(report);
+        session.drag({{source, target}}, report);
+        char extra[200];
+        std::snprintf(extra, sizeof extra, "\"sub_steps\": %d, \"depth\": %d, \"status\": \"%s\", \"injectivity_ms\": %.3f",
+                      report.subSteps, report.depthReached, opStatusName(report.status), report.injectivityMs);
+        bench::printCase("subdivided_drag_100k", 100000, ms, extra);
+    }
+    if (wanted("undo_composed_1m")) {
+        const Positions points = sphereCloud(1000000);
+        Session session;
+        session.setMesh(points, none, settings);
+        session.setInjectivity({InjectivityMode::Conic, 4});  // at most 16 steps
+        const int v = 1000000 / 3;
+        const Eigen::Vector3d source = points.row(v).transpose();
+        const Eigen::Vector3d target = source + Eigen::Vector3d(0.9, 0.5, -0.6);
+        OpReport report;
+        session.drag({{source, target}}, report);
+        const int steps = report.subSteps;
+        const double ms = bench::medianMs(10, [&] { session.undo(report); }, [&] {
+            if (session.historyCursor() == 0) session.redo(report);
+        });
+        char extra[120];
+        std::snprintf(extra, sizeof extra, "\"sub_steps\": %d", steps);
+        bench::printCase("undo_composed_1m", 1000000, ms, extra);
+    }
+    if (wanted("history_bytes_1m_100ops")) {
+        const Positions points = sphereCloud(1000000);
+        Session session;
+        session.setMesh(points, none, settings);
+        std::mt19937 rng(5);
+        std::uniform_int_distribution<int> vertex(0, 999999);
+        std::uniform_real_distribution<double> d(-1.0, 1.0);
+        int subdivided = 0;
+        const auto start = std::chrono::steady_clock::now();
+        for (int op = 0; op < 100; ++op) {
+            const int v = vertex(rng);
+            const double size = op % 5 == 4 ? 0.6 : 0.05;  // every fifth operation needs subdividing
+            OpReport report;
+            session.dragVertex(v, session.positions().row(v).transpose() + size * Eigen::Vector3d(d(rng), d(rng), d(rng)), report);
+            subdivided += report.subSteps > 1;
+        }
+        const double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        std::printf("{\"case\": \"history_bytes_1m_100ops\", \"n\": 1000000, \"bytes\": %zu, \"operations\": %d, "
+                    "\"subdivided\": %d, \"frames\": %d, \"total_ms\": %.1f}\n",
+                    session.historyBytes(), session.historyCursor(), subdivided, session.frameDepth(), totalMs);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -165,8 +237,10 @@ int main(int argc, char** argv) {
     benchSparseUpdate(points);
     benchSolves();
     benchParameters(points);
+    sculpt::bench::runInjectivityBenchmarks(gFilters);
+    benchSubdivision();
 #ifdef SCULPT_BENCH_RENDER
-    sculpt::render::runRenderBenchmarks(std::cout);
+    if (wanted("render") || wanted("upload")) sculpt::render::runRenderBenchmarks(std::cout);
 #endif
     return 0;
 }

@@ -252,3 +252,40 @@ TEST_CASE("subdivision: a recorded session replays on the same mesh and applies 
     REQUIRE((alone - together.bottomRows(b.rows())).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     REQUIRE((alone - b).cwiseAbs().maxCoeff() > 1e-3);  // and it did move
 }
+
+TEST_CASE("subdivision: the tracked det J of a composed operation matches finite differences of the composed map", "[core]") {
+    std::mt19937 rng(63);
+    for (int trial = 0; trial < 5; ++trial) {
+        // Probe points: centres c and c + h e_a, carried along by the deformation like any vertex.
+        const double h = 1e-5;
+        Positions points(4 * 20, 3);
+        for (int p = 0; p < 20; ++p) {
+            const Eigen::Vector3d c = test::randomVector(rng, -0.6, 0.6);
+            points.row(4 * p) = c.transpose();
+            for (int a = 0; a < 3; ++a) points.row(4 * p + 1 + a) = (c + h * Eigen::Vector3d::Unit(a)).transpose();
+        }
+        Positions frame(8, 3);  // corners, so the lattice box is the same in every trial
+        for (int k = 0; k < 8; ++k) frame.row(k) << (k & 1 ? 1 : -1), (k & 2 ? 1 : -1), (k & 4 ? 1 : -1);
+        Positions all(points.rows() + 8, 3);
+        all << points, frame;
+        Session session;
+        LatticeSettings settings;
+        settings.resolution = {6, 6, 6};
+        REQUIRE(session.setMesh(all, Triangles(0, 3), settings).ok);
+        session.setTrackJacobian(true);
+        OpReport report;
+        const Eigen::Vector3d source = points.row(0).transpose();
+        REQUIRE(session.drag({{source, source + test::randomVector(rng, 0.4, 0.7)}}, report).ok);
+        REQUIRE(report.status == OpStatus::Applied);
+        REQUIRE(report.subSteps > 1);
+        const std::vector<double> det = session.totalJacobianDeterminants();
+        for (int p = 0; p < 20; ++p) {
+            Eigen::Matrix3d jacobian;
+            for (int a = 0; a < 3; ++a) jacobian.col(a) = (session.positions().row(4 * p + 1 + a) - session.positions().row(4 * p)).transpose() / h;
+            REQUIRE(det[4 * p] == Approx(jacobian.determinant()).epsilon(1e-3));
+        }
+        // Undo divides the frames back out: the identity again.
+        REQUIRE(session.undo(report).ok);
+        for (double d : session.totalJacobianDeterminants()) REQUIRE(d == Approx(1.0).margin(1e-9));
+    }
+}
