@@ -146,3 +146,31 @@ TEST_CASE("headless: command line errors name the argument", "[app]") {
     REQUIRE(parse({"--headless", "--script"}).message.find("needs a value") != std::string::npos);
     REQUIRE(parse({"--headless", "--script", "a", "--output", "b", "--camera", "30,20,4", "--size", "640x480"}).ok);
 }
+
+TEST_CASE("headless: --save-session writes a script that replays to the same mesh", "[app]") {
+    TempDir dir;
+    writeText(dir.file("cube.obj"), cubeObj());
+    writeText(dir.file("ops.json"), R"({
+      "lattice": {"resolution": [5,5,5], "padding": 0.2},
+      "injectivity": {"mode": "exact", "max_depth": 5},
+      "ops": [ {"op": "drag_vertex", "vertex": 6, "target": [2.2, 1.9, 1.6]},
+               {"op": "move_control_point", "indices": [[2,2,2],[1,2,2]], "by": [0, 0.1, 0]},
+               {"op": "drag_vertex", "vertex": 0, "target": [-1.1, -1.0, -1.0]},
+               {"op": "undo"},
+               {"op": "setup_lattice", "lattice": {"resolution": [6,6,6]}},
+               {"op": "drag_vertex", "vertex": 1, "target": [1.3, -1.2, -1.0]} ] })");
+    REQUIRE(run({"--headless", "--input", dir.file("cube.obj"), "--script", dir.file("ops.json"), "--output",
+                 dir.file("out.obj"), "--save-session", dir.file("session.json"), "--report", dir.file("report.json")}) == app::kExitOk);
+    const auto report = nlohmann::json::parse(readText(dir.file("report.json")));
+    REQUIRE(report["ops"][0]["sub_steps"].get<int>() >= 1);
+    REQUIRE(report["ops"][0]["injectivity"] == "injective");
+    REQUIRE(report["injectivity"]["mode"] == "exact");
+    REQUIRE(run({"--headless", "--input", dir.file("cube.obj"), "--script", dir.file("session.json"), "--output",
+                 dir.file("replayed.obj")}) == app::kExitOk);
+    io::ObjMesh original, replayed;
+    REQUIRE(io::loadObj(dir.file("out.obj"), original).ok);
+    REQUIRE(io::loadObj(dir.file("replayed.obj"), replayed).ok);
+    REQUIRE((original.positions - replayed.positions).cwiseAbs().maxCoeff() <= 1e-9 * std::sqrt(12.0));
+    const auto session = nlohmann::json::parse(readText(dir.file("session.json")));
+    REQUIRE(session["ops"].size() == 4);  // the undone drag is not part of the recording
+}

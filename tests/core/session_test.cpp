@@ -154,3 +154,51 @@ TEST_CASE("session: an interactive drag of many small moves is one history entry
         REQUIRE((incremental.positions() - incremental.restPositions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     }
 }
+
+TEST_CASE("session: a lattice re-setup is an operation; undo returns to the old lattice and mesh", "[core]") {
+    std::mt19937 rng(56);
+    for (int trial = 0; trial < 10; ++trial) {
+        Session session = randomSession(rng, 600);
+        session.setInjectivity({InjectivityMode::Conic, 6});
+        const double diagonal = session.lattice().diagonal();
+        OpReport report;
+        REQUIRE(session.dragVertex(3, session.positions().row(3).transpose() + 0.02 * diagonal * test::randomVector(rng, -1, 1), report).ok);
+        const Positions beforeSetup = session.positions();
+        const Lattice oldLattice = session.lattice();
+        LatticeSettings finer;
+        finer.resolution = {10, 11, 12};
+        finer.degree = {2, 3, 2};
+        REQUIRE(session.setupLattice(finer, report).ok);
+        REQUIRE(session.lattice().count == finer.resolution);
+        REQUIRE(session.positions() == beforeSetup);  // re-embedding keeps the shape
+        REQUIRE(session.dragVertex(9, session.positions().row(9).transpose() + 0.02 * diagonal * test::randomVector(rng, -1, 1), report).ok);
+        REQUIRE(session.undo(report).ok);
+        REQUIRE(session.undo(report).ok);  // the set-up
+        REQUIRE(session.lattice().count == oldLattice.count);
+        REQUIRE((session.lattice().displacement - oldLattice.displacement).cwiseAbs().maxCoeff() <= 1e-15);
+        REQUIRE((session.positions() - beforeSetup).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        REQUIRE(session.undo(report).ok);
+        REQUIRE((session.positions() - session.originalPositions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        // Bad settings are refused and change nothing.
+        LatticeSettings bad;
+        bad.degree = {0, 3, 3};
+        REQUIRE_FALSE(session.setupLattice(bad, report).ok);
+        REQUIRE(session.historyCursor() == 0);
+    }
+}
+
+TEST_CASE("session: a new operation after undo drops the redo branch", "[core]") {
+    std::mt19937 rng(57);
+    Session session = randomSession(rng, 300);
+    OpReport report;
+    for (int op = 0; op < 4; ++op)
+        REQUIRE(session.dragVertex(op, session.positions().row(op).transpose() + Eigen::Vector3d(0.01, 0, 0), report).ok);
+    REQUIRE(session.undo(report).ok);
+    REQUIRE(session.undo(report).ok);
+    REQUIRE(session.history().size() == 4);
+    REQUIRE(session.dragVertex(7, session.positions().row(7).transpose() + Eigen::Vector3d(0, 0.01, 0), report).ok);
+    REQUIRE(session.history().size() == 3);
+    REQUIRE(session.historyCursor() == 3);
+    REQUIRE(session.redo(report).ok);
+    REQUIRE(report.status == OpStatus::NoOp);
+}
