@@ -1,6 +1,5 @@
 #include "core/vertex_normals.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -59,13 +58,21 @@ void computeVertexNormals(const Positions& positions, const Triangles& triangles
 void updateVertexNormals(const Positions& positions, const Triangles& triangles, const VertexTriangles& adjacency,
                          const std::vector<int>& changedVertices, Positions& normals) {
     // The normal of v depends on every triangle around v, so the ring of each changed vertex is stale.
+    // A byte per vertex marks each stale vertex once (no sort: a 2% update of 1M vertices lists ~400k ids).
+    std::vector<std::uint8_t>& mark = adjacency.stale;
+    if (mark.size() != adjacency.offsets.size() - 1) mark.assign(adjacency.offsets.size() - 1, 0);
     std::vector<int> stale;
     stale.reserve(changedVertices.size() * 2);
     for (int v : changedVertices)
         for (int k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k)
-            for (int c = 0; c < 3; ++c) stale.push_back(triangles(adjacency.triangles[k], c));
-    std::sort(stale.begin(), stale.end());
-    stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
+            for (int c = 0; c < 3; ++c) {
+                const int w = triangles(adjacency.triangles[k], c);
+                if (!mark[w]) {
+                    mark[w] = 1;
+                    stale.push_back(w);
+                }
+            }
+    for (int w : stale) mark[w] = 0;
     const int count = static_cast<int>(stale.size());
 #pragma omp parallel for schedule(static) if (count > 20000)
     for (int i = 0; i < count; ++i)

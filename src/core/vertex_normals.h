@@ -1,6 +1,7 @@
 // Area-weighted vertex normals of a triangle mesh, full and sparse (only around changed vertices).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "core/mesh_types.h"
@@ -11,6 +12,9 @@ namespace sculpt::core {
 struct VertexTriangles {
     std::vector<int> offsets;    // #V + 1
     std::vector<int> triangles;  // offsets[v] .. offsets[v+1]-1 are the triangles around v
+    // Scratch for updateVertexNormals (one byte per vertex, all zero between calls), kept here so a sparse
+    // update neither sorts nor allocates. One update at a time per adjacency.
+    mutable std::vector<std::uint8_t> stale;
 };
 
 VertexTriangles buildVertexTriangles(int vertexCount, const Triangles& triangles);
