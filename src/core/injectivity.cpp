@@ -115,20 +115,6 @@ double exactMicrosecondsPerCell(const Lattice& lattice) {
     return 2.6e-4 * (6.0 * column * column + 3.0 * column * cross);    // the products dominate
 }
 
-// True if no control point of the outer layer has moved: the clamped volume then maps each face of the box
-// onto itself exactly (only the outer layer is non-zero on a face).
-bool boundaryUnmoved(const Lattice& lattice) {
-    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
-        const std::array<int, 3> c = lattice.ijk(idx);
-        bool outer = false;
-        for (int a = 0; a < 3; ++a) outer = outer || c[a] == 0 || c[a] == lattice.count[a] - 1;
-        if (outer && (lattice.displacement(idx, 0) != 0.0 || lattice.displacement(idx, 1) != 0.0 ||
-                      lattice.displacement(idx, 2) != 0.0))
-            return false;
-    }
-    return true;
-}
-
 void setFailingCell(const Lattice& lattice, int cell, const Eigen::Vector3d& local, InjectivityResult& result) {
     result.failingCell = cell;
     result.failingCellIjk = cellIjk(lattice, cell);

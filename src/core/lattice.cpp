@@ -243,6 +243,16 @@ Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deform
                          std::to_string(deformedPoint.z()) + ") is not inside the deformed lattice");
 }
 
+bool boundaryUnmoved(const Lattice& lattice) {
+    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
+        const std::array<int, 3> c = lattice.ijk(idx);
+        bool outer = false;
+        for (int a = 0; a < 3; ++a) outer = outer || c[a] == 0 || c[a] == lattice.count[a] - 1;
+        if (outer && !lattice.displacement.row(idx).isZero(0.0)) return false;
+    }
+    return true;
+}
+
 bool isUndeformed(const Lattice& lattice) {
     return (lattice.displacement.array() == 0.0).all();
 }

@@ -100,6 +100,10 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
 Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deformedPoint, Eigen::Vector3d& params,
                            double tolerance = 1e-12);
 
+// True if no control point on the lattice's outer faces has moved: the clamped volume then maps its box
+// onto itself, so points outside the box are neither moved nor the image of a point inside it.
+bool boundaryUnmoved(const Lattice& lattice);
+
 // True if every control point displacement is exactly zero.
 bool isUndeformed(const Lattice& lattice);
 

@@ -83,15 +83,8 @@ Positions invertDeformation(const Lattice& lattice, const Positions& deformed) {
     const int n = static_cast<int>(deformed.rows());
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
     const double tolerance = 1e-14 * lattice.diagonal();
-    // With the boundary control points where they started, the clamped volume maps its box onto itself,
-    // so a point outside the box has no preimage inside it and is its own preimage.
-    bool boundaryFixed = true;
-    for (int idx = 0; idx < lattice.controlPointCount() && boundaryFixed; ++idx) {
-        const std::array<int, 3> c = lattice.ijk(idx);
-        bool boundary = false;
-        for (int a = 0; a < 3; ++a) boundary = boundary || c[a] == 0 || c[a] == lattice.count[a] - 1;
-        if (boundary && !lattice.displacement.row(idx).isZero(0.0)) boundaryFixed = false;
-    }
+    // With the boundary where it started, a point outside the box is its own preimage.
+    const bool boundaryFixed = boundaryUnmoved(lattice);
 #pragma omp parallel for schedule(dynamic, 256) if (n > 2000)
     for (int v = 0; v < n; ++v) {
         const Eigen::Vector3d y = deformed.row(v).transpose();

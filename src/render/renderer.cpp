@@ -365,6 +365,26 @@ Status Renderer::updatePositions(const Positions& positions, const std::vector<i
     return Status::success();
 }
 
+namespace {
+
+// A per-vertex float attribute of the mesh that may be absent: empty values disable the attribute array (the
+// shader then reads its constant default).
+void uploadOptionalAttribute(const GlFunctions& gl, GLuint vao, GLuint buffer, GLuint attribute,
+                             const std::vector<float>& values) {
+    gl.BindVertexArray(vao);
+    if (values.empty()) {
+        gl.DisableVertexAttribArray(attribute);
+    } else {
+        gl.BindBuffer(GL_ARRAY_BUFFER, buffer);
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(values.size() * sizeof(float)), values.data(), GL_DYNAMIC_DRAW);
+        gl.EnableVertexAttribArray(attribute);
+        gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    }
+    gl.BindVertexArray(0);
+}
+
+}  // namespace
+
 Status Renderer::setJacobianField(const std::vector<float>& jacobianDet) {
     State& s = *state_;
     if (!s.ready) return Status::error("renderer not initialised");
@@ -374,18 +394,7 @@ Status Renderer::setJacobianField(const std::vector<float>& jacobianDet) {
     for (size_t i = 0; i < jacobianDet.size(); ++i)
         if (!std::isfinite(jacobianDet[i]))
             return Status::error("Jacobian field value " + std::to_string(i) + " is not finite");
-    const GlFunctions& gl = s.gl;
-    gl.BindVertexArray(s.meshVao);
-    if (jacobianDet.empty()) {
-        gl.DisableVertexAttribArray(kAttribJacobian);
-    } else {
-        gl.BindBuffer(GL_ARRAY_BUFFER, s.jacobianBuffer);
-        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(jacobianDet.size() * sizeof(float)), jacobianDet.data(),
-                      GL_DYNAMIC_DRAW);
-        gl.EnableVertexAttribArray(kAttribJacobian);
-        gl.BindBuffer(GL_ARRAY_BUFFER, 0);
-    }
-    gl.BindVertexArray(0);
+    uploadOptionalAttribute(s.gl, s.meshVao, s.jacobianBuffer, kAttribJacobian, jacobianDet);
     s.hasJacobian = !jacobianDet.empty();
     return Status::success();
 }
@@ -399,18 +408,7 @@ Status Renderer::setAffectedWeights(const std::vector<float>& affectedWeight) {
     for (size_t i = 0; i < affectedWeight.size(); ++i)
         if (std::isnan(affectedWeight[i]))
             return Status::error("affected-region weight " + std::to_string(i) + " is NaN");
-    const GlFunctions& gl = s.gl;
-    gl.BindVertexArray(s.meshVao);
-    if (affectedWeight.empty()) {
-        gl.DisableVertexAttribArray(kAttribAffected);
-    } else {
-        gl.BindBuffer(GL_ARRAY_BUFFER, s.affectedBuffer);
-        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(affectedWeight.size() * sizeof(float)), affectedWeight.data(),
-                      GL_DYNAMIC_DRAW);
-        gl.EnableVertexAttribArray(kAttribAffected);
-        gl.BindBuffer(GL_ARRAY_BUFFER, 0);
-    }
-    gl.BindVertexArray(0);
+    uploadOptionalAttribute(s.gl, s.meshVao, s.affectedBuffer, kAttribAffected, affectedWeight);
     s.hasAffected = !affectedWeight.empty();
     return Status::success();
 }

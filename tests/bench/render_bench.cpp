@@ -1,5 +1,7 @@
 #include "render_bench.h"
 
+#include "bench_support.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,18 +23,7 @@ constexpr int kHeight = 800;
 constexpr int kSamples = 4;
 constexpr int kRuns = 10;
 
-double medianMs(int runs, const std::function<void()>& work, const std::function<void()>& before = {}) {
-    std::vector<double> times;
-    for (int r = 0; r <= runs; ++r) {  // run 0 is a warm-up
-        if (before) before();
-        const auto start = std::chrono::steady_clock::now();
-        work();
-        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        if (r > 0) times.push_back(ms);
-    }
-    std::sort(times.begin(), times.end());
-    return times[times.size() / 2];
-}
+using bench::medianMs;
 
 // JSON string contents: quotes and backslashes escaped, control characters dropped.
 std::string jsonText(const std::string& text) {
