@@ -4,6 +4,9 @@
 
 #include "app/cli_options.h"
 #include "app/headless.h"
+#ifdef SCULPT_HAVE_WINDOW
+#include "app/window/glfw_main.h"
+#endif
 
 int main(int argc, char** argv) {
     try {
@@ -17,9 +20,13 @@ int main(int argc, char** argv) {
             return sculpt::app::kExitOk;
         }
         if (options.headless) return sculpt::app::runHeadless(options, argv[0]);
-        std::cerr << "sculpt: the interactive window is not built yet; run a script with --headless.\n"
+#ifdef SCULPT_HAVE_WINDOW
+        return sculpt::app::runWindow(options.input.empty() ? sculpt::app::defaultMeshPath(argv[0]) : options.input);
+#else
+        std::cerr << "sculpt: built without the window (SCULPT_BUILD_GL=OFF); run a script with --headless.\n"
                   << sculpt::app::usageText();
         return sculpt::app::kExitBadInput;
+#endif
     } catch (const std::exception& e) {
         std::cerr << "sculpt: internal error: " << e.what() << "\n";
         return sculpt::app::kExitInternal;

@@ -1,0 +1,115 @@
+#include "app/window/app_state.h"
+
+#include <algorithm>
+
+namespace sculpt::app {
+
+Status setMesh(AppState& state, const Positions& positions, const Triangles& triangles, const std::string& name,
+               const core::LatticeSettings& settings) {
+    if (Status s = state.session.setMesh(positions, triangles, settings); !s) return s;
+    state.meshName = name;
+    state.gpu = PendingGpuUpdate{};
+    state.drag = DragState{};
+    state.hasReport = false;
+    state.session.setTrackJacobian(state.overlays.jacobian);
+    frameMesh(state);
+    setStatus(state, "Loaded " + name + ": " + std::to_string(positions.rows()) + " vertices, " +
+                         std::to_string(triangles.rows()) + " triangles.", false);
+    return Status::success();
+}
+
+void noteSessionMoved(AppState& state) {
+    const core::Session& session = state.session;
+    if (session.lastMovedAll()) {
+        state.gpu.allPositions = true;
+        state.gpu.vertices.clear();
+    } else if (!state.gpu.allPositions) {
+        const std::vector<int>& moved = session.lastMovedVertices();
+        state.gpu.vertices.insert(state.gpu.vertices.end(), moved.begin(), moved.end());
+        // note: many small drag moves between two frames could pile up duplicates; past #V the full upload
+        // is cheaper than the list anyway.
+        if (state.gpu.vertices.size() > static_cast<size_t>(session.positions().rows())) {
+            state.gpu.allPositions = true;
+            state.gpu.vertices.clear();
+        }
+    }
+    state.gpu.fields = true;
+}
+
+void setStatus(AppState& state, const std::string& text, bool isError) {
+    state.status = text;
+    state.statusIsError = isError;
+}
+
+void reportOperation(AppState& state, const core::OpReport& report, const Status& status) {
+    state.hasReport = true;
+    state.lastReport = report;
+    state.stats.solveMs = report.wallMs;
+    if (!status) {
+        setStatus(state, report.op + " failed: " + status.message, true);
+        return;
+    }
+    std::string text = report.op + ": " + core::opStatusName(report.status);
+    if (report.status == core::OpStatus::Rejected) {
+        text += " (" + (report.reason.empty() ? report.injectivity : report.reason) + ")";
+    } else if (report.status == core::OpStatus::NoOp && !report.reason.empty()) {
+        text += " (" + report.reason + ")";
+    } else if (report.status == core::OpStatus::Applied) {
+        text += ", " + std::to_string(report.verticesMoved) + " vertices moved";
+        if (report.subSteps > 1) text += ", " + std::to_string(report.subSteps) + " injective steps";
+        if (!report.injectivity.empty()) text += ", " + report.injectivity;
+    }
+    setStatus(state, text, report.status == core::OpStatus::Rejected);
+}
+
+void undoCommand(AppState& state) {
+    if (state.drag.active) return;  // the drag becomes a history entry on release
+    core::OpReport report;
+    const Status s = state.session.undo(report);
+    if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state);
+    reportOperation(state, report, s);
+}
+
+void redoCommand(AppState& state) {
+    if (state.drag.active) return;
+    core::OpReport report;
+    const Status s = state.session.redo(report);
+    if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state);
+    reportOperation(state, report, s);
+}
+
+void jumpToHistory(AppState& state, int cursor) {
+    if (state.drag.active) return;
+    cursor = std::clamp(cursor, 0, static_cast<int>(state.session.history().size()));
+    // note: each undo/redo is one command; stop at the first that does not move the cursor so a failing
+    // step cannot loop forever.
+    while (state.session.historyCursor() != cursor) {
+        const int before = state.session.historyCursor();
+        if (before > cursor) undoCommand(state); else redoCommand(state);
+        if (state.session.historyCursor() == before) break;
+    }
+}
+
+void setInjectivityCommand(AppState& state, const core::InjectivitySettings& settings) {
+    state.session.setInjectivity(settings);
+    setStatus(state, std::string("Injectivity check: ") + core::injectivityModeName(settings.mode) +
+                         ", subdivision depth " + std::to_string(settings.maxDepth) + ".", false);
+}
+
+void setOverlays(AppState& state, const Overlays& overlays) {
+    if (overlays.jacobian != state.overlays.jacobian) state.session.setTrackJacobian(overlays.jacobian);
+    state.overlays = overlays;
+    state.gpu.fields = true;
+}
+
+float framebufferAspect(const AppState& state) {
+    if (state.framebufferWidth <= 0 || state.framebufferHeight <= 0) return 1.0f;
+    return static_cast<float>(state.framebufferWidth) / static_cast<float>(state.framebufferHeight);
+}
+
+void frameMesh(AppState& state) {
+    const render::Bounds bounds = render::boundsOf(state.session.positions());
+    state.camera.frame(bounds, framebufferAspect(state));
+}
+
+}  // namespace sculpt::app

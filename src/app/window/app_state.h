@@ -1,0 +1,96 @@
+// The window's state: the engine session, the camera and the UI's own settings. The GUI keeps no engine
+// state of its own (house style 9): everything about the shape lives in the Session; the rest is view state.
+// The commands below are what the panels and the input handling call; each keeps the status line and the
+// pending GPU update in step with the session.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/session.h"
+#include "render/camera.h"
+#include "render/scene.h"
+
+namespace sculpt::app {
+
+// Layers drawn over the shaded mesh.
+struct Overlays {
+    bool wireframe = false;
+    bool lattice = false;
+    bool jacobian = false;  // det J colour map (turns on Jacobian tracking in the session)
+    bool affected = false;  // influence of the last operation's control points
+};
+
+// What the GPU copy of the scene is missing; drained by SculptApp::renderFrame.
+struct PendingGpuUpdate {
+    bool mesh = true;            // full setMesh (new mesh)
+    bool allPositions = false;   // every vertex may have moved (a frame was entered or left)
+    std::vector<int> vertices;   // otherwise the moved vertices (duplicates allowed)
+    bool fields = true;          // lattice, det J, affected weights, constraints
+};
+
+struct FrameStats {
+    double solveMs = 0.0;   // last command in the engine (solve + injectivity + evaluation), OpReport::wallMs
+    double updateMs = 0.0;  // last GPU update (positions, normals, overlays)
+    double renderMs = 0.0;  // CPU time of the last frame's draw calls (scene + UI)
+    int lastUploadVertices = 0;
+};
+
+// A drag in progress: the picked surface point and the plane the cursor moves it in.
+struct DragState {
+    bool active = false;
+    int pickedVertex = -1;                                  // corner of the hit triangle nearest the hit
+    Eigen::Vector3d sourceParams = Eigen::Vector3d::Zero(); // lattice parameters of the picked point
+    Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();   // the source when picked
+    Eigen::Vector3d planeNormal = Eigen::Vector3d::UnitZ(); // towards the camera at the time of the pick
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();
+    int moves = 0, refused = 0;                             // updateDrag calls, and how many were rejected
+};
+
+enum class Navigation { None, Orbit, Pan };
+
+struct AppState {
+    core::Session session;
+    render::Camera camera;
+    Overlays overlays;
+    std::string meshName;
+    int framebufferWidth = 0, framebufferHeight = 0;
+
+    std::string status = "Left-drag on the mesh to sculpt. Middle-drag or Alt+left-drag orbits, Shift+middle "
+                         "pans, wheel zooms, F frames.";
+    bool statusIsError = false;
+    bool hasReport = false;
+    core::OpReport lastReport;
+
+    FrameStats stats;
+    PendingGpuUpdate gpu;
+    DragState drag;
+    Navigation navigation = Navigation::None;
+    double cursorX = 0.0, cursorY = 0.0;
+};
+
+// Replaces the session's mesh (new lattice with `settings`, empty history) and frames it. On failure nothing changes.
+Status setMesh(AppState& state, const Positions& positions, const Triangles& triangles, const std::string& name,
+               const core::LatticeSettings& settings = {});
+
+// Records what the last session command moved into state.gpu (sparse when the session says so).
+void noteSessionMoved(AppState& state);
+// Puts a command's report on the status line ("what: verdict (why)").
+void reportOperation(AppState& state, const core::OpReport& report, const Status& status);
+void setStatus(AppState& state, const std::string& text, bool isError);
+
+void undoCommand(AppState& state);
+void redoCommand(AppState& state);
+// Undoes or redoes until historyCursor() == cursor (clamped to [0, history size]).
+void jumpToHistory(AppState& state, int cursor);
+void setInjectivityCommand(AppState& state, const core::InjectivitySettings& settings);
+void setOverlays(AppState& state, const Overlays& overlays);
+// Points the camera at the current mesh so it fills the view (aspect of the current framebuffer).
+void frameMesh(AppState& state);
+
+// Aspect ratio of the framebuffer, 1 when it is empty (minimised window): never 0, inf or NaN.
+float framebufferAspect(const AppState& state);
+
+}  // namespace sculpt::app

@@ -1,0 +1,260 @@
+#include "app/window/glfw_main.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdint>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+
+#include "app/cli_options.h"
+#include "app/headless.h"
+#include "app/window/sculpt_app.h"
+#include "app/window/ui_style.h"
+#include "io/png_image.h"
+#include "render/gl_functions.h"
+#include "render/render_target.h"
+
+namespace sculpt::app {
+namespace {
+
+constexpr int kExitNoDisplay = 2;
+
+// Everything the GLFW callbacks need, reached through glfwGetWindowUserPointer.
+struct WindowContext {
+    SculptApp* app = nullptr;
+    GLFWwindow* window = nullptr;
+};
+
+SculptApp& appOf(GLFWwindow* window) { return *static_cast<WindowContext*>(glfwGetWindowUserPointer(window))->app; }
+
+CaptureFlags captureFlags() {
+    const ImGuiIO& io = ImGui::GetIO();
+    return CaptureFlags{io.WantCaptureMouse, io.WantCaptureKeyboard};
+}
+
+Modifiers modifiersOf(int mods) {
+    return Modifiers{(mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_CONTROL) != 0, (mods & GLFW_MOD_ALT) != 0,
+                     (mods & GLFW_MOD_SUPER) != 0};
+}
+
+Modifiers currentModifiers(GLFWwindow* window) {
+    auto down = [window](int a, int b) {
+        return glfwGetKey(window, a) == GLFW_PRESS || glfwGetKey(window, b) == GLFW_PRESS;
+    };
+    return Modifiers{down(GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT), down(GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL),
+                     down(GLFW_KEY_LEFT_ALT, GLFW_KEY_RIGHT_ALT), down(GLFW_KEY_LEFT_SUPER, GLFW_KEY_RIGHT_SUPER)};
+}
+
+// Window coordinates -> framebuffer pixels (they differ on HiDPI screens).
+void toFramebuffer(GLFWwindow* window, double& x, double& y) {
+    int ww = 0, wh = 0, fw = 0, fh = 0;
+    glfwGetWindowSize(window, &ww, &wh);
+    glfwGetFramebufferSize(window, &fw, &fh);
+    if (ww > 0 && wh > 0) {
+        x *= static_cast<double>(fw) / ww;
+        y *= static_cast<double>(fh) / wh;
+    }
+}
+
+void onGlfwError(int code, const char* description) {
+    std::cerr << "sculpt: GLFW error " << code << ": " << description << "\n";
+}
+
+// note: these are installed before ImGui_ImplGlfw_InitForOpenGL(window, true), which chains to them, so
+// ImGui sees every event first and its WantCapture flags are current when ours run.
+void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
+    MouseButtonEvent event;
+    if (button == GLFW_MOUSE_BUTTON_LEFT) event.button = MouseButton::Left;
+    else if (button == GLFW_MOUSE_BUTTON_RIGHT) event.button = MouseButton::Right;
+    else if (button == GLFW_MOUSE_BUTTON_MIDDLE) event.button = MouseButton::Middle;
+    else return;
+    event.action = action == GLFW_PRESS ? ButtonAction::Press : ButtonAction::Release;
+    glfwGetCursorPos(window, &event.x, &event.y);
+    toFramebuffer(window, event.x, event.y);
+    event.modifiers = modifiersOf(mods);
+    appOf(window).onMouseButton(event, captureFlags());
+}
+
+void onCursorPos(GLFWwindow* window, double x, double y) {
+    MouseMoveEvent event;
+    event.x = x;
+    event.y = y;
+    toFramebuffer(window, event.x, event.y);
+    event.modifiers = currentModifiers(window);
+    appOf(window).onMouseMove(event, captureFlags());
+}
+
+void onScroll(GLFWwindow* window, double dx, double dy) { appOf(window).onScroll({dx, dy}, captureFlags()); }
+
+void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) {
+    KeyEvent event;
+    switch (key) {
+        case GLFW_KEY_Z: event.key = Key::Z; break;
+        case GLFW_KEY_Y: event.key = Key::Y; break;
+        case GLFW_KEY_F: event.key = Key::F; break;
+        case GLFW_KEY_ESCAPE: event.key = Key::Escape; break;
+        default: return;
+    }
+    event.action = action == GLFW_PRESS ? KeyAction::Press
+                 : action == GLFW_REPEAT ? KeyAction::Repeat : KeyAction::Release;
+    event.modifiers = modifiersOf(mods);
+    appOf(window).onKey(event, captureFlags());
+}
+
+void onFramebufferSize(GLFWwindow* window, int width, int height) {
+    appOf(window).onFramebufferSize({width, height});
+}
+
+int envInt(const char* name, int fallback) {
+    const char* value = std::getenv(name);
+    return value && *value ? std::atoi(value) : fallback;
+}
+
+Status saveBackBuffer(const render::GlFunctions& gl, int width, int height, const std::string& path) {
+    render::Rgba8Image image;
+    image.width = width;
+    image.height = height;
+    image.pixels.resize(static_cast<size_t>(width) * static_cast<size_t>(height) * 4);
+    // note: the default read buffer of a double-buffered window is GL_BACK, the frame just drawn.
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+    gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels.data());
+    // glReadPixels is bottom-up; the image is top-down.
+    const size_t row = static_cast<size_t>(width) * 4;
+    std::vector<std::uint8_t> swap(row);
+    for (int y = 0; y < height / 2; ++y) {
+        std::uint8_t* a = image.pixels.data() + static_cast<size_t>(y) * row;
+        std::uint8_t* b = image.pixels.data() + static_cast<size_t>(height - 1 - y) * row;
+        std::copy(a, a + row, swap.data());
+        std::copy(b, b + row, a);
+        std::copy(swap.begin(), swap.end(), b);
+    }
+    for (size_t p = 3; p < image.pixels.size(); p += 4) image.pixels[p] = 255;
+    return io::writePng(path, image.width, image.height, image.pixels.data());
+}
+
+}  // namespace
+
+int runWindow(const std::string& meshPath) {
+    SculptApp app;
+    if (Status s = app.loadMesh(meshPath); !s) {
+        std::cerr << "sculpt: " << s.message << "\n";
+        return kExitBadInput;
+    }
+    glfwSetErrorCallback(onGlfwError);
+    if (!glfwInit()) {
+        std::cerr << "sculpt: cannot open a window (no display?). To run without one use\n"
+                     "  sculpt --headless --script OPS.json --out OUT.obj [--screenshot PNG] [MESH.obj]\n"
+                     "or start the window under a virtual display: xvfb-run -a sculpt [MESH.obj]\n";
+        return kExitNoDisplay;
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_SAMPLES, 4);
+    glfwWindowHint(GLFW_SCALE_TO_MONITOR, GLFW_TRUE);
+    GLFWwindow* window = glfwCreateWindow(1280, 800, "DMFFD Sculpt", nullptr, nullptr);
+    if (!window) {
+        std::cerr << "sculpt: cannot create an OpenGL 3.3 core window; use --headless without one.\n";
+        glfwTerminate();
+        return kExitNoDisplay;
+    }
+    glfwMakeContextCurrent(window);
+    glfwSwapInterval(1);  // vsync
+
+    WindowContext context{&app, window};
+    glfwSetWindowUserPointer(window, &context);
+    glfwSetMouseButtonCallback(window, onMouseButton);
+    glfwSetCursorPosCallback(window, onCursorPos);
+    glfwSetScrollCallback(window, onScroll);
+    glfwSetKeyCallback(window, onKey);
+    glfwSetFramebufferSizeCallback(window, onFramebufferSize);
+
+    float scaleX = 1.0f, scaleY = 1.0f;
+    glfwGetWindowContentScale(window, &scaleX, &scaleY);
+    createUiContext(scaleX);
+    ImGui_ImplGlfw_InitForOpenGL(window, true);
+
+    int exitCode = kExitOk;
+    if (Status s = app.initGraphics(reinterpret_cast<render::GlGetProc>(glfwGetProcAddress)); !s) {
+        std::cerr << "sculpt: " << s.message << "\n";
+        exitCode = kExitInternal;
+    }
+    app.renderer().setPixelScale(scaleX);
+    render::GlFunctions gl;
+    const bool haveGl = exitCode == kExitOk &&
+                        render::loadGlFunctions(reinterpret_cast<render::GlGetProc>(glfwGetProcAddress), gl).ok;
+
+    int width = 0, height = 0;
+    glfwGetFramebufferSize(window, &width, &height);
+    app.onFramebufferSize({width, height});
+    app.state().camera.frame(render::boundsOf(app.state().session.positions()), framebufferAspect(app.state()));
+
+    const int maxFrames = envInt("SCULPT_WINDOW_FRAMES", 0);
+    const char* screenshot = std::getenv("SCULPT_WINDOW_SCREENSHOT");
+    const bool autoDrag = envInt("SCULPT_WINDOW_AUTODRAG", 0) != 0;
+    int frame = 0, dragFrames = 0;
+    double dragSeconds = 0.0;
+    auto last = std::chrono::steady_clock::now();
+    while (exitCode == kExitOk && !glfwWindowShouldClose(window)) {
+        glfwPollEvents();
+        glfwGetFramebufferSize(window, &width, &height);
+        if (width <= 0 || height <= 0) {  // minimised: wait instead of spinning
+            glfwWaitEventsTimeout(0.1);
+            continue;
+        }
+        if (autoDrag && maxFrames > 2) {
+            // Press on the centre at frame 1, move 1 px per frame up then back, release at the last frame.
+            const double cx = 0.5 * width, cy = 0.5 * height;
+            const int span = maxFrames - 2;
+            if (frame == 1) app.onMouseButton({MouseButton::Left, ButtonAction::Press, cx, cy, {}}, {});
+            else if (frame > 1 && frame < maxFrames - 1) {
+                const double phase = static_cast<double>(frame - 1) / span;
+                app.onMouseMove({cx, cy - 0.25 * height * std::sin(3.14159265358979 * phase), {}}, {});
+            } else if (frame == maxFrames - 1) {
+                app.onMouseButton({MouseButton::Left, ButtonAction::Release, cx, cy, {}}, {});
+            }
+        }
+        ImGui_ImplGlfw_NewFrame();
+        if (Status s = app.renderFrame(width, height); !s) std::cerr << "sculpt: draw: " << s.message << "\n";
+        ++frame;
+        const bool lastFrame = maxFrames > 0 && frame >= maxFrames;
+        if (lastFrame && screenshot && haveGl) {
+            if (Status s = saveBackBuffer(gl, width, height, screenshot); !s)
+                std::cerr << "sculpt: screenshot: " << s.message << "\n";
+            else
+                std::cout << "sculpt: wrote " << screenshot << "\n";
+        }
+        glfwSwapBuffers(window);
+        const auto now = std::chrono::steady_clock::now();
+        if (app.state().drag.active) {
+            dragSeconds += std::chrono::duration<double>(now - last).count();
+            ++dragFrames;
+        }
+        last = now;
+        if (lastFrame) glfwSetWindowShouldClose(window, GLFW_TRUE);
+    }
+    if (autoDrag && dragFrames > 0)
+        std::printf("sculpt: autodrag %d frames while dragging, %.1f fps (%.1f ms per frame), %d vertices, %d triangles\n",
+                    dragFrames, dragFrames / dragSeconds, 1000.0 * dragSeconds / dragFrames,
+                    static_cast<int>(app.state().session.positions().rows()),
+                    static_cast<int>(app.state().session.triangles().rows()));
+
+    app.releaseGraphics();
+    ImGui_ImplGlfw_Shutdown();
+    destroyUiContext();
+    glfwDestroyWindow(window);
+    glfwTerminate();
+    return exitCode;
+}
+
+}  // namespace sculpt::app

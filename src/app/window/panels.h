@@ -1,0 +1,22 @@
+// The Dear ImGui panels of the window, one per file (house style 10). Each reads the AppState and changes it
+// only through the commands of app_state.h. They draw inside the sidebar window begun by beginSidebar().
+#pragma once
+
+#include "app/window/app_state.h"
+
+namespace sculpt::app {
+
+// The fixed sidebar on the left of the viewport (ui_layout.cpp).
+void beginSidebar(AppState& state);
+void endSidebar();
+
+void drawStatsPanel(AppState& state);        // stats_panel.cpp: mesh, lattice, timings, fps
+void drawOverlaysPanel(AppState& state);     // overlays_panel.cpp: wireframe, lattice, det J, affected region
+void drawInjectivityPanel(AppState& state);  // injectivity_panel.cpp: off / conic / exact, subdivision depth
+void drawHistoryPanel(AppState& state);      // history_panel.cpp: undo, redo, the list (click to jump)
+void drawStatusLine(AppState& state);        // status_line.cpp: the verdict of the last command, at the bottom
+
+// Width of the sidebar in pixels (scaled with the font), so the viewport knows what is covered.
+float sidebarWidth();
+
+}  // namespace sculpt::app

@@ -1,0 +1,290 @@
+#include "app/window/sculpt_app.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include <imgui.h>
+#include <imgui_impl_opengl3.h>
+
+#include "app/scene_builder.h"
+#include "app/window/panels.h"
+#include "app/window/picking.h"
+#include "io/obj_mesh.h"
+
+namespace sculpt::app {
+namespace {
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+Eigen::Vector3d toEigen(const glm::vec3& v) { return Eigen::Vector3d(v.x, v.y, v.z); }
+
+bool shortcutModifier(const Modifiers& m) { return m.control || m.super; }
+
+constexpr double kOrbitDegreesPerPixel = 0.35;
+constexpr double kZoomPerNotch = 0.88;  // distance factor per wheel notch towards the screen
+
+}  // namespace
+
+Status SculptApp::loadMesh(const std::string& path) {
+    io::ObjMesh mesh;
+    if (Status s = io::loadObj(path, mesh); !s) return s;
+    const size_t slash = path.find_last_of("/\\");
+    return setMesh(state_, mesh.positions, mesh.triangles, slash == std::string::npos ? path : path.substr(slash + 1));
+}
+
+void SculptApp::onFramebufferSize(const FramebufferSizeEvent& event) {
+    state_.framebufferWidth = std::max(event.width, 0);
+    state_.framebufferHeight = std::max(event.height, 0);
+}
+
+void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags capture) {
+    state_.cursorX = event.x;
+    state_.cursorY = event.y;
+    if (event.action == ButtonAction::Release) {
+        // note: releases always reach us, even over a panel, so a drag or orbit never gets stuck.
+        if (event.button == MouseButton::Left && state_.drag.active) endSculpt();
+        if (event.button == MouseButton::Middle || event.button == MouseButton::Left)
+            state_.navigation = Navigation::None;
+        return;
+    }
+    if (capture.mouse || state_.drag.active || state_.navigation != Navigation::None) return;
+    if (event.button == MouseButton::Middle) {
+        state_.navigation = event.modifiers.shift ? Navigation::Pan : Navigation::Orbit;
+    } else if (event.button == MouseButton::Left) {
+        if (event.modifiers.alt) state_.navigation = event.modifiers.shift ? Navigation::Pan : Navigation::Orbit;
+        else beginSculpt(event.x, event.y);
+    }
+}
+
+void SculptApp::onMouseMove(const MouseMoveEvent& event, CaptureFlags /*capture*/) {
+    // note: moves are ours while a drag or orbit we started is in progress, wherever the cursor is (ImGui
+    // does not claim a mouse button pressed outside its windows); otherwise moves only track the cursor.
+    const double dx = event.x - state_.cursorX, dy = event.y - state_.cursorY;
+    state_.cursorX = event.x;
+    state_.cursorY = event.y;
+    render::Camera& camera = state_.camera;
+    if (state_.drag.active) {
+        updateSculpt(event.x, event.y);
+    } else if (state_.navigation == Navigation::Orbit) {
+        camera.yawDeg = static_cast<float>(std::remainder(camera.yawDeg - dx * kOrbitDegreesPerPixel, 360.0));
+        camera.pitchDeg = static_cast<float>(std::clamp(camera.pitchDeg + dy * kOrbitDegreesPerPixel, -89.0, 89.0));
+    } else if (state_.navigation == Navigation::Pan && state_.framebufferHeight > 0) {
+        const glm::mat4 view = camera.view();
+        const glm::vec3 right(view[0][0], view[1][0], view[2][0]);
+        const glm::vec3 up(view[0][1], view[1][1], view[2][1]);
+        const float worldPerPixel = 2.0f * camera.distance * std::tan(glm::radians(camera.fovYDeg) * 0.5f) /
+                                    static_cast<float>(state_.framebufferHeight);
+        camera.target += (-static_cast<float>(dx) * right + static_cast<float>(dy) * up) * worldPerPixel;
+    }
+}
+
+void SculptApp::onScroll(const ScrollEvent& event, CaptureFlags capture) {
+    if (capture.mouse || !std::isfinite(event.dy)) return;
+    render::Camera& camera = state_.camera;
+    const double factor = std::pow(kZoomPerNotch, std::clamp(event.dy, -10.0, 10.0));
+    const float minDistance = 1e-3f * camera.sceneRadius, maxDistance = 1e3f * camera.sceneRadius;
+    camera.distance = std::clamp(static_cast<float>(camera.distance * factor), minDistance, maxDistance);
+}
+
+void SculptApp::onKey(const KeyEvent& event, CaptureFlags capture) {
+    if (capture.keyboard || event.action == KeyAction::Release) return;
+    const Modifiers& m = event.modifiers;
+    if (event.key == Key::Z && shortcutModifier(m)) {
+        if (m.shift) redoCommand(state_); else undoCommand(state_);
+    } else if (event.key == Key::Y && shortcutModifier(m)) {
+        redoCommand(state_);
+    } else if (event.key == Key::F && !shortcutModifier(m) && event.action == KeyAction::Press) {
+        frameMesh(state_);
+    }
+}
+
+void SculptApp::beginSculpt(double x, double y) {
+    core::Session& session = state_.session;
+    Ray ray;
+    if (!session.hasMesh() ||
+        !rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, x, y, ray))
+        return;
+    const SurfaceHit hit = intersectMesh(ray, session.positions(), session.triangles());
+    if (hit.triangle < 0) return;  // a click on the background does nothing
+    Eigen::Vector3d params;
+    if (!session.parametersOfCurrentPoint(hit.point, params)) {
+        // note: fallback, the barycentric mix of the corners' parameters (exact for the lattice's rest state).
+        params.setZero();
+        for (int c = 0; c < 3; ++c) {
+            Eigen::Vector3d corner;
+            if (Status s = session.parametersOfVertex(session.triangles()(hit.triangle, c), corner); !s) {
+                setStatus(state_, "Cannot grab this point: " + s.message, true);
+                return;
+            }
+            params += hit.barycentric[c] * corner;
+        }
+    }
+    if (Status s = session.beginDrag({params}); !s) {
+        setStatus(state_, "Cannot grab this point: " + s.message, true);
+        return;
+    }
+    DragState& drag = state_.drag;
+    drag = DragState{};
+    drag.active = true;
+    drag.pickedVertex = hit.nearestCorner;
+    drag.sourceParams = params;
+    drag.planePoint = session.currentImage(params);
+    drag.planeNormal = -toEigen(glm::normalize(state_.camera.target - state_.camera.eye()));
+    drag.target = drag.planePoint;
+    state_.gpu.fields = true;
+    setStatus(state_, "Dragging vertex " + std::to_string(hit.nearestCorner) + "...", false);
+}
+
+void SculptApp::updateSculpt(double x, double y) {
+    DragState& drag = state_.drag;
+    Ray ray;
+    Eigen::Vector3d target;
+    if (!rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, x, y, ray) ||
+        !intersectPlane(ray, drag.planePoint, drag.planeNormal, target))
+        return;
+    drag.target = target;
+    core::OpReport report;
+    const Status s = state_.session.updateDrag({target}, report);
+    ++drag.moves;
+    if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state_);
+    if (!s || report.status == core::OpStatus::Rejected) ++drag.refused;
+    reportOperation(state_, report, s);
+    state_.gpu.fields = true;
+}
+
+void SculptApp::endSculpt() {
+    const int before = static_cast<int>(state_.session.history().size());
+    state_.session.endDrag();
+    const DragState finished = state_.drag;
+    state_.drag = DragState{};
+    state_.gpu.fields = true;
+    const bool recorded = static_cast<int>(state_.session.history().size()) > before;
+    std::string text = recorded ? "Drag recorded as one undo step (" + std::to_string(finished.moves) + " moves"
+                                : "Drag changed nothing (" + std::to_string(finished.moves) + " moves";
+    if (finished.refused > 0) text += ", " + std::to_string(finished.refused) + " refused as not injective";
+    text += ").";
+    if (state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected)
+        text += " Last move refused: " + (state_.lastReport.reason.empty() ? state_.lastReport.injectivity
+                                                                           : state_.lastReport.reason);
+    setStatus(state_, text, finished.refused > 0 && !recorded);
+}
+
+Status SculptApp::initGraphics(render::GlGetProc getProc) {
+    if (Status s = renderer_.init(getProc); !s) return s;
+    state_.gpu.mesh = true;
+    state_.gpu.fields = true;
+    if (ImGui::GetCurrentContext() && !imguiBackendReady_) {
+        if (!ImGui_ImplOpenGL3_Init("#version 330 core"))
+            return Status::error("Dear ImGui's OpenGL3 backend could not load GL (see its message above)");
+        imguiBackendReady_ = true;
+    }
+    return Status::success();
+}
+
+void SculptApp::releaseGraphics() {
+    if (imguiBackendReady_) ImGui_ImplOpenGL3_Shutdown();
+    imguiBackendReady_ = false;
+    renderer_.release();
+}
+
+void SculptApp::syncGpu() {
+    if (!renderer_.initialized()) return;
+    const auto start = std::chrono::steady_clock::now();
+    PendingGpuUpdate& gpu = state_.gpu;
+    const core::Session& session = state_.session;
+    bool uploaded = false;
+    if (gpu.mesh) {
+        if (Status s = renderer_.setMesh(session.positions(), session.triangles()); !s)
+            setStatus(state_, "GPU upload failed: " + s.message, true);
+        gpu.mesh = false;
+        gpu.fields = true;
+        uploaded = true;
+    } else if (gpu.allPositions || !gpu.vertices.empty()) {
+        std::vector<int> all;
+        if (gpu.allPositions) {
+            all.resize(static_cast<size_t>(session.positions().rows()));
+            std::iota(all.begin(), all.end(), 0);
+        }
+        if (Status s = renderer_.updatePositions(session.positions(), gpu.allPositions ? all : gpu.vertices); !s)
+            setStatus(state_, "GPU update failed: " + s.message, true);
+        uploaded = true;
+    }
+    gpu.allPositions = false;
+    gpu.vertices.clear();
+    if (gpu.fields) {
+        const Overlays& o = state_.overlays;
+        SceneRequest request;
+        request.jacobian = o.jacobian;
+        request.affected = o.affected;
+        request.lastDragConstraints = false;
+        // note: only the overlays asked for are computed; sceneFromSession's position copy is cheap next to them.
+        render::LatticeView lattice;
+        std::vector<float> jacobian, affected;
+        if (o.lattice || o.jacobian || o.affected) {
+            render::SceneData scene = sceneFromSession(session, request);
+            if (o.lattice) lattice = std::move(scene.lattice);
+            jacobian = std::move(scene.jacobianDet);
+            affected = std::move(scene.affectedWeight);
+        }
+        renderer_.setLattice(lattice);
+        renderer_.setJacobianField(jacobian);
+        renderer_.setAffectedWeights(affected);
+        render::ConstraintView constraints;
+        if (state_.drag.active) {
+            const std::vector<Eigen::Vector3d> sources = session.dragSources();
+            constraints.sources.resize(static_cast<Eigen::Index>(sources.size()), 3);
+            constraints.targets.resize(static_cast<Eigen::Index>(sources.size()), 3);
+            for (size_t c = 0; c < sources.size(); ++c) {
+                constraints.sources.row(static_cast<Eigen::Index>(c)) = sources[c].transpose();
+                constraints.targets.row(static_cast<Eigen::Index>(c)) = state_.drag.target.transpose();
+            }
+        }
+        renderer_.setConstraints(constraints);
+        gpu.fields = false;
+        uploaded = true;
+    }
+    if (uploaded) {
+        state_.stats.updateMs = millisecondsSince(start);
+        state_.stats.lastUploadVertices = renderer_.lastUpload().verticesUploaded;
+    }
+}
+
+Status SculptApp::renderFrame(int width, int height) {
+    if (width <= 0 || height <= 0) return Status::success();  // minimised: nothing to draw, nothing to divide by
+    if (state_.framebufferWidth != width || state_.framebufferHeight != height)
+        onFramebufferSize({width, height});
+    syncGpu();
+    const auto start = std::chrono::steady_clock::now();
+    render::DrawOptions options;
+    options.wireframe = state_.overlays.wireframe;
+    options.lattice = state_.overlays.lattice;
+    options.jacobian = state_.overlays.jacobian;
+    options.affected = state_.overlays.affected;
+    options.constraints = state_.drag.active;
+    Status drawn = renderer_.draw(state_.camera, options, width, height);
+    if (imguiBackendReady_ && ImGui::GetCurrentContext()) {
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui::NewFrame();
+        drawUi();
+        ImGui::Render();
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    }
+    state_.stats.renderMs = millisecondsSince(start);
+    return drawn;
+}
+
+void SculptApp::drawUi() {
+    beginSidebar(state_);
+    drawStatsPanel(state_);
+    drawOverlaysPanel(state_);
+    drawInjectivityPanel(state_);
+    drawHistoryPanel(state_);
+    endSidebar();
+    drawStatusLine(state_);
+}
+
+}  // namespace sculpt::app

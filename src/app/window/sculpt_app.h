@@ -1,0 +1,61 @@
+// SculptApp: the interactive sculpting application without its window. Owns the AppState (session, camera,
+// UI state) and the Renderer; turns plain input events (input_events.h) into engine commands and draws a
+// frame (scene + Dear ImGui panels) into the bound framebuffer. The GLFW layer (glfw_main.cpp) and the
+// tests (tests/render/window_app_test.cpp) drive the very same object.
+//
+// Mouse: left-press on the mesh picks the surface point under the cursor and starts an interactive drag
+// (Session::beginDrag); every move puts the target where the cursor ray meets the plane through the picked
+// point facing the camera and calls Session::updateDrag (live); release ends it (one undo step).
+// Middle-drag or Alt+left-drag orbits, Shift+middle-drag pans, the wheel zooms. Keys: F frames the mesh,
+// Ctrl+Z undoes, Ctrl+Shift+Z / Ctrl+Y redo. Input the UI claims (CaptureFlags) is left alone.
+#pragma once
+
+#include <string>
+
+#include "app/window/app_state.h"
+#include "app/window/input_events.h"
+#include "core/status.h"
+#include "render/gl_proc.h"
+#include "render/renderer.h"
+
+namespace sculpt::app {
+
+class SculptApp {
+public:
+    // Loads an OBJ into the session (new lattice, empty history) and frames it. On failure nothing changes.
+    Status loadMesh(const std::string& path);
+
+    void onFramebufferSize(const FramebufferSizeEvent& event);
+    void onMouseButton(const MouseButtonEvent& event, CaptureFlags capture);
+    void onMouseMove(const MouseMoveEvent& event, CaptureFlags capture);
+    void onScroll(const ScrollEvent& event, CaptureFlags capture);
+    void onKey(const KeyEvent& event, CaptureFlags capture);
+
+    // With a GL >= 3.3 context current and a Dear ImGui context created (createUiContext): initialises the
+    // renderer (entry points from getProc) and ImGui's OpenGL3 backend.
+    Status initGraphics(render::GlGetProc getProc);
+    // Frees the GL objects and shuts the ImGui renderer backend down (context still current).
+    void releaseGraphics();
+
+    // Draws one frame into the bound framebuffer, width x height pixels: the scene, then the UI. The caller
+    // has started the platform side of the ImGui frame (ImGui_ImplGlfw_NewFrame, or io.DisplaySize and
+    // io.DeltaTime set by hand). A 0 x 0 (minimised) framebuffer draws nothing. Returns the renderer's error.
+    Status renderFrame(int width, int height);
+
+    AppState& state() { return state_; }
+    const AppState& state() const { return state_; }
+    render::Renderer& renderer() { return renderer_; }
+
+private:
+    void beginSculpt(double x, double y);
+    void updateSculpt(double x, double y);
+    void endSculpt();
+    void syncGpu();
+    void drawUi();
+
+    AppState state_;
+    render::Renderer renderer_;
+    bool imguiBackendReady_ = false;
+};
+
+}  // namespace sculpt::app

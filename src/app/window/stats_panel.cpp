@@ -1,0 +1,35 @@
+#include <imgui.h>
+
+#include "app/window/panels.h"
+
+namespace sculpt::app {
+
+void drawStatsPanel(AppState& state) {
+    if (!ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const core::Session& session = state.session;
+    const core::Lattice& lattice = session.lattice();
+    const core::LatticeSettings& settings = session.latticeSettings();
+    if (ImGui::BeginTable("stats", 2, ImGuiTableFlags_SizingStretchProp)) {
+        auto row = [](const char* name, const char* format, auto... values) {
+            ImGui::TableNextRow();
+            ImGui::TableSetColumnIndex(0);
+            ImGui::TextDisabled("%s", name);
+            ImGui::TableSetColumnIndex(1);
+            ImGui::Text(format, values...);
+        };
+        row("Vertices", "%d", static_cast<int>(session.positions().rows()));
+        row("Triangles", "%d", static_cast<int>(session.triangles().rows()));
+        row("Lattice", "%d x %d x %d, degree %d", lattice.count[0], lattice.count[1], lattice.count[2],
+            settings.degree[0]);
+        row("Frames", "%d", session.frameDepth() + 1);
+        row("Solve", "%.2f ms", state.stats.solveMs);
+        row("GPU update", "%.2f ms (%d vertices)", state.stats.updateMs, state.stats.lastUploadVertices);
+        row("Draw calls", "%.2f ms", state.stats.renderMs);
+        const float fps = ImGui::GetIO().Framerate;
+        row("Frame rate", "%.1f fps (%.1f ms)", fps, fps > 0.0f ? 1000.0f / fps : 0.0f);
+        row("History", "%.1f KiB", static_cast<double>(session.historyBytes()) / 1024.0);
+        ImGui::EndTable();
+    }
+}
+
+}  // namespace sculpt::app

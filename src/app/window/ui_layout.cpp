@@ -1,0 +1,25 @@
+#include <imgui.h>
+
+#include "app/window/panels.h"
+
+namespace sculpt::app {
+
+float sidebarWidth() { return 20.0f * ImGui::GetFontSize(); }
+
+void beginSidebar(AppState& state) {
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    const float margin = 0.6f * ImGui::GetFontSize();
+    const float statusHeight = ImGui::GetFrameHeightWithSpacing() + 2.0f * ImGui::GetStyle().WindowPadding.y;
+    ImGui::SetNextWindowPos(ImVec2(viewport->Pos.x + margin, viewport->Pos.y + margin));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(sidebarWidth(), 0.0f),
+                                        ImVec2(sidebarWidth(), viewport->Size.y - statusHeight - 2.0f * margin));
+    ImGui::SetNextWindowBgAlpha(0.92f);
+    const std::string title = "DMFFD Sculpt" + (state.meshName.empty() ? std::string() : "  -  " + state.meshName);
+    ImGui::Begin((title + "###sidebar").c_str(), nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                     ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
+}
+
+void endSidebar() { ImGui::End(); }
+
+}  // namespace sculpt::app

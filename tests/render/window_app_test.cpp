@@ -1,0 +1,266 @@
+// The window's application logic (SculptApp) driven by synthetic input events, and full frames (scene +
+// Dear ImGui UI) rendered offscreen. No display needed.
+//
+// note: which GL context the UI frames use. Dear ImGui's prebuilt OpenGL3 backend (Debian's libimgui.a) loads
+// GL itself through dlopen("libGL.so.1") + glXGetProcAddressARB. Under GLVND those entry points dispatch to
+// whatever context is current, GLX or EGL, so the backend works unchanged in an EGL surfaceless context,
+// the same object code the window uses. Under OSMesa its loader fails (OSMesa is not reached through GLVND);
+// compiling the backend source a second time with a custom loader would test different code than ships.
+// So these frames use EGL (Mesa's surfaceless platform: llvmpipe here, a GPU where there is one); where EGL
+// is missing the frame test warns and skips, and the event tests above it still run.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include <imgui.h>
+
+#include "app/window/picking.h"
+#include "app/window/sculpt_app.h"
+#include "app/window/ui_style.h"
+#include "gl_test_support.h"
+#include "io/png_image.h"
+#include "render/offscreen_context.h"
+#include "render/render_target.h"
+
+using namespace sculpt;
+
+namespace {
+
+constexpr int kWidth = 960, kHeight = 600;
+
+void loadDefault(app::SculptApp& sculptApp) {
+    const Status loaded = sculptApp.loadMesh(std::string(SCULPT_SOURCE_DIR) + "/assets/default.obj");
+    INFO(loaded.message);
+    REQUIRE(loaded.ok);
+    sculptApp.onFramebufferSize({kWidth, kHeight});
+    app::frameMesh(sculptApp.state());
+}
+
+double diagonal(const Positions& p) { return (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm(); }
+
+app::KeyEvent ctrlKey(app::Key key, bool shift = false) {
+    app::KeyEvent event;
+    event.key = key;
+    event.modifiers.control = true;
+    event.modifiers.shift = shift;
+    return event;
+}
+
+// Press on the framebuffer centre, move 60 px up in `moves` steps, release. Returns the last target.
+Eigen::Vector3d dragUp(app::SculptApp& sculptApp, app::CaptureFlags capture, int moves = 6) {
+    const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, capture);
+    for (int m = 1; m <= moves; ++m) sculptApp.onMouseMove({cx, cy - 60.0 * m / moves, {}}, capture);
+    const Eigen::Vector3d target = sculptApp.state().drag.target;
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 60.0, {}}, capture);
+    return target;
+}
+
+}  // namespace
+
+TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor; one undo step", "[gl]") {
+    app::SculptApp sculptApp;
+    loadDefault(sculptApp);
+    app::AppState& state = sculptApp.state();
+    const Positions original = state.session.positions();
+
+    // The centre of the view hits the mesh, and the press starts a drag there.
+    app::Ray ray;
+    REQUIRE(app::rayThroughPixel(state.camera, kWidth, kHeight, 0.5 * kWidth, 0.5 * kHeight, ray));
+    const app::SurfaceHit hit = app::intersectMesh(ray, original, state.session.triangles());
+    REQUIRE(hit.triangle >= 0);
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, 0.5 * kWidth, 0.5 * kHeight, {}}, {});
+    REQUIRE(state.drag.active);
+    const int vertex = state.drag.pickedVertex;
+    CHECK(vertex == hit.nearestCorner);
+    // The picked point's parameters reproduce the hit point.
+    CHECK((state.session.currentImage(state.drag.sourceParams) - hit.point).norm() < 1e-6 * diagonal(original));
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, 0.5 * kWidth, 0.5 * kHeight, {}}, {});
+    CHECK(state.session.history().empty());  // a click without a move records nothing
+
+    const Eigen::Vector3d target = dragUp(sculptApp, {});
+    const Eigen::Vector3d before = original.row(vertex).transpose();
+    const Eigen::Vector3d after = state.session.positions().row(vertex).transpose();
+    INFO("status: " << state.status);
+    CHECK((after - target).norm() < 0.5 * (before - target).norm());
+    const glm::mat4 view = state.camera.view();
+    const Eigen::Vector3d screenUp(view[0][1], view[1][1], view[2][1]);
+    CHECK((after - before).dot(screenUp) > 0.05 * diagonal(original));
+    // The whole drag is one history entry.
+    CHECK(state.session.history().size() == 1);
+    CHECK(state.session.historyCursor() == 1);
+    CHECK_FALSE(state.drag.active);
+
+    // Ctrl+Z restores the positions; Ctrl+Shift+Z and Ctrl+Y redo.
+    const Positions dragged = state.session.positions();
+    sculptApp.onKey(ctrlKey(app::Key::Z), {});
+    CHECK(state.session.historyCursor() == 0);
+    CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
+    sculptApp.onKey(ctrlKey(app::Key::Z, true), {});
+    CHECK(state.session.historyCursor() == 1);
+    CHECK((state.session.positions() - dragged).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
+    sculptApp.onKey(ctrlKey(app::Key::Z), {});
+    sculptApp.onKey(ctrlKey(app::Key::Y), {});
+    CHECK(state.session.historyCursor() == 1);
+    // Jumping in the history list is undo/redo until there.
+    app::jumpToHistory(state, 0);
+    CHECK(state.session.historyCursor() == 0);
+    app::jumpToHistory(state, 1);
+    CHECK(state.session.historyCursor() == 1);
+}
+
+TEST_CASE("window: input the UI captures does not sculpt or undo", "[gl]") {
+    app::SculptApp sculptApp;
+    loadDefault(sculptApp);
+    app::AppState& state = sculptApp.state();
+    const Positions original = state.session.positions();
+    app::CaptureFlags uiHasMouse;
+    uiHasMouse.mouse = true;
+    dragUp(sculptApp, uiHasMouse);
+    CHECK(state.session.history().empty());
+    CHECK(state.session.positions() == original);
+    const float distance = state.camera.distance;
+    sculptApp.onScroll({0.0, 2.0}, uiHasMouse);
+    CHECK(state.camera.distance == distance);
+    sculptApp.onScroll({0.0, 2.0}, {});
+    CHECK(state.camera.distance < distance);
+
+    dragUp(sculptApp, {});
+    REQUIRE(state.session.historyCursor() == 1);
+    app::CaptureFlags uiHasKeyboard;
+    uiHasKeyboard.keyboard = true;
+    sculptApp.onKey(ctrlKey(app::Key::Z), uiHasKeyboard);
+    CHECK(state.session.historyCursor() == 1);
+}
+
+TEST_CASE("window: orbit, pan and a minimised (0 x 0) framebuffer keep the camera finite", "[gl]") {
+    app::SculptApp sculptApp;
+    loadDefault(sculptApp);
+    app::AppState& state = sculptApp.state();
+    const float yaw = state.camera.yawDeg;
+    app::Modifiers alt;
+    alt.alt = true;
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, 100, 100, alt}, {});
+    sculptApp.onMouseMove({140, 120, alt}, {});
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, 140, 120, alt}, {});
+    CHECK(state.camera.yawDeg != yaw);
+    CHECK(state.session.history().empty());
+    const glm::vec3 target = state.camera.target;
+    app::Modifiers shift;
+    shift.shift = true;
+    sculptApp.onMouseButton({app::MouseButton::Middle, app::ButtonAction::Press, 100, 100, shift}, {});
+    sculptApp.onMouseMove({130, 100, shift}, {});
+    sculptApp.onMouseButton({app::MouseButton::Middle, app::ButtonAction::Release, 130, 100, shift}, {});
+    CHECK(state.camera.target != target);
+
+    sculptApp.onFramebufferSize({0, 0});
+    CHECK(app::framebufferAspect(state) == 1.0f);
+    sculptApp.onKey({app::Key::F, app::KeyAction::Press, {}}, {});
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, 0, 0, {}}, {});
+    sculptApp.onMouseMove({0, -10, {}}, {});
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, 0, -10, {}}, {});
+    sculptApp.onScroll({0.0, -3.0}, {});
+    CHECK(std::isfinite(state.camera.distance));
+    CHECK(std::isfinite(state.camera.target.x));
+    CHECK(state.session.history().empty());
+    CHECK(sculptApp.renderFrame(0, 0).ok);  // draws nothing, touches no GL
+}
+
+TEST_CASE("window: full frames with the UI render offscreen; drag updates are sparse", "[gl]") {
+    std::unique_ptr<render::OffscreenContext> context;
+    const Status created = render::OffscreenContext::create(render::GlBackend::Egl, context);
+    if (!created) {
+        WARN("EGL unavailable, UI frames not tested: " << created.message);
+        return;
+    }
+    app::SculptApp sculptApp;
+    loadDefault(sculptApp);
+    app::createUiContext(1.0f);
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(static_cast<float>(kWidth), static_cast<float>(kHeight));
+    io.DisplayFramebufferScale = ImVec2(1.0f, 1.0f);
+    io.DeltaTime = 1.0f / 60.0f;
+    const Status initialised = sculptApp.initGraphics(context->getProcAddress());
+    INFO(initialised.message);
+    REQUIRE(initialised.ok);
+    render::RenderTarget target(context->gl());
+    REQUIRE(target.resize(kWidth, kHeight, 4).ok);
+
+    auto frame = [&](render::Rgba8Image* image) {
+        target.bind();
+        const Status drawn = sculptApp.renderFrame(kWidth, kHeight);
+        INFO(drawn.message);
+        REQUIRE(drawn.ok);
+        if (image) REQUIRE(target.read(*image).ok);
+    };
+    render::Rgba8Image image;
+    frame(nullptr);  // the first frame builds the font atlas
+    frame(&image);
+    const int vertexCount = static_cast<int>(sculptApp.state().session.positions().rows());
+    CHECK(sculptApp.renderer().vertexCount() == vertexCount);
+
+    // Drag with a frame after every move, on a 16^3 lattice where a drag is local: each move uploads only
+    // the vertices it moved (plus their one-ring for the normals), not the whole buffer.
+    core::LatticeSettings fine;
+    fine.resolution = {16, 16, 16};
+    const Positions positions = sculptApp.state().session.positions();
+    const Triangles triangles = sculptApp.state().session.triangles();
+    REQUIRE(app::setMesh(sculptApp.state(), positions, triangles, "default.obj", fine).ok);
+    frame(nullptr);
+    const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
+    REQUIRE(sculptApp.state().drag.active);
+    for (int m = 1; m <= 6; ++m) {
+        sculptApp.onMouseMove({cx, cy - 10.0 * m, {}}, {});
+        frame(nullptr);
+        const render::UploadStats upload = sculptApp.renderer().lastUpload();
+        const core::Session& session = sculptApp.state().session;
+        INFO("move " << m << ": the session moved " << session.lastMovedVertices().size() << " vertices (all: "
+             << session.lastMovedAll() << "), " << upload.verticesUploaded << " uploaded in " << upload.ranges << " ranges");
+        CHECK(upload.verticesUploaded > 0);
+        if (!session.lastMovedAll()) {
+            CHECK_FALSE(upload.fullUpload);
+            CHECK(upload.verticesUploaded < vertexCount / 4);
+        }
+    }
+    CHECK(sculptApp.renderer().positions().isApprox(sculptApp.state().session.positions()));
+    render::Rgba8Image dragging;
+    frame(&dragging);  // with the source (red) and target (blue) handles
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 60.0, {}}, {});
+    app::Overlays overlays;
+    overlays.wireframe = true;
+    overlays.jacobian = true;
+    app::setOverlays(sculptApp.state(), overlays);
+    render::Rgba8Image after;
+    frame(nullptr);
+    frame(&after);
+
+    const std::string dir = sculpt::test::glTestOutputDir();
+    CHECK(io::writePng(dir + "/window_frame.png", image.width, image.height, image.pixels.data()).ok);
+    CHECK(io::writePng(dir + "/window_frame_dragging.png", dragging.width, dragging.height, dragging.pixels.data()).ok);
+    CHECK(io::writePng(dir + "/window_frame_after.png", after.width, after.height, after.pixels.data()).ok);
+    WARN("window frames written to " << dir << "/window_frame*.png");
+
+    // The sidebar (top-left) is drawn over the background: its pixels are the panel colour, not the gradient.
+    auto pixel = [](const render::Rgba8Image& im, int x, int y) {
+        const size_t i = 4 * (static_cast<size_t>(y) * im.width + x);
+        return std::array<int, 3>{im.pixels[i], im.pixels[i + 1], im.pixels[i + 2]};
+    };
+    const auto panel = pixel(image, 40, 200);
+    CHECK(panel[0] < 50);  // panel background ~ (28, 31, 36); the gradient there is ~ (80, 85, 93)
+    // The status line at the bottom spans the width.
+    const auto status = pixel(image, kWidth - 20, kHeight - 5);
+    CHECK(status[2] < 50);
+    // The mesh covers the centre (not the background's grey-blue).
+    const auto centre = pixel(image, kWidth / 2 + 100, kHeight / 2);
+    const auto background = pixel(image, kWidth - 5, 5);
+    CHECK(std::abs(centre[0] - background[0]) + std::abs(centre[1] - background[1]) +
+              std::abs(centre[2] - background[2]) > 30);
+
+    CHECK(sculptApp.renderFrame(0, 0).ok);
+    target.release();
+    sculptApp.releaseGraphics();
+    app::destroyUiContext();
+}
