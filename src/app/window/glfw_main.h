@@ -12,6 +12,7 @@ namespace sculpt::app {
 // Hidden automation for CI and benchmarks (environment variables):
 //   SCULPT_WINDOW_FRAMES=N       close after N frames
 //   SCULPT_WINDOW_SCREENSHOT=P   with FRAMES: write the last frame (scene + UI) to PNG file P
+//   SCULPT_WINDOW_MSAA=N         samples per pixel (default: 4, none on a software rasterizer)
 //   SCULPT_WINDOW_AUTODRAG=1     feed a synthetic drag (press on the centre, move up and back) through the
 //                                same event path and print the frame rate while dragging
 int runWindow(const std::string& meshPath);

@@ -196,13 +196,13 @@ void SculptApp::syncGpu() {
     const auto start = std::chrono::steady_clock::now();
     PendingGpuUpdate& gpu = state_.gpu;
     const core::Session& session = state_.session;
-    bool uploaded = false;
+    bool uploaded = false, positionsUploaded = false;
     if (gpu.mesh) {
         if (Status s = renderer_.setMesh(session.positions(), session.triangles()); !s)
             setStatus(state_, "GPU upload failed: " + s.message, true);
         gpu.mesh = false;
         gpu.fields = true;
-        uploaded = true;
+        uploaded = positionsUploaded = true;
     } else if (gpu.allPositions || !gpu.vertices.empty()) {
         std::vector<int> all;
         if (gpu.allPositions) {
@@ -211,7 +211,7 @@ void SculptApp::syncGpu() {
         }
         if (Status s = renderer_.updatePositions(session.positions(), gpu.allPositions ? all : gpu.vertices); !s)
             setStatus(state_, "GPU update failed: " + s.message, true);
-        uploaded = true;
+        uploaded = positionsUploaded = true;
     }
     gpu.allPositions = false;
     gpu.vertices.clear();
@@ -247,10 +247,8 @@ void SculptApp::syncGpu() {
         gpu.fields = false;
         uploaded = true;
     }
-    if (uploaded) {
-        state_.stats.updateMs = millisecondsSince(start);
-        state_.stats.lastUploadVertices = renderer_.lastUpload().verticesUploaded;
-    }
+    if (uploaded) state_.stats.updateMs = millisecondsSince(start);
+    if (positionsUploaded) state_.stats.lastUploadVertices = renderer_.lastUpload().verticesUploaded;
 }
 
 Status SculptApp::renderFrame(int width, int height) {
