@@ -111,6 +111,31 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor; 
     CHECK(state.session.historyCursor() == 1);
 }
 
+TEST_CASE("window: a move the injectivity test refuses changes nothing and the status line says why", "[gl]") {
+    app::SculptApp sculptApp;
+    loadDefault(sculptApp);
+    app::AppState& state = sculptApp.state();
+    const Positions original = state.session.positions();
+    core::InjectivitySettings strict;
+    strict.mode = core::InjectivityMode::Conic;
+    strict.maxDepth = 0;  // no subdivision: a large move must be refused outright
+    app::setInjectivityCommand(state, strict);
+    const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
+    REQUIRE(state.drag.active);
+    sculptApp.onMouseMove({cx, cy - 0.45 * kHeight, {}}, {});  // far: folds the lattice
+    INFO("status: " << state.status);
+    REQUIRE(state.hasReport);
+    CHECK(state.lastReport.status == core::OpStatus::Rejected);
+    CHECK(state.statusIsError);
+    CHECK(state.status.find("rejected") != std::string::npos);
+    CHECK(state.status.find("(") != std::string::npos);  // the reason follows in parentheses
+    CHECK(state.session.positions() == original);
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 0.45 * kHeight, {}}, {});
+    CHECK(state.session.history().empty());
+    CHECK(state.status.find("refused") != std::string::npos);
+}
+
 TEST_CASE("window: input the UI captures does not sculpt or undo", "[gl]") {
     app::SculptApp sculptApp;
     loadDefault(sculptApp);

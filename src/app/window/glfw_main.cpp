@@ -170,7 +170,7 @@ int runWindow(const std::string& meshPath) {
     glfwSetErrorCallback(onGlfwError);
     if (!glfwInit()) {
         std::cerr << "sculpt: cannot open a window (no display?). To run without one use\n"
-                     "  sculpt --headless --script OPS.json --out OUT.obj [--screenshot PNG] [MESH.obj]\n"
+                     "  sculpt --headless [--input MESH.obj] --script OPS.json --output OUT.obj [--screenshot OUT.png]\n"
                      "or start the window under a virtual display: xvfb-run -a sculpt [MESH.obj]\n";
         return kExitNoDisplay;
     }

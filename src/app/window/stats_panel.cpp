@@ -23,7 +23,7 @@ void drawStatsPanel(AppState& state) {
             settings.degree[0]);
         row("Frames", "%d", session.frameDepth() + 1);
         row("Solve", "%.2f ms", state.stats.solveMs);
-        row("GPU update", "%.2f ms (last: %d vertices)", state.stats.updateMs, state.stats.lastUploadVertices);
+        row("GPU update", "%.2f ms (%d vtx)", state.stats.updateMs, state.stats.lastUploadVertices);
         row("Draw calls", "%.2f ms", state.stats.renderMs);
         const float fps = ImGui::GetIO().Framerate;
         row("Frame rate", "%.1f fps (%.1f ms)", fps, fps > 0.0f ? 1000.0f / fps : 0.0f);
