@@ -46,15 +46,16 @@ Status precomputeDirectManipulation(const Lattice& lattice, const std::vector<Ei
         const double largest = eigen.eigenvalues().maxCoeff();
         const double smallest = eigen.eigenvalues().minCoeff();
         if (largest > 0.0 && smallest > options.normalEquationFloor * largest) {
-            d.useNormalEquations = true;
-            d.gram.compute(gram);
-            d.useNormalEquations = d.gram.info() == Eigen::Success;
+            d.gram.emplace(gram);
+            d.useNormalEquations = d.gram->info() == Eigen::Success;
+            if (!d.useNormalEquations) d.gram.reset();
             d.rank = h;
         }
         if (!d.useNormalEquations) {
-            d.cod.setThreshold(options.rankThreshold);
-            d.cod.compute(d.rt);
-            d.rank = static_cast<int>(d.cod.rank());
+            d.cod.emplace(d.rt.rows(), d.rt.cols());
+            d.cod->setThreshold(options.rankThreshold);
+            d.cod->compute(d.rt);
+            d.rank = static_cast<int>(d.cod->rank());
         }
     }
     data = std::move(d);
@@ -79,14 +80,14 @@ DirectManipulationResult solveDirectManipulation(const DirectManipulationData& d
         } else if (data.useNormalEquations) {
             // Eq. 12: delta = R (R^T R)^-1 D, with two steps of iterative refinement so the constraints are met
             // to rounding even when R^T R's condition number is large (it squares that of R).
-            delta = data.rt.transpose() * data.gram.solve(displacements);
+            delta = data.rt.transpose() * data.gram->solve(displacements);
             for (int step = 0; step < 2; ++step) {
                 const Eigen::MatrixX3d residual = displacements - data.rt * delta;
-                delta += data.rt.transpose() * data.gram.solve(residual);
+                delta += data.rt.transpose() * data.gram->solve(residual);
             }
         } else {
             // Minimum-norm least-squares solution of R^T delta = D (complete orthogonal decomposition).
-            delta = data.cod.solve(displacements);
+            delta = data.cod->solve(displacements);
             result.rankDeficient = data.rank < h;
         }
     } else {

@@ -14,6 +14,7 @@
 // factorisation is done once per drag and each mouse move costs one small solve.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -46,8 +47,10 @@ struct DirectManipulationData {
     std::vector<int> columns;          // free control point ids in the union of the supports (sorted)
     Eigen::MatrixXd rt;                // h x m: R^T restricted to `columns`
     bool useNormalEquations = false;   // fast path: Cholesky of R^T R plus iterative refinement
-    Eigen::LLT<Eigen::MatrixXd> gram;  // of R^T R, when useNormalEquations
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;  // of R^T, otherwise
+    // note: optional, because a default-constructed Eigen::LLT leaves its status uninitialised and copying
+    // it (a Session is copyable) reads that (UBSan); only a computed factorisation is ever held.
+    std::optional<Eigen::LLT<Eigen::MatrixXd>> gram;  // of R^T R, when useNormalEquations
+    std::optional<Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>> cod;  // of R^T, otherwise
     int rank = 0;
     double rankThreshold = 1e-8;       // copied from the options
 };
