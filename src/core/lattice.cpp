@@ -184,33 +184,61 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
                          Eigen::Matrix3d& jacobian) {
     const AxisBases b = axisBases(lattice, params, true);
     const int nu = lattice.degree[0] + 1, nv = lattice.degree[1] + 1, nw = lattice.degree[2] + 1;
-    // Homogeneous sums: numerator N = sum W B B B delta, denominator D = sum W B B B, and their t-gradients.
-    Eigen::Vector3d numerator = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d numeratorGrad = Eigen::Matrix3d::Zero();  // column a = dN/dt_a
-    double denominator = 0.0;
-    Eigen::Vector3d denominatorGrad = Eigen::Vector3d::Zero();
-    for (int k = 0; k < nw; ++k)
-        for (int j = 0; j < nv; ++j)
-            for (int i = 0; i < nu; ++i) {
-                const int idx = lattice.index(b.span[0] + i, b.span[1] + j, b.span[2] + k);
-                const double w = lattice.weights[idx];
-                const double basis = b.value[0][i] * b.value[1][j] * b.value[2][k];
-                const Eigen::Vector3d grad(b.derivative[0][i] * b.value[1][j] * b.value[2][k],
-                                           b.value[0][i] * b.derivative[1][j] * b.value[2][k],
-                                           b.value[0][i] * b.value[1][j] * b.derivative[2][k]);
-                const Eigen::Vector3d delta = lattice.displacement.row(idx).transpose();
-                numerator += w * basis * delta;
-                numeratorGrad += w * delta * grad.transpose();
-                denominator += w * basis;
-                denominatorGrad += w * grad;
-            }
     Eigen::Matrix3d dDisplacementDt;
-    if (lattice.rational) {
+    if (!lattice.rational) {
+        // Contract the tensor product one axis at a time (w, then v, then u), carrying value and derivative:
+        // about (p+1)^3 * 6 + (p+1)^2 * 9 + (p+1) * 12 multiply-adds instead of (p+1)^3 * 24. Newton's
+        // inversion of a frame on undo calls this several times per moved vertex.
+        double w0[kMaxDegree + 1][kMaxDegree + 1][3] = {}, w1[kMaxDegree + 1][kMaxDegree + 1][3] = {};
+        for (int k = 0; k < nw; ++k)
+            for (int j = 0; j < nv; ++j)
+                for (int i = 0; i < nu; ++i) {
+                    const double* d = &lattice.displacement(lattice.index(b.span[0] + i, b.span[1] + j, b.span[2] + k), 0);
+                    for (int c = 0; c < 3; ++c) {
+                        w0[i][j][c] += b.value[2][k] * d[c];
+                        w1[i][j][c] += b.derivative[2][k] * d[c];
+                    }
+                }
+        double v00[kMaxDegree + 1][3] = {}, v10[kMaxDegree + 1][3] = {}, v01[kMaxDegree + 1][3] = {};
+        for (int j = 0; j < nv; ++j)
+            for (int i = 0; i < nu; ++i)
+                for (int c = 0; c < 3; ++c) {
+                    v00[i][c] += b.value[1][j] * w0[i][j][c];
+                    v10[i][c] += b.derivative[1][j] * w0[i][j][c];
+                    v01[i][c] += b.value[1][j] * w1[i][j][c];
+                }
+        displacement.setZero();
+        dDisplacementDt.setZero();
+        for (int i = 0; i < nu; ++i)
+            for (int c = 0; c < 3; ++c) {
+                displacement[c] += b.value[0][i] * v00[i][c];
+                dDisplacementDt(c, 0) += b.derivative[0][i] * v00[i][c];
+                dDisplacementDt(c, 1) += b.value[0][i] * v10[i][c];
+                dDisplacementDt(c, 2) += b.value[0][i] * v01[i][c];
+            }
+    } else {
+        // Homogeneous sums: numerator N = sum W B B B delta, denominator D = sum W B B B, and their t-gradients.
+        Eigen::Vector3d numerator = Eigen::Vector3d::Zero();
+        Eigen::Matrix3d numeratorGrad = Eigen::Matrix3d::Zero();  // column a = dN/dt_a
+        double denominator = 0.0;
+        Eigen::Vector3d denominatorGrad = Eigen::Vector3d::Zero();
+        for (int k = 0; k < nw; ++k)
+            for (int j = 0; j < nv; ++j)
+                for (int i = 0; i < nu; ++i) {
+                    const int idx = lattice.index(b.span[0] + i, b.span[1] + j, b.span[2] + k);
+                    const double w = lattice.weights[idx];
+                    const double basis = b.value[0][i] * b.value[1][j] * b.value[2][k];
+                    const Eigen::Vector3d grad(b.derivative[0][i] * b.value[1][j] * b.value[2][k],
+                                               b.value[0][i] * b.derivative[1][j] * b.value[2][k],
+                                               b.value[0][i] * b.value[1][j] * b.derivative[2][k]);
+                    const Eigen::Vector3d delta = lattice.displacement.row(idx).transpose();
+                    numerator += w * basis * delta;
+                    numeratorGrad += w * delta * grad.transpose();
+                    denominator += w * basis;
+                    denominatorGrad += w * grad;
+                }
         displacement = numerator / denominator;
         dDisplacementDt = (numeratorGrad - displacement * denominatorGrad.transpose()) / denominator;
-    } else {
-        displacement = numerator;
-        dDisplacementDt = numeratorGrad;
     }
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
     jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal();

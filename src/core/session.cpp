@@ -78,10 +78,13 @@ const char* opStatusName(OpStatus status) {
     return "?";
 }
 
-Positions invertDeformation(const Lattice& lattice, const Positions& deformed) {
-    Positions rest = deformed;
+void invertDeformation(const Lattice& lattice, const Positions& deformed, Positions& rest) {
+    rest = deformed;  // same size as before: no new pages
     const int n = static_cast<int>(deformed.rows());
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
+    // note: the residual x + d(x) - y sums up to (p+1)^3 terms of size ~|x|, so it cannot go much below a few
+    // ulps of the box; Newton stops at 1e-14 of the diagonal or as soon as it stops improving (rounding level),
+    // so no iterations are burnt on noise. Undo chains many inversions: each must be this tight.
     const double tolerance = 1e-14 * lattice.diagonal();
     // With the boundary where it started, a point outside the box is its own preimage.
     const bool boundaryFixed = boundaryUnmoved(lattice);
@@ -92,11 +95,18 @@ Positions invertDeformation(const Lattice& lattice, const Positions& deformed) {
         // A point whose own displacement is exactly zero is its own preimage (the map is injective), so
         // vertices the frame never moved come back bitwise.
         const bool inside = restParameters(lattice, y, t);
-        if (inside ? displacementAt(lattice, t).isZero(0.0) : boundaryFixed) continue;
-        Eigen::Vector3d x = y.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+        Eigen::Vector3d displacementAtY = Eigen::Vector3d::Zero();
+        if (inside) {
+            displacementAtY = displacementAt(lattice, t);
+            if (displacementAtY.isZero(0.0)) continue;
+        } else if (boundaryFixed) {
+            continue;
+        }
+        // Start from the fixed-point guess x = y - d(y): off by |d| |grad d|, so Newton needs two or three steps.
+        Eigen::Vector3d x = (y - displacementAtY).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
         Eigen::Vector3d best = y;
         double bestResidual = INFINITY;
-        for (int iteration = 0; iteration < 40; ++iteration) {
+        for (int iteration = 0; iteration < 30; ++iteration) {
             t = ((x - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
             Eigen::Vector3d displacement;
             Eigen::Matrix3d jacobian;
@@ -106,6 +116,8 @@ Positions invertDeformation(const Lattice& lattice, const Positions& deformed) {
             if (r < bestResidual) {
                 bestResidual = r;
                 best = x;
+            } else {
+                break;  // no longer improving: at rounding level (or diverging, judged below)
             }
             if (r <= tolerance) break;
             const Eigen::Vector3d step = jacobian.partialPivLu().solve(residual);
@@ -115,7 +127,6 @@ Positions invertDeformation(const Lattice& lattice, const Positions& deformed) {
         // Outside the box nothing moved: keep y unless Newton found a genuine preimage inside.
         rest.row(v) = (bestResidual <= 1e-9 * lattice.diagonal() ? best : y).transpose();
     }
-    return rest;
 }
 
 Status Session::setMesh(const Positions& positions, const Triangles& triangles, const LatticeSettings& settings) {
@@ -322,7 +333,7 @@ void Session::leaveFrame() {
     for (int idx : frozen.pinToggles) previous.pinned[idx] ^= 1;
     lattice_ = std::move(previous);
     settings_ = frozen.settings;
-    rest_ = invertDeformation(lattice_, positions_);
+    invertDeformation(lattice_, positions_, rest_);
     embedVertices(lattice_, rest_, embedding_);
     if (trackJacobian_) accumulateFrameJacobian(true);
     lastMovedAll_ = true;
@@ -433,7 +444,7 @@ bool Session::injectSubdiv(Manipulation& m, int depth, Progress& progress) {
 
 Status Session::runManipulation(Manipulation m, Operation operation, OpReport& report) {
     const auto start = Clock::now();
-    Progress progress;
+    Progress progress(scratch_);
     progress.operation = &operation;
     const bool ok = injectSubdiv(m, 0, progress);
     report.injectivityMs = progress.injectivityMs;
@@ -745,7 +756,7 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport
         for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));
         m.targets = targets;
         Operation increments;
-        Progress progress;
+        Progress progress(scratch_);
         progress.operation = &increments;
         progress.appliedInCurrentFrame = dragAppliedInFrame_;
         const bool ok = injectSubdiv(m, 0, progress);

@@ -184,10 +184,13 @@ private:
         size_t frameCount = 0;
     };
     struct Progress {
+        explicit Progress(Snapshot& scratch) : snapshot(scratch) {
+            snapshot.positionsSaved = snapshot.frameSaved = snapshot.latticeSaved = false;
+        }
         Operation* operation = nullptr;
         bool appliedInCurrentFrame = false;  // a step of this operation already changed the current frame
         bool pendingFreshFrame = false;      // a fresh frame was entered and no step has been applied in it yet
-        Snapshot snapshot;
+        Snapshot& snapshot;  // the session's scratch_, reused so large copies do not fault in fresh pages
         std::string failure;
         double injectivityMs = 0.0;
         std::vector<int> moved;
@@ -211,6 +214,7 @@ private:
     LatticeSettings settings_, initialSettings_;
     Eigen::Vector3d initialBoxMin_ = Eigen::Vector3d::Zero(), initialBoxMax_ = Eigen::Vector3d::Zero();
     InjectivitySettings injectivity_;
+    Snapshot scratch_;
     Lattice lattice_;
     Embedding embedding_;
     std::vector<FrozenFrame> frames_;
@@ -233,6 +237,7 @@ private:
 // Inverts an injective lattice deformation per point: finds X with X + sum R(t(X)) delta = y for each row y of
 // `deformed` (Newton from X = y; a point whose displacement is exactly zero is its own preimage, which keeps
 // untouched vertices bitwise identical). Points outside the box are unchanged. Parallel.
-Positions invertDeformation(const Lattice& lattice, const Positions& deformed);
+// rest: resized to match; reusing the same buffer avoids faulting in fresh pages on every undo.
+void invertDeformation(const Lattice& lattice, const Positions& deformed, Positions& rest);
 
 }  // namespace sculpt::core
