@@ -9,19 +9,23 @@ namespace sculpt::core {
 
 namespace {
 
-detail::CellKernel chooseKernel(const char** name) {
+bool haveAvx2() {
 #if defined(SCULPT_HAVE_AVX2_KERNEL)
-    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
-        *name = "avx2-fma";
-        return detail::evaluateCellsAvx2;
-    }
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+    return false;
 #endif
-    *name = "generic";
-    return detail::evaluateCellsGeneric;
 }
 
-const char* gKernelName = nullptr;
-const detail::CellKernel gKernel = chooseKernel(&gKernelName);
+const bool gAvx2 = haveAvx2();
+const char* gKernelName = gAvx2 ? "avx2-fma" : "generic";
+#if defined(SCULPT_HAVE_AVX2_KERNEL)
+const detail::CellKernel gKernel = gAvx2 ? detail::evaluateCellsAvx2 : detail::evaluateCellsGeneric;
+const detail::IncrementKernel gIncrement = gAvx2 ? detail::incrementCellsAvx2 : detail::incrementCellsGeneric;
+#else
+const detail::CellKernel gKernel = detail::evaluateCellsGeneric;
+const detail::IncrementKernel gIncrement = detail::incrementCellsGeneric;
+#endif
 
 }  // namespace
 
@@ -129,6 +133,30 @@ std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
     return cells;
+}
+
+void evaluateIncrement(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& controlPoints,
+                       const Positions& deltas, double sign, Positions& positions, IncrementScratch& scratch,
+                       std::vector<int>* movedVertices) {
+    const std::vector<int> cells = cellsInfluencedBy(lattice, controlPoints);
+    if (lattice.rational) return evaluateCells(lattice, embedding, cells, positions, movedVertices);
+    const int n = lattice.controlPointCount();
+    if (scratch.increment.rows() != n) scratch.increment = Positions::Zero(n, 3);
+    if (static_cast<int>(scratch.changed.size()) != n) scratch.changed.assign(n, 0);
+    for (size_t c = 0; c < controlPoints.size(); ++c) {
+        scratch.increment.row(controlPoints[c]) = sign * deltas.row(static_cast<Eigen::Index>(c));
+        scratch.changed[controlPoints[c]] = 1;
+    }
+    gIncrement(lattice, embedding, cells.data(), static_cast<int>(cells.size()), scratch.increment, scratch.changed.data(),
+               positions.data());
+    for (int idx : controlPoints) {  // back to all zero for the next call
+        scratch.increment.row(idx).setZero();
+        scratch.changed[idx] = 0;
+    }
+    if (movedVertices)
+        for (int cell : cells)
+            movedVertices->insert(movedVertices->end(), embedding.order.begin() + embedding.cellStart[cell],
+                                  embedding.order.begin() + embedding.cellStart[cell + 1]);
 }
 
 void controlPointInfluence(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& controlPoints,

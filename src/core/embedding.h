@@ -7,6 +7,7 @@
 // (design.md, "Numbers to keep in mind").
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "core/lattice.h"
@@ -44,6 +45,19 @@ void evaluateAll(const Lattice& lattice, const Embedding& embedding, Positions& 
 // If movedVertices is not null, the ids of the vertices written are appended to it.
 void evaluateCells(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& cells,
                    Positions& positions, std::vector<int>* movedVertices = nullptr);
+
+// The same update for a change `delta` of a polynomial lattice (unit weights), already added to `lattice`:
+// positions += sum R_c(t) delta_c over the changed control points only, for the vertices of the cells they
+// reach (Hu et al. 2001 eq. 1 is linear in the control points). Much cheaper than re-evaluating those
+// cells in full: an outer cell of a drag holds one changed layer of its (p+1)^3 support. Rational lattices
+// (and empty deltas) fall back to evaluateCells. scratch: #P x 3 and #P bytes, kept between calls.
+struct IncrementScratch {
+    Positions increment;
+    std::vector<std::uint8_t> changed;
+};
+void evaluateIncrement(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& controlPoints,
+                       const Positions& deltas, double sign, Positions& positions, IncrementScratch& scratch,
+                       std::vector<int>* movedVertices = nullptr);
 
 // How much the given control points influence each vertex: weights[v] = sum of R_c(t_v) over those control
 // points c, in [0, 1] for unit weights (1 where they carry the whole deformation, 0 outside their support).

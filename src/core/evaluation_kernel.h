@@ -1,6 +1,8 @@
 // Internal: the per-cell evaluation kernel, compiled twice (generic and AVX2+FMA) and chosen at run time.
 #pragma once
 
+#include <cstdint>
+
 #include "core/embedding.h"
 
 namespace sculpt::core::detail {
@@ -11,5 +13,11 @@ using CellKernel = void (*)(const Lattice& lattice, const Embedding& embedding, 
 
 void evaluateCellsGeneric(const Lattice&, const Embedding&, const int*, int, double*);
 void evaluateCellsAvx2(const Lattice&, const Embedding&, const int*, int, double*);
+
+// Adds sum R_c(t) increment_c over the control points c with changed[c] != 0 (polynomial lattices only).
+using IncrementKernel = void (*)(const Lattice& lattice, const Embedding& embedding, const int* cells, int cellCount,
+                                 const Positions& increment, const std::uint8_t* changed, double* positions);
+void incrementCellsGeneric(const Lattice&, const Embedding&, const int*, int, const Positions&, const std::uint8_t*, double*);
+void incrementCellsAvx2(const Lattice&, const Embedding&, const int*, int, const Positions&, const std::uint8_t*, double*);
 
 }  // namespace sculpt::core::detail

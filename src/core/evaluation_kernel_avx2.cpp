@@ -2,5 +2,6 @@
 // after a run-time CPU check, so the binary still runs on CPUs without AVX2.
 #if defined(SCULPT_HAVE_AVX2_KERNEL)
 #define SCULPT_KERNEL_NAME evaluateCellsAvx2
+#define SCULPT_INCREMENT_NAME incrementCellsAvx2
 #include "core/evaluation_kernel.inl"
 #endif

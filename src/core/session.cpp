@@ -187,7 +187,7 @@ Status Session::parametersOfVertex(int vertex, Eigen::Vector3d& params) const {
 
 void Session::applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved) {
     applyControlDelta(lattice_, delta, sign);
-    evaluateCells(lattice_, embedding_, cellsInfluencedBy(lattice_, delta.indices), positions_, moved);
+    evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, sign, positions_, increment_, moved);
 }
 
 void Session::pushOperation(Operation operation) {
@@ -405,7 +405,7 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
         if (!verdict.message.empty()) progress.failure += " (" + verdict.message + ")";
         return false;
     }
-    evaluateCells(lattice_, embedding_, cells, positions_, &progress.moved);
+    evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, 1.0, positions_, increment_, &progress.moved);
 
     Step step;
     step.freshFrame = progress.pendingFreshFrame;
@@ -733,7 +733,7 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport
     lastMoved_.clear();
     lastMovedAll_ = false;
     if (verdict.certified) {
-        evaluateCells(lattice_, embedding_, cells, positions_, &lastMoved_);
+        evaluateIncrement(lattice_, embedding_, solved.delta.indices, solved.delta.deltas, 1.0, positions_, increment_, &lastMoved_);
         if (!dragOperation_.steps.empty() && dragAppliedInFrame_) {
             mergeDelta(dragOperation_.steps.back().delta, solved.delta);
         } else {

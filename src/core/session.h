@@ -215,6 +215,7 @@ private:
     Eigen::Vector3d initialBoxMin_ = Eigen::Vector3d::Zero(), initialBoxMax_ = Eigen::Vector3d::Zero();
     InjectivitySettings injectivity_;
     Snapshot scratch_;
+    IncrementScratch increment_;
     Lattice lattice_;
     Embedding embedding_;
     std::vector<FrozenFrame> frames_;

@@ -88,3 +88,36 @@ TEST_CASE("embedding: every embedded vertex appears once, grouped by cell", "[co
         REQUIRE(embedding.cellStart.back() == 2000);
     }
 }
+
+TEST_CASE("embedding: the incremental update equals a full re-evaluation after the change", "[core]") {
+    std::mt19937 rng(34);
+    IncrementScratch scratch;
+    for (int trial = 0; trial < 40; ++trial) {
+        Lattice lattice = test::randomLattice(rng, trial % 3 == 0);
+        const Positions rest = test::randomPoints(rng, 4000, lattice.boxMin, lattice.boxMax);
+        const Embedding embedding = embedVertices(lattice, rest);
+        test::randomDisplacement(rng, lattice, 0.02);
+        Positions positions = rest;
+        evaluateAll(lattice, embedding, positions);
+        for (int round = 0; round < 3; ++round) {
+            std::vector<int> ids;
+            for (int c = 0; c < test::randomInt(rng, 1, 70); ++c) ids.push_back(test::randomInt(rng, 0, lattice.controlPointCount() - 1));
+            std::sort(ids.begin(), ids.end());
+            ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+            Positions deltas(static_cast<Eigen::Index>(ids.size()), 3);
+            for (Eigen::Index c = 0; c < deltas.rows(); ++c) deltas.row(c) = 0.03 * lattice.diagonal() * test::randomVector(rng, -1, 1).transpose();
+            const double sign = round == 2 ? -1.0 : 1.0;
+            for (size_t c = 0; c < ids.size(); ++c) lattice.displacement.row(ids[c]) += sign * deltas.row(static_cast<Eigen::Index>(c));
+            std::vector<int> moved;
+            const Positions before = positions;
+            evaluateIncrement(lattice, embedding, ids, deltas, sign, positions, scratch, &moved);
+            Positions full = rest;
+            evaluateAll(lattice, embedding, full);
+            REQUIRE((positions - full).cwiseAbs().maxCoeff() <= 1e-13 * lattice.diagonal());
+            std::vector<char> isMoved(rest.rows(), 0);
+            for (int v : moved) isMoved[v] = 1;
+            for (Eigen::Index v = 0; v < rest.rows(); ++v)
+                if (!isMoved[v]) REQUIRE(positions.row(v) == before.row(v));  // untouched: bitwise unchanged
+        }
+    }
+}
