@@ -86,6 +86,7 @@ struct Renderer::State {
     void uploadVertexRange(int first, int last);
     Status buildPrograms();
     void createObjects();
+    void setupInstanceBatch(InstanceBatch& batch, const GLuint* locations, const GLint* sizes, int count);
     void setupLineBatch(InstanceBatch& batch);
     void setupPointBatch(InstanceBatch& batch);
     void uploadBatch(InstanceBatch& batch, const std::vector<float>& data, int floatsPerInstance);
@@ -173,16 +174,16 @@ void Renderer::State::createObjects() {
     setupPointBatch(handlePoints);
 }
 
-void Renderer::State::setupLineBatch(InstanceBatch& batch) {
+// An instanced batch: one buffer of interleaved per-instance float attributes (one row per segment/marker).
+void Renderer::State::setupInstanceBatch(InstanceBatch& batch, const GLuint* locations, const GLint* sizes, int count) {
     gl.GenVertexArrays(1, &batch.vao);
     gl.GenBuffers(1, &batch.buffer);
     gl.BindVertexArray(batch.vao);
     gl.BindBuffer(GL_ARRAY_BUFFER, batch.buffer);
-    const GLsizei stride = kLineFloats * sizeof(float);
-    const GLuint locations[4] = {kAttribSegmentStart, kAttribSegmentEnd, kAttribColorStart, kAttribColorEnd};
-    const GLint sizes[4] = {3, 3, 4, 4};
+    GLsizei stride = 0;
+    for (int a = 0; a < count; ++a) stride += GLsizei(sizes[a] * sizeof(float));
     size_t offset = 0;
-    for (int a = 0; a < 4; ++a) {
+    for (int a = 0; a < count; ++a) {
         gl.EnableVertexAttribArray(locations[a]);
         gl.VertexAttribPointer(locations[a], sizes[a], GL_FLOAT, GL_FALSE, stride,
                                reinterpret_cast<void*>(offset * sizeof(float)));
@@ -193,24 +194,18 @@ void Renderer::State::setupLineBatch(InstanceBatch& batch) {
     gl.BindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
+void Renderer::State::setupLineBatch(InstanceBatch& batch) {
+    const GLuint locations[4] = {kAttribSegmentStart, kAttribSegmentEnd, kAttribColorStart, kAttribColorEnd};
+    const GLint sizes[4] = {3, 3, 4, 4};
+    static_assert(3 + 3 + 4 + 4 == kLineFloats, "line instance layout");
+    setupInstanceBatch(batch, locations, sizes, 4);
+}
+
 void Renderer::State::setupPointBatch(InstanceBatch& batch) {
-    gl.GenVertexArrays(1, &batch.vao);
-    gl.GenBuffers(1, &batch.buffer);
-    gl.BindVertexArray(batch.vao);
-    gl.BindBuffer(GL_ARRAY_BUFFER, batch.buffer);
-    const GLsizei stride = kMarkerFloats * sizeof(float);
     const GLuint locations[3] = {kAttribMarkerCenter, kAttribMarkerColor, kAttribMarkerStyle};
     const GLint sizes[3] = {3, 4, 2};
-    size_t offset = 0;
-    for (int a = 0; a < 3; ++a) {
-        gl.EnableVertexAttribArray(locations[a]);
-        gl.VertexAttribPointer(locations[a], sizes[a], GL_FLOAT, GL_FALSE, stride,
-                               reinterpret_cast<void*>(offset * sizeof(float)));
-        gl.VertexAttribDivisor(locations[a], 1);
-        offset += size_t(sizes[a]);
-    }
-    gl.BindVertexArray(0);
-    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    static_assert(3 + 4 + 2 == kMarkerFloats, "marker instance layout");
+    setupInstanceBatch(batch, locations, sizes, 3);
 }
 
 void Renderer::State::uploadBatch(InstanceBatch& batch, const std::vector<float>& data, int floatsPerInstance) {

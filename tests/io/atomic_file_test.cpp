@@ -13,26 +13,12 @@
 #include <catch2/catch.hpp>
 
 #include "io/atomic_file.h"
+#include "io_test_support.h"
 
 namespace {
 
-struct TempFolder {
-    std::string path;
-    TempFolder() {
-        std::string pattern = std::string(SCULPT_BINARY_DIR) + "/atomic_test_XXXXXX";
-        REQUIRE(::mkdtemp(pattern.data()) != nullptr);
-        path = pattern;
-    }
-    ~TempFolder() { std::system(("rm -rf '" + path + "'").c_str()); }
-    std::string file(const std::string& name) const { return path + "/" + name; }
-};
-
-std::string readBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using sculpt::test::TempFolder;
+using sculpt::test::readBytes;
 
 std::vector<std::string> entries(const std::string& folder) {
     std::vector<std::string> names;

@@ -16,6 +16,7 @@
 #include <catch2/catch.hpp>
 
 #include "io/obj_mesh.h"
+#include "io_test_support.h"
 #include "io/obj_scan.h"
 
 using sculpt::Positions;
@@ -26,24 +27,8 @@ namespace {
 
 const std::string kDataDir = std::string(SCULPT_SOURCE_DIR) + "/tests/io/data";
 
-// A fresh folder under the build tree, removed with its files at scope exit.
-struct TempFolder {
-    std::string path;
-    TempFolder() {
-        std::string pattern = std::string(SCULPT_BINARY_DIR) + "/obj_test_XXXXXX";
-        REQUIRE(::mkdtemp(pattern.data()) != nullptr);
-        path = pattern;
-    }
-    ~TempFolder() { std::system(("rm -rf '" + path + "'").c_str()); }
-    std::string file(const std::string& name) const { return path + "/" + name; }
-};
-
-std::string readBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using sculpt::test::TempFolder;
+using sculpt::test::readBytes;
 
 void writeBytes(const std::string& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary);
