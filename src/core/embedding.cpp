@@ -115,6 +115,15 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
     }
 }
 
+Eigen::Vector3d embeddedParameters(const Lattice& lattice, const Embedding& embedding, int cell, int entry) {
+    const std::array<int, 3> spans = lattice.spans();
+    const int cellIndex[3] = {cell % spans[0], (cell / spans[0]) % spans[1], cell / (spans[0] * spans[1])};
+    const double local[3] = {embedding.localX[entry], embedding.localY[entry], embedding.localZ[entry]};
+    Eigen::Vector3d t;
+    for (int a = 0; a < 3; ++a) t[a] = std::min(1.0, (cellIndex[a] + local[a]) / spans[a]);
+    return t;
+}
+
 std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int>& controlPoints) {
     const std::array<int, 3> spans = lattice.spans();
     std::vector<int> cells;
@@ -165,15 +174,10 @@ void controlPointInfluence(const Lattice& lattice, const Embedding& embedding, c
     std::vector<std::uint8_t> chosen(lattice.controlPointCount(), 0);
     for (int idx : controlPoints)
         if (idx >= 0 && idx < lattice.controlPointCount()) chosen[idx] = 1;
-    const std::array<int, 3> spans = lattice.spans();
     for (int cell : cellsInfluencedBy(lattice, controlPoints)) {
-        const int cellIndex[3] = {cell % spans[0], (cell / spans[0]) % spans[1], cell / (spans[0] * spans[1])};
         for (int s = embedding.cellStart[cell]; s < embedding.cellStart[cell + 1]; ++s) {
-            const double local[3] = {embedding.localX[s], embedding.localY[s], embedding.localZ[s]};
-            Eigen::Vector3d t;
-            for (int a = 0; a < 3; ++a) t[a] = std::min(1.0, (cellIndex[a] + local[a]) / spans[a]);
             SupportWeights support;
-            supportWeights(lattice, t, support);
+            supportWeights(lattice, embeddedParameters(lattice, embedding, cell, s), support);
             double sum = 0.0;
             for (int c = 0; c < support.count; ++c)
                 if (chosen[support.index[c]]) sum += support.weight[c];

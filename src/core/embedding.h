@@ -33,6 +33,9 @@ Embedding embedVertices(const Lattice& lattice, const Positions& rest);
 // mesh of the same size, as adaptive subdivision does).
 void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& embedding);
 
+// Lattice parameters of entry `entry` of `order`, which lies in cell `cell` (from its local coordinates).
+Eigen::Vector3d embeddedParameters(const Lattice& lattice, const Embedding& embedding, int cell, int entry);
+
 // Cells (linear index su + Su*(sv + Sv*sw)) whose evaluation depends on any of the given control points:
 // the cells within `degree` spans of the point along each axis. Sorted, unique.
 std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int>& controlPoints);

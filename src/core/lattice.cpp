@@ -115,12 +115,7 @@ Status makeLatticeInBox(const LatticeSettings& settings, const Eigen::Vector3d& 
     lattice.weights.assign(n, 1.0);
     lattice.displacement = Positions::Zero(n, 3);
     lattice.pinned.assign(n, 0);
-    const int k = settings.pinLayers;
-    for (int idx = 0; idx < n; ++idx) {
-        const std::array<int, 3> c = lattice.ijk(idx);
-        for (int a = 0; a < 3; ++a)
-            if (c[a] < k || c[a] >= lattice.count[a] - k) lattice.pinned[idx] = 1;
-    }
+    for (int idx = 0; idx < n; ++idx) lattice.pinned[idx] = inOuterLayers(lattice, idx, settings.pinLayers) ? 1 : 0;
     out = std::move(lattice);
     return Status::success();
 }
@@ -271,13 +266,23 @@ Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deform
                          std::to_string(deformedPoint.z()) + ") is not inside the deformed lattice");
 }
 
+bool inOuterLayers(const Lattice& lattice, int index, int layers) {
+    const std::array<int, 3> c = lattice.ijk(index);
+    for (int a = 0; a < 3; ++a)
+        if (c[a] < layers || c[a] >= lattice.count[a] - layers) return true;
+    return false;
+}
+
+std::vector<int> displacedControlPoints(const Lattice& lattice) {
+    std::vector<int> ids;
+    for (int idx = 0; idx < lattice.controlPointCount(); ++idx)
+        if (!lattice.displacement.row(idx).isZero(0.0)) ids.push_back(idx);
+    return ids;
+}
+
 bool boundaryUnmoved(const Lattice& lattice) {
-    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
-        const std::array<int, 3> c = lattice.ijk(idx);
-        bool outer = false;
-        for (int a = 0; a < 3; ++a) outer = outer || c[a] == 0 || c[a] == lattice.count[a] - 1;
-        if (outer && !lattice.displacement.row(idx).isZero(0.0)) return false;
-    }
+    for (int idx : displacedControlPoints(lattice))
+        if (inOuterLayers(lattice, idx, 1)) return false;
     return true;
 }
 

@@ -100,6 +100,12 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
 Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deformedPoint, Eigen::Vector3d& params,
                            double tolerance = 1e-12);
 
+// True if control point `index` lies in one of the `layers` outer layers (the pin_layers rule).
+bool inOuterLayers(const Lattice& lattice, int index, int layers);
+
+// Ids of the control points whose displacement is not exactly zero, ascending.
+std::vector<int> displacedControlPoints(const Lattice& lattice);
+
 // True if no control point on the lattice's outer faces has moved: the clamped volume then maps its box
 // onto itself, so points outside the box are neither moved nor the image of a point inside it.
 bool boundaryUnmoved(const Lattice& lattice);

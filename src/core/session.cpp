@@ -54,19 +54,6 @@ void mergeDelta(ControlDelta& a, const ControlDelta& b) {
     a = std::move(merged);
 }
 
-std::vector<int> pinnedByLayers(const Lattice& lattice, int layers) {
-    std::vector<int> ids;
-    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
-        const std::array<int, 3> c = lattice.ijk(idx);
-        for (int a = 0; a < 3; ++a)
-            if (c[a] < layers || c[a] >= lattice.count[a] - layers) {
-                ids.push_back(idx);
-                break;
-            }
-    }
-    return ids;
-}
-
 }  // namespace
 
 const char* opStatusName(OpStatus status) {
@@ -221,21 +208,13 @@ void Session::setTrackJacobian(bool track) {
 
 void Session::accumulateFrameJacobian(bool divide) {
     // Only vertices in cells reached by a non-zero control displacement have det J != 1 in this frame.
-    std::vector<int> moving;
-    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
-        if (!lattice_.displacement.row(idx).isZero(0.0)) moving.push_back(idx);
-    const std::vector<int> cells = cellsInfluencedBy(lattice_, moving);
-    const std::array<int, 3> spans = lattice_.spans();
+    const std::vector<int> cells = cellsInfluencedBy(lattice_, displacedControlPoints(lattice_));
     const int cellCount = static_cast<int>(cells.size());
 #pragma omp parallel for schedule(dynamic, 4) if (cellCount > 64)
     for (int c = 0; c < cellCount; ++c) {
         const int cell = cells[c];
-        const int cellIndex[3] = {cell % spans[0], (cell / spans[0]) % spans[1], cell / (spans[0] * spans[1])};
         for (int s = embedding_.cellStart[cell]; s < embedding_.cellStart[cell + 1]; ++s) {
-            const double local[3] = {embedding_.localX[s], embedding_.localY[s], embedding_.localZ[s]};
-            Eigen::Vector3d t;
-            for (int a = 0; a < 3; ++a) t[a] = std::min(1.0, (cellIndex[a] + local[a]) / spans[a]);
-            const double det = jacobianDeterminant(lattice_, t);
+            const double det = jacobianDeterminant(lattice_, embeddedParameters(lattice_, embedding_, cell, s));
             double& product = frozenJacobian_[embedding_.order[s]];
             product = divide ? product / det : product * det;
         }
@@ -257,17 +236,13 @@ void Session::enterFreshFrame(const LatticeSettings& settings, Progress* progres
     frozen.settings = settings_;
     frozen.boxMin = lattice_.boxMin;
     frozen.boxMax = lattice_.boxMax;
-    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
-        if (!lattice_.displacement.row(idx).isZero(0.0)) frozen.displacement.indices.push_back(idx);
+    frozen.displacement.indices = displacedControlPoints(lattice_);
     frozen.displacement.deltas.resize(static_cast<Eigen::Index>(frozen.displacement.indices.size()), 3);
     for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
         frozen.displacement.deltas.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(frozen.displacement.indices[c]);
-    {
-        std::vector<std::uint8_t> layers(lattice_.controlPointCount(), 0);
-        for (int idx : pinnedByLayers(lattice_, settings_.pinLayers)) layers[idx] = 1;
-        for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
-            if (layers[idx] != lattice_.pinned[idx]) frozen.pinToggles.push_back(idx);
-    }
+    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
+        if (inOuterLayers(lattice_, idx, settings_.pinLayers) != static_cast<bool>(lattice_.pinned[idx]))
+            frozen.pinToggles.push_back(idx);
     if (progress && !progress->snapshot.latticeSaved) {
         progress->snapshot.latticeSaved = true;
         progress->snapshot.lattice = lattice_;
@@ -356,6 +331,22 @@ void Session::restoreSnapshot(Snapshot& snapshot) {
 
 // ---- InjectSubdiv ---------------------------------------------------------------------------------------
 
+InjectivityResult Session::applyIfInjective(const ControlDelta& delta) {
+    // Tentatively change the lattice and test the cells the change reaches (the rest were tested before).
+    Positions saved(static_cast<Eigen::Index>(delta.indices.size()), 3);
+    for (size_t c = 0; c < delta.indices.size(); ++c) saved.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(delta.indices[c]);
+    applyControlDelta(lattice_, delta, 1.0);
+    const std::vector<int> cells = cellsInfluencedBy(lattice_, delta.indices);
+    // note: an empty change (every control point that could move is pinned) reaches no cell; an empty cell
+    // list would mean "all cells" to the checker.
+    InjectivityResult verdict;
+    verdict.certified = true;
+    if (!cells.empty()) verdict = checkInjectivity(lattice_, injectivity_.mode, cells);
+    if (!verdict.certified)  // put the rows back exactly as they were
+        for (size_t c = 0; c < delta.indices.size(); ++c) lattice_.displacement.row(delta.indices[c]) = saved.row(static_cast<Eigen::Index>(c));
+    return verdict;
+}
+
 bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
     // Each step after the first is a separate deformation in a fresh regular lattice around the mesh the
     // earlier steps produced (design.md): with one lattice the halves would just add up to the failing move.
@@ -378,7 +369,7 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
         delta.deltas = m.offsets;
     }
 
-    // Tentatively change the lattice and test the cells the change reaches (the rest were tested before).
+    // Inside a subdivision, keep what a rejection must restore before the first step changes anything.
     if (depth > 0 && !progress.snapshot.positionsSaved) {
         progress.snapshot.positionsSaved = true;
         progress.snapshot.positions = positions_;
@@ -387,18 +378,9 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
         progress.snapshot.latticeSaved = true;
         progress.snapshot.lattice = lattice_;
     }
-    Positions saved(static_cast<Eigen::Index>(delta.indices.size()), 3);
-    for (size_t c = 0; c < delta.indices.size(); ++c) saved.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(delta.indices[c]);
-    applyControlDelta(lattice_, delta, 1.0);
-    const std::vector<int> cells = cellsInfluencedBy(lattice_, delta.indices);
-    // note: an empty change (every control point that could move is pinned) reaches no cell; an empty cell
-    // list would mean "all cells" to the checker.
-    InjectivityResult verdict;
-    verdict.certified = true;
-    if (!cells.empty()) verdict = checkInjectivity(lattice_, injectivity_.mode, cells);
+    const InjectivityResult verdict = applyIfInjective(delta);
     progress.injectivityMs += verdict.milliseconds;
     if (!verdict.certified) {
-        for (size_t c = 0; c < delta.indices.size(); ++c) lattice_.displacement.row(delta.indices[c]) = saved.row(static_cast<Eigen::Index>(c));
         const auto& ijk = verdict.failingCellIjk;
         progress.failure = std::string(injectivityModeName(injectivity_.mode)) + " test fails in cell [" +
                            std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "]";
@@ -722,13 +704,7 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport
         return Status::success();
     }
     const DirectManipulationResult solved = solveDirectManipulation(dragData_, increment);
-    Positions saved(static_cast<Eigen::Index>(solved.delta.indices.size()), 3);
-    for (size_t c = 0; c < solved.delta.indices.size(); ++c) saved.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(solved.delta.indices[c]);
-    applyControlDelta(lattice_, solved.delta, 1.0);
-    const std::vector<int> cells = cellsInfluencedBy(lattice_, solved.delta.indices);
-    InjectivityResult verdict;
-    verdict.certified = true;
-    if (!cells.empty()) verdict = checkInjectivity(lattice_, injectivity_.mode, cells);
+    const InjectivityResult verdict = applyIfInjective(solved.delta);
     report.injectivityMs = verdict.milliseconds;
     lastMoved_.clear();
     lastMovedAll_ = false;
@@ -750,7 +726,6 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport
         report.rankDeficient = solved.rankDeficient;
     } else {
         // Not injective as one step: subdivide this increment like any operation (it may enter fresh frames).
-        for (size_t c = 0; c < solved.delta.indices.size(); ++c) lattice_.displacement.row(solved.delta.indices[c]) = saved.row(static_cast<Eigen::Index>(c));
         Manipulation m;
         m.kind = OperationKind::Drag;
         for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));

@@ -197,6 +197,9 @@ private:
         bool movedAll = false;
     };
 
+    // Adds delta to the lattice if the cells it reaches pass the injectivity test; otherwise leaves the lattice
+    // bitwise as it was. Positions are not touched.
+    InjectivityResult applyIfInjective(const ControlDelta& delta);
     bool injectSubdiv(Manipulation& m, int depth, Progress& progress);
     bool tryStep(Manipulation& m, int depth, Progress& progress);
     void enterFreshFrame(const LatticeSettings& settings, Progress* progress);

@@ -151,6 +151,8 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
     return op;
 }
 
+json vectorJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
 int lineOfByte(const std::string& text, size_t byte) {
     int line = 1;
     for (size_t i = 0; i < byte && i < text.size(); ++i) line += text[i] == '\n';
@@ -211,8 +213,6 @@ Status parseScript(const std::string& text, const std::string& displayName, core
 }
 
 namespace {
-
-json vectorJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 json latticeJson(const core::LatticeSettings& s) {
     json j = {{"resolution", s.resolution}, {"degree", s.degree}, {"padding", s.padding}, {"pin_layers", s.pinLayers}};
@@ -282,8 +282,8 @@ std::string reportToJson(const core::ScriptReport& report, const core::Session& 
     const core::Lattice& lattice = session.lattice();
     root["lattice"] = {{"resolution", lattice.count},
                        {"degree", lattice.degree},
-                       {"box_min", {lattice.boxMin.x(), lattice.boxMin.y(), lattice.boxMin.z()}},
-                       {"box_max", {lattice.boxMax.x(), lattice.boxMax.y(), lattice.boxMax.z()}}};
+                       {"box_min", vectorJson(lattice.boxMin)},
+                       {"box_max", vectorJson(lattice.boxMax)}};
     json ops = json::array();
     for (size_t i = 0; i < report.ops.size(); ++i) {
         const core::OpReport& r = report.ops[i];
