@@ -98,9 +98,21 @@ void onScroll(GLFWwindow* window, double dx, double dy) { appOf(window).onScroll
 void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) {
     KeyEvent event;
     switch (key) {
-        case GLFW_KEY_Z: event.key = Key::Z; break;
-        case GLFW_KEY_Y: event.key = Key::Y; break;
+        case GLFW_KEY_A: event.key = Key::A; break;
         case GLFW_KEY_F: event.key = Key::F; break;
+        case GLFW_KEY_G: event.key = Key::G; break;
+        case GLFW_KEY_L: event.key = Key::L; break;
+        case GLFW_KEY_N: event.key = Key::N; break;
+        case GLFW_KEY_O: event.key = Key::O; break;
+        case GLFW_KEY_P: event.key = Key::P; break;
+        case GLFW_KEY_Q: event.key = Key::Q; break;
+        case GLFW_KEY_S: event.key = Key::S; break;
+        case GLFW_KEY_Y: event.key = Key::Y; break;
+        case GLFW_KEY_Z: event.key = Key::Z; break;
+        case GLFW_KEY_TAB: event.key = Key::Tab; break;
+        case GLFW_KEY_DELETE: event.key = Key::Delete; break;
+        case GLFW_KEY_BACKSPACE: event.key = Key::Backspace; break;
+        case GLFW_KEY_ENTER: case GLFW_KEY_KP_ENTER: event.key = Key::Enter; break;
         case GLFW_KEY_ESCAPE: event.key = Key::Escape; break;
         default: return;
     }

@@ -35,7 +35,7 @@ struct ScrollEvent {
 };
 
 // Only the keys the app binds; everything else arrives as Other.
-enum class Key { Z, Y, F, Escape, Other };
+enum class Key { A, F, G, L, N, O, P, Q, S, Y, Z, Tab, Delete, Backspace, Enter, Escape, Other };
 
 struct KeyEvent {
     Key key = Key::Other;
