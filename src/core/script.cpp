@@ -104,15 +104,30 @@ Script recordSession(const Session& session) {
                 }
                 break;
             case OperationKind::ControlPointEdit: {
-                ScriptOp op;
-                op.kind = ScriptOp::Kind::MoveControlPoint;
-                op.relative = true;
-                op.values = operation.offsets;
-                const auto& resolution = operation.steps.front().settings.resolution;
-                for (int idx : operation.controlPoints)
-                    op.controlPoints.push_back({idx % resolution[0], (idx / resolution[0]) % resolution[1],
-                                                idx / (resolution[0] * resolution[1])});
-                script.ops.push_back(op);
+                // An interactive control-point drag is replayed step by step, like an interactive drag.
+                auto moveOp = [](const std::vector<int>& ids, const Eigen::MatrixX3d& offsets, const std::array<int, 3>& resolution) {
+                    ScriptOp op;
+                    op.kind = ScriptOp::Kind::MoveControlPoint;
+                    op.relative = true;
+                    op.values = offsets;
+                    for (int idx : ids)
+                        op.controlPoints.push_back({idx % resolution[0], (idx / resolution[0]) % resolution[1],
+                                                    idx / (resolution[0] * resolution[1])});
+                    return op;
+                };
+                if (!operation.interactive) {
+                    script.ops.push_back(moveOp(operation.controlPoints, operation.offsets, operation.steps.front().settings.resolution));
+                    break;
+                }
+                for (const Step& step : operation.steps) {
+                    if (step.freshFrame) {
+                        ScriptOp fresh;
+                        fresh.kind = ScriptOp::Kind::SetupLattice;
+                        script.ops.push_back(fresh);
+                    }
+                    if (!step.delta.indices.empty())
+                        script.ops.push_back(moveOp(step.delta.indices, step.delta.deltas, step.settings.resolution));
+                }
                 break;
             }
             case OperationKind::LatticeSetup: {

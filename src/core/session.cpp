@@ -683,18 +683,110 @@ Status Session::beginDrag(const std::vector<Eigen::Vector3d>& sourceParams) {
     return Status::success();
 }
 
+Status Session::beginControlDrag(const std::vector<int>& indices) {
+    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (dragActive_) return Status::error("an interactive drag is already in progress");
+    if (indices.empty()) return Status::error("no control point given");
+    const int n = lattice_.controlPointCount();
+    std::vector<int> sorted = indices;
+    std::sort(sorted.begin(), sorted.end());
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    for (int idx : sorted) {
+        if (idx < 0 || idx >= n)
+            return Status::error("control point id " + std::to_string(idx) + " is outside the lattice (" +
+                                 std::to_string(n) + " control points)");
+        if (lattice_.pinned[idx]) {
+            const std::array<int, 3> ijk = lattice_.ijk(idx);
+            return Status::error("control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
+                                 std::to_string(ijk[2]) + "] is pinned");
+        }
+    }
+    dragOperation_ = Operation{};
+    dragOperation_.kind = OperationKind::ControlPointEdit;
+    dragOperation_.interactive = true;
+    dragOperation_.label = sorted.size() == 1 ? "move control point" : "move " + std::to_string(sorted.size()) + " control points";
+    dragOperation_.controlPoints = sorted;
+    dragOperation_.offsets = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(sorted.size()), 3);
+    dragSourceWorld_.clear();
+    dragParams_.clear();
+    dragAppliedInFrame_ = false;
+    dragActive_ = true;
+    return Status::success();
+}
+
 std::vector<Eigen::Vector3d> Session::dragSources() const { return dragSourceWorld_; }
+
+bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report) {
+    // Fast path: the whole increment as one change of the current lattice (the group property of Hu et al.
+    // 2001, section 4, makes a drag's increments add up to one control displacement per frame).
+    const InjectivityResult verdict = applyIfInjective(delta);
+    report.injectivityMs = verdict.milliseconds;
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    const bool drag = m.kind == OperationKind::Drag;
+    if (verdict.certified) {
+        evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, 1.0, positions_, increment_, &lastMoved_);
+        if (!dragOperation_.steps.empty() && dragAppliedInFrame_) {
+            mergeDelta(dragOperation_.steps.back().delta, delta);
+        } else {
+            Step step;
+            step.settings = settings_;
+            step.delta = delta;
+            for (const Eigen::Vector3d& source : dragSourceWorld_) step.constraints.push_back({source, source});
+            dragOperation_.steps.push_back(std::move(step));
+        }
+        if (drag)
+            for (size_t f = 0; f < dragParams_.size(); ++f) dragOperation_.steps.back().constraints[f].target = currentImage(dragParams_[f]);
+        dragAppliedInFrame_ = true;
+        report.subSteps = 1;
+        return true;
+    }
+    // Not injective as one step: subdivide this increment like any operation (Gain & Dodgson 2001, Appendix,
+    // InjectSubdiv); it may enter fresh frames.
+    Operation increments;
+    Progress progress(scratch_);
+    progress.operation = &increments;
+    progress.appliedInCurrentFrame = dragAppliedInFrame_;
+    const bool ok = injectSubdiv(m, 0, progress);
+    report.injectivityMs += progress.injectivityMs;
+    if (!ok) {
+        restoreSnapshot(progress.snapshot);
+        lastMovedAll_ = progress.snapshot.frameSaved;
+        report.status = OpStatus::Rejected;
+        report.reason = std::string("this move would fold the ") + (drag ? "mesh" : "lattice") + " (" + progress.failure +
+                        "); the drag stays at the last valid position";
+        report.injectivity = "rejected: " + progress.failure;
+        return false;
+    }
+    for (Step& step : increments.steps) {
+        if (!step.freshFrame && !dragOperation_.steps.empty() && dragAppliedInFrame_) {
+            mergeDelta(dragOperation_.steps.back().delta, step.delta);
+            for (size_t f = 0; f < step.constraints.size(); ++f)
+                dragOperation_.steps.back().constraints[f].target = step.constraints[f].target;
+        } else {
+            dragOperation_.steps.push_back(std::move(step));
+        }
+        dragAppliedInFrame_ = true;
+    }
+    dragOperation_.depthReached = std::max(dragOperation_.depthReached, increments.depthReached);
+    std::sort(progress.moved.begin(), progress.moved.end());
+    progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
+    lastMoved_ = std::move(progress.moved);
+    lastMovedAll_ = progress.movedAll;
+    report.subSteps = static_cast<int>(increments.steps.size());
+    report.depthReached = increments.depthReached;
+    return true;
+}
 
 Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "drag";
-    if (!dragActive_) return Status::error("no interactive drag is in progress");
+    if (!dragActive_ || dragOperation_.kind != OperationKind::Drag) return Status::error("no interactive drag is in progress");
     if (targets.size() != dragSourceWorld_.size()) return Status::error("drag target count changed");
     for (const Eigen::Vector3d& t : targets)
         if (!t.allFinite()) return Status::error("drag target has non-finite coordinates");
 
-    // Fast path: one incremental manipulation omega(S, increment) with the factorisation made at begin.
     Eigen::MatrixX3d increment(static_cast<Eigen::Index>(targets.size()), 3);
     for (size_t f = 0; f < targets.size(); ++f)
         increment.row(static_cast<Eigen::Index>(f)) = (targets[f] - currentImage(dragParams_[f])).transpose();
@@ -703,65 +795,21 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport
         report.reason = "the sources are already there";
         return Status::success();
     }
+    // One incremental manipulation omega(S, increment) with the factorisation made at begin (eq. 7 / 12).
     const DirectManipulationResult solved = solveDirectManipulation(dragData_, increment);
-    const InjectivityResult verdict = applyIfInjective(solved.delta);
-    report.injectivityMs = verdict.milliseconds;
-    lastMoved_.clear();
-    lastMovedAll_ = false;
-    if (verdict.certified) {
-        evaluateIncrement(lattice_, embedding_, solved.delta.indices, solved.delta.deltas, 1.0, positions_, increment_, &lastMoved_);
-        if (!dragOperation_.steps.empty() && dragAppliedInFrame_) {
-            mergeDelta(dragOperation_.steps.back().delta, solved.delta);
-        } else {
-            Step step;
-            step.settings = settings_;
-            step.delta = solved.delta;
-            for (size_t f = 0; f < targets.size(); ++f) step.constraints.push_back({dragSourceWorld_[f], dragSourceWorld_[f]});
-            dragOperation_.steps.push_back(std::move(step));
-        }
-        for (size_t f = 0; f < targets.size(); ++f) dragOperation_.steps.back().constraints[f].target = currentImage(dragParams_[f]);
-        dragAppliedInFrame_ = true;
-        report.subSteps = 1;
+    Manipulation m;
+    m.kind = OperationKind::Drag;
+    for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));
+    m.targets = targets;
+    const int framesBefore = frameDepth();
+    if (!applyInteractiveIncrement(solved.delta, m, report)) {
+        report.wallMs = millisecondsSince(start);
+        return Status::success();
+    }
+    if (report.subSteps == 1 && frameDepth() == framesBefore) {
         report.residuals = solved.residuals;
         report.rankDeficient = solved.rankDeficient;
     } else {
-        // Not injective as one step: subdivide this increment like any operation (it may enter fresh frames).
-        Manipulation m;
-        m.kind = OperationKind::Drag;
-        for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));
-        m.targets = targets;
-        Operation increments;
-        Progress progress(scratch_);
-        progress.operation = &increments;
-        progress.appliedInCurrentFrame = dragAppliedInFrame_;
-        const bool ok = injectSubdiv(m, 0, progress);
-        report.injectivityMs += progress.injectivityMs;
-        if (!ok) {
-            restoreSnapshot(progress.snapshot);
-            lastMovedAll_ = progress.snapshot.frameSaved;
-            report.status = OpStatus::Rejected;
-            report.reason = "this move would fold the mesh (" + progress.failure + "); the drag stays at the last valid position";
-            report.injectivity = "rejected: " + progress.failure;
-            report.wallMs = millisecondsSince(start);
-            return Status::success();
-        }
-        for (Step& step : increments.steps) {
-            if (!step.freshFrame && !dragOperation_.steps.empty() && dragAppliedInFrame_) {
-                mergeDelta(dragOperation_.steps.back().delta, step.delta);
-                for (size_t f = 0; f < step.constraints.size(); ++f)
-                    dragOperation_.steps.back().constraints[f].target = step.constraints[f].target;
-            } else {
-                dragOperation_.steps.push_back(std::move(step));
-            }
-            dragAppliedInFrame_ = true;
-        }
-        dragOperation_.depthReached = std::max(dragOperation_.depthReached, increments.depthReached);
-        std::sort(progress.moved.begin(), progress.moved.end());
-        progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
-        lastMoved_ = std::move(progress.moved);
-        lastMovedAll_ = progress.movedAll;
-        report.subSteps = static_cast<int>(increments.steps.size());
-        report.depthReached = increments.depthReached;
         // The frame may have changed: the sources' parameters are re-found where the steps left them.
         for (size_t f = 0; f < m.sources.size(); ++f) parametersOfCurrentPoint(m.sources[f], dragParams_[f]);
         DirectManipulationData data;
@@ -775,6 +823,41 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport
     report.status = OpStatus::Applied;
     report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
     report.controlPointsChanged = static_cast<int>(solved.delta.indices.size());
+    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "move_control_point";
+    if (!dragActive_ || dragOperation_.kind != OperationKind::ControlPointEdit)
+        return Status::error("no interactive control-point drag is in progress");
+    if (!offset.allFinite()) return Status::error("control point move has non-finite coordinates");
+    const Eigen::Index count = static_cast<Eigen::Index>(dragOperation_.controlPoints.size());
+    // Every point moves by the same offset since the drag began; this update adds what is still missing.
+    const Eigen::RowVector3d increment = offset.transpose() - dragOperation_.offsets.row(0);
+    if ((increment.array() == 0.0).all()) {
+        report.status = OpStatus::NoOp;
+        report.reason = "the control points are already there";
+        return Status::success();
+    }
+    ControlDelta delta;
+    delta.indices = dragOperation_.controlPoints;
+    delta.deltas = increment.replicate(count, 1);
+    Manipulation m;
+    m.kind = OperationKind::ControlPointEdit;
+    m.controlPoints = delta.indices;
+    m.offsets = delta.deltas;
+    if (!applyInteractiveIncrement(delta, m, report)) {
+        report.wallMs = millisecondsSince(start);
+        return Status::success();
+    }
+    dragOperation_.offsets.rowwise() = offset.transpose();
+    report.status = OpStatus::Applied;
+    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    report.controlPointsChanged = static_cast<int>(count);
     report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
     report.wallMs = millisecondsSince(start);
     return Status::success();

@@ -121,6 +121,11 @@ public:
     // as one history entry.
     Status beginDrag(const std::vector<Eigen::Vector3d>& sourceParams);
     Status updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
+    // Interactive control-point drag: the points (not pinned) move together, each update by the offset since
+    // beginControlDrag; tested and subdivided like any control-point edit, recorded as one history entry.
+    Status beginControlDrag(const std::vector<int>& indices);
+    Status updateControlDrag(const Eigen::Vector3d& offset, OpReport& report);
+    // Ends either kind of interactive drag; a drag that changed something becomes one history entry.
     void endDrag();
     bool dragging() const { return dragActive_; }
     // Current world positions of the sources of the drag in progress.
@@ -206,6 +211,9 @@ private:
     void leaveFrame();
     void restoreSnapshot(Snapshot& snapshot);
     Status runManipulation(Manipulation m, Operation operation, OpReport& report);
+    // One increment of an interactive drag: `delta` in the current frame when that is injective, otherwise m
+    // subdivided; merged into dragOperation_. Returns false (report says why, nothing changed) if rejected.
+    bool applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report);
     // Adds sign * delta to the lattice and re-evaluates the affected cells; moved vertices are appended.
     void applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved);
     void pushOperation(Operation operation);

@@ -1,7 +1,10 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
+#include "core/script.h"
 #include "core/session.h"
 #include "test_support.h"
 
@@ -201,4 +204,82 @@ TEST_CASE("session: a new operation after undo drops the redo branch", "[core]")
     REQUIRE(session.historyCursor() == 3);
     REQUIRE(session.redo(report).ok);
     REQUIRE(report.status == OpStatus::NoOp);
+}
+
+TEST_CASE("session: an interactive control-point drag is one history entry equal to one control-point edit", "[core]") {
+    std::mt19937 rng(57);
+    for (int trial = 0; trial < 12; ++trial) {
+        Session incremental = randomSession(rng, 1200);
+        Session direct = incremental;
+        const int n = incremental.lattice().controlPointCount();
+        const double diagonal = incremental.lattice().diagonal();
+        std::vector<int> ids;
+        for (int k = 0, count = test::randomInt(rng, 1, 4); k < count; ++k) ids.push_back(test::randomInt(rng, 0, n - 1));
+        const Eigen::Vector3d total = 0.05 * diagonal * test::randomVector(rng, -1, 1);
+        REQUIRE(incremental.beginControlDrag(ids).ok);
+        REQUIRE(incremental.dragging());
+        OpReport report;
+        const int moves = test::randomInt(rng, 2, 25);
+        for (int m = 1; m <= moves; ++m) {  // wander, then end exactly at the total offset
+            const Eigen::Vector3d offset = m == moves ? total : Eigen::Vector3d(total * (m / double(moves)) + 0.02 * diagonal * test::randomVector(rng, -1, 1));
+            REQUIRE(incremental.updateControlDrag(offset, report).ok);
+            REQUIRE(report.status == OpStatus::Applied);
+        }
+        REQUIRE(incremental.moveControlPoints(ids, Eigen::MatrixX3d::Zero(1, 3), true, report).ok == false);  // busy
+        incremental.endDrag();
+        REQUIRE(incremental.history().size() == 1);
+        REQUIRE(incremental.history().front().kind == OperationKind::ControlPointEdit);
+
+        std::vector<int> unique = ids;
+        std::sort(unique.begin(), unique.end());
+        unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+        Eigen::MatrixX3d offsets(static_cast<Eigen::Index>(unique.size()), 3);
+        offsets.rowwise() = total.transpose();
+        REQUIRE(direct.moveControlPoints(unique, offsets, true, report).ok);
+        REQUIRE((incremental.positions() - direct.positions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        for (int idx : unique) REQUIRE((incremental.lattice().displacement.row(idx).transpose() - total).norm() <= 1e-12 * diagonal);
+
+        // Undo is the inverse manipulation; redo reapplies it.
+        const Positions after = incremental.positions();
+        REQUIRE(incremental.undo(report).ok);
+        REQUIRE((incremental.positions() - incremental.restPositions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        REQUIRE(incremental.lattice().displacement.isZero(1e-12 * diagonal));
+        REQUIRE(incremental.redo(report).ok);
+        REQUIRE((incremental.positions() - after).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+
+        // The recording replays it.
+        const Script recording = recordSession(incremental);
+        Session replayed;
+        const Status set = replayed.setMesh(incremental.originalPositions(), incremental.triangles(), recording.lattice);
+        INFO(set.message);
+        REQUIRE(set.ok);
+        replayed.setInjectivity(recording.injectivity);
+        ScriptReport scriptReport;
+        REQUIRE(runScript(replayed, recording, scriptReport).ok);
+        REQUIRE((replayed.positions() - after).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    }
+}
+
+TEST_CASE("session: a control-point drag refuses pinned or unknown points and a drag of nothing changes nothing", "[core]") {
+    std::mt19937 rng(58);
+    Session session = randomSession(rng, 600);
+    const int n = session.lattice().controlPointCount();
+    REQUIRE_FALSE(session.beginControlDrag({}).ok);
+    REQUIRE_FALSE(session.beginControlDrag({n}).ok);
+    REQUIRE_FALSE(session.beginControlDrag({-1}).ok);
+    REQUIRE(session.setPinned({5}, true).ok);
+    const Status pinned = session.beginControlDrag({4, 5});
+    REQUIRE_FALSE(pinned.ok);
+    REQUIRE(pinned.message.find("pinned") != std::string::npos);
+    REQUIRE_FALSE(session.dragging());
+    OpReport report;
+    REQUIRE_FALSE(session.updateControlDrag(Eigen::Vector3d(0.1, 0, 0), report).ok);  // no drag in progress
+    REQUIRE(session.beginControlDrag({4}).ok);
+    REQUIRE_FALSE(session.updateDrag({Eigen::Vector3d::Zero()}, report).ok);  // the other kind of drag
+    REQUIRE_FALSE(session.updateControlDrag(Eigen::Vector3d(NAN, 0, 0), report).ok);
+    REQUIRE(session.updateControlDrag(Eigen::Vector3d::Zero(), report).ok);
+    REQUIRE(report.status == OpStatus::NoOp);
+    session.endDrag();
+    REQUIRE(session.history().empty());
+    REQUIRE(session.positions() == session.restPositions());
 }
