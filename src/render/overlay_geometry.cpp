@@ -93,6 +93,8 @@ Status buildConstraintInstances(const ConstraintView& constraints, std::vector<f
                              std::to_string(constraints.targets.rows()) + " targets");
     if (Status status = checkFinite(constraints.sources, "constraint source"); !status) return status;
     if (Status status = checkFinite(constraints.targets, "constraint target"); !status) return status;
+    if (Status status = checkFinite(constraints.handles, "handle"); !status) return status;
+    if (Status status = checkFinite(constraints.pins, "pin"); !status) return status;
     std::vector<float> lines, points;
     for (Eigen::Index c = 0; c < constraints.sources.rows(); ++c) {
         appendPoint(lines, constraints.sources, c);
@@ -109,6 +111,16 @@ Status buildConstraintInstances(const ConstraintView& constraints, std::vector<f
         appendPoint(points, constraints.targets, c);
         appendColor(points, kTargetColor);
         points.insert(points.end(), {kHandleSize, 0.0f});
+    }
+    for (Eigen::Index c = 0; c < constraints.handles.rows(); ++c) {
+        appendPoint(points, constraints.handles, c);
+        appendColor(points, kSourceColor);
+        points.insert(points.end(), {kHandleSize, 0.0f});
+    }
+    for (Eigen::Index c = 0; c < constraints.pins.rows(); ++c) {
+        appendPoint(points, constraints.pins, c);
+        appendColor(points, kSurfacePinColor);
+        points.insert(points.end(), {kHandleSize, 1.0f});  // shape 1: square
     }
     segments.swap(lines);
     markers.swap(points);

@@ -573,6 +573,7 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
 }
 
 void Renderer::setPixelScale(float scale) { state_->pixelScale = scale > 0.0f ? scale : 1.0f; }
+float Renderer::pixelScale() const { return state_->pixelScale; }
 int Renderer::vertexCount() const { return int(state_->positions.rows()); }
 int Renderer::triangleCount() const { return int(state_->triangles.rows()); }
 Bounds Renderer::meshBounds() const { return boundsOf(state_->positions); }

@@ -80,6 +80,7 @@ public:
 
     // Screen-space sizes (line widths, marker diameters) are multiplied by this; 2 for a HiDPI window.
     void setPixelScale(float scale);
+    float pixelScale() const;
 
     int vertexCount() const;
     int triangleCount() const;

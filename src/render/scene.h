@@ -21,9 +21,13 @@ struct LatticeView {
 };
 
 // Direct-manipulation constraints (Hu et al. 2001, Fig. 1): each source point S is carried to its target T.
+// Besides the constraints being dragged, placed handles (sources waiting to be dragged, seed 000 Fig. 3-4)
+// and pins (surface points held where they are) are drawn as markers of their own.
 struct ConstraintView {
     Positions sources;  // #C x 3, drawn red
     Positions targets;  // #C x 3, drawn blue, joined to its source by a red-to-blue line
+    Positions handles;  // #H x 3, placed handles not being dragged: red discs
+    Positions pins;     // #P x 3, pinned surface points: green squares
 };
 
 struct SceneData {

@@ -1,5 +1,8 @@
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <random>
+
 #include "render/overlay_geometry.h"
 #include "render/palette.h"
 #include "test_meshes.h"
@@ -69,4 +72,29 @@ TEST_CASE("overlay geometry: constraints give a red-to-blue segment and two hand
     CHECK(segments[12] == render::kTargetColor.b);
     constraints.targets = Positions::Random(2, 3);
     CHECK_FALSE(render::buildConstraintInstances(constraints, segments, markers).ok);
+}
+
+TEST_CASE("overlay geometry: placed handles are red discs and surface pins green squares, no segments", "[gl]") {
+    std::mt19937 rng(91);
+    for (int trial = 0; trial < 20; ++trial) {
+        render::ConstraintView constraints;
+        const int handles = std::uniform_int_distribution<int>(0, 6)(rng), pins = std::uniform_int_distribution<int>(0, 6)(rng);
+        constraints.handles = Positions::Random(handles, 3);
+        constraints.pins = Positions::Random(pins, 3);
+        std::vector<float> segments, markers;
+        REQUIRE(render::buildConstraintInstances(constraints, segments, markers).ok);
+        CHECK(segments.empty());
+        REQUIRE(markers.size() == size_t(handles + pins) * size_t(render::kMarkerFloats));
+        for (int m = 0; m < handles + pins; ++m) {
+            const float* marker = markers.data() + size_t(m) * render::kMarkerFloats;
+            const render::Rgba expected = m < handles ? render::kSourceColor : render::kSurfacePinColor;
+            CHECK(marker[3] == expected.r);
+            CHECK(marker[5] == expected.b);
+            CHECK(marker[render::kMarkerFloats - 1] == (m < handles ? 0.0f : 1.0f));
+        }
+        if (pins > 0) {
+            constraints.pins(0, 1) = std::nan("");
+            CHECK_FALSE(render::buildConstraintInstances(constraints, segments, markers).ok);
+        }
+    }
 }
