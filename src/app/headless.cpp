@@ -14,13 +14,14 @@
 namespace sculpt::app {
 
 int runHeadless(const CliOptions& options, const char* argv0) {
-    const std::string input = options.input.empty() ? defaultMeshPath(argv0) : options.input;
-
     core::Script script;
     if (Status s = io::loadScript(options.script, script); !s) {
         std::cerr << "sculpt: " << s.message << "\n";
         return kExitBadInput;
     }
+    // --input, else the mesh the script names (a saved session), else the bundled default mesh.
+    std::string input = options.input.empty() ? io::resolveScriptMesh(script, options.script) : options.input;
+    if (input.empty()) input = defaultMeshPath(argv0);
     io::ObjMesh mesh;
     std::vector<std::string> warnings;
     const auto loadStart = std::chrono::steady_clock::now();
@@ -79,7 +80,9 @@ int runHeadless(const CliOptions& options, const char* argv0) {
         std::printf("wrote %s\n", options.report.c_str());
     }
     if (!options.saveSession.empty()) {
-        if (Status s = io::writeFileAtomically(options.saveSession, io::scriptToJson(core::recordSession(session))); !s) {
+        core::Script recorded = core::recordSession(session);
+        recorded.mesh = io::scriptRelativeMeshPath(input, options.saveSession);
+        if (Status s = io::writeFileAtomically(options.saveSession, io::scriptToJson(recorded)); !s) {
             std::cerr << "sculpt: " << s.message << "\n";
             return kExitWriteFailed;
         }

@@ -33,6 +33,7 @@ struct ScriptOp {
 const char* scriptOpName(ScriptOp::Kind kind);
 
 struct Script {
+    std::string mesh;  // optional: the mesh the script applies to, as written (relative to the script's folder)
     LatticeSettings lattice;
     InjectivitySettings injectivity;  // applies to every operation of the script
     std::vector<ScriptOp> ops;

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <istream>
 #include <map>
@@ -28,14 +29,52 @@ namespace {
 constexpr off_t kMaxMaterialFileBytes = 16 << 20;  // a .mtl is a few kB; anything huge is not one
 constexpr size_t kMaxWarnings = 32;                // a broken file must not flood the log
 
-// An istream over text without copying it (tinyobjloader only reads through the streambuf).
+// An istream over text without copying it (tinyobjloader only reads through the streambuf). With progress,
+// the text is handed out a MiB at a time so each refill can report how far the reader got and stop it
+// (end of file) once cancelled; without, it is one window.
 class TextStreamBuf : public std::streambuf {
 public:
-    explicit TextStreamBuf(const std::string& text) {
-        char* begin = const_cast<char*>(text.data());  // get area only: never written through
-        setg(begin, begin, begin + text.size());
+    TextStreamBuf(const std::string& text, ObjLoadProgress* progress, float fractionBegin, float fractionEnd)
+        : begin_(const_cast<char*>(text.data())),  // get area only: never written through
+          end_(begin_ + text.size()), progress_(progress), fractionBegin_(fractionBegin), fractionEnd_(fractionEnd) {
+        setg(begin_, begin_, progress_ ? std::min(end_, begin_ + kWindow) : end_);
     }
+    bool cancelled() const { return cancelled_; }
+
+protected:
+    int_type underflow() override {
+        if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
+        if (egptr() == end_) return traits_type::eof();
+        if (progress_->cancel.load(std::memory_order_relaxed)) {
+            cancelled_ = true;
+            return traits_type::eof();
+        }
+        const double done = static_cast<double>(egptr() - begin_) / static_cast<double>(end_ - begin_);
+        progress_->fraction.store(fractionBegin_ + static_cast<float>(done) * (fractionEnd_ - fractionBegin_),
+                                  std::memory_order_relaxed);
+        char* next = egptr();
+        setg(next, next, std::min(end_, next + kWindow));
+        return traits_type::to_int_type(*gptr());
+    }
+
+private:
+    static constexpr std::ptrdiff_t kWindow = 1 << 20;
+    char* begin_;
+    char* end_;
+    ObjLoadProgress* progress_;
+    float fractionBegin_, fractionEnd_;
+    bool cancelled_ = false;
 };
+
+// Phase boundaries of a load for ObjLoadProgress (measured on a 1M-vertex file: scan ~40%, tinyobjloader ~50%).
+constexpr float kScanEnd = 0.4f, kTinyobjEnd = 0.92f;
+
+void reportProgress(ObjLoadProgress* progress, float fraction) {
+    if (progress) progress->fraction.store(fraction, std::memory_order_relaxed);
+}
+bool cancelRequested(const ObjLoadProgress* progress) {
+    return progress && progress->cancel.load(std::memory_order_relaxed);
+}
 
 std::string errnoText(int error) { return std::generic_category().message(error); }
 
@@ -222,15 +261,18 @@ Status checkAgreement(const ObjScan& scan, const tinyobj::attrib_t& attrib, cons
 }
 
 Status loadChecked(const std::string& text, const std::string& displayName, const std::string& baseDir, ObjMesh& out,
-                   std::vector<std::string>& collected) {
+                   std::vector<std::string>& collected, ObjLoadProgress* progress) {
+    const Status cancelled = Status::error(displayName + ": loading cancelled");
     ObjScan scan;
     Status status = scanObjText(text, displayName, scan);
     collected.insert(collected.end(), scan.warnings.begin(), scan.warnings.end());
     if (!status) return status;
+    reportProgress(progress, kScanEnd);
+    if (cancelRequested(progress)) return cancelled;
 
     // tinyobjloader parses the (possibly sanitized) same text, without triangulation so polygons stay.
     const std::string& tinyobjText = scan.sanitizedText.empty() ? text : scan.sanitizedText;
-    TextStreamBuf buffer(tinyobjText);
+    TextStreamBuf buffer(tinyobjText, progress, kScanEnd, kTinyobjEnd);
     std::istream stream(&buffer);
     ConfinedMaterialReader materialReader(baseDir, displayName, collected);
     tinyobj::attrib_t attrib;
@@ -239,6 +281,7 @@ Status loadChecked(const std::string& text, const std::string& displayName, cons
     std::string warn, err;
     const bool parsed = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &stream, &materialReader,
                                          /*triangulate=*/false, /*default_vcols_fallback=*/false);
+    if (buffer.cancelled() || cancelRequested(progress)) return cancelled;
     if (!parsed) return Status::error(displayName + ": tinyobjloader rejected the file: " + err);
     addTinyobjWarnings(warn, displayName, collected);
     if (!err.empty()) addTinyobjWarnings(err, displayName, collected);  // .mtl problems only; not fatal
@@ -285,19 +328,21 @@ Status loadChecked(const std::string& text, const std::string& displayName, cons
             mesh.triangleFace[static_cast<size_t>(t)] = f;
         }
     }
+    if (cancelRequested(progress)) return cancelled;
     out = std::move(mesh);
+    reportProgress(progress, 1.0f);
     return Status::success();
 }
 
 }  // namespace
 
 Status loadObjFromText(const std::string& text, const std::string& displayName, const std::string& baseDir,
-                       ObjMesh& out, std::vector<std::string>* warnings) {
+                       ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress) {
     std::vector<std::string> collected;
     Status status;
     // No exception may cross the io boundary: out of memory on a huge file is an ordinary error.
     try {
-        status = loadChecked(text, displayName, baseDir, out, collected);
+        status = loadChecked(text, displayName, baseDir, out, collected, progress);
     } catch (const std::bad_alloc&) {
         status = Status::error(displayName + ": not enough memory to load the file");
     } catch (const std::exception& e) {
@@ -313,11 +358,12 @@ Status loadObjFromText(const std::string& text, const std::string& displayName, 
     return status;
 }
 
-Status loadObj(const std::string& path, ObjMesh& out, std::vector<std::string>* warnings) {
+Status loadObj(const std::string& path, ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress) {
     try {
         std::string text, why;
         if (!readRegularFile(path, 0, text, why)) return Status::error("cannot read '" + path + "': " + why);
-        return loadObjFromText(text, path, folderOf(path), out, warnings);
+        if (cancelRequested(progress)) return Status::error(path + ": loading cancelled");
+        return loadObjFromText(text, path, folderOf(path), out, warnings, progress);
     } catch (const std::bad_alloc&) {
         return Status::error(path + ": not enough memory to load the file");
     } catch (...) {

@@ -8,6 +8,7 @@
 // polygons, groups and materials of the input.
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -53,17 +54,28 @@ struct ObjMesh {
     int cornerCount() const { return static_cast<int>(cornerVertex.size()); }
 };
 
+// Progress of a load running on another thread. The loader raises `fraction` (0..1, monotonic) at phase
+// boundaries and every MiB of tinyobjloader's pass (the longest one), and checks `cancel` as often: once the
+// caller sets it the load stops soon with an error whose message ends in "cancelled" (out untouched).
+// note: polled per MiB of text, never per line, so a load with progress is as fast as one without.
+struct ObjLoadProgress {
+    std::atomic<float> fraction{0.0f};
+    std::atomic<bool> cancel{false};
+};
+
 // Reads the OBJ file at path into out. warnings (may be null) receives non-fatal notes such as a
 // missing or refused .mtl, ignored line/point elements or unused vertices, each prefixed with path.
 // Errors name the file and line: "mesh.obj:12: face index 7 is out of range (file has 5 vertices)".
 // On failure out is left untouched; no exception escapes (out of memory becomes an error too).
 // .mtl files are only opened when named by a plain file name in the OBJ's own folder.
-Status loadObj(const std::string& path, ObjMesh& out, std::vector<std::string>* warnings = nullptr);
+// progress (may be null): see ObjLoadProgress.
+Status loadObj(const std::string& path, ObjMesh& out, std::vector<std::string>* warnings = nullptr,
+               ObjLoadProgress* progress = nullptr);
 
 // Same as loadObj for OBJ text already in memory. displayName prefixes messages ("mesh.obj");
 // baseDir is the folder `mtllib` names are looked up in ("" = never open any file).
 Status loadObjFromText(const std::string& text, const std::string& displayName, const std::string& baseDir,
-                       ObjMesh& out, std::vector<std::string>* warnings);
+                       ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress = nullptr);
 
 // Checks the ObjMesh invariants above plus what the writer needs (finite texcoords, names without
 // line breaks, single-token material names). Returns an error naming the first violation.

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -182,7 +183,12 @@ Status parseScript(const std::string& text, const std::string& displayName, core
     }
     try {
         core::Script script;
-        allowOnly(root, "", {"lattice", "ops", "injectivity"});
+        allowOnly(root, "", {"mesh", "lattice", "ops", "injectivity"});
+        if (root.contains("mesh")) {
+            const json& mesh = root["mesh"];
+            if (!mesh.is_string() || mesh.get<std::string>().empty()) fail("mesh", "expected a file path");
+            script.mesh = mesh.get<std::string>();
+        }
         if (root.contains("lattice")) script.lattice = parseLattice(root["lattice"], "lattice");
         if (root.contains("injectivity")) {
             const json& inj = root["injectivity"];
@@ -224,6 +230,7 @@ json latticeJson(const core::LatticeSettings& s) {
 
 std::string scriptToJson(const core::Script& script) {
     json root;
+    if (!script.mesh.empty()) root["mesh"] = script.mesh;
     root["lattice"] = latticeJson(script.lattice);
     root["injectivity"] = {{"mode", core::injectivityModeName(script.injectivity.mode)}, {"max_depth", script.injectivity.maxDepth}};
     json ops = json::array();
@@ -263,6 +270,25 @@ std::string scriptToJson(const core::Script& script) {
     }
     root["ops"] = ops;
     return root.dump(2) + "\n";
+}
+
+std::string resolveScriptMesh(const core::Script& script, const std::string& scriptPath) {
+    namespace fs = std::filesystem;
+    if (script.mesh.empty()) return {};
+    const fs::path mesh(script.mesh);
+    if (mesh.is_absolute()) return mesh.lexically_normal().string();
+    return (fs::path(scriptPath).parent_path() / mesh).lexically_normal().string();
+}
+
+std::string scriptRelativeMeshPath(const std::string& meshPath, const std::string& scriptPath) {
+    namespace fs = std::filesystem;
+    std::error_code error;
+    const fs::path mesh = fs::absolute(meshPath, error).lexically_normal();
+    if (error) return meshPath;
+    const fs::path folder = fs::absolute(fs::path(scriptPath), error).parent_path().lexically_normal();
+    if (error) return mesh.string();
+    const fs::path relative = mesh.lexically_relative(folder);
+    return relative.empty() ? mesh.string() : relative.string();
 }
 
 Status loadScript(const std::string& path, core::Script& out) {

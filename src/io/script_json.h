@@ -17,6 +17,13 @@ Status loadScript(const std::string& path, core::Script& out);
 // A script as JSON text in the format parseScript reads (numbers printed so they round-trip exactly).
 std::string scriptToJson(const core::Script& script);
 
+// The file a script's "mesh" names: as written when absolute, else relative to the folder of the script file
+// at scriptPath. Empty when the script names no mesh.
+std::string resolveScriptMesh(const core::Script& script, const std::string& scriptPath);
+// How a script saved at scriptPath names meshPath: relative to the script's folder (so a folder holding both
+// can be moved), or absolute when no relative path exists (another drive or root).
+std::string scriptRelativeMeshPath(const std::string& meshPath, const std::string& scriptPath);
+
 // The report as JSON text: the input and output files, the lattice, and per op its status, reason,
 // residuals, control points changed, vertices moved and wall time.
 struct ReportContext {

@@ -1,12 +1,21 @@
 #include "app/window/app_state.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace sculpt::app {
 
 Status setMesh(AppState& state, const Positions& positions, const Triangles& triangles, const std::string& name,
                const core::LatticeSettings& settings) {
     if (Status s = state.session.setMesh(positions, triangles, settings); !s) return s;
+    installSession(state, std::move(state.session), name);
+    return Status::success();
+}
+
+void installSession(AppState& state, core::Session&& session, const std::string& name) {
+    if (&session != &state.session) state.session = std::move(session);
+    const Positions& positions = state.session.positions();
+    const Triangles& triangles = state.session.triangles();
     state.meshName = name;
     state.gpu = PendingGpuUpdate{};
     state.drag = DragState{};
@@ -15,7 +24,6 @@ Status setMesh(AppState& state, const Positions& positions, const Triangles& tri
     frameMesh(state);
     setStatus(state, "Loaded " + name + ": " + std::to_string(positions.rows()) + " vertices, " +
                          std::to_string(triangles.rows()) + " triangles.", false);
-    return Status::success();
 }
 
 void noteSessionMoved(AppState& state) {

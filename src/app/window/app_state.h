@@ -56,6 +56,7 @@ struct AppState {
     render::Camera camera;
     Overlays overlays;
     std::string meshName;
+    bool modified = false;  // unsaved changes (kept current by FileCommands::poll, file_commands.h)
     int framebufferWidth = 0, framebufferHeight = 0;
 
     std::string status = "Left-drag on the mesh to sculpt. Middle-drag or Alt+left-drag orbits, Shift+middle "
@@ -74,6 +75,10 @@ struct AppState {
 // Replaces the session's mesh (new lattice with `settings`, empty history) and frames it. On failure nothing changes.
 Status setMesh(AppState& state, const Positions& positions, const Triangles& triangles, const std::string& name,
                const core::LatticeSettings& settings = {});
+
+// Replaces the whole session with one prepared elsewhere (a background load: mesh set, maybe operations
+// replayed) and frames it; the same bookkeeping as setMesh.
+void installSession(AppState& state, core::Session&& session, const std::string& name);
 
 // Records what the last session command moved into state.gpu (sparse when the session says so).
 void noteSessionMoved(AppState& state);

@@ -20,6 +20,7 @@
 #include "app/window/sculpt_app.h"
 #include "app/window/ui_style.h"
 #include "io/png_image.h"
+#include "render/framebuffer_readback.h"
 #include "render/gl_functions.h"
 #include "render/render_target.h"
 
@@ -126,6 +127,17 @@ void onFramebufferSize(GLFWwindow* window, int width, int height) {
     appOf(window).onFramebufferSize({width, height});
 }
 
+// The close button never closes by itself: the app asks about unsaved changes and the loop ends only once
+// it approves (SculptApp::quitApproved).
+void onWindowClose(GLFWwindow* window) {
+    glfwSetWindowShouldClose(window, GLFW_FALSE);
+    appOf(window).requestQuit();
+}
+
+void onDrop(GLFWwindow* window, int count, const char** paths) {
+    appOf(window).onDropFiles(std::vector<std::string>(paths, paths + count));
+}
+
 int envInt(const char* name, int fallback) {
     const char* value = std::getenv(name);
     return value && *value ? std::atoi(value) : fallback;
@@ -133,23 +145,7 @@ int envInt(const char* name, int fallback) {
 
 Status saveBackBuffer(const render::GlFunctions& gl, int width, int height, const std::string& path) {
     render::Rgba8Image image;
-    image.width = width;
-    image.height = height;
-    image.pixels.resize(static_cast<size_t>(width) * static_cast<size_t>(height) * 4);
-    // note: the default read buffer of a double-buffered window is GL_BACK, the frame just drawn.
-    gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-    gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels.data());
-    // glReadPixels is bottom-up; the image is top-down.
-    const size_t row = static_cast<size_t>(width) * 4;
-    std::vector<std::uint8_t> swap(row);
-    for (int y = 0; y < height / 2; ++y) {
-        std::uint8_t* a = image.pixels.data() + static_cast<size_t>(y) * row;
-        std::uint8_t* b = image.pixels.data() + static_cast<size_t>(height - 1 - y) * row;
-        std::copy(a, a + row, swap.data());
-        std::copy(b, b + row, a);
-        std::copy(swap.begin(), swap.end(), b);
-    }
-    for (size_t p = 3; p < image.pixels.size(); p += 4) image.pixels[p] = 255;
+    if (Status s = render::readBoundFramebuffer(gl, width, height, image); !s) return s;
     return io::writePng(path, image.width, image.height, image.pixels.data());
 }
 
@@ -206,6 +202,8 @@ int runWindow(const std::string& meshPath) {
     glfwSetScrollCallback(window, onScroll);
     glfwSetKeyCallback(window, onKey);
     glfwSetFramebufferSizeCallback(window, onFramebufferSize);
+    glfwSetWindowCloseCallback(window, onWindowClose);
+    glfwSetDropCallback(window, onDrop);
 
     float scaleX = 1.0f, scaleY = 1.0f;
     glfwGetWindowContentScale(window, &scaleX, &scaleY);
@@ -233,8 +231,13 @@ int runWindow(const std::string& meshPath) {
     int frame = 0, dragFrames = 0;
     double dragSeconds = 0.0;
     auto last = std::chrono::steady_clock::now();
-    while (exitCode == kExitOk && !glfwWindowShouldClose(window)) {
+    std::string title;
+    while (exitCode == kExitOk && !glfwWindowShouldClose(window) && !app.quitApproved()) {
         glfwPollEvents();
+        if (app.windowTitle() != title) {  // "name*" while there are unsaved changes
+            title = app.windowTitle();
+            glfwSetWindowTitle(window, title.c_str());
+        }
         glfwGetFramebufferSize(window, &width, &height);
         if (width <= 0 || height <= 0) {  // minimised: wait instead of spinning
             glfwWaitEventsTimeout(0.1);

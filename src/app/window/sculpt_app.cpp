@@ -11,7 +11,7 @@
 #include "app/scene_builder.h"
 #include "app/window/panels.h"
 #include "app/window/picking.h"
-#include "io/obj_mesh.h"
+#include "app/file_browser.h"
 
 namespace sculpt::app {
 namespace {
@@ -29,11 +29,12 @@ constexpr double kZoomPerNotch = 0.88;  // distance factor per wheel notch towar
 
 }  // namespace
 
-Status SculptApp::loadMesh(const std::string& path) {
-    io::ObjMesh mesh;
-    if (Status s = io::loadObj(path, mesh); !s) return s;
-    const size_t slash = path.find_last_of("/\\");
-    return setMesh(state_, mesh.positions, mesh.triangles, slash == std::string::npos ? path : path.substr(slash + 1));
+Status SculptApp::loadMesh(const std::string& path) { return files_.loadMeshNow(state_, path); }
+
+void SculptApp::onDropFiles(const std::vector<std::string>& paths) {
+    for (const std::string& path : paths)
+        if (hasExtension(path, {".obj", ".json"})) return files_.openPath(state_, path);
+    if (!paths.empty()) setStatus(state_, "Drop an .obj mesh or a .json session to open it.", true);
 }
 
 void SculptApp::onFramebufferSize(const FramebufferSizeEvent& event) {
@@ -52,6 +53,7 @@ void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags captur
         return;
     }
     if (capture.mouse || state_.drag.active || state_.navigation != Navigation::None) return;
+    if (files_.blocksInput()) return;  // a load or save runs, or a file question is open
     if (event.button == MouseButton::Middle) {
         state_.navigation = event.modifiers.shift ? Navigation::Pan : Navigation::Orbit;
     } else if (event.button == MouseButton::Left) {
@@ -92,6 +94,7 @@ void SculptApp::onScroll(const ScrollEvent& event, CaptureFlags capture) {
 
 void SculptApp::onKey(const KeyEvent& event, CaptureFlags capture) {
     if (capture.keyboard || event.action == KeyAction::Release) return;
+    if (files_.onKey(state_, event)) return;  // Ctrl+O / S / Shift+S / Q, or ignored while files are busy
     const Modifiers& m = event.modifiers;
     if (event.key == Key::Z && shortcutModifier(m)) {
         if (m.shift) redoCommand(state_); else undoCommand(state_);
@@ -175,6 +178,7 @@ void SculptApp::endSculpt() {
 
 Status SculptApp::initGraphics(render::GlGetProc getProc) {
     if (Status s = renderer_.init(getProc); !s) return s;
+    files_.initGraphics(getProc);
     state_.gpu.mesh = true;
     state_.gpu.fields = true;
     if (ImGui::GetCurrentContext() && !imguiBackendReady_) {
@@ -255,6 +259,7 @@ Status SculptApp::renderFrame(int width, int height) {
     if (width <= 0 || height <= 0) return Status::success();  // minimised: nothing to draw, nothing to divide by
     if (state_.framebufferWidth != width || state_.framebufferHeight != height)
         onFramebufferSize({width, height});
+    files_.poll(state_);  // installs a finished background load before the upload below
     syncGpu();
     const auto start = std::chrono::steady_clock::now();
     render::DrawOptions options;
@@ -264,6 +269,7 @@ Status SculptApp::renderFrame(int width, int height) {
     options.affected = state_.overlays.affected;
     options.constraints = state_.drag.active;
     Status drawn = renderer_.draw(state_.camera, options, width, height);
+    files_.afterSceneDrawn(state_, width, height);  // a requested screenshot: the scene without the UI
     if (imguiBackendReady_ && ImGui::GetCurrentContext()) {
         ImGui_ImplOpenGL3_NewFrame();
         ImGui::NewFrame();
@@ -276,6 +282,7 @@ Status SculptApp::renderFrame(int width, int height) {
 }
 
 void SculptApp::drawUi() {
+    files_.drawMenuBar(state_);
     beginSidebar(state_);
     drawStatsPanel(state_);
     drawOverlaysPanel(state_);
@@ -283,6 +290,7 @@ void SculptApp::drawUi() {
     drawHistoryPanel(state_);
     endSidebar();
     drawStatusLine(state_);
+    files_.drawModals(state_);
 }
 
 }  // namespace sculpt::app

@@ -11,8 +11,10 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "app/window/app_state.h"
+#include "app/window/file_commands.h"
 #include "app/window/input_events.h"
 #include "core/status.h"
 #include "render/gl_proc.h"
@@ -42,6 +44,15 @@ public:
     // io.DeltaTime set by hand). A 0 x 0 (minimised) framebuffer draws nothing. Returns the renderer's error.
     Status renderFrame(int width, int height);
 
+    // Files (file_commands.h): menu bar, dialogs, unsaved-changes prompts, background loads and saves.
+    FileCommands& files() { return files_; }
+    // The window's close button: asks about unsaved changes; the loop ends once quitApproved().
+    void requestQuit() { files_.requestQuit(state_); }
+    bool quitApproved() const { return files_.quitApproved(); }
+    // Files dropped on the window: the first .obj or .json opens (after the unsaved-changes prompt).
+    void onDropFiles(const std::vector<std::string>& paths);
+    std::string windowTitle() const { return files_.windowTitle(state_); }
+
     AppState& state() { return state_; }
     const AppState& state() const { return state_; }
     render::Renderer& renderer() { return renderer_; }
@@ -54,6 +65,7 @@ private:
     void drawUi();
 
     AppState state_;
+    FileCommands files_;
     render::Renderer renderer_;
     bool imguiBackendReady_ = false;
 };

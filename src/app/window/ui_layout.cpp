@@ -10,11 +10,13 @@ void beginSidebar(AppState& state) {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
     const float margin = 0.6f * ImGui::GetFontSize();
     const float statusHeight = ImGui::GetFrameHeightWithSpacing() + 2.0f * ImGui::GetStyle().WindowPadding.y;
-    ImGui::SetNextWindowPos(ImVec2(viewport->Pos.x + margin, viewport->Pos.y + margin));
+    // note: the work area, below the main menu bar (file_commands.cpp), so the two never overlap.
+    ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + margin, viewport->WorkPos.y + margin));
     ImGui::SetNextWindowSizeConstraints(ImVec2(sidebarWidth(), 0.0f),
-                                        ImVec2(sidebarWidth(), viewport->Size.y - statusHeight - 2.0f * margin));
+                                        ImVec2(sidebarWidth(), viewport->WorkSize.y - statusHeight - 2.0f * margin));
     ImGui::SetNextWindowBgAlpha(0.92f);
-    const std::string title = "DMFFD Sculpt" + (state.meshName.empty() ? std::string() : "  -  " + state.meshName);
+    const std::string title = "DMFFD Sculpt" + (state.meshName.empty() ? std::string() : "  -  " + state.meshName) +
+                              (state.modified ? "*" : "");
     ImGui::Begin((title + "###sidebar").c_str(), nullptr,
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
                      ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);

@@ -1,0 +1,780 @@
+#include "app/window/file_commands.h"
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <utility>
+
+#include <imgui.h>
+
+#include "core/script.h"
+#include "io/atomic_file.h"
+#include "io/png_image.h"
+#include "io/script_json.h"
+#include "render/framebuffer_readback.h"
+#include "render/gl_functions.h"
+
+namespace sculpt::app {
+
+enum class JobPhase { ReadingMesh, Embedding, Replaying, Writing };
+
+struct JobProgress {
+    io::ObjLoadProgress obj;  // the OBJ loader's fraction, and the cancel flag of every job
+    std::atomic<int> phase{static_cast<int>(JobPhase::ReadingMesh)};
+    std::atomic<int> opsDone{0}, opsTotal{0};
+    bool cancelled() const { return obj.cancel.load(std::memory_order_relaxed); }
+};
+
+struct JobResult {
+    Status status;
+    core::Session session;                    // loads: the prepared session, installed by the main thread
+    std::shared_ptr<const io::ObjMesh> mesh;  // loads: the source OBJ
+    std::string meshPath;                     // loads: the OBJ the session starts from
+    std::vector<std::string> warnings;
+    int opsReplayed = 0, opsRejected = 0, screenshotsSkipped = 0;
+};
+
+struct FileCommands::Job {
+    JobKind kind = JobKind::LoadMesh;
+    std::string path;
+    std::shared_ptr<JobProgress> progress = std::make_shared<JobProgress>();
+    std::future<JobResult> result;
+    HistoryMark markAtStart;  // saves: the history the saved data came from
+    PendingAction then;       // saves started from the prompt: what to do once saved
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+};
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kMeshExtensions{".obj"};
+const std::vector<std::string> kSessionExtensions{".json"};
+const std::vector<std::string> kImageExtensions{".png"};
+
+bool sameFile(const std::string& a, const std::string& b) {
+    std::error_code error;
+    const bool same = fs::equivalent(a, b, error);
+    return !error && same;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string secondsText(double seconds) {
+    char text[32];
+    std::snprintf(text, sizeof text, seconds < 10.0 ? "%.2f s" : "%.0f s", seconds);
+    return text;
+}
+
+// The lattice a newly opened mesh gets: the current resolution, degree, padding and pins, but no region
+// (a box of the old mesh means nothing for another one).
+core::LatticeSettings settingsForNewMesh(const core::Session& session) {
+    core::LatticeSettings settings = session.hasMesh() ? session.initialSettings() : core::LatticeSettings{};
+    settings.hasRegion = false;
+    return settings;
+}
+
+// --- Worker side: these run on the job's thread and touch nothing but their arguments.
+
+Status cancelledStatus(const std::string& path) { return Status::error(path + ": loading cancelled"); }
+
+JobResult loadMeshWork(const std::string& path, const core::LatticeSettings& settings,
+                       const core::InjectivitySettings& injectivity, bool trackJacobian, JobProgress& progress) {
+    JobResult result;
+    io::ObjMesh mesh;
+    result.status = io::loadObj(path, mesh, &result.warnings, &progress.obj);
+    if (!result.status) return result;
+    if (progress.cancelled()) {
+        result.status = cancelledStatus(path);
+        return result;
+    }
+    progress.phase = static_cast<int>(JobPhase::Embedding);
+    result.session.setInjectivity(injectivity);
+    if (Status s = result.session.setMesh(mesh.positions, mesh.triangles, settings); !s) {
+        result.status = Status::error(path + ": " + s.message);
+        return result;
+    }
+    result.session.setTrackJacobian(trackJacobian);
+    result.mesh = std::make_shared<const io::ObjMesh>(std::move(mesh));
+    result.meshPath = path;
+    result.status = progress.cancelled() ? cancelledStatus(path) : Status::success();
+    return result;
+}
+
+JobResult openSessionWork(const std::string& path, const std::string& fallbackMesh, bool trackJacobian,
+                          JobProgress& progress) {
+    JobResult result;
+    core::Script script;
+    if (result.status = io::loadScript(path, script); !result.status) return result;
+    std::string meshPath = io::resolveScriptMesh(script, path);
+    if (meshPath.empty()) meshPath = fallbackMesh;  // a recording without "mesh" replays on the open mesh
+    if (meshPath.empty()) {
+        result.status = Status::error(path + ": the session names no mesh (\"mesh\" field) and none is open");
+        return result;
+    }
+    if (const OpenCheck check = checkOpenPath(meshPath); !check.ok) {
+        result.status = Status::error(path + ": its mesh " + meshPath + " cannot be opened (" +
+                                      (check.isFolder ? std::string("it is a folder") : check.error) + ")");
+        return result;
+    }
+    io::ObjMesh mesh;
+    if (Status s = io::loadObj(meshPath, mesh, &result.warnings, &progress.obj); !s) {
+        result.status = Status::error(path + ": its mesh: " + s.message);
+        return result;
+    }
+    progress.phase = static_cast<int>(JobPhase::Embedding);
+    core::Session& session = result.session;
+    if (Status s = session.setMesh(mesh.positions, mesh.triangles, script.lattice); !s) {
+        result.status = Status::error(path + ": " + meshPath + ": " + s.message);
+        return result;
+    }
+    session.setInjectivity(script.injectivity);
+    session.setTrackJacobian(trackJacobian);  // before the replay: frames frozen by it must count
+    progress.phase = static_cast<int>(JobPhase::Replaying);
+    progress.opsTotal = static_cast<int>(script.ops.size());
+    // One op at a time (runScript on a one-op script) so the progress moves and Cancel is heard.
+    for (size_t i = 0; i < script.ops.size(); ++i) {
+        if (progress.cancelled()) {
+            result.status = cancelledStatus(path);
+            return result;
+        }
+        if (script.ops[i].kind == core::ScriptOp::Kind::Screenshot) {
+            ++result.screenshotsSkipped;  // a recording's screenshot ops are for the command line
+        } else {
+            core::Script one;
+            one.ops = {script.ops[i]};
+            core::ScriptReport report;
+            if (Status s = core::runScript(session, one, report); !s) {
+                std::string message = s.message;
+                if (message.rfind("op 0 ", 0) == 0) message = "op " + std::to_string(i) + message.substr(4);
+                result.status = Status::error(path + ": " + message);
+                return result;
+            }
+            ++result.opsReplayed;
+            if (!report.ops.empty() && report.ops[0].status == core::OpStatus::Rejected) ++result.opsRejected;
+        }
+        progress.opsDone = static_cast<int>(i + 1);
+    }
+    result.mesh = std::make_shared<const io::ObjMesh>(std::move(mesh));
+    result.meshPath = meshPath;
+    result.status = Status::success();
+    return result;
+}
+
+// Dear ImGui: a centred modal that opens when wanted and closes itself when no longer wanted.
+bool beginModal(const char* id, bool wanted) {
+    if (wanted && !ImGui::IsPopupOpen(id)) ImGui::OpenPopup(id);
+    ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    if (!ImGui::BeginPopupModal(id, nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings))
+        return false;
+    if (!wanted) {
+        ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+        return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+FileCommands::FileCommands() = default;
+
+FileCommands::~FileCommands() {
+    if (!job_) return;
+    if (job_->kind == JobKind::LoadMesh || job_->kind == JobKind::OpenSession) cancelJob();
+    job_->result.wait();
+}
+
+// ---------------------------------------------------------------------------------------------- loading
+
+Status FileCommands::loadMeshNow(AppState& state, const std::string& path) {
+    if (busy()) return Status::error("another file operation is running");
+    JobProgress progress;
+    JobResult result = loadMeshWork(path, settingsForNewMesh(state.session), state.session.injectivity(),
+                                    state.overlays.jacobian, progress);
+    if (!result.status) return result.status;
+    Job job;
+    job.kind = JobKind::LoadMesh;
+    job.path = path;
+    install(state, job, result);
+    return Status::success();
+}
+
+bool FileCommands::startOpen(AppState& state, const std::string& path) {
+    if (busy()) {
+        setStatus(state, "Wait for the running file operation to finish.", true);
+        return false;
+    }
+    if (state.drag.active) {
+        setStatus(state, "Finish the drag first.", true);
+        return false;
+    }
+    const std::string shown = fileNameOfPath(path);
+    if (hasExtension(path, kSessionExtensions)) {
+        const std::string fallback = document_.sourcePath;
+        const bool track = state.overlays.jacobian;
+        startJob(state, JobKind::OpenSession, path, [path, fallback, track](JobProgress& progress) {
+            return openSessionWork(path, fallback, track, progress);
+        });
+    } else {
+        const core::LatticeSettings settings = settingsForNewMesh(state.session);
+        const core::InjectivitySettings injectivity = state.session.injectivity();
+        const bool track = state.overlays.jacobian;
+        startJob(state, JobKind::LoadMesh, path, [path, settings, injectivity, track](JobProgress& progress) {
+            return loadMeshWork(path, settings, injectivity, track, progress);
+        });
+    }
+    setStatus(state, "Opening " + shown + "...", false);
+    return true;
+}
+
+void FileCommands::startJob(AppState& /*state*/, JobKind kind, const std::string& path,
+                            std::function<JobResult(JobProgress&)> work) {
+    auto job = std::make_unique<Job>();
+    job->kind = kind;
+    job->path = path;
+    std::shared_ptr<JobProgress> progress = job->progress;
+    job->result = std::async(std::launch::async, [work = std::move(work), progress]() { return work(*progress); });
+    job_ = std::move(job);
+}
+
+// ----------------------------------------------------------------------------------------------- saving
+
+bool FileCommands::startSaveMesh(AppState& state, const std::string& path) {
+    return startSave(state, JobKind::SaveMesh, path, {});
+}
+
+bool FileCommands::startSaveSession(AppState& state, const std::string& path) {
+    return startSave(state, JobKind::SaveSession, path, {});
+}
+
+bool FileCommands::startSave(AppState& state, JobKind kind, const std::string& path, const PendingAction& then) {
+    if (busy()) {
+        setStatus(state, "Wait for the running file operation to finish.", true);
+        return false;
+    }
+    if (!document_.mesh || !state.session.hasMesh()) {
+        setStatus(state, "Nothing to save: no mesh is open.", true);
+        return false;
+    }
+    if (state.drag.active) {
+        setStatus(state, "Finish the drag first.", true);
+        return false;
+    }
+    const HistoryMark mark = markHistory(state.session);
+    std::shared_ptr<const io::ObjMesh> mesh = document_.mesh;
+    if (kind == JobKind::SaveMesh) {
+        // note: a copy of the positions (24 MB for 1M vertices, a few ms): the worker never reads the session.
+        Positions positions = state.session.positions();
+        startJob(state, kind, path, [path, mesh, positions = std::move(positions)](JobProgress& progress) {
+            progress.phase = static_cast<int>(JobPhase::Writing);
+            JobResult result;
+            result.status = io::saveObj(path, *mesh, positions);
+            return result;
+        });
+    } else {
+        core::Script script = core::recordSession(state.session);
+        // The session replays from the undeformed source. If that file was overwritten by a save, the session
+        // brings its own copy of the undeformed mesh, written next to it.
+        std::string basePath;
+        Positions original;
+        if (document_.sourceOverwritten || document_.sourcePath.empty() ||
+            checkOpenPath(document_.sourcePath).ok == false) {
+            const fs::path sessionFile(path);
+            basePath = (sessionFile.parent_path() / (sessionFile.stem().string() + ".base.obj")).string();
+            original = state.session.originalPositions();
+            script.mesh = io::scriptRelativeMeshPath(basePath, path);
+        } else {
+            script.mesh = io::scriptRelativeMeshPath(document_.sourcePath, path);
+        }
+        std::string text = io::scriptToJson(script);
+        startJob(state, kind, path,
+                 [path, mesh, basePath, original = std::move(original), text = std::move(text)](JobProgress& progress) {
+                     progress.phase = static_cast<int>(JobPhase::Writing);
+                     JobResult result;
+                     if (!basePath.empty()) {
+                         if (result.status = io::saveObj(basePath, *mesh, original); !result.status) return result;
+                     }
+                     result.status = io::writeFileAtomically(path, text);
+                     return result;
+                 });
+    }
+    job_->markAtStart = mark;
+    job_->then = then;
+    setStatus(state, "Saving " + fileNameOfPath(path) + "...", false);
+    return true;
+}
+
+void FileCommands::requestScreenshot(const std::string& path) { screenshotPath_ = path; }
+
+void FileCommands::initGraphics(render::GlGetProc getProc) {
+    auto gl = std::make_unique<render::GlFunctions>();
+    if (render::loadGlFunctions(getProc, *gl).ok) gl_ = std::move(gl);
+}
+
+void FileCommands::afterSceneDrawn(AppState& state, int width, int height) {
+    if (screenshotPath_.empty()) return;
+    const std::string path = std::move(screenshotPath_);
+    screenshotPath_.clear();
+    if (!gl_) {
+        setStatus(state, "Screenshot failed: no OpenGL functions.", true);
+        return;
+    }
+    render::Rgba8Image image;
+    if (Status s = render::readBoundFramebuffer(*gl_, width, height, image); !s) {
+        setStatus(state, "Screenshot failed: " + s.message, true);
+        return;
+    }
+    auto write = [path, image = std::move(image)](JobProgress& progress) {
+        progress.phase = static_cast<int>(JobPhase::Writing);
+        JobResult result;
+        result.status = io::writePng(path, image.width, image.height, image.pixels.data());
+        return result;
+    };
+    if (busy()) {  // e.g. requested by a test while a save runs: write it here
+        JobProgress progress;
+        const JobResult result = write(progress);
+        setStatus(state, result.status ? "Wrote screenshot " + fileNameOfPath(path) : "Screenshot failed: " + result.status.message,
+                  !result.status);
+        return;
+    }
+    startJob(state, JobKind::SaveScreenshot, path, write);
+    job_->markAtStart = markHistory(state.session);
+}
+
+// ------------------------------------------------------------------------------------- finishing a job
+
+bool FileCommands::busy() const { return job_ != nullptr; }
+
+bool FileCommands::loading() const {
+    return job_ && (job_->kind == JobKind::LoadMesh || job_->kind == JobKind::OpenSession);
+}
+
+void FileCommands::cancelJob() {
+    if (loading()) job_->progress->obj.cancel = true;
+}
+
+float FileCommands::jobFraction() const {
+    if (!job_) return 0.0f;
+    const JobProgress& p = *job_->progress;
+    const auto phase = static_cast<JobPhase>(p.phase.load());
+    const float obj = p.obj.fraction.load();
+    const bool session = job_->kind == JobKind::OpenSession;
+    switch (phase) {
+        case JobPhase::ReadingMesh: return (session ? 0.6f : 0.85f) * obj;
+        case JobPhase::Embedding: return session ? 0.65f : 0.9f;
+        case JobPhase::Replaying: {
+            const int total = std::max(1, p.opsTotal.load());
+            return 0.7f + 0.3f * static_cast<float>(p.opsDone.load()) / static_cast<float>(total);
+        }
+        case JobPhase::Writing:  // no fraction from the writer: a slow sweep shows it is alive
+            return static_cast<float>(std::fmod(secondsSince(job_->start), 1.0));
+    }
+    return 0.0f;
+}
+
+std::string FileCommands::jobLabel() const {
+    if (!job_) return {};
+    const std::string name = fileNameOfPath(job_->path);
+    switch (static_cast<JobPhase>(job_->progress->phase.load())) {
+        case JobPhase::ReadingMesh: return std::string("Reading and checking ") + (job_->kind == JobKind::OpenSession ? "the mesh of " : "") + name;
+        case JobPhase::Embedding: return "Embedding the mesh in the lattice";
+        case JobPhase::Replaying:
+            return "Replaying operation " + std::to_string(job_->progress->opsDone.load()) + " of " +
+                   std::to_string(job_->progress->opsTotal.load());
+        case JobPhase::Writing: return "Writing " + name;
+    }
+    return {};
+}
+
+void FileCommands::poll(AppState& state) {
+    if (job_ && job_->result.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+        std::unique_ptr<Job> job = std::move(job_);
+        JobResult result = job->result.get();
+        install(state, *job, result);
+        if (afterJob_.kind != PendingAction::Kind::None) {
+            const PendingAction after = std::exchange(afterJob_, PendingAction{});
+            if (after.kind == PendingAction::Kind::Quit) requestQuit(state);
+        }
+    }
+    state.modified = modified(state);
+}
+
+void FileCommands::finishJob(AppState& state) {
+    if (job_) job_->result.wait();
+    poll(state);
+}
+
+void FileCommands::install(AppState& state, Job& job, JobResult& result) {
+    const std::string name = fileNameOfPath(job.path);
+    const std::string took = secondsText(secondsSince(job.start));
+    if (!result.status) {
+        const bool cancelled = result.status.message.size() >= 9 &&
+                               result.status.message.compare(result.status.message.size() - 9, 9, "cancelled") == 0;
+        switch (job.kind) {
+            case JobKind::LoadMesh:
+            case JobKind::OpenSession:
+                setStatus(state, cancelled ? "Opening " + name + " cancelled; nothing changed."
+                                           : "Could not open " + name + ": " + result.status.message, !cancelled);
+                if (!cancelled) {
+                    messageTitle_ = job.kind == JobKind::OpenSession ? "Could not open the session" : "Could not open the mesh";
+                    message_ = result.status.message + "\n\nNothing was changed.";
+                }
+                break;
+            case JobKind::SaveMesh:
+            case JobKind::SaveSession:
+                setStatus(state, "Save failed, the file on disk is unchanged and your work is still open: " +
+                                     result.status.message, true);
+                if (job.then.kind != PendingAction::Kind::None) {  // from the prompt: ask again, saying why
+                    prompt_ = job.then;
+                    promptError_ = "Save failed: " + result.status.message;
+                }
+                break;
+            case JobKind::SaveScreenshot: setStatus(state, "Screenshot failed: " + result.status.message, true); break;
+        }
+        return;
+    }
+    switch (job.kind) {
+        case JobKind::LoadMesh:
+        case JobKind::OpenSession: {
+            const bool session = job.kind == JobKind::OpenSession;
+            installSession(state, std::move(result.session), fileNameOfPath(result.meshPath));
+            document_ = Document{};
+            document_.sourcePath = result.meshPath;
+            document_.meshPath = result.meshPath;
+            document_.mesh = std::move(result.mesh);
+            if (session) document_.sessionPath = job.path;
+            document_.saved = markHistory(state.session);
+            const core::Session& s = state.session;
+            std::string text = session ? "Opened session " + name + ": " + std::to_string(result.opsReplayed) +
+                                             " operations replayed on " + fileNameOfPath(result.meshPath)
+                                       : "Loaded " + name + ": " + std::to_string(s.positions().rows()) + " vertices, " +
+                                             std::to_string(s.triangles().rows()) + " triangles";
+            if (result.opsRejected > 0) text += " (" + std::to_string(result.opsRejected) + " refused as not injective)";
+            if (result.screenshotsSkipped > 0) text += ", " + std::to_string(result.screenshotsSkipped) + " screenshot ops skipped";
+            text += " in " + took + ".";
+            if (!result.warnings.empty())
+                text += " " + std::to_string(result.warnings.size()) + " warning(s), first: " + result.warnings.front();
+            setStatus(state, text, false);
+            break;
+        }
+        case JobKind::SaveMesh:
+            if (!document_.sourcePath.empty() && sameFile(job.path, document_.sourcePath)) document_.sourceOverwritten = true;
+            document_.meshPath = job.path;
+            document_.meshPathConfirmed = true;
+            document_.saved = job.markAtStart;
+            setStatus(state, "Saved " + name + " (" + std::to_string(state.session.positions().rows()) + " vertices) in " +
+                                 took + ".", false);
+            break;
+        case JobKind::SaveSession:
+            document_.sessionPath = job.path;
+            document_.saved = job.markAtStart;
+            setStatus(state, "Saved session " + name + " (" + std::to_string(state.session.historyCursor()) +
+                                 " operations) in " + took + ".", false);
+            break;
+        case JobKind::SaveScreenshot: setStatus(state, "Wrote screenshot " + name + ".", false); break;
+    }
+    if (job.then.kind != PendingAction::Kind::None) proceed(state, job.then);
+}
+
+// -------------------------------------------------------------------------------- questions and commands
+
+bool FileCommands::modified(const AppState& state) const {
+    return state.session.hasMesh() && isModified(document_, state.session);
+}
+
+std::string FileCommands::windowTitle(const AppState& state) const {
+    const std::string name = state.meshName.empty() ? std::string("untitled") : state.meshName;
+    return "DMFFD Sculpt - " + name + (modified(state) ? "*" : "");
+}
+
+bool FileCommands::blocksInput() const {
+    return busy() || promptOpen() || replaceOriginal_ || dialog_.isOpen() || !message_.empty();
+}
+
+std::string FileCommands::startFolder() const {
+    if (!document_.meshPath.empty()) return folderOfPath(fs::absolute(document_.meshPath).string());
+    return ".";
+}
+
+bool FileCommands::ask(AppState& state, const PendingAction& action) {
+    if (!modified(state)) return true;
+    prompt_ = action;
+    promptError_.clear();
+    return false;
+}
+
+void FileCommands::proceed(AppState& state, const PendingAction& action) {
+    switch (action.kind) {
+        case PendingAction::Kind::None: break;
+        case PendingAction::Kind::Quit: quitApproved_ = true; break;
+        case PendingAction::Kind::OpenMeshDialog: openDialog(DialogPurpose::OpenMesh); break;
+        case PendingAction::Kind::OpenSessionDialog: openDialog(DialogPurpose::OpenSession); break;
+        case PendingAction::Kind::OpenPath: startOpen(state, action.path); break;
+    }
+}
+
+void FileCommands::openDialog(DialogPurpose purpose, const PendingAction& then) {
+    dialogPurpose_ = purpose;
+    dialogThen_ = then;
+    const std::string folder = startFolder();
+    const std::string meshName = fileNameOfPath(document_.meshPath);
+    const std::string stem = meshName.empty() ? std::string("untitled") : fs::path(meshName).stem().string();
+    switch (purpose) {
+        case DialogPurpose::OpenMesh: dialog_.open(FileDialogMode::Open, "Open mesh", kMeshExtensions, folder); break;
+        case DialogPurpose::OpenSession:
+            dialog_.open(FileDialogMode::Open, "Open session", kSessionExtensions,
+                         document_.sessionPath.empty() ? folder : folderOfPath(document_.sessionPath));
+            break;
+        case DialogPurpose::SaveMeshAs: dialog_.open(FileDialogMode::Save, "Save mesh as", kMeshExtensions, folder, meshName); break;
+        case DialogPurpose::SaveSession:
+            dialog_.open(FileDialogMode::Save, "Save session", kSessionExtensions,
+                         document_.sessionPath.empty() ? folder : folderOfPath(document_.sessionPath),
+                         document_.sessionPath.empty() ? stem + ".session.json" : fileNameOfPath(document_.sessionPath));
+            break;
+        case DialogPurpose::SaveScreenshot:
+            dialog_.open(FileDialogMode::Save, "Save screenshot", kImageExtensions, folder, stem + ".png");
+            break;
+    }
+}
+
+void FileCommands::dialogAccepted(AppState& state) {
+    const std::string path = dialog_.acceptedPath();
+    const PendingAction then = std::exchange(dialogThen_, PendingAction{});
+    if (path.empty()) return;
+    switch (dialogPurpose_) {
+        case DialogPurpose::OpenMesh:
+        case DialogPurpose::OpenSession: startOpen(state, path); break;
+        case DialogPurpose::SaveMeshAs: startSave(state, JobKind::SaveMesh, path, then); break;
+        case DialogPurpose::SaveSession: startSave(state, JobKind::SaveSession, path, then); break;
+        case DialogPurpose::SaveScreenshot: requestScreenshot(path); break;
+    }
+}
+
+void FileCommands::openMesh(AppState& state) {
+    if (blocksInput()) return;
+    if (ask(state, {PendingAction::Kind::OpenMeshDialog, {}})) proceed(state, {PendingAction::Kind::OpenMeshDialog, {}});
+}
+
+void FileCommands::openSession(AppState& state) {
+    if (blocksInput()) return;
+    if (ask(state, {PendingAction::Kind::OpenSessionDialog, {}}))
+        proceed(state, {PendingAction::Kind::OpenSessionDialog, {}});
+}
+
+void FileCommands::openPath(AppState& state, const std::string& path) {
+    if (blocksInput()) {
+        setStatus(state, "Finish the current file operation or question first.", true);
+        return;
+    }
+    if (!hasExtension(path, kMeshExtensions) && !hasExtension(path, kSessionExtensions)) {
+        setStatus(state, "Cannot open " + fileNameOfPath(path) + ": only .obj meshes and .json sessions.", true);
+        return;
+    }
+    const PendingAction action{PendingAction::Kind::OpenPath, path};
+    if (ask(state, action)) proceed(state, action);
+}
+
+void FileCommands::saveMesh(AppState& state) {
+    if (blocksInput()) return;
+    saveMeshThen(state, {});
+}
+
+void FileCommands::saveMeshThen(AppState& state, const PendingAction& then) {
+    if (!document_.mesh) {
+        setStatus(state, "Nothing to save: no mesh is open.", true);
+        return;
+    }
+    if (document_.meshPath.empty()) openDialog(DialogPurpose::SaveMeshAs, then);
+    else if (!document_.meshPathConfirmed) {
+        replaceOriginal_ = true;  // the first save over the input file asks once
+        replaceThen_ = then;
+    } else {
+        startSave(state, JobKind::SaveMesh, document_.meshPath, then);
+    }
+}
+
+void FileCommands::answerReplaceOriginal(AppState& state, int choice) {
+    if (!replaceOriginal_) return;
+    replaceOriginal_ = false;
+    const PendingAction then = std::exchange(replaceThen_, PendingAction{});
+    if (choice == 0) startSave(state, JobKind::SaveMesh, document_.meshPath, then);
+    else if (choice == 1) openDialog(DialogPurpose::SaveMeshAs, then);
+}
+
+void FileCommands::saveMeshAs(AppState& /*state*/) {
+    if (blocksInput()) return;
+    openDialog(DialogPurpose::SaveMeshAs);
+}
+
+void FileCommands::saveSession(AppState& state) {
+    if (blocksInput() || !state.session.hasMesh()) return;
+    openDialog(DialogPurpose::SaveSession);
+}
+
+void FileCommands::saveScreenshot(AppState& state) {
+    if (blocksInput() || !state.session.hasMesh()) return;
+    openDialog(DialogPurpose::SaveScreenshot);
+}
+
+void FileCommands::requestQuit(AppState& state) {
+    if (job_) {  // a load is stopped, a save finishes; then the same question
+        cancelJob();
+        afterJob_ = {PendingAction::Kind::Quit, {}};
+        return;
+    }
+    if (promptOpen() || replaceOriginal_) return;  // already asking
+    dialog_.close();
+    if (ask(state, {PendingAction::Kind::Quit, {}})) quitApproved_ = true;
+}
+
+void FileCommands::answerPrompt(AppState& state, PromptChoice choice) {
+    if (!promptOpen()) return;
+    const PendingAction action = std::exchange(prompt_, PendingAction{});
+    promptError_.clear();
+    switch (choice) {
+        case PromptChoice::Cancel: setStatus(state, "Cancelled; nothing was closed or opened.", false); break;
+        case PromptChoice::DontSave: proceed(state, action); break;
+        case PromptChoice::Save: saveMeshThen(state, action); break;
+    }
+}
+
+bool FileCommands::onKey(AppState& state, const KeyEvent& event) {
+    if (blocksInput()) return true;
+    if (event.action != KeyAction::Press) return false;
+    const Modifiers& m = event.modifiers;
+    if (!(m.control || m.super)) return false;
+    switch (event.key) {
+        case Key::O: openMesh(state); return true;
+        case Key::S:
+            if (m.shift) saveMeshAs(state);
+            else saveMesh(state);
+            return true;
+        case Key::Q: requestQuit(state); return true;
+        default: return false;
+    }
+}
+
+// ------------------------------------------------------------------------------------------------- UI
+
+void FileCommands::drawMenuBar(AppState& state) {
+    if (!ImGui::BeginMainMenuBar()) return;
+    const bool idle = !blocksInput();
+    const bool hasMesh = state.session.hasMesh();
+    if (ImGui::BeginMenu("File")) {
+        if (ImGui::MenuItem("Open mesh...", "Ctrl+O", false, idle)) openMesh(state);
+        if (ImGui::MenuItem("Save mesh", "Ctrl+S", false, idle && document_.mesh != nullptr)) saveMesh(state);
+        if (ImGui::MenuItem("Save mesh as...", "Ctrl+Shift+S", false, idle && document_.mesh != nullptr)) saveMeshAs(state);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Open session...", nullptr, false, idle)) openSession(state);
+        if (ImGui::MenuItem("Save session...", nullptr, false, idle && hasMesh)) saveSession(state);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Save screenshot...", nullptr, false, idle && hasMesh)) saveScreenshot(state);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Quit", "Ctrl+Q")) requestQuit(state);
+        ImGui::EndMenu();
+    }
+    if (ImGui::BeginMenu("Edit")) {
+        const int cursor = state.session.historyCursor();
+        const int count = static_cast<int>(state.session.history().size());
+        const bool canEdit = idle && !state.drag.active;
+        if (ImGui::MenuItem("Undo", "Ctrl+Z", false, canEdit && cursor > 0)) undoCommand(state);
+        if (ImGui::MenuItem("Redo", "Ctrl+Shift+Z", false, canEdit && cursor < count)) redoCommand(state);
+        ImGui::EndMenu();
+    }
+    if (ImGui::BeginMenu("View")) {
+        if (ImGui::MenuItem("Frame mesh", "F", false, hasMesh)) frameMesh(state);
+        ImGui::EndMenu();
+    }
+    // The document on the right: where Save writes, and whether it has unsaved changes.
+    const std::string where = document_.meshPath.empty() ? std::string("no file")
+                                                         : document_.meshPath + (state.modified ? "  (modified)" : "");
+    const float width = ImGui::CalcTextSize(where.c_str()).x;
+    ImGui::SameLine(std::max(ImGui::GetCursorPosX() + ImGui::GetFontSize(),
+                             ImGui::GetWindowContentRegionMax().x - width - ImGui::GetStyle().ItemSpacing.x));
+    ImGui::TextDisabled("%s", where.c_str());
+    ImGui::EndMainMenuBar();
+}
+
+void FileCommands::drawModals(AppState& state) {
+    const float em = ImGui::GetFontSize();
+    const bool wantProgress = busy();
+    if (beginModal("Working###file_progress", wantProgress)) {
+        ImGui::TextUnformatted(jobLabel().c_str());
+        const float fraction = jobFraction();
+        char overlay[32];
+        std::snprintf(overlay, sizeof overlay, "%.0f%%", 100.0 * fraction);
+        ImGui::ProgressBar(fraction, ImVec2(24.0f * em, 0.0f), job_->progress->phase.load() ==
+                                                                      static_cast<int>(JobPhase::Writing) ? "" : overlay);
+        ImGui::TextDisabled("%s", secondsText(secondsSince(job_->start)).c_str());
+        if (loading()) {
+            ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 6.0f * em);
+            const bool cancelling = job_->progress->cancelled();
+            ImGui::BeginDisabled(cancelling);
+            if (ImGui::Button(cancelling ? "Stopping" : "Cancel", ImVec2(6.0f * em, 0.0f))) cancelJob();
+            ImGui::EndDisabled();
+        }
+        ImGui::EndPopup();
+    }
+
+    const bool wantPrompt = !wantProgress && promptOpen();
+    if (beginModal("Unsaved changes###file_prompt", wantPrompt)) {
+        const std::string name = state.meshName.empty() ? std::string("the mesh") : state.meshName;
+        std::string why;
+        switch (prompt_.kind) {
+            case PendingAction::Kind::Quit: why = "before quitting"; break;
+            case PendingAction::Kind::OpenPath: why = "before opening " + fileNameOfPath(prompt_.path); break;
+            default: why = "before opening another file"; break;
+        }
+        ImGui::Text("Save changes to %s %s?", name.c_str(), why.c_str());
+        ImGui::TextDisabled("Without saving, the changes since the last save are lost.");
+        if (!promptError_.empty()) {
+            ImGui::PushTextWrapPos(32.0f * em);
+            ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s", promptError_.c_str());
+            ImGui::PopTextWrapPos();
+        }
+        const ImVec2 button(7.0f * em, 0.0f);
+        if (ImGui::Button("Save", button)) answerPrompt(state, PromptChoice::Save);
+        ImGui::SameLine();
+        if (ImGui::Button("Don't save", button)) answerPrompt(state, PromptChoice::DontSave);
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel", button) || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape), false))
+            answerPrompt(state, PromptChoice::Cancel);
+        ImGui::EndPopup();
+    }
+
+    const bool wantReplace = !wantProgress && !wantPrompt && replaceOriginal_;
+    if (beginModal("Replace the original?###file_replace_original", wantReplace)) {
+        ImGui::Text("%s is the mesh this work started from.", fileNameOfPath(document_.meshPath).c_str());
+        ImGui::TextDisabled("Replacing it keeps the sculpted shape only; Save as keeps the original too.");
+        const ImVec2 button(8.0f * em, 0.0f);
+        if (ImGui::Button("Replace", button)) answerReplaceOriginal(state, 0);
+        ImGui::SameLine();
+        if (ImGui::Button("Save as...", button)) answerReplaceOriginal(state, 1);
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel", button) || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape), false))
+            answerReplaceOriginal(state, 2);
+        ImGui::EndPopup();
+    }
+
+    if (!wantProgress && !wantPrompt && !wantReplace && dialog_.isOpen()) {
+        if (dialog_.draw()) dialogAccepted(state);
+        if (!dialog_.isOpen() && dialog_.acceptedPath().empty()) dialogThen_ = {};  // cancelled
+    }
+
+    const bool wantMessage = !wantProgress && !wantPrompt && !wantReplace && !dialog_.isOpen() && !message_.empty();
+    if (beginModal((messageTitle_ + "###file_message").c_str(), wantMessage)) {
+        ImGui::PushTextWrapPos(36.0f * em);
+        ImGui::TextUnformatted(message_.c_str());
+        ImGui::PopTextWrapPos();
+        if (ImGui::Button("OK", ImVec2(6.0f * em, 0.0f)) ||
+            ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Enter), false) ||
+            ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape), false))
+            message_.clear();
+        ImGui::EndPopup();
+    }
+}
+
+}  // namespace sculpt::app
