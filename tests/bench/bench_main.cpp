@@ -21,6 +21,9 @@
 #ifdef SCULPT_BENCH_RENDER
 #include "render_bench.h"
 #endif
+#ifdef SCULPT_BENCH_WINDOW
+#include "window_bench.h"
+#endif
 
 using namespace sculpt;
 using namespace sculpt::core;
@@ -266,6 +269,9 @@ int main(int argc, char** argv) {
     benchSubdivision();
 #ifdef SCULPT_BENCH_RENDER
     if (wanted("render") || wanted("upload")) sculpt::render::runRenderBenchmarks(std::cout);
+#endif
+#ifdef SCULPT_BENCH_WINDOW
+    if (wanted("window_drag_100k") || wanted("window_drag_1m_engine")) sculpt::bench::runWindowBenchmarks(std::cout, gFilters);
 #endif
     return 0;
 }

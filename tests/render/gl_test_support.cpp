@@ -68,6 +68,21 @@ int pixelDifference(const render::Rgba8Image& a, const render::Rgba8Image& b, in
     return difference;
 }
 
+double differingFraction(const render::Rgba8Image& a, const render::Rgba8Image& b,
+                         const std::vector<std::uint8_t>& ignore) {
+    if (a.width != b.width || a.height != b.height) return 1.0;
+    long counted = 0, differing = 0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) {
+            if (!ignore.empty() && ignore[size_t(y) * size_t(a.width) + size_t(x)]) continue;
+            ++counted;
+            differing += pixelDifference(a, b, x, y) > kChannelTolerance;
+        }
+    return counted > 0 ? double(differing) / double(counted) : 0.0;
+}
+
+double goldenMaxDifferingFraction() { return kMaxDifferentFraction; }
+
 void checkGolden(const render::Rgba8Image& actual, const std::string& name) {
     const std::string goldenPath = std::string(SCULPT_SOURCE_DIR) + "/tests/golden/" + name + ".png";
     if (updateRequested()) {

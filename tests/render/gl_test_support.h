@@ -1,7 +1,9 @@
 // Shared pieces of the GL tests: one offscreen renderer per test process, golden-image comparison.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "render/offscreen_renderer.h"
 
@@ -21,5 +23,12 @@ void checkGolden(const render::Rgba8Image& actual, const std::string& name);
 
 // Largest per-channel difference between two pixels at (x, y), or 255 if the sizes differ.
 int pixelDifference(const render::Rgba8Image& a, const render::Rgba8Image& b, int x, int y);
+
+// Fraction of the pixels that differ by more than the golden tolerance (gl_test_support.cpp), counting only
+// pixels where `ignore` (one byte per pixel, rows top-down; empty: none ignored) is 0; 1 if the sizes differ.
+double differingFraction(const render::Rgba8Image& a, const render::Rgba8Image& b,
+                         const std::vector<std::uint8_t>& ignore = {});
+// The golden threshold on that fraction (the same one checkGolden applies).
+double goldenMaxDifferingFraction();
 
 }  // namespace sculpt::test

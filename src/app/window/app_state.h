@@ -36,6 +36,9 @@ struct FrameStats {
     double updateMs = 0.0;  // last GPU update (positions, normals, overlays)
     double renderMs = 0.0;  // CPU time of the last frame's draw calls (scene + UI)
     int lastUploadVertices = 0;
+    // The stats panel shows "--" for the times and the frame rate, which differ run to run, so a frame is
+    // reproducible pixel for pixel (golden-image tests, tests/render/window_golden_test.cpp).
+    bool hideTimings = false;
 };
 
 // A drag in progress: the picked surface point and the plane the cursor moves it in.

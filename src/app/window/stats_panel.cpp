@@ -22,11 +22,18 @@ void drawStatsPanel(AppState& state) {
         row("Lattice", "%d x %d x %d, degree %d", lattice.count[0], lattice.count[1], lattice.count[2],
             settings.degree[0]);
         row("Frames", "%d", session.frameDepth() + 1);
-        row("Solve", "%.2f ms", state.stats.solveMs);
-        row("GPU update", "%.2f ms (%d vtx)", state.stats.updateMs, state.stats.lastUploadVertices);
-        row("Draw calls", "%.2f ms", state.stats.renderMs);
-        const float fps = ImGui::GetIO().Framerate;
-        row("Frame rate", "%.1f fps (%.1f ms)", fps, fps > 0.0f ? 1000.0f / fps : 0.0f);
+        if (state.stats.hideTimings) {
+            row("Solve", "%s", "-- ms");
+            row("GPU update", "-- ms (%d vtx)", state.stats.lastUploadVertices);
+            row("Draw calls", "%s", "-- ms");
+            row("Frame rate", "%s", "-- fps");
+        } else {
+            row("Solve", "%.2f ms", state.stats.solveMs);
+            row("GPU update", "%.2f ms (%d vtx)", state.stats.updateMs, state.stats.lastUploadVertices);
+            row("Draw calls", "%.2f ms", state.stats.renderMs);
+            const float fps = ImGui::GetIO().Framerate;
+            row("Frame rate", "%.1f fps (%.1f ms)", fps, fps > 0.0f ? 1000.0f / fps : 0.0f);
+        }
         row("History", "%.1f KiB", static_cast<double>(session.historyBytes()) / 1024.0);
         ImGui::EndTable();
     }
