@@ -75,8 +75,9 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor; 
     REQUIRE(state.drag.active);
     const int vertex = state.drag.pickedVertex;
     CHECK(vertex == hit.nearestCorner);
-    // The picked point's parameters reproduce the hit point.
-    CHECK((state.session.currentImage(state.drag.sourceParams) - hit.point).norm() < 1e-6 * diagonal(original));
+    // The drag's source is the hit point.
+    REQUIRE(state.session.dragSources().size() == 1);
+    CHECK((state.session.dragSources().front() - hit.point).norm() < 1e-6 * diagonal(original));
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, 0.5 * kWidth, 0.5 * kHeight, {}}, {});
     CHECK(state.session.history().empty());  // a click without a move records nothing
 

@@ -19,6 +19,9 @@ void installSession(AppState& state, core::Session&& session, const std::string&
     state.meshName = name;
     state.gpu = PendingGpuUpdate{};
     state.drag = DragState{};
+    state.tools.handles.clear();  // they name triangles of the old mesh
+    state.tools.lattice = LatticeSelection{};
+    state.tools.setupEdited = false;
     state.hasReport = false;
     state.session.setTrackJacobian(state.overlays.jacobian);
     frameMesh(state);

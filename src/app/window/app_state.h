@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "app/window/tools.h"
 #include "core/session.h"
 #include "render/camera.h"
 #include "render/scene.h"
@@ -41,15 +42,23 @@ struct FrameStats {
     bool hideTimings = false;
 };
 
-// A drag in progress: the picked surface point and the plane the cursor moves it in.
+enum class DragKind { Surface, Control };
+
+// A drag in progress. Surface: a multi-point manipulation (the grabbed point or handles move with the
+// cursor, the other handles and pins are held); Control: the selected control points move with the cursor.
+// Either way the cursor moves in the plane through the grabbed point facing the camera.
 struct DragState {
     bool active = false;
-    int pickedVertex = -1;                                  // corner of the hit triangle nearest the hit
-    Eigen::Vector3d sourceParams = Eigen::Vector3d::Zero(); // lattice parameters of the picked point
-    Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();   // the source when picked
+    DragKind kind = DragKind::Surface;
+    int pickedVertex = -1;                                  // corner of the hit triangle nearest the hit (-1: a handle)
+    Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();   // the grabbed point when picked
     Eigen::Vector3d planeNormal = Eigen::Vector3d::UnitZ(); // towards the camera at the time of the pick
-    Eigen::Vector3d target = Eigen::Vector3d::Zero();
-    int moves = 0, refused = 0;                             // updateDrag calls, and how many were rejected
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();       // where the cursor puts the grabbed point
+    std::vector<Eigen::Vector3d> starts;   // Surface: each constraint's source at the press
+    std::vector<Eigen::Vector3d> targets;  // Surface: each constraint's current target
+    std::vector<int> moving;               // Surface: constraints that follow the cursor (the rest are held)
+    std::vector<int> constraintHandles;    // Surface: per constraint, its handle (ToolState::handles) or -1
+    int moves = 0, refused = 0;                             // updates, and how many were rejected
 };
 
 enum class Navigation { None, Orbit, Pan };
@@ -71,6 +80,7 @@ struct AppState {
     FrameStats stats;
     PendingGpuUpdate gpu;
     DragState drag;
+    ToolState tools;
     Navigation navigation = Navigation::None;
     double cursorX = 0.0, cursorY = 0.0;
 };

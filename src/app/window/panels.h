@@ -16,6 +16,11 @@ void drawInjectivityPanel(AppState& state);  // injectivity_panel.cpp: off / con
 void drawHistoryPanel(AppState& state);      // history_panel.cpp: undo, redo, the list (click to jump)
 void drawStatusLine(AppState& state);        // status_line.cpp: the verdict of the last command, at the bottom
 
+// The tool window on the right (tools_panel.cpp): sculpt / lattice tool, handles and pins, control-point
+// selection and pins, lattice set-up; and the lattice tool's selection rectangle.
+void drawToolsWindow(AppState& state);
+float toolsWindowWidth();
+
 // Width of the sidebar in pixels (scaled with the font), so the viewport knows what is covered.
 float sidebarWidth();
 

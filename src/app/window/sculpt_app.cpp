@@ -11,6 +11,7 @@
 #include "app/scene_builder.h"
 #include "app/window/panels.h"
 #include "app/window/picking.h"
+#include "app/window/tool_commands.h"
 #include "app/file_browser.h"
 
 namespace sculpt::app {
@@ -20,7 +21,6 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-Eigen::Vector3d toEigen(const glm::vec3& v) { return Eigen::Vector3d(v.x, v.y, v.z); }
 
 bool shortcutModifier(const Modifiers& m) { return m.control || m.super; }
 
@@ -47,7 +47,7 @@ void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags captur
     state_.cursorY = event.y;
     if (event.action == ButtonAction::Release) {
         // note: releases always reach us, even over a panel, so a drag or orbit never gets stuck.
-        if (event.button == MouseButton::Left && state_.drag.active) endSculpt();
+        if (event.button == MouseButton::Left) releaseTool();
         if (event.button == MouseButton::Middle || event.button == MouseButton::Left)
             state_.navigation = Navigation::None;
         return;
@@ -58,7 +58,8 @@ void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags captur
         state_.navigation = event.modifiers.shift ? Navigation::Pan : Navigation::Orbit;
     } else if (event.button == MouseButton::Left) {
         if (event.modifiers.alt) state_.navigation = event.modifiers.shift ? Navigation::Pan : Navigation::Orbit;
-        else beginSculpt(event.x, event.y);
+        else if (state_.tools.mode == ToolMode::Lattice) pressLattice(event);
+        else pressSculpt(event);
     }
 }
 
@@ -69,8 +70,8 @@ void SculptApp::onMouseMove(const MouseMoveEvent& event, CaptureFlags /*capture*
     state_.cursorX = event.x;
     state_.cursorY = event.y;
     render::Camera& camera = state_.camera;
-    if (state_.drag.active) {
-        updateSculpt(event.x, event.y);
+    if (state_.drag.active || state_.tools.lattice.boxActive || state_.navigation == Navigation::None) {
+        moveTool(event.x, event.y);
     } else if (state_.navigation == Navigation::Orbit) {
         camera.yawDeg = static_cast<float>(std::remainder(camera.yawDeg - dx * kOrbitDegreesPerPixel, 360.0));
         camera.pitchDeg = static_cast<float>(std::clamp(camera.pitchDeg + dy * kOrbitDegreesPerPixel, -89.0, 89.0));
@@ -95,6 +96,7 @@ void SculptApp::onScroll(const ScrollEvent& event, CaptureFlags capture) {
 void SculptApp::onKey(const KeyEvent& event, CaptureFlags capture) {
     if (capture.keyboard || event.action == KeyAction::Release) return;
     if (files_.onKey(state_, event)) return;  // Ctrl+O / S / Shift+S / Q, or ignored while files are busy
+    if (keyTool(event)) return;  // Tab, G, P, A, Esc / Delete of the editing tools
     const Modifiers& m = event.modifiers;
     if (event.key == Key::Z && shortcutModifier(m)) {
         if (m.shift) redoCommand(state_); else undoCommand(state_);
@@ -103,77 +105,6 @@ void SculptApp::onKey(const KeyEvent& event, CaptureFlags capture) {
     } else if (event.key == Key::F && !shortcutModifier(m) && event.action == KeyAction::Press) {
         frameMesh(state_);
     }
-}
-
-void SculptApp::beginSculpt(double x, double y) {
-    core::Session& session = state_.session;
-    Ray ray;
-    if (!session.hasMesh() ||
-        !rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, x, y, ray))
-        return;
-    const SurfaceHit hit = intersectMesh(ray, session.positions(), session.triangles());
-    if (hit.triangle < 0) return;  // a click on the background does nothing
-    Eigen::Vector3d params;
-    if (!session.parametersOfCurrentPoint(hit.point, params)) {
-        // note: fallback, the barycentric mix of the corners' parameters (exact for the lattice's rest state).
-        params.setZero();
-        for (int c = 0; c < 3; ++c) {
-            Eigen::Vector3d corner;
-            if (Status s = session.parametersOfVertex(session.triangles()(hit.triangle, c), corner); !s) {
-                setStatus(state_, "Cannot grab this point: " + s.message, true);
-                return;
-            }
-            params += hit.barycentric[c] * corner;
-        }
-    }
-    if (Status s = session.beginDrag({params}); !s) {
-        setStatus(state_, "Cannot grab this point: " + s.message, true);
-        return;
-    }
-    DragState& drag = state_.drag;
-    drag = DragState{};
-    drag.active = true;
-    drag.pickedVertex = hit.nearestCorner;
-    drag.sourceParams = params;
-    drag.planePoint = session.currentImage(params);
-    drag.planeNormal = -toEigen(glm::normalize(state_.camera.target - state_.camera.eye()));
-    drag.target = drag.planePoint;
-    state_.gpu.fields = true;
-    setStatus(state_, "Dragging vertex " + std::to_string(hit.nearestCorner) + "...", false);
-}
-
-void SculptApp::updateSculpt(double x, double y) {
-    DragState& drag = state_.drag;
-    Ray ray;
-    Eigen::Vector3d target;
-    if (!rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, x, y, ray) ||
-        !intersectPlane(ray, drag.planePoint, drag.planeNormal, target))
-        return;
-    drag.target = target;
-    core::OpReport report;
-    const Status s = state_.session.updateDrag({target}, report);
-    ++drag.moves;
-    if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state_);
-    if (!s || report.status == core::OpStatus::Rejected) ++drag.refused;
-    reportOperation(state_, report, s);
-    state_.gpu.fields = true;
-}
-
-void SculptApp::endSculpt() {
-    const int before = static_cast<int>(state_.session.history().size());
-    state_.session.endDrag();
-    const DragState finished = state_.drag;
-    state_.drag = DragState{};
-    state_.gpu.fields = true;
-    const bool recorded = static_cast<int>(state_.session.history().size()) > before;
-    std::string text = recorded ? "Drag recorded as one undo step (" + std::to_string(finished.moves) + " moves"
-                                : "Drag changed nothing (" + std::to_string(finished.moves) + " moves";
-    if (finished.refused > 0) text += ", " + std::to_string(finished.refused) + " refused as not injective";
-    text += ").";
-    if (state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected)
-        text += " Last move refused: " + (state_.lastReport.reason.empty() ? state_.lastReport.injectivity
-                                                                           : state_.lastReport.reason);
-    setStatus(state_, text, finished.refused > 0 && !recorded);
 }
 
 Status SculptApp::initGraphics(render::GlGetProc getProc) {
@@ -225,28 +156,27 @@ void SculptApp::syncGpu() {
         request.jacobian = o.jacobian;
         request.affected = o.affected;
         request.lastDragConstraints = false;
+        const bool showLattice = o.lattice || state_.tools.mode == ToolMode::Lattice;
+        if (showLattice) {
+            clampLatticeSelection(state_);
+            request.selectedControlPoints.assign(static_cast<size_t>(session.lattice().controlPointCount()), 0);
+            for (int id : state_.tools.lattice.points) request.selectedControlPoints[static_cast<size_t>(id)] = 1;
+            // note: in the lattice tool the affected region shows what the selection would move.
+            if (state_.tools.mode == ToolMode::Lattice) request.affectedControlPoints = state_.tools.lattice.points;
+        }
         // note: only the overlays asked for are computed; sceneFromSession's position copy is cheap next to them.
         render::LatticeView lattice;
         std::vector<float> jacobian, affected;
-        if (o.lattice || o.jacobian || o.affected) {
+        if (showLattice || o.jacobian || o.affected) {
             render::SceneData scene = sceneFromSession(session, request);
-            if (o.lattice) lattice = std::move(scene.lattice);
+            if (showLattice) lattice = std::move(scene.lattice);
             jacobian = std::move(scene.jacobianDet);
             affected = std::move(scene.affectedWeight);
         }
         renderer_.setLattice(lattice);
         renderer_.setJacobianField(jacobian);
         renderer_.setAffectedWeights(affected);
-        render::ConstraintView constraints;
-        if (state_.drag.active) {
-            const std::vector<Eigen::Vector3d> sources = session.dragSources();
-            constraints.sources.resize(static_cast<Eigen::Index>(sources.size()), 3);
-            constraints.targets.resize(static_cast<Eigen::Index>(sources.size()), 3);
-            for (size_t c = 0; c < sources.size(); ++c) {
-                constraints.sources.row(static_cast<Eigen::Index>(c)) = sources[c].transpose();
-                constraints.targets.row(static_cast<Eigen::Index>(c)) = state_.drag.target.transpose();
-            }
-        }
+        const render::ConstraintView constraints = constraintView();
         renderer_.setConstraints(constraints);
         gpu.fields = false;
         uploaded = true;
@@ -267,7 +197,8 @@ Status SculptApp::renderFrame(int width, int height) {
     options.lattice = state_.overlays.lattice;
     options.jacobian = state_.overlays.jacobian;
     options.affected = state_.overlays.affected;
-    options.constraints = state_.drag.active;
+    options.constraints = true;  // the drag's constraints, placed handles and pins (empty: nothing drawn)
+    options.lattice = options.lattice || state_.tools.mode == ToolMode::Lattice;
     Status drawn = renderer_.draw(state_.camera, options, width, height);
     files_.afterSceneDrawn(state_, width, height);  // a requested screenshot: the scene without the UI
     if (imguiBackendReady_ && ImGui::GetCurrentContext()) {
@@ -289,6 +220,7 @@ void SculptApp::drawUi() {
     drawInjectivityPanel(state_);
     drawHistoryPanel(state_);
     endSidebar();
+    drawToolsWindow(state_);
     drawStatusLine(state_);
     files_.drawModals(state_);
 }

@@ -58,9 +58,20 @@ public:
     render::Renderer& renderer() { return renderer_; }
 
 private:
-    void beginSculpt(double x, double y);
+    // The editing tools (tool_input.cpp).
+    void pressSculpt(const MouseButtonEvent& event);
+    void pressLattice(const MouseButtonEvent& event);
+    // triangle >= 0: grab that surface point; otherwise grabbedHandle. movingHandles follow the cursor too.
+    void beginSculpt(int triangle, const Eigen::Vector3d& barycentric, int grabbedHandle, const std::vector<int>& movingHandles);
     void updateSculpt(double x, double y);
     void endSculpt();
+    void moveTool(double x, double y);
+    void releaseTool();
+    bool keyTool(const KeyEvent& event);
+    void updateHint(double x, double y);
+    void finishBoxSelection();
+    double pickRadius() const;
+    render::ConstraintView constraintView() const;
     void syncGpu();
     void drawUi();
 

@@ -18,6 +18,16 @@ void drawStatusLine(AppState& state) {
     ImGui::TextColored(colour, "%s", state.statusIsError ? "!" : ">");
     ImGui::SameLine();
     ImGui::TextUnformatted(state.status.c_str());
+    // What the cursor would do where it is, right-aligned, when there is room for it.
+    if (!state.tools.hint.empty()) {
+        const float hintWidth = ImGui::CalcTextSize(state.tools.hint.c_str()).x;
+        const float right = ImGui::GetWindowContentRegionMax().x;
+        ImGui::SameLine();
+        if (ImGui::GetCursorPosX() + ImGui::GetFontSize() + hintWidth <= right) {
+            ImGui::SetCursorPosX(right - hintWidth);
+            ImGui::TextDisabled("%s", state.tools.hint.c_str());
+        }
+    }
     ImGui::End();
 }
 

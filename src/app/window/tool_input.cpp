@@ -1,0 +1,502 @@
+// SculptApp's editing tools (tools.h): the mouse and keys of the sculpt tool (grab, handles, pins) and of the
+// lattice tool (pick, box-select, drag and pin control points). Navigation, files and undo stay in sculpt_app.cpp.
+#include <algorithm>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "app/window/picking.h"
+#include "app/window/sculpt_app.h"
+#include "app/window/tool_commands.h"
+
+namespace sculpt::app {
+namespace {
+
+constexpr double kPickRadius = 9.0;  // pixels (times the pixel scale) around a marker that grab it
+
+Eigen::Vector3d towardsEye(const render::Camera& camera) {
+    const glm::vec3 d = glm::normalize(camera.eye() - camera.target);
+    return Eigen::Vector3d(d.x, d.y, d.z);
+}
+
+std::string plural(size_t n, const char* word) {
+    return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+}
+
+// Lattice parameters of a surface point: the lattice's own inverse where it converges, otherwise the
+// barycentric mix of the corners' parameters (exact while the lattice is at rest). False outside the lattice.
+bool surfaceParameters(const core::Session& session, const SurfaceHandle& handle, const Eigen::Vector3d& world,
+                       Eigen::Vector3d& params) {
+    if (session.parametersOfCurrentPoint(world, params)) return true;
+    params.setZero();
+    for (int c = 0; c < 3; ++c) {
+        Eigen::Vector3d corner;
+        if (!session.parametersOfVertex(session.triangles()(handle.triangle, c), corner)) return false;
+        params += handle.barycentric[c] * corner;
+    }
+    return true;
+}
+
+Positions controlPointPositions(const core::Lattice& lattice) {
+    Positions points(lattice.controlPointCount(), 3);
+    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) points.row(idx) = lattice.controlPoint(idx).transpose();
+    return points;
+}
+
+}  // namespace
+
+double SculptApp::pickRadius() const { return kPickRadius * static_cast<double>(renderer_.pixelScale()); }
+
+// ---- commands shared with the panels (tool_commands.h) ------------------------------------------------------
+
+void setToolMode(AppState& state, ToolMode mode) {
+    if (state.drag.active || state.tools.mode == mode) return;
+    state.tools.mode = mode;
+    state.tools.lattice.boxActive = false;
+    state.gpu.fields = true;
+    setStatus(state, mode == ToolMode::Lattice
+                         ? "Lattice tool: click selects, Shift+click toggles, drag a box to select several, drag a point "
+                           "to move the selection, P pins. Tab: sculpt."
+                         : "Sculpt tool: drag the mesh. Shift+click places a handle, Ctrl+click a pin. Tab: lattice tool.",
+              false);
+}
+
+void clampLatticeSelection(AppState& state) {
+    std::vector<int>& selection = state.tools.lattice.points;
+    const int count = state.session.lattice().controlPointCount();
+    selection.erase(std::remove_if(selection.begin(), selection.end(), [count](int id) { return id < 0 || id >= count; }),
+                    selection.end());
+}
+
+void describeLatticeSelection(AppState& state) {
+    clampLatticeSelection(state);
+    const std::vector<int>& points = state.tools.lattice.points;
+    if (points.empty()) {
+        setStatus(state, "No control point selected.", false);
+        return;
+    }
+    size_t pinned = 0;
+    for (int id : points) pinned += state.session.lattice().pinned[static_cast<size_t>(id)] ? 1 : 0;
+    std::string text = plural(points.size(), "control point") + " selected";
+    if (points.size() == 1) {
+        const std::array<int, 3> ijk = state.session.lattice().ijk(points.front());
+        text += " [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "]";
+    }
+    if (pinned > 0) text += ", " + std::to_string(pinned) + " pinned";
+    setStatus(state, text + ". Drag one to move them, P pins or unpins.", false);
+}
+
+void selectAllControlPoints(AppState& state, bool all) {
+    std::vector<int>& points = state.tools.lattice.points;
+    points.clear();
+    if (all) {
+        points.resize(static_cast<size_t>(state.session.lattice().controlPointCount()));
+        for (size_t i = 0; i < points.size(); ++i) points[i] = static_cast<int>(i);
+    }
+    state.gpu.fields = true;
+    describeLatticeSelection(state);
+}
+
+void togglePinsOfSelection(AppState& state) {
+    clampLatticeSelection(state);
+    const std::vector<int>& points = state.tools.lattice.points;
+    if (points.empty()) {
+        setStatus(state, "Select control points first (click, Shift+click, or drag a box), then press P.", true);
+        return;
+    }
+    bool allPinned = true;
+    for (int id : points) allPinned = allPinned && state.session.lattice().pinned[static_cast<size_t>(id)];
+    if (Status s = state.session.setPinned(points, !allPinned); !s) {
+        setStatus(state, "Cannot change the pins: " + s.message, true);
+        return;
+    }
+    state.gpu.fields = true;
+    setStatus(state, std::string(allPinned ? "Unpinned " : "Pinned ") + plural(points.size(), "control point") +
+                         (allPinned ? "." : ": the solver will not move them."),
+              false);
+}
+
+void clearHandles(AppState& state) {
+    state.tools.handles.clear();
+    state.gpu.fields = true;
+    setStatus(state, "Handles and pins removed.", false);
+}
+
+void setupLatticeCommand(AppState& state, const core::LatticeSettings& settings) {
+    if (state.drag.active) return;
+    if (Status s = core::validateLatticeSettings(settings); !s) {
+        setStatus(state, "Lattice not changed: " + s.message, true);
+        return;
+    }
+    core::OpReport report;
+    const Status s = state.session.setupLattice(settings, report);
+    if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state);
+    reportOperation(state, report, s);
+    clampLatticeSelection(state);
+    state.gpu.fields = true;
+}
+
+// ---- sculpt tool ------------------------------------------------------------------------------------------
+
+void SculptApp::pressSculpt(const MouseButtonEvent& event) {
+    core::Session& session = state_.session;
+    ToolState& tools = state_.tools;
+    if (!session.hasMesh()) return;
+    const int width = state_.framebufferWidth, height = state_.framebufferHeight;
+    const int handle = handleAtPixel(tools, session.positions(), session.triangles(), state_.camera, width, height,
+                                     event.x, event.y, pickRadius());
+    const bool shift = event.modifiers.shift, control = event.modifiers.control || event.modifiers.super;
+    if (handle >= 0 && (shift || control)) {
+        SurfaceHandle& h = tools.handles[static_cast<size_t>(handle)];
+        if (shift) {
+            tools.handles.erase(tools.handles.begin() + handle);
+            setStatus(state_, "Removed a " + std::string(h.pin ? "pin" : "handle") + " (" + plural(tools.handles.size(), "marker") + " left).", false);
+        } else {
+            h.pin = !h.pin;
+            setStatus(state_, h.pin ? "The handle is now a pin: it holds its point while you drag others."
+                                    : "The pin is now a handle: drag it to move its point.", false);
+        }
+        state_.gpu.fields = true;
+        return;
+    }
+    if (handle >= 0) {
+        const SurfaceHandle& h = tools.handles[static_cast<size_t>(handle)];
+        if (h.pin) {
+            setStatus(state_, "Pins hold their point still. Ctrl+click the pin to turn it into a handle, Shift+click removes it.", false);
+            return;
+        }
+        std::vector<int> moving;
+        for (size_t i = 0; i < tools.handles.size(); ++i)
+            if (!tools.handles[i].pin && (tools.moveHandlesTogether || static_cast<int>(i) == handle))
+                moving.push_back(static_cast<int>(i));
+        beginSculpt(-1, Eigen::Vector3d::Zero(), handle, moving);
+        return;
+    }
+    Ray ray;
+    if (!rayThroughPixel(state_.camera, width, height, event.x, event.y, ray)) return;
+    const SurfaceHit hit = intersectMesh(ray, session.positions(), session.triangles());
+    if (hit.triangle < 0) return;  // a click on the background does nothing
+    if (shift || control) {
+        SurfaceHandle placed;
+        placed.triangle = hit.triangle;
+        placed.barycentric = hit.barycentric;
+        placed.pin = control;
+        Eigen::Vector3d params;
+        if (!surfaceParameters(session, placed, hit.point, params)) {
+            setStatus(state_, "This point lies outside the lattice: it cannot move, so it needs no pin or handle.", true);
+            return;
+        }
+        tools.handles.push_back(placed);
+        state_.gpu.fields = true;
+        size_t pins = 0;
+        for (const SurfaceHandle& h : tools.handles) pins += h.pin ? 1 : 0;
+        setStatus(state_, std::string(control ? "Pin placed" : "Handle placed") + " (" + plural(tools.handles.size() - pins, "handle") +
+                              ", " + plural(pins, "pin") + "). Drag a handle to move " +
+                              (tools.moveHandlesTogether ? "all handles together" : "it alone") + " (G toggles); pins hold still.",
+                  false);
+        return;
+    }
+    beginSculpt(hit.triangle, hit.barycentric, -1, {});
+}
+
+void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, int grabbedHandle, const std::vector<int>& movingHandles) {
+    core::Session& session = state_.session;
+    const ToolState& tools = state_.tools;
+    DragState drag;
+    std::vector<Eigen::Vector3d> params;
+    std::vector<bool> moves;
+    // The constraint list: the grabbed surface point (if any) first, then every handle and pin; those not
+    // moving with the cursor are held where they are (seed 000 Fig. 3-4: fixed points are constraints too).
+    auto add = [&](const SurfaceHandle& h, bool moving, int handleIndex) {
+        Eigen::Vector3d t;
+        if (!surfaceParameters(session, h, handlePosition(h, session.positions(), session.triangles()), t)) return false;
+        params.push_back(t);
+        moves.push_back(moving);
+        drag.constraintHandles.push_back(handleIndex);
+        return true;
+    };
+    if (triangle >= 0) {
+        SurfaceHandle grabbed;
+        grabbed.triangle = triangle;
+        grabbed.barycentric = barycentric;
+        if (!add(grabbed, true, -1)) {
+            setStatus(state_, "Cannot grab this point: it lies outside the lattice.", true);
+            return;
+        }
+        int corner = 0;
+        barycentric.maxCoeff(&corner);
+        drag.pickedVertex = session.triangles()(triangle, corner);
+    }
+    for (size_t i = 0; i < tools.handles.size(); ++i) {
+        const bool moving = std::find(movingHandles.begin(), movingHandles.end(), static_cast<int>(i)) != movingHandles.end();
+        if (!add(tools.handles[i], moving, static_cast<int>(i)) && moving) {
+            setStatus(state_, "Cannot drag this handle: it lies outside the lattice.", true);
+            return;
+        }
+    }
+    if (Status s = session.beginDrag(params); !s) {
+        setStatus(state_, "Cannot grab this point: " + s.message, true);
+        return;
+    }
+    drag.active = true;
+    drag.kind = DragKind::Surface;
+    drag.starts = session.dragSources();
+    for (size_t c = 0; c < moves.size(); ++c)
+        if (moves[c]) drag.moving.push_back(static_cast<int>(c));
+    const int grabbedConstraint = triangle >= 0 ? 0
+        : static_cast<int>(std::find(drag.constraintHandles.begin(), drag.constraintHandles.end(), grabbedHandle) - drag.constraintHandles.begin());
+    drag.planePoint = drag.starts[static_cast<size_t>(grabbedConstraint)];
+    drag.planeNormal = towardsEye(state_.camera);
+    drag.target = drag.planePoint;
+    drag.targets = drag.starts;
+    state_.drag = drag;
+    state_.gpu.fields = true;
+    const size_t held = drag.starts.size() - drag.moving.size();
+    std::string text = triangle >= 0 ? "Dragging vertex " + std::to_string(drag.pickedVertex)
+                                     : "Dragging " + plural(drag.moving.size(), "handle");
+    if (held > 0) text += " (" + plural(held, "point") + " held)";
+    setStatus(state_, text + "...", false);
+}
+
+void SculptApp::updateSculpt(double x, double y) {
+    DragState& drag = state_.drag;
+    Ray ray;
+    Eigen::Vector3d cursor;
+    if (!rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, x, y, ray) ||
+        !intersectPlane(ray, drag.planePoint, drag.planeNormal, cursor))
+        return;
+    drag.target = cursor;
+    const Eigen::Vector3d offset = cursor - drag.planePoint;
+    drag.targets = drag.starts;
+    for (int c : drag.moving) drag.targets[static_cast<size_t>(c)] += offset;
+    core::OpReport report;
+    const Status s = drag.kind == DragKind::Surface ? state_.session.updateDrag(drag.targets, report)
+                                                    : state_.session.updateControlDrag(offset, report);
+    ++drag.moves;
+    if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state_);
+    if (!s || report.status == core::OpStatus::Rejected) ++drag.refused;
+    reportOperation(state_, report, s);
+    state_.gpu.fields = true;
+}
+
+void SculptApp::endSculpt() {
+    const int before = static_cast<int>(state_.session.history().size());
+    state_.session.endDrag();
+    const DragState finished = state_.drag;
+    state_.drag = DragState{};
+    state_.gpu.fields = true;
+    const bool recorded = static_cast<int>(state_.session.history().size()) > before;
+    std::string text = recorded ? "Drag recorded as one undo step (" + plural(static_cast<size_t>(finished.moves), "move")
+                                : "Drag changed nothing (" + plural(static_cast<size_t>(finished.moves), "move");
+    if (finished.refused > 0) text += ", " + std::to_string(finished.refused) + " refused as not injective";
+    text += ").";
+    if (state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected)
+        text += " Last move refused: " + (state_.lastReport.reason.empty() ? state_.lastReport.injectivity
+                                                                           : state_.lastReport.reason);
+    setStatus(state_, text, finished.refused > 0 && !recorded);
+}
+
+// ---- lattice tool -----------------------------------------------------------------------------------------
+
+void SculptApp::pressLattice(const MouseButtonEvent& event) {
+    core::Session& session = state_.session;
+    if (!session.hasMesh()) return;
+    clampLatticeSelection(state_);
+    LatticeSelection& selection = state_.tools.lattice;
+    const Positions points = controlPointPositions(session.lattice());
+    const int hit = controlPointAtPixel(points, state_.camera, state_.framebufferWidth, state_.framebufferHeight,
+                                        event.x, event.y, pickRadius());
+    const bool shift = event.modifiers.shift;
+    if (hit < 0) {  // on empty space: a selection rectangle
+        selection.boxActive = true;
+        selection.boxAdditive = shift;
+        selection.boxX0 = selection.boxX1 = event.x;
+        selection.boxY0 = selection.boxY1 = event.y;
+        return;
+    }
+    const bool wasSelected = std::binary_search(selection.points.begin(), selection.points.end(), hit);
+    if (shift) {
+        toggleInSelection(selection.points, hit);
+        state_.gpu.fields = true;
+        describeLatticeSelection(state_);
+        if (wasSelected) return;  // Shift+click on a selected point only deselects it
+    } else if (!wasSelected) {
+        selection.points = {hit};
+        state_.gpu.fields = true;
+    }
+    std::vector<int> movable;
+    for (int id : selection.points)
+        if (!session.lattice().pinned[static_cast<size_t>(id)]) movable.push_back(id);
+    if (movable.empty()) {
+        setStatus(state_, "The selected control points are pinned; press P to unpin them.", true);
+        return;
+    }
+    if (Status s = session.beginControlDrag(movable); !s) {
+        setStatus(state_, "Cannot move the control points: " + s.message, true);
+        return;
+    }
+    DragState drag;
+    drag.active = true;
+    drag.kind = DragKind::Control;
+    drag.planePoint = points.row(hit).transpose();
+    drag.planeNormal = towardsEye(state_.camera);
+    drag.target = drag.planePoint;
+    state_.drag = drag;
+    state_.gpu.fields = true;
+    const size_t pinned = selection.points.size() - movable.size();
+    setStatus(state_, "Moving " + plural(movable.size(), "control point") +
+                          (pinned > 0 ? " (" + plural(pinned, "pinned point") + " stay)" : std::string()) + "...",
+              false);
+}
+
+void SculptApp::finishBoxSelection() {
+    LatticeSelection& selection = state_.tools.lattice;
+    selection.boxActive = false;
+    const bool click = std::abs(selection.boxX1 - selection.boxX0) < 3.0 && std::abs(selection.boxY1 - selection.boxY0) < 3.0;
+    if (click) {
+        if (!selection.boxAdditive && !selection.points.empty()) {
+            selection.points.clear();
+            setStatus(state_, "Selection cleared.", false);
+        }
+    } else {
+        const std::vector<int> inside = controlPointsInRectangle(
+            controlPointPositions(state_.session.lattice()), state_.camera, state_.framebufferWidth,
+            state_.framebufferHeight, selection.boxX0, selection.boxY0, selection.boxX1, selection.boxY1);
+        if (!selection.boxAdditive) selection.points.clear();
+        addToSelection(selection.points, inside);
+        describeLatticeSelection(state_);
+    }
+    state_.gpu.fields = true;
+}
+
+// ---- shared -----------------------------------------------------------------------------------------------
+
+void SculptApp::moveTool(double x, double y) {
+    LatticeSelection& selection = state_.tools.lattice;
+    if (state_.drag.active) {
+        updateSculpt(x, y);
+        return;
+    }
+    if (selection.boxActive) {
+        selection.boxX1 = x;
+        selection.boxY1 = y;
+        return;
+    }
+    updateHint(x, y);
+}
+
+void SculptApp::updateHint(double x, double y) {
+    const core::Session& session = state_.session;
+    ToolState& tools = state_.tools;
+    if (!session.hasMesh() || state_.navigation != Navigation::None) {
+        tools.hint.clear();
+        return;
+    }
+    const int width = state_.framebufferWidth, height = state_.framebufferHeight;
+    if (tools.mode == ToolMode::Sculpt) {
+        const int handle = handleAtPixel(tools, session.positions(), session.triangles(), state_.camera, width, height, x, y, pickRadius());
+        if (handle >= 0 && tools.handles[static_cast<size_t>(handle)].pin)
+            tools.hint = "Pin: holds its point. Ctrl+click: make it a handle. Shift+click: remove.";
+        else if (handle >= 0)
+            tools.hint = std::string("Handle: drag to move ") + (tools.moveHandlesTogether ? "all handles" : "it") +
+                         " (G). Ctrl+click: make it a pin. Shift+click: remove.";
+        else
+            tools.hint = "Drag: sculpt. Shift+click: add handle. Ctrl+click: add pin. Tab: lattice tool.";
+    } else {
+        // note: the hover test projects every control point; at 64^3 that is ~2 ms, acceptable for a hint.
+        const int hit = controlPointAtPixel(controlPointPositions(session.lattice()), state_.camera, width, height, x, y, pickRadius());
+        tools.hint = hit >= 0 ? "Control point: click selects, Shift+click toggles, drag moves the selection, P pins."
+                              : "Drag: box select (Shift adds). Click: clear selection. A: select all. Tab: sculpt tool.";
+    }
+}
+
+void SculptApp::releaseTool() {
+    if (state_.drag.active) endSculpt();
+    if (state_.tools.lattice.boxActive) finishBoxSelection();
+}
+
+bool SculptApp::keyTool(const KeyEvent& event) {
+    const Modifiers& m = event.modifiers;
+    const bool shortcut = m.control || m.super;
+    if (state_.drag.active || event.action != KeyAction::Press) return false;
+    ToolState& tools = state_.tools;
+    switch (event.key) {
+        case Key::Tab:
+            if (shortcut) return false;
+            setToolMode(state_, tools.mode == ToolMode::Sculpt ? ToolMode::Lattice : ToolMode::Sculpt);
+            return true;
+        case Key::G:
+            if (shortcut || tools.mode != ToolMode::Sculpt) return false;
+            tools.moveHandlesTogether = !tools.moveHandlesTogether;
+            setStatus(state_, tools.moveHandlesTogether ? "Dragging a handle moves all handles together."
+                                                        : "Dragging a handle moves it alone; the others hold.", false);
+            return true;
+        case Key::P:
+            if (shortcut || tools.mode != ToolMode::Lattice) return false;
+            togglePinsOfSelection(state_);
+            return true;
+        case Key::A:
+            if (tools.mode != ToolMode::Lattice) return false;
+            selectAllControlPoints(state_, !m.alt);
+            return true;
+        case Key::Escape:
+        case Key::Delete:
+        case Key::Backspace:
+            if (shortcut) return false;
+            if (tools.mode == ToolMode::Lattice) {
+                tools.lattice.boxActive = false;
+                tools.lattice.points.clear();
+                setStatus(state_, "Selection cleared.", false);
+            } else {
+                if (tools.handles.empty()) return false;
+                clearHandles(state_);
+            }
+            state_.gpu.fields = true;
+            return true;
+        default:
+            return false;
+    }
+}
+
+render::ConstraintView SculptApp::constraintView() const {
+    render::ConstraintView view;
+    const core::Session& session = state_.session;
+    const ToolState& tools = state_.tools;
+    const DragState& drag = state_.drag;
+    if (!session.hasMesh()) return view;
+    std::vector<Eigen::Vector3d> sources, targets, handles, pins;
+    std::vector<bool> drawn(tools.handles.size(), false);
+    if (drag.active && drag.kind == DragKind::Surface) {
+        const std::vector<Eigen::Vector3d> current = session.dragSources();
+        for (size_t c = 0; c < current.size() && c < drag.targets.size(); ++c) {
+            const int handle = drag.constraintHandles[c];
+            const bool moving = std::find(drag.moving.begin(), drag.moving.end(), static_cast<int>(c)) != drag.moving.end();
+            if (moving) {
+                sources.push_back(current[c]);
+                targets.push_back(drag.targets[c]);
+            } else if (handle >= 0 && tools.handles[static_cast<size_t>(handle)].pin) {
+                pins.push_back(current[c]);
+            } else {
+                handles.push_back(current[c]);
+            }
+            if (handle >= 0) drawn[static_cast<size_t>(handle)] = true;
+        }
+    }
+    for (size_t i = 0; i < tools.handles.size(); ++i) {
+        if (drawn[i]) continue;
+        const Eigen::Vector3d p = handlePosition(tools.handles[i], session.positions(), session.triangles());
+        (tools.handles[i].pin ? pins : handles).push_back(p);
+    }
+    auto toRows = [](const std::vector<Eigen::Vector3d>& points) {
+        Positions rows(static_cast<Eigen::Index>(points.size()), 3);
+        for (size_t i = 0; i < points.size(); ++i) rows.row(static_cast<Eigen::Index>(i)) = points[i].transpose();
+        return rows;
+    };
+    view.sources = toRows(sources);
+    view.targets = toRows(targets);
+    view.handles = toRows(handles);
+    view.pins = toRows(pins);
+    return view;
+}
+
+}  // namespace sculpt::app

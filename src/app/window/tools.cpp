@@ -1,0 +1,107 @@
+#include "app/window/tools.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/glm.hpp>
+
+namespace sculpt::app {
+namespace {
+
+// Clip-space position of a world point; w <= 0 behind the eye.
+glm::dvec4 toClip(const glm::mat4& viewProjection, const Eigen::Vector3d& point) {
+    return glm::dmat4(viewProjection) * glm::dvec4(point.x(), point.y(), point.z(), 1.0);
+}
+
+bool clipToPixel(const glm::dvec4& clip, int width, int height, double& x, double& y) {
+    if (!(clip.w > 0.0)) return false;
+    x = (clip.x / clip.w * 0.5 + 0.5) * width;
+    y = (0.5 - clip.y / clip.w * 0.5) * height;
+    return std::isfinite(x) && std::isfinite(y);
+}
+
+glm::mat4 viewProjection(const render::Camera& camera, int width, int height) {
+    return camera.projection(static_cast<float>(width) / static_cast<float>(height)) * camera.view();
+}
+
+}  // namespace
+
+Eigen::Vector3d handlePosition(const SurfaceHandle& handle, const Positions& positions, const Triangles& triangles) {
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 3; ++c) point += handle.barycentric[c] * positions.row(triangles(handle.triangle, c)).transpose();
+    return point;
+}
+
+bool projectToPixel(const render::Camera& camera, int width, int height, const Eigen::Vector3d& point, double& x,
+                    double& y) {
+    if (width <= 0 || height <= 0) return false;
+    return clipToPixel(toClip(viewProjection(camera, width, height), point), width, height, x, y);
+}
+
+int handleAtPixel(const ToolState& tools, const Positions& positions, const Triangles& triangles,
+                  const render::Camera& camera, int width, int height, double x, double y, double radius) {
+    int best = -1;
+    double bestDistance = radius;
+    for (size_t h = 0; h < tools.handles.size(); ++h) {
+        double px = 0.0, py = 0.0;
+        if (!projectToPixel(camera, width, height, handlePosition(tools.handles[h], positions, triangles), px, py)) continue;
+        const double distance = std::hypot(px - x, py - y);
+        if (distance <= bestDistance) {
+            bestDistance = distance;
+            best = static_cast<int>(h);
+        }
+    }
+    return best;
+}
+
+int controlPointAtPixel(const Positions& controlPoints, const render::Camera& camera, int width, int height, double x,
+                        double y, double radius) {
+    if (width <= 0 || height <= 0) return -1;
+    const glm::mat4 vp = viewProjection(camera, width, height);
+    int best = -1;
+    double bestDistance = std::numeric_limits<double>::infinity(), bestDepth = std::numeric_limits<double>::infinity();
+    for (Eigen::Index p = 0; p < controlPoints.rows(); ++p) {
+        const glm::dvec4 clip = toClip(vp, controlPoints.row(p).transpose());
+        double px = 0.0, py = 0.0;
+        if (!clipToPixel(clip, width, height, px, py)) continue;
+        const double distance = std::hypot(px - x, py - y);
+        if (distance > radius) continue;
+        // note: markers closer than a pixel to each other are one target to the user; the front one wins.
+        const bool nearer = distance < bestDistance - 1.0 || (distance <= bestDistance + 1.0 && clip.w < bestDepth);
+        if (best < 0 || nearer) {
+            best = static_cast<int>(p);
+            bestDistance = distance;
+            bestDepth = clip.w;
+        }
+    }
+    return best;
+}
+
+std::vector<int> controlPointsInRectangle(const Positions& controlPoints, const render::Camera& camera, int width,
+                                          int height, double x0, double y0, double x1, double y1) {
+    std::vector<int> inside;
+    if (width <= 0 || height <= 0) return inside;
+    const glm::mat4 vp = viewProjection(camera, width, height);
+    const double left = std::min(x0, x1), right = std::max(x0, x1), top = std::min(y0, y1), bottom = std::max(y0, y1);
+    for (Eigen::Index p = 0; p < controlPoints.rows(); ++p) {
+        double px = 0.0, py = 0.0;
+        if (!clipToPixel(toClip(vp, controlPoints.row(p).transpose()), width, height, px, py)) continue;
+        if (px >= left && px <= right && py >= top && py <= bottom) inside.push_back(static_cast<int>(p));
+    }
+    return inside;
+}
+
+void toggleInSelection(std::vector<int>& selection, int id) {
+    const auto at = std::lower_bound(selection.begin(), selection.end(), id);
+    if (at != selection.end() && *at == id) selection.erase(at);
+    else selection.insert(at, id);
+}
+
+void addToSelection(std::vector<int>& selection, const std::vector<int>& ids) {
+    selection.insert(selection.end(), ids.begin(), ids.end());
+    std::sort(selection.begin(), selection.end());
+    selection.erase(std::unique(selection.begin(), selection.end()), selection.end());
+}
+
+}  // namespace sculpt::app

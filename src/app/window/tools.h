@@ -1,0 +1,74 @@
+// The window's two editing tools and their state (view state only: the shape itself lives in the Session).
+//
+// Sculpt tool (multi-point direct manipulation, Hu et al. 2001 eq. 12, seed 000 Fig. 3-4): besides grabbing
+// any surface point, the user can place handles (Shift+click) and pins (Ctrl+click) on the surface. Handles
+// and pins are attached to the surface (a triangle and barycentric weights), so they ride along with every
+// deformation, undo and redo. Every drag is one multi-point manipulation whose constraints are the grabbed
+// point or handle(s) that move, plus every other handle and pin held where it is (target = source).
+//
+// Lattice tool: control points are picked (click, Shift+click toggles, drag a rectangle to box-select), dragged
+// directly (Session::beginControlDrag, one undo step per drag), and pinned or unpinned (P).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/lattice.h"
+#include "core/mesh_types.h"
+#include "render/camera.h"
+
+namespace sculpt::app {
+
+enum class ToolMode { Sculpt, Lattice };
+
+// A point attached to the mesh surface: the barycentric mix of a triangle's current corners.
+struct SurfaceHandle {
+    int triangle = 0;
+    Eigen::Vector3d barycentric = Eigen::Vector3d(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0);
+    bool pin = false;  // false: a handle that moves when dragged; true: held where it is
+};
+
+struct LatticeSelection {
+    std::vector<int> points;  // sorted control point ids (Lattice::index) of the current lattice
+    bool boxActive = false;   // a rectangle selection is being dragged
+    bool boxAdditive = false; // Shift held when it began: add to the selection instead of replacing it
+    double boxX0 = 0.0, boxY0 = 0.0, boxX1 = 0.0, boxY1 = 0.0;  // framebuffer pixels
+};
+
+struct ToolState {
+    ToolMode mode = ToolMode::Sculpt;
+    std::vector<SurfaceHandle> handles;
+    bool moveHandlesTogether = true;  // dragging one handle moves every (non-pin) handle by the same offset
+    LatticeSelection lattice;
+    std::string hint;  // what the cursor would do here, shown at the right of the status line
+    core::LatticeSettings setup;  // the lattice set-up panel's fields
+    bool setupEdited = false;     // false: the fields follow the session's current settings
+};
+
+// World position of a surface handle on the current mesh (positions #V x 3, triangles #F x 3).
+Eigen::Vector3d handlePosition(const SurfaceHandle& handle, const Positions& positions, const Triangles& triangles);
+
+// Pixel position of a world point in a width x height view; false if it is behind the eye or the view is empty.
+bool projectToPixel(const render::Camera& camera, int width, int height, const Eigen::Vector3d& point,
+                    double& x, double& y);
+
+// Index of the handle whose marker is nearest to pixel (x, y) within `radius` pixels, or -1.
+int handleAtPixel(const ToolState& tools, const Positions& positions, const Triangles& triangles,
+                  const render::Camera& camera, int width, int height, double x, double y, double radius);
+
+// Control point (id) whose marker is nearest to pixel (x, y) within `radius` pixels (the one nearest the eye
+// among equally near markers), or -1. controlPoints #P x 3.
+int controlPointAtPixel(const Positions& controlPoints, const render::Camera& camera, int width, int height,
+                        double x, double y, double radius);
+
+// Control points whose projection lies inside the pixel rectangle (any two opposite corners), sorted.
+std::vector<int> controlPointsInRectangle(const Positions& controlPoints, const render::Camera& camera, int width,
+                                          int height, double x0, double y0, double x1, double y1);
+
+// Sorted-set helpers for the selection.
+void toggleInSelection(std::vector<int>& selection, int id);
+void addToSelection(std::vector<int>& selection, const std::vector<int>& ids);
+
+}  // namespace sculpt::app

@@ -1,0 +1,192 @@
+// The tool window on the right of the viewport: which tool is active, the handles and pins of the sculpt tool,
+// the selection and pins of the lattice tool, and the lattice set-up (resolution, degree, padding, pinned
+// layers, region of interest). Also draws the lattice tool's selection rectangle over the viewport.
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include <imgui.h>
+
+#include "app/window/panels.h"
+#include "app/window/tool_commands.h"
+#include "render/camera.h"
+
+namespace sculpt::app {
+namespace {
+
+void helpMarker(const char* text) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("(?)");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
+void drawHandlesSection(AppState& state) {
+    ToolState& tools = state.tools;
+    size_t pins = 0;
+    for (const SurfaceHandle& h : tools.handles) pins += h.pin ? 1 : 0;
+    ImGui::Text("%zu handles, %zu pins", tools.handles.size() - pins, pins);
+    helpMarker("Shift+click on the mesh places a handle (red), Ctrl+click a pin (green square).\n"
+               "Dragging a handle moves it (or all handles, see below) while every other handle\n"
+               "and pin holds its point: one multi-point manipulation (Hu et al. 2001, eq. 12).\n"
+               "Shift+click a marker removes it, Ctrl+click turns a handle into a pin and back.\n"
+               "A plain drag on the mesh also keeps every handle and pin in place.");
+    if (ImGui::Checkbox("Move handles together (G)", &tools.moveHandlesTogether)) state.gpu.fields = true;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("On: dragging one handle moves all handles by the same offset.\nOff: the others hold still.");
+    ImGui::BeginDisabled(tools.handles.empty() || state.drag.active);
+    if (ImGui::Button("Remove all (Esc)")) clearHandles(state);
+    ImGui::EndDisabled();
+    if (state.drag.active && state.drag.kind == DragKind::Surface && state.hasReport &&
+        state.lastReport.rankDeficient)
+        ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.3f, 1.0f), "Constraints conflict: least-squares fit");
+}
+
+void drawSelectionSection(AppState& state) {
+    ToolState& tools = state.tools;
+    clampLatticeSelection(state);
+    const core::Lattice& lattice = state.session.lattice();
+    size_t pinned = 0;
+    for (int id : tools.lattice.points) pinned += lattice.pinned[static_cast<size_t>(id)] ? 1 : 0;
+    ImGui::Text("%zu of %d control points selected", tools.lattice.points.size(), lattice.controlPointCount());
+    helpMarker("Click a control point to select it, Shift+click toggles it, drag a rectangle on\n"
+               "empty space to select what it covers (Shift adds). Drag a selected point to move\n"
+               "the selection: one undoable edit, tested for injectivity like any other.\n"
+               "P pins or unpins the selection: pinned points (grey squares) never move.");
+    if (pinned > 0) ImGui::TextDisabled("%zu of them pinned", pinned);
+    const float third = (ImGui::GetContentRegionAvail().x - 2.0f * ImGui::GetStyle().ItemSpacing.x) / 3.0f;
+    ImGui::BeginDisabled(state.drag.active);
+    if (ImGui::Button("All (A)", ImVec2(third, 0.0f))) selectAllControlPoints(state, true);
+    ImGui::SameLine();
+    if (ImGui::Button("None (Esc)", ImVec2(third, 0.0f))) selectAllControlPoints(state, false);
+    ImGui::SameLine();
+    ImGui::BeginDisabled(tools.lattice.points.empty());
+    const bool allPinned = !tools.lattice.points.empty() && pinned == tools.lattice.points.size();
+    if (ImGui::Button(allPinned ? "Unpin (P)" : "Pin (P)", ImVec2(third, 0.0f))) togglePinsOfSelection(state);
+    ImGui::EndDisabled();
+    ImGui::EndDisabled();
+}
+
+void drawSetupSection(AppState& state) {
+    ToolState& tools = state.tools;
+    if (!tools.setupEdited) tools.setup = state.session.latticeSettings();
+    core::LatticeSettings& s = tools.setup;
+    bool edited = false;
+    const float labelWidth = ImGui::CalcTextSize("Resolution").x + ImGui::GetStyle().ItemInnerSpacing.x;
+    ImGui::PushItemWidth(-labelWidth);
+    edited |= ImGui::DragInt3("Resolution", s.resolution.data(), 0.1f, 2, 64);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Control points per axis (degree + 1 to 64).");
+    edited |= ImGui::SliderInt3("Degree", s.degree.data(), 1, 5);
+    float padding = static_cast<float>(s.padding);
+    if (ImGui::SliderFloat("Padding", &padding, 0.0f, 0.5f, "%.3f")) {
+        s.padding = padding;
+        edited = true;
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Added on every side of the box, as a fraction of its diagonal.");
+    edited |= ImGui::SliderInt("Pinned layers", &s.pinLayers, 0, 3);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Pins the k outer layers of control points: the lattice boundary stays fixed,\n"
+                          "which makes the injectivity guarantee global.");
+    edited |= ImGui::Checkbox("Region of interest", &s.hasRegion);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Off: the box is the mesh bounds. On: only the region moves; the rest stays bitwise.");
+    if (s.hasRegion) {
+        float lo[3] = {static_cast<float>(s.regionMin.x()), static_cast<float>(s.regionMin.y()), static_cast<float>(s.regionMin.z())};
+        float hi[3] = {static_cast<float>(s.regionMax.x()), static_cast<float>(s.regionMax.y()), static_cast<float>(s.regionMax.z())};
+        const float speed = 0.005f * static_cast<float>(std::max(1e-6, state.session.lattice().diagonal()));
+        if (ImGui::DragFloat3("Min", lo, speed, 0.0f, 0.0f, "%.3f")) {
+            s.regionMin = Eigen::Vector3d(lo[0], lo[1], lo[2]);
+            edited = true;
+        }
+        if (ImGui::DragFloat3("Max", hi, speed, 0.0f, 0.0f, "%.3f")) {
+            s.regionMax = Eigen::Vector3d(hi[0], hi[1], hi[2]);
+            edited = true;
+        }
+        const Positions& positions = state.session.positions();
+        if (ImGui::Button("Mesh bounds") && positions.rows() > 0) {
+            s.regionMin = positions.colwise().minCoeff().transpose();
+            s.regionMax = positions.colwise().maxCoeff().transpose();
+            edited = true;
+        }
+        ImGui::SameLine();
+        ImGui::BeginDisabled(tools.lattice.points.empty());
+        if (ImGui::Button("Selected points")) {
+            Eigen::Vector3d a = Eigen::Vector3d::Constant(1e300), b = Eigen::Vector3d::Constant(-1e300);
+            for (int id : tools.lattice.points) {
+                const Eigen::Vector3d p = state.session.lattice().controlPoint(id);
+                a = a.cwiseMin(p);
+                b = b.cwiseMax(p);
+            }
+            s.regionMin = a;
+            s.regionMax = b;
+            edited = true;
+        }
+        ImGui::EndDisabled();
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("The box around the selected control points (lattice tool).");
+    }
+    ImGui::PopItemWidth();
+    tools.setupEdited |= edited;
+    const Status valid = core::validateLatticeSettings(s);
+    if (!valid) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s", valid.message.c_str());
+    ImGui::BeginDisabled(!valid || state.drag.active);
+    if (ImGui::Button("Apply set-up")) {
+        setupLatticeCommand(state, s);
+        tools.setupEdited = false;
+    }
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("A fresh lattice around the current mesh. The shape does not change; undo returns\nto the previous lattice.");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!tools.setupEdited);
+    if (ImGui::Button("Reset")) tools.setupEdited = false;
+    ImGui::EndDisabled();
+}
+
+}  // namespace
+
+void drawToolsWindow(AppState& state) {
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    const float margin = 0.6f * ImGui::GetFontSize();
+    const float width = toolsWindowWidth();
+    const float statusHeight = ImGui::GetFrameHeightWithSpacing() + 2.0f * ImGui::GetStyle().WindowPadding.y;
+    ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - width - margin, viewport->WorkPos.y + margin));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(width, 0.0f), ImVec2(width, std::max(0.0f, viewport->WorkSize.y - statusHeight - 2.0f * margin)));
+    ImGui::SetNextWindowBgAlpha(0.92f);
+    ImGui::Begin("Tools###tools", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                     ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
+    int mode = static_cast<int>(state.tools.mode);
+    ImGui::BeginDisabled(state.drag.active);
+    bool changed = ImGui::RadioButton("Sculpt", &mode, static_cast<int>(ToolMode::Sculpt));
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Drag points of the mesh (Tab toggles).");
+    ImGui::SameLine();
+    changed |= ImGui::RadioButton("Lattice", &mode, static_cast<int>(ToolMode::Lattice));
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Pick and drag control points (Tab toggles).");
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::TextDisabled("Tab");
+    if (changed) setToolMode(state, static_cast<ToolMode>(mode));
+    if (state.tools.mode == ToolMode::Sculpt) {
+        if (ImGui::CollapsingHeader("Handles and pins", ImGuiTreeNodeFlags_DefaultOpen)) drawHandlesSection(state);
+    } else {
+        if (ImGui::CollapsingHeader("Selection", ImGuiTreeNodeFlags_DefaultOpen)) drawSelectionSection(state);
+    }
+    if (ImGui::CollapsingHeader("Lattice set-up", state.tools.mode == ToolMode::Lattice ? ImGuiTreeNodeFlags_DefaultOpen : 0))
+        drawSetupSection(state);
+    ImGui::End();
+
+    // The selection rectangle of the lattice tool, over the 3D view.
+    const LatticeSelection& selection = state.tools.lattice;
+    if (selection.boxActive) {
+        const float scale = viewport->Size.x > 0.0f && state.framebufferWidth > 0
+                                ? viewport->Size.x / static_cast<float>(state.framebufferWidth) : 1.0f;
+        const ImVec2 a(viewport->Pos.x + static_cast<float>(selection.boxX0) * scale, viewport->Pos.y + static_cast<float>(selection.boxY0) * scale);
+        const ImVec2 b(viewport->Pos.x + static_cast<float>(selection.boxX1) * scale, viewport->Pos.y + static_cast<float>(selection.boxY1) * scale);
+        ImDrawList* draw = ImGui::GetForegroundDrawList();
+        draw->AddRectFilled(ImVec2(std::min(a.x, b.x), std::min(a.y, b.y)), ImVec2(std::max(a.x, b.x), std::max(a.y, b.y)),
+                            IM_COL32(255, 200, 60, 40));
+        draw->AddRect(ImVec2(std::min(a.x, b.x), std::min(a.y, b.y)), ImVec2(std::max(a.x, b.x), std::max(a.y, b.y)),
+                      IM_COL32(255, 200, 60, 220), 0.0f, 0, 1.5f);
+    }
+}
+
+float toolsWindowWidth() { return 19.0f * ImGui::GetFontSize(); }
+
+}  // namespace sculpt::app
