@@ -36,9 +36,11 @@ AxisBases axisBases(const Lattice& lattice, const Eigen::Vector3d& params, bool 
 
 }  // namespace
 
-std::array<int, 3> Lattice::ijk(int idx) const {
+std::array<int, 3> gridIjk(const std::array<int, 3>& count, int idx) {
     return {idx % count[0], (idx / count[0]) % count[1], idx / (count[0] * count[1])};
 }
+
+std::array<int, 3> Lattice::ijk(int idx) const { return gridIjk(count, idx); }
 
 Eigen::Vector3d Lattice::restControlPoint(int idx) const {
     const std::array<int, 3> c = ijk(idx);
@@ -266,12 +268,13 @@ Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deform
                          std::to_string(deformedPoint.z()) + ") is not inside the deformed lattice");
 }
 
-bool inOuterLayers(const Lattice& lattice, int index, int layers) {
-    const std::array<int, 3> c = lattice.ijk(index);
+bool inOuterLayers(const std::array<int, 3>& count, const std::array<int, 3>& c, int layers) {
     for (int a = 0; a < 3; ++a)
-        if (c[a] < layers || c[a] >= lattice.count[a] - layers) return true;
+        if (c[a] < layers || c[a] >= count[a] - layers) return true;
     return false;
 }
+
+bool inOuterLayers(const Lattice& lattice, int index, int layers) { return inOuterLayers(lattice.count, lattice.ijk(index), layers); }
 
 std::vector<int> displacedControlPoints(const Lattice& lattice) {
     std::vector<int> ids;

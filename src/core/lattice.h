@@ -102,6 +102,10 @@ Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deform
 
 // True if control point `index` lies in one of the `layers` outer layers (the pin_layers rule).
 bool inOuterLayers(const Lattice& lattice, int index, int layers);
+// The same for grid position c = (i,j,k) of a count[0] x count[1] x count[2] lattice.
+bool inOuterLayers(const std::array<int, 3>& count, const std::array<int, 3>& c, int layers);
+// Grid position (i,j,k) of control point id `index` (Lattice::index's inverse) in a lattice of `count` points.
+std::array<int, 3> gridIjk(const std::array<int, 3>& count, int index);
 
 // Ids of the control points whose displacement is not exactly zero, ascending.
 std::vector<int> displacedControlPoints(const Lattice& lattice);

@@ -1,5 +1,6 @@
 #include "core/script.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace sculpt::core {
@@ -13,29 +14,53 @@ const char* scriptOpName(ScriptOp::Kind kind) {
         case ScriptOp::Kind::Redo: return "redo";
         case ScriptOp::Kind::Screenshot: return "screenshot";
         case ScriptOp::Kind::SetupLattice: return "setup_lattice";
+        case ScriptOp::Kind::SetPins: return "set_pins";
     }
     return "?";
 }
 
 namespace {
 
+// Lattice ids of (i,j,k) triples; an error names the first one outside the lattice.
+Status controlPointIds(const Lattice& lattice, const std::vector<std::array<int, 3>>& points, std::vector<int>& ids) {
+    for (const auto& c : points) {
+        for (int a = 0; a < 3; ++a)
+            if (c[a] < 0 || c[a] >= lattice.count[a])
+                return Status::error("control point index [" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," +
+                                     std::to_string(c[2]) + "] is outside the " + std::to_string(lattice.count[0]) + "x" +
+                                     std::to_string(lattice.count[1]) + "x" + std::to_string(lattice.count[2]) + " lattice");
+        ids.push_back(lattice.index(c[0], c[1], c[2]));
+    }
+    return Status::success();
+}
+
 Status runOp(Session& session, const ScriptOp& op, OpReport& report, const ScreenshotHook& screenshot) {
     switch (op.kind) {
         case ScriptOp::Kind::Drag: return session.drag(op.constraints, report);
         case ScriptOp::Kind::DragVertex: return session.dragVertex(op.vertex, op.target, report);
         case ScriptOp::Kind::MoveControlPoint: {
-            const Lattice& lattice = session.lattice();
             std::vector<int> ids;
-            for (const auto& c : op.controlPoints) {
-                for (int a = 0; a < 3; ++a)
-                    if (c[a] < 0 || c[a] >= lattice.count[a])
-                        return Status::error("control point index [" + std::to_string(c[0]) + "," + std::to_string(c[1]) +
-                                             "," + std::to_string(c[2]) + "] is outside the " + std::to_string(lattice.count[0]) +
-                                             "x" + std::to_string(lattice.count[1]) + "x" + std::to_string(lattice.count[2]) +
-                                             " lattice");
-                ids.push_back(lattice.index(c[0], c[1], c[2]));
-            }
+            if (Status s = controlPointIds(session.lattice(), op.controlPoints, ids); !s) return s;
             return session.moveControlPoints(ids, op.values, op.relative, report);
+        }
+        case ScriptOp::Kind::SetPins: {
+            report = OpReport{};
+            report.op = "set_pins";
+            const Lattice& lattice = session.lattice();
+            std::vector<int> pin, unpin;
+            if (Status s = controlPointIds(lattice, op.controlPoints, pin); !s) return s;
+            if (Status s = controlPointIds(lattice, op.unpinned, unpin); !s) return s;
+            const int layers = session.latticeSettings().pinLayers;
+            for (int idx : pin)
+                if (inOuterLayers(lattice, idx, layers)) return Status::error("\"pin\" lists a control point the pin layers already pin");
+            for (int idx : unpin)
+                if (!inOuterLayers(lattice, idx, layers)) return Status::error("\"unpin\" lists a control point outside the pin layers");
+            pin.insert(pin.end(), unpin.begin(), unpin.end());
+            std::sort(pin.begin(), pin.end());
+            pin.erase(std::unique(pin.begin(), pin.end()), pin.end());
+            if (Status s = session.setPinToggles(pin); !s) return s;
+            report.status = OpStatus::Applied;
+            return Status::success();
         }
         case ScriptOp::Kind::SetupLattice:
             return session.setupLattice(op.hasSettings ? op.settings : session.latticeSettings(), report);
@@ -78,8 +103,24 @@ Script recordSession(const Session& session) {
     script.lattice.regionMax = session.initialBoxMax();
     script.lattice.padding = 0.0;
     script.injectivity = session.injectivity();
+    std::vector<int> replayToggles;  // the pins the replay has at this point (a fresh session: the layers)
     for (int i = 0; i < session.historyCursor(); ++i) {
         const Operation& operation = session.history()[i];
+        if (operation.kind == OperationKind::LatticeSetup) {
+            replayToggles.clear();  // new settings: a fresh lattice with just its pin layers
+        } else if (operation.pinToggles != replayToggles && !operation.steps.empty()) {
+            // The user's pins shape the solution (pinned points are removed from R, eq. 12): replay them.
+            const LatticeSettings& settings = operation.steps.front().settings;
+            const std::array<int, 3>& r = settings.resolution;
+            ScriptOp pins;
+            pins.kind = ScriptOp::Kind::SetPins;
+            for (int idx : operation.pinToggles) {
+                const std::array<int, 3> ijk = gridIjk(r, idx);
+                (inOuterLayers(r, ijk, settings.pinLayers) ? pins.unpinned : pins.controlPoints).push_back(ijk);
+            }
+            script.ops.push_back(pins);
+            replayToggles = operation.pinToggles;
+        }
         switch (operation.kind) {
             case OperationKind::Drag:
                 if (!operation.interactive) {
@@ -110,9 +151,7 @@ Script recordSession(const Session& session) {
                     op.kind = ScriptOp::Kind::MoveControlPoint;
                     op.relative = true;
                     op.values = offsets;
-                    for (int idx : ids)
-                        op.controlPoints.push_back({idx % resolution[0], (idx / resolution[0]) % resolution[1],
-                                                    idx / (resolution[0] * resolution[1])});
+                    for (int idx : ids) op.controlPoints.push_back(gridIjk(resolution, idx));
                     return op;
                 };
                 if (!operation.interactive) {

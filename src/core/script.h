@@ -17,12 +17,13 @@
 namespace sculpt::core {
 
 struct ScriptOp {
-    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice };
+    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins };
     Kind kind = Kind::Undo;
     std::vector<PointConstraint> constraints;      // Drag
     int vertex = -1;                               // DragVertex
     Eigen::Vector3d target = Eigen::Vector3d::Zero();
-    std::vector<std::array<int, 3>> controlPoints; // MoveControlPoint: (i,j,k) per point
+    std::vector<std::array<int, 3>> controlPoints; // MoveControlPoint: (i,j,k) per point; SetPins: points to pin
+    std::vector<std::array<int, 3>> unpinned;      // SetPins: pin-layer points to unpin (the rest: the layers)
     Eigen::MatrixX3d values;                       //   "to" positions or "by" offsets, one row per point
     bool relative = false;                         //   true for "by"
     std::string path;                              // Screenshot: where to write (handled by the caller's hook)

@@ -179,6 +179,9 @@ void Session::applyDelta(const ControlDelta& delta, double sign, std::vector<int
 
 void Session::pushOperation(Operation operation) {
     history_.resize(cursor_);  // a new operation after undo drops the redo branch
+    // note: pins only change between operations, and fresh frames of the same settings inherit them, so the
+    // pins at the end of the operation are the ones every one of its steps was solved with.
+    if (operation.kind != OperationKind::LatticeSetup) operation.pinToggles = pinToggles();
     history_.push_back(std::move(operation));
     cursor_ = static_cast<int>(history_.size());
 }
@@ -240,9 +243,7 @@ void Session::enterFreshFrame(const LatticeSettings& settings, Progress* progres
     frozen.displacement.deltas.resize(static_cast<Eigen::Index>(frozen.displacement.indices.size()), 3);
     for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
         frozen.displacement.deltas.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(frozen.displacement.indices[c]);
-    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
-        if (inOuterLayers(lattice_, idx, settings_.pinLayers) != static_cast<bool>(lattice_.pinned[idx]))
-            frozen.pinToggles.push_back(idx);
+    frozen.pinToggles = pinToggles();
     if (progress && !progress->snapshot.latticeSaved) {
         progress->snapshot.latticeSaved = true;
         progress->snapshot.lattice = lattice_;
@@ -868,6 +869,23 @@ void Session::endDrag() {
     dragActive_ = false;
     if (!dragOperation_.steps.empty()) pushOperation(std::move(dragOperation_));
     dragOperation_ = Operation{};
+}
+
+std::vector<int> Session::pinToggles() const {
+    std::vector<int> toggled;
+    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
+        if (inOuterLayers(lattice_, idx, settings_.pinLayers) != static_cast<bool>(lattice_.pinned[idx])) toggled.push_back(idx);
+    return toggled;
+}
+
+Status Session::setPinToggles(const std::vector<int>& toggled) {
+    const int n = lattice_.controlPointCount();
+    for (int idx : toggled)
+        if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    for (int idx = 0; idx < n; ++idx) lattice_.pinned[idx] = inOuterLayers(lattice_, idx, settings_.pinLayers) ? 1 : 0;
+    for (int idx : toggled) lattice_.pinned[idx] ^= 1;
+    return Status::success();
 }
 
 Status Session::setPinned(const std::vector<int>& indices, bool pinned) {

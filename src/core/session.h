@@ -79,6 +79,7 @@ struct Operation {
     std::vector<Step> steps;
     int depthReached = 0;
     bool interactive = false;  // an interactive drag (recorded step by step: its increments were tested apart)
+    std::vector<int> pinToggles;  // control points whose pin differed from the pin layers when it was applied
 };
 
 // A lattice that was replaced by a fresh one, kept compactly so undo can return to it.
@@ -139,8 +140,13 @@ public:
     // Tracking must be on for frames frozen before now to count.
     std::vector<double> totalJacobianDeterminants() const;
 
-    // Pins or unpins control points (ids as Lattice::index). Not an operation on the shape.
+    // Pins or unpins control points (ids as Lattice::index). Not an operation on the shape; each operation
+    // keeps the pins it was applied with (Operation::pinToggles) so recordings replay it the same way.
     Status setPinned(const std::vector<int>& indices, bool pinned);
+    // The control points whose pin differs from the settings' pin layers (the user's pins and unpins), sorted.
+    std::vector<int> pinToggles() const;
+    // Pins exactly the settings' pin layers, with the listed control points flipped. Bad ids change nothing.
+    Status setPinToggles(const std::vector<int>& toggled);
 
     // Lattice parameters of a point of the current (deformed) shape, e.g. a picked surface point.
     Status parametersOfCurrentPoint(const Eigen::Vector3d& point, Eigen::Vector3d& params) const;

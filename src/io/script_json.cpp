@@ -136,6 +136,17 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
             op.hasSettings = true;
             op.settings = parseLattice(j["lattice"], path + ".lattice");
         }
+    } else if (name == "set_pins") {
+        allowOnly(j, path, {"op", "pin", "unpin"});
+        op.kind = core::ScriptOp::Kind::SetPins;
+        for (const char* key : {"pin", "unpin"}) {
+            if (!j.contains(key)) continue;
+            const json& ids = j[key];
+            const std::string kp = path + "." + key;
+            if (!ids.is_array()) fail(kp, "expected an array of [i,j,k]");
+            auto& list = std::string(key) == "pin" ? op.controlPoints : op.unpinned;
+            for (size_t c = 0; c < ids.size(); ++c) list.push_back(int3(ids[c], kp + "[" + std::to_string(c) + "]"));
+        }
     } else if (name == "undo" || name == "redo") {
         allowOnly(j, path, {"op"});
         op.kind = name == "undo" ? core::ScriptOp::Kind::Undo : core::ScriptOp::Kind::Redo;
@@ -147,7 +158,7 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
         op.path = p.get<std::string>();
     } else {
         fail(path + ".op", "unknown op \"" + name +
-                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, undo, redo, screenshot)");
+                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, undo, redo, screenshot)");
     }
     return op;
 }
@@ -261,6 +272,10 @@ std::string scriptToJson(const core::Script& script) {
             }
             case core::ScriptOp::Kind::SetupLattice:
                 if (op.hasSettings) j["lattice"] = latticeJson(op.settings);
+                break;
+            case core::ScriptOp::Kind::SetPins:
+                j["pin"] = op.controlPoints;
+                j["unpin"] = op.unpinned;
                 break;
             case core::ScriptOp::Kind::Screenshot: j["path"] = op.path; break;
             case core::ScriptOp::Kind::Undo:
