@@ -243,15 +243,17 @@ int runWindow(const std::string& meshPath) {
             glfwWaitEventsTimeout(0.1);
             continue;
         }
-        if (autoDrag && maxFrames > 2) {
-            // Press on the centre at frame 1, move 1 px per frame up then back, release at the last frame.
+        if (autoDrag && maxFrames > 3) {
+            // Press on the centre at frame 1, move up then back one event per frame, release one frame before
+            // the last: the panels grow on release and Dear ImGui's auto-resize settles a frame later, so the
+            // screenshot of the last frame shows them whole.
             const double cx = 0.5 * width, cy = 0.5 * height;
-            const int span = maxFrames - 2;
+            const int span = maxFrames - 3;
             if (frame == 1) app.onMouseButton({MouseButton::Left, ButtonAction::Press, cx, cy, {}}, {});
-            else if (frame > 1 && frame < maxFrames - 1) {
+            else if (frame > 1 && frame < maxFrames - 2) {
                 const double phase = static_cast<double>(frame - 1) / span;
                 app.onMouseMove({cx, cy - 0.25 * height * std::sin(3.14159265358979 * phase), {}}, {});
-            } else if (frame == maxFrames - 1) {
+            } else if (frame == maxFrames - 2) {
                 app.onMouseButton({MouseButton::Left, ButtonAction::Release, cx, cy, {}}, {});
             }
         }
