@@ -14,9 +14,7 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
     scene.lattice.nu = lattice.count[0];
     scene.lattice.nv = lattice.count[1];
     scene.lattice.nw = lattice.count[2];
-    scene.lattice.controlPoints.resize(lattice.controlPointCount(), 3);
-    for (int idx = 0; idx < lattice.controlPointCount(); ++idx)
-        scene.lattice.controlPoints.row(idx) = lattice.controlPoint(idx).transpose();
+    scene.lattice.controlPoints = core::controlPointPositions(lattice);
     scene.lattice.pinned = lattice.pinned;
     scene.lattice.selected = request.selectedControlPoints;
 

@@ -276,6 +276,12 @@ bool inOuterLayers(const std::array<int, 3>& count, const std::array<int, 3>& c,
 
 bool inOuterLayers(const Lattice& lattice, int index, int layers) { return inOuterLayers(lattice.count, lattice.ijk(index), layers); }
 
+Positions controlPointPositions(const Lattice& lattice) {
+    Positions points(lattice.controlPointCount(), 3);
+    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) points.row(idx) = lattice.controlPoint(idx).transpose();
+    return points;
+}
+
 std::vector<int> displacedControlPoints(const Lattice& lattice) {
     std::vector<int> ids;
     for (int idx = 0; idx < lattice.controlPointCount(); ++idx)

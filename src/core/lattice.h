@@ -107,6 +107,9 @@ bool inOuterLayers(const std::array<int, 3>& count, const std::array<int, 3>& c,
 // Grid position (i,j,k) of control point id `index` (Lattice::index's inverse) in a lattice of `count` points.
 std::array<int, 3> gridIjk(const std::array<int, 3>& count, int index);
 
+// Every control point's current position Q_ijk = P0_ijk + delta_ijk, one row per id (Lattice::index).
+Positions controlPointPositions(const Lattice& lattice);
+
 // Ids of the control points whose displacement is not exactly zero, ascending.
 std::vector<int> displacedControlPoints(const Lattice& lattice);
 

@@ -81,6 +81,29 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
     return Status::error("unknown op");
 }
 
+ScriptOp moveControlPointOp(const std::vector<int>& ids, const Eigen::MatrixX3d& offsets, const std::array<int, 3>& resolution) {
+    ScriptOp op;
+    op.kind = ScriptOp::Kind::MoveControlPoint;
+    op.relative = true;
+    op.values = offsets;
+    for (int idx : ids) op.controlPoints.push_back(gridIjk(resolution, idx));
+    return op;
+}
+
+// An interactive operation's steps as ops: a fresh lattice (setup_lattice with the current settings) where
+// a step entered one, then the step itself.
+template <typename StepOp>
+void appendSteps(const Operation& operation, Script& script, StepOp stepOp) {
+    for (const Step& step : operation.steps) {
+        if (step.freshFrame) {
+            ScriptOp fresh;
+            fresh.kind = ScriptOp::Kind::SetupLattice;
+            script.ops.push_back(fresh);
+        }
+        if (operation.kind != OperationKind::ControlPointEdit || !step.delta.indices.empty()) script.ops.push_back(stepOp(step));
+    }
+}
+
 }  // namespace
 
 Status runScript(Session& session, const Script& script, ScriptReport& report, const ScreenshotHook& screenshot) {
@@ -132,41 +155,22 @@ Script recordSession(const Session& session) {
                 }
                 // An interactive drag was tested increment by increment; replaying its steps (each one in
                 // its own fresh lattice where the original entered one) reproduces it exactly.
-                for (const Step& step : operation.steps) {
-                    if (step.freshFrame) {
-                        ScriptOp fresh;
-                        fresh.kind = ScriptOp::Kind::SetupLattice;
-                        script.ops.push_back(fresh);
-                    }
+                appendSteps(operation, script, [](const Step& step) {
                     ScriptOp op;
                     op.kind = ScriptOp::Kind::Drag;
                     op.constraints = step.constraints;
-                    script.ops.push_back(op);
-                }
+                    return op;
+                });
                 break;
             case OperationKind::ControlPointEdit: {
-                // An interactive control-point drag is replayed step by step, like an interactive drag.
-                auto moveOp = [](const std::vector<int>& ids, const Eigen::MatrixX3d& offsets, const std::array<int, 3>& resolution) {
-                    ScriptOp op;
-                    op.kind = ScriptOp::Kind::MoveControlPoint;
-                    op.relative = true;
-                    op.values = offsets;
-                    for (int idx : ids) op.controlPoints.push_back(gridIjk(resolution, idx));
-                    return op;
-                };
                 if (!operation.interactive) {
-                    script.ops.push_back(moveOp(operation.controlPoints, operation.offsets, operation.steps.front().settings.resolution));
+                    script.ops.push_back(moveControlPointOp(operation.controlPoints, operation.offsets, operation.steps.front().settings.resolution));
                     break;
                 }
-                for (const Step& step : operation.steps) {
-                    if (step.freshFrame) {
-                        ScriptOp fresh;
-                        fresh.kind = ScriptOp::Kind::SetupLattice;
-                        script.ops.push_back(fresh);
-                    }
-                    if (!step.delta.indices.empty())
-                        script.ops.push_back(moveOp(step.delta.indices, step.delta.deltas, step.settings.resolution));
-                }
+                // An interactive control-point drag is replayed step by step, like an interactive drag.
+                appendSteps(operation, script, [](const Step& step) {
+                    return moveControlPointOp(step.delta.indices, step.delta.deltas, step.settings.resolution);
+                });
                 break;
             }
             case OperationKind::LatticeSetup: {

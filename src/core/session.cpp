@@ -515,6 +515,19 @@ Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& 
     return status;
 }
 
+Status Session::checkMovable(int idx) const {
+    const int n = lattice_.controlPointCount();
+    if (idx < 0 || idx >= n)
+        return Status::error("control point id " + std::to_string(idx) + " is outside the lattice (" + std::to_string(n) +
+                             " control points)");
+    if (lattice_.pinned[idx]) {
+        const std::array<int, 3> ijk = lattice_.ijk(idx);
+        return Status::error("control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
+                             std::to_string(ijk[2]) + "] is pinned");
+    }
+    return Status::success();
+}
+
 Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::MatrixX3d& values, bool relative,
                                   OpReport& report) {
     const auto start = Clock::now();
@@ -525,18 +538,10 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     if (indices.empty()) return Status::error("no control point given");
     if (static_cast<Eigen::Index>(indices.size()) != values.rows())
         return Status::error("control point ids and values differ in count");
-    const int n = lattice_.controlPointCount();
     std::vector<std::pair<int, Eigen::Vector3d>> moves;
     for (size_t c = 0; c < indices.size(); ++c) {
         const int idx = indices[c];
-        if (idx < 0 || idx >= n)
-            return Status::error("control point id " + std::to_string(idx) + " is outside the lattice (" +
-                                 std::to_string(n) + " control points)");
-        if (lattice_.pinned[idx]) {
-            const std::array<int, 3> ijk = lattice_.ijk(idx);
-            return Status::error("control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
-                                 std::to_string(ijk[2]) + "] is pinned");
-        }
+        if (Status s = checkMovable(idx); !s) return s;
         const Eigen::Vector3d value = values.row(static_cast<Eigen::Index>(c)).transpose();
         if (!value.allFinite()) return Status::error("control point move has non-finite coordinates");
         moves.emplace_back(idx, relative ? value : Eigen::Vector3d(value - lattice_.controlPoint(idx)));
@@ -688,20 +693,11 @@ Status Session::beginControlDrag(const std::vector<int>& indices) {
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (dragActive_) return Status::error("an interactive drag is already in progress");
     if (indices.empty()) return Status::error("no control point given");
-    const int n = lattice_.controlPointCount();
     std::vector<int> sorted = indices;
     std::sort(sorted.begin(), sorted.end());
     sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-    for (int idx : sorted) {
-        if (idx < 0 || idx >= n)
-            return Status::error("control point id " + std::to_string(idx) + " is outside the lattice (" +
-                                 std::to_string(n) + " control points)");
-        if (lattice_.pinned[idx]) {
-            const std::array<int, 3> ijk = lattice_.ijk(idx);
-            return Status::error("control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
-                                 std::to_string(ijk[2]) + "] is pinned");
-        }
-    }
+    for (int idx : sorted)
+        if (Status s = checkMovable(idx); !s) return s;
     dragOperation_ = Operation{};
     dragOperation_.kind = OperationKind::ControlPointEdit;
     dragOperation_.interactive = true;

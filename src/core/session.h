@@ -220,6 +220,8 @@ private:
     // One increment of an interactive drag: `delta` in the current frame when that is injective, otherwise m
     // subdivided; merged into dragOperation_. Returns false (report says why, nothing changed) if rejected.
     bool applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report);
+    // A control point a user edit may move: inside the lattice and not pinned (the error names it).
+    Status checkMovable(int idx) const;
     // Adds sign * delta to the lattice and re-evaluates the affected cells; moved vertices are appended.
     void applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved);
     void pushOperation(Operation operation);

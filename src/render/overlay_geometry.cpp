@@ -102,26 +102,17 @@ Status buildConstraintInstances(const ConstraintView& constraints, std::vector<f
         appendColor(lines, kSourceColor);
         appendColor(lines, kTargetColor);
     }
-    for (Eigen::Index c = 0; c < constraints.sources.rows(); ++c) {
-        appendPoint(points, constraints.sources, c);
-        appendColor(points, kSourceColor);
-        points.insert(points.end(), {kHandleSize, 0.0f});
-    }
-    for (Eigen::Index c = 0; c < constraints.targets.rows(); ++c) {
-        appendPoint(points, constraints.targets, c);
-        appendColor(points, kTargetColor);
-        points.insert(points.end(), {kHandleSize, 0.0f});
-    }
-    for (Eigen::Index c = 0; c < constraints.handles.rows(); ++c) {
-        appendPoint(points, constraints.handles, c);
-        appendColor(points, kSourceColor);
-        points.insert(points.end(), {kHandleSize, 0.0f});
-    }
-    for (Eigen::Index c = 0; c < constraints.pins.rows(); ++c) {
-        appendPoint(points, constraints.pins, c);
-        appendColor(points, kSurfacePinColor);
-        points.insert(points.end(), {kHandleSize, 1.0f});  // shape 1: square
-    }
+    const auto appendMarkers = [&points](const Positions& at, const Rgba& color, float shape) {
+        for (Eigen::Index c = 0; c < at.rows(); ++c) {
+            appendPoint(points, at, c);
+            appendColor(points, color);
+            points.insert(points.end(), {kHandleSize, shape});
+        }
+    };
+    appendMarkers(constraints.sources, kSourceColor, 0.0f);  // shape 0: disc
+    appendMarkers(constraints.targets, kTargetColor, 0.0f);
+    appendMarkers(constraints.handles, kSourceColor, 0.0f);
+    appendMarkers(constraints.pins, kSurfacePinColor, 1.0f);  // shape 1: square
     segments.swap(lines);
     markers.swap(points);
     return Status::success();

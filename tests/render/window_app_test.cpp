@@ -20,6 +20,7 @@
 #include "app/window/sculpt_app.h"
 #include "app/window/ui_style.h"
 #include "gl_test_support.h"
+#include "window_test_support.h"
 #include "io/png_image.h"
 #include "render/offscreen_context.h"
 #include "render/render_target.h"
@@ -30,15 +31,9 @@ namespace {
 
 constexpr int kWidth = 960, kHeight = 600;
 
-void loadDefault(app::SculptApp& sculptApp) {
-    const Status loaded = sculptApp.loadMesh(std::string(SCULPT_SOURCE_DIR) + "/assets/default.obj");
-    INFO(loaded.message);
-    REQUIRE(loaded.ok);
-    sculptApp.onFramebufferSize({kWidth, kHeight});
-    app::frameMesh(sculptApp.state());
-}
+void loadDefault(app::SculptApp& sculptApp) { test::loadDefaultMesh(sculptApp, kWidth, kHeight); }
 
-double diagonal(const Positions& p) { return (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm(); }
+double diagonal(const Positions& p) { return test::boundsDiagonal(p); }
 
 app::KeyEvent ctrlKey(app::Key key, bool shift = false) {
     app::KeyEvent event;

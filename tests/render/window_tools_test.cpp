@@ -13,6 +13,7 @@
 #include "app/window/tool_commands.h"
 #include "io/png_image.h"
 #include "offscreen_window.h"
+#include "window_test_support.h"
 
 using namespace sculpt;
 
@@ -20,15 +21,9 @@ namespace {
 
 constexpr int kWidth = 960, kHeight = 600;
 
-void loadDefault(app::SculptApp& sculptApp) {
-    const Status loaded = sculptApp.loadMesh(std::string(SCULPT_SOURCE_DIR) + "/assets/default.obj");
-    INFO(loaded.message);
-    REQUIRE(loaded.ok);
-    sculptApp.onFramebufferSize({kWidth, kHeight});
-    app::frameMesh(sculptApp.state());
-}
+void loadDefault(app::SculptApp& sculptApp) { test::loadDefaultMesh(sculptApp, kWidth, kHeight); }
 
-double diagonalOf(const Positions& p) { return (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm(); }
+double diagonalOf(const Positions& p) { return test::boundsDiagonal(p); }
 
 app::Modifiers shiftKey() { app::Modifiers m; m.shift = true; return m; }
 app::Modifiers controlKey() { app::Modifiers m; m.control = true; return m; }
@@ -51,12 +46,6 @@ bool randomPixelOnMesh(std::mt19937& rng, const app::AppState& state, double& x,
         if (app::intersectMesh(ray, state.session.positions(), state.session.triangles()).triangle >= 0) return true;
     }
     return false;
-}
-
-Positions controlPoints(const core::Lattice& lattice) {
-    Positions p(lattice.controlPointCount(), 3);
-    for (int i = 0; i < lattice.controlPointCount(); ++i) p.row(i) = lattice.controlPoint(i).transpose();
-    return p;
 }
 
 }  // namespace
@@ -170,7 +159,7 @@ TEST_CASE("window tools: the lattice tool picks the control point under the curs
     app::AppState& state = sculptApp.state();
     key(sculptApp, app::Key::Tab);
     REQUIRE(state.tools.mode == app::ToolMode::Lattice);
-    const Positions points = controlPoints(state.session.lattice());
+    const Positions points = core::controlPointPositions(state.session.lattice());
     const int n = static_cast<int>(points.rows());
     for (int trial = 0; trial < 30; ++trial) {
         // Click on the projection of a random control point: the picked one is within the radius and no
@@ -250,7 +239,7 @@ TEST_CASE("window tools: dragging selected control points is one undoable edit; 
         }
         // Press on the first chosen point's marker, wherever it projects (it may be hidden behind another
         // marker; then the grab picks that one: only check that the drag moves selected, unpinned points).
-        const Positions before = controlPoints(lattice);
+        const Positions before = core::controlPointPositions(lattice);
         double x = 0, y = 0;
         REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, before.row(chosen.front()).transpose(), x, y));
         sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, {});
@@ -263,7 +252,7 @@ TEST_CASE("window tools: dragging selected control points is one undoable edit; 
         REQUIRE(state.session.history().size() == 1);
         const core::Operation& op = state.session.history().front();
         CHECK(op.kind == core::OperationKind::ControlPointEdit);
-        const Positions after = controlPoints(state.session.lattice());
+        const Positions after = core::controlPointPositions(state.session.lattice());
         ++edits;
         if (state.session.frameDepth() == 0) {  // not subdivided
             ++unsubdivided;  // the moved points all moved by one offset
@@ -305,7 +294,7 @@ TEST_CASE("window tools: P pins the selection; a pinned selection cannot be drag
     CHECK(lattice.pinned[static_cast<size_t>(id)] == 1);
     double x = 0, y = 0;
     REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, lattice.controlPoint(id), x, y));
-    const int under = app::controlPointAtPixel(controlPoints(lattice), state.camera, kWidth, kHeight, x, y, 9.0);
+    const int under = app::controlPointAtPixel(core::controlPointPositions(lattice), state.camera, kWidth, kHeight, x, y, 9.0);
     state.tools.lattice.points = {under};
     REQUIRE(state.session.setPinned({under}, true).ok);
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, {});

@@ -37,12 +37,6 @@ bool surfaceParameters(const core::Session& session, const SurfaceHandle& handle
     return true;
 }
 
-Positions controlPointPositions(const core::Lattice& lattice) {
-    Positions points(lattice.controlPointCount(), 3);
-    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) points.row(idx) = lattice.controlPoint(idx).transpose();
-    return points;
-}
-
 }  // namespace
 
 double SculptApp::pickRadius() const { return kPickRadius * static_cast<double>(renderer_.pixelScale()); }
@@ -303,7 +297,7 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
     if (!session.hasMesh()) return;
     clampLatticeSelection(state_);
     LatticeSelection& selection = state_.tools.lattice;
-    const Positions points = controlPointPositions(session.lattice());
+    const Positions points = core::controlPointPositions(session.lattice());
     const int hit = controlPointAtPixel(points, state_.camera, state_.framebufferWidth, state_.framebufferHeight,
                                         event.x, event.y, pickRadius());
     const bool shift = event.modifiers.shift;
@@ -360,7 +354,7 @@ void SculptApp::finishBoxSelection() {
         }
     } else {
         const std::vector<int> inside = controlPointsInRectangle(
-            controlPointPositions(state_.session.lattice()), state_.camera, state_.framebufferWidth,
+            core::controlPointPositions(state_.session.lattice()), state_.camera, state_.framebufferWidth,
             state_.framebufferHeight, selection.boxX0, selection.boxY0, selection.boxX1, selection.boxY1);
         if (!selection.boxAdditive) selection.points.clear();
         addToSelection(selection.points, inside);
@@ -404,7 +398,7 @@ void SculptApp::updateHint(double x, double y) {
             tools.hint = "Drag: sculpt. Shift+click: add handle. Ctrl+click: add pin. Tab: lattice tool.";
     } else {
         // note: the hover test projects every control point; at 64^3 that is ~2 ms, acceptable for a hint.
-        const int hit = controlPointAtPixel(controlPointPositions(session.lattice()), state_.camera, width, height, x, y, pickRadius());
+        const int hit = controlPointAtPixel(core::controlPointPositions(session.lattice()), state_.camera, width, height, x, y, pickRadius());
         tools.hint = hit >= 0 ? "Control point: click selects, Shift+click toggles, drag moves the selection, P pins."
                               : "Drag: box select (Shift adds). Click: clear selection. A: select all. Tab: sculpt tool.";
     }

@@ -1,0 +1,23 @@
+// Shared by the window tests that drive SculptApp with synthetic events (Catch2 assertions inside).
+#pragma once
+
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "app/window/sculpt_app.h"
+
+namespace sculpt::test {
+
+// Loads assets/default.obj into the app for a width x height framebuffer and frames it.
+inline void loadDefaultMesh(app::SculptApp& sculptApp, int width, int height) {
+    const Status loaded = sculptApp.loadMesh(std::string(SCULPT_SOURCE_DIR) + "/assets/default.obj");
+    INFO(loaded.message);
+    REQUIRE(loaded.ok);
+    sculptApp.onFramebufferSize({width, height});
+    app::frameMesh(sculptApp.state());
+}
+
+inline double boundsDiagonal(const Positions& p) { return (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm(); }
+
+}  // namespace sculpt::test
