@@ -168,13 +168,15 @@ void benchDragEngine(std::ostream& out, const char* name, const test::TestMesh& 
     const auto releaseStart = Clock::now();
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - kPixelsPerMove * moves, {}}, {});
     const double releaseMs = msBetween(releaseStart, Clock::now());
+    char uploadText[32] = "null";
+    if (gpu) std::snprintf(uploadText, sizeof uploadText, "%.2f", median(upload));
     char line[1024];
     std::snprintf(line, sizeof line,
                   "{\"case\": \"%s\", \"n\": %d, \"median_ms\": %.2f, \"session_update_drag_ms\": %.2f, "
                   "\"sparse_upload_ms\": %s, \"vertices_moved\": %.0f, \"fraction_moved\": %.3f, \"press_ms\": %.1f, "
                   "\"release_ms\": %.1f, \"moves\": %d, \"refused\": %d, \"lattice\": %d}",
                   name, static_cast<int>(sphere.positions.rows()), median(engine), median(solve),
-                  gpu ? std::to_string(median(upload)).c_str() : "null", median(moved),
+                  uploadText, median(moved),
                   median(moved) / static_cast<double>(sphere.positions.rows()), pressMs, releaseMs, moves, refused,
                   resolution);
     out << line << std::endl;
