@@ -15,6 +15,8 @@ const char* scriptOpName(ScriptOp::Kind kind) {
         case ScriptOp::Kind::Screenshot: return "screenshot";
         case ScriptOp::Kind::SetupLattice: return "setup_lattice";
         case ScriptOp::Kind::SetPins: return "set_pins";
+        case ScriptOp::Kind::BeginGroup: return "begin_group";
+        case ScriptOp::Kind::EndGroup: return "end_group";
     }
     return "?";
 }
@@ -64,6 +66,8 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
         }
         case ScriptOp::Kind::SetupLattice:
             return session.setupLattice(op.hasSettings ? op.settings : session.latticeSettings(), report);
+        case ScriptOp::Kind::BeginGroup:
+        case ScriptOp::Kind::EndGroup: break;  // runScript keeps the groups
         case ScriptOp::Kind::Undo: return session.undo(report);
         case ScriptOp::Kind::Redo: return session.redo(report);
         case ScriptOp::Kind::Screenshot: {
@@ -92,29 +96,59 @@ ScriptOp moveControlPointOp(const std::vector<int>& ids, const Eigen::MatrixX3d&
 
 // An interactive operation's steps as ops: a fresh lattice (setup_lattice with the current settings) where
 // a step entered one, then the step itself.
+// The ops are wrapped in begin_group / end_group so the replay holds them as one history entry again.
 template <typename StepOp>
 void appendSteps(const Operation& operation, Script& script, StepOp stepOp) {
+    ScriptOp begin;
+    begin.kind = ScriptOp::Kind::BeginGroup;
+    begin.label = operation.label;
+    script.ops.push_back(begin);
     for (const Step& step : operation.steps) {
         if (step.freshFrame) {
             ScriptOp fresh;
             fresh.kind = ScriptOp::Kind::SetupLattice;
             script.ops.push_back(fresh);
         }
-        if (operation.kind != OperationKind::ControlPointEdit || !step.delta.indices.empty()) script.ops.push_back(stepOp(step));
+        // note: a step that moved no control point (all of them pinned) changed nothing; replaying it would not.
+        if (!step.delta.indices.empty()) script.ops.push_back(stepOp(step));
     }
+    ScriptOp end;
+    end.kind = ScriptOp::Kind::EndGroup;
+    script.ops.push_back(end);
 }
 
 }  // namespace
 
-Status runScript(Session& session, const Script& script, ScriptReport& report, const ScreenshotHook& screenshot) {
+Status runScript(Session& session, const Script& script, ScriptReport& report, const ScreenshotHook& screenshot,
+                 const ScriptProgress& progress) {
     report.ops.clear();
+    std::vector<std::pair<int, std::string>> groups;  // open begin_group ops: history cursor and label
     for (size_t i = 0; i < script.ops.size(); ++i) {
+        if (progress && !progress(i, script.ops.size())) return Status::error("stopped before op " + std::to_string(i));
+        const ScriptOp& op = script.ops[i];
         OpReport opReport;
-        if (Status s = runOp(session, script.ops[i], opReport, screenshot); !s)
-            return Status::error("op " + std::to_string(i) + " (" + scriptOpName(script.ops[i].kind) + "): " + s.message);
-        opReport.op = scriptOpName(script.ops[i].kind);
+        Status s = Status::success();
+        if (op.kind == ScriptOp::Kind::BeginGroup) {
+            groups.emplace_back(session.historyCursor(), op.label);
+            opReport.status = OpStatus::Applied;
+        } else if (op.kind == ScriptOp::Kind::EndGroup) {
+            if (groups.empty()) {
+                s = Status::error("end_group without a begin_group");
+            } else {
+                s = session.groupOperations(groups.back().first, groups.back().second);
+                opReport.status = OpStatus::Applied;
+                opReport.reason = "the ops since begin_group are one history entry";
+                groups.pop_back();
+            }
+        } else {
+            s = runOp(session, op, opReport, screenshot);
+        }
+        if (!s) return Status::error("op " + std::to_string(i) + " (" + scriptOpName(op.kind) + "): " + s.message);
+        opReport.op = scriptOpName(op.kind);
         report.ops.push_back(std::move(opReport));
     }
+    if (!groups.empty()) return Status::error("begin_group without an end_group");
+    if (progress) progress(script.ops.size(), script.ops.size());
     return Status::success();
 }
 

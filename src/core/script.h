@@ -17,7 +17,7 @@
 namespace sculpt::core {
 
 struct ScriptOp {
-    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins };
+    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins, BeginGroup, EndGroup };
     Kind kind = Kind::Undo;
     std::vector<PointConstraint> constraints;      // Drag
     int vertex = -1;                               // DragVertex
@@ -27,6 +27,7 @@ struct ScriptOp {
     Eigen::MatrixX3d values;                       //   "to" positions or "by" offsets, one row per point
     bool relative = false;                         //   true for "by"
     std::string path;                              // Screenshot: where to write (handled by the caller's hook)
+    std::string label;                             // BeginGroup: the history entry's name (empty: the first op's)
     bool hasSettings = false;                      // SetupLattice: new settings, or (false) a fresh lattice
     LatticeSettings settings;                      //   with the current ones around the current shape
 };
@@ -52,8 +53,14 @@ struct ScriptReport {
 // Called for screenshot ops with the session as it is at that point of the script.
 using ScreenshotHook = std::function<Status(const Session& session, const ScriptOp& op)>;
 
+// Called before op `done` of `total` (and once with done == total at the end); returning false stops the
+// script there (a long replay in the window can be cancelled).
+using ScriptProgress = std::function<bool(size_t done, size_t total)>;
+
 // Runs the ops in order on a session whose mesh and lattice are already set up. Stops at the first op with
 // bad input and returns its error prefixed with "op N (kind): "; the report then holds the ops before it.
-Status runScript(Session& session, const Script& script, ScriptReport& report, const ScreenshotHook& screenshot = {});
+// Stopped by `progress`: returns an error saying so.
+Status runScript(Session& session, const Script& script, ScriptReport& report, const ScreenshotHook& screenshot = {},
+                 const ScriptProgress& progress = {});
 
 }  // namespace sculpt::core

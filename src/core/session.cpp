@@ -615,6 +615,58 @@ void Session::redoStep(const Step& step) {
     applyDelta(step.delta, 1.0, &lastMoved_);
 }
 
+Status Session::groupOperations(int first, const std::string& label) {
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (cursor_ != static_cast<int>(history_.size())) return Status::error("a group must end at the last operation");
+    if (first < 0 || first > cursor_) return Status::error("the group's first operation is outside the history");
+    if (cursor_ == first) return Status::success();  // an empty group
+    Operation merged;
+    merged.kind = OperationKind::LatticeSetup;
+    const Operation* firstEdit = nullptr;
+    const Operation* lastEdit = nullptr;
+    for (int i = first; i < cursor_; ++i) {
+        const Operation& op = history_[static_cast<size_t>(i)];
+        if (op.kind == OperationKind::LatticeSetup) continue;
+        if (firstEdit && op.kind != firstEdit->kind) return Status::error("a group mixes drags and control-point edits");
+        if (!firstEdit) firstEdit = &op;
+        lastEdit = &op;
+    }
+    if (firstEdit) {
+        merged.kind = firstEdit->kind;
+        merged.pinToggles = firstEdit->pinToggles;
+        merged.controlPoints = firstEdit->controlPoints;
+        merged.offsets = firstEdit->offsets;
+        merged.constraints = firstEdit->constraints;
+        // From where the first edit took its sources to where the last one put them.
+        if (lastEdit->constraints.size() == merged.constraints.size())
+            for (size_t c = 0; c < merged.constraints.size(); ++c) merged.constraints[c].target = lastEdit->constraints[c].target;
+    } else {
+        merged.settings = history_[static_cast<size_t>(cursor_ - 1)].settings;
+    }
+    merged.interactive = true;
+    merged.label = label.empty() ? (firstEdit ? firstEdit->label : history_[static_cast<size_t>(first)].label) : label;
+    for (int i = first; i < cursor_; ++i) {
+        Operation& op = history_[static_cast<size_t>(i)];
+        merged.depthReached = std::max(merged.depthReached, op.depthReached);
+        for (Step& step : op.steps) {
+            // A fresh frame that moved nothing followed by a step in it is one step, as the interactive
+            // operation that was recorded had it (same undo: the delta, then leaving the frame).
+            if (!merged.steps.empty() && merged.steps.back().freshFrame && merged.steps.back().delta.indices.empty() &&
+                !step.freshFrame) {
+                Step& combined = merged.steps.back();
+                combined.delta = std::move(step.delta);
+                combined.constraints = std::move(step.constraints);
+                continue;
+            }
+            merged.steps.push_back(std::move(step));
+        }
+    }
+    history_.resize(static_cast<size_t>(first));
+    history_.push_back(std::move(merged));
+    cursor_ = static_cast<int>(history_.size());
+    return Status::success();
+}
+
 Status Session::undo(OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};

@@ -113,6 +113,10 @@ public:
     // values: #indices x 3. Pinned points, ids out of range or non-finite values are errors.
     Status moveControlPoints(const std::vector<int>& indices, const Eigen::MatrixX3d& values, bool relative,
                              OpReport& report);
+    // Makes the operations history()[first, historyCursor()) one history entry (an interactive operation made
+    // of their steps, undone and redone as one), e.g. a replayed interactive drag. The cursor must be at the
+    // end of the history. label empty: the first operation's.
+    Status groupOperations(int first, const std::string& label);
     // Undo / redo the last operation; with nothing to undo or redo, report.status = NoOp (not an error).
     Status undo(OpReport& report);
     Status redo(OpReport& report);

@@ -147,6 +147,16 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
             auto& list = std::string(key) == "pin" ? op.controlPoints : op.unpinned;
             for (size_t c = 0; c < ids.size(); ++c) list.push_back(int3(ids[c], kp + "[" + std::to_string(c) + "]"));
         }
+    } else if (name == "begin_group") {
+        allowOnly(j, path, {"op", "label"});
+        op.kind = core::ScriptOp::Kind::BeginGroup;
+        if (j.contains("label")) {
+            if (!j["label"].is_string()) fail(path + ".label", "expected a string");
+            op.label = j["label"].get<std::string>();
+        }
+    } else if (name == "end_group") {
+        allowOnly(j, path, {"op"});
+        op.kind = core::ScriptOp::Kind::EndGroup;
     } else if (name == "undo" || name == "redo") {
         allowOnly(j, path, {"op"});
         op.kind = name == "undo" ? core::ScriptOp::Kind::Undo : core::ScriptOp::Kind::Redo;
@@ -158,7 +168,7 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
         op.path = p.get<std::string>();
     } else {
         fail(path + ".op", "unknown op \"" + name +
-                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, undo, redo, screenshot)");
+                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, begin_group, end_group, undo, redo, screenshot)");
     }
     return op;
 }
@@ -277,6 +287,10 @@ std::string scriptToJson(const core::Script& script) {
                 j["pin"] = op.controlPoints;
                 j["unpin"] = op.unpinned;
                 break;
+            case core::ScriptOp::Kind::BeginGroup:
+                if (!op.label.empty()) j["label"] = op.label;
+                break;
+            case core::ScriptOp::Kind::EndGroup: break;
             case core::ScriptOp::Kind::Screenshot: j["path"] = op.path; break;
             case core::ScriptOp::Kind::Undo:
             case core::ScriptOp::Kind::Redo: break;

@@ -409,7 +409,8 @@ TEST_CASE("window files: a saved session reopens with the same shape and its ope
     dragUp(sculptApp);
     dragUp(sculptApp, 30.0);
     const Positions sculpted = state.session.positions();
-    const size_t recordedOps = core::recordSession(state.session).ops.size();
+    const size_t operations = state.session.history().size();
+    REQUIRE(operations == 2);
     const std::string sessionPath = folder.file("work.session.json");
     REQUIRE(files.startSaveSession(state, sessionPath));
     files.finishJob(state);
@@ -427,10 +428,12 @@ TEST_CASE("window files: a saved session reopens with the same shape and its ope
     const core::Session& session = reopened.state().session;
     REQUIRE(session.positions().rows() == sculpted.rows());
     CHECK((session.positions() - sculpted).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(sculpted));
-    // note: an interactive drag is recorded increment by increment (core::recordSession), so it comes back as
-    // that many undoable steps.
-    CHECK(session.history().size() == recordedOps);
-    CHECK(session.historyCursor() == static_cast<int>(recordedOps));
+    // An interactive drag is recorded increment by increment inside begin_group / end_group, so it comes back
+    // as one undo step again.
+    CHECK(session.history().size() == operations);
+    CHECK(session.historyCursor() == static_cast<int>(operations));
+    for (size_t i = 0; i < operations; ++i)
+        CHECK(session.history()[i].steps.size() == state.session.history()[i].steps.size());
     CHECK_FALSE(reopened.state().modified);
     CHECK(reopened.files().document().sessionPath == sessionPath);
     app::jumpToHistory(reopened.state(), 0);

@@ -134,28 +134,24 @@ JobResult openSessionWork(const std::string& path, const std::string& fallbackMe
     session.setTrackJacobian(trackJacobian);  // before the replay: frames frozen by it must count
     progress.phase = static_cast<int>(JobPhase::Replaying);
     progress.opsTotal = static_cast<int>(script.ops.size());
-    // One op at a time (runScript on a one-op script) so the progress moves and Cancel is heard.
-    for (size_t i = 0; i < script.ops.size(); ++i) {
-        if (progress.cancelled()) {
-            result.status = cancelledStatus(path);
-            return result;
-        }
-        if (script.ops[i].kind == core::ScriptOp::Kind::Screenshot) {
-            ++result.screenshotsSkipped;  // a recording's screenshot ops are for the command line
-        } else {
-            core::Script one;
-            one.ops = {script.ops[i]};
-            core::ScriptReport report;
-            if (Status s = core::runScript(session, one, report); !s) {
-                std::string message = s.message;
-                if (message.rfind("op 0 ", 0) == 0) message = "op " + std::to_string(i) + message.substr(4);
-                result.status = Status::error(path + ": " + message);
-                return result;
-            }
-            ++result.opsReplayed;
-            if (!report.ops.empty() && report.ops[0].status == core::OpStatus::Rejected) ++result.opsRejected;
-        }
-        progress.opsDone = static_cast<int>(i + 1);
+    // The progress callback moves the bar and hears Cancel between ops; a recording's screenshot ops are for
+    // the command line and are skipped here.
+    const core::ScreenshotHook skipScreenshot = [&result](const core::Session&, const core::ScriptOp&) {
+        ++result.screenshotsSkipped;
+        return Status::success();
+    };
+    const core::ScriptProgress report = [&progress](size_t done, size_t) {
+        progress.opsDone = static_cast<int>(done);
+        return !progress.cancelled();
+    };
+    core::ScriptReport replay;
+    if (Status s = core::runScript(session, script, replay, skipScreenshot, report); !s) {
+        result.status = progress.cancelled() ? cancelledStatus(path) : Status::error(path + ": " + s.message);
+        return result;
+    }
+    for (const core::OpReport& op : replay.ops) {
+        result.opsReplayed += op.op != "screenshot";
+        result.opsRejected += op.status == core::OpStatus::Rejected;
     }
     result.mesh = std::make_shared<const io::ObjMesh>(std::move(mesh));
     result.meshPath = meshPath;
@@ -448,8 +444,9 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             if (session) document_.sessionPath = job.path;
             document_.saved = markHistory(state.session);
             const core::Session& s = state.session;
-            std::string text = session ? "Opened session " + name + ": " + std::to_string(result.opsReplayed) +
-                                             " operations replayed on " + fileNameOfPath(result.meshPath)
+            std::string text = session ? "Opened session " + name + ": " + std::to_string(s.history().size()) +
+                                             " operations (" + std::to_string(result.opsReplayed) + " script ops) replayed on " +
+                                             fileNameOfPath(result.meshPath)
                                        : "Loaded " + name + ": " + std::to_string(s.positions().rows()) + " vertices, " +
                                              std::to_string(s.triangles().rows()) + " triangles";
             if (result.opsRejected > 0) text += " (" + std::to_string(result.opsRejected) + " refused as not injective)";
