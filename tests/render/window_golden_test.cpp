@@ -145,3 +145,48 @@ TEST_CASE("window golden: undoing a drag restores the picture from before it", "
     // ...and the undo takes every viewport pixel back, within the golden threshold.
     CHECK(undoLeft <= test::goldenMaxDifferingFraction());
 }
+
+TEST_CASE("window golden: handles, pins and the lattice tool with a selection", "[gl][golden]") {
+    app::SculptApp sculptApp;
+    test::OffscreenWindow window;
+    if (!openDefault(sculptApp, window)) return;
+    app::AppState& state = sculptApp.state();
+    render::Rgba8Image image;
+    settledFrame(window, image);
+    const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
+    app::Modifiers shift, control;
+    shift.shift = true;
+    control.control = true;
+    auto click = [&](double x, double y, app::Modifiers m) {
+        sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, m}, {});
+        sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x, y, m}, {});
+    };
+    click(cx - 120, cy - 60, shift);   // two handles
+    click(cx + 100, cy - 90, shift);
+    click(cx - 20, cy + 150, control); // a pin
+    REQUIRE(state.tools.handles.size() == 3);
+    // Drag the handles together 80 px up: the pin holds.
+    double hx = 0, hy = 0;
+    REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight,
+                                app::handlePosition(state.tools.handles[0], state.session.positions(), state.session.triangles()), hx, hy));
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, hx, hy, {}}, {});
+    REQUIRE(state.drag.active);
+    for (int m = 1; m <= 8; ++m) {
+        sculptApp.onMouseMove({hx, hy - 10.0 * m, {}}, {});
+        frame(window);
+    }
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, hx, hy - 80, {}}, {});
+    REQUIRE(state.session.history().size() == 1);
+    // The lattice tool: a box selection over the upper middle, the selection pinned.
+    sculptApp.onKey({app::Key::Tab, app::KeyAction::Press, {}}, {});
+    REQUIRE(state.tools.mode == app::ToolMode::Lattice);
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx - 200, 60, {}}, {});
+    sculptApp.onMouseMove({cx + 200, cy - 120, {}}, {});
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx + 200, cy - 120, {}}, {});
+    REQUIRE_FALSE(state.tools.lattice.points.empty());
+    sculptApp.onKey({app::Key::P, app::KeyAction::Press, {}}, {});
+    sculptApp.onMouseMove({cx + 300, cy + 200, {}}, {});  // the hint for empty space
+    settledFrame(window, image);
+    savePicture(image, "window_tools_frame");
+    test::checkGolden(image, "window_tools");
+}

@@ -70,7 +70,7 @@ void drawSetupSection(AppState& state) {
     if (!tools.setupEdited) tools.setup = state.session.latticeSettings();
     core::LatticeSettings& s = tools.setup;
     bool edited = false;
-    const float labelWidth = ImGui::CalcTextSize("Resolution").x + ImGui::GetStyle().ItemInnerSpacing.x;
+    const float labelWidth = ImGui::CalcTextSize("Pinned layers").x + ImGui::GetStyle().ItemInnerSpacing.x;
     ImGui::PushItemWidth(-labelWidth);
     edited |= ImGui::DragInt3("Resolution", s.resolution.data(), 0.1f, 2, 64);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Control points per axis (degree + 1 to 64).");
