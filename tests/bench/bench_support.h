@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,28 @@ inline double medianMs(int runs, const std::function<void()>& work, const std::f
     }
     std::sort(times.begin(), times.end());
     return times[times.size() / 2];
+}
+
+// The median of a list of samples (0 for none).
+inline double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+}
+
+// JSON string contents: quotes and backslashes escaped, control characters dropped.
+inline std::string jsonText(const std::string& text) {
+    std::string escaped;
+    for (char c : text) {
+        if (c == '"' || c == '\\') escaped += '\\';
+        if (static_cast<unsigned char>(c) >= 0x20) escaped += c;
+    }
+    return escaped;
+}
+
+// A case that could not run, as its JSON line.
+inline void printError(std::ostream& out, const char* name, const std::string& message) {
+    out << "{\"case\": \"" << name << "\", \"error\": \"" << jsonText(message) << "\"}" << std::endl;
 }
 
 inline void printCase(const std::string& name, long long n, double medianMilliseconds, const std::string& extra = "") {

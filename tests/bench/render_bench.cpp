@@ -23,21 +23,10 @@ constexpr int kHeight = 800;
 constexpr int kSamples = 4;
 constexpr int kRuns = 10;
 
+using bench::jsonText;
 using bench::medianMs;
+using bench::printError;
 
-// JSON string contents: quotes and backslashes escaped, control characters dropped.
-std::string jsonText(const std::string& text) {
-    std::string escaped;
-    for (char c : text) {
-        if (c == '"' || c == '\\') escaped += '\\';
-        if (static_cast<unsigned char>(c) >= 0x20) escaped += c;
-    }
-    return escaped;
-}
-
-void printError(std::ostream& out, const char* name, const std::string& message) {
-    out << "{\"case\": \"" << name << "\", \"error\": \"" << jsonText(message) << "\"}" << std::endl;
-}
 
 // Camera at the distance where a unit sphere's silhouette touches the top and bottom of the picture:
 // a disc of diameter = picture height, i.e. pi/4 * 800/1280 = 49% of the pixels.

@@ -9,6 +9,7 @@
 #include "../render/offscreen_window.h"
 #include "../render/test_meshes.h"
 #include "app/window/sculpt_app.h"
+#include "bench_support.h"
 #include "render/gl_functions.h"
 
 namespace sculpt::bench {
@@ -24,12 +25,6 @@ double msBetween(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
-}
-
 bool wanted(const std::vector<std::string>& filters, const std::string& name) {
     if (filters.empty()) return true;
     for (const std::string& f : filters)
@@ -37,19 +32,6 @@ bool wanted(const std::vector<std::string>& filters, const std::string& name) {
     return false;
 }
 
-// JSON string contents: quotes and backslashes escaped, control characters dropped.
-std::string jsonText(const std::string& text) {
-    std::string escaped;
-    for (char c : text) {
-        if (c == '"' || c == '\\') escaped += '\\';
-        if (static_cast<unsigned char>(c) >= 0x20) escaped += c;
-    }
-    return escaped;
-}
-
-void printError(std::ostream& out, const char* name, const std::string& message) {
-    out << "{\"case\": \"" << name << "\", \"error\": \"" << jsonText(message) << "\"}" << std::endl;
-}
 
 // Loads the mesh into the app's session (lattice `resolution`^3, default degree and injectivity) and frames
 // it in a kWidth x kHeight view.

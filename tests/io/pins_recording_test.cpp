@@ -11,6 +11,7 @@
 #include "core/script.h"
 #include "core/session.h"
 #include "io/script_json.h"
+#include "replay_support.h"
 
 using namespace sculpt;
 using namespace sculpt::core;
@@ -50,16 +51,8 @@ TEST_CASE("recording: user pins and unpins replay through set_pins ops and the J
         CHECK(setPins <= pinOps);
 
         Script parsed;
-        const Status read = io::parseScript(io::scriptToJson(recording), "recording.json", parsed);
-        INFO(read.message);
-        REQUIRE(read.ok);
-        Session replayed;
-        REQUIRE(replayed.setMesh(positions, triangles, parsed.lattice).ok);
-        replayed.setInjectivity(parsed.injectivity);
+        Session replayed = test::replayThroughJson(recording, positions, triangles, parsed);
         ScriptReport report;
-        const Status ran = runScript(replayed, parsed, report);
-        INFO(ran.message);
-        REQUIRE(ran.ok);
         const double diagonal = original.lattice().diagonal();
         CHECK((replayed.positions() - original.positions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         CHECK(replayed.pinToggles() == original.pinToggles());

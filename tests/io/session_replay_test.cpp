@@ -9,6 +9,7 @@
 #include "core/script.h"
 #include "core/session.h"
 #include "io/script_json.h"
+#include "replay_support.h"
 
 using namespace sculpt;
 using namespace sculpt::core;
@@ -88,16 +89,7 @@ TEST_CASE("recording: a replayed session has the same history entries, undo and 
         }
         const Script recording = recordSession(original);
         Script parsed;
-        const Status read = io::parseScript(io::scriptToJson(recording), "session.json", parsed);
-        INFO(read.message);
-        REQUIRE(read.ok);
-        Session replayed;
-        REQUIRE(replayed.setMesh(positions, triangles, parsed.lattice).ok);
-        replayed.setInjectivity(parsed.injectivity);
-        ScriptReport report;
-        const Status ran = runScript(replayed, parsed, report);
-        INFO(ran.message);
-        REQUIRE(ran.ok);
+        Session replayed = test::replayThroughJson(recording, positions, triangles, parsed);
 
         const double diagonal = original.lattice().diagonal();
         REQUIRE(replayed.history().size() == original.history().size());

@@ -20,6 +20,7 @@
 #include "app/window/sculpt_app.h"
 #include "app/window/ui_style.h"
 #include "gl_test_support.h"
+#include "offscreen_window.h"
 #include "window_test_support.h"
 #include "io/png_image.h"
 #include "render/offscreen_context.h"
@@ -190,31 +191,17 @@ TEST_CASE("window: orbit, pan and a minimised (0 x 0) framebuffer keep the camer
 }
 
 TEST_CASE("window: full frames with the UI render offscreen; drag updates are sparse", "[gl]") {
-    std::unique_ptr<render::OffscreenContext> context;
-    const Status created = render::OffscreenContext::create(render::GlBackend::Egl, context);
-    if (!created) {
-        WARN("EGL unavailable, UI frames not tested: " << created.message);
-        return;
-    }
     app::SculptApp sculptApp;
     loadDefault(sculptApp);
-    app::createUiContext(1.0f);
-    ImGuiIO& io = ImGui::GetIO();
-    io.DisplaySize = ImVec2(static_cast<float>(kWidth), static_cast<float>(kHeight));
-    io.DisplayFramebufferScale = ImVec2(1.0f, 1.0f);
-    io.DeltaTime = 1.0f / 60.0f;
-    const Status initialised = sculptApp.initGraphics(context->getProcAddress());
-    INFO(initialised.message);
-    REQUIRE(initialised.ok);
-    render::RenderTarget target(context->gl());
-    REQUIRE(target.resize(kWidth, kHeight, 4).ok);
-
+    test::OffscreenWindow window;
+    if (const Status opened = window.open(sculptApp, kWidth, kHeight, 4); !opened) {
+        WARN("EGL unavailable, UI frames not tested: " << opened.message);
+        return;
+    }
     auto frame = [&](render::Rgba8Image* image) {
-        target.bind();
-        const Status drawn = sculptApp.renderFrame(kWidth, kHeight);
+        const Status drawn = window.frame(image);
         INFO(drawn.message);
         REQUIRE(drawn.ok);
-        if (image) REQUIRE(target.read(*image).ok);
     };
     render::Rgba8Image image;
     frame(nullptr);  // the first frame builds the font atlas
@@ -281,7 +268,4 @@ TEST_CASE("window: full frames with the UI render offscreen; drag updates are sp
               std::abs(centre[2] - background[2]) > 30);
 
     CHECK(sculptApp.renderFrame(0, 0).ok);
-    target.release();
-    sculptApp.releaseGraphics();
-    app::destroyUiContext();
 }

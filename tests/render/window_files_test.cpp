@@ -25,6 +25,7 @@
 #include "app/window/ui_style.h"
 #include "core/script.h"
 #include "gl_test_support.h"
+#include "offscreen_window.h"
 #include "io/obj_mesh.h"
 #include "io/png_image.h"
 #include "io/script_json.h"
@@ -105,47 +106,27 @@ app::KeyEvent ctrlKey(app::Key key, bool shift = false) {
     return event;
 }
 
-// An EGL context with the Dear ImGui UI, an offscreen target and the app's graphics, released at scope exit.
+// The offscreen window (offscreen_window.h) for a test: background jobs are finished before it closes.
 struct UiFrames {
-    std::unique_ptr<render::OffscreenContext> context;
-    std::unique_ptr<render::RenderTarget> target;
+    test::OffscreenWindow window;
     app::SculptApp* app = nullptr;
-    int width = kWidth, height = kHeight;
 
     bool start(app::SculptApp& sculptApp, int w = kWidth, int h = kHeight) {
-        const Status created = render::OffscreenContext::create(render::GlBackend::Egl, context);
-        if (!created) {
-            WARN("EGL unavailable, UI frames not tested: " << created.message);
+        if (const Status opened = window.open(sculptApp, w, h, 4); !opened) {
+            WARN("EGL unavailable, UI frames not tested: " << opened.message);
             return false;
         }
         app = &sculptApp;
-        width = w;
-        height = h;
-        app::createUiContext(1.0f);
-        ImGuiIO& io = ImGui::GetIO();
-        io.DisplaySize = ImVec2(static_cast<float>(w), static_cast<float>(h));
-        io.DisplayFramebufferScale = ImVec2(1.0f, 1.0f);
-        io.DeltaTime = 1.0f / 60.0f;
-        const Status initialised = sculptApp.initGraphics(context->getProcAddress());
-        INFO(initialised.message);
-        REQUIRE(initialised.ok);
-        target = std::make_unique<render::RenderTarget>(context->gl());
-        REQUIRE(target->resize(w, h, 4).ok);
         return true;
     }
     void frame(render::Rgba8Image* image = nullptr) {
-        target->bind();
-        const Status drawn = app->renderFrame(width, height);
+        const Status drawn = window.frame(image);
         INFO(drawn.message);
         REQUIRE(drawn.ok);
-        if (image) REQUIRE(target->read(*image).ok);
     }
     ~UiFrames() {
-        if (!app) return;
-        app->files().finishJob(app->state());
-        target->release();
-        app->releaseGraphics();
-        app::destroyUiContext();
+        if (app) app->files().finishJob(app->state());
+        window.close();
     }
 };
 

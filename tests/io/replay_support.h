@@ -1,0 +1,28 @@
+// Shared by the recording tests: a recording written as JSON text, read back and replayed on a fresh session.
+#pragma once
+
+#include <catch2/catch.hpp>
+
+#include "core/script.h"
+#include "core/session.h"
+#include "io/script_json.h"
+
+namespace sculpt::test {
+
+// recording -> scriptToJson -> parseScript -> runScript on (positions, triangles). `parsed` gets the script read back.
+inline core::Session replayThroughJson(const core::Script& recording, const Positions& positions, const Triangles& triangles,
+                                       core::Script& parsed) {
+    const Status read = io::parseScript(io::scriptToJson(recording), "recording.json", parsed);
+    INFO(read.message);
+    REQUIRE(read.ok);
+    core::Session replayed;
+    REQUIRE(replayed.setMesh(positions, triangles, parsed.lattice).ok);
+    replayed.setInjectivity(parsed.injectivity);
+    core::ScriptReport report;
+    const Status ran = core::runScript(replayed, parsed, report);
+    INFO(ran.message);
+    REQUIRE(ran.ok);
+    return replayed;
+}
+
+}  // namespace sculpt::test
