@@ -163,7 +163,7 @@ TEST_CASE("window golden: handles, pins and the lattice tool with a selection", 
     };
     click(cx - 120, cy - 60, shift);   // two handles
     click(cx + 100, cy - 90, shift);
-    click(cx - 20, cy + 150, control); // a pin
+    click(cx - 20, cy + 110, control); // a pin
     REQUIRE(state.tools.handles.size() == 3);
     // Drag the handles together 80 px up: the pin holds.
     double hx = 0, hy = 0;

@@ -372,7 +372,7 @@ TEST_CASE("window tools: frames of both tools render with their markers (written
     REQUIRE(window.frame(&before).ok);
     click(sculptApp, 0.5 * kWidth - 90, 0.5 * kHeight - 40, shiftKey());
     click(sculptApp, 0.5 * kWidth + 60, 0.5 * kHeight - 60, shiftKey());
-    click(sculptApp, 0.5 * kWidth, 0.5 * kHeight + 120, controlKey());
+    click(sculptApp, 0.5 * kWidth, 0.5 * kHeight + 70, controlKey());
     REQUIRE(state.tools.handles.size() == 3);
     REQUIRE(window.frame(&withMarkers).ok);
     // Pin markers are green squares: some pixel is now clearly green where none was.

@@ -119,7 +119,10 @@ float framebufferAspect(const AppState& state) {
 }
 
 void frameMesh(AppState& state) {
-    const render::Bounds bounds = render::boundsOf(state.session.positions());
+    render::Bounds bounds = render::boundsOf(state.session.positions());
+    // With the lattice on screen, its box is framed too (its corners stick out of a round mesh's frame).
+    if (state.overlays.lattice || state.tools.mode == ToolMode::Lattice)
+        bounds.add(render::boundsOf(core::controlPointPositions(state.session.lattice())));
     state.camera.frame(bounds, framebufferAspect(state));
 }
 

@@ -19,7 +19,7 @@ namespace sculpt::app {
 // Layers drawn over the shaded mesh.
 struct Overlays {
     bool wireframe = false;
-    bool lattice = false;
+    bool lattice = true;   // the issue: the window opens with the lattice shown
     bool jacobian = false;  // det J colour map (turns on Jacobian tracking in the session)
     bool affected = false;  // influence of the last operation's control points
 };
