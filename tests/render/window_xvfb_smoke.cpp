@@ -50,7 +50,14 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(std::filesystem::path(png).parent_path(), ignored);
     std::filesystem::remove(png, ignored);
 
-    const std::string command = "SCULPT_WINDOW_FRAMES=90 SCULPT_WINDOW_AUTODRAG=1 SCULPT_WINDOW_SCREENSHOT=" +
+    // note: under AddressSanitizer (CI's second pass) the leak check is off for this one process. The real
+    // window loads the X11/GLX driver stack, which dlcloses itself at glfwTerminate and leaves ~100 bytes
+    // that LeakSanitizer can only attribute to "<unknown module>" (no suppression can name it). The same app
+    // code runs leak-checked in the offscreen window tests.
+    std::string sanitizer;
+    if (const char* asan = std::getenv("ASAN_OPTIONS"))
+        sanitizer = "ASAN_OPTIONS=" + shellQuoted(std::string(asan) + ":detect_leaks=0") + " ";
+    const std::string command = sanitizer + "SCULPT_WINDOW_FRAMES=90 SCULPT_WINDOW_AUTODRAG=1 SCULPT_WINDOW_SCREENSHOT=" +
                                 shellQuoted(png) + " xvfb-run -a -s '-screen 0 1280x800x24' " + shellQuoted(sculpt) +
                                 " 2>&1";
     std::printf("window_xvfb_smoke: %s\n", command.c_str());
