@@ -21,7 +21,7 @@ bool parseInt(const std::string& text, int& out) {
 
 const char* usageText() {
     return "usage:\n"
-           "  sculpt [MESH.obj]                      open the interactive window\n"
+           "  sculpt [MESH.obj | SESSION.json]       open the interactive window (on a mesh, or a saved session)\n"
            "  sculpt --headless [--input MESH.obj] --script OPS.json --output OUT.obj\n"
            "         [--report REPORT.json] [--save-session SESSION.json] [--screenshot OUT.png [--size WxH]\n"
            "         [--camera yaw,pitch,distance] [--overlay jacobian|affected|lattice|wireframe]...]\n"
