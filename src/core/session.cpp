@@ -73,6 +73,7 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
     // ulps of the box; Newton stops at 1e-14 of the diagonal or as soon as it stops improving (rounding level),
     // so no iterations are burnt on noise. Undo chains many inversions: each must be this tight.
     const double tolerance = 1e-14 * lattice.diagonal();
+    const double roundingLevel = 1e-11 * lattice.diagonal();  // below this a failed step is rounding, not overshoot
     // With the boundary where it started, a point outside the box is its own preimage.
     const bool boundaryFixed = boundaryUnmoved(lattice);
 #pragma omp parallel for schedule(dynamic, 256) if (n > 2000)
@@ -91,26 +92,41 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
         }
         // Start from the fixed-point guess x = y - d(y): off by |d| |grad d|, so Newton needs two or three steps.
         Eigen::Vector3d x = (y - displacementAtY).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
-        Eigen::Vector3d best = y;
-        double bestResidual = INFINITY;
-        for (int iteration = 0; iteration < 30; ++iteration) {
-            t = ((x - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
+        Eigen::Vector3d residual;
+        Eigen::Matrix3d jacobian;
+        const auto evaluate = [&](const Eigen::Vector3d& at, Eigen::Vector3d& res, Eigen::Matrix3d& jac) {
+            const Eigen::Vector3d tt = ((at - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
             Eigen::Vector3d displacement;
-            Eigen::Matrix3d jacobian;
-            deformationJacobian(lattice, t, displacement, jacobian);
-            const Eigen::Vector3d residual = x + displacement - y;
-            const double r = residual.norm();
-            if (r < bestResidual) {
-                bestResidual = r;
-                best = x;
-            } else {
-                break;  // no longer improving: at rounding level (or diverging, judged below)
-            }
-            if (r <= tolerance) break;
+            deformationJacobian(lattice, tt, displacement, jac);
+            res = at + displacement - y;
+            return res.norm();
+        };
+        double r = evaluate(x, residual, jacobian);
+        for (int iteration = 0; iteration < 40 && r > tolerance; ++iteration) {
             const Eigen::Vector3d step = jacobian.partialPivLu().solve(residual);
             if (!step.allFinite()) break;
-            x = (x - step).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+            // Damped Newton: where the full step overshoots (a strongly bent frame), halve it until the
+            // residual drops. At rounding level nothing improves any more: stop there.
+            double lambda = 1.0;
+            bool improved = false;
+            for (int halving = 0; halving < (r > roundingLevel ? 30 : 1); ++halving, lambda *= 0.5) {
+                const Eigen::Vector3d candidate = (x - lambda * step).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+                Eigen::Vector3d candidateResidual;
+                Eigen::Matrix3d candidateJacobian;
+                const double rc = evaluate(candidate, candidateResidual, candidateJacobian);
+                if (rc < r) {
+                    x = candidate;
+                    r = rc;
+                    residual = candidateResidual;
+                    jacobian = candidateJacobian;
+                    improved = true;
+                    break;
+                }
+            }
+            if (!improved) break;
         }
+        const Eigen::Vector3d best = x;
+        const double bestResidual = r;
         // Outside the box nothing moved: keep y unless Newton found a genuine preimage inside.
         rest.row(v) = (bestResidual <= 1e-9 * lattice.diagonal() ? best : y).transpose();
     }
@@ -933,6 +949,28 @@ Status Session::setPinToggles(const std::vector<int>& toggled) {
     if (dragActive_) return Status::error("an interactive drag is in progress");
     for (int idx = 0; idx < n; ++idx) lattice_.pinned[idx] = inOuterLayers(lattice_, idx, settings_.pinLayers) ? 1 : 0;
     for (int idx : toggled) lattice_.pinned[idx] ^= 1;
+    return Status::success();
+}
+
+Status Session::cancelDrag(OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "cancel_drag";
+    if (!dragActive_) {
+        report.status = OpStatus::NoOp;
+        report.reason = "no drag in progress";
+        return Status::success();
+    }
+    dragActive_ = false;
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    for (auto step = dragOperation_.steps.rbegin(); step != dragOperation_.steps.rend(); ++step) undoStep(*step);
+    report.status = dragOperation_.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;
+    report.reason = dragOperation_.steps.empty() ? "the drag had not moved anything" : "the drag was taken back";
+    report.subSteps = static_cast<int>(dragOperation_.steps.size());
+    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+    dragOperation_ = Operation{};
+    report.wallMs = millisecondsSince(start);
     return Status::success();
 }
 

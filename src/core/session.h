@@ -132,6 +132,9 @@ public:
     Status updateControlDrag(const Eigen::Vector3d& offset, OpReport& report);
     // Ends either kind of interactive drag; a drag that changed something becomes one history entry.
     void endDrag();
+    // Ends the drag in progress by undoing what it applied (its inverse manipulation, step by step), leaving
+    // the shape and the history as they were before beginDrag. No drag in progress: NoOp.
+    Status cancelDrag(OpReport& report);
     bool dragging() const { return dragActive_; }
     // Current world positions of the sources of the drag in progress.
     std::vector<Eigen::Vector3d> dragSources() const;

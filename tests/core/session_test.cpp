@@ -283,3 +283,41 @@ TEST_CASE("session: a control-point drag refuses pinned or unknown points and a 
     REQUIRE(session.history().empty());
     REQUIRE(session.positions() == session.restPositions());
 }
+
+TEST_CASE("session: cancelling a drag takes back what it applied, subdivided steps included", "[core]") {
+    std::mt19937 rng(59);
+    int subdivided = 0;
+    for (int trial = 0; trial < 12; ++trial) {
+        Session session = randomSession(rng, 900);
+        session.setInjectivity({InjectivityMode::Conic, 5});
+        OpReport report;
+        REQUIRE(session.dragVertex(3, session.positions().row(3).transpose() + 0.05 * session.lattice().diagonal() * test::randomVector(rng, -1, 1), report).ok);
+        const Positions before = session.positions();
+        const double diagonal = session.lattice().diagonal();
+        const int frames = session.frameDepth();
+        if (trial % 2 == 0) {
+            Eigen::Vector3d params;
+            REQUIRE(session.parametersOfVertex(10, params).ok);
+            REQUIRE(session.beginDrag({params}).ok);
+            const Eigen::Vector3d start = session.dragSources().front();
+            const Eigen::Vector3d offset = (trial % 4 == 0 ? 0.6 : 0.05) * diagonal * test::randomVector(rng, -1, 1);
+            for (int m = 1; m <= 6; ++m) REQUIRE(session.updateDrag({start + offset * (m / 6.0)}, report).ok);
+        } else {
+            REQUIRE(session.beginControlDrag({test::randomInt(rng, 0, session.lattice().controlPointCount() - 1)}).ok);
+            const Eigen::Vector3d offset = (trial % 4 == 1 ? 0.6 : 0.05) * diagonal * test::randomVector(rng, -1, 1);
+            for (int m = 1; m <= 6; ++m) REQUIRE(session.updateControlDrag(offset * (m / 6.0), report).ok);
+        }
+        subdivided += session.frameDepth() > frames;
+        INFO("trial " << trial << ", frames " << frames << " -> " << session.frameDepth());
+        REQUIRE(session.cancelDrag(report).ok);
+        CHECK_FALSE(session.dragging());
+        CHECK(session.history().size() == 1);
+        CHECK(session.frameDepth() == frames);
+        CHECK((session.positions() - before).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        REQUIRE(session.cancelDrag(report).ok);
+        CHECK(report.status == OpStatus::NoOp);
+        REQUIRE(session.undo(report).ok);  // the history before the drag is intact
+        CHECK((session.positions() - session.originalPositions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    }
+    CHECK(subdivided >= 2);
+}

@@ -404,3 +404,22 @@ TEST_CASE("window tools: frames of both tools render with their markers (written
     io::writePng(dir + "/tools_lattice.png", latticeTool.width, latticeTool.height, latticeTool.pixels.data());
     WARN("tool frames written to " << dir << "/tools_*.png");
 }
+
+TEST_CASE("window tools: Esc during a drag takes it back and records nothing", "[gl]") {
+    app::SculptApp sculptApp;
+    loadDefault(sculptApp);
+    app::AppState& state = sculptApp.state();
+    const Positions original = state.session.positions();
+    const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
+    REQUIRE(state.drag.active);
+    for (int m = 1; m <= 6; ++m) sculptApp.onMouseMove({cx, cy - 20.0 * m, {}}, {});
+    REQUIRE((state.session.positions() - original).cwiseAbs().maxCoeff() > 0.0);
+    key(sculptApp, app::Key::Escape);
+    CHECK_FALSE(state.drag.active);
+    CHECK(state.status.find("cancelled") != std::string::npos);
+    sculptApp.onMouseMove({cx, cy - 200.0, {}}, {});  // moves after the cancel change nothing
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 200.0, {}}, {});
+    CHECK(state.session.history().empty());
+    CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonalOf(original));
+}

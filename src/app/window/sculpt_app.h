@@ -65,6 +65,7 @@ private:
     void beginSculpt(int triangle, const Eigen::Vector3d& barycentric, int grabbedHandle, const std::vector<int>& movingHandles);
     void updateSculpt(double x, double y);
     void endSculpt();
+    void cancelSculpt();  // Esc during a drag: the session takes the drag back
     void moveTool(double x, double y);
     void releaseTool();
     bool keyTool(const KeyEvent& event);

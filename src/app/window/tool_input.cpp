@@ -290,6 +290,16 @@ void SculptApp::endSculpt() {
     setStatus(state_, text, finished.refused > 0 && !recorded);
 }
 
+void SculptApp::cancelSculpt() {
+    core::OpReport report;
+    const Status s = state_.session.cancelDrag(report);
+    if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state_);
+    state_.drag = DragState{};
+    state_.gpu.fields = true;
+    if (!s) setStatus(state_, "Cannot cancel the drag: " + s.message, true);
+    else setStatus(state_, "Drag cancelled (Esc): everything is as it was before it.", false);
+}
+
 // ---- lattice tool -----------------------------------------------------------------------------------------
 
 void SculptApp::pressLattice(const MouseButtonEvent& event) {
@@ -412,6 +422,10 @@ void SculptApp::releaseTool() {
 bool SculptApp::keyTool(const KeyEvent& event) {
     const Modifiers& m = event.modifiers;
     const bool shortcut = m.control || m.super;
+    if (state_.drag.active && event.key == Key::Escape && event.action == KeyAction::Press) {
+        cancelSculpt();
+        return true;
+    }
     if (state_.drag.active || event.action != KeyAction::Press) return false;
     ToolState& tools = state_.tools;
     switch (event.key) {
