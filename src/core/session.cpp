@@ -73,7 +73,7 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
     // ulps of the box; Newton stops at 1e-14 of the diagonal or as soon as it stops improving (rounding level),
     // so no iterations are burnt on noise. Undo chains many inversions: each must be this tight.
     const double tolerance = 1e-14 * lattice.diagonal();
-    const double roundingLevel = 1e-11 * lattice.diagonal();  // below this a failed step is rounding, not overshoot
+    const double roundingLevel = 1e-13 * lattice.diagonal();  // below this a failed step is rounding, not overshoot
     // With the boundary where it started, a point outside the box is its own preimage.
     const bool boundaryFixed = boundaryUnmoved(lattice);
 #pragma omp parallel for schedule(dynamic, 256) if (n > 2000)
