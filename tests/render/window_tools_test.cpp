@@ -146,6 +146,17 @@ TEST_CASE("window tools: a plain drag keeps every handle and pin where it is", "
     CHECK_FALSE(state.tools.handles[0].pin);
     click(sculptApp, x, y, shiftKey());
     CHECK(state.tools.handles.size() == 1);
+    CHECK(state.status.find("Removed a handle (1 marker left)") != std::string::npos);
+    // The status names what was removed: the pin in front of a handle in the list.
+    state.tools.handles.front().pin = true;
+    click(sculptApp, 0.5 * kWidth + 40, 0.5 * kHeight - 80, shiftKey());
+    REQUIRE(state.tools.handles.size() == 2);
+    REQUIRE_FALSE(state.tools.handles.back().pin);
+    REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight,
+                                app::handlePosition(state.tools.handles[0], state.session.positions(), state.session.triangles()), x, y));
+    click(sculptApp, x, y, shiftKey());
+    REQUIRE(state.tools.handles.size() == 1);
+    CHECK(state.status.find("Removed a pin (1 marker left)") != std::string::npos);
     key(sculptApp, app::Key::Escape);
     CHECK(state.tools.handles.empty());
     CHECK(state.session.history().size() == 1);  // none of this touched the shape

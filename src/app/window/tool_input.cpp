@@ -143,8 +143,9 @@ void SculptApp::pressSculpt(const MouseButtonEvent& event) {
     if (handle >= 0 && (shift || control)) {
         SurfaceHandle& h = tools.handles[static_cast<size_t>(handle)];
         if (shift) {
+            const std::string what = h.pin ? "pin" : "handle";  // read before the erase invalidates h
             tools.handles.erase(tools.handles.begin() + handle);
-            setStatus(state_, "Removed a " + std::string(h.pin ? "pin" : "handle") + " (" + plural(tools.handles.size(), "marker") + " left).", false);
+            setStatus(state_, "Removed a " + what + " (" + plural(tools.handles.size(), "marker") + " left).", false);
         } else {
             h.pin = !h.pin;
             setStatus(state_, h.pin ? "The handle is now a pin: it holds its point while you drag others."
@@ -182,8 +183,7 @@ void SculptApp::pressSculpt(const MouseButtonEvent& event) {
         }
         tools.handles.push_back(placed);
         state_.gpu.fields = true;
-        size_t pins = 0;
-        for (const SurfaceHandle& h : tools.handles) pins += h.pin ? 1 : 0;
+        const size_t pins = pinCount(tools);
         setStatus(state_, std::string(control ? "Pin placed" : "Handle placed") + " (" + plural(tools.handles.size() - pins, "handle") +
                               ", " + plural(pins, "pin") + "). Drag a handle to move " +
                               (tools.moveHandlesTogether ? "all handles together" : "it alone") + " (G toggles); pins hold still.",
@@ -198,14 +198,13 @@ void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, in
     const ToolState& tools = state_.tools;
     DragState drag;
     std::vector<Eigen::Vector3d> params;
-    std::vector<bool> moves;
     // The constraint list: the grabbed surface point (if any) first, then every handle and pin; those not
     // moving with the cursor are held where they are (seed 000 Fig. 3-4: fixed points are constraints too).
     auto add = [&](const SurfaceHandle& h, bool moving, int handleIndex) {
         Eigen::Vector3d t;
         if (!surfaceParameters(session, h, handlePosition(h, session.positions(), session.triangles()), t)) return false;
+        if (moving) drag.moving.push_back(static_cast<int>(params.size()));
         params.push_back(t);
-        moves.push_back(moving);
         drag.constraintHandles.push_back(handleIndex);
         return true;
     };
@@ -235,8 +234,6 @@ void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, in
     drag.active = true;
     drag.kind = DragKind::Surface;
     drag.starts = session.dragSources();
-    for (size_t c = 0; c < moves.size(); ++c)
-        if (moves[c]) drag.moving.push_back(static_cast<int>(c));
     const int grabbedConstraint = triangle >= 0 ? 0
         : static_cast<int>(std::find(drag.constraintHandles.begin(), drag.constraintHandles.end(), grabbedHandle) - drag.constraintHandles.begin());
     drag.planePoint = drag.starts[static_cast<size_t>(grabbedConstraint)];

@@ -27,6 +27,10 @@ glm::mat4 viewProjection(const render::Camera& camera, int width, int height) {
 
 }  // namespace
 
+size_t pinCount(const ToolState& tools) {
+    return static_cast<size_t>(std::count_if(tools.handles.begin(), tools.handles.end(), [](const SurfaceHandle& h) { return h.pin; }));
+}
+
 Eigen::Vector3d handlePosition(const SurfaceHandle& handle, const Positions& positions, const Triangles& triangles) {
     Eigen::Vector3d point = Eigen::Vector3d::Zero();
     for (int c = 0; c < 3; ++c) point += handle.barycentric[c] * positions.row(triangles(handle.triangle, c)).transpose();

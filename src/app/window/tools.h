@@ -47,6 +47,9 @@ struct ToolState {
     bool setupEdited = false;     // false: the fields follow the session's current settings
 };
 
+// How many of the placed markers are pins.
+size_t pinCount(const ToolState& tools);
+
 // World position of a surface handle on the current mesh (positions #V x 3, triangles #F x 3).
 Eigen::Vector3d handlePosition(const SurfaceHandle& handle, const Positions& positions, const Triangles& triangles);
 

@@ -22,8 +22,7 @@ void helpMarker(const char* text) {
 
 void drawHandlesSection(AppState& state) {
     ToolState& tools = state.tools;
-    size_t pins = 0;
-    for (const SurfaceHandle& h : tools.handles) pins += h.pin ? 1 : 0;
+    const size_t pins = pinCount(tools);
     ImGui::Text("%zu handles, %zu pins", tools.handles.size() - pins, pins);
     helpMarker("Shift+click on the mesh places a handle (red), Ctrl+click a pin (green square).\n"
                "Dragging a handle moves it (or all handles, see below) while every other handle\n"
