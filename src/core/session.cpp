@@ -70,8 +70,8 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
     const int n = static_cast<int>(deformed.rows());
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
     // note: the residual x + d(x) - y sums up to (p+1)^3 terms of size ~|x|, so it cannot go much below a few
-    // ulps of the box; Newton stops at 1e-14 of the diagonal or as soon as it stops improving (rounding level),
-    // so no iterations are burnt on noise. Undo chains many inversions: each must be this tight.
+    // ulps of the box; Newton stops at 1e-14 of the diagonal or when even a halved step no longer improves
+    // (below 1e-13 only the full step is tried: rounding level), so no iterations are burnt on noise. Undo chains many inversions: each must be this tight.
     const double tolerance = 1e-14 * lattice.diagonal();
     const double roundingLevel = 1e-13 * lattice.diagonal();  // below this a failed step is rounding, not overshoot
     // With the boundary where it started, a point outside the box is its own preimage.
@@ -125,10 +125,8 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
             }
             if (!improved) break;
         }
-        const Eigen::Vector3d best = x;
-        const double bestResidual = r;
         // Outside the box nothing moved: keep y unless Newton found a genuine preimage inside.
-        rest.row(v) = (bestResidual <= 1e-9 * lattice.diagonal() ? best : y).transpose();
+        rest.row(v) = (r <= 1e-9 * lattice.diagonal() ? x : y).transpose();
     }
 }
 
@@ -472,7 +470,7 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
     for (const Step& step : operation.steps) changed.insert(changed.end(), step.delta.indices.begin(), step.delta.indices.end());
     std::sort(changed.begin(), changed.end());
     report.controlPointsChanged = static_cast<int>(std::unique(changed.begin(), changed.end()) - changed.begin());
-    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+    report.verticesMoved = movedCount();
     if (m.kind == OperationKind::Drag)
         for (size_t f = 0; f < m.sources.size(); ++f) report.residuals.push_back((m.targets[f] - m.sources[f]).norm());
     pushOperation(std::move(operation));
@@ -626,6 +624,16 @@ void Session::undoStep(const Step& step) {
     if (step.freshFrame) leaveFrame();          // inverse of the earlier frame's injective FFD
 }
 
+void Session::revertSteps(const std::vector<Step>& steps) {
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    for (auto step = steps.rbegin(); step != steps.rend(); ++step) undoStep(*step);
+}
+
+int Session::movedCount() const {
+    return lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+}
+
 void Session::redoStep(const Step& step) {
     if (step.freshFrame) enterFreshFrame(step.settings, nullptr);
     applyDelta(step.delta, 1.0, &lastMoved_);
@@ -694,15 +702,13 @@ Status Session::undo(OpReport& report) {
         return Status::success();
     }
     const Operation& operation = history_[--cursor_];
-    lastMoved_.clear();
-    lastMovedAll_ = false;
-    for (auto step = operation.steps.rbegin(); step != operation.steps.rend(); ++step) undoStep(*step);
+    revertSteps(operation.steps);
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
     report.subSteps = static_cast<int>(operation.steps.size());
     report.controlPointsChanged = 0;
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
-    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+    report.verticesMoved = movedCount();
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
@@ -725,7 +731,7 @@ Status Session::redo(OpReport& report) {
     report.reason = "redid " + operation.label;
     report.subSteps = static_cast<int>(operation.steps.size());
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
-    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+    report.verticesMoved = movedCount();
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
@@ -888,7 +894,7 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport
     report.status = OpStatus::Applied;
     report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
     report.controlPointsChanged = static_cast<int>(solved.delta.indices.size());
-    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+    report.verticesMoved = movedCount();
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
@@ -923,7 +929,7 @@ Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& repor
     report.status = OpStatus::Applied;
     report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
     report.controlPointsChanged = static_cast<int>(count);
-    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+    report.verticesMoved = movedCount();
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
@@ -962,13 +968,11 @@ Status Session::cancelDrag(OpReport& report) {
         return Status::success();
     }
     dragActive_ = false;
-    lastMoved_.clear();
-    lastMovedAll_ = false;
-    for (auto step = dragOperation_.steps.rbegin(); step != dragOperation_.steps.rend(); ++step) undoStep(*step);
+    revertSteps(dragOperation_.steps);
     report.status = dragOperation_.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;
     report.reason = dragOperation_.steps.empty() ? "the drag had not moved anything" : "the drag was taken back";
     report.subSteps = static_cast<int>(dragOperation_.steps.size());
-    report.verticesMoved = lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+    report.verticesMoved = movedCount();
     dragOperation_ = Operation{};
     report.wallMs = millisecondsSince(start);
     return Status::success();

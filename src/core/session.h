@@ -233,6 +233,10 @@ private:
     void applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved);
     void pushOperation(Operation operation);
     void undoStep(const Step& step);
+    // Undoes the steps last to first (their inverse manipulations); lastMoved_ says what moved.
+    void revertSteps(const std::vector<Step>& steps);
+    // How many vertices the last command moved (all of them when a frame was entered or left).
+    int movedCount() const;
     void redoStep(const Step& step);
 
     Positions original_, rest_, positions_;
