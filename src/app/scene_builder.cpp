@@ -8,8 +8,10 @@ namespace sculpt::app {
 
 render::SceneData sceneFromSession(const core::Session& session, const SceneRequest& request) {
     render::SceneData scene;
-    scene.positions = session.positions();
-    scene.triangles = session.triangles();
+    if (request.mesh) {
+        scene.positions = session.positions();
+        scene.triangles = session.triangles();
+    }
     const core::Lattice& lattice = session.lattice();
     scene.lattice.nu = lattice.count[0];
     scene.lattice.nv = lattice.count[1];

@@ -10,6 +10,7 @@
 namespace sculpt::app {
 
 struct SceneRequest {
+    bool mesh = true;                      // copy positions and triangles (a caller that has them uploaded: false)
     bool jacobian = false;                 // compute det J per vertex (current lattice, relative to its rest)
     bool affected = false;                 // compute the influence of `affectedControlPoints` (or the last operation's)
     std::vector<int> affectedControlPoints;

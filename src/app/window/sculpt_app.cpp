@@ -156,6 +156,7 @@ void SculptApp::syncGpu() {
         request.jacobian = o.jacobian;
         request.affected = o.affected;
         request.lastDragConstraints = false;
+        request.mesh = false;  // the GPU has the mesh; only the overlays are wanted here
         const bool showLattice = o.lattice || state_.tools.mode == ToolMode::Lattice;
         if (showLattice) {
             clampLatticeSelection(state_);
@@ -164,7 +165,7 @@ void SculptApp::syncGpu() {
             // note: in the lattice tool the affected region shows what the selection would move.
             if (state_.tools.mode == ToolMode::Lattice) request.affectedControlPoints = state_.tools.lattice.points;
         }
-        // note: only the overlays asked for are computed; sceneFromSession's position copy is cheap next to them.
+        // note: only the overlays asked for are computed, and not the mesh (a 1M-vertex copy per dragged frame).
         render::LatticeView lattice;
         std::vector<float> jacobian, affected;
         if (showLattice || o.jacobian || o.affected) {
