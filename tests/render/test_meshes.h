@@ -2,10 +2,9 @@
 #pragma once
 
 #include <cmath>
-#include <map>
-#include <utility>
 #include <vector>
 
+#include "../core/mesh_fixtures.h"
 #include "core/mesh_types.h"
 #include "render/scene.h"
 
@@ -16,43 +15,11 @@ struct TestMesh {
     Triangles triangles;
 };
 
-// Icosahedron subdivided `subdivisions` times, projected to the sphere: 20 * 4^s triangles.
+// Icosahedron subdivided `subdivisions` times, projected to the sphere: 20 * 4^s triangles (the engine tests'
+// generator, mesh_fixtures.h).
 inline TestMesh makeIcosphere(int subdivisions, double radius = 1.0) {
-    const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-    std::vector<Eigen::Vector3d> points = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    std::vector<Eigen::Vector3i> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                          {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                          {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                          {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-    for (auto& p : points) p.normalize();
-    for (int s = 0; s < subdivisions; ++s) {
-        std::map<std::pair<int, int>, int> midpoints;
-        const auto midpoint = [&](int a, int b) {
-            const auto key = std::minmax(a, b);
-            const auto found = midpoints.find(key);
-            if (found != midpoints.end()) return found->second;
-            points.push_back((points[a] + points[b]).normalized());
-            const int index = int(points.size()) - 1;
-            midpoints.emplace(key, index);
-            return index;
-        };
-        std::vector<Eigen::Vector3i> finer;
-        finer.reserve(faces.size() * 4);
-        for (const auto& f : faces) {
-            const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
-            finer.push_back({f[0], ab, ca});
-            finer.push_back({f[1], bc, ab});
-            finer.push_back({f[2], ca, bc});
-            finer.push_back({ab, bc, ca});
-        }
-        faces.swap(finer);
-    }
     TestMesh mesh;
-    mesh.positions.resize(Eigen::Index(points.size()), 3);
-    for (size_t i = 0; i < points.size(); ++i) mesh.positions.row(Eigen::Index(i)) = radius * points[i].transpose();
-    mesh.triangles.resize(Eigen::Index(faces.size()), 3);
-    for (size_t i = 0; i < faces.size(); ++i) mesh.triangles.row(Eigen::Index(i)) = faces[i].transpose();
+    icosphere(subdivisions, radius, Eigen::Vector3d::Zero(), mesh.positions, mesh.triangles);
     return mesh;
 }
 
