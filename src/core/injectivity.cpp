@@ -430,12 +430,23 @@ void vertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, s
     }
 }
 
+namespace {
+
+// The common start of both tests: which of the requested cells are deformed (the only ones that can fail),
+// with the counts and the boundary flag filled into the result.
+std::vector<int> cellsToCheck(const Lattice& lattice, const std::vector<int>& cells, InjectivityResult& result) {
+    std::vector<int> work = deformedCells(lattice, cells, result.cellsChecked);
+    result.cellsDeformed = static_cast<int>(work.size());
+    result.boundaryFixed = boundaryUnmoved(lattice);
+    return work;
+}
+
+}  // namespace
+
 InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vector<int>& cells) {
     const Clock::time_point start = Clock::now();
     InjectivityResult result;
-    const std::vector<int> work = deformedCells(lattice, cells, result.cellsChecked);
-    result.cellsDeformed = static_cast<int>(work.size());
-    result.boundaryFixed = boundaryUnmoved(lattice);
+    const std::vector<int> work = cellsToCheck(lattice, cells, result);
     const int count = result.cellsDeformed;
     std::vector<CellCheck> checks(static_cast<size_t>(count), CellCheck::Certified);
     std::atomic<int> firstFailure{count};
@@ -484,9 +495,7 @@ InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptio
                                         const std::vector<int>& cells) {
     const Clock::time_point start = Clock::now();
     InjectivityResult result;
-    const std::vector<int> work = deformedCells(lattice, cells, result.cellsChecked);
-    result.cellsDeformed = static_cast<int>(work.size());
-    result.boundaryFixed = boundaryUnmoved(lattice);
+    const std::vector<int> work = cellsToCheck(lattice, cells, result);
     const int count = result.cellsDeformed;
     std::vector<CellOutcome> outcomes(static_cast<size_t>(count));
     std::atomic<int> firstFold{count};
