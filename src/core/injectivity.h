@@ -39,6 +39,10 @@ struct InjectivitySettings {
     // Depth of the adaptive subdivision of a failing manipulation (section 8, Appendix "InjectSubdiv"):
     // how many times the Session may halve a drag before rejecting it. Not used by the tests below.
     int maxDepth = 6;
+    // With a test on (conic or exact), also check the triangle mesh itself: an operation that makes two
+    // triangles cross that did not cross before is subdivided or refused like a failing lattice test
+    // (self_intersection.h). Off only to measure what it costs.
+    bool checkTriangles = true;
 };
 
 enum class InjectivityVerdict {

@@ -10,6 +10,7 @@
 #include <Eigen/LU>
 
 #include "core/injectivity.h"
+#include "core/lattice_boundary.h"
 
 namespace sculpt::core {
 
@@ -24,6 +25,12 @@ double millisecondsSince(Clock::time_point start) {
 std::string vectorText(const Eigen::Vector3d& v) {
     char buffer[128];
     std::snprintf(buffer, sizeof buffer, "(%g, %g, %g)", v.x(), v.y(), v.z());
+    return buffer;
+}
+
+std::string percentText(double fraction) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.1f%%", 100.0 * fraction);
     return buffer;
 }
 
@@ -154,6 +161,10 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     embedVertices(lattice_, rest_, embedding_);
     frames_.clear();
     if (trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(rest_.rows()), 1.0);
+    // The triangle check's index, and the pairs that already cross (they never count against an edit).
+    meshIndex_.build(positions_, triangles_);
+    initialIntersectingPairs_ = static_cast<int>(meshIndex_.allIntersections(positions_, triangles_).size());
+    before_.resize(positions_.rows(), 3);
     history_.clear();
     cursor_ = 0;
     lastMoved_.clear();
@@ -188,7 +199,15 @@ Status Session::parametersOfVertex(int vertex, Eigen::Vector3d& params) const {
 
 void Session::applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved) {
     applyControlDelta(lattice_, delta, sign);
-    evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, sign, positions_, increment_, moved);
+    std::vector<int> changed;
+    evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, sign, positions_, increment_, &changed);
+    positionsChanged(&changed);
+    if (moved) moved->insert(moved->end(), changed.begin(), changed.end());
+}
+
+void Session::positionsChanged(const std::vector<int>* vertices) {
+    if (vertices) meshIndex_.verticesMoved(*vertices);
+    else meshIndex_.allVerticesMoved();
 }
 
 void Session::pushOperation(Operation operation) {
@@ -323,6 +342,7 @@ void Session::leaveFrame() {
     for (int idx : frozen.pinToggles) previous.pinned[idx] ^= 1;
     lattice_ = std::move(previous);
     settings_ = frozen.settings;
+    positionsChanged(nullptr);
     invertDeformation(lattice_, positions_, rest_);
     embedVertices(lattice_, rest_, embedding_);
     if (trackJacobian_) accumulateFrameJacobian(true);
@@ -339,50 +359,179 @@ void Session::restoreSnapshot(Snapshot& snapshot) {
         rest_ = snapshot.rest;
         settings_ = snapshot.settings;
     }
-    if (snapshot.positionsSaved) positions_ = snapshot.positions;
+    if (snapshot.positionsSaved) {
+        positions_ = snapshot.positions;
+        positionsChanged(nullptr);
+    }
     if (snapshot.latticeSaved) lattice_ = snapshot.lattice;
     if (snapshot.frameSaved) embedVertices(lattice_, rest_, embedding_);
 }
 
 // ---- InjectSubdiv ---------------------------------------------------------------------------------------
 
-InjectivityResult Session::applyIfInjective(const ControlDelta& delta) {
-    // Tentatively change the lattice and test the cells the change reaches (the rest were tested before).
-    Positions saved(static_cast<Eigen::Index>(delta.indices.size()), 3);
-    for (size_t c = 0; c < delta.indices.size(); ++c) saved.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(delta.indices[c]);
+bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure, double& injectivityMs,
+                       double& triangleMs, bool keep) {
+    const bool checking = injectivity_.mode != InjectivityMode::Off;
+    // Tentatively change the lattice; keep the rows so a refusal puts them back bitwise.
+    Positions savedRows(static_cast<Eigen::Index>(delta.indices.size()), 3);
+    for (size_t c = 0; c < delta.indices.size(); ++c) savedRows.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(delta.indices[c]);
+    const auto restoreLattice = [&] {
+        for (size_t c = 0; c < delta.indices.size(); ++c) lattice_.displacement.row(delta.indices[c]) = savedRows.row(static_cast<Eigen::Index>(c));
+    };
     applyControlDelta(lattice_, delta, 1.0);
     const std::vector<int> cells = cellsInfluencedBy(lattice_, delta.indices);
-    // note: an empty change (every control point that could move is pinned) reaches no cell; an empty cell
-    // list would mean "all cells" to the checker.
-    InjectivityResult verdict;
-    verdict.certified = true;
-    if (!cells.empty()) verdict = checkInjectivity(lattice_, injectivity_.mode, cells);
-    if (!verdict.certified)  // put the rows back exactly as they were
-        for (size_t c = 0; c < delta.indices.size(); ++c) lattice_.displacement.row(delta.indices[c]) = saved.row(static_cast<Eigen::Index>(c));
-    return verdict;
+    if (checking && !cells.empty()) {
+        // note: an empty change (every control point that could move is pinned) reaches no cell; an empty cell
+        // list would mean "all cells" to the checker.
+        // Gain & Dodgson 2001: det J > 0 in the cells the change reaches (the rest were tested before).
+        const InjectivityResult verdict = checkInjectivity(lattice_, injectivity_.mode, cells);
+        injectivityMs += verdict.milliseconds;
+        if (!verdict.certified) {
+            restoreLattice();
+            const auto& ijk = verdict.failingCellIjk;
+            failure.cause = StepFailure::Cause::Lattice;
+            failure.technical = std::string(injectivityModeName(injectivity_.mode)) + " test fails in cell [" + std::to_string(ijk[0]) +
+                                "," + std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "]";
+            if (!verdict.message.empty()) failure.technical += " (" + verdict.message + ")";
+            if (verdict.failingParams.allFinite()) failure.where = currentImage(verdict.failingParams);
+            return false;
+        }
+        // A free boundary: det J > 0 is local only. The deformed box boundary must not overlap itself
+        // (lattice_boundary.h); only pairs that did not overlap before the change count.
+        bool boundaryMoved = false;
+        for (int idx : delta.indices) boundaryMoved = boundaryMoved || inOuterLayers(lattice_, idx, 1);
+        if (boundaryMoved && !boundaryUnmoved(lattice_)) {
+            const auto start = Clock::now();
+            std::vector<TrianglePairHit> after = boundarySelfIntersections(lattice_);
+            if (!after.empty()) {
+                restoreLattice();
+                const std::vector<TrianglePairHit> before = boundarySelfIntersections(lattice_);
+                for (const TrianglePairHit& hit : after) {
+                    const bool existed = std::any_of(before.begin(), before.end(), [&](const TrianglePairHit& b) {
+                        return b.first == hit.first && b.second == hit.second;
+                    });
+                    if (existed) continue;
+                    failure.cause = StepFailure::Cause::Boundary;
+                    failure.technical = "the deformed lattice boundary overlaps itself (boundary triangles " + std::to_string(hit.first) +
+                                        " and " + std::to_string(hit.second) + ")";
+                    failure.where = hit.where;
+                    injectivityMs += millisecondsSince(start);
+                    return false;
+                }
+                applyControlDelta(lattice_, delta, 1.0);
+            }
+            injectivityMs += millisecondsSince(start);
+        }
+    }
+
+    // The mesh: evaluate the vertices of the cells reached, keeping their rows as they were.
+    std::vector<int> changed;
+    for (int cell : cells)
+        changed.insert(changed.end(), embedding_.order.begin() + embedding_.cellStart[cell], embedding_.order.begin() + embedding_.cellStart[cell + 1]);
+    for (int v : changed) before_.row(v) = positions_.row(v);
+    evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, 1.0, positions_, increment_, nullptr);
+    bool refused = false;
+    if (checking && injectivity_.checkTriangles) {
+        // The triangles the step moved must not cross any triangle they did not cross before.
+        const SelfIntersectionIndex::Result crossing = meshIndex_.findNewIntersection(positions_, triangles_, changed, before_);
+        triangleMs += crossing.milliseconds;
+        if (crossing.found) {
+            refused = true;
+            failure.cause = StepFailure::Cause::Triangles;
+            failure.technical = "triangles " + std::to_string(crossing.pair.first) + " and " + std::to_string(crossing.pair.second) +
+                                " would cross";
+            Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+            for (int k = 0; k < 3; ++k) {
+                const int v = triangles_(crossing.pair.first, k);
+                centroid += before_.row(v).transpose();  // where it is now, before the refused step
+            }
+            failure.where = centroid / 3.0;
+        }
+    } else {
+        positionsChanged(&changed);
+    }
+    if (refused || !keep) {
+        restoreLattice();
+        for (int v : changed) positions_.row(v) = before_.row(v);
+        positionsChanged(&changed);
+        return !refused;
+    }
+    if (moved) moved->insert(moved->end(), changed.begin(), changed.end());
+    return true;
+}
+
+double Session::applyLargestInjectiveFraction(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure,
+                                              double& injectivityMs, double& triangleMs) {
+    if (tryDelta(delta, moved, failure, injectivityMs, triangleMs)) return 1.0;
+    // Bisection on the fraction of the move: lo passes (0 always does: nothing changes), hi fails.
+    const StepFailure firstFailure = failure;
+    double lo = 0.0, hi = 1.0;
+    ControlDelta part = delta;
+    for (int iteration = 0; iteration < 10; ++iteration) {
+        const double mid = 0.5 * (lo + hi);
+        part.deltas = mid * delta.deltas;
+        StepFailure probeFailure;
+        if (tryDelta(part, nullptr, probeFailure, injectivityMs, triangleMs, false)) lo = mid;
+        else hi = mid;
+    }
+    failure = firstFailure;
+    if (lo == 0.0) return 0.0;
+    part.deltas = lo * delta.deltas;
+    StepFailure finalFailure;
+    if (!tryDelta(part, moved, finalFailure, injectivityMs, triangleMs)) return 0.0;  // passed as a probe: cannot happen
+    return lo;
+}
+
+const char* stepFailureCauseName(StepFailure::Cause cause) {
+    switch (cause) {
+        case StepFailure::Cause::Triangles: return "triangles";
+        case StepFailure::Cause::Boundary: return "boundary";
+        case StepFailure::Cause::Lattice: return "lattice";
+        case StepFailure::Cause::SourceLeft: return "source";
+        case StepFailure::Cause::None: break;
+    }
+    return "";
+}
+
+std::string stepFailureWords(const StepFailure& failure, bool drag) {
+    const std::string near = failure.where.allFinite() ? " near " + vectorText(failure.where) : "";
+    switch (failure.cause) {
+        case StepFailure::Cause::Triangles: return "the surface would pass through itself" + near;
+        case StepFailure::Cause::Boundary: return "the lattice's outer surface would fold onto itself" + near;
+        case StepFailure::Cause::Lattice:
+            return std::string("the ") + (drag ? "space around the mesh" : "lattice") + " would fold" + near;
+        case StepFailure::Cause::SourceLeft:
+        case StepFailure::Cause::None: break;
+    }
+    return failure.technical;
+}
+
+std::string stepFailureAdvice(StepFailure::Cause cause) {
+    switch (cause) {
+        case StepFailure::Cause::Triangles: return "try a smaller move, a finer lattice, or a finer mesh there";
+        case StepFailure::Cause::Boundary: return "pin the outer layer (pin layers 1), make a smaller move, or enlarge the lattice";
+        case StepFailure::Cause::Lattice: return "try a smaller move or a finer lattice";
+        case StepFailure::Cause::SourceLeft:
+        case StepFailure::Cause::None: break;
+    }
+    return "";
 }
 
 bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
     // Each step after the first is a separate deformation in a fresh regular lattice around the mesh the
     // earlier steps produced (design.md): with one lattice the halves would just add up to the failing move.
     if (progress.appliedInCurrentFrame) enterFreshFrame(settings_, &progress);
-    ControlDelta delta;
-    std::vector<Eigen::Vector3d> params;
-    if (m.kind == OperationKind::Drag) {
-        params.resize(m.sources.size());
-        Eigen::MatrixX3d displacements(static_cast<Eigen::Index>(m.sources.size()), 3);
-        for (size_t f = 0; f < m.sources.size(); ++f) {
-            if (Status s = parametersOfCurrentPoint(m.sources[f], params[f]); !s) {
-                progress.failure = "constraint " + std::to_string(f) + " source left the lattice: " + s.message;
-                return false;
-            }
-            displacements.row(static_cast<Eigen::Index>(f)) = (m.targets[f] - currentImage(params[f])).transpose();
+    std::vector<Eigen::Vector3d> params(m.sources.size());
+    Eigen::MatrixX3d displacements(static_cast<Eigen::Index>(m.sources.size()), 3);
+    for (size_t f = 0; f < m.sources.size(); ++f) {
+        if (Status s = parametersOfCurrentPoint(m.sources[f], params[f]); !s) {
+            progress.failure.cause = StepFailure::Cause::SourceLeft;
+            progress.failure.technical = "constraint " + std::to_string(f) + " source left the lattice: " + s.message;
+            return false;
         }
-        delta = directManipulation(lattice_, params, displacements).delta;  // Hu et al. 2001, eq. 7 / 12
-    } else {
-        delta.indices = m.controlPoints;
-        delta.deltas = m.offsets;
+        displacements.row(static_cast<Eigen::Index>(f)) = (m.targets[f] - currentImage(params[f])).transpose();
     }
+    ControlDelta delta = directManipulation(lattice_, params, displacements).delta;  // Hu et al. 2001, eq. 7 / 12
 
     // Inside a subdivision, keep what a rejection must restore before the first step changes anything.
     if (depth > 0 && !progress.snapshot.positionsSaved) {
@@ -393,47 +542,34 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
         progress.snapshot.latticeSaved = true;
         progress.snapshot.lattice = lattice_;
     }
-    const InjectivityResult verdict = applyIfInjective(delta);
-    progress.injectivityMs += verdict.milliseconds;
-    if (!verdict.certified) {
-        const auto& ijk = verdict.failingCellIjk;
-        progress.failure = std::string(injectivityModeName(injectivity_.mode)) + " test fails in cell [" +
-                           std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "]";
-        if (!verdict.message.empty()) progress.failure += " (" + verdict.message + ")";
+    if (!tryDelta(delta, &progress.moved, progress.failure, progress.injectivityMs, progress.triangleMs)) {
+        if (progress.firstFailure.cause == StepFailure::Cause::None) progress.firstFailure = progress.failure;
         return false;
     }
-    evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, 1.0, positions_, increment_, &progress.moved);
 
     Step step;
     step.freshFrame = progress.pendingFreshFrame;
     progress.pendingFreshFrame = false;
     step.settings = settings_;
     step.delta = std::move(delta);
-    if (m.kind == OperationKind::Drag)
-        for (size_t f = 0; f < m.sources.size(); ++f) step.constraints.push_back({m.sources[f], currentImage(params[f])});
+    for (size_t f = 0; f < m.sources.size(); ++f) step.constraints.push_back({m.sources[f], currentImage(params[f])});
     progress.operation->steps.push_back(std::move(step));
     progress.operation->depthReached = std::max(progress.operation->depthReached, depth);
     progress.appliedInCurrentFrame = true;
-    if (m.kind == OperationKind::Drag)
-        for (size_t f = 0; f < m.sources.size(); ++f) m.sources[f] = currentImage(params[f]);
+    for (size_t f = 0; f < m.sources.size(); ++f) m.sources[f] = currentImage(params[f]);
     return true;
 }
 
 bool Session::injectSubdiv(Manipulation& m, int depth, Progress& progress) {
     // Gain & Dodgson 2001, Appendix, InjectSubdiv(F, dF, L, d).
     if (tryStep(m, depth, progress)) return true;
-    if (depth >= injectivity_.maxDepth || progress.failure.find("left the lattice") != std::string::npos) return false;
+    if (depth >= injectivity_.maxDepth || progress.failure.cause == StepFailure::Cause::SourceLeft) return false;
     // (F, dF/2) then (F + dF/2, dF/2): the second half starts where the first left the sources.
     Manipulation first = m;
-    if (m.kind == OperationKind::Drag) {
-        for (size_t f = 0; f < m.sources.size(); ++f) first.targets[f] = m.sources[f] + 0.5 * (m.targets[f] - m.sources[f]);
-    } else {
-        first.offsets = 0.5 * m.offsets;
-    }
+    for (size_t f = 0; f < m.sources.size(); ++f) first.targets[f] = m.sources[f] + 0.5 * (m.targets[f] - m.sources[f]);
     if (!injectSubdiv(first, depth + 1, progress)) return false;
     Manipulation second = m;
-    if (m.kind == OperationKind::Drag) second.sources = first.sources;
-    else second.offsets = m.offsets - first.offsets;
+    second.sources = first.sources;
     if (!injectSubdiv(second, depth + 1, progress)) return false;
     m.sources = second.sources;
     return true;
@@ -444,17 +580,23 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
     Progress progress(scratch_);
     progress.operation = &operation;
     const bool ok = injectSubdiv(m, 0, progress);
-    report.injectivityMs = progress.injectivityMs;
+    report.injectivityMs = progress.injectivityMs + progress.triangleMs;
+    report.triangleCheckMs = progress.triangleMs;
     report.depthReached = operation.depthReached;
     if (!ok) {
         restoreSnapshot(progress.snapshot);
         lastMoved_.clear();
         lastMovedAll_ = progress.snapshot.frameSaved;
         report.status = OpStatus::Rejected;
-        report.reason = "no injective subdivision within depth " + std::to_string(injectivity_.maxDepth) + ": " + progress.failure +
-                        "; nothing was changed";
-        if (progress.failure.find("left the lattice") != std::string::npos) report.reason = progress.failure + "; nothing was changed";
-        report.injectivity = "rejected: " + progress.failure;
+        report.refusedBy = stepFailureCauseName(progress.failure.cause);
+        if (progress.failure.cause == StepFailure::Cause::SourceLeft) {
+            report.reason = progress.failure.technical + "; nothing was changed";
+        } else {
+            report.reason = "refused: " + stepFailureWords(progress.failure, true) + ", even split into up to " +
+                            std::to_string(1 << injectivity_.maxDepth) + " steps; nothing was changed (" +
+                            stepFailureAdvice(progress.failure.cause) + ")";
+        }
+        report.injectivity = "rejected: " + progress.failure.technical;
         report.subSteps = 0;
         report.wallMs = millisecondsSince(start);
         return Status::success();
@@ -466,13 +608,27 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
     report.status = OpStatus::Applied;
     report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
     report.subSteps = static_cast<int>(operation.steps.size());
+    if (report.subSteps > 1) {
+        // Say why it had to be split: what the move in one step would have done.
+        report.refusedBy = stepFailureCauseName(progress.firstFailure.cause);
+        report.reason = "subdivided into " + std::to_string(report.subSteps) + " injective steps: in one step " +
+                        stepFailureWords(progress.firstFailure, true);
+    }
     std::vector<int> changed;
     for (const Step& step : operation.steps) changed.insert(changed.end(), step.delta.indices.begin(), step.delta.indices.end());
     std::sort(changed.begin(), changed.end());
     report.controlPointsChanged = static_cast<int>(std::unique(changed.begin(), changed.end()) - changed.begin());
     report.verticesMoved = movedCount();
-    if (m.kind == OperationKind::Drag)
-        for (size_t f = 0; f < m.sources.size(); ++f) report.residuals.push_back((m.targets[f] - m.sources[f]).norm());
+    double worst = 0.0;
+    for (size_t f = 0; f < m.sources.size(); ++f) {
+        report.residuals.push_back((m.targets[f] - m.sources[f]).norm());
+        worst = std::max(worst, report.residuals.back());
+    }
+    if (worst > 1e-9 * lattice_.diagonal()) {
+        report.rankDeficient = true;
+        report.reason = "the constraints contradict each other or ask more than the free control points can give (largest miss " +
+                        std::to_string(worst) + "): met as closely as possible; use fewer constraints, unpin points, or a finer lattice";
+    }
     pushOperation(std::move(operation));
     report.wallMs = millisecondsSince(start);
     return Status::success();
@@ -488,7 +644,6 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     if (dragActive_) return Status::error("an interactive drag is in progress");
     if (constraints.empty()) return Status::error("drag has no constraints");
     Manipulation m;
-    m.kind = OperationKind::Drag;
     bool moves = false;
     for (size_t f = 0; f < constraints.size(); ++f) {
         const std::string which = "constraint " + std::to_string(f);
@@ -508,6 +663,15 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
         report.wallMs = millisecondsSince(start);
         return Status::success();
     }
+    // Simple causes no subdivision can help, said plainly before any work.
+    if (std::string cause = unreachableDragCause(m); !cause.empty()) {
+        report.status = OpStatus::Rejected;
+        report.reason = "refused: " + cause + "; nothing was changed";
+        report.injectivity = "rejected: " + cause;
+        report.refusedBy = "setup";
+        report.wallMs = millisecondsSince(start);
+        return Status::success();
+    }
     Operation operation;
     operation.kind = OperationKind::Drag;
     operation.label = constraints.size() == 1 ? "drag" : "drag (" + std::to_string(constraints.size()) + " points)";
@@ -515,6 +679,35 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     const Status status = runManipulation(std::move(m), std::move(operation), report);
     report.wallMs = millisecondsSince(start);
     return status;
+}
+
+std::string Session::unreachableDragCause(const Manipulation& m) const {
+    // Only pinned control points (or none) have a basis function that is non-zero at the source: nothing can
+    // move it (Hu et al. 2001 eq. 12 with those columns of R removed).
+    for (size_t f = 0; f < m.sources.size(); ++f) {
+        if (m.sources[f] == m.targets[f]) continue;
+        Eigen::Vector3d params;
+        if (!parametersOfCurrentPoint(m.sources[f], params)) continue;
+        SupportWeights support;
+        supportWeights(lattice_, params, support);
+        bool movable = false;
+        for (int c = 0; c < support.count && !movable; ++c) movable = support.weight[c] > 0.0 && !lattice_.pinned[support.index[c]];
+        if (!movable)
+            return "every control point that moves " + std::string(m.sources.size() > 1 ? "constraint " + std::to_string(f) + "'s source" : "the grabbed point") +
+                   " is pinned: unpin some of them (fewer pin layers, or P in the lattice tool) or use a finer lattice";
+    }
+    // With the whole outer layer pinned the lattice maps its box onto itself, so an injective deformation
+    // cannot carry a point inside the box to a target outside it.
+    if (injectivity_.mode == InjectivityMode::Off) return "";
+    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
+        if (inOuterLayers(lattice_, idx, 1) && !lattice_.pinned[idx]) return "";
+    for (size_t f = 0; f < m.targets.size(); ++f) {
+        const Eigen::Vector3d& t = m.targets[f];
+        if ((t.array() < lattice_.boxMin.array()).any() || (t.array() > lattice_.boxMax.array()).any())
+            return "the target " + vectorText(t) + " lies outside the lattice, whose outer layer is pinned, so nothing inside it can reach there: " +
+                   "unpin the outer layer (pin layers 0), enlarge the region, or drag less far";
+    }
+    return "";
 }
 
 Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report) {
@@ -562,20 +755,19 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     }
     // The same point listed twice: offsets add up for "by", the last position wins for "to".
     std::stable_sort(moves.begin(), moves.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    Manipulation m;
-    m.kind = OperationKind::ControlPointEdit;
+    ControlDelta delta;
     std::vector<Eigen::Vector3d> offsets;
     for (const auto& [idx, offset] : moves) {
-        if (!m.controlPoints.empty() && m.controlPoints.back() == idx) {
+        if (!delta.indices.empty() && delta.indices.back() == idx) {
             offsets.back() = relative ? Eigen::Vector3d(offsets.back() + offset) : offset;
             continue;
         }
-        m.controlPoints.push_back(idx);
+        delta.indices.push_back(idx);
         offsets.push_back(offset);
     }
-    m.offsets.resize(static_cast<Eigen::Index>(offsets.size()), 3);
-    for (size_t c = 0; c < offsets.size(); ++c) m.offsets.row(static_cast<Eigen::Index>(c)) = offsets[c].transpose();
-    if ((m.offsets.array() == 0.0).all()) {
+    delta.deltas.resize(static_cast<Eigen::Index>(offsets.size()), 3);
+    for (size_t c = 0; c < offsets.size(); ++c) delta.deltas.row(static_cast<Eigen::Index>(c)) = offsets[c].transpose();
+    if ((delta.deltas.array() == 0.0).all()) {
         report.status = OpStatus::NoOp;
         report.reason = "the control points are already there";
         report.wallMs = millisecondsSince(start);
@@ -583,12 +775,50 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     }
     Operation operation;
     operation.kind = OperationKind::ControlPointEdit;
-    operation.label = m.controlPoints.size() == 1 ? "move control point" : "move " + std::to_string(m.controlPoints.size()) + " control points";
-    operation.controlPoints = m.controlPoints;
-    operation.offsets = m.offsets;
-    const Status status = runManipulation(std::move(m), std::move(operation), report);
+    operation.label = delta.indices.size() == 1 ? "move control point" : "move " + std::to_string(delta.indices.size()) + " control points";
+    operation.controlPoints = delta.indices;
+    operation.offsets = delta.deltas;
+
+    // A control-point edit moves those points in this lattice, never a fresh one (design.md "The cage is the
+    // user's object"): where the whole move would fold, the points stop at the last injective position.
+    std::vector<int> moved;
+    StepFailure failure;
+    const double fraction = applyLargestInjectiveFraction(delta, &moved, failure, report.injectivityMs, report.triangleCheckMs);
+    report.injectivityMs += report.triangleCheckMs;
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    report.fractionApplied = fraction;
+    if (fraction == 0.0) {
+        report.status = OpStatus::Rejected;
+        report.refusedBy = stepFailureCauseName(failure.cause);
+        report.reason = "refused: any part of this move: " + stepFailureWords(failure, false) + "; nothing was changed (" +
+                        stepFailureAdvice(failure.cause) + ")";
+        report.injectivity = "rejected: " + failure.technical;
+        report.wallMs = millisecondsSince(start);
+        return Status::success();
+    }
+    Step step;
+    step.settings = settings_;
+    step.delta = delta;
+    step.delta.deltas *= fraction;
+    operation.steps.push_back(std::move(step));
+    std::sort(moved.begin(), moved.end());
+    moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
+    lastMoved_ = std::move(moved);
+    report.status = OpStatus::Applied;
+    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    report.subSteps = 1;
+    report.controlPointsChanged = static_cast<int>(delta.indices.size());
+    report.verticesMoved = movedCount();
+    if (fraction < 1.0) {
+        report.refusedBy = stepFailureCauseName(failure.cause);
+        const std::array<int, 3> ijk = lattice_.ijk(delta.indices.front());
+        report.reason = "stopped where the lattice would fold: moved " + percentText(fraction) + " of the way (beyond it " + stepFailureWords(failure, false) + "); control point [" + std::to_string(ijk[0]) + "," +
+                        std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "] ended at " + vectorText(lattice_.controlPoint(delta.indices.front()));
+    }
+    pushOperation(std::move(operation));
     report.wallMs = millisecondsSince(start);
-    return status;
+    return Status::success();
 }
 
 Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) {
@@ -787,29 +1017,30 @@ Status Session::beginControlDrag(const std::vector<int>& indices) {
 
 std::vector<Eigen::Vector3d> Session::dragSources() const { return dragSourceWorld_; }
 
+void Session::mergeInteractiveStep(const ControlDelta& delta) {
+    if (!dragOperation_.steps.empty() && dragAppliedInFrame_) {
+        mergeDelta(dragOperation_.steps.back().delta, delta);
+    } else {
+        Step step;
+        step.settings = settings_;
+        step.delta = delta;
+        for (const Eigen::Vector3d& source : dragSourceWorld_) step.constraints.push_back({source, source});
+        dragOperation_.steps.push_back(std::move(step));
+    }
+    dragAppliedInFrame_ = true;
+}
+
 bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report) {
     // Fast path: the whole increment as one change of the current lattice (the group property of Hu et al.
     // 2001, section 4, makes a drag's increments add up to one control displacement per frame).
-    const InjectivityResult verdict = applyIfInjective(delta);
-    report.injectivityMs = verdict.milliseconds;
+    StepFailure failure;
     lastMoved_.clear();
     lastMovedAll_ = false;
-    const bool drag = m.kind == OperationKind::Drag;
-    if (verdict.certified) {
-        evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, 1.0, positions_, increment_, &lastMoved_);
-        if (!dragOperation_.steps.empty() && dragAppliedInFrame_) {
-            mergeDelta(dragOperation_.steps.back().delta, delta);
-        } else {
-            Step step;
-            step.settings = settings_;
-            step.delta = delta;
-            for (const Eigen::Vector3d& source : dragSourceWorld_) step.constraints.push_back({source, source});
-            dragOperation_.steps.push_back(std::move(step));
-        }
-        if (drag)
-            for (size_t f = 0; f < dragParams_.size(); ++f) dragOperation_.steps.back().constraints[f].target = currentImage(dragParams_[f]);
-        dragAppliedInFrame_ = true;
+    if (tryDelta(delta, &lastMoved_, failure, report.injectivityMs, report.triangleCheckMs)) {
+        mergeInteractiveStep(delta);
+        for (size_t f = 0; f < dragParams_.size(); ++f) dragOperation_.steps.back().constraints[f].target = currentImage(dragParams_[f]);
         report.subSteps = 1;
+        report.injectivityMs += report.triangleCheckMs;
         return true;
     }
     // Not injective as one step: subdivide this increment like any operation (Gain & Dodgson 2001, Appendix,
@@ -818,15 +1049,18 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
     Progress progress(scratch_);
     progress.operation = &increments;
     progress.appliedInCurrentFrame = dragAppliedInFrame_;
+    progress.firstFailure = failure;
     const bool ok = injectSubdiv(m, 0, progress);
-    report.injectivityMs += progress.injectivityMs;
+    report.injectivityMs += progress.injectivityMs + progress.triangleMs + report.triangleCheckMs;
+    report.triangleCheckMs += progress.triangleMs;
     if (!ok) {
         restoreSnapshot(progress.snapshot);
         lastMovedAll_ = progress.snapshot.frameSaved;
         report.status = OpStatus::Rejected;
-        report.reason = std::string("this move would fold the ") + (drag ? "mesh" : "lattice") + " (" + progress.failure +
-                        "); the drag stays at the last valid position";
-        report.injectivity = "rejected: " + progress.failure;
+        report.refusedBy = stepFailureCauseName(progress.failure.cause);
+        report.reason = "stopped: " + stepFailureWords(progress.failure, true) + "; the drag stays at the last valid position (" +
+                        stepFailureAdvice(progress.failure.cause) + ")";
+        report.injectivity = "rejected: " + progress.failure.technical;
         return false;
     }
     for (Step& step : increments.steps) {
@@ -846,6 +1080,7 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
     lastMovedAll_ = progress.movedAll;
     report.subSteps = static_cast<int>(increments.steps.size());
     report.depthReached = increments.depthReached;
+    report.refusedBy = stepFailureCauseName(failure.cause);
     return true;
 }
 
@@ -869,7 +1104,6 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport
     // One incremental manipulation omega(S, increment) with the factorisation made at begin (eq. 7 / 12).
     const DirectManipulationResult solved = solveDirectManipulation(dragData_, increment);
     Manipulation m;
-    m.kind = OperationKind::Drag;
     for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));
     m.targets = targets;
     const int framesBefore = frameDepth();
@@ -917,19 +1151,30 @@ Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& repor
     ControlDelta delta;
     delta.indices = dragOperation_.controlPoints;
     delta.deltas = increment.replicate(count, 1);
-    Manipulation m;
-    m.kind = OperationKind::ControlPointEdit;
-    m.controlPoints = delta.indices;
-    m.offsets = delta.deltas;
-    if (!applyInteractiveIncrement(delta, m, report)) {
-        report.wallMs = millisecondsSince(start);
-        return Status::success();
+    // The points follow up to the last injective position and stop there (design.md "The cage is the user's
+    // object"): never a fresh lattice. A later update that moves back lets them follow again.
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    StepFailure failure;
+    const double fraction = applyLargestInjectiveFraction(delta, &lastMoved_, failure, report.injectivityMs, report.triangleCheckMs);
+    report.injectivityMs += report.triangleCheckMs;
+    report.fractionApplied = fraction;
+    if (fraction > 0.0) {
+        delta.deltas *= fraction;
+        mergeInteractiveStep(delta);
+        dragOperation_.offsets.rowwise() += fraction * increment;
     }
-    dragOperation_.offsets.rowwise() = offset.transpose();
-    report.status = OpStatus::Applied;
+    std::sort(lastMoved_.begin(), lastMoved_.end());
+    lastMoved_.erase(std::unique(lastMoved_.begin(), lastMoved_.end()), lastMoved_.end());
     report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
-    report.controlPointsChanged = static_cast<int>(count);
+    report.controlPointsChanged = fraction > 0.0 ? static_cast<int>(count) : 0;
     report.verticesMoved = movedCount();
+    report.subSteps = fraction > 0.0 ? 1 : 0;
+    report.status = fraction > 0.0 ? OpStatus::Applied : OpStatus::Rejected;
+    if (fraction < 1.0) {
+        report.refusedBy = stepFailureCauseName(failure.cause);
+        report.reason = "stopped where the lattice would fold (" + stepFailureWords(failure, false) + " beyond it)";
+    }
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }

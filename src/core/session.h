@@ -16,6 +16,7 @@
 // holds operations and the small frozen frames, never copies of the mesh.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@
 #include "core/injectivity.h"
 #include "core/lattice.h"
 #include "core/mesh_types.h"
+#include "core/self_intersection.h"
 #include "core/status.h"
 
 namespace sculpt::core {
@@ -55,9 +57,29 @@ struct OpReport {
     int subSteps = 0;
     int depthReached = 0;
     double injectivityMs = 0.0;
+    // What stopped a step (or made the operation subdivide): "lattice" (det J test), "boundary" (the free
+    // lattice boundary would overlap itself), "triangles" (two triangles would cross), or empty.
+    std::string refusedBy;
+    double triangleCheckMs = 0.0;    // the triangle check's share of the time
+    // A control-point edit stopped short of where it was asked, at the last injective position along the
+    // move: the fraction of the move applied (1 = all of it).
+    double fractionApplied = 1.0;
 };
 
 enum class OperationKind { Drag, ControlPointEdit, LatticeSetup };
+
+// Why a step of an operation was not applied: what failed, in the engine's terms, and where on the mesh.
+struct StepFailure {
+    enum class Cause { None, SourceLeft, Lattice, Boundary, Triangles } cause = Cause::None;
+    std::string technical;  // e.g. "conic test fails in cell [2,4,1] (...)"
+    Eigen::Vector3d where = Eigen::Vector3d::Constant(NAN);  // world point near the failure (current shape)
+};
+// "lattice", "boundary", "triangles", "source" or "" (OpReport::refusedBy).
+const char* stepFailureCauseName(StepFailure::Cause cause);
+// What would happen, in the user's words, e.g. "the surface would pass through itself near (0.1, 0.2, 0.3)".
+std::string stepFailureWords(const StepFailure& failure, bool drag);
+// What the user can do about it, e.g. "try a smaller move, a finer lattice, or a finer mesh there".
+std::string stepFailureAdvice(StepFailure::Cause cause);
 
 // One injective deformation: a control displacement in one frame (lattice placement).
 struct Step {
@@ -183,14 +205,14 @@ public:
     // lastMovedAll() is true every vertex may have changed (a frame was entered or left).
     const std::vector<int>& lastMovedVertices() const { return lastMoved_; }
     bool lastMovedAll() const { return lastMovedAll_; }
+    // Intersecting triangle pairs the mesh had when it was set (a self-intersecting input; these never count
+    // against an operation). Counted once by setMesh.
+    int initialIntersectingPairs() const { return initialIntersectingPairs_; }
 
 private:
-    // A manipulation being subdivided: world-space sources/targets (drags) or offsets (control points).
+    // A drag being subdivided: world-space sources and targets.
     struct Manipulation {
-        OperationKind kind = OperationKind::Drag;
         std::vector<Eigen::Vector3d> sources, targets;
-        std::vector<int> controlPoints;
-        Eigen::MatrixX3d offsets;
     };
     // State kept while an operation is being applied, so a rejection restores everything bitwise.
     struct Snapshot {
@@ -209,16 +231,30 @@ private:
         bool appliedInCurrentFrame = false;  // a step of this operation already changed the current frame
         bool pendingFreshFrame = false;      // a fresh frame was entered and no step has been applied in it yet
         Snapshot& snapshot;  // the session's scratch_, reused so large copies do not fault in fresh pages
-        std::string failure;
+        StepFailure failure;                                        // the last step that failed
+        StepFailure firstFailure;                                   // what first made it subdivide
         double injectivityMs = 0.0;
+        double triangleMs = 0.0;
         std::vector<int> moved;
         bool movedAll = false;
     };
 
-    // Adds delta to the lattice if the cells it reaches pass the injectivity test; otherwise leaves the lattice
-    // bitwise as it was. Positions are not touched.
-    InjectivityResult applyIfInjective(const ControlDelta& delta);
+    // Applies delta to the lattice and the mesh if every check passes: the injectivity test of the cells it
+    // reaches (Gain & Dodgson 2001), the free boundary's self-overlap, and no new crossing of triangles;
+    // otherwise leaves lattice and positions bitwise as they were and says why. Moved vertices are appended
+    // to `moved`. keep = false: a probe; everything is put back even when the checks pass.
+    bool tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure, double& injectivityMs,
+                  double& triangleMs, bool keep = true);
+    // The largest fraction s in [0, 1] of `delta` (to 1/1024) that passes tryDelta, applied (bisection on the move:
+    // design.md "The cage is the user's object": a control-point edit stops at the injective limit).
+    double applyLargestInjectiveFraction(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure,
+                                         double& injectivityMs, double& triangleMs);
+    // The index of the triangle check learns which vertices moved (nullptr: all of them).
+    void positionsChanged(const std::vector<int>* vertices);
     bool injectSubdiv(Manipulation& m, int depth, Progress& progress);
+    // A reason no deformation could do this drag (its sources cannot move, or a target outside a lattice whose
+    // boundary is pinned), in the user's words with what to do; empty if there is none.
+    std::string unreachableDragCause(const Manipulation& m) const;
     bool tryStep(Manipulation& m, int depth, Progress& progress);
     void enterFreshFrame(const LatticeSettings& settings, Progress* progress);
     void leaveFrame();
@@ -227,6 +263,8 @@ private:
     // One increment of an interactive drag: `delta` in the current frame when that is injective, otherwise m
     // subdivided; merged into dragOperation_. Returns false (report says why, nothing changed) if rejected.
     bool applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report);
+    // Adds an increment applied in the current frame to the interactive operation's last step (or a new one).
+    void mergeInteractiveStep(const ControlDelta& delta);
     // A control point a user edit may move: inside the lattice and not pinned (the error names it).
     Status checkMovable(int idx) const;
     // Adds sign * delta to the lattice and re-evaluates the affected cells; moved vertices are appended.
@@ -255,6 +293,9 @@ private:
     bool lastMovedAll_ = false;
     bool trackJacobian_ = false;
     std::vector<double> frozenJacobian_;  // #V, product of the frozen frames' det J (when tracking)
+    SelfIntersectionIndex meshIndex_;     // broad phase of the triangle check, refitted where vertices move
+    Positions before_;                    // #V: the rows of the vertices a step moves, as they were before it
+    int initialIntersectingPairs_ = 0;
     void accumulateFrameJacobian(bool divide);
 
     bool dragActive_ = false;

@@ -213,7 +213,7 @@ Status parseScript(const std::string& text, const std::string& displayName, core
         if (root.contains("lattice")) script.lattice = parseLattice(root["lattice"], "lattice");
         if (root.contains("injectivity")) {
             const json& inj = root["injectivity"];
-            allowOnly(inj, "injectivity", {"mode", "max_depth"});
+            allowOnly(inj, "injectivity", {"mode", "max_depth", "triangles"});
             if (inj.contains("mode")) {
                 if (!inj["mode"].is_string() || !core::parseInjectivityMode(inj["mode"].get<std::string>(), script.injectivity.mode))
                     fail("injectivity.mode", "expected \"off\", \"conic\" or \"exact\"");
@@ -222,6 +222,10 @@ Status parseScript(const std::string& text, const std::string& displayName, core
                 script.injectivity.maxDepth = integer(inj["max_depth"], "injectivity.max_depth");
                 if (script.injectivity.maxDepth < 0 || script.injectivity.maxDepth > 12)
                     fail("injectivity.max_depth", "must be in [0, 12]");
+            }
+            if (inj.contains("triangles")) {
+                if (!inj["triangles"].is_boolean()) fail("injectivity.triangles", "expected true or false");
+                script.injectivity.checkTriangles = inj["triangles"].get<bool>();
             }
         }
         if (root.contains("ops")) {
@@ -241,6 +245,10 @@ Status parseScript(const std::string& text, const std::string& displayName, core
 
 namespace {
 
+json injectivityJson(const core::InjectivitySettings& s) {
+    return {{"mode", core::injectivityModeName(s.mode)}, {"max_depth", s.maxDepth}, {"triangles", s.checkTriangles}};
+}
+
 json latticeJson(const core::LatticeSettings& s) {
     json j = {{"resolution", s.resolution}, {"degree", s.degree}, {"padding", s.padding}, {"pin_layers", s.pinLayers}};
     j["region"] = s.hasRegion ? json{{"min", vectorJson(s.regionMin)}, {"max", vectorJson(s.regionMax)}} : json(nullptr);
@@ -253,7 +261,7 @@ std::string scriptToJson(const core::Script& script) {
     json root;
     if (!script.mesh.empty()) root["mesh"] = script.mesh;
     root["lattice"] = latticeJson(script.lattice);
-    root["injectivity"] = {{"mode", core::injectivityModeName(script.injectivity.mode)}, {"max_depth", script.injectivity.maxDepth}};
+    root["injectivity"] = injectivityJson(script.injectivity);
     json ops = json::array();
     for (const core::ScriptOp& op : script.ops) {
         json j;
@@ -358,6 +366,9 @@ std::string reportToJson(const core::ScriptReport& report, const core::Session& 
         op["sub_steps"] = r.subSteps;
         op["depth_reached"] = r.depthReached;
         op["injectivity_ms"] = r.injectivityMs;
+        if (!r.refusedBy.empty()) op["refused_by"] = r.refusedBy;
+        op["triangle_check_ms"] = r.triangleCheckMs;
+        if (r.fractionApplied < 1.0) op["fraction_applied"] = r.fractionApplied;
         op["control_points_changed"] = r.controlPointsChanged;
         op["vertices_moved"] = r.verticesMoved;
         op["wall_ms"] = r.wallMs;
@@ -366,8 +377,8 @@ std::string reportToJson(const core::ScriptReport& report, const core::Session& 
     root["ops"] = ops;
     root["history"] = {{"entries", session.history().size()}, {"cursor", session.historyCursor()},
                        {"bytes", session.historyBytes()}, {"lattice_frames", session.frameDepth() + 1}};
-    root["injectivity"] = {{"mode", core::injectivityModeName(session.injectivity().mode)},
-                           {"max_depth", session.injectivity().maxDepth}};
+    root["injectivity"] = injectivityJson(session.injectivity());
+    root["self_intersecting_pairs_at_load"] = session.initialIntersectingPairs();
     return root.dump(2) + "\n";
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <gmpxx.h>
 
 #include "core/mesh_types.h"
 
@@ -51,62 +52,115 @@ inline void icosphere(int levels, double radius, const Eigen::Vector3d& centre, 
 
 namespace detail {
 
-// Moller's interval overlap test for two non-degenerate triangles that share no vertex. Independent of
-// the engine: plain vector algebra on the triangle corners.
-inline bool triangleTriangleIntersect(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
-                                      const Eigen::Vector3d& q0, const Eigen::Vector3d& q1, const Eigen::Vector3d& q2) {
-    auto separated = [](const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& a2,
-                        const Eigen::Vector3d& b0, const Eigen::Vector3d& b1, const Eigen::Vector3d& b2, double d[3]) {
-        const Eigen::Vector3d n = (a1 - a0).cross(a2 - a0);
-        const double scale = n.norm() * std::max({(b0 - a0).norm(), (b1 - a0).norm(), (b2 - a0).norm(), 1e-300});
-        d[0] = n.dot(b0 - a0);
-        d[1] = n.dot(b1 - a0);
-        d[2] = n.dot(b2 - a0);
-        for (int i = 0; i < 3; ++i)
-            if (std::abs(d[i]) < 1e-12 * scale) d[i] = 0.0;
-        return (d[0] > 0 && d[1] > 0 && d[2] > 0) || (d[0] < 0 && d[1] < 0 && d[2] < 0);
+// Exact predicates in rational arithmetic (GMP): every double is a rational, so the signs below are exact.
+// Written apart from the engine's check (which uses CGAL's filtered predicates and its own case analysis),
+// so the tests compare two independent computations.
+using Rational = mpq_class;
+struct ExactPoint {
+    Rational x, y, z;
+    explicit ExactPoint(const Eigen::Vector3d& p) : x(p.x()), y(p.y()), z(p.z()) {}
+};
+
+inline int sign(const Rational& r) { return sgn(r); }
+
+// Sign of det[b-a, c-a, d-a]: > 0 when d is on the side of plane (a, b, c) its normal (b-a) x (c-a) points to.
+inline int orient3d(const ExactPoint& a, const ExactPoint& b, const ExactPoint& c, const ExactPoint& d) {
+    const Rational bx = b.x - a.x, by = b.y - a.y, bz = b.z - a.z;
+    const Rational cx = c.x - a.x, cy = c.y - a.y, cz = c.z - a.z;
+    const Rational dx = d.x - a.x, dy = d.y - a.y, dz = d.z - a.z;
+    return sign(bx * (cy * dz - cz * dy) - by * (cx * dz - cz * dx) + bz * (cx * dy - cy * dx));
+}
+
+// 2D orientation of (a, b, c) in the coordinate plane that drops axis `drop`.
+inline int orient2d(const ExactPoint& a, const ExactPoint& b, const ExactPoint& c, int drop) {
+    auto u = [drop](const ExactPoint& p) -> const Rational& { return drop == 0 ? p.y : p.x; };
+    auto v = [drop](const ExactPoint& p) -> const Rational& { return drop == 2 ? p.y : p.z; };
+    return sign((u(b) - u(a)) * (v(c) - v(a)) - (v(b) - v(a)) * (u(c) - u(a)));
+}
+
+// Closed 2D segments pq and rs (in the plane dropping `drop`, all four points coplanar) meet.
+inline bool segmentsMeet2d(const ExactPoint& p, const ExactPoint& q, const ExactPoint& r, const ExactPoint& s, int drop) {
+    const int o1 = orient2d(p, q, r, drop), o2 = orient2d(p, q, s, drop), o3 = orient2d(r, s, p, drop), o4 = orient2d(r, s, q, drop);
+    if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+    auto within = [drop](const ExactPoint& a, const ExactPoint& b, const ExactPoint& c) {  // c on segment ab, given collinear
+        auto u = [drop](const ExactPoint& x) -> const Rational& { return drop == 0 ? x.y : x.x; };
+        auto v = [drop](const ExactPoint& x) -> const Rational& { return drop == 2 ? x.y : x.z; };
+        return std::min(u(a), u(b)) <= u(c) && u(c) <= std::max(u(a), u(b)) && std::min(v(a), v(b)) <= v(c) && v(c) <= std::max(v(a), v(b));
     };
-    double dq[3], dp[3];
-    if (separated(p0, p1, p2, q0, q1, q2, dq) || separated(q0, q1, q2, p0, p1, p2, dp)) return false;
-    const Eigen::Vector3d direction = (p1 - p0).cross(p2 - p0).cross((q1 - q0).cross(q2 - q0));
-    if (direction.squaredNorm() < 1e-30) return false;  // coplanar: not produced by these deformations
-    auto interval = [&](const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const double d[3]) {
-        const std::array<Eigen::Vector3d, 3> a{a0, a1, a2};
-        std::array<double, 3> proj;
-        for (int i = 0; i < 3; ++i) proj[i] = direction.dot(a[i]);
-        // The vertex alone on its side of the other plane.
-        int lone = 0;
-        if ((d[0] > 0) == (d[1] > 0) && d[2] != 0) lone = 2;
-        else if ((d[0] > 0) == (d[2] > 0) && d[1] != 0) lone = 1;
-        else lone = 0;
-        if (d[lone] == 0) {  // a vertex on the plane: take the span of the zero vertices and edge crossings
-            double lo = INFINITY, hi = -INFINITY;
-            for (int i = 0; i < 3; ++i) {
-                const int j = (i + 1) % 3;
-                if (d[i] == 0) { lo = std::min(lo, proj[i]); hi = std::max(hi, proj[i]); }
-                if ((d[i] > 0 && d[j] < 0) || (d[i] < 0 && d[j] > 0)) {
-                    const double x = proj[i] + (proj[j] - proj[i]) * d[i] / (d[i] - d[j]);
-                    lo = std::min(lo, x);
-                    hi = std::max(hi, x);
-                }
-            }
-            return std::make_pair(lo, hi);
+    return (o1 == 0 && within(p, q, r)) || (o2 == 0 && within(p, q, s)) || (o3 == 0 && within(r, s, p)) || (o4 == 0 && within(r, s, q));
+}
+
+// Closed segment pq meets closed, non-degenerate triangle abc.
+inline bool segmentMeetsTriangle(const ExactPoint& p, const ExactPoint& q, const ExactPoint& a, const ExactPoint& b, const ExactPoint& c) {
+    const int op = orient3d(a, b, c, p), oq = orient3d(a, b, c, q);
+    if (op * oq > 0) return false;
+    if (op == 0 && oq == 0) {
+        // Coplanar: project along the normal's largest component (exactly compared).
+        const Rational nx = (b.y - a.y) * (c.z - a.z) - (b.z - a.z) * (c.y - a.y);
+        const Rational ny = (b.z - a.z) * (c.x - a.x) - (b.x - a.x) * (c.z - a.z);
+        const Rational nz = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        const Rational ax = abs(nx), ay = abs(ny), az = abs(nz);
+        const int drop = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+        auto inside = [&](const ExactPoint& x) {
+            const int s1 = orient2d(a, b, x, drop), s2 = orient2d(b, c, x, drop), s3 = orient2d(c, a, x, drop);
+            return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+        };
+        return inside(p) || inside(q) || segmentsMeet2d(p, q, a, b, drop) || segmentsMeet2d(p, q, b, c, drop) ||
+               segmentsMeet2d(p, q, c, a, drop);
+    }
+    // The line pq crosses the plane once, inside [p, q]: is the crossing inside the triangle?
+    const int s1 = orient3d(p, q, a, b), s2 = orient3d(p, q, b, c), s3 = orient3d(p, q, c, a);
+    return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+}
+
+// Two triangles meet beyond what they share (by vertex id). Degenerate triangles are not counted (the test
+// meshes have none). Intersecting triangles have an edge of one meeting the other, coplanar or not.
+inline bool exactTrianglesIntersect(const std::array<Eigen::Vector3d, 3>& pa, const std::array<int, 3>& ia,
+                                    const std::array<Eigen::Vector3d, 3>& pb, const std::array<int, 3>& ib) {
+    std::vector<ExactPoint> A, B;
+    for (int k = 0; k < 3; ++k) A.emplace_back(pa[k]), B.emplace_back(pb[k]);
+    const Rational zero(0);
+    auto degenerate = [](const std::vector<ExactPoint>& t) {
+        for (int drop = 0; drop < 3; ++drop)
+            if (orient2d(t[0], t[1], t[2], drop) != 0) return false;
+        return true;
+    };
+    if (degenerate(A) || degenerate(B)) return false;
+    std::vector<std::pair<int, int>> shared;  // corner of a, corner of b
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (ia[i] == ib[j]) shared.emplace_back(i, j);
+    if (shared.size() >= 3) return false;
+    if (shared.size() == 2) {
+        // Shared edge: they meet beyond it only when coplanar with the other corners on one side of it.
+        const int oa = 3 - shared[0].first - shared[1].first, ob = 3 - shared[0].second - shared[1].second;
+        const ExactPoint& u = A[shared[0].first];
+        const ExactPoint& v = A[shared[1].first];
+        if (orient3d(u, v, A[oa], B[ob]) != 0) return false;
+        for (int drop = 0; drop < 3; ++drop) {
+            const int sa = orient2d(u, v, A[oa], drop), sb = orient2d(u, v, B[ob], drop);
+            if (sa != 0) return sa == sb;
         }
-        const int i1 = (lone + 1) % 3, i2 = (lone + 2) % 3;
-        const double x1 = proj[lone] + (proj[i1] - proj[lone]) * d[lone] / (d[lone] - d[i1]);
-        const double x2 = proj[lone] + (proj[i2] - proj[lone]) * d[lone] / (d[lone] - d[i2]);
-        return std::make_pair(std::min(x1, x2), std::max(x1, x2));
-    };
-    const auto a = interval(p0, p1, p2, dp);
-    const auto b = interval(q0, q1, q2, dq);
-    return a.first <= b.second && b.first <= a.second;
+        return false;
+    }
+    if (shared.size() == 1) {
+        const int wa = shared[0].first, wb = shared[0].second;
+        return segmentMeetsTriangle(B[(wb + 1) % 3], B[(wb + 2) % 3], A[0], A[1], A[2]) ||
+               segmentMeetsTriangle(A[(wa + 1) % 3], A[(wa + 2) % 3], B[0], B[1], B[2]);
+    }
+    for (int e = 0; e < 3; ++e) {
+        if (segmentMeetsTriangle(A[e], A[(e + 1) % 3], B[0], B[1], B[2])) return true;
+        if (segmentMeetsTriangle(B[e], B[(e + 1) % 3], A[0], A[1], A[2])) return true;
+    }
+    return false;
 }
 
 }  // namespace detail
 
-// Number of pairs of triangles that share no vertex and intersect. A uniform grid over the triangles'
-// bounding boxes prunes pairs, so meshes of a few thousand triangles take milliseconds.
-inline int selfIntersectingPairs(const Positions& positions, const Triangles& triangles) {
+// The intersecting pairs of triangles (what two triangles share by vertex id does not count), exactly, as
+// sorted (lower, higher) id pairs. A uniform grid over the triangles' bounding boxes prunes pairs, so meshes
+// of a few thousand triangles take well under a second.
+inline std::vector<std::pair<int, int>> intersectingPairs(const Positions& positions, const Triangles& triangles) {
     const int n = static_cast<int>(triangles.rows());
     std::vector<Eigen::AlignedBox3d> boxes(n);
     Eigen::AlignedBox3d all;
@@ -115,7 +169,7 @@ inline int selfIntersectingPairs(const Positions& positions, const Triangles& tr
         all.extend(boxes[t]);
     }
     const int g = std::max(1, static_cast<int>(std::cbrt(n)));
-    const Eigen::Vector3d cell = (all.sizes() / g).cwiseMax(1e-12);
+    const Eigen::Vector3d cell = (all.sizes() / g).cwiseMax(1e-300);
     std::unordered_map<long long, std::vector<int>> grid;
     auto key = [&](int x, int y, int z) { return (static_cast<long long>(x) * (g + 1) + y) * (g + 1) + z; };
     for (int t = 0; t < n; ++t) {
@@ -131,16 +185,24 @@ inline int selfIntersectingPairs(const Positions& positions, const Triangles& tr
             for (size_t j = i + 1; j < list.size(); ++j) pairs.emplace_back(std::min(list[i], list[j]), std::max(list[i], list[j]));
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    int count = 0;
+    std::vector<std::pair<int, int>> hits;
     for (const auto& [a, b] : pairs) {
-        bool shared = false;
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) shared = shared || triangles(a, i) == triangles(b, j);
-        if (shared || !boxes[a].intersects(boxes[b])) continue;
-        auto p = [&](int t, int c) { return Eigen::Vector3d(positions.row(triangles(t, c)).transpose()); };
-        if (detail::triangleTriangleIntersect(p(a, 0), p(a, 1), p(a, 2), p(b, 0), p(b, 1), p(b, 2))) ++count;
+        if (!(boxes[a].min().array() <= boxes[b].max().array()).all() || !(boxes[b].min().array() <= boxes[a].max().array()).all()) continue;
+        std::array<Eigen::Vector3d, 3> pa, pb;
+        std::array<int, 3> ia, ib;
+        for (int c = 0; c < 3; ++c) {
+            ia[c] = triangles(a, c);
+            ib[c] = triangles(b, c);
+            pa[c] = positions.row(ia[c]).transpose();
+            pb[c] = positions.row(ib[c]).transpose();
+        }
+        if (detail::exactTrianglesIntersect(pa, ia, pb, ib)) hits.emplace_back(a, b);
     }
-    return count;
+    return hits;
+}
+
+inline int selfIntersectingPairs(const Positions& positions, const Triangles& triangles) {
+    return static_cast<int>(intersectingPairs(positions, triangles).size());
 }
 
 }  // namespace sculpt::test

@@ -1,0 +1,260 @@
+// Self-intersection check of the triangle mesh (design.md, "The guarantee is about what the user sees").
+// Broad phase: a median-split BVH over triangle boxes, refitted where vertices moved. Narrow phase: exact
+// predicates (triangle_pair.cpp, on CGAL).
+#include "core/self_intersection.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <numeric>
+
+#include "core/triangle_pair.h"
+
+namespace sculpt::core {
+
+namespace {
+
+constexpr int kLeafSize = 4;
+
+Eigen::AlignedBox3d triangleBox(const Positions& positions, const Triangles& triangles, int t) {
+    Eigen::AlignedBox3d box(positions.row(triangles(t, 0)).transpose());
+    box.extend(positions.row(triangles(t, 1)).transpose());
+    box.extend(positions.row(triangles(t, 2)).transpose());
+    return box;
+}
+
+// Closed boxes: touching counts (the exact test decides).
+bool overlaps(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
+    return (a.min().array() <= b.max().array()).all() && (b.min().array() <= a.max().array()).all();
+}
+
+template <typename PointOf>
+TriangleCorners corners(const Triangles& triangles, int t, PointOf pointOf) {
+    TriangleCorners c;
+    for (int k = 0; k < 3; ++k) {
+        c.vertex[k] = triangles(t, k);
+        c.point[k] = pointOf(c.vertex[k]);
+    }
+    return c;
+}
+
+}  // namespace
+
+void SelfIntersectionIndex::clear() {
+    nodes_.clear();
+    leafTriangles_.clear();
+    leafOfTriangle_.clear();
+    vertexTriangleStart_.clear();
+    vertexTriangles_.clear();
+    dirtyTriangles_.clear();
+    dirtyFlag_.clear();
+    movedVertexFlag_.clear();
+    movedTriangleFlag_.clear();
+    allDirty_ = false;
+}
+
+void SelfIntersectionIndex::build(const Positions& positions, const Triangles& triangles) {
+    clear();
+    const int nv = static_cast<int>(positions.rows());
+    const int nt = static_cast<int>(triangles.rows());
+    vertexTriangleStart_.assign(static_cast<size_t>(nv) + 1, 0);
+    for (int t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) ++vertexTriangleStart_[static_cast<size_t>(triangles(t, k)) + 1];
+    std::partial_sum(vertexTriangleStart_.begin(), vertexTriangleStart_.end(), vertexTriangleStart_.begin());
+    vertexTriangles_.resize(static_cast<size_t>(vertexTriangleStart_.back()));
+    std::vector<int> cursor(vertexTriangleStart_.begin(), vertexTriangleStart_.end() - 1);
+    for (int t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) vertexTriangles_[static_cast<size_t>(cursor[triangles(t, k)]++)] = t;
+    movedVertexFlag_.assign(static_cast<size_t>(nv), 0);
+    movedTriangleFlag_.assign(static_cast<size_t>(nt), 0);
+    dirtyFlag_.assign(static_cast<size_t>(nt), 0);
+    leafOfTriangle_.assign(static_cast<size_t>(nt), -1);
+    if (nt == 0) return;
+
+    std::vector<Eigen::Vector3d> centroid(static_cast<size_t>(nt));
+    for (int t = 0; t < nt; ++t)
+        centroid[t] = (positions.row(triangles(t, 0)) + positions.row(triangles(t, 1)) + positions.row(triangles(t, 2))).transpose() / 3.0;
+    leafTriangles_.resize(static_cast<size_t>(nt));
+    std::iota(leafTriangles_.begin(), leafTriangles_.end(), 0);
+    nodes_.reserve(static_cast<size_t>(2 * (nt / 2 + 1)));
+    Node root;
+    root.first = 0;
+    root.count = nt;
+    nodes_.push_back(root);
+    std::vector<int> pending{0};
+    while (!pending.empty()) {
+        const int index = pending.back();
+        pending.pop_back();
+        const int first = nodes_[index].first, count = nodes_[index].count;
+        if (count <= kLeafSize) continue;
+        Eigen::AlignedBox3d bounds;
+        for (int e = first; e < first + count; ++e) bounds.extend(centroid[leafTriangles_[e]]);
+        int axis = 0;
+        bounds.sizes().maxCoeff(&axis);
+        const int half = count / 2;
+        std::nth_element(leafTriangles_.begin() + first, leafTriangles_.begin() + first + half, leafTriangles_.begin() + first + count,
+                         [&](int a, int b) { return centroid[a][axis] < centroid[b][axis]; });
+        const int left = static_cast<int>(nodes_.size());
+        Node child;
+        child.parent = index;
+        child.first = first;
+        child.count = half;
+        nodes_.push_back(child);
+        child.first = first + half;
+        child.count = count - half;
+        nodes_.push_back(child);
+        nodes_[index].first = left;
+        nodes_[index].count = 0;
+        pending.push_back(left);
+        pending.push_back(left + 1);
+    }
+    for (int index = 0; index < static_cast<int>(nodes_.size()); ++index)
+        if (nodes_[index].count > 0)
+            for (int e = nodes_[index].first; e < nodes_[index].first + nodes_[index].count; ++e) leafOfTriangle_[leafTriangles_[e]] = index;
+    allDirty_ = true;
+    refit(positions, triangles);
+}
+
+Eigen::AlignedBox3d SelfIntersectionIndex::leafBox(const Node& node, const Positions& positions, const Triangles& triangles) const {
+    Eigen::AlignedBox3d box;
+    for (int e = node.first; e < node.first + node.count; ++e) box.extend(triangleBox(positions, triangles, leafTriangles_[e]));
+    return box;
+}
+
+void SelfIntersectionIndex::verticesMoved(const std::vector<int>& vertices) {
+    if (allDirty_ || nodes_.empty()) return;
+    for (int v : vertices)
+        forEachTriangleOf(v, [&](int t) {
+            if (!dirtyFlag_[t]) {
+                dirtyFlag_[t] = 1;
+                dirtyTriangles_.push_back(t);
+            }
+        });
+    if (dirtyTriangles_.size() * 8 > leafTriangles_.size()) allDirty_ = true;  // a full refit is cheaper
+}
+
+void SelfIntersectionIndex::refit(const Positions& positions, const Triangles& triangles) {
+    if (nodes_.empty()) return;
+    if (allDirty_) {
+        // Children always come after their parent: one backward sweep refits everything.
+        for (int index = static_cast<int>(nodes_.size()) - 1; index >= 0; --index) {
+            Node& node = nodes_[index];
+            if (node.count > 0) node.box = leafBox(node, positions, triangles);
+            else node.box = nodes_[node.first].box.merged(nodes_[node.first + 1].box);
+        }
+    } else {
+        for (int t : dirtyTriangles_) {
+            int index = leafOfTriangle_[t];
+            nodes_[index].box = leafBox(nodes_[index], positions, triangles);
+            for (index = nodes_[index].parent; index >= 0; index = nodes_[index].parent)
+                nodes_[index].box = nodes_[nodes_[index].first].box.merged(nodes_[nodes_[index].first + 1].box);
+        }
+    }
+    for (int t : dirtyTriangles_) dirtyFlag_[t] = 0;
+    dirtyTriangles_.clear();
+    allDirty_ = false;
+}
+
+SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const Positions& positions, const Triangles& triangles,
+                                                                          const std::vector<int>& moved, const Positions& before) {
+    const auto start = std::chrono::steady_clock::now();
+    Result result;
+    if (nodes_.empty() || moved.empty()) return result;
+    std::vector<int> movedTriangles;
+    for (int v : moved) {
+        movedVertexFlag_[v] = 1;
+        forEachTriangleOf(v, [&](int t) {
+            if (!movedTriangleFlag_[t]) {
+                movedTriangleFlag_[t] = 1;
+                movedTriangles.push_back(t);
+            }
+        });
+    }
+    verticesMoved(moved);
+    refit(positions, triangles);
+
+    const auto now = [&](int v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
+    const auto then = [&](int v) -> Eigen::Vector3d { return (movedVertexFlag_[v] ? before.row(v) : positions.row(v)).transpose(); };
+    std::atomic<bool> found{false};
+    std::atomic<long long> tested{0};
+    TrianglePairHit hit;
+    const int count = static_cast<int>(movedTriangles.size());
+#pragma omp parallel for schedule(dynamic, 64) if (count > 256)
+    for (int m = 0; m < count; ++m) {
+        if (found.load(std::memory_order_relaxed)) continue;
+        const int a = movedTriangles[m];
+        const Eigen::AlignedBox3d box = triangleBox(positions, triangles, a);
+        const TriangleCorners cornersA = corners(triangles, a, now);
+        long long local = 0;
+        forEachCandidate(box, [&](int b) {
+            if (found.load(std::memory_order_relaxed)) return false;
+            // A pair of two moved triangles is tested once, from its lower id.
+            if (b == a || (movedTriangleFlag_[b] && b < a)) return true;
+            if (!overlaps(triangleBox(positions, triangles, b), box)) return true;
+            ++local;
+            if (!trianglesIntersect(cornersA, corners(triangles, b, now))) return true;
+            // It intersects now; it is new only if it did not before the move.
+            if (trianglesIntersect(corners(triangles, a, then), corners(triangles, b, then))) return true;
+#pragma omp critical(sculpt_self_intersection_hit)
+            if (!found.load()) {
+                hit.first = std::min(a, b);
+                hit.second = std::max(a, b);
+                hit.where = (cornersA.point[0] + cornersA.point[1] + cornersA.point[2]) / 3.0;
+                found.store(true);
+            }
+            return false;
+        });
+        tested += local;
+    }
+    for (int v : moved) movedVertexFlag_[v] = 0;
+    for (int t : movedTriangles) movedTriangleFlag_[t] = 0;
+    result.found = found.load();
+    result.pair = hit;
+    result.trianglesMoved = count;
+    result.pairsTested = tested.load();
+    result.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+std::vector<TrianglePairHit> SelfIntersectionIndex::allIntersections(const Positions& positions, const Triangles& triangles,
+                                                                      size_t limit) {
+    std::vector<TrianglePairHit> hits;
+    const int nt = static_cast<int>(triangles.rows());
+    if (nt < 2 || limit == 0 || nodes_.empty()) return hits;
+    refit(positions, triangles);
+    // Every triangle against the hierarchy; a pair is kept from its lower id.
+    const auto now = [&](int v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
+    std::atomic<size_t> total{0};
+#pragma omp parallel
+    {
+        std::vector<TrianglePairHit> local;
+#pragma omp for schedule(dynamic, 256)
+        for (int a = 0; a < nt; ++a) {
+            if (total.load(std::memory_order_relaxed) >= limit) continue;
+            const Eigen::AlignedBox3d box = triangleBox(positions, triangles, a);
+            const TriangleCorners cornersA = corners(triangles, a, now);
+            forEachCandidate(box, [&](int b) {
+                if (b <= a || !overlaps(triangleBox(positions, triangles, b), box)) return true;
+                if (!trianglesIntersect(cornersA, corners(triangles, b, now))) return true;
+                local.push_back({a, b, (cornersA.point[0] + cornersA.point[1] + cornersA.point[2]) / 3.0});
+                ++total;
+                return true;
+            });
+        }
+#pragma omp critical(sculpt_self_intersections_merge)
+        hits.insert(hits.end(), local.begin(), local.end());
+    }
+    std::sort(hits.begin(), hits.end(), [](const TrianglePairHit& x, const TrianglePairHit& y) {
+        return x.first != y.first ? x.first < y.first : x.second < y.second;
+    });
+    if (hits.size() > limit) hits.resize(limit);
+    return hits;
+}
+
+std::vector<TrianglePairHit> findSelfIntersections(const Positions& positions, const Triangles& triangles, size_t limit) {
+    SelfIntersectionIndex index;
+    index.build(positions, triangles);
+    return index.allIntersections(positions, triangles, limit);
+}
+
+}  // namespace sculpt::core

@@ -1,0 +1,114 @@
+// Self-intersection of the triangle mesh the user sees and saves.
+//
+// det J > 0 (Gain & Dodgson 2001, Theorem 1) certifies the continuous map; the user sees straight triangles
+// between the mapped vertices, and under strong compression those can cross even where the map is injective
+// (design.md, "The guarantee is about what the user sees"). So every operation is also checked on the
+// triangles it moved, against every triangle near them: a pair that intersects afterwards and did not before
+// is a new self-intersection, and the operation is subdivided or refused like one that fails the
+// injectivity test. Pairs that already intersected (a mesh that self-intersects when loaded) do not count.
+//
+// Broad phase: a bounding-volume hierarchy over the triangles' boxes, refitted (not rebuilt) where vertices
+// moved, so a local drag costs in proportion to the triangles it moved. Narrow phase: CGAL's exact
+// predicates (triangle_pair.h).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/mesh_types.h"
+
+namespace sculpt::core {
+
+// A pair of intersecting triangles (ids, first < second) and a point where they are (the first's centroid).
+struct TrianglePairHit {
+    int first = -1, second = -1;
+    Eigen::Vector3d where = Eigen::Vector3d::Zero();
+};
+
+// Every intersecting pair of triangles of the mesh (what they share by vertex id does not count), sorted,
+// at most `limit` of them. positions: #V x 3; triangles: #T x 3 with ids in range (asserted). Parallel.
+std::vector<TrianglePairHit> findSelfIntersections(const Positions& positions, const Triangles& triangles,
+                                                   size_t limit = static_cast<size_t>(-1));
+
+// The persistent broad phase of the per-operation check: a BVH over the current triangles plus the
+// vertex-to-triangle adjacency. The owner tells it which vertices moved (lazily refitted on the next query).
+class SelfIntersectionIndex {
+public:
+    // (Re)builds for this mesh. O(T log T).
+    void build(const Positions& positions, const Triangles& triangles);
+    void clear();
+    bool built() const { return !nodes_.empty(); }
+
+    // The positions of these vertices changed since the index last saw them; refitted on the next query.
+    void verticesMoved(const std::vector<int>& vertices);
+    void allVerticesMoved() { allDirty_ = true; }
+
+    struct Result {
+        bool found = false;        // a new intersecting pair exists
+        TrianglePairHit pair;      // the first one found (which one, when several, is not specified)
+        int trianglesMoved = 0;    // triangles with a moved corner: the ones tested
+        long long pairsTested = 0; // exact narrow-phase tests
+        double milliseconds = 0.0;
+    };
+    // Looks for a pair of triangles, at least one with a vertex in `moved`, that intersects at `positions`
+    // and did not intersect before the move: `before` holds the old rows of the moved vertices (other rows
+    // are not read; every other vertex is where it was). positions, before: #V x 3; triangles: those given
+    // to build(). Refits the moved triangles first. Cost: the moved triangles times the triangles near each.
+    Result findNewIntersection(const Positions& positions, const Triangles& triangles, const std::vector<int>& moved,
+                               const Positions& before);
+
+    // Every intersecting pair at `positions` (as findSelfIntersections), using this index (refitted first).
+    std::vector<TrianglePairHit> allIntersections(const Positions& positions, const Triangles& triangles,
+                                                  size_t limit = static_cast<size_t>(-1));
+
+    // Triangles that have vertex v as a corner (CSR): ids vertexTriangles_[start[v] .. start[v+1]).
+    template <typename F>
+    void forEachTriangleOf(int v, F f) const {
+        for (int s = vertexTriangleStart_[v]; s < vertexTriangleStart_[v + 1]; ++s) f(vertexTriangles_[s]);
+    }
+
+    // Calls f(t) for every triangle t in a leaf whose box overlaps `box` (a superset of the triangles whose
+    // own box overlaps it, as of the last refit); f returns false to stop the walk.
+    template <typename F>
+    void forEachCandidate(const Eigen::AlignedBox3d& box, F f) const {
+        if (nodes_.empty()) return;
+        int stack[128];
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const Node& node = nodes_[stack[--top]];
+            if ((node.box.min().array() > box.max().array()).any() || (box.min().array() > node.box.max().array()).any()) continue;
+            if (node.count == 0) {
+                stack[top++] = node.first;
+                stack[top++] = node.first + 1;
+                continue;
+            }
+            for (int e = node.first; e < node.first + node.count; ++e)
+                if (!f(leafTriangles_[e])) return;
+        }
+    }
+
+private:
+    struct Node {
+        Eigen::AlignedBox3d box;
+        int first = 0;   // leaf: first entry of leafTriangles_; inner: index of the left child (right = first + 1)
+        int count = 0;   // leaf: triangle count (> 0); inner: 0
+        int parent = -1;
+    };
+    void refit(const Positions& positions, const Triangles& triangles);
+    Eigen::AlignedBox3d leafBox(const Node& node, const Positions& positions, const Triangles& triangles) const;
+
+    std::vector<Node> nodes_;
+    std::vector<int> leafTriangles_;   // triangle ids in leaf order
+    std::vector<int> leafOfTriangle_;  // #T: the node holding each triangle
+    std::vector<int> vertexTriangleStart_, vertexTriangles_;
+    std::vector<int> dirtyTriangles_;
+    std::vector<std::uint8_t> dirtyFlag_;  // #T
+    bool allDirty_ = false;
+    std::vector<std::uint8_t> movedVertexFlag_, movedTriangleFlag_;  // scratch, all zero between queries
+};
+
+}  // namespace sculpt::core

@@ -1,0 +1,31 @@
+// Exact intersection test of two triangles of a mesh, counting only what they do not share.
+//
+// Two triangles of one mesh that share an edge or a vertex always touch there; that is not a
+// self-intersection. What counts is any other common point: a shared-edge pair that folds flat onto itself,
+// a shared-vertex pair where one triangle's opposite edge pierces the other, or any common point of two
+// triangles that share nothing. The predicates are CGAL's exact ones (Exact_predicates_inexact_constructions
+// kernel: double inputs, exact signs), the same case analysis as CGAL's Polygon_mesh_processing
+// self_intersections (do_faces_intersect), so a touching or coplanar configuration is decided exactly, not
+// within a tolerance.
+#pragma once
+
+#include <array>
+
+#include <Eigen/Core>
+
+namespace sculpt::core {
+
+// One triangle: its corner positions and the mesh's vertex ids of those corners (ids decide what is shared).
+struct TriangleCorners {
+    std::array<Eigen::Vector3d, 3> point;
+    std::array<int, 3> vertex{-1, -1, -1};
+};
+
+// True if a and b have a common point other than their shared vertices/edge (by vertex id). A degenerate
+// triangle (collinear corners) is tested as its longest segment, a triangle collapsed to a point as that
+// point; a degenerate triangle that shares a vertex with the other is not counted (it touches the other
+// there, and has no interior to cross it with). The same three ids twice (a duplicated face) is not counted.
+// Never throws; coordinates must be finite (the engine never produces others).
+bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& b);
+
+}  // namespace sculpt::core
