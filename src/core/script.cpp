@@ -17,6 +17,7 @@ const char* scriptOpName(ScriptOp::Kind kind) {
         case ScriptOp::Kind::SetPins: return "set_pins";
         case ScriptOp::Kind::BeginGroup: return "begin_group";
         case ScriptOp::Kind::EndGroup: return "end_group";
+        case ScriptOp::Kind::Group: return "group";
     }
     return "?";
 }
@@ -36,7 +37,15 @@ Status controlPointIds(const Lattice& lattice, const std::vector<std::array<int,
     return Status::success();
 }
 
-Status runOp(Session& session, const ScriptOp& op, OpReport& report, const ScreenshotHook& screenshot) {
+Status runOp(Session& session, const ScriptOp& op, OpReport& report, const ScreenshotHook& screenshot, bool exact) {
+    // A recording on the mesh it was made on: repeat what was applied, decide nothing again.
+    if (op.hasApplied && exact) return session.replayOperation(op.applied, op.cancelled, report);
+    if (op.cancelled) {
+        report = OpReport{};
+        report.status = OpStatus::NoOp;
+        report.reason = "a drag that was taken back";
+        return Status::success();
+    }
     switch (op.kind) {
         case ScriptOp::Kind::Drag: return session.drag(op.constraints, report);
         case ScriptOp::Kind::DragVertex: return session.dragVertex(op.vertex, op.target, report);
@@ -68,6 +77,11 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
             return session.setupLattice(op.hasSettings ? op.settings : session.latticeSettings(), report);
         case ScriptOp::Kind::BeginGroup:
         case ScriptOp::Kind::EndGroup: break;  // runScript keeps the groups
+        case ScriptOp::Kind::Group:
+            report = OpReport{};
+            if (Status s = session.groupOperations(op.groupFirst, op.label); !s) return s;
+            report.status = OpStatus::Applied;
+            return Status::success();
         case ScriptOp::Kind::Undo: return session.undo(report);
         case ScriptOp::Kind::Redo: return session.redo(report);
         case ScriptOp::Kind::Screenshot: {
@@ -85,36 +99,32 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
     return Status::error("unknown op");
 }
 
-ScriptOp moveControlPointOp(const std::vector<int>& ids, const Eigen::MatrixX3d& offsets, const std::array<int, 3>& resolution) {
+// The op a user would write for an operation (what a replay on another mesh decides again), with the steps it
+// was applied as.
+ScriptOp recordedOp(const Operation& operation) {
     ScriptOp op;
-    op.kind = ScriptOp::Kind::MoveControlPoint;
-    op.relative = true;
-    op.values = offsets;
-    for (int idx : ids) op.controlPoints.push_back(gridIjk(resolution, idx));
-    return op;
-}
-
-// An interactive operation's steps as ops: a fresh lattice (setup_lattice with the current settings) where
-// a step entered one, then the step itself.
-// The ops are wrapped in begin_group / end_group so the replay holds them as one history entry again.
-template <typename StepOp>
-void appendSteps(const Operation& operation, Script& script, StepOp stepOp) {
-    ScriptOp begin;
-    begin.kind = ScriptOp::Kind::BeginGroup;
-    begin.label = operation.label;
-    script.ops.push_back(begin);
-    for (const Step& step : operation.steps) {
-        if (step.freshFrame) {
-            ScriptOp fresh;
-            fresh.kind = ScriptOp::Kind::SetupLattice;
-            script.ops.push_back(fresh);
+    switch (operation.kind) {
+        case OperationKind::Drag:
+            op.kind = ScriptOp::Kind::Drag;
+            op.constraints = operation.constraints;
+            break;
+        case OperationKind::ControlPointEdit: {
+            op.kind = ScriptOp::Kind::MoveControlPoint;
+            op.relative = true;
+            op.values = operation.offsets;
+            const std::array<int, 3>& resolution = operation.steps.front().settings.resolution;
+            for (int idx : operation.controlPoints) op.controlPoints.push_back(gridIjk(resolution, idx));
+            break;
         }
-        // note: a step that moved no control point (all of them pinned) changed nothing; replaying it would not.
-        if (!step.delta.indices.empty()) script.ops.push_back(stepOp(step));
+        case OperationKind::LatticeSetup:
+            op.kind = ScriptOp::Kind::SetupLattice;
+            op.hasSettings = true;
+            op.settings = operation.settings;
+            break;
     }
-    ScriptOp end;
-    end.kind = ScriptOp::Kind::EndGroup;
-    script.ops.push_back(end);
+    op.hasApplied = true;
+    op.applied = operation;
+    return op;
 }
 
 }  // namespace
@@ -122,6 +132,7 @@ void appendSteps(const Operation& operation, Script& script, StepOp stepOp) {
 Status runScript(Session& session, const Script& script, ScriptReport& report, const ScreenshotHook& screenshot,
                  const ScriptProgress& progress) {
     report.ops.clear();
+    const bool exact = !script.meshFingerprint.empty() && script.meshFingerprint == session.meshFingerprint();
     std::vector<std::pair<int, std::string>> groups;  // open begin_group ops: history cursor and label
     for (size_t i = 0; i < script.ops.size(); ++i) {
         if (progress && !progress(i, script.ops.size())) return Status::error("stopped before op " + std::to_string(i));
@@ -141,7 +152,7 @@ Status runScript(Session& session, const Script& script, ScriptReport& report, c
                 groups.pop_back();
             }
         } else {
-            s = runOp(session, op, opReport, screenshot);
+            s = runOp(session, op, opReport, screenshot, exact);
         }
         if (!s) return Status::error("op " + std::to_string(i) + " (" + scriptOpName(op.kind) + "): " + s.message);
         opReport.op = scriptOpName(op.kind);
@@ -160,62 +171,32 @@ Script recordSession(const Session& session) {
     script.lattice.regionMax = session.initialBoxMax();
     script.lattice.padding = 0.0;
     script.injectivity = session.injectivity();
-    std::vector<int> replayToggles;  // the pins the replay has at this point (a fresh session: the layers)
-    for (int i = 0; i < session.historyCursor(); ++i) {
-        const Operation& operation = session.history()[i];
-        if (operation.kind == OperationKind::LatticeSetup) {
-            replayToggles.clear();  // new settings: a fresh lattice with just its pin layers
-        } else if (operation.pinToggles != replayToggles && !operation.steps.empty()) {
-            // The user's pins shape the solution (pinned points are removed from R, eq. 12): replay them.
-            const LatticeSettings& settings = operation.steps.front().settings;
-            const std::array<int, 3>& r = settings.resolution;
-            ScriptOp pins;
-            pins.kind = ScriptOp::Kind::SetPins;
-            for (int idx : operation.pinToggles) {
-                const std::array<int, 3> ijk = gridIjk(r, idx);
-                (inOuterLayers(r, ijk, settings.pinLayers) ? pins.unpinned : pins.controlPoints).push_back(ijk);
-            }
-            script.ops.push_back(pins);
-            replayToggles = operation.pinToggles;
-        }
-        switch (operation.kind) {
-            case OperationKind::Drag:
-                if (!operation.interactive) {
-                    ScriptOp op;
-                    op.kind = ScriptOp::Kind::Drag;
-                    op.constraints = operation.constraints;
-                    script.ops.push_back(op);
-                    break;
+    script.meshFingerprint = session.meshFingerprint();
+    for (const JournalEntry& entry : session.journal()) {
+        ScriptOp op;
+        switch (entry.kind) {
+            case JournalEntry::Kind::Operation: op = recordedOp(entry.operation); break;
+            case JournalEntry::Kind::CancelledDrag:
+                op = recordedOp(entry.operation);
+                op.cancelled = true;
+                break;
+            case JournalEntry::Kind::Undo: op.kind = ScriptOp::Kind::Undo; break;
+            case JournalEntry::Kind::Redo: op.kind = ScriptOp::Kind::Redo; break;
+            case JournalEntry::Kind::Group:
+                op.kind = ScriptOp::Kind::Group;
+                op.groupFirst = entry.groupFirst;
+                op.label = entry.label;
+                break;
+            case JournalEntry::Kind::Pins:
+                // The user's pins shape the solution (pinned points are removed from R, Hu et al. eq. 12).
+                op.kind = ScriptOp::Kind::SetPins;
+                for (int idx : entry.pinToggles) {
+                    const std::array<int, 3> ijk = gridIjk(entry.settings.resolution, idx);
+                    (inOuterLayers(entry.settings.resolution, ijk, entry.settings.pinLayers) ? op.unpinned : op.controlPoints).push_back(ijk);
                 }
-                // An interactive drag was tested increment by increment; replaying its steps (each one in
-                // its own fresh lattice where the original entered one) reproduces it exactly.
-                appendSteps(operation, script, [](const Step& step) {
-                    ScriptOp op;
-                    op.kind = ScriptOp::Kind::Drag;
-                    op.constraints = step.constraints;
-                    return op;
-                });
                 break;
-            case OperationKind::ControlPointEdit: {
-                if (!operation.interactive) {
-                    script.ops.push_back(moveControlPointOp(operation.controlPoints, operation.offsets, operation.steps.front().settings.resolution));
-                    break;
-                }
-                // An interactive control-point drag is replayed step by step, like an interactive drag.
-                appendSteps(operation, script, [](const Step& step) {
-                    return moveControlPointOp(step.delta.indices, step.delta.deltas, step.settings.resolution);
-                });
-                break;
-            }
-            case OperationKind::LatticeSetup: {
-                ScriptOp op;
-                op.kind = ScriptOp::Kind::SetupLattice;
-                op.hasSettings = true;
-                op.settings = operation.settings;
-                script.ops.push_back(op);
-                break;
-            }
         }
+        script.ops.push_back(std::move(op));
     }
     return script;
 }

@@ -17,7 +17,7 @@
 namespace sculpt::core {
 
 struct ScriptOp {
-    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins, BeginGroup, EndGroup };
+    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins, BeginGroup, EndGroup, Group };
     Kind kind = Kind::Undo;
     std::vector<PointConstraint> constraints;      // Drag
     int vertex = -1;                               // DragVertex
@@ -30,20 +30,31 @@ struct ScriptOp {
     std::string label;                             // BeginGroup: the history entry's name (empty: the first op's)
     bool hasSettings = false;                      // SetupLattice: new settings, or (false) a fresh lattice
     LatticeSettings settings;                      //   with the current ones around the current shape
+    int groupFirst = 0;                            // Group: history entries [groupFirst, end) become one (label)
+    // Recordings: what the operation was applied as (its steps: fresh frames and control displacements). A
+    // replay on the mesh it was recorded on applies these exactly instead of deciding again.
+    bool hasApplied = false;
+    Operation applied;
+    bool cancelled = false;  // an interactive drag that was taken back (Esc): applied, then undone
 };
 
 const char* scriptOpName(ScriptOp::Kind kind);
 
 struct Script {
     std::string mesh;  // optional: the mesh the script applies to, as written (relative to the script's folder)
+    // Recordings: Session::meshFingerprint() of the mesh recorded on. When the session's mesh has this
+    // fingerprint, ops with recorded steps are replayed exactly (Session::replayOperation); on any other mesh
+    // the ops are decided again for that mesh (Coquillart's recording operator).
+    std::string meshFingerprint;
     LatticeSettings lattice;
     InjectivitySettings injectivity;  // applies to every operation of the script
     std::vector<ScriptOp> ops;
 };
 
-// The applied part of a session's history as a script that replays it: the lattice placed in the box the
-// session started with (so the same deformation of space is applied to any mesh it is replayed on), the
-// injectivity settings, and every applied operation (interactive drags step by step).
+// Every command of a session (Session::journal) as a script that replays it: the lattice placed in the box the
+// session started with, the injectivity settings, the mesh's fingerprint, and every operation, undo, redo,
+// pin change and taken-back drag in order, each operation with the steps it was applied as. Replayed on the
+// same mesh it gives the same vertices bit for bit; on another mesh the operations are decided again.
 Script recordSession(const Session& session);
 
 struct ScriptReport {

@@ -34,6 +34,22 @@ std::string percentText(double fraction) {
     return buffer;
 }
 
+// FNV-1a (64 bit) over the positions' bits and the triangle ids, with the counts: names a mesh exactly.
+std::string fingerprint(const Positions& positions, const Triangles& triangles) {
+    std::uint64_t hash = 1469598103934665603ull;
+    const auto add = [&hash](const void* data, size_t bytes) {
+        const auto* p = static_cast<const unsigned char*>(data);
+        for (size_t i = 0; i < bytes; ++i) hash = (hash ^ p[i]) * 1099511628211ull;
+    };
+    const std::int64_t counts[2] = {static_cast<std::int64_t>(positions.rows()), static_cast<std::int64_t>(triangles.rows())};
+    add(counts, sizeof counts);
+    add(positions.data(), static_cast<size_t>(positions.size()) * sizeof(double));
+    add(triangles.data(), static_cast<size_t>(triangles.size()) * sizeof(int));
+    char text[32];
+    std::snprintf(text, sizeof text, "%zu:%016llx", static_cast<size_t>(positions.rows()), static_cast<unsigned long long>(hash));
+    return text;
+}
+
 bool sameSettings(const LatticeSettings& a, const LatticeSettings& b) {
     return a.resolution == b.resolution && a.degree == b.degree && a.padding == b.padding && a.hasRegion == b.hasRegion &&
            a.regionMin == b.regionMin && a.regionMax == b.regionMax && a.pinLayers == b.pinLayers;
@@ -167,6 +183,8 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     before_.resize(positions_.rows(), 3);
     history_.clear();
     cursor_ = 0;
+    journal_.clear();
+    meshFingerprint_ = fingerprint(original_, triangles_);
     lastMoved_.clear();
     lastMovedAll_ = true;
     return Status::success();
@@ -215,6 +233,9 @@ void Session::pushOperation(Operation operation) {
     // note: pins only change between operations, and fresh frames of the same settings inherit them, so the
     // pins at the end of the operation are the ones every one of its steps was solved with.
     if (operation.kind != OperationKind::LatticeSetup) operation.pinToggles = pinToggles();
+    JournalEntry entry;
+    entry.operation = operation;
+    journal_.push_back(std::move(entry));
     history_.push_back(std::move(operation));
     cursor_ = static_cast<int>(history_.size());
 }
@@ -223,13 +244,15 @@ size_t Session::historyBytes() const {
     auto deltaBytes = [](const ControlDelta& d) {
         return d.indices.capacity() * sizeof(int) + static_cast<size_t>(d.deltas.size()) * sizeof(double);
     };
-    size_t bytes = history_.capacity() * sizeof(Operation) + frames_.capacity() * sizeof(FrozenFrame);
-    for (const Operation& op : history_) {
-        bytes += op.label.capacity() + op.constraints.capacity() * sizeof(PointConstraint) +
-                 op.controlPoints.capacity() * sizeof(int) + static_cast<size_t>(op.offsets.size()) * sizeof(double) +
-                 op.steps.capacity() * sizeof(Step);
+    auto operationBytes = [&](const Operation& op) {
+        size_t bytes = op.label.capacity() + op.constraints.capacity() * sizeof(PointConstraint) + op.controlPoints.capacity() * sizeof(int) +
+                       static_cast<size_t>(op.offsets.size()) * sizeof(double) + op.steps.capacity() * sizeof(Step);
         for (const Step& step : op.steps) bytes += deltaBytes(step.delta);
-    }
+        return bytes;
+    };
+    size_t bytes = history_.capacity() * sizeof(Operation) + frames_.capacity() * sizeof(FrozenFrame) + journal_.capacity() * sizeof(JournalEntry);
+    for (const Operation& op : history_) bytes += operationBytes(op);
+    for (const JournalEntry& entry : journal_) bytes += operationBytes(entry.operation) + entry.pinToggles.capacity() * sizeof(int);
     for (const FrozenFrame& frame : frames_) bytes += deltaBytes(frame.displacement) + frame.pinToggles.capacity() * sizeof(int);
     return bytes;
 }
@@ -265,7 +288,7 @@ std::vector<double> Session::totalJacobianDeterminants() const {
     return det;
 }
 
-void Session::enterFreshFrame(const LatticeSettings& settings, Progress* progress) {
+void Session::enterFreshFrame(const LatticeSettings& settings, Progress* progress, Step* placed, const Step* recorded) {
     if (trackJacobian_) accumulateFrameJacobian(false);
     // Freeze the current frame compactly: its box, its non-zero control displacements, its pin edits.
     FrozenFrame frozen;
@@ -293,8 +316,12 @@ void Session::enterFreshFrame(const LatticeSettings& settings, Progress* progres
     // place it as a new set-up would. Either way the placement depends only on the mesh and the settings,
     // so replaying a recording reproduces it.
     Eigen::Vector3d lo = lattice_.boxMin, hi = lattice_.boxMax;
-    const bool keepBox = sameSettings(settings, settings_);
-    if (keepBox) {
+    bool keepBox = sameSettings(settings, settings_);
+    if (recorded) {
+        lo = recorded->frameMin;
+        hi = recorded->frameMax;
+        keepBox = recorded->framePinsKept;
+    } else if (keepBox) {
         // Only the vertices this lattice deforms count: a region-of-interest lattice never grows to take in
         // the rest of the mesh.
         if (embedding_.insideCount() > 0) {
@@ -311,6 +338,11 @@ void Session::enterFreshFrame(const LatticeSettings& settings, Progress* progres
         }
     } else {
         latticeBox(settings, positions_, lo, hi);
+    }
+    if (placed) {
+        placed->frameMin = lo;
+        placed->frameMax = hi;
+        placed->framePinsKept = keepBox;
     }
     Lattice fresh;
     makeLatticeInBox(settings, lo, hi, fresh);
@@ -520,7 +552,7 @@ std::string stepFailureAdvice(StepFailure::Cause cause) {
 bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
     // Each step after the first is a separate deformation in a fresh regular lattice around the mesh the
     // earlier steps produced (design.md): with one lattice the halves would just add up to the failing move.
-    if (progress.appliedInCurrentFrame) enterFreshFrame(settings_, &progress);
+    if (progress.appliedInCurrentFrame) enterFreshFrame(settings_, &progress, &progress.pendingFrame);
     std::vector<Eigen::Vector3d> params(m.sources.size());
     Eigen::MatrixX3d displacements(static_cast<Eigen::Index>(m.sources.size()), 3);
     for (size_t f = 0; f < m.sources.size(); ++f) {
@@ -549,6 +581,11 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
 
     Step step;
     step.freshFrame = progress.pendingFreshFrame;
+    if (step.freshFrame) {
+        step.frameMin = progress.pendingFrame.frameMin;
+        step.frameMax = progress.pendingFrame.frameMax;
+        step.framePinsKept = progress.pendingFrame.framePinsKept;
+    }
     progress.pendingFreshFrame = false;
     step.settings = settings_;
     step.delta = std::move(delta);
@@ -838,7 +875,7 @@ Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) 
     Step step;
     step.freshFrame = true;
     step.settings = settings;
-    enterFreshFrame(settings, nullptr);
+    enterFreshFrame(settings, nullptr, &step);
     operation.steps.push_back(std::move(step));
     pushOperation(std::move(operation));
     lastMoved_.clear();
@@ -865,7 +902,7 @@ int Session::movedCount() const {
 }
 
 void Session::redoStep(const Step& step) {
-    if (step.freshFrame) enterFreshFrame(step.settings, nullptr);
+    if (step.freshFrame) enterFreshFrame(step.settings, nullptr, nullptr, &step);
     applyDelta(step.delta, 1.0, &lastMoved_);
 }
 
@@ -918,6 +955,7 @@ Status Session::groupOperations(int first, const std::string& label) {
     history_.resize(static_cast<size_t>(first));
     history_.push_back(std::move(merged));
     cursor_ = static_cast<int>(history_.size());
+    journal_.push_back(JournalEntry{JournalEntry::Kind::Group, {}, first, history_.back().label, {}, {}});
     return Status::success();
 }
 
@@ -933,6 +971,7 @@ Status Session::undo(OpReport& report) {
     }
     const Operation& operation = history_[--cursor_];
     revertSteps(operation.steps);
+    journal_.push_back(JournalEntry{JournalEntry::Kind::Undo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
     report.subSteps = static_cast<int>(operation.steps.size());
@@ -957,6 +996,7 @@ Status Session::redo(OpReport& report) {
     lastMoved_.clear();
     lastMovedAll_ = false;
     for (const Step& step : operation.steps) redoStep(step);
+    journal_.push_back(JournalEntry{JournalEntry::Kind::Redo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;
     report.subSteps = static_cast<int>(operation.steps.size());
@@ -1200,6 +1240,7 @@ Status Session::setPinToggles(const std::vector<int>& toggled) {
     if (dragActive_) return Status::error("an interactive drag is in progress");
     for (int idx = 0; idx < n; ++idx) lattice_.pinned[idx] = inOuterLayers(lattice_, idx, settings_.pinLayers) ? 1 : 0;
     for (int idx : toggled) lattice_.pinned[idx] ^= 1;
+    journalPins();
     return Status::success();
 }
 
@@ -1214,6 +1255,8 @@ Status Session::cancelDrag(OpReport& report) {
     }
     dragActive_ = false;
     revertSteps(dragOperation_.steps);
+    // Taking it back is an inverse manipulation, exact only up to rounding: the replay repeats it.
+    if (!dragOperation_.steps.empty()) journal_.push_back(JournalEntry{JournalEntry::Kind::CancelledDrag, dragOperation_, 0, {}, {}, {}});
     report.status = dragOperation_.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;
     report.reason = dragOperation_.steps.empty() ? "the drag had not moved anything" : "the drag was taken back";
     report.subSteps = static_cast<int>(dragOperation_.steps.size());
@@ -1228,6 +1271,57 @@ Status Session::setPinned(const std::vector<int>& indices, bool pinned) {
     for (int idx : indices)
         if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
     for (int idx : indices) lattice_.pinned[idx] = pinned ? 1 : 0;
+    journalPins();
+    return Status::success();
+}
+
+void Session::journalPins() {
+    JournalEntry entry{JournalEntry::Kind::Pins, {}, 0, {}, pinToggles(), settings_};
+    // Consecutive pin changes: only where they ended counts.
+    if (!journal_.empty() && journal_.back().kind == JournalEntry::Kind::Pins) journal_.back() = std::move(entry);
+    else journal_.push_back(std::move(entry));
+}
+
+Status Session::replayOperation(const Operation& operation, bool cancelled, OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "replay";
+    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (operation.steps.empty()) return Status::error("the recorded operation has no steps");
+    // Every step must fit the lattice it will be applied in (its own settings where it enters a fresh frame).
+    LatticeSettings settings = settings_;
+    for (size_t k = 0; k < operation.steps.size(); ++k) {
+        const Step& step = operation.steps[k];
+        if (step.freshFrame) {
+            if (Status s = validateLatticeSettings(step.settings); !s) return Status::error("step " + std::to_string(k) + ": " + s.message);
+            settings = step.settings;
+        }
+        const int count = settings.resolution[0] * settings.resolution[1] * settings.resolution[2];
+        if (static_cast<Eigen::Index>(step.delta.indices.size()) != step.delta.deltas.rows())
+            return Status::error("step " + std::to_string(k) + ": control point ids and displacements differ in count");
+        for (int idx : step.delta.indices)
+            if (idx < 0 || idx >= count) return Status::error("step " + std::to_string(k) + ": control point id " + std::to_string(idx) + " is outside the lattice");
+        if (!step.delta.deltas.allFinite()) return Status::error("step " + std::to_string(k) + ": non-finite displacement");
+    }
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    for (const Step& step : operation.steps) redoStep(step);
+    report.status = OpStatus::Applied;
+    report.subSteps = static_cast<int>(operation.steps.size());
+    report.depthReached = operation.depthReached;
+    report.injectivity = "as recorded";
+    for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
+    if (cancelled) {
+        revertSteps(operation.steps);
+        journal_.push_back(JournalEntry{JournalEntry::Kind::CancelledDrag, operation, 0, {}, {}, {}});
+        report.reason = "replayed the steps of a drag that was taken back, and took them back";
+    } else {
+        pushOperation(operation);
+        report.reason = "replayed " + operation.label + " as recorded (" + std::to_string(report.subSteps) + " steps)";
+    }
+    report.verticesMoved = movedCount();
+    report.wallMs = millisecondsSince(start);
     return Status::success();
 }
 

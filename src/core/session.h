@@ -85,6 +85,10 @@ std::string stepFailureAdvice(StepFailure::Cause cause);
 struct Step {
     bool freshFrame = false;   // a fresh regular lattice was put around the mesh before this step
     LatticeSettings settings;  // with freshFrame: the settings of that lattice
+    // With freshFrame: the box it was placed in, and whether it kept the user's pin edits of the frame before
+    // (same settings); redo and replay place it exactly there instead of deciding again.
+    Eigen::Vector3d frameMin = Eigen::Vector3d::Zero(), frameMax = Eigen::Vector3d::Zero();
+    bool framePinsKept = false;
     ControlDelta delta;        // the change of the control points in the step's frame
     std::vector<PointConstraint> constraints;  // drags: where the sources were before and after the step
 };
@@ -102,6 +106,24 @@ struct Operation {
     int depthReached = 0;
     bool interactive = false;  // an interactive drag (recorded step by step: its increments were tested apart)
     std::vector<int> pinToggles;  // control points whose pin differed from the pin layers when it was applied
+};
+
+// One command as the session carried it out, in order: what a recording writes so that a replay on the same
+// mesh does exactly what was done (design.md: "A recording records what was applied, not what was asked").
+struct JournalEntry {
+    enum class Kind {
+        Operation,      // `operation` was applied (with its steps) and pushed onto the history
+        Undo, Redo,     // of the last / next history entry
+        CancelledDrag,  // `operation`'s steps were applied by an interactive drag, then taken back (Esc)
+        Group,          // history entries [groupFirst, end) became one (label)
+        Pins            // the pins became the pin layers with `pinToggles` flipped
+    };
+    Kind kind = Kind::Operation;
+    Operation operation;
+    int groupFirst = 0;
+    std::string label;
+    std::vector<int> pinToggles;
+    LatticeSettings settings;  // Pins: the settings of the lattice the pins are in (resolution, pin layers)
 };
 
 // A lattice that was replaced by a fresh one, kept compactly so undo can return to it.
@@ -139,6 +161,12 @@ public:
     // of their steps, undone and redone as one), e.g. a replayed interactive drag. The cursor must be at the
     // end of the history. label empty: the first operation's.
     Status groupOperations(int first, const std::string& label);
+    // Applies a recorded operation exactly as it was applied when recorded: its steps (fresh frames and
+    // control displacements), no solve and no test, and pushes it onto the history. For a replay on the mesh
+    // the recording was made on (same meshFingerprint). cancelled: the steps of an interactive drag that was
+    // taken back, applied and taken back again (nothing is pushed). Fails, changing nothing, on a step whose
+    // control point ids or settings do not fit.
+    Status replayOperation(const Operation& operation, bool cancelled, OpReport& report);
     // Undo / redo the last operation; with nothing to undo or redo, report.status = NoOp (not an error).
     Status undo(OpReport& report);
     Status redo(OpReport& report);
@@ -197,6 +225,11 @@ public:
     Eigen::Vector3d initialBoxMax() const { return initialBoxMax_; }
     const Embedding& embedding() const { return embedding_; }
     const std::vector<Operation>& history() const { return history_; }
+    // Every command since setMesh, in order (what recordSession writes).
+    const std::vector<JournalEntry>& journal() const { return journal_; }
+    // A hash of the mesh as set (positions bit for bit and triangles), naming it in recordings: a replay on
+    // the mesh with this fingerprint repeats the recorded steps exactly.
+    const std::string& meshFingerprint() const { return meshFingerprint_; }
     int historyCursor() const { return cursor_; }  // entries [0, cursor) are applied
     int frameDepth() const { return static_cast<int>(frames_.size()); }
     // Bytes held by the history (operations and frozen frames), not counting the mesh itself.
@@ -230,6 +263,7 @@ private:
         Operation* operation = nullptr;
         bool appliedInCurrentFrame = false;  // a step of this operation already changed the current frame
         bool pendingFreshFrame = false;      // a fresh frame was entered and no step has been applied in it yet
+        Step pendingFrame;                   // that frame's placement (Step::frameMin, frameMax, framePinsKept)
         Snapshot& snapshot;  // the session's scratch_, reused so large copies do not fault in fresh pages
         StepFailure failure;                                        // the last step that failed
         StepFailure firstFailure;                                   // what first made it subdivide
@@ -256,7 +290,9 @@ private:
     // boundary is pinned), in the user's words with what to do; empty if there is none.
     std::string unreachableDragCause(const Manipulation& m) const;
     bool tryStep(Manipulation& m, int depth, Progress& progress);
-    void enterFreshFrame(const LatticeSettings& settings, Progress* progress);
+    // Freezes the current frame and puts a fresh regular lattice with `settings` around the mesh; `placed`
+    // gets its placement. recorded: place it as that step recorded (redo, replay) instead of deciding.
+    void enterFreshFrame(const LatticeSettings& settings, Progress* progress, Step* placed, const Step* recorded = nullptr);
     void leaveFrame();
     void restoreSnapshot(Snapshot& snapshot);
     Status runManipulation(Manipulation m, Operation operation, OpReport& report);
@@ -289,6 +325,9 @@ private:
     std::vector<FrozenFrame> frames_;
     std::vector<Operation> history_;
     int cursor_ = 0;
+    std::vector<JournalEntry> journal_;
+    std::string meshFingerprint_;
+    void journalPins();
     std::vector<int> lastMoved_;
     bool lastMovedAll_ = false;
     bool trackJacobian_ = false;

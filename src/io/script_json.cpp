@@ -79,30 +79,120 @@ const json& required(const json& object, const char* key, const std::string& pat
     return object[key];
 }
 
+std::vector<core::PointConstraint> parseConstraints(const json& list, const std::string& path, bool allowEmpty) {
+    if (!list.is_array() || (!allowEmpty && list.empty())) fail(path, allowEmpty ? "expected an array" : "expected a non-empty array");
+    std::vector<core::PointConstraint> out;
+    for (size_t c = 0; c < list.size(); ++c) {
+        const std::string cp = path + "[" + std::to_string(c) + "]";
+        allowOnly(list[c], cp, {"source", "target"});
+        out.push_back({vector3(required(list[c], "source", cp), cp + ".source"), vector3(required(list[c], "target", cp), cp + ".target")});
+    }
+    return out;
+}
+
+std::vector<int> intList(const json& list, const std::string& path) {
+    if (!list.is_array()) fail(path, "expected an array of integers");
+    std::vector<int> out;
+    for (size_t i = 0; i < list.size(); ++i) out.push_back(integer(list[i], path + "[" + std::to_string(i) + "]"));
+    return out;
+}
+
+Eigen::MatrixX3d vectorRows(const json& list, const std::string& path) {
+    if (!list.is_array()) fail(path, "expected an array of [x,y,z]");
+    Eigen::MatrixX3d out(static_cast<Eigen::Index>(list.size()), 3);
+    for (size_t i = 0; i < list.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = vector3(list[i], path + "[" + std::to_string(i) + "]").transpose();
+    return out;
+}
+
+// A recorded operation as it was applied (ScriptOp::applied): its steps in their lattices.
+core::Operation parseApplied(const json& j, const std::string& path) {
+    allowOnly(j, path, {"kind", "label", "interactive", "depth", "constraints", "control_points", "offsets", "lattice", "steps"});
+    core::Operation operation;
+    const json& kind = required(j, "kind", path);
+    const std::string name = kind.is_string() ? kind.get<std::string>() : "";
+    if (name == "drag") operation.kind = core::OperationKind::Drag;
+    else if (name == "control_point_edit") operation.kind = core::OperationKind::ControlPointEdit;
+    else if (name == "lattice_setup") operation.kind = core::OperationKind::LatticeSetup;
+    else fail(path + ".kind", "expected \"drag\", \"control_point_edit\" or \"lattice_setup\"");
+    if (j.contains("label")) {
+        if (!j["label"].is_string()) fail(path + ".label", "expected a string");
+        operation.label = j["label"].get<std::string>();
+    }
+    if (j.contains("interactive")) {
+        if (!j["interactive"].is_boolean()) fail(path + ".interactive", "expected true or false");
+        operation.interactive = j["interactive"].get<bool>();
+    }
+    if (j.contains("depth")) operation.depthReached = integer(j["depth"], path + ".depth");
+    if (j.contains("constraints")) operation.constraints = parseConstraints(j["constraints"], path + ".constraints", true);
+    if (j.contains("control_points")) operation.controlPoints = intList(j["control_points"], path + ".control_points");
+    if (j.contains("offsets")) operation.offsets = vectorRows(j["offsets"], path + ".offsets");
+    if (operation.offsets.rows() != static_cast<Eigen::Index>(operation.controlPoints.size()))
+        fail(path + ".offsets", "expected one [x,y,z] per control point");
+    if (j.contains("lattice")) operation.settings = parseLattice(j["lattice"], path + ".lattice");
+    const json& steps = required(j, "steps", path);
+    if (!steps.is_array() || steps.empty()) fail(path + ".steps", "expected a non-empty array");
+    for (size_t k = 0; k < steps.size(); ++k) {
+        const std::string sp = path + ".steps[" + std::to_string(k) + "]";
+        allowOnly(steps[k], sp, {"fresh_frame", "frame", "lattice", "indices", "deltas", "constraints"});
+        core::Step step;
+        if (steps[k].contains("fresh_frame")) {
+            if (!steps[k]["fresh_frame"].is_boolean()) fail(sp + ".fresh_frame", "expected true or false");
+            step.freshFrame = steps[k]["fresh_frame"].get<bool>();
+        }
+        if (step.freshFrame) {
+            const json& frame = required(steps[k], "frame", sp);
+            const std::string fp = sp + ".frame";
+            allowOnly(frame, fp, {"min", "max", "pins_kept"});
+            step.frameMin = vector3(required(frame, "min", fp), fp + ".min");
+            step.frameMax = vector3(required(frame, "max", fp), fp + ".max");
+            if (!(step.frameMin.array() < step.frameMax.array()).all()) fail(fp, "\"min\" must be below \"max\" on every axis");
+            const json& kept = required(frame, "pins_kept", fp);
+            if (!kept.is_boolean()) fail(fp + ".pins_kept", "expected true or false");
+            step.framePinsKept = kept.get<bool>();
+        }
+        step.settings = parseLattice(required(steps[k], "lattice", sp), sp + ".lattice");
+        step.delta.indices = intList(required(steps[k], "indices", sp), sp + ".indices");
+        step.delta.deltas = vectorRows(required(steps[k], "deltas", sp), sp + ".deltas");
+        if (step.delta.deltas.rows() != static_cast<Eigen::Index>(step.delta.indices.size()))
+            fail(sp + ".deltas", "expected one [x,y,z] per index");
+        if (steps[k].contains("constraints")) step.constraints = parseConstraints(steps[k]["constraints"], sp + ".constraints", true);
+        operation.steps.push_back(std::move(step));
+    }
+    return operation;
+}
+
+// "applied" and "cancelled", the fields a recording adds to an op.
+void parseRecorded(const json& j, const std::string& path, core::ScriptOp& op) {
+    if (j.contains("applied")) {
+        op.hasApplied = true;
+        op.applied = parseApplied(j["applied"], path + ".applied");
+    }
+    if (j.contains("cancelled")) {
+        if (!j["cancelled"].is_boolean()) fail(path + ".cancelled", "expected true or false");
+        op.cancelled = j["cancelled"].get<bool>();
+        if (op.cancelled && !op.hasApplied) fail(path + ".cancelled", "needs \"applied\"");
+    }
+}
+
 core::ScriptOp parseOp(const json& j, const std::string& path) {
     if (!j.is_object()) fail(path, "expected an object");
     if (!j.contains("op") || !j["op"].is_string()) fail(path + ".op", "expected a string");
     const std::string name = j["op"].get<std::string>();
     core::ScriptOp op;
     if (name == "drag") {
-        allowOnly(j, path, {"op", "constraints"});
+        allowOnly(j, path, {"op", "constraints", "applied", "cancelled"});
         op.kind = core::ScriptOp::Kind::Drag;
-        const json& list = required(j, "constraints", path);
-        if (!list.is_array() || list.empty()) fail(path + ".constraints", "expected a non-empty array");
-        for (size_t c = 0; c < list.size(); ++c) {
-            const std::string cp = path + ".constraints[" + std::to_string(c) + "]";
-            allowOnly(list[c], cp, {"source", "target"});
-            op.constraints.push_back({vector3(required(list[c], "source", cp), cp + ".source"),
-                                      vector3(required(list[c], "target", cp), cp + ".target")});
-        }
+        op.constraints = parseConstraints(required(j, "constraints", path), path + ".constraints", false);
+        parseRecorded(j, path, op);
     } else if (name == "drag_vertex") {
         allowOnly(j, path, {"op", "vertex", "target"});
         op.kind = core::ScriptOp::Kind::DragVertex;
         op.vertex = integer(required(j, "vertex", path), path + ".vertex");
         op.target = vector3(required(j, "target", path), path + ".target");
     } else if (name == "move_control_point") {
-        allowOnly(j, path, {"op", "index", "indices", "to", "by"});
+        allowOnly(j, path, {"op", "index", "indices", "to", "by", "applied", "cancelled"});
         op.kind = core::ScriptOp::Kind::MoveControlPoint;
+        parseRecorded(j, path, op);
         if (j.contains("to") == j.contains("by")) fail(path, "needs exactly one of \"to\" and \"by\"");
         if (j.contains("index") == j.contains("indices")) fail(path, "needs exactly one of \"index\" and \"indices\"");
         op.relative = j.contains("by");
@@ -130,8 +220,9 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
             }
         }
     } else if (name == "setup_lattice") {
-        allowOnly(j, path, {"op", "lattice"});
+        allowOnly(j, path, {"op", "lattice", "applied"});
         op.kind = core::ScriptOp::Kind::SetupLattice;
+        parseRecorded(j, path, op);
         if (j.contains("lattice") && !j["lattice"].is_null()) {
             op.hasSettings = true;
             op.settings = parseLattice(j["lattice"], path + ".lattice");
@@ -157,6 +248,14 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
     } else if (name == "end_group") {
         allowOnly(j, path, {"op"});
         op.kind = core::ScriptOp::Kind::EndGroup;
+    } else if (name == "group") {
+        allowOnly(j, path, {"op", "first", "label"});
+        op.kind = core::ScriptOp::Kind::Group;
+        op.groupFirst = integer(required(j, "first", path), path + ".first");
+        if (j.contains("label")) {
+            if (!j["label"].is_string()) fail(path + ".label", "expected a string");
+            op.label = j["label"].get<std::string>();
+        }
     } else if (name == "undo" || name == "redo") {
         allowOnly(j, path, {"op"});
         op.kind = name == "undo" ? core::ScriptOp::Kind::Undo : core::ScriptOp::Kind::Redo;
@@ -168,7 +267,7 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
         op.path = p.get<std::string>();
     } else {
         fail(path + ".op", "unknown op \"" + name +
-                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, begin_group, end_group, undo, redo, screenshot)");
+                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, begin_group, end_group, group, undo, redo, screenshot)");
     }
     return op;
 }
@@ -204,7 +303,11 @@ Status parseScript(const std::string& text, const std::string& displayName, core
     }
     try {
         core::Script script;
-        allowOnly(root, "", {"mesh", "lattice", "ops", "injectivity"});
+        allowOnly(root, "", {"mesh", "mesh_fingerprint", "lattice", "ops", "injectivity"});
+        if (root.contains("mesh_fingerprint")) {
+            if (!root["mesh_fingerprint"].is_string()) fail("mesh_fingerprint", "expected a string");
+            script.meshFingerprint = root["mesh_fingerprint"].get<std::string>();
+        }
         if (root.contains("mesh")) {
             const json& mesh = root["mesh"];
             if (!mesh.is_string() || mesh.get<std::string>().empty()) fail("mesh", "expected a file path");
@@ -255,11 +358,54 @@ json latticeJson(const core::LatticeSettings& s) {
     return j;
 }
 
+json constraintsJson(const std::vector<core::PointConstraint>& list) {
+    json out = json::array();
+    for (const core::PointConstraint& c : list) out.push_back({{"source", vectorJson(c.source)}, {"target", vectorJson(c.target)}});
+    return out;
+}
+
+json rowsJson(const Eigen::MatrixX3d& rows) {
+    json out = json::array();
+    for (Eigen::Index r = 0; r < rows.rows(); ++r) out.push_back(vectorJson(rows.row(r).transpose()));
+    return out;
+}
+
+// Doubles are written in the shortest form that reads back to the same bits, so a replay is exact.
+json appliedJson(const core::Operation& operation) {
+    json j;
+    switch (operation.kind) {
+        case core::OperationKind::Drag: j["kind"] = "drag"; break;
+        case core::OperationKind::ControlPointEdit: j["kind"] = "control_point_edit"; break;
+        case core::OperationKind::LatticeSetup: j["kind"] = "lattice_setup"; break;
+    }
+    j["label"] = operation.label;
+    j["interactive"] = operation.interactive;
+    j["depth"] = operation.depthReached;
+    if (!operation.constraints.empty()) j["constraints"] = constraintsJson(operation.constraints);
+    if (!operation.controlPoints.empty()) {
+        j["control_points"] = operation.controlPoints;
+        j["offsets"] = rowsJson(operation.offsets);
+    }
+    if (operation.kind == core::OperationKind::LatticeSetup) j["lattice"] = latticeJson(operation.settings);
+    json steps = json::array();
+    for (const core::Step& step : operation.steps) {
+        json k = {{"fresh_frame", step.freshFrame}, {"lattice", latticeJson(step.settings)}, {"indices", step.delta.indices},
+                  {"deltas", rowsJson(step.delta.deltas)}};
+        if (step.freshFrame)
+            k["frame"] = {{"min", vectorJson(step.frameMin)}, {"max", vectorJson(step.frameMax)}, {"pins_kept", step.framePinsKept}};
+        if (!step.constraints.empty()) k["constraints"] = constraintsJson(step.constraints);
+        steps.push_back(k);
+    }
+    j["steps"] = steps;
+    return j;
+}
+
 }  // namespace
 
 std::string scriptToJson(const core::Script& script) {
     json root;
     if (!script.mesh.empty()) root["mesh"] = script.mesh;
+    if (!script.meshFingerprint.empty()) root["mesh_fingerprint"] = script.meshFingerprint;
     root["lattice"] = latticeJson(script.lattice);
     root["injectivity"] = injectivityJson(script.injectivity);
     json ops = json::array();
@@ -267,13 +413,7 @@ std::string scriptToJson(const core::Script& script) {
         json j;
         j["op"] = core::scriptOpName(op.kind);
         switch (op.kind) {
-            case core::ScriptOp::Kind::Drag: {
-                json constraints = json::array();
-                for (const core::PointConstraint& c : op.constraints)
-                    constraints.push_back({{"source", vectorJson(c.source)}, {"target", vectorJson(c.target)}});
-                j["constraints"] = constraints;
-                break;
-            }
+            case core::ScriptOp::Kind::Drag: j["constraints"] = constraintsJson(op.constraints); break;
             case core::ScriptOp::Kind::DragVertex:
                 j["vertex"] = op.vertex;
                 j["target"] = vectorJson(op.target);
@@ -299,10 +439,16 @@ std::string scriptToJson(const core::Script& script) {
                 if (!op.label.empty()) j["label"] = op.label;
                 break;
             case core::ScriptOp::Kind::EndGroup: break;
+            case core::ScriptOp::Kind::Group:
+                j["first"] = op.groupFirst;
+                if (!op.label.empty()) j["label"] = op.label;
+                break;
             case core::ScriptOp::Kind::Screenshot: j["path"] = op.path; break;
             case core::ScriptOp::Kind::Undo:
             case core::ScriptOp::Kind::Redo: break;
         }
+        if (op.hasApplied) j["applied"] = appliedJson(op.applied);
+        if (op.cancelled) j["cancelled"] = true;
         ops.push_back(j);
     }
     root["ops"] = ops;
