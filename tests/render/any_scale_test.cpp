@@ -238,6 +238,44 @@ TEST_CASE("any scale: screenshots of a sphere with its lattice and a constraint 
     WARN("pictures at the extreme scales written to " << test::glTestOutputDir() << "/any_scale_*.png");
 }
 
+TEST_CASE("any scale: the renderer's local frame follows the mesh, and the lattice without a mesh", "[gl]") {
+    render::OffscreenRenderer& offscreen = test::glTestRenderer();
+    render::Renderer& renderer = offscreen.renderer();
+    const render::SceneData unit = unitScene();
+    const Placement far{1e-3, Eigen::Vector3d::Constant(1e7)};
+    const render::SceneData placed = placedScene(unit, far);
+    render::ScreenshotOptions options;
+    options.width = 320;
+    options.height = 200;
+    options.overlays.lattice = true;
+    render::Rgba8Image reference;
+    requireOk(offscreen.renderScene(placed, options, reference));
+    CHECK(renderer.localFrame().origin.x == Approx(1e7).epsilon(1e-15));
+    CHECK(renderer.localFrame().scale == Approx(0.5e-3).epsilon(1e-3));
+    const render::Camera camera = render::screenshotCamera(renderer.meshBounds(), renderer.latticeBounds(), options);
+
+    // The overlays set while the unit mesh was on the GPU are re-expressed when the far mesh arrives.
+    requireOk(renderer.setMesh(unit.positions, unit.triangles));
+    requireOk(renderer.setLattice(placed.lattice));
+    requireOk(renderer.setConstraints(placed.constraints));
+    requireOk(renderer.setMesh(placed.positions, placed.triangles));
+    render::Rgba8Image reordered;
+    requireOk(offscreen.render(camera, options.overlays, options.width, options.height, 4, &reordered));
+    CHECK(test::differingFraction(reference, reordered) == 0.0);
+
+    // Without a mesh the lattice is the content: a lattice alone far away looks like the unit one.
+    render::SceneData latticeOnly = unit, farLatticeOnly = placed;
+    latticeOnly.positions.resize(0, 3);
+    latticeOnly.triangles.resize(0, 3);
+    farLatticeOnly.positions.resize(0, 3);
+    farLatticeOnly.triangles.resize(0, 3);
+    render::Rgba8Image unitLattice, farLattice;
+    requireOk(offscreen.renderScene(latticeOnly, options, unitLattice));
+    requireOk(offscreen.renderScene(farLatticeOnly, options, farLattice));
+    CHECK(renderer.localFrame().origin.y == Approx(1e7).epsilon(1e-15));
+    CHECK(test::differingFraction(unitLattice, farLattice) <= test::goldenMaxDifferingFraction());
+}
+
 TEST_CASE("any scale: the headless screenshot of the 25 nm sphere (nano-scale case) shows the sphere", "[gl]") {
     namespace fs = std::filesystem;
     const std::string data = std::string(SCULPT_SOURCE_DIR) + "/tests/render/data/nano_scale";
