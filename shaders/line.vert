@@ -16,6 +16,8 @@ flat out float vHalfWidth;
 // Moves a clip-space point that lies behind the eye onto the near side along the segment, so that
 // segments crossing the eye plane still draw their visible part.
 vec4 clipToFront(vec4 point, vec4 other) {
+    // note: w is a view depth in the renderer's local frame, where the scene's radius is 1 (camera.h), so
+    // this is 1e-4 of the scene's size whatever the world units.
     const float minW = 1e-4;
     if (point.w >= minW) return point;
     float t = (minW - point.w) / (other.w - point.w);

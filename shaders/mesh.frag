@@ -38,7 +38,7 @@ vec3 jacobianColor(float det) {
 
 // 1 on the iso-line value == level (about one pixel wide), 0 away from it.
 float isoLine(float value, float level) {
-    float width = max(fwidth(value), 1e-6);
+    float width = max(fwidth(value), 1e-6);  // value is a weight in [0, 1], not a length: no unit involved
     return 1.0 - clamp(abs(value - level) / width, 0.0, 1.0);
 }
 

@@ -21,7 +21,7 @@ Status ScreenshotRenderer::capture(const core::Session& session, const std::stri
     if (options_.camera) {
         screenshot.yawDeg = static_cast<float>((*options_.camera)[0]);
         screenshot.pitchDeg = static_cast<float>((*options_.camera)[1]);
-        screenshot.distance = static_cast<float>((*options_.camera)[2]);
+        screenshot.distance = (*options_.camera)[2];
     }
     SceneRequest request;
     for (const std::string& overlay : options_.overlays) {

@@ -7,8 +7,8 @@
 
 namespace sculpt::render {
 
-void Bounds::add(const glm::vec3& point) {
-    sphereRadius = -1.0f;
+void Bounds::add(const glm::dvec3& point) {
+    sphereRadius = -1.0;
     if (empty) {
         min = max = point;
         empty = false;
@@ -27,66 +27,97 @@ void Bounds::add(const Bounds& other) {
     const Bounds before = *this;
     min = glm::min(min, other.min);
     max = glm::max(max, other.max);
-    sphereRadius = -1.0f;
-    if (before.sphereRadius >= 0.0f && other.sphereRadius >= 0.0f) {
+    sphereRadius = -1.0;
+    if (before.sphereRadius >= 0.0 && other.sphereRadius >= 0.0) {
         // Both spheres, seen from the new centre, fit in this one.
         sphereRadius = std::max(glm::length(before.center() - center()) + before.sphereRadius,
                                 glm::length(other.center() - center()) + other.sphereRadius);
-        sphereRadius = std::min(sphereRadius, 0.5f * glm::length(max - min));
+        sphereRadius = std::min(sphereRadius, 0.5 * glm::length(max - min));
     }
 }
 
-float Bounds::radius() const {
-    if (empty) return 0.0f;
-    return sphereRadius >= 0.0f ? sphereRadius : 0.5f * glm::length(max - min);
+double Bounds::radius() const {
+    if (empty) return 0.0;
+    return sphereRadius >= 0.0 ? sphereRadius : 0.5 * glm::length(max - min);
 }
 
 Bounds boundsOf(const Positions& points) {
     Bounds bounds;
-    for (Eigen::Index i = 0; i < points.rows(); ++i) {
-        if (!points.row(i).allFinite()) continue;
-        bounds.add(glm::vec3(float(points(i, 0)), float(points(i, 1)), float(points(i, 2))));
-    }
+    const auto row = [&](Eigen::Index i) { return glm::dvec3(points(i, 0), points(i, 1), points(i, 2)); };
+    for (Eigen::Index i = 0; i < points.rows(); ++i)
+        if (points.row(i).allFinite()) bounds.add(row(i));
     if (bounds.empty) return bounds;
-    const glm::vec3 center = bounds.center();
-    float radius = 0.0f;
-    for (Eigen::Index i = 0; i < points.rows(); ++i) {
-        if (!points.row(i).allFinite()) continue;
-        radius = std::max(radius, glm::length(glm::vec3(float(points(i, 0)), float(points(i, 1)),
-                                                        float(points(i, 2))) - center));
-    }
+    const glm::dvec3 center = bounds.center();
+    double radius = 0.0;
+    for (Eigen::Index i = 0; i < points.rows(); ++i)
+        if (points.row(i).allFinite()) radius = std::max(radius, glm::length(row(i) - center));
     bounds.sphereRadius = radius;
     return bounds;
+}
+
+double framingRadius(const Bounds& bounds) {
+    if (bounds.empty) return 1.0;
+    const double radius = bounds.radius();
+    if (radius > 0.0 && std::isfinite(radius)) return radius;
+    // note: a single point has no size of its own; any positive radius frames it, and one relative to where it
+    // lies keeps its neighbourhood representable (no absolute floor: that would swallow a 1e-9 mesh).
+    const double away = glm::length(bounds.center());
+    return away > 0.0 && std::isfinite(away) ? 1e-3 * away : 1.0;
+}
+
+LocalFrame localFrameOf(const Bounds& bounds) {
+    if (bounds.empty) return {};
+    return {bounds.center(), framingRadius(bounds)};
 }
 
 void Camera::frame(const Bounds& bounds, float aspect, float fill) {
     if (bounds.empty) return;
     target = bounds.center();
-    // note: a flat or single-point box still needs a positive radius to place the camera.
-    sceneRadius = std::max(bounds.radius(), 1e-6f);
-    const float halfFovY = glm::radians(fovYDeg) * 0.5f;
-    const float halfFovX = std::atan(std::tan(halfFovY) * std::max(aspect, 1e-3f));
-    const float halfFov = std::min(halfFovX, halfFovY);
+    sceneRadius = framingRadius(bounds);
+    const double halfFovY = glm::radians(double(fovYDeg)) * 0.5;
+    // note: the aspect floor is a ratio of pixels, not a length.
+    const double halfFovX = std::atan(std::tan(halfFovY) * std::max(double(aspect), 1e-3));
+    const double halfFov = std::min(halfFovX, halfFovY);
     // The sphere's silhouette spans radius / distance = sin(angle): it fills `fill` of the half angle.
-    distance = sceneRadius / std::sin(halfFov * std::clamp(fill, 0.05f, 1.0f));
+    distance = sceneRadius / std::sin(halfFov * std::clamp(double(fill), 0.05, 1.0));
 }
 
-glm::vec3 Camera::eye() const {
-    const float yaw = glm::radians(yawDeg);
-    const float pitch = glm::radians(std::clamp(pitchDeg, -89.0f, 89.0f));
-    const glm::vec3 direction(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
-    return target + distance * direction;
+glm::dvec3 Camera::towardEye() const {
+    const double yaw = glm::radians(double(yawDeg));
+    const double pitch = glm::radians(std::clamp(double(pitchDeg), -89.0, 89.0));
+    return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw)};
 }
 
-glm::mat4 Camera::view() const { return glm::lookAt(eye(), target, glm::vec3(0.0f, 1.0f, 0.0f)); }
+glm::dvec3 Camera::eye() const { return target + distance * towardEye(); }
 
-glm::mat4 Camera::projection(float aspect) const {
+glm::dvec3 Camera::right() const {
+    // glm::lookAt's side vector: forward x up, forward = -towardEye(); never parallel to +Y (pitch <= 89).
+    return glm::normalize(glm::cross(-towardEye(), glm::dvec3(0.0, 1.0, 0.0)));
+}
+
+glm::dvec3 Camera::up() const { return glm::cross(right(), -towardEye()); }
+
+double Camera::worldPerPixel(int height) const {
+    return 2.0 * distance * std::tan(glm::radians(double(fovYDeg)) * 0.5) / double(std::max(height, 1));
+}
+
+glm::dmat4 Camera::view(const LocalFrame& frame) const {
+    // note: the eye is placed relative to the target in the frame (not eye() minus the origin), so a camera
+    // 1e7 away from the world origin still sees a 1e-3 mesh with all of double's digits.
+    const glm::dvec3 localTarget = frame.toLocal(target);
+    const glm::dvec3 localEye = localTarget + (distance / frame.scale) * towardEye();
+    return glm::lookAt(localEye, localTarget, glm::dvec3(0.0, 1.0, 0.0));
+}
+
+glm::dmat4 Camera::projection(double aspect, const LocalFrame& frame) const {
     // Near and far hug the content (four times its radius around the target, for padded lattices and
-    // handles that stick out) so the 24-bit depth buffer keeps its precision on the surface.
-    const float reach = 4.0f * sceneRadius;
-    const float farPlane = distance + reach;
-    const float nearPlane = std::max(distance - reach, farPlane * 1e-3f);
-    return glm::perspective(glm::radians(fovYDeg), std::max(aspect, 1e-3f), nearPlane, farPlane);
+    // handles that stick out) so the 24-bit depth buffer keeps its precision on the surface. Both are
+    // relative: the content's radius, and near at least 1e-3 of far (the ratio decides depth precision).
+    const double reach = 4.0 * sceneRadius;
+    const double farPlane = distance + reach;
+    const double nearPlane = std::max(distance - reach, farPlane * 1e-3);
+    return glm::perspective(glm::radians(double(fovYDeg)), std::max(aspect, 1e-3), nearPlane / frame.scale,
+                            farPlane / frame.scale);
 }
 
 }  // namespace sculpt::render

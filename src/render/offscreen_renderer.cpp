@@ -19,7 +19,7 @@ Camera screenshotCamera(const Bounds& meshBounds, const Bounds& latticeBounds, c
     if (options.distance) camera.distance = *options.distance;
     // A user-chosen distance may put the eye outside the framed range; keep the near/far planes around
     // everything that can be seen from there.
-    camera.sceneRadius = std::max(camera.sceneRadius, 0.5f * camera.distance);
+    camera.sceneRadius = std::max(camera.sceneRadius, 0.5 * camera.distance);
     return camera;
 }
 

@@ -22,7 +22,7 @@ struct ScreenshotOptions {
     // mesh (and the lattice too, when it is drawn) fills the picture with a margin.
     std::optional<float> yawDeg;
     std::optional<float> pitchDeg;
-    std::optional<float> distance;
+    std::optional<double> distance;       // world units (> 0)
     DrawOptions overlays;                 // lattice, wireframe, jacobian, affected, constraints, background
     GlBackend backend = GlBackend::Auto;  // used by renderScreenshot; an OffscreenRenderer keeps its own
     int samples = 4;                      // MSAA samples per pixel, clamped to what the context offers; 1 = off

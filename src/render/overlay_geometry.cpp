@@ -8,10 +8,9 @@ namespace sculpt::render {
 
 namespace {
 
-void appendPoint(std::vector<float>& out, const Positions& points, Eigen::Index row) {
-    out.push_back(float(points(row, 0)));
-    out.push_back(float(points(row, 1)));
-    out.push_back(float(points(row, 2)));
+void appendPoint(std::vector<float>& out, const LocalFrame& frame, const Positions& points, Eigen::Index row) {
+    const glm::dvec3 local = frame.toLocal(glm::dvec3(points(row, 0), points(row, 1), points(row, 2)));
+    out.insert(out.end(), {float(local.x), float(local.y), float(local.z)});
 }
 
 void appendColor(std::vector<float>& out, const Rgba& color) {
@@ -27,8 +26,8 @@ Status checkFinite(const Positions& points, const char* what) {
     return Status::success();
 }
 
-Status buildLatticeInstances(const LatticeView& lattice, std::vector<float>& edgesOut, std::vector<float>& markersOut,
-                             Bounds& boundsOut) {
+Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame, std::vector<float>& edgesOut,
+                             std::vector<float>& markersOut, Bounds& boundsOut) {
     std::vector<float> edges, points;
     Bounds bounds;
     if (lattice.nu != 0 || lattice.nv != 0 || lattice.nw != 0) {
@@ -55,8 +54,8 @@ Status buildLatticeInstances(const LatticeView& lattice, std::vector<float>& edg
         };
         const auto index = [&](int i, int j, int k) { return Eigen::Index(i) + lattice.nu * (Eigen::Index(j) + Eigen::Index(lattice.nv) * k); };
         const auto addEdge = [&](Eigen::Index a, Eigen::Index b) {
-            appendPoint(edges, lattice.controlPoints, a);
-            appendPoint(edges, lattice.controlPoints, b);
+            appendPoint(edges, frame, lattice.controlPoints, a);
+            appendPoint(edges, frame, lattice.controlPoints, b);
             appendColor(edges, edgeColor(a));
             appendColor(edges, edgeColor(b));
         };
@@ -73,7 +72,7 @@ Status buildLatticeInstances(const LatticeView& lattice, std::vector<float>& edg
             for (Eigen::Index p = 0; p < count; ++p) {
                 const int kind = isSelected(p) ? 2 : isPinned(p) ? 1 : 0;
                 if (kind != pass) continue;
-                appendPoint(points, lattice.controlPoints, p);
+                appendPoint(points, frame, lattice.controlPoints, p);
                 appendColor(points, kind == 2 ? kSelectedPointColor : kind == 1 ? kPinnedPointColor : kControlPointColor);
                 points.push_back(kind == 2 ? kSelectedPointSize : kind == 1 ? kPinnedPointSize : kControlPointSize);
                 points.push_back(isPinned(p) ? 1.0f : 0.0f);  // pinned: square, even when selected
@@ -86,8 +85,8 @@ Status buildLatticeInstances(const LatticeView& lattice, std::vector<float>& edg
     return Status::success();
 }
 
-Status buildConstraintInstances(const ConstraintView& constraints, std::vector<float>& segments,
-                                std::vector<float>& markers) {
+Status buildConstraintInstances(const ConstraintView& constraints, const LocalFrame& frame,
+                                std::vector<float>& segments, std::vector<float>& markers) {
     if (constraints.sources.rows() != constraints.targets.rows())
         return Status::error("constraints: " + std::to_string(constraints.sources.rows()) + " sources but " +
                              std::to_string(constraints.targets.rows()) + " targets");
@@ -97,14 +96,14 @@ Status buildConstraintInstances(const ConstraintView& constraints, std::vector<f
     if (Status status = checkFinite(constraints.pins, "pin"); !status) return status;
     std::vector<float> lines, points;
     for (Eigen::Index c = 0; c < constraints.sources.rows(); ++c) {
-        appendPoint(lines, constraints.sources, c);
-        appendPoint(lines, constraints.targets, c);
+        appendPoint(lines, frame, constraints.sources, c);
+        appendPoint(lines, frame, constraints.targets, c);
         appendColor(lines, kSourceColor);
         appendColor(lines, kTargetColor);
     }
-    const auto appendMarkers = [&points](const Positions& at, const Rgba& color, float shape) {
+    const auto appendMarkers = [&points, &frame](const Positions& at, const Rgba& color, float shape) {
         for (Eigen::Index c = 0; c < at.rows(); ++c) {
-            appendPoint(points, at, c);
+            appendPoint(points, frame, at, c);
             appendColor(points, color);
             points.insert(points.end(), {kHandleSize, shape});
         }

@@ -13,16 +13,20 @@ namespace sculpt::render {
 inline constexpr int kLineFloats = 14;   // per segment: start xyz, end xyz, colour at start rgba, at end rgba
 inline constexpr int kMarkerFloats = 9;  // per marker: centre xyz, colour rgba, diameter (pixels), shape (0 disc, 1 square)
 
+// Positions in the arrays are in `frame`'s local coordinates (camera.h: world minus origin, over scale,
+// subtracted in double before the conversion to float); sizes are pixels, so nothing here is in world units.
+
 // Edges between neighbouring control points (i+1, j+1, k+1) and one marker per control point (plain points
 // first, then pinned, then selected, so the ones the user works with draw on top). nu = nv = nw = 0 gives
-// empty arrays. Fails, leaving the outputs unchanged, on inconsistent sizes or non-finite points.
-Status buildLatticeInstances(const LatticeView& lattice, std::vector<float>& edges, std::vector<float>& markers,
-                             Bounds& bounds);
+// empty arrays. bounds: of the control points, world units. Fails, leaving the outputs unchanged, on
+// inconsistent sizes or non-finite points.
+Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame, std::vector<float>& edges,
+                             std::vector<float>& markers, Bounds& bounds);
 
 // One red-to-blue segment per constraint, then the source markers, then the target markers.
 // Fails, leaving the outputs unchanged, on different source/target counts or non-finite points.
-Status buildConstraintInstances(const ConstraintView& constraints, std::vector<float>& segments,
-                                std::vector<float>& markers);
+Status buildConstraintInstances(const ConstraintView& constraints, const LocalFrame& frame,
+                                std::vector<float>& segments, std::vector<float>& markers);
 
 // Error naming the first non-finite row of points ("<what> row 7 is not finite ..."), or success.
 Status checkFinite(const Positions& points, const char* what);

@@ -80,6 +80,12 @@ struct Renderer::State {
 
     InstanceBatch latticeEdges, latticePoints, handleLines, handlePoints;
     Bounds latticeBounds;
+    // The frame the GPU coordinates are in (camera.h): the mesh's centre and radius when it was set (the
+    // lattice's while there is no mesh). The overlays are kept in world units too, so that a new frame can
+    // re-express them.
+    LocalFrame frame;
+    LatticeView lattice;
+    ConstraintView constraints;
 
     GLint uniform(GLuint program, const char* name) const { return gl.GetUniformLocation(program, name); }
     void packVertices(int first, int last);  // into staging, vertices [first, last)
@@ -90,6 +96,8 @@ struct Renderer::State {
     void setupLineBatch(InstanceBatch& batch);
     void setupPointBatch(InstanceBatch& batch);
     void uploadBatch(InstanceBatch& batch, const std::vector<float>& data, int floatsPerInstance);
+    // Rebuilds the lattice and constraint batches from the kept (already validated) views in `frame`.
+    void uploadOverlays();
     void drawLines(const InstanceBatch& batch, const glm::mat4& viewProjection, int width, int height,
                    float lineWidth, const Rgba& tint, float alphaScale) const;
     void drawPoints(const InstanceBatch& batch, const glm::mat4& viewProjection, int width, int height,
@@ -241,11 +249,14 @@ void Renderer::release() {
 void Renderer::State::packVertices(int first, int last) {
     staging.resize(size_t(last - first) * kVertexFloats);
     float* out = staging.data();
+    // note: the origin is subtracted in double, before the conversion to float (camera.h, LocalFrame).
+    const glm::dvec3 origin = frame.origin;
+    const double inverseScale = 1.0 / frame.scale;
 #pragma omp parallel for schedule(static) if (last - first > 65536)
     for (int v = first; v < last; ++v) {
         float* record = out + size_t(v - first) * kVertexFloats;
         for (int c = 0; c < 3; ++c) {
-            record[c] = float(positions(v, c));
+            record[c] = float((positions(v, c) - origin[c]) * inverseScale);
             record[3 + c] = float(normals(v, c));
         }
     }
@@ -270,6 +281,13 @@ Status Renderer::setMesh(const Positions& positions, const Triangles& triangles)
                                      std::to_string(vertexCount) + ")");
     s.positions = positions;
     s.triangles = triangles;
+    if (vertexCount > 0) {
+        const LocalFrame frame = localFrameOf(boundsOf(s.positions));
+        if (frame != s.frame) {
+            s.frame = frame;
+            s.uploadOverlays();
+        }
+    }
     core::computeVertexNormals(s.positions, s.triangles, s.normals);
     s.adjacency = core::buildVertexTriangles(int(vertexCount), s.triangles);
     s.staleMarks.assign(size_t(vertexCount), 0);
@@ -410,15 +428,37 @@ Status Renderer::setAffectedWeights(const std::vector<float>& affectedWeight) {
 
 // ---- lattice and constraints ---------------------------------------------------------------------
 
+void Renderer::State::uploadOverlays() {
+    std::vector<float> lines, markers;
+    Bounds bounds;
+    if (buildLatticeInstances(lattice, frame, lines, markers, bounds)) {
+        uploadBatch(latticeEdges, lines, kLineFloats);
+        uploadBatch(latticePoints, markers, kMarkerFloats);
+    }
+    if (buildConstraintInstances(constraints, frame, lines, markers)) {
+        uploadBatch(handleLines, lines, kLineFloats);
+        uploadBatch(handlePoints, markers, kMarkerFloats);
+    }
+}
+
 Status Renderer::setLattice(const LatticeView& lattice) {
     State& s = *state_;
     if (!s.ready) return Status::error("renderer not initialised");
+    // Without a mesh the lattice is the content: its centre and size make the frame.
+    LocalFrame frame = s.frame;
+    if (s.positions.rows() == 0 && lattice.nu > 0) frame = localFrameOf(boundsOf(lattice.controlPoints));
     std::vector<float> edges, markers;
     Bounds bounds;
-    if (Status status = buildLatticeInstances(lattice, edges, markers, bounds); !status) return status;
+    if (Status status = buildLatticeInstances(lattice, frame, edges, markers, bounds); !status) return status;
+    s.lattice = lattice;
+    s.latticeBounds = bounds;
+    if (frame != s.frame) {
+        s.frame = frame;
+        s.uploadOverlays();
+        return Status::success();
+    }
     s.uploadBatch(s.latticeEdges, edges, kLineFloats);
     s.uploadBatch(s.latticePoints, markers, kMarkerFloats);
-    s.latticeBounds = bounds;
     return Status::success();
 }
 
@@ -426,7 +466,8 @@ Status Renderer::setConstraints(const ConstraintView& constraints) {
     State& s = *state_;
     if (!s.ready) return Status::error("renderer not initialised");
     std::vector<float> segments, markers;
-    if (Status status = buildConstraintInstances(constraints, segments, markers); !status) return status;
+    if (Status status = buildConstraintInstances(constraints, s.frame, segments, markers); !status) return status;
+    s.constraints = constraints;
     s.uploadBatch(s.handleLines, segments, kLineFloats);
     s.uploadBatch(s.handlePoints, markers, kMarkerFloats);
     return Status::success();
@@ -474,9 +515,10 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
         return Status::error("viewport size " + std::to_string(width) + " x " + std::to_string(height) +
                              " is empty: width and height must be at least 1");
     const GlFunctions& gl = s.gl;
-    const float aspect = float(width) / float(height);
-    const glm::mat4 view = camera.view();
-    const glm::mat4 projection = camera.projection(aspect);
+    const double aspect = double(width) / double(height);
+    // In the GPU's local frame, made in double and only then rounded to float (camera.h).
+    const glm::mat4 view(camera.view(s.frame));
+    const glm::mat4 projection(camera.projection(aspect, s.frame));
     const glm::mat4 viewProjection = projection * view;
     constexpr Rgba kNoTint = {0, 0, 0, 0};
 
@@ -578,6 +620,7 @@ int Renderer::vertexCount() const { return int(state_->positions.rows()); }
 int Renderer::triangleCount() const { return int(state_->triangles.rows()); }
 Bounds Renderer::meshBounds() const { return boundsOf(state_->positions); }
 Bounds Renderer::latticeBounds() const { return state_->latticeBounds; }
+LocalFrame Renderer::localFrame() const { return state_->frame; }
 const Positions& Renderer::positions() const { return state_->positions; }
 const Positions& Renderer::normals() const { return state_->normals; }
 UploadStats Renderer::lastUpload() const { return state_->lastUpload; }

@@ -86,6 +86,10 @@ public:
     int triangleCount() const;
     Bounds meshBounds() const;     // of the current positions
     Bounds latticeBounds() const;  // of the control points (empty without a lattice)
+    // The frame the GPU coordinates are in (camera.h): set by setMesh from the mesh's centre and radius, by
+    // setLattice from the lattice's while the mesh is empty; the identity before either. Lattice and
+    // constraints are re-expressed when it changes, so callers never see it except in tests.
+    LocalFrame localFrame() const;
     const Positions& positions() const;  // current positions, as uploaded
     const Positions& normals() const;    // current vertex normals, as uploaded
     UploadStats lastUpload() const;

@@ -14,7 +14,7 @@ TEST_CASE("overlay geometry: lattice edges join exactly the grid neighbours", "[
         render::LatticeView lattice = test::makeBoxLattice({-1, -1, -1}, {1, 2, 3}, nu, nv, nw);
         std::vector<float> edges, markers;
         render::Bounds bounds;
-        REQUIRE(render::buildLatticeInstances(lattice, edges, markers, bounds).ok);
+        REQUIRE(render::buildLatticeInstances(lattice, {}, edges, markers, bounds).ok);
         const size_t expectedEdges = size_t((nu - 1) * nv * nw + nu * (nv - 1) * nw + nu * nv * (nw - 1));
         CHECK(edges.size() == expectedEdges * render::kLineFloats);
         CHECK(markers.size() == size_t(nu * nv * nw) * render::kMarkerFloats);
@@ -26,8 +26,8 @@ TEST_CASE("overlay geometry: lattice edges join exactly the grid neighbours", "[
             CHECK(differing == 1);
         }
         if (nu > 1 && nv > 1 && nw > 1) {  // (a dimension of 1 sits in the middle of the box)
-            CHECK(bounds.min == glm::vec3(-1, -1, -1));
-            CHECK(bounds.max == glm::vec3(1, 2, 3));
+            CHECK(bounds.min == glm::dvec3(-1, -1, -1));
+            CHECK(bounds.max == glm::dvec3(1, 2, 3));
         }
     }
 }
@@ -41,7 +41,7 @@ TEST_CASE("overlay geometry: selected markers come last, pinned ones are squares
     lattice.pinned[5] = 1;
     std::vector<float> edges, markers;
     render::Bounds bounds;
-    REQUIRE(render::buildLatticeInstances(lattice, edges, markers, bounds).ok);
+    REQUIRE(render::buildLatticeInstances(lattice, {}, edges, markers, bounds).ok);
     const auto marker = [&](int m) { return &markers[size_t(m) * render::kMarkerFloats]; };
     CHECK(marker(7)[3] == render::kSelectedPointColor.r);
     CHECK(marker(7)[5] == render::kSelectedPointColor.b);
@@ -52,10 +52,10 @@ TEST_CASE("overlay geometry: selected markers come last, pinned ones are squares
 
     lattice.selected.resize(3);
     const std::vector<float> before = edges;
-    CHECK_FALSE(render::buildLatticeInstances(lattice, edges, markers, bounds).ok);
+    CHECK_FALSE(render::buildLatticeInstances(lattice, {}, edges, markers, bounds).ok);
     CHECK(edges == before);  // unchanged on failure
     render::LatticeView empty;
-    REQUIRE(render::buildLatticeInstances(empty, edges, markers, bounds).ok);
+    REQUIRE(render::buildLatticeInstances(empty, {}, edges, markers, bounds).ok);
     CHECK(edges.empty());
     CHECK(bounds.empty);
 }
@@ -65,13 +65,13 @@ TEST_CASE("overlay geometry: constraints give a red-to-blue segment and two hand
     constraints.sources = Positions::Random(3, 3);
     constraints.targets = Positions::Random(3, 3);
     std::vector<float> segments, markers;
-    REQUIRE(render::buildConstraintInstances(constraints, segments, markers).ok);
+    REQUIRE(render::buildConstraintInstances(constraints, {}, segments, markers).ok);
     CHECK(segments.size() == 3 * size_t(render::kLineFloats));
     CHECK(markers.size() == 6 * size_t(render::kMarkerFloats));
     CHECK(segments[6] == render::kSourceColor.r);
     CHECK(segments[12] == render::kTargetColor.b);
     constraints.targets = Positions::Random(2, 3);
-    CHECK_FALSE(render::buildConstraintInstances(constraints, segments, markers).ok);
+    CHECK_FALSE(render::buildConstraintInstances(constraints, {}, segments, markers).ok);
 }
 
 TEST_CASE("overlay geometry: placed handles are red discs and surface pins green squares, no segments", "[gl]") {
@@ -82,7 +82,7 @@ TEST_CASE("overlay geometry: placed handles are red discs and surface pins green
         constraints.handles = Positions::Random(handles, 3);
         constraints.pins = Positions::Random(pins, 3);
         std::vector<float> segments, markers;
-        REQUIRE(render::buildConstraintInstances(constraints, segments, markers).ok);
+        REQUIRE(render::buildConstraintInstances(constraints, {}, segments, markers).ok);
         CHECK(segments.empty());
         REQUIRE(markers.size() == size_t(handles + pins) * size_t(render::kMarkerFloats));
         for (int m = 0; m < handles + pins; ++m) {
@@ -94,7 +94,7 @@ TEST_CASE("overlay geometry: placed handles are red discs and surface pins green
         }
         if (pins > 0) {
             constraints.pins(0, 1) = std::nan("");
-            CHECK_FALSE(render::buildConstraintInstances(constraints, segments, markers).ok);
+            CHECK_FALSE(render::buildConstraintInstances(constraints, {}, segments, markers).ok);
         }
     }
 }

@@ -4,27 +4,32 @@
 #include <limits>
 
 #include <Eigen/Geometry>
-#include <glm/gtc/matrix_transform.hpp>
+#include <glm/glm.hpp>
 
 namespace sculpt::app {
+namespace {
+
+// Barycentric weights are dimensionless: a ray through the edge two triangles share hits one of them even
+// when rounding puts its weights a few ulps outside [0, 1] in both.
+constexpr double kBarycentricSlack = 1e-12;
+
+}  // namespace
 
 bool rayThroughPixel(const render::Camera& camera, int width, int height, double x, double y, Ray& ray) {
     if (width <= 0 || height <= 0) return false;
-    const float aspect = static_cast<float>(width) / static_cast<float>(height);
-    const glm::mat4 inverse = glm::inverse(camera.projection(aspect) * camera.view());
-    const float ndcX = static_cast<float>(2.0 * x / width - 1.0);
-    const float ndcY = static_cast<float>(1.0 - 2.0 * y / height);
-    glm::vec4 nearPoint = inverse * glm::vec4(ndcX, ndcY, -1.0f, 1.0f);
-    glm::vec4 farPoint = inverse * glm::vec4(ndcX, ndcY, 1.0f, 1.0f);
-    if (nearPoint.w == 0.0f || farPoint.w == 0.0f) return false;
-    nearPoint /= nearPoint.w;
-    farPoint /= farPoint.w;
-    const glm::vec3 eye = camera.eye();
+    // note: built from the camera's own basis in double, not by inverting a float view-projection matrix:
+    // that loses everything for a 1e-3 mesh at 1e7 and its near plane depends on the scene's scale.
+    const double aspect = double(width) / double(height);
+    const double tanHalfY = std::tan(glm::radians(double(camera.fovYDeg)) * 0.5);
+    const double ndcX = 2.0 * x / width - 1.0;
+    const double ndcY = 1.0 - 2.0 * y / height;
+    const glm::dvec3 direction = -camera.towardEye() + (ndcX * tanHalfY * aspect) * camera.right() +
+                                 (ndcY * tanHalfY) * camera.up();
+    const double length = glm::length(direction);
+    const glm::dvec3 eye = camera.eye();
+    if (!(length > 0.0) || !std::isfinite(length) || !std::isfinite(eye.x + eye.y + eye.z)) return false;
     ray.origin = Eigen::Vector3d(eye.x, eye.y, eye.z);
-    Eigen::Vector3d direction(farPoint.x - nearPoint.x, farPoint.y - nearPoint.y, farPoint.z - nearPoint.z);
-    const double length = direction.norm();
-    if (!(length > 0.0) || !std::isfinite(length)) return false;
-    ray.direction = direction / length;
+    ray.direction = Eigen::Vector3d(direction.x, direction.y, direction.z) / length;
     return true;
 }
 
@@ -39,15 +44,16 @@ SurfaceHit intersectMesh(const Ray& ray, const Positions& positions, const Trian
         const Eigen::Vector3d e2 = positions.row(triangles(f, 2)).transpose() - p0;
         const Eigen::Vector3d p = d.cross(e2);
         const double det = e1.dot(p);
-        // note: relative threshold so tiny and huge meshes pick alike; skips only degenerate/edge-on triangles.
-        if (std::abs(det) <= 1e-14 * e1.squaredNorm() * e2.norm()) continue;
+        // note: det = |e1| |e2| times a sine (d is unit), so the threshold is relative in every unit: it skips
+        // only degenerate and exactly edge-on triangles, alike for a 1e-9 and a 1e9 mesh.
+        if (std::abs(det) <= 1e-14 * e1.norm() * e2.norm()) continue;
         const double invDet = 1.0 / det;
         const Eigen::Vector3d s = o - p0;
         const double u = s.dot(p) * invDet;
-        if (u < 0.0 || u > 1.0) continue;
+        if (u < -kBarycentricSlack || u > 1.0 + kBarycentricSlack) continue;
         const Eigen::Vector3d q = s.cross(e1);
         const double v = d.dot(q) * invDet;
-        if (v < 0.0 || u + v > 1.0) continue;
+        if (v < -kBarycentricSlack || u + v > 1.0 + kBarycentricSlack) continue;
         const double t = e2.dot(q) * invDet;
         if (t <= 0.0 || t >= bestT) continue;
         bestT = t;
@@ -66,9 +72,12 @@ SurfaceHit intersectMesh(const Ray& ray, const Positions& positions, const Trian
 
 bool intersectPlane(const Ray& ray, const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
                     Eigen::Vector3d& hit) {
-    const double denom = ray.direction.dot(normal);
+    // note: a cosine between unit vectors (the normal is normalised here), not a length: scale-free.
+    const double normalLength = normal.norm();
+    if (!(normalLength > 0.0)) return false;
+    const double denom = ray.direction.dot(normal) / normalLength;
     if (std::abs(denom) < 1e-9) return false;
-    const double t = (point - ray.origin).dot(normal) / denom;
+    const double t = (point - ray.origin).dot(normal) / normalLength / denom;
     if (!(t > 0.0) || !std::isfinite(t)) return false;
     hit = ray.origin + t * ray.direction;
     return true;

@@ -29,7 +29,8 @@ struct SurfaceHit {
 // all #F triangles: ~0.1 ms per 10k triangles, paid once per click. positions #V x 3, triangles #F x 3.
 SurfaceHit intersectMesh(const Ray& ray, const Positions& positions, const Triangles& triangles);
 
-// Where the ray meets the plane through `point` with normal `normal`; false if (nearly) parallel or behind.
+// Where the ray meets the plane through `point` with normal `normal` (any nonzero length); false if the ray is
+// within 1e-9 (a cosine) of parallel to the plane, or the plane is behind the ray's origin.
 bool intersectPlane(const Ray& ray, const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
                     Eigen::Vector3d& hit);
 

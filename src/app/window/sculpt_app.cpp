@@ -76,12 +76,10 @@ void SculptApp::onMouseMove(const MouseMoveEvent& event, CaptureFlags /*capture*
         camera.yawDeg = static_cast<float>(std::remainder(camera.yawDeg - dx * kOrbitDegreesPerPixel, 360.0));
         camera.pitchDeg = static_cast<float>(std::clamp(camera.pitchDeg + dy * kOrbitDegreesPerPixel, -89.0, 89.0));
     } else if (state_.navigation == Navigation::Pan && state_.framebufferHeight > 0) {
-        const glm::mat4 view = camera.view();
-        const glm::vec3 right(view[0][0], view[1][0], view[2][0]);
-        const glm::vec3 up(view[0][1], view[1][1], view[2][1]);
-        const float worldPerPixel = 2.0f * camera.distance * std::tan(glm::radians(camera.fovYDeg) * 0.5f) /
-                                    static_cast<float>(state_.framebufferHeight);
-        camera.target += (-static_cast<float>(dx) * right + static_cast<float>(dy) * up) * worldPerPixel;
+        // The point under the cursor stays under it: world units per pixel at the target's depth (double, so
+        // a pan by a pixel of a 1e-3 mesh at 1e7 is not rounded away).
+        const double worldPerPixel = camera.worldPerPixel(state_.framebufferHeight);
+        camera.target += (-dx * camera.right() + dy * camera.up()) * worldPerPixel;
     }
 }
 
@@ -89,8 +87,9 @@ void SculptApp::onScroll(const ScrollEvent& event, CaptureFlags capture) {
     if (capture.mouse || !std::isfinite(event.dy)) return;
     render::Camera& camera = state_.camera;
     const double factor = std::pow(kZoomPerNotch, std::clamp(event.dy, -10.0, 10.0));
-    const float minDistance = 1e-3f * camera.sceneRadius, maxDistance = 1e3f * camera.sceneRadius;
-    camera.distance = std::clamp(static_cast<float>(camera.distance * factor), minDistance, maxDistance);
+    // Zoom is a factor, and its limits are relative to the content's radius: alike at every scale.
+    const double minDistance = 1e-3 * camera.sceneRadius, maxDistance = 1e3 * camera.sceneRadius;
+    camera.distance = std::clamp(camera.distance * factor, minDistance, maxDistance);
 }
 
 void SculptApp::onKey(const KeyEvent& event, CaptureFlags capture) {

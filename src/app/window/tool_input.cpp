@@ -14,8 +14,10 @@ namespace {
 
 constexpr double kPickRadius = 9.0;  // pixels (times the pixel scale) around a marker that grab it
 
+// The drag plane's normal. note: from the camera's angles, not eye() - target, which at 1e7 from the origin
+// would carry the rounding of both.
 Eigen::Vector3d towardsEye(const render::Camera& camera) {
-    const glm::vec3 d = glm::normalize(camera.eye() - camera.target);
+    const glm::dvec3 d = camera.towardEye();
     return Eigen::Vector3d(d.x, d.y, d.z);
 }
 

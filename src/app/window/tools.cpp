@@ -9,20 +9,27 @@
 namespace sculpt::app {
 namespace {
 
-// Clip-space position of a world point; w <= 0 behind the eye.
-glm::dvec4 toClip(const glm::mat4& viewProjection, const Eigen::Vector3d& point) {
-    return glm::dmat4(viewProjection) * glm::dvec4(point.x(), point.y(), point.z(), 1.0);
-}
+// World -> clip space in double, in a frame about the camera's target scaled by the scene's radius (camera.h),
+// so markers of a 1e-3 mesh at 1e7 or of a 1e-9 one project to the pixels they are drawn at.
+struct ClipProjection {
+    render::LocalFrame frame;
+    glm::dmat4 viewProjection{1.0};
+
+    ClipProjection(const render::Camera& camera, int width, int height)
+        : frame{camera.target, camera.sceneRadius > 0.0 ? camera.sceneRadius : 1.0},
+          viewProjection(camera.projection(double(width) / double(height), frame) * camera.view(frame)) {}
+
+    // w <= 0 behind the eye.
+    glm::dvec4 toClip(const Eigen::Vector3d& point) const {
+        return viewProjection * glm::dvec4(frame.toLocal(glm::dvec3(point.x(), point.y(), point.z())), 1.0);
+    }
+};
 
 bool clipToPixel(const glm::dvec4& clip, int width, int height, double& x, double& y) {
     if (!(clip.w > 0.0)) return false;
     x = (clip.x / clip.w * 0.5 + 0.5) * width;
     y = (0.5 - clip.y / clip.w * 0.5) * height;
     return std::isfinite(x) && std::isfinite(y);
-}
-
-glm::mat4 viewProjection(const render::Camera& camera, int width, int height) {
-    return camera.projection(static_cast<float>(width) / static_cast<float>(height)) * camera.view();
 }
 
 }  // namespace
@@ -40,7 +47,7 @@ Eigen::Vector3d handlePosition(const SurfaceHandle& handle, const Positions& pos
 bool projectToPixel(const render::Camera& camera, int width, int height, const Eigen::Vector3d& point, double& x,
                     double& y) {
     if (width <= 0 || height <= 0) return false;
-    return clipToPixel(toClip(viewProjection(camera, width, height), point), width, height, x, y);
+    return clipToPixel(ClipProjection(camera, width, height).toClip(point), width, height, x, y);
 }
 
 int handleAtPixel(const ToolState& tools, const Positions& positions, const Triangles& triangles,
@@ -62,11 +69,11 @@ int handleAtPixel(const ToolState& tools, const Positions& positions, const Tria
 int controlPointAtPixel(const Positions& controlPoints, const render::Camera& camera, int width, int height, double x,
                         double y, double radius) {
     if (width <= 0 || height <= 0) return -1;
-    const glm::mat4 vp = viewProjection(camera, width, height);
+    const ClipProjection projection(camera, width, height);
     int best = -1;
     double bestDistance = std::numeric_limits<double>::infinity(), bestDepth = std::numeric_limits<double>::infinity();
     for (Eigen::Index p = 0; p < controlPoints.rows(); ++p) {
-        const glm::dvec4 clip = toClip(vp, controlPoints.row(p).transpose());
+        const glm::dvec4 clip = projection.toClip(controlPoints.row(p).transpose());
         double px = 0.0, py = 0.0;
         if (!clipToPixel(clip, width, height, px, py)) continue;
         const double distance = std::hypot(px - x, py - y);
@@ -86,11 +93,11 @@ std::vector<int> controlPointsInRectangle(const Positions& controlPoints, const 
                                           int height, double x0, double y0, double x1, double y1) {
     std::vector<int> inside;
     if (width <= 0 || height <= 0) return inside;
-    const glm::mat4 vp = viewProjection(camera, width, height);
+    const ClipProjection projection(camera, width, height);
     const double left = std::min(x0, x1), right = std::max(x0, x1), top = std::min(y0, y1), bottom = std::max(y0, y1);
     for (Eigen::Index p = 0; p < controlPoints.rows(); ++p) {
         double px = 0.0, py = 0.0;
-        if (!clipToPixel(toClip(vp, controlPoints.row(p).transpose()), width, height, px, py)) continue;
+        if (!clipToPixel(projection.toClip(controlPoints.row(p).transpose()), width, height, px, py)) continue;
         if (px >= left && px <= right && py >= top && py <= bottom) inside.push_back(static_cast<int>(p));
     }
     return inside;

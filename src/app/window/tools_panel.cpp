@@ -2,7 +2,9 @@
 // the selection and pins of the lattice tool, and the lattice set-up (resolution, degree, padding, pinned
 // layers, region of interest). Also draws the lattice tool's selection rectangle over the viewport.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include <imgui.h>
@@ -13,6 +15,14 @@
 
 namespace sculpt::app {
 namespace {
+
+// printf format for a coordinate as large as `magnitude` of a box `size` across: enough significant digits
+// to show 1e-4 of the size (4 near the origin, up to 17 for a tiny box far from it).
+std::string coordinateFormat(double magnitude, double size) {
+    const double ratio = magnitude > 0.0 && size > 0.0 ? magnitude / size : 1.0;
+    const int digits = std::clamp(static_cast<int>(std::ceil(std::log10(std::max(ratio, 1.0)))) + 4, 4, 17);
+    return "%." + std::to_string(digits) + "g";
+}
 
 void helpMarker(const char* text) {
     ImGui::SameLine();
@@ -87,17 +97,17 @@ void drawSetupSection(AppState& state) {
     edited |= ImGui::Checkbox("Region of interest", &s.hasRegion);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Off: the box is the mesh bounds. On: only the region moves; the rest stays bitwise.");
     if (s.hasRegion) {
-        float lo[3] = {static_cast<float>(s.regionMin.x()), static_cast<float>(s.regionMin.y()), static_cast<float>(s.regionMin.z())};
-        float hi[3] = {static_cast<float>(s.regionMax.x()), static_cast<float>(s.regionMax.y()), static_cast<float>(s.regionMax.z())};
-        const float speed = 0.005f * static_cast<float>(std::max(1e-6, state.session.lattice().diagonal()));
-        if (ImGui::DragFloat3("Min", lo, speed, 0.0f, 0.0f, "%.3f")) {
-            s.regionMin = Eigen::Vector3d(lo[0], lo[1], lo[2]);
+        // The corners are world coordinates: doubles (a float rounds a 1e-3 box at 1e7 to whole units), dragged
+        // at 0.5% of the lattice's diagonal per pixel, shown with enough digits to tell its corners apart.
+        const double diagonal = state.session.lattice().diagonal();
+        const float speed = static_cast<float>(0.005 * diagonal);
+        const std::string format = coordinateFormat(std::max(s.regionMin.cwiseAbs().maxCoeff(), s.regionMax.cwiseAbs().maxCoeff()), diagonal);
+        if (ImGui::DragScalarN("Min", ImGuiDataType_Double, s.regionMin.data(), 3, speed, nullptr, nullptr, format.c_str(),
+                               ImGuiSliderFlags_NoRoundToFormat))
             edited = true;
-        }
-        if (ImGui::DragFloat3("Max", hi, speed, 0.0f, 0.0f, "%.3f")) {
-            s.regionMax = Eigen::Vector3d(hi[0], hi[1], hi[2]);
+        if (ImGui::DragScalarN("Max", ImGuiDataType_Double, s.regionMax.data(), 3, speed, nullptr, nullptr, format.c_str(),
+                               ImGuiSliderFlags_NoRoundToFormat))
             edited = true;
-        }
         const Positions& positions = state.session.positions();
         if (ImGui::Button("Mesh bounds") && positions.rows() > 0) {
             s.regionMin = positions.colwise().minCoeff().transpose();
@@ -107,7 +117,8 @@ void drawSetupSection(AppState& state) {
         ImGui::SameLine();
         ImGui::BeginDisabled(tools.lattice.points.empty());
         if (ImGui::Button("Selected points")) {
-            Eigen::Vector3d a = Eigen::Vector3d::Constant(1e300), b = Eigen::Vector3d::Constant(-1e300);
+            const double inf = std::numeric_limits<double>::infinity();
+            Eigen::Vector3d a = Eigen::Vector3d::Constant(inf), b = Eigen::Vector3d::Constant(-inf);
             for (int id : tools.lattice.points) {
                 const Eigen::Vector3d p = state.session.lattice().controlPoint(id);
                 a = a.cwiseMin(p);
