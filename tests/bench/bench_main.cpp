@@ -7,6 +7,7 @@
 #include <iostream>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <omp.h>
@@ -17,6 +18,7 @@
 #include "core/direct_manipulation.h"
 #include "core/embedding.h"
 #include "core/lattice.h"
+#include "core/self_intersection.h"
 #include "core/session.h"
 #ifdef SCULPT_BENCH_RENDER
 #include "render_bench.h"
@@ -254,6 +256,73 @@ void benchSubdivision() {
     }
 }
 
+// A closed latitude-longitude sphere mesh of about n vertices (rings x perRing plus the poles), the
+// triangles a real 1M-vertex scan would have.
+void sphereMesh(int n, Positions& positions, Triangles& triangles) {
+    const int rings = static_cast<int>(std::sqrt(n / 2.0)), perRing = 2 * rings;
+    positions.resize(rings * perRing + 2, 3);
+    for (int r = 0; r < rings; ++r)
+        for (int k = 0; k < perRing; ++k) {
+            const double theta = M_PI * (r + 1) / (rings + 1), phi = 2.0 * M_PI * k / perRing;
+            positions.row(r * perRing + k) << std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta);
+        }
+    const int north = rings * perRing, south = north + 1;
+    positions.row(north) << 0, 0, 1;
+    positions.row(south) << 0, 0, -1;
+    std::vector<Eigen::Vector3i> tris;
+    for (int k = 0; k < perRing; ++k) {
+        const int k1 = (k + 1) % perRing;
+        tris.emplace_back(north, k, k1);
+        tris.emplace_back(south, (rings - 1) * perRing + k1, (rings - 1) * perRing + k);
+        for (int r = 0; r + 1 < rings; ++r) {
+            const int a = r * perRing + k, b = r * perRing + k1, c = (r + 1) * perRing + k1, d = (r + 1) * perRing + k;
+            tris.emplace_back(a, d, c);
+            tris.emplace_back(a, c, b);
+        }
+    }
+    triangles.resize(static_cast<Eigen::Index>(tris.size()), 3);
+    for (size_t t = 0; t < tris.size(); ++t) triangles.row(static_cast<Eigen::Index>(t)) = tris[t].transpose();
+}
+
+// The triangle check of issue 9 on 1M vertices (2M triangles): building its index with the load-time count of
+// crossing pairs, and one drag that moves a few percent of the mesh (16^3 lattice) or nearly all of it (8^3).
+void benchTriangleCheck() {
+    if (!wanted("triangle_check")) return;
+    Positions positions;
+    Triangles triangles;
+    sphereMesh(1000000, positions, triangles);
+    const int n = static_cast<int>(positions.rows());
+    {
+        const double ms = bench::medianMs(3, [&] { findSelfIntersections(positions, triangles); });
+        bench::printCase("triangle_check_all_pairs_1m", n, ms, "\"triangles\": " + std::to_string(triangles.rows()));
+    }
+    for (const auto& [name, resolution, size] : {std::tuple<const char*, int, double>{"triangle_check_local_1m", 16, 0.02},
+                                                 std::tuple<const char*, int, double>{"triangle_check_global_1m", 8, 0.15}}) {
+        if (!wanted(name)) continue;
+        LatticeSettings settings;
+        settings.resolution = {resolution, resolution, resolution};
+        Session session;
+        const auto start = std::chrono::steady_clock::now();
+        session.setMesh(positions, triangles, settings);
+        const double setMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        session.setInjectivity({InjectivityMode::Conic, 6});
+        const int v = n / 3;
+        const Eigen::Vector3d source = positions.row(v).transpose();
+        const Eigen::Vector3d target = source + size * Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+        OpReport report;
+        std::vector<double> checkMs;
+        const double ms = bench::medianMs(10, [&] {
+            session.drag({{source, target}}, report);
+            checkMs.push_back(report.triangleCheckMs);
+        }, [&] { if (session.historyCursor() > 0) session.undo(report); });
+        char extra[240];
+        std::snprintf(extra, sizeof extra,
+                      "\"triangle_check_ms\": %.2f, \"vertices_moved\": %d, \"status\": \"%s\", \"sub_steps\": %d, \"set_mesh_ms\": %.0f",
+                      bench::median(checkMs), report.verticesMoved, opStatusName(report.status), report.subSteps, setMs);
+        bench::printCase(name, n, ms, extra);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -267,6 +336,7 @@ int main(int argc, char** argv) {
     benchParameters(points);
     sculpt::bench::runInjectivityBenchmarks(gFilters);
     benchSubdivision();
+    benchTriangleCheck();
 #ifdef SCULPT_BENCH_RENDER
     if (wanted("render") || wanted("upload")) sculpt::render::runRenderBenchmarks(std::cout);
 #endif

@@ -69,6 +69,8 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
         text += ", " + std::to_string(report.verticesMoved) + " vertices moved";
         if (report.subSteps > 1) text += ", " + std::to_string(report.subSteps) + " injective steps";
         if (!report.injectivity.empty()) text += ", " + report.injectivity;
+        // A move stopped short of where it was asked, or constraints met only as closely as possible: say so.
+        if (report.fractionApplied < 1.0 || report.rankDeficient) text += "; " + report.reason;
     }
     setStatus(state, text, report.status == core::OpStatus::Rejected);
 }

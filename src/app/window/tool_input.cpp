@@ -273,12 +273,13 @@ void SculptApp::updateSculpt(double x, double y) {
 }
 
 void SculptApp::endSculpt() {
-    const int before = static_cast<int>(state_.session.history().size());
+    // note: the journal, not the history's size: after an undo a new entry replaces the redo branch.
+    const size_t before = state_.session.journal().size();
     state_.session.endDrag();
     const DragState finished = state_.drag;
     state_.drag = DragState{};
     state_.gpu.fields = true;
-    const bool recorded = static_cast<int>(state_.session.history().size()) > before;
+    const bool recorded = state_.session.journal().size() > before;
     std::string text = recorded ? "Drag recorded as one undo step (" + plural(static_cast<size_t>(finished.moves), "move")
                                 : "Drag changed nothing (" + plural(static_cast<size_t>(finished.moves), "move");
     if (finished.refused > 0) text += ", " + std::to_string(finished.refused) + " refused as not injective";
