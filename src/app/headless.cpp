@@ -46,6 +46,9 @@ int runHeadless(const CliOptions& options, const char* argv0) {
                 static_cast<int>(mesh.positions.rows()), static_cast<int>(mesh.triangles.rows()), loadMs,
                 session.lattice().count[0], session.lattice().count[1], session.lattice().count[2],
                 session.lattice().degree[0], session.lattice().degree[1], session.lattice().degree[2]);
+    if (session.initialIntersectingPairs() > 0)
+        std::cerr << "sculpt: warning: " << input << " already crosses itself (" << session.initialIntersectingPairs()
+                  << " triangle pairs); those never count against an edit, only new crossings are refused\n";
 
     ScreenshotRenderer screenshots(options);
     core::ScriptReport report;

@@ -172,6 +172,8 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     }
     verticesMoved(moved);
     refit(positions, triangles);
+    // Queries in leaf order: neighbouring queries walk the same nodes, which stay in cache.
+    std::sort(movedTriangles.begin(), movedTriangles.end(), [&](int x, int y) { return leafOfTriangle_[x] < leafOfTriangle_[y]; });
 
     const auto now = [&](int v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
     const auto then = [&](int v) -> Eigen::Vector3d { return (movedVertexFlag_[v] ? before.row(v) : positions.row(v)).transpose(); };
@@ -229,7 +231,8 @@ std::vector<TrianglePairHit> SelfIntersectionIndex::allIntersections(const Posit
     {
         std::vector<TrianglePairHit> local;
 #pragma omp for schedule(dynamic, 256)
-        for (int a = 0; a < nt; ++a) {
+        for (int e = 0; e < nt; ++e) {
+            const int a = leafTriangles_[e];  // in leaf order, so neighbouring queries share cached nodes
             if (total.load(std::memory_order_relaxed) >= limit) continue;
             const Eigen::AlignedBox3d box = triangleBox(positions, triangles, a);
             const TriangleCorners cornersA = corners(triangles, a, now);

@@ -4,6 +4,8 @@
 // in its own translation unit because CGAL's headers are slow to compile.
 #include "core/triangle_pair.h"
 
+#include <cmath>
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/intersections.h>
 
@@ -63,9 +65,65 @@ bool primitivesIntersect(const Primitive& a, const Primitive& b) {
     return CGAL::do_intersect(Triangle(a.p[0], a.p[1], a.p[2]), Triangle(b.p[0], b.p[1], b.p[2]));
 }
 
-}  // namespace
+// The sign of orient3d(a, b, c, d) where plain double arithmetic certifies it, 0 where it cannot: Shewchuk's
+// static error bound for the determinant computed from the input coordinates (Shewchuk 1997, "Adaptive
+// precision floating-point arithmetic and fast robust geometric predicates", o3derrboundA). Most pairs the
+// broad phase hands over are decided here; the rest go to CGAL's exact predicates.
+int certifiedOrientation(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+    const Eigen::Vector3d ad = a - d, bd = b - d, cd = c - d;
+    const double bc = bd.y() * cd.z() - bd.z() * cd.y(), ca = cd.y() * ad.z() - cd.z() * ad.y(), ab = ad.y() * bd.z() - ad.z() * bd.y();
+    const double det = ad.x() * bc + bd.x() * ca + cd.x() * ab;
+    const double permanent = (std::abs(bd.y() * cd.z()) + std::abs(bd.z() * cd.y())) * std::abs(ad.x()) +
+                             (std::abs(cd.y() * ad.z()) + std::abs(cd.z() * ad.y())) * std::abs(bd.x()) +
+                             (std::abs(ad.y() * bd.z()) + std::abs(ad.z() * bd.y())) * std::abs(cd.x());
+    constexpr double kBound = 7.7715611723761027e-16;  // (7 + 56 eps) eps, eps = 2^-53
+    if (det > kBound * permanent) return 1;
+    if (-det > kBound * permanent) return -1;
+    return 0;
+}
 
-bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& b) {
+// True when the points p[i] (i in `which`) are certified strictly on one side of triangle t's plane.
+bool certifiedOneSide(const TriangleCorners& t, const Eigen::Vector3d* points, int count) {
+    int first = 0;
+    for (int i = 0; i < count; ++i) {
+        const int o = certifiedOrientation(t.point[0], t.point[1], t.point[2], points[i]);
+        if (o == 0 || (i > 0 && o != first)) return false;
+        first = o;
+    }
+    return true;
+}
+
+// 0: certainly no intersection beyond what they share, -1: not decided by the filter.
+int quickDecision(const TriangleCorners& a, const TriangleCorners& b) {
+    int shared = 0, wa = -1, wb = -1;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (a.vertex[i] >= 0 && a.vertex[i] == b.vertex[j]) ++shared, wa = i, wb = j;
+    if (shared == 0) {
+        // One triangle wholly on one side of the other's plane: they cannot meet.
+        if (certifiedOneSide(a, b.point.data(), 3) || certifiedOneSide(b, a.point.data(), 3)) return 0;
+        return -1;
+    }
+    if (shared == 1) {
+        // Each edge opposite the shared vertex must miss the other triangle (see below): certainly so when it
+        // lies strictly on one side of that triangle's plane.
+        const Eigen::Vector3d oppositeB[2] = {b.point[(wb + 1) % 3], b.point[(wb + 2) % 3]};
+        const Eigen::Vector3d oppositeA[2] = {a.point[(wa + 1) % 3], a.point[(wa + 2) % 3]};
+        if (certifiedOneSide(a, oppositeB, 2) && certifiedOneSide(b, oppositeA, 2)) return 0;
+        return -1;
+    }
+    if (shared == 2) {
+        // Sharing an edge, they meet beyond it only when all four corners are coplanar.
+        int ob = 0;
+        while (b.vertex[ob] == a.vertex[0] || b.vertex[ob] == a.vertex[1] || b.vertex[ob] == a.vertex[2]) ++ob;
+        if (certifiedOrientation(a.point[0], a.point[1], a.point[2], b.point[ob]) != 0) return 0;
+        return -1;
+    }
+    return 0;  // the same face twice
+}
+
+// The full case analysis on CGAL's exact predicates.
+bool exactDecision(const TriangleCorners& a, const TriangleCorners& b) {
     // Which corners the two share, by vertex id: sharedA[i] = the corner of b with a's vertex i, or -1.
     int sharedA[3] = {-1, -1, -1};
     int shared = 0;
@@ -104,6 +162,13 @@ bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& b) {
     const Segment oppositeB(pb.p[(wb + 1) % 3], pb.p[(wb + 2) % 3]);
     return CGAL::do_intersect(oppositeB, Triangle(pa.p[0], pa.p[1], pa.p[2])) ||
            CGAL::do_intersect(oppositeA, Triangle(pb.p[0], pb.p[1], pb.p[2]));
+}
+
+}  // namespace
+
+bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& b) {
+    if (quickDecision(a, b) == 0) return false;
+    return exactDecision(a, b);
 }
 
 }  // namespace sculpt::core

@@ -191,7 +191,7 @@ TEST_CASE("session: pinch drags never leave a crossing triangle pair, at several
     CHECK(rejected > 0);  // and these drags are strong enough to need it
 }
 
-TEST_CASE("session: pinch drags on 2,562 vertices leave no crossing pair", "[core][slow]") {
+TEST_CASE("session: pinch drags on 2562 vertices leave no crossing pair", "[core]") {
     runPinch(4, 1, 20, InjectivityMode::Exact, 1, false);
 }
 

@@ -452,6 +452,9 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             if (result.opsRejected > 0) text += " (" + std::to_string(result.opsRejected) + " refused as not injective)";
             if (result.screenshotsSkipped > 0) text += ", " + std::to_string(result.screenshotsSkipped) + " screenshot ops skipped";
             text += " in " + took + ".";
+            if (s.initialIntersectingPairs() > 0)
+                text += " The mesh already crosses itself (" + std::to_string(s.initialIntersectingPairs()) +
+                        " triangle pairs); only new crossings are refused.";
             if (!result.warnings.empty())
                 text += " " + std::to_string(result.warnings.size()) + " warning(s), first: " + result.warnings.front();
             setStatus(state, text, false);
