@@ -195,6 +195,39 @@ TEST_CASE("session: pinch drags on 2562 vertices leave no crossing pair", "[core
     runPinch(4, 1, 20, InjectivityMode::Exact, 1, false);
 }
 
+// A mesh that already self-intersects (two spheres through each other): reported once at load, counted as the
+// brute force counts, and never held against an edit; only new crossing pairs are refused.
+TEST_CASE("session: crossings a mesh was loaded with are reported and never count against an edit", "[core]") {
+    Positions a, b;
+    Triangles ta, tb;
+    test::icosphere(2, 1.0, Eigen::Vector3d::Zero(), a, ta);
+    test::icosphere(2, 0.8, Eigen::Vector3d(1.2, 0.1, 0.0), b, tb);
+    Positions positions(a.rows() + b.rows(), 3);
+    positions << a, b;
+    Triangles triangles(ta.rows() + tb.rows(), 3);
+    triangles << ta, (tb.array() + static_cast<int>(a.rows())).matrix();
+    const std::vector<std::pair<int, int>> initial = test::intersectingPairs(positions, triangles);
+    REQUIRE(initial.size() > 20);
+    Session session;
+    REQUIRE(session.setMesh(positions, triangles, {}).ok);
+    session.setInjectivity({InjectivityMode::Conic, 3});
+    CHECK(session.initialIntersectingPairs() == static_cast<int>(initial.size()));
+    std::mt19937 rng(5);
+    std::set<std::pair<int, int>> current(initial.begin(), initial.end());
+    int applied = 0;
+    for (int d = 0; d < 40; ++d) {
+        const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
+        OpReport report;
+        REQUIRE(session.dragVertex(v, session.positions().row(v).transpose() + 0.15 * test::randomVector(rng, -1, 1), report).ok);
+        applied += report.status == OpStatus::Applied;
+        const std::vector<std::pair<int, int>> now = test::intersectingPairs(session.positions(), triangles);
+        INFO("drag " << d << ": " << report.reason);
+        for (const auto& pair : now) REQUIRE(current.count(pair));  // nothing new
+        current = std::set<std::pair<int, int>>(now.begin(), now.end());
+    }
+    CHECK(applied > 20);  // the crossings it came with did not block the edits
+}
+
 // A coarse sphere squeezed by hundreds of random drags: after every one, no crossing pair.
 TEST_CASE("session: a coarse icosphere squeezed by hundreds of random drags never self-intersects", "[core]") {
     Positions positions;
