@@ -177,37 +177,58 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
 
     const auto now = [&](int v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
     const auto then = [&](int v) -> Eigen::Vector3d { return (movedVertexFlag_[v] ? before.row(v) : positions.row(v)).transpose(); };
+    // The moved triangles of one leaf share one walk of the hierarchy with the union of their boxes.
+    std::vector<int> groupStart;
+    for (size_t m = 0; m < movedTriangles.size(); ++m)
+        if (m == 0 || leafOfTriangle_[movedTriangles[m]] != leafOfTriangle_[movedTriangles[m - 1]]) groupStart.push_back(static_cast<int>(m));
+    groupStart.push_back(static_cast<int>(movedTriangles.size()));
     std::atomic<bool> found{false};
     std::atomic<long long> tested{0};
     TrianglePairHit hit;
-    const int count = static_cast<int>(movedTriangles.size());
-#pragma omp parallel for schedule(dynamic, 64) if (count > 256)
-    for (int m = 0; m < count; ++m) {
+    const int groups = static_cast<int>(groupStart.size()) - 1;
+#pragma omp parallel for schedule(dynamic, 32) if (groups > 128)
+    for (int g = 0; g < groups; ++g) {
         if (found.load(std::memory_order_relaxed)) continue;
-        const int a = movedTriangles[m];
-        const Eigen::AlignedBox3d box = triangleBox(positions, triangles, a);
-        const TriangleCorners cornersA = corners(triangles, a, now);
+        const int first = groupStart[g], last = groupStart[g + 1];
+        Eigen::AlignedBox3d boxes[kLeafSize];
+        TriangleCorners cornersNow[kLeafSize];
+        Eigen::AlignedBox3d all;
+        for (int m = first; m < last; ++m) {
+            boxes[m - first] = triangleBox(positions, triangles, movedTriangles[m]);
+            cornersNow[m - first] = corners(triangles, movedTriangles[m], now);
+            all.extend(boxes[m - first]);
+        }
         long long local = 0;
-        forEachCandidate(box, [&](int b) {
+        forEachCandidate(all, [&](int b) {
             if (found.load(std::memory_order_relaxed)) return false;
-            // A pair of two moved triangles is tested once, from its lower id.
-            if (b == a || (movedTriangleFlag_[b] && b < a)) return true;
-            if (!overlaps(triangleBox(positions, triangles, b), box)) return true;
-            ++local;
-            if (!trianglesIntersect(cornersA, corners(triangles, b, now))) return true;
-            // It intersects now; it is new only if it did not before the move.
-            if (trianglesIntersect(corners(triangles, a, then), corners(triangles, b, then))) return true;
+            const Eigen::AlignedBox3d boxB = triangleBox(positions, triangles, b);
+            if (!overlaps(boxB, all)) return true;
+            TriangleCorners cornersB;
+            bool haveB = false;
+            for (int m = first; m < last; ++m) {
+                const int a = movedTriangles[m];
+                // A pair of two moved triangles is tested once, from its lower id.
+                if (b == a || (movedTriangleFlag_[b] && b < a) || !overlaps(boxB, boxes[m - first])) continue;
+                if (!haveB) cornersB = corners(triangles, b, now), haveB = true;
+                ++local;
+                if (!trianglesIntersect(cornersNow[m - first], cornersB)) continue;
+                // It intersects now; it is new only if it did not before the move.
+                if (trianglesIntersect(corners(triangles, a, then), corners(triangles, b, then))) continue;
 #pragma omp critical(sculpt_self_intersection_hit)
-            if (!found.load()) {
-                hit.first = std::min(a, b);
-                hit.second = std::max(a, b);
-                hit.where = (cornersA.point[0] + cornersA.point[1] + cornersA.point[2]) / 3.0;
-                found.store(true);
+                if (!found.load()) {
+                    hit.first = std::min(a, b);
+                    hit.second = std::max(a, b);
+                    const TriangleCorners& c = cornersNow[m - first];
+                    hit.where = (c.point[0] + c.point[1] + c.point[2]) / 3.0;
+                    found.store(true);
+                }
+                return false;
             }
-            return false;
+            return true;
         });
         tested += local;
     }
+    const int count = static_cast<int>(movedTriangles.size());
     for (int v : moved) movedVertexFlag_[v] = 0;
     for (int t : movedTriangles) movedTriangleFlag_[t] = 0;
     result.found = found.load();
