@@ -5,10 +5,12 @@
 // spaces and tabs only. Where tinyobjloader would guess (atoi, a number parser that maps junk to 0),
 // the pre-pass reports an error with the line number instead.
 //
-// Line continuation (Wavefront's OBJ specification, "a backslash at the end of a line continues it on
-// the next"): joined before anything else looks at the text, on every kind of line, by turning the
-// backslash, any blanks after it and the line break into blanks, so every byte keeps its offset (the
-// same way Blender's OBJ importer joins them). Error messages give the line a statement starts on.
+// Line continuation (Wavefront's OBJ specification: a backslash at the end of a line continues it on
+// the next): joined before anything else looks at the text, on every kind of line, comments included,
+// by turning the backslash and the line break after it into blanks, so every byte keeps its offset (as
+// Blender's OBJ importer joins them). A backslash followed by anything else, blanks included, is no
+// continuation, which lets the writer end a name in a backslash safely ("g a\ "). A backslash ending
+// the file continues onto nothing. Error messages give the line a statement starts on.
 #include "io/obj_scan.h"
 
 #include <algorithm>
@@ -168,7 +170,6 @@ void Scanner::joinContinuations() {
     if (!backslash) return;  // the usual case: no copy
     for (size_t at = static_cast<size_t>(static_cast<const char*>(backslash) - data); at < size;) {
         size_t after = at + 1;
-        while (after < size && isBlank(data[after])) ++after;
         const bool atLineEnd = after == size || data[after] == '\n' || data[after] == '\r';
         if (atLineEnd) {
             size_t blankEnd = after;

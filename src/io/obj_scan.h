@@ -36,7 +36,7 @@ struct ObjScan {
     std::vector<std::string> materialLibraries;
 
     // A copy of the text for tinyobjloader, at the same byte offsets: line continuations (a backslash
-    // ending a line, with the line break) turned into blanks, and the lines tinyobjloader must not
+    // right before a line break, and the line break) turned into blanks, and the lines tinyobjloader must not
     // interpret turned into comments (`l`, `p`, `t`, `vw`, faces of more than 255 corners, trailing
     // `# ...` on face lines, a UTF-8 byte order mark). Empty when the original text can be handed over
     // as is, which is the usual case (no copy of a large file).

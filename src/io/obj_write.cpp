@@ -51,7 +51,22 @@ bool spansAreOrdered(const std::vector<size_t>& spans, size_t textSize) {
     return spans.size() % 2 == 0;
 }
 
-// The source text with the x y z of moved vertices and the normals at them replaced (see serializeObj).
+// Two ordered span lists (spansAreOrdered) share no byte.
+bool spansAreDisjoint(const std::vector<size_t>& a, const std::vector<size_t>& b) {
+    size_t i = 0, j = 0;
+    while (i + 1 < a.size() && j + 1 < b.size()) {
+        if (a[i + 1] <= b[j]) {
+            i += 2;
+        } else if (b[j + 1] <= a[i]) {
+            j += 2;
+        } else {
+            return false;
+        }
+    }
+    return true;
+}
+
+// The source text with the x y z of moved vertices and the normals of changed faces replaced (see serializeObj).
 void writeFromSource(const ObjMesh& mesh, const Positions& deformed, std::string& out) {
     const ObjSource& source = *mesh.source;
     const Eigen::Index vertexCount = deformed.rows();
@@ -127,6 +142,12 @@ void writeFromSource(const ObjMesh& mesh, const Positions& deformed, std::string
     out.append(source.text, copied, std::string::npos);
 }
 
+// A name as the last word of a line: one that ends in a backslash gets a blank after it, or the reader
+// would take the backslash for a line continuation.
+std::string lineEndName(const std::string& name) {
+    return !name.empty() && name.back() == '\\' ? name + " " : name;
+}
+
 bool isSingleToken(const std::string& s) {
     if (s.empty()) return false;
     for (char c : s)
@@ -178,7 +199,8 @@ Status checkObjMesh(const ObjMesh& mesh) {
         if (source.positionSpans.size() != 2 * static_cast<size_t>(vertexCount))
             return bad("the source text's vertex count differs from the positions");
         if (!spansAreOrdered(source.positionSpans, source.text.size()) ||
-            !spansAreOrdered(source.normalSpans, source.text.size()))
+            !spansAreOrdered(source.normalSpans, source.text.size()) ||
+            !spansAreDisjoint(source.positionSpans, source.normalSpans))
             return bad("the source text's number spans are out of order");
         const long long normalCount = static_cast<long long>(source.normalSpans.size() / 2);
         for (int n : mesh.cornerNormal)
@@ -213,7 +235,7 @@ Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std
         out.reserve(static_cast<size_t>(deformedPositions.rows()) * 150 + mesh.cornerVertex.size() * 24 +
                     static_cast<size_t>(mesh.texcoords.size()) * 25 + 256);
         out += "# DMFFD Sculpt\n";
-        for (const std::string& library : mesh.materialLibraries) out += "mtllib " + library + "\n";
+        for (const std::string& library : mesh.materialLibraries) out += "mtllib " + lineEndName(library) + "\n";
         for (Eigen::Index v = 0; v < deformedPositions.rows(); ++v) {
             out += "v";
             for (int k = 0; k < 3; ++k) {
@@ -248,11 +270,11 @@ Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std
                 group = mesh.faceGroup[f];
                 // note: "g " with a trailing blank is the unnamed group; a bare "g" is not a group line
                 // to tinyobjloader and would be ignored.
-                out += "g " + mesh.groupNames[group] + "\n";
+                out += "g " + lineEndName(mesh.groupNames[group]) + "\n";
             }
             if (mesh.faceMaterial[f] != material) {
                 material = mesh.faceMaterial[f];
-                out += material < 0 ? std::string("usemtl\n") : "usemtl " + mesh.materialNames[material] + "\n";
+                out += material < 0 ? std::string("usemtl\n") : "usemtl " + lineEndName(mesh.materialNames[material]) + "\n";
             }
             out += 'f';
             for (int c = mesh.faceStart[f]; c < mesh.faceStart[f + 1]; ++c) {

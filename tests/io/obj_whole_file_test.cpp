@@ -66,11 +66,9 @@ std::vector<std::vector<std::string>> statements(const std::string& text) {
         const char c = text[i];
         if (c == '\r' || c == '\n') {
             if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
-            // A backslash (then only blanks) at the end continues the statement.
-            size_t end = current.find_last_not_of(" \t");
-            if (end != std::string::npos && current[end] == '\\') {
-                current.erase(end);
-                current += ' ';
+            // A backslash right before the line break continues the statement.
+            if (!current.empty() && current.back() == '\\') {
+                current.back() = ' ';
                 continue;
             }
             lines.push_back(current);
@@ -79,8 +77,7 @@ std::vector<std::vector<std::string>> statements(const std::string& text) {
             current += c;
         }
     }
-    const size_t end = current.find_last_not_of(" \t");
-    if (end != std::string::npos && current[end] == '\\') current.erase(end);
+    if (!current.empty() && current.back() == '\\') current.pop_back();  // continued onto the end of the file
     lines.push_back(current);
     std::vector<std::vector<std::string>> out;
     for (const std::string& line : lines) {
@@ -206,8 +203,8 @@ TEST_CASE("obj: the handed-over cube with continued v, vn and f lines loads whol
 }
 
 TEST_CASE("obj: a backslash continues any kind of line, with LF, CR LF or CR line ends, up to the end of file") {
-    // Every statement continued at least once; blanks after a backslash; two continuations in a row; a
-    // continuation onto an empty line; the last line continued with no line end after it.
+    // Every statement continued at least once; two continuations in a row; a continuation onto an empty
+    // line; the last line continued with no line end after it.
     const std::string text =
         "# a comment that goes on \\\n"
         "and on\n"
@@ -218,7 +215,7 @@ TEST_CASE("obj: a backslash continues any kind of line, with LF, CR LF or CR lin
         "v 0 0 0\n"
         "v 1 \\\n"
         " 0 0\n"
-        "v 1 1 0 \\  \n"
+        "v 1 1 0 \\\n"
         "\n"
         "v 0 1 0 0.25 \\\n"
         "0.5 \\\n"
@@ -287,8 +284,9 @@ TEST_CASE("obj: errors in and after continued lines name the line the statement 
         {"v 0 0 0\nv 1 \\\n 0 \\\n nan\nv 0 1 0\nf 1 2 3\n", "test.obj:2: ", "'nan' in a 'v' line"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\\n 2 \\\n 9\n", "test.obj:4: ", "face index 9 is out of range"},
         {"v 0 0 0\r\nv 1 \\\r\n 0 0\r\nv 0 1 0\r\nf 1 2\r\n", "test.obj:5: ", "a face needs at least 3 corners (found 2)"},
-        // A backslash inside a line is no continuation.
+        // A backslash inside a line, or followed by blanks, is no continuation.
         {"v 0 \\ 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "test.obj:1: ", "'\\' in a 'v' line"},
+        {"v 0 0 0\nv 1 0 \\ \n0\nv 0 1 0\nf 1 2 3\n", "test.obj:2: ", "'\\' in a 'v' line"},
     };
     for (const Case& c : cases) {
         INFO(c.text);
