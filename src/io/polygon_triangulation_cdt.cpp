@@ -70,8 +70,8 @@ VertexHandle nextAlong(const Triangulation& triangulation, VertexHandle from, Ve
     return between;
 }
 
-Status triangulate(const Positions& unit, const Eigen::Vector3d& normal, std::vector<CornerTriangle>& triangles) {
-    const int n = static_cast<int>(unit.rows());
+Status triangulate(const UnitCorners& unit, const Eigen::Vector3d& normal, std::vector<CornerTriangle>& triangles) {
+    const int n = static_cast<int>(unit.size());
     // An orthonormal (u, v) in the plane with u x v = normal, so counter-clockwise in (u, v) is
     // counter-clockwise about the normal.
     const Eigen::Vector3d axis = normal.normalized();
@@ -82,7 +82,7 @@ Status triangulate(const Positions& unit, const Eigen::Vector3d& normal, std::ve
     std::vector<Point> points;
     points.reserve(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) {
-        const Eigen::Vector3d q = unit.row(i).transpose();
+        const Eigen::Vector3d q = unit[i];
         const double x = q.dot(u), y = q.dot(v);
         if (!std::isfinite(x) || !std::isfinite(y)) return Status::error("the polygon has a non-finite corner");
         points.emplace_back(x, y);
@@ -171,7 +171,7 @@ Status triangulate(const Positions& unit, const Eigen::Vector3d& normal, std::ve
 
 }  // namespace
 
-Status triangulateUnitPolygonCdt(const Positions& unit, const Eigen::Vector3d& normal,
+Status triangulateUnitPolygonCdt(const UnitCorners& unit, const Eigen::Vector3d& normal,
                                  std::vector<CornerTriangle>& triangles) {
     triangles.clear();
     try {
