@@ -21,6 +21,7 @@
 #include <tiny_obj_loader.h>
 
 #include "io/obj_scan.h"
+#include "io/polygon_triangulation.h"
 
 namespace sculpt::io {
 
@@ -233,11 +234,20 @@ Status checkAgreement(const ObjScan& scan, const tinyobj::attrib_t& attrib, cons
     std::unordered_map<std::string, int> groupIndex;
     for (size_t g = 0; g < scan.groupNames.size(); ++g) groupIndex.emplace(scan.groupNames[g], static_cast<int>(g));
     size_t f = 0;
+    size_t notForTinyobj = 0;  // into scan.facesNotForTinyobj (ascending): faces tinyobjloader never saw
+    const auto skipFacesNotForTinyobj = [&] {
+        while (notForTinyobj < scan.facesNotForTinyobj.size() &&
+               static_cast<size_t>(scan.facesNotForTinyobj[notForTinyobj]) == f) {
+            ++notForTinyobj;
+            ++f;
+        }
+    };
     for (const tinyobj::shape_t& shape : shapes) {
         const auto found = groupIndex.find(normalizeObjName(shape.name));
         const int group = found == groupIndex.end() ? -1 : found->second;
         size_t corner = 0;
         for (unsigned char cornersInFace : shape.mesh.num_face_vertices) {
+            skipFacesNotForTinyobj();
             if (f >= faceCount) return disagree(0, "face count");
             const size_t line = static_cast<size_t>(scan.faceLine[f]);
             const size_t start = static_cast<size_t>(scan.faceStart[f]);
@@ -256,11 +266,13 @@ Status checkAgreement(const ObjScan& scan, const tinyobj::attrib_t& attrib, cons
             ++f;
         }
     }
+    skipFacesNotForTinyobj();
     if (f != faceCount) return disagree(0, "face count");
     return Status::success();
 }
 
-Status loadChecked(const std::string& text, const std::string& displayName, const std::string& baseDir, ObjMesh& out,
+// text is kept as the mesh's source (moved in on success).
+Status loadChecked(std::string& text, const std::string& displayName, const std::string& baseDir, ObjMesh& out,
                    std::vector<std::string>& collected, ObjLoadProgress* progress) {
     const Status cancelled = Status::error(displayName + ": loading cancelled");
     ObjScan scan;
@@ -291,6 +303,7 @@ Status loadChecked(const std::string& text, const std::string& displayName, cons
     // Free tinyobjloader's copy before building ours: peak memory matters for large files.
     attrib = tinyobj::attrib_t();
     shapes = std::vector<tinyobj::shape_t>();
+    scan.sanitizedText = std::string();
 
     // note: positions and texture coordinates come from the pre-pass, not from tinyobjloader: its
     // tryParseDouble is not correctly rounded, so a written-then-read file would drift in the last
@@ -315,20 +328,19 @@ Status loadChecked(const std::string& text, const std::string& displayName, cons
     mesh.materialNames = std::move(scan.materialNames);
     mesh.materialLibraries = std::move(scan.materialLibraries);
 
-    // Fan triangulation (c0, ci, ci+1): exact for the convex polygons OBJ exporters write.
-    const int faceCount = mesh.faceCount();
-    const Eigen::Index triangleCount = static_cast<Eigen::Index>(mesh.cornerVertex.size()) - 2 * faceCount;
-    mesh.triangles.resize(triangleCount, 3);
-    mesh.triangleFace.resize(static_cast<size_t>(triangleCount));
-    Eigen::Index t = 0;
-    for (int f = 0; f < faceCount; ++f) {
-        const int first = mesh.faceStart[f];
-        for (int c = first + 1; c + 1 < mesh.faceStart[f + 1]; ++c, ++t) {
-            mesh.triangles.row(t) << mesh.cornerVertex[first], mesh.cornerVertex[c], mesh.cornerVertex[c + 1];
-            mesh.triangleFace[static_cast<size_t>(t)] = f;
-        }
-    }
+    const ObjTriangulationReport triangulation = triangulateObjFaces(mesh);
+    if (triangulation.fannedFaces > 0)
+        collected.push_back(displayName + ": " + std::to_string(triangulation.fannedFaces) +
+                            " face(s) could not be triangulated exactly and are drawn as a fan of their corners "
+                            "(first on line " + std::to_string(scan.faceLine[static_cast<size_t>(triangulation.firstFannedFace)]) +
+                            ": " + triangulation.firstReason + ")");
     if (cancelRequested(progress)) return cancelled;
+
+    auto source = std::make_shared<ObjSource>();
+    source->positionSpans = std::move(scan.positionSpans);
+    source->normalSpans = std::move(scan.normalSpans);
+    source->text = std::move(text);
+    mesh.source = std::move(source);
     out = std::move(mesh);
     reportProgress(progress, 1.0f);
     return Status::success();
@@ -336,8 +348,55 @@ Status loadChecked(const std::string& text, const std::string& displayName, cons
 
 }  // namespace
 
-Status loadObjFromText(const std::string& text, const std::string& displayName, const std::string& baseDir,
-                       ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress) {
+ObjTriangulationReport triangulateObjFaces(ObjMesh& mesh) {
+    ObjTriangulationReport report;
+    const int faceCount = mesh.faceCount();
+    // note: a face of N corners gives at most N - 2 triangles, so this is the final size unless corners coincide.
+    const Eigen::Index maxTriangles = static_cast<Eigen::Index>(mesh.cornerVertex.size()) - 2 * faceCount;
+    Triangles triangles(maxTriangles, 3);
+    std::vector<int> triangleFace(static_cast<size_t>(maxTriangles));
+    Eigen::Index t = 0;
+    std::vector<double> corners;  // scratch, reused: N x 3 row-major
+    std::vector<CornerTriangle> polygon;
+    for (int f = 0; f < faceCount; ++f) {
+        const int first = mesh.faceStart[f];
+        const int n = mesh.faceStart[f + 1] - first;
+        const int* vertex = &mesh.cornerVertex[static_cast<size_t>(first)];
+        if (n == 3) {
+            triangles.row(t) << vertex[0], vertex[1], vertex[2];
+            triangleFace[static_cast<size_t>(t++)] = f;
+            continue;
+        }
+        corners.resize(3 * static_cast<size_t>(n));
+        for (int c = 0; c < n; ++c)
+            for (int k = 0; k < 3; ++k) corners[3 * static_cast<size_t>(c) + k] = mesh.positions(vertex[c], k);
+        Status status = triangulatePolygon(Eigen::Map<const Positions>(corners.data(), n, 3), polygon);
+        if (status && polygon.size() > static_cast<size_t>(n - 2))
+            status = Status::error("internal error: more triangles than a polygon can have");  // never expected
+        if (!status) {
+            if (report.fannedFaces++ == 0) {
+                report.firstFannedFace = f;
+                report.firstReason = status.message;
+            }
+            polygon.clear();
+            for (int c = 1; c + 1 < n; ++c) polygon.push_back({0, c, c + 1});
+        }
+        for (const CornerTriangle& corner : polygon) {
+            triangles.row(t) << vertex[corner[0]], vertex[corner[1]], vertex[corner[2]];
+            triangleFace[static_cast<size_t>(t++)] = f;
+        }
+    }
+    triangles.conservativeResize(t, 3);
+    triangleFace.resize(static_cast<size_t>(t));
+    mesh.triangles = std::move(triangles);
+    mesh.triangleFace = std::move(triangleFace);
+    return report;
+}
+
+namespace {
+
+Status loadOwnedText(std::string& text, const std::string& displayName, const std::string& baseDir, ObjMesh& out,
+                     std::vector<std::string>* warnings, ObjLoadProgress* progress) {
     std::vector<std::string> collected;
     Status status;
     // No exception may cross the io boundary: out of memory on a huge file is an ordinary error.
@@ -358,12 +417,25 @@ Status loadObjFromText(const std::string& text, const std::string& displayName, 
     return status;
 }
 
+}  // namespace
+
+Status loadObjFromText(const std::string& text, const std::string& displayName, const std::string& baseDir,
+                       ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress) {
+    std::string copy;
+    try {
+        copy = text;  // becomes the mesh's source
+    } catch (const std::bad_alloc&) {
+        return Status::error(displayName + ": not enough memory to load the file");
+    }
+    return loadOwnedText(copy, displayName, baseDir, out, warnings, progress);
+}
+
 Status loadObj(const std::string& path, ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress) {
     try {
         std::string text, why;
         if (!readRegularFile(path, 0, text, why)) return Status::error("cannot read '" + path + "': " + why);
         if (cancelRequested(progress)) return Status::error(path + ": loading cancelled");
-        return loadObjFromText(text, path, folderOf(path), out, warnings, progress);
+        return loadOwnedText(text, path, folderOf(path), out, warnings, progress);
     } catch (const std::bad_alloc&) {
         return Status::error(path + ": not enough memory to load the file");
     } catch (...) {

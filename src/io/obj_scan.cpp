@@ -4,10 +4,16 @@
 // `l`, `p`, `f`, "usemtl" as a bare prefix, "mtllib"+blank, `g`, `o`, `t`, `s`); tokens are split on
 // spaces and tabs only. Where tinyobjloader would guess (atoi, a number parser that maps junk to 0),
 // the pre-pass reports an error with the line number instead.
+//
+// Line continuation (Wavefront's OBJ specification: a backslash at the end of a line continues it on
+// the next): joined before anything else looks at the text, on every kind of line, comments included,
+// by turning the backslash and the line break after it into blanks, so every byte keeps its offset (as
+// Blender's OBJ importer joins them). A backslash followed by anything else, blanks included, is no
+// continuation, which lets the writer end a name in a backslash safely ("g a\ "). A backslash ending
+// the file continues onto nothing. Error messages give the line a statement starts on.
 #include "io/obj_scan.h"
 
 #include <algorithm>
-#include <array>
 #include <charconv>
 #include <climits>
 #include <cstdio>
@@ -88,7 +94,7 @@ IndexResult parseIndex(const char* begin, const char* end, long long& value) {
 class Scanner {
 public:
     Scanner(const std::string& text, const std::string& displayName, ObjScan& scan)
-        : text_(text), name_(displayName), scan_(scan) {}
+        : text_(text), base_(&text), name_(displayName), scan_(scan) {}
 
     Status run();
 
@@ -99,11 +105,12 @@ private:
     Status fileError(const std::string& what) const { return Status::error(name_ + ": " + what); }
     void warn(const std::string& what) { scan_.warnings.push_back(name_ + ": " + what); }
 
-    // The sanitized copy at the same offset as p in text_, copied on first use.
+    // The sanitized copy at the same offset as p in the base text, copied on first use.
     char* editable(const char* p) {
-        if (scan_.sanitizedText.empty()) scan_.sanitizedText = text_;
-        return &scan_.sanitizedText[static_cast<size_t>(p - text_.data())];
+        if (scan_.sanitizedText.empty()) scan_.sanitizedText = *base_;
+        return &scan_.sanitizedText[offset(p)];
     }
+    size_t offset(const char* p) const { return static_cast<size_t>(p - base_->data()); }
     // Turns a whole statement into a comment line.
     void commentOut(const char* p, const char* end) {
         char* q = editable(p);
@@ -116,10 +123,11 @@ private:
         for (ptrdiff_t i = 0; i < end - p; ++i) q[i] = ' ';
     }
 
+    void joinContinuations();
     void reserve(const char* p, const char* end);
     Status line(const char* p, const char* end);
     Status numbers(const char* p, const char* end, const char* keyword, double* values, int maxCount, int& count);
-    Status face(const char* p, const char* end);
+    Status face(const char* statement, const char* p, const char* end);
     Status corner(const char* begin, const char* end, int& v, int& vt, int& vn);
     Status resolve(long long index, int definedSoFar, const char* what, int& resolved);
     void group(const char* p, const char* end);
@@ -128,10 +136,16 @@ private:
     void ignored(const char* keywordBegin, const char* keywordEnd, const char* lineEnd, bool mustComment);
     Status finish();
 
-    const std::string& text_;
+    const std::string& text_;     // the file as given
+    std::string joined_;          // text_ with its line continuations blanked; empty if it has none
+    const std::string* base_;     // what is scanned: joined_ if there were continuations, else text_
+    std::vector<size_t> joinedBreaks_;  // ascending offsets of the line breaks blanked in joined_
     const std::string& name_;
     ObjScan& scan_;
     size_t line_ = 0;
+    const char* spanBegin_ = nullptr;  // numbers(): start of the first and end of the third number
+    const char* spanEnd_ = nullptr;
+    std::vector<int> sortedCorners_;   // face(): scratch for the repeated-vertex check
 
     std::string groupName_;  // current `g`/`o` name, normalized
     int groupIndex_ = 0;     // its index in groupNames, -1 until a face uses it
@@ -149,10 +163,38 @@ private:
     std::string firstIgnoredStatement_;
 };
 
+void Scanner::joinContinuations() {
+    const char* const data = text_.data();
+    const size_t size = text_.size();
+    const void* backslash = std::memchr(data, '\\', size);
+    if (!backslash) return;  // the usual case: no copy
+    for (size_t at = static_cast<size_t>(static_cast<const char*>(backslash) - data); at < size;) {
+        size_t after = at + 1;
+        const bool atLineEnd = after == size || data[after] == '\n' || data[after] == '\r';
+        if (atLineEnd) {
+            size_t blankEnd = after;
+            if (after < size) {
+                joinedBreaks_.push_back(after);
+                blankEnd += (data[after] == '\r' && after + 1 < size && data[after + 1] == '\n') ? 2 : 1;
+            }
+            if (joined_.empty()) joined_ = text_;
+            std::fill(joined_.begin() + static_cast<std::ptrdiff_t>(at), joined_.begin() + static_cast<std::ptrdiff_t>(blankEnd),
+                      ' ');
+            after = blankEnd;
+        }
+        if (after >= size) break;
+        const void* next = std::memchr(data + after, '\\', size - after);
+        if (!next) break;
+        at = static_cast<size_t>(static_cast<const char*>(next) - data);
+    }
+    if (!joined_.empty()) base_ = &joined_;
+}
+
 Status Scanner::run() {
-    const char* begin = text_.data();
-    const char* const end = begin + text_.size();
     if (text_.empty()) return fileError("the file is empty");
+    joinContinuations();
+    const char* begin = base_->data();
+    const char* const end = begin + base_->size();
 
     const auto* bytes = reinterpret_cast<const unsigned char*>(begin);
     if (text_.size() >= 2 && ((bytes[0] == 0xff && bytes[1] == 0xfe) || (bytes[0] == 0xfe && bytes[1] == 0xff))) {
@@ -168,6 +210,7 @@ Status Scanner::run() {
 
     reserve(begin, end);
     const char* p = begin;
+    size_t nextBreak = 0;  // into joinedBreaks_
     while (p < end) {
         ++line_;
         const char* lineBegin = p;
@@ -192,8 +235,15 @@ Status Scanner::run() {
         if (p < end) p += (*p == '\r' && p + 1 < end && p[1] == '\n') ? 2 : 1;
         Status status = line(lineBegin, lineEnd);
         if (!status) return status;
+        // The physical lines this statement was continued over.
+        while (nextBreak < joinedBreaks_.size() && joinedBreaks_[nextBreak] < offset(lineEnd)) {
+            ++nextBreak;
+            ++line_;
+        }
     }
-    return finish();
+    Status finished = finish();
+    if (finished && scan_.sanitizedText.empty() && !joined_.empty()) scan_.sanitizedText = std::move(joined_);
+    return finished;
 }
 
 // note: a quick count of `v`, `vt` and `f` lines (memchr per line, no parsing) so the arrays are
@@ -213,6 +263,7 @@ void Scanner::reserve(const char* p, const char* end) {
         p = newline ? static_cast<const char*>(newline) + 1 : end;
     }
     scan_.positions.reserve(3 * vertices);
+    scan_.positionSpans.reserve(2 * vertices);
     scan_.texcoords.reserve(3 * texcoords);
     scan_.faceStart.reserve(faces + 1);
     for (std::vector<int>* corners : {&scan_.cornerVertex, &scan_.cornerTexcoord, &scan_.cornerNormal})
@@ -234,6 +285,7 @@ Status Scanner::line(const char* p, const char* end) {
         if (!status) return status;
         if (count < 3) return error("a 'v' line needs x y z (found " + std::to_string(count) + " numbers)");
         scan_.positions.insert(scan_.positions.end(), xyz, xyz + 3);
+        scan_.positionSpans.insert(scan_.positionSpans.end(), {offset(spanBegin_), offset(spanEnd_)});
         return Status::success();
     }
     if (p[0] == 'v' && n >= 2 && p[1] == 'n' && blankAt(2)) {
@@ -244,6 +296,7 @@ Status Scanner::line(const char* p, const char* end) {
         if (!status) return status;
         if (count != 3) return error("a 'vn' line needs x y z (found " + std::to_string(count) + " numbers)");
         ++scan_.normalCount;
+        scan_.normalSpans.insert(scan_.normalSpans.end(), {offset(spanBegin_), offset(spanEnd_)});
         return Status::success();
     }
     if (p[0] == 'v' && n >= 2 && p[1] == 't' && blankAt(2)) {
@@ -268,7 +321,7 @@ Status Scanner::line(const char* p, const char* end) {
         if (ignoredElements_++ == 0) firstIgnoredElementLine_ = line_;
         return Status::success();
     }
-    if (p[0] == 'f' && blankAt(1)) return face(p + 2, end);
+    if (p[0] == 'f' && blankAt(1)) return face(p, p + 2, end);
     if (n >= 6 && std::memcmp(p, "usemtl", 6) == 0) {
         material(p + 6, end);
         return Status::success();
@@ -313,6 +366,8 @@ Status Scanner::numbers(const char* p, const char* end, const char* keyword, dou
                          std::to_string(maxCount) + ")");
         switch (parseNumber(tokenBegin, tokenEnd, values[count])) {
             case NumberResult::ok:
+                if (count == 0) spanBegin_ = tokenBegin;
+                if (count == 2) spanEnd_ = tokenEnd;
                 break;
             case NumberResult::malformed:
                 return error(quoted(tokenBegin, tokenEnd) + " in a '" + keyword +
@@ -379,7 +434,7 @@ Status Scanner::corner(const char* begin, const char* end, int& v, int& vt, int&
     return Status::success();
 }
 
-Status Scanner::face(const char* p, const char* end) {
+Status Scanner::face(const char* statement, const char* p, const char* end) {
     const int cornerBegin = scan_.faceStart.back();
     const char* tokenBegin;
     const char* tokenEnd;
@@ -399,16 +454,20 @@ Status Scanner::face(const char* p, const char* end) {
         maxVertex_ = std::max(maxVertex_, v);
         maxTexcoord_ = std::max(maxTexcoord_, vt);
         maxNormal_ = std::max(maxNormal_, vn);
-        // note: tinyobjloader stores corner counts in an unsigned char; more would silently wrap.
-        if (++corners > 255) return error("a face has more than 255 corners, which is not supported");
+        ++corners;
     }
     if (corners < 3) return error("a face needs at least 3 corners (found " + std::to_string(corners) + ")");
-    // A vertex used twice makes a degenerate triangle; worth a warning, not an error. note: sorted
-    // copy on the stack, so a 255-corner face costs n log n and no allocation.
-    std::array<int, 256> sorted;
-    std::copy(scan_.cornerVertex.begin() + cornerBegin, scan_.cornerVertex.end(), sorted.begin());
-    std::sort(sorted.begin(), sorted.begin() + corners);
-    if (std::adjacent_find(sorted.begin(), sorted.begin() + corners) != sorted.begin() + corners &&
+    // note: tinyobjloader stores corner counts in an unsigned char, so a larger face would wrap there; it
+    // is kept from tinyobjloader (commented out in its copy) and checkAgreement leaves it out.
+    if (corners > 255) {
+        commentOut(statement, end);
+        scan_.facesNotForTinyobj.push_back(static_cast<int>(scan_.faceLine.size()));
+    }
+    // A vertex used twice makes a degenerate triangle; worth a warning, not an error. note: a sorted copy
+    // in reused scratch, so a face costs n log n and, after the first large one, no allocation.
+    sortedCorners_.assign(scan_.cornerVertex.begin() + cornerBegin, scan_.cornerVertex.end());
+    std::sort(sortedCorners_.begin(), sortedCorners_.end());
+    if (std::adjacent_find(sortedCorners_.begin(), sortedCorners_.end()) != sortedCorners_.end() &&
         repeatedCornerFaces_++ == 0)
         firstRepeatedCornerLine_ = line_;
 
@@ -503,12 +562,13 @@ Status Scanner::finish() {
                 }
     }
 
+    // Nothing is dropped: a save writes these lines back unchanged (ObjMesh::source).
     if (ignoredElements_ > 0)
-        warn(std::to_string(ignoredElements_) + " line/point element(s) ignored (first on line " +
+        warn(std::to_string(ignoredElements_) + " line/point element(s) not shown, kept in the file (first on line " +
              std::to_string(firstIgnoredElementLine_) + ")");
     if (ignoredStatements_ > 0)
-        warn(std::to_string(ignoredStatements_) + " unsupported statement(s) ignored (first on line " +
-             std::to_string(firstIgnoredStatementLine_) + ": " + firstIgnoredStatement_ + ")");
+        warn(std::to_string(ignoredStatements_) + " statement(s) the sculptor does not use, kept in the file " +
+             "(first on line " + std::to_string(firstIgnoredStatementLine_) + ": " + firstIgnoredStatement_ + ")");
     if (repeatedCornerFaces_ > 0)
         warn(std::to_string(repeatedCornerFaces_) + " face(s) use a vertex twice (first on line " +
              std::to_string(firstRepeatedCornerLine_) + ")");

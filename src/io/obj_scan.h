@@ -4,7 +4,9 @@
 // file (CVE-2020-28589), only warns on out-of-range indices, turns junk/nan/inf into 0 without a word
 // and is not correctly rounded. The pre-pass follows tinyobjloader's own line splitting and keyword
 // rules exactly (so both see the same lines), is strict where tinyobjloader guesses, and remembers
-// the line of every face for error messages.
+// the line of every face for error messages. Where the OBJ format allows more than tinyobjloader
+// reads (lines continued with a trailing backslash, faces of more than 255 corners), the pre-pass
+// reads it and hands tinyobjloader an equivalent text (continuations joined, such faces commented out).
 #pragma once
 
 #include <string>
@@ -20,6 +22,10 @@ struct ObjScan {
     int texcoordComponents = 2;     // 3 if any `vt` line had a w
     int normalCount = 0;            // number of `vn` lines (values are validated, not kept)
 
+    // Byte ranges in the text of the numbers a writer may replace (offsets are the same in the original
+    // text and in sanitizedText): 2 per `v` line, [begin of x, end of z); 2 per `vn` line, likewise.
+    std::vector<size_t> positionSpans, normalSpans;
+
     std::vector<int> faceStart{0};                                // #F + 1
     std::vector<int> cornerVertex, cornerTexcoord, cornerNormal;  // resolved 0-based, -1 = none
     std::vector<int> faceLine;                                    // #F, 1-based line of each face
@@ -29,10 +35,14 @@ struct ObjScan {
     std::vector<std::string> materialNames;
     std::vector<std::string> materialLibraries;
 
-    // A copy of the text with the lines tinyobjloader must not interpret turned into comments
-    // (`l`, `p`, `t`, `vw`, trailing `# ...` on face lines, a UTF-8 byte order mark). Empty when the
-    // original text can be handed over as is, which is the usual case (no copy of a large file).
+    // A copy of the text for tinyobjloader, at the same byte offsets: line continuations (a backslash
+    // right before a line break, and the line break) turned into blanks, and the lines tinyobjloader must not
+    // interpret turned into comments (`l`, `p`, `t`, `vw`, faces of more than 255 corners, trailing
+    // `# ...` on face lines, a UTF-8 byte order mark). Empty when the original text can be handed over
+    // as is, which is the usual case (no copy of a large file).
     std::string sanitizedText;
+    std::vector<int> facesNotForTinyobj;  // ascending: faces commented out in sanitizedText (> 255 corners;
+                                          // tinyobjloader counts corners in a byte)
     std::vector<std::string> warnings;  // already prefixed with the display name
 };
 
@@ -41,7 +51,8 @@ struct ObjScan {
 std::string normalizeObjName(const std::string& name);
 
 // Scans text; on success fills scan (which must be default-constructed). Errors read
-// "<displayName>:<line>: <what is wrong>". Never throws except std::bad_alloc.
+// "<displayName>:<line>: <what is wrong>", the line being where the statement starts (a continued
+// statement spans several lines). Never throws except std::bad_alloc.
 Status scanObjText(const std::string& text, const std::string& displayName, ObjScan& scan);
 
 // Parses one number token of a `v`/`vt`/`vn` line: [+-]digits[.digits][(e|E)[+-]digits], the whole

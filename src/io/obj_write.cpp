@@ -1,7 +1,13 @@
-// OBJ writing: shortest round-trip numbers, recomputed normals, the input's polygons/groups/materials.
+// OBJ writing: shortest round-trip numbers. A loaded mesh is its source text with the changed numbers
+// replaced (everything else byte for byte); a mesh built in code is written from its arrays with recomputed
+// normals and the polygons/groups/materials it has.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <new>
+
+#include <Eigen/Geometry>
 
 #include "core/vertex_normals.h"
 #include "io/atomic_file.h"
@@ -30,6 +36,116 @@ bool hasLineBreak(const std::string& s) {
     for (char c : s)
         if (c == '\n' || c == '\r' || c == '\0') return true;
     return false;
+}
+
+bool sameBits(const Positions& a, const Positions& b, Eigen::Index row) {
+    return std::memcmp(a.row(row).data(), b.row(row).data(), 3 * sizeof(double)) == 0;
+}
+
+bool spansAreOrdered(const std::vector<size_t>& spans, size_t textSize) {
+    size_t previousEnd = 0;
+    for (size_t i = 0; i + 1 < spans.size(); i += 2) {
+        if (spans[i] < previousEnd || spans[i + 1] <= spans[i] || spans[i + 1] > textSize) return false;
+        previousEnd = spans[i + 1];
+    }
+    return spans.size() % 2 == 0;
+}
+
+// Two ordered span lists (spansAreOrdered) share no byte.
+bool spansAreDisjoint(const std::vector<size_t>& a, const std::vector<size_t>& b) {
+    size_t i = 0, j = 0;
+    while (i + 1 < a.size() && j + 1 < b.size()) {
+        if (a[i + 1] <= b[j]) {
+            i += 2;
+        } else if (b[j + 1] <= a[i]) {
+            j += 2;
+        } else {
+            return false;
+        }
+    }
+    return true;
+}
+
+// The source text with the x y z of moved vertices and the normals of changed faces replaced (see serializeObj).
+void writeFromSource(const ObjMesh& mesh, const Positions& deformed, std::string& out) {
+    const ObjSource& source = *mesh.source;
+    const Eigen::Index vertexCount = deformed.rows();
+    std::vector<char> moved(static_cast<size_t>(vertexCount), 0);
+    for (Eigen::Index v = 0; v < vertexCount; ++v) moved[static_cast<size_t>(v)] = !sameBits(deformed, mesh.positions, v);
+
+    // A `vn` used by a corner of a face that changed shape (a vertex of it moved) gets the normalised sum of
+    // the Newell normals (twice the area times the unit normal) of the deformed faces of all its corners: the
+    // area-weighted vertex normal where the file has one normal per vertex, and hard edges stay hard where it
+    // shares one per smooth patch. The others are the file's own, still right for faces that did not change.
+    const size_t normalCount = source.normalSpans.size() / 2;
+    std::vector<char> stale(normalCount, 0);
+    for (int f = 0; f < mesh.faceCount(); ++f) {
+        const int first = mesh.faceStart[f], end = mesh.faceStart[f + 1];
+        bool changed = false;
+        for (int c = first; c < end && !changed; ++c) changed = moved[static_cast<size_t>(mesh.cornerVertex[c])];
+        if (!changed) continue;
+        for (int c = first; c < end; ++c)
+            if (mesh.cornerNormal[c] >= 0) stale[static_cast<size_t>(mesh.cornerNormal[c])] = 1;
+    }
+    std::vector<Eigen::Vector3d> normalSum;
+    if (std::find(stale.begin(), stale.end(), 1) != stale.end()) {
+        normalSum.assign(normalCount, Eigen::Vector3d::Zero());
+        for (int f = 0; f < mesh.faceCount(); ++f) {
+            const int first = mesh.faceStart[f], end = mesh.faceStart[f + 1];
+            bool needed = false;
+            for (int c = first; c < end && !needed; ++c)
+                needed = mesh.cornerNormal[c] >= 0 && stale[static_cast<size_t>(mesh.cornerNormal[c])];
+            if (!needed) continue;
+            const Eigen::Vector3d origin = deformed.row(mesh.cornerVertex[first]).transpose();
+            Eigen::Vector3d faceNormal = Eigen::Vector3d::Zero();
+            for (int c = first + 1; c + 1 < end; ++c)
+                faceNormal += (deformed.row(mesh.cornerVertex[c]).transpose() - origin)
+                                  .cross(deformed.row(mesh.cornerVertex[c + 1]).transpose() - origin);
+            for (int c = first; c < end; ++c)
+                if (mesh.cornerNormal[c] >= 0) normalSum[static_cast<size_t>(mesh.cornerNormal[c])] += faceNormal;
+        }
+    }
+
+    out.reserve(source.text.size() + source.text.size() / 8 + 64);
+    size_t copied = 0;  // source.text is written up to here
+    const auto replace = [&](size_t begin, size_t end, const double* xyz) {
+        if (begin < copied) return;  // overlapping spans: checkObjMesh refuses them, never expected here
+        out.append(source.text, copied, begin - copied);
+        for (int k = 0; k < 3; ++k) {
+            if (k > 0) out += ' ';
+            appendNumber(out, xyz[k]);
+        }
+        copied = end;
+    };
+    // v and vn lines interleave in the file: walk both span lists in offset order.
+    size_t v = 0, n = 0;
+    for (;;) {
+        while (v < static_cast<size_t>(vertexCount) && !moved[v]) ++v;
+        while (n < normalCount) {
+            if (stale[n]) {
+                const double length = normalSum[n].norm();
+                if (length > 0.0 && std::isfinite(length)) break;
+            }
+            ++n;
+        }
+        const bool haveVertex = v < static_cast<size_t>(vertexCount), haveNormal = n < normalCount;
+        if (!haveVertex && !haveNormal) break;
+        if (haveVertex && (!haveNormal || source.positionSpans[2 * v] < source.normalSpans[2 * n])) {
+            replace(source.positionSpans[2 * v], source.positionSpans[2 * v + 1], deformed.row(static_cast<Eigen::Index>(v)).data());
+            ++v;
+        } else {
+            const Eigen::Vector3d unit = normalSum[n].normalized();
+            replace(source.normalSpans[2 * n], source.normalSpans[2 * n + 1], unit.data());
+            ++n;
+        }
+    }
+    out.append(source.text, copied, std::string::npos);
+}
+
+// A name as the last word of a line: one that ends in a backslash gets a blank after it, or the reader
+// would take the backslash for a line continuation.
+std::string lineEndName(const std::string& name) {
+    return !name.empty() && name.back() == '\\' ? name + " " : name;
 }
 
 bool isSingleToken(const std::string& s) {
@@ -78,6 +194,18 @@ Status checkObjMesh(const ObjMesh& mesh) {
         if (!isSingleToken(name)) return bad("material name '" + name + "' must be one word");
     for (const std::string& name : mesh.materialLibraries)
         if (name.empty() || hasLineBreak(name)) return bad("empty material library name or one with a line break");
+    if (mesh.source) {
+        const ObjSource& source = *mesh.source;
+        if (source.positionSpans.size() != 2 * static_cast<size_t>(vertexCount))
+            return bad("the source text's vertex count differs from the positions");
+        if (!spansAreOrdered(source.positionSpans, source.text.size()) ||
+            !spansAreOrdered(source.normalSpans, source.text.size()) ||
+            !spansAreDisjoint(source.positionSpans, source.normalSpans))
+            return bad("the source text's number spans are out of order");
+        const long long normalCount = static_cast<long long>(source.normalSpans.size() / 2);
+        for (int n : mesh.cornerNormal)
+            if (n < -1 || n >= normalCount) return bad("corner normal out of range of the source's normals");
+    }
     return Status::success();
 }
 
@@ -93,15 +221,21 @@ Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std
                 return Status::error("cannot write OBJ: vertex " + std::to_string(v + 1) +
                                      " has a non-finite position");
 
+        std::string out;
+        if (mesh.source) {
+            writeFromSource(mesh, deformedPositions, out);
+            text.swap(out);
+            return Status::success();
+        }
+
         Positions normals;
         core::computeVertexNormals(deformedPositions, mesh.triangles, normals);
 
-        std::string out;
         // ~24 bytes per number, ~12 per corner index triple: one allocation for typical meshes.
         out.reserve(static_cast<size_t>(deformedPositions.rows()) * 150 + mesh.cornerVertex.size() * 24 +
                     static_cast<size_t>(mesh.texcoords.size()) * 25 + 256);
         out += "# DMFFD Sculpt\n";
-        for (const std::string& library : mesh.materialLibraries) out += "mtllib " + library + "\n";
+        for (const std::string& library : mesh.materialLibraries) out += "mtllib " + lineEndName(library) + "\n";
         for (Eigen::Index v = 0; v < deformedPositions.rows(); ++v) {
             out += "v";
             for (int k = 0; k < 3; ++k) {
@@ -136,11 +270,11 @@ Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std
                 group = mesh.faceGroup[f];
                 // note: "g " with a trailing blank is the unnamed group; a bare "g" is not a group line
                 // to tinyobjloader and would be ignored.
-                out += "g " + mesh.groupNames[group] + "\n";
+                out += "g " + lineEndName(mesh.groupNames[group]) + "\n";
             }
             if (mesh.faceMaterial[f] != material) {
                 material = mesh.faceMaterial[f];
-                out += material < 0 ? std::string("usemtl\n") : "usemtl " + mesh.materialNames[material] + "\n";
+                out += material < 0 ? std::string("usemtl\n") : "usemtl " + lineEndName(mesh.materialNames[material]) + "\n";
             }
             out += 'f';
             for (int c = mesh.faceStart[f]; c < mesh.faceStart[f + 1]; ++c) {

@@ -1,6 +1,7 @@
 // Fuzz target: any bytes either load into a consistent ObjMesh or fail with a message; whatever loads
-// must serialise, and the serialised text must load back to the same surface bit for bit (also after
-// a deformation), so the writer is fuzzed through the reader.
+// must serialise, unchanged to the very bytes it was read from, and the serialised text must load back to
+// the same surface bit for bit (also after a deformation, and also when written from the arrays instead of
+// the source text), so both writers are fuzzed through the reader.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -63,6 +64,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::string written;
     const sculpt::Status serialised = sculpt::io::serializeObj(mesh, mesh.positions, written);
     if (!serialised) fail("a loaded mesh does not serialise", serialised.message);
+    if (written != text) fail("a mesh saved unchanged is not the file it was read from", written);
+
+    // Written from the arrays (as a mesh built in code is).
+    sculpt::io::ObjMesh plain = mesh;
+    plain.source = nullptr;
+    if (!sculpt::io::serializeObj(plain, plain.positions, written)) fail("the arrays do not serialise", "");
     sculpt::io::ObjMesh reread;
     const sculpt::Status reloaded = sculpt::io::loadObjFromText(written, "written.obj", "", reread, nullptr);
     if (!reloaded) fail("written text does not load back", reloaded.message + "\n" + written);

@@ -55,6 +55,12 @@ bool anyContains(const std::vector<std::string>& lines, const std::string& fragm
     return false;
 }
 
+// A copy without its source text: serializeObj then writes from the arrays (as for a mesh built in code).
+ObjMesh withoutSource(ObjMesh mesh) {
+    mesh.source = nullptr;
+    return mesh;
+}
+
 // Everything a reader should get back from a written file (normals excepted: they are recomputed).
 void requireSameSurface(const ObjMesh& a, const ObjMesh& b) {
     REQUIRE(sameBits(a.positions, b.positions));
@@ -133,14 +139,7 @@ ObjMesh randomMesh(std::mt19937_64& random, int vertexCount, int faceCount) {
         mesh.faceGroup.push_back(group);
         mesh.faceMaterial.push_back(material);
     }
-    std::vector<int> rows;
-    for (int f = 0; f < faceCount; ++f)
-        for (int c = mesh.faceStart[f] + 1; c + 1 < mesh.faceStart[f + 1]; ++c) {
-            rows.insert(rows.end(),
-                        {mesh.cornerVertex[mesh.faceStart[f]], mesh.cornerVertex[c], mesh.cornerVertex[c + 1]});
-            mesh.triangleFace.push_back(f);
-        }
-    mesh.triangles = Eigen::Map<sculpt::Triangles>(rows.data(), static_cast<Eigen::Index>(rows.size() / 3), 3);
+    sculpt::io::triangulateObjFaces(mesh);  // as the reader does (random polygons: mostly fans)
     // Names only count once a face uses them (the reader's rule), so drop unused ones.
     auto used = [](const std::vector<int>& index, int i) {
         return std::find(index.begin(), index.end(), i) != index.end();
@@ -168,7 +167,7 @@ void requireSentinel(const ObjMesh& mesh) {
 
 }  // namespace
 
-TEST_CASE("obj: a quad and a pentagon are fan-triangulated and written back as polygons") {
+TEST_CASE("obj: a quad and a pentagon (convex) are fan-triangulated and written back as polygons") {
     const std::string text =
         "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2.5 1 0\nv 2 2 0\n"
         "f 1 2 3 4\n"
@@ -186,7 +185,9 @@ TEST_CASE("obj: a quad and a pentagon are fan-triangulated and written back as p
 
     std::string written;
     REQUIRE(sculpt::io::serializeObj(mesh, mesh.positions, written));
-    // No texture coordinates in the input: v//vn corners, one normal per vertex.
+    REQUIRE(written == text);  // a loaded mesh saved unchanged is its file
+    // Written from the arrays: no texture coordinates in the input: v//vn corners, one normal per vertex.
+    REQUIRE(sculpt::io::serializeObj(withoutSource(mesh), mesh.positions, written));
     REQUIRE(written.find("\nf 1//1 2//2 3//3 4//4\n") != std::string::npos);
     REQUIRE(written.find("\nf 2//2 5//5 6//6 7//7 3//3\n") != std::string::npos);
     size_t normalLines = 0;
@@ -204,7 +205,11 @@ TEST_CASE("obj: written normals are the recomputed, outward normals of the defor
     Positions lifted = mesh.positions;
     lifted.col(2).setConstant(3.0);
     std::string written;
+    // The file's one normal, shared by the three moved corners, recomputed in its place.
     REQUIRE(sculpt::io::serializeObj(mesh, lifted, written));
+    REQUIRE(written == "v 0 0 3\nv 1 0 3\nv 0 1 3\nvn 0 0 1\nf 1//1 2//1 3//1\n");
+    // From the arrays: one recomputed normal per vertex.
+    REQUIRE(sculpt::io::serializeObj(withoutSource(mesh), lifted, written));
     REQUIRE(written.find("\nv 0 0 3\n") != std::string::npos);
     REQUIRE(written.find("\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\n") != std::string::npos);
     REQUIRE(written.find("vn 1 0 0") == std::string::npos);
@@ -223,7 +228,15 @@ TEST_CASE("obj: numbers are read correctly rounded and written in shortest round
     REQUIRE(sameBits(mesh.positions(1, 1), 1.7976931348623157e308));
     REQUIRE(sameBits(mesh.positions(2, 0), 0.1 + 0.2));
     std::string written;
+    // Unmoved vertices keep their text; moved ones (and everything written from the arrays) are shortest.
     REQUIRE(sculpt::io::serializeObj(mesh, mesh.positions, written));
+    REQUIRE(written.find("v 0.1 -0 +2.5e-3\n") == 0);
+    Positions moved = mesh.positions;
+    moved(2, 2) = -7.5;
+    REQUIRE(sculpt::io::serializeObj(mesh, moved, written));
+    REQUIRE(written.find("v 0.1 -0 +2.5e-3\n") == 0);
+    REQUIRE(written.find("\nv 0.30000000000000004 100 -7.5\n") != std::string::npos);
+    REQUIRE(sculpt::io::serializeObj(withoutSource(mesh), mesh.positions, written));
     REQUIRE(written.find("\nv 0.1 -0 0.0025\n") != std::string::npos);
     REQUIRE(written.find("\nv 0.30000000000000004 100 -7\n") != std::string::npos);
 }
@@ -289,7 +302,7 @@ TEST_CASE("obj: groups, materials and 3-component texture coordinates are kept")
     REQUIRE(anyContains(warnings, "no folder to look in"));
 
     std::string written;
-    REQUIRE(sculpt::io::serializeObj(mesh, mesh.positions, written));
+    REQUIRE(sculpt::io::serializeObj(withoutSource(mesh), mesh.positions, written));
     REQUIRE(written.find("mtllib shop.mtl\n") != std::string::npos);
     REQUIRE(written.find("\ng head part\nusemtl skin\nf 2/1/2 4/2/4 3/3/3\ng tail\nf 1//1 2//2 4//4\n"
                          "g head part\nusemtl\nf 3//3 2//2 1//1\n") != std::string::npos);
@@ -392,8 +405,8 @@ TEST_CASE("obj: line, point and unknown statements are ignored with a warning") 
                  "curv 0 1 1 2\ns 1\nf 1 2 3\n",
                  mesh, &warnings));
     REQUIRE(mesh.faceCount() == 1);
-    REQUIRE(anyContains(warnings, "2 line/point element(s) ignored (first on line 4)"));
-    REQUIRE(anyContains(warnings, "unsupported statement(s) ignored"));
+    REQUIRE(anyContains(warnings, "2 line/point element(s) not shown, kept in the file (first on line 4)"));
+    REQUIRE(anyContains(warnings, "3 statement(s) the sculptor does not use, kept in the file (first on line 6: 't')"));
 }
 
 TEST_CASE("obj: a UTF-8 byte order mark does not hide the first line") {
@@ -402,16 +415,26 @@ TEST_CASE("obj: a UTF-8 byte order mark does not hide the first line") {
     REQUIRE(mesh.vertexCount() == 3);
 }
 
-TEST_CASE("obj: faces with more than 255 corners are refused, not wrapped") {
+TEST_CASE("obj: faces with more than 255 corners load whole (tinyobjloader counts corners in a byte)") {
     std::string text;
     for (int i = 0; i < 300; ++i) text += "v " + std::to_string(i) + " " + std::to_string(i % 7) + " 0\n";
     text += "f";
     for (int i = 1; i <= 256; ++i) text += " " + std::to_string(i);
-    text += "\n";
+    text += "\nf 1 2 3\n";
     ObjMesh mesh;
-    const Status status = loadText(text, mesh);
-    REQUIRE_FALSE(status);
-    REQUIRE(status.message.find("test.obj:301: a face has more than 255 corners") != std::string::npos);
+    std::vector<std::string> warnings;
+    const Status status = loadText(text, mesh, &warnings);
+    INFO(status.message);
+    REQUIRE(status);
+    REQUIRE(mesh.faceStart == std::vector<int>{0, 256, 259});
+    REQUIRE(mesh.triangleFace.size() == 254 + 1);
+    // The zigzag crosses itself: drawn as a fan, and said so.
+    REQUIRE(anyContains(warnings, "1 face(s) could not be triangulated exactly"));
+    std::string written;
+    REQUIRE(sculpt::io::serializeObj(withoutSource(mesh), mesh.positions, written));
+    ObjMesh reread;
+    REQUIRE(loadText(written, reread));
+    requireSameSurface(mesh, reread);
 }
 
 TEST_CASE("obj: hostile mtllib paths are never opened and give a warning") {
