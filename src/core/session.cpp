@@ -28,6 +28,13 @@ std::string vectorText(const Eigen::Vector3d& v) {
     return buffer;
 }
 
+// Three significant digits: where on the mesh, for a person to find, not to compute with.
+std::string shortVectorText(const Eigen::Vector3d& v) {
+    char buffer[128];
+    std::snprintf(buffer, sizeof buffer, "(%.3g, %.3g, %.3g)", v.x(), v.y(), v.z());
+    return buffer;
+}
+
 std::string percentText(double fraction) {
     char buffer[32];
     std::snprintf(buffer, sizeof buffer, "%.1f%%", 100.0 * fraction);
@@ -526,12 +533,11 @@ const char* stepFailureCauseName(StepFailure::Cause cause) {
 }
 
 std::string stepFailureWords(const StepFailure& failure, bool drag) {
-    const std::string near = failure.where.allFinite() ? " near " + vectorText(failure.where) : "";
+    const std::string near = failure.where.allFinite() ? " near " + shortVectorText(failure.where) : "";
     switch (failure.cause) {
         case StepFailure::Cause::Triangles: return "the surface would pass through itself" + near;
         case StepFailure::Cause::Boundary: return "the lattice's outer surface would fold onto itself" + near;
-        case StepFailure::Cause::Lattice:
-            return std::string("the ") + (drag ? "space around the mesh" : "lattice") + " would fold" + near;
+        case StepFailure::Cause::Lattice: return std::string("the ") + (drag ? "mesh" : "lattice") + " would fold over itself" + near;
         case StepFailure::Cause::SourceLeft:
         case StepFailure::Cause::None: break;
     }
@@ -1098,8 +1104,8 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
         lastMovedAll_ = progress.snapshot.frameSaved;
         report.status = OpStatus::Rejected;
         report.refusedBy = stepFailureCauseName(progress.failure.cause);
-        report.reason = "stopped: " + stepFailureWords(progress.failure, true) + "; the drag stays at the last valid position (" +
-                        stepFailureAdvice(progress.failure.cause) + ")";
+        report.reason = "Refused: " + stepFailureWords(progress.failure, true) + ". The drag stays at the last valid position; " +
+                        stepFailureAdvice(progress.failure.cause) + ".";
         report.injectivity = "rejected: " + progress.failure.technical;
         return false;
     }
@@ -1213,7 +1219,7 @@ Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& repor
     report.status = fraction > 0.0 ? OpStatus::Applied : OpStatus::Rejected;
     if (fraction < 1.0) {
         report.refusedBy = stepFailureCauseName(failure.cause);
-        report.reason = "stopped where the lattice would fold (" + stepFailureWords(failure, false) + " beyond it)";
+        report.reason = "Stopped where the lattice would fold: moving further, " + stepFailureWords(failure, false) + ".";
     }
     report.wallMs = millisecondsSince(start);
     return Status::success();

@@ -60,17 +60,19 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
         setStatus(state, report.op + " failed: " + status.message, true);
         return;
     }
-    std::string text = report.op + ": " + core::opStatusName(report.status);
+    // In the user's words: what was done, then what happened.
+    const std::string what = report.op == "move_control_point" ? "Control point move" : report.op == "drag" ? "Drag" : report.op;
+    std::string text;
     if (report.status == core::OpStatus::Rejected) {
-        text += " (" + (report.reason.empty() ? report.injectivity : report.reason) + ")";
-    } else if (report.status == core::OpStatus::NoOp && !report.reason.empty()) {
-        text += " (" + report.reason + ")";
-    } else if (report.status == core::OpStatus::Applied) {
-        text += ", " + std::to_string(report.verticesMoved) + " vertices moved";
+        text = what + ": " + (report.reason.empty() ? report.injectivity : report.reason);
+    } else if (report.status == core::OpStatus::NoOp) {
+        text = what + ": nothing to do" + (report.reason.empty() ? "" : " (" + report.reason + ")");
+    } else {
+        text = what + ": " + std::to_string(report.verticesMoved) + " vertices moved";
         if (report.subSteps > 1) text += ", " + std::to_string(report.subSteps) + " injective steps";
         if (!report.injectivity.empty()) text += ", " + report.injectivity;
         // A move stopped short of where it was asked, or constraints met only as closely as possible: say so.
-        if (report.fractionApplied < 1.0 || report.rankDeficient) text += "; " + report.reason;
+        if (report.fractionApplied < 1.0 || report.rankDeficient) text += ". " + report.reason;
     }
     setStatus(state, text, report.status == core::OpStatus::Rejected);
 }

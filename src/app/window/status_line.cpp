@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include <imgui.h>
 
 #include "app/window/panels.h"
@@ -6,7 +8,13 @@ namespace sculpt::app {
 
 void drawStatusLine(AppState& state) {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
-    const float height = ImGui::GetFrameHeight() + 2.0f * ImGui::GetStyle().WindowPadding.y;
+    const ImGuiStyle& style = ImGui::GetStyle();
+    // The message is never clipped: a long one wraps, and the bar grows upward to hold it.
+    const float marker = ImGui::CalcTextSize("!").x + style.ItemSpacing.x;
+    const float wrapWidth = std::max(50.0f, viewport->Size.x - 2.0f * style.WindowPadding.x - marker);
+    const ImVec2 text = ImGui::CalcTextSize(state.status.c_str(), nullptr, false, wrapWidth);
+    const bool oneLine = text.y <= ImGui::GetFontSize() * 1.5f;
+    const float height = std::max(ImGui::GetFrameHeight(), text.y) + 2.0f * style.WindowPadding.y;
     ImGui::SetNextWindowPos(ImVec2(viewport->Pos.x, viewport->Pos.y + viewport->Size.y - height));
     ImGui::SetNextWindowSize(ImVec2(viewport->Size.x, height));
     ImGui::SetNextWindowBgAlpha(0.95f);
@@ -14,12 +22,18 @@ void drawStatusLine(AppState& state) {
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings |
                      ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoBringToFrontOnFocus);
     const ImVec4 colour = state.statusIsError ? ImVec4(1.0f, 0.45f, 0.4f, 1.0f) : ImVec4(0.75f, 0.85f, 0.95f, 1.0f);
-    ImGui::AlignTextToFramePadding();
+    if (oneLine) ImGui::AlignTextToFramePadding();
     ImGui::TextColored(colour, "%s", state.statusIsError ? "!" : ">");
     ImGui::SameLine();
+    ImGui::PushTextWrapPos(0.0f);
     ImGui::TextUnformatted(state.status.c_str());
+    ImGui::PopTextWrapPos();
+    // The test's own words (which cell, which cones) for whoever wants them, on hover.
+    if (ImGui::IsItemHovered() && state.hasReport && state.lastReport.status == core::OpStatus::Rejected &&
+        !state.lastReport.injectivity.empty())
+        ImGui::SetTooltip("%s", state.lastReport.injectivity.c_str());
     // What the cursor would do where it is, right-aligned, when there is room for it.
-    if (!state.tools.hint.empty()) {
+    if (oneLine && !state.tools.hint.empty()) {
         const float hintWidth = ImGui::CalcTextSize(state.tools.hint.c_str()).x;
         const float right = ImGui::GetWindowContentRegionMax().x;
         ImGui::SameLine();

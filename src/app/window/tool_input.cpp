@@ -280,11 +280,12 @@ void SculptApp::endSculpt() {
     state_.drag = DragState{};
     state_.gpu.fields = true;
     const bool recorded = state_.session.journal().size() > before;
+    if (finished.moves == 0) return;  // a click (selecting, placing): its own message stays
     std::string text = recorded ? "Drag recorded as one undo step (" + plural(static_cast<size_t>(finished.moves), "move")
                                 : "Drag changed nothing (" + plural(static_cast<size_t>(finished.moves), "move");
     if (finished.refused > 0) text += ", " + std::to_string(finished.refused) + " refused as not injective";
     text += ").";
-    if (state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected)
+    if (finished.refused > 0 && state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected)
         text += " Last move refused: " + (state_.lastReport.reason.empty() ? state_.lastReport.injectivity
                                                                            : state_.lastReport.reason);
     setStatus(state_, text, finished.refused > 0 && !recorded);
