@@ -463,14 +463,25 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
         }
     }
 
-    // The mesh: evaluate the vertices of the cells reached, keeping their rows as they were.
+    // The mesh: evaluate the vertices of the cells reached, keeping their rows as they were where the triangle
+    // check or a probe needs them.
+    const bool checkTriangles = checking && injectivity_.checkTriangles && triangles_.rows() > 0;
     std::vector<int> changed;
+    if (!checkTriangles && keep) {
+        const size_t first = moved ? moved->size() : 0;
+        evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, 1.0, positions_, increment_, moved ? moved : &changed);
+        if (meshIndex_.built()) {  // a point cloud has no triangle index to tell
+            if (moved) changed.assign(moved->begin() + static_cast<std::ptrdiff_t>(first), moved->end());
+            positionsChanged(&changed);
+        }
+        return true;
+    }
     for (int cell : cells)
         changed.insert(changed.end(), embedding_.order.begin() + embedding_.cellStart[cell], embedding_.order.begin() + embedding_.cellStart[cell + 1]);
     for (int v : changed) before_.row(v) = positions_.row(v);
     evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, 1.0, positions_, increment_, nullptr);
     bool refused = false;
-    if (checking && injectivity_.checkTriangles) {
+    if (checkTriangles) {
         // The triangles the step moved must not cross any triangle they did not cross before.
         const SelfIntersectionIndex::Result crossing = meshIndex_.findNewIntersection(positions_, triangles_, changed, before_);
         triangleMs += crossing.milliseconds;
