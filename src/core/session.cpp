@@ -484,6 +484,7 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
     if (checkTriangles) {
         // The triangles the step moved must not cross any triangle they did not cross before.
         const SelfIntersectionIndex::Result crossing = meshIndex_.findNewIntersection(positions_, triangles_, changed, before_);
+        injectivityMs += crossing.milliseconds;  // all checks, the triangle check included
         triangleMs += crossing.milliseconds;
         if (crossing.found) {
             refused = true;
@@ -634,7 +635,7 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
     Progress progress(scratch_);
     progress.operation = &operation;
     const bool ok = injectSubdiv(m, 0, progress);
-    report.injectivityMs = progress.injectivityMs + progress.triangleMs;
+    report.injectivityMs = progress.injectivityMs;
     report.triangleCheckMs = progress.triangleMs;
     report.depthReached = operation.depthReached;
     if (!ok) {
@@ -838,14 +839,13 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     std::vector<int> moved;
     StepFailure failure;
     const double fraction = applyLargestInjectiveFraction(delta, &moved, failure, report.injectivityMs, report.triangleCheckMs);
-    report.injectivityMs += report.triangleCheckMs;
     lastMoved_.clear();
     lastMovedAll_ = false;
     report.fractionApplied = fraction;
     if (fraction == 0.0) {
         report.status = OpStatus::Rejected;
         report.refusedBy = stepFailureCauseName(failure.cause);
-        report.reason = "refused: any part of this move: " + stepFailureWords(failure, false) + "; nothing was changed (" +
+        report.reason = "refused: even a small part of this move, " + stepFailureWords(failure, false) + "; nothing was changed (" +
                         stepFailureAdvice(failure.cause) + ")";
         report.injectivity = "rejected: " + failure.technical;
         report.wallMs = millisecondsSince(start);
@@ -1097,7 +1097,6 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
         mergeInteractiveStep(delta);
         for (size_t f = 0; f < dragParams_.size(); ++f) dragOperation_.steps.back().constraints[f].target = currentImage(dragParams_[f]);
         report.subSteps = 1;
-        report.injectivityMs += report.triangleCheckMs;
         return true;
     }
     // Not injective as one step: subdivide this increment like any operation (Gain & Dodgson 2001, Appendix,
@@ -1108,7 +1107,7 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
     progress.appliedInCurrentFrame = dragAppliedInFrame_;
     progress.firstFailure = failure;
     const bool ok = injectSubdiv(m, 0, progress);
-    report.injectivityMs += progress.injectivityMs + progress.triangleMs + report.triangleCheckMs;
+    report.injectivityMs += progress.injectivityMs;
     report.triangleCheckMs += progress.triangleMs;
     if (!ok) {
         restoreSnapshot(progress.snapshot);
@@ -1214,7 +1213,6 @@ Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& repor
     lastMovedAll_ = false;
     StepFailure failure;
     const double fraction = applyLargestInjectiveFraction(delta, &lastMoved_, failure, report.injectivityMs, report.triangleCheckMs);
-    report.injectivityMs += report.triangleCheckMs;
     report.fractionApplied = fraction;
     if (fraction > 0.0) {
         delta.deltas *= fraction;

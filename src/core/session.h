@@ -276,7 +276,8 @@ private:
     // Applies delta to the lattice and the mesh if every check passes: the injectivity test of the cells it
     // reaches (Gain & Dodgson 2001), the free boundary's self-overlap, and no new crossing of triangles;
     // otherwise leaves lattice and positions bitwise as they were and says why. Moved vertices are appended
-    // to `moved`. keep = false: a probe; everything is put back even when the checks pass.
+    // to `moved`. keep = false: a probe; everything is put back even when the checks pass. The checks' time is
+    // added to injectivityMs, the triangle check's share also to triangleMs.
     bool tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure, double& injectivityMs,
                   double& triangleMs, bool keep = true);
     // The largest fraction s in [0, 1] of `delta` (to 1/1024) that passes tryDelta, applied (bisection on the move:
