@@ -17,6 +17,7 @@
 #include "io/obj_mesh.h"
 #include "io/script_json.h"
 #include "io_test_support.h"
+#include "obj_test_support.h"
 
 using sculpt::Positions;
 using sculpt::Status;
@@ -137,20 +138,6 @@ std::string serialize(const ObjMesh& mesh, const Positions& positions) {
     return text;
 }
 
-void requireSameFaces(const ObjMesh& a, const ObjMesh& b) {
-    REQUIRE(a.vertexCount() == b.vertexCount());
-    REQUIRE(a.faceStart == b.faceStart);
-    REQUIRE(a.cornerVertex == b.cornerVertex);
-    REQUIRE(a.cornerTexcoord == b.cornerTexcoord);
-    REQUIRE(a.cornerNormal == b.cornerNormal);
-    REQUIRE(a.texcoords == b.texcoords);
-    REQUIRE(a.faceGroup == b.faceGroup);
-    REQUIRE(a.groupNames == b.groupNames);
-    REQUIRE(a.faceMaterial == b.faceMaterial);
-    REQUIRE(a.materialNames == b.materialNames);
-    REQUIRE(a.materialLibraries == b.materialLibraries);
-}
-
 bool sameBits(const Positions& a, const Positions& b) {
     return a.rows() == b.rows() && std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0;
 }
@@ -161,7 +148,7 @@ void requireDragRoundTrip(const ObjMesh& mesh, const std::string& original, int 
     const Positions dragged = dragVertex(mesh, vertex, offset);
     const std::string saved = serialize(mesh, dragged);
     const ObjMesh reread = requireLoad(saved);
-    requireSameFaces(mesh, reread);
+    sculpt::test::requireSameFaces(mesh, reread);
     REQUIRE(sameBits(reread.positions, dragged));
     requireSameStatements(original, saved, dragged);
 }
@@ -208,7 +195,7 @@ TEST_CASE("obj: the handed-over cube with continued v, vn and f lines loads whol
     const std::string saved = serialize(mesh, session.positions());
     REQUIRE(saved.find("f 5//1 6//1 \\\n   7//1 8//1\n") != std::string::npos);
     const ObjMesh reread = requireLoad(saved);
-    requireSameFaces(mesh, reread);
+    sculpt::test::requireSameFaces(mesh, reread);
     REQUIRE(sameBits(reread.positions, session.positions()));
     requireSameStatements(original, saved, session.positions());
 }
@@ -396,7 +383,7 @@ TEST_CASE("obj: vertex colours, w, texture coordinates and every other statement
     REQUIRE((dragged - mesh.positions).rowwise().norm().maxCoeff() > 0.2);
     const std::string saved = serialize(mesh, dragged);
     const ObjMesh reread = requireLoad(saved);
-    requireSameFaces(mesh, reread);
+    sculpt::test::requireSameFaces(mesh, reread);
     REQUIRE(sameBits(reread.positions, dragged));
     REQUIRE(reread.triangles == mesh.triangles);
     REQUIRE(reread.source->normalSpans.size() == mesh.source->normalSpans.size());
@@ -458,7 +445,7 @@ TEST_CASE("obj: normals of faces that changed shape are recomputed, the others s
     REQUIRE(normals[8] == std::vector<std::string>{"vn", "0", "0", "1"});  // recomputed: moved, now unit length
     const ObjMesh reread = requireLoad(saved);
     REQUIRE(sameBits(reread.positions, deformed));
-    requireSameFaces(mesh, reread);
+    sculpt::test::requireSameFaces(mesh, reread);
 }
 
 TEST_CASE("obj: the handed-over concave U is triangulated inside the U and saved as its one face") {
@@ -529,6 +516,6 @@ TEST_CASE("obj: non-planar, collinear and degenerate polygons: exact where possi
         moved(0, 2) = 0.25;
         const ObjMesh reread = requireLoad(serialize(mesh, moved));
         REQUIRE(reread.positions.allFinite());
-        requireSameFaces(mesh, reread);
+        sculpt::test::requireSameFaces(mesh, reread);
     }
 }
