@@ -102,6 +102,11 @@ Status latticeBox(const LatticeSettings& settings, const Positions& points, Eige
     return Status::success();
 }
 
+bool sameLatticeSettings(const LatticeSettings& a, const LatticeSettings& b) {
+    return a.resolution == b.resolution && a.degree == b.degree && a.padding == b.padding && a.hasRegion == b.hasRegion &&
+           a.regionMin == b.regionMin && a.regionMax == b.regionMax && a.pinLayers == b.pinLayers;
+}
+
 Status makeLatticeInBox(const LatticeSettings& settings, const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax,
                         Lattice& out) {
     if (Status s = validateLatticeSettings(settings); !s) return s;

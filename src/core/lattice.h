@@ -32,6 +32,8 @@ struct LatticeSettings {
 
 // Checks ranges and finiteness; the message names the offending field.
 Status validateLatticeSettings(const LatticeSettings& settings);
+// Every field equal (the same control point ids and placement rule).
+bool sameLatticeSettings(const LatticeSettings& a, const LatticeSettings& b);
 
 // Up to (kMaxDegree+1)^3 control points with their basis weights R_ijk at one parameter point.
 struct SupportWeights {

@@ -47,8 +47,8 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
         return Status::success();
     }
     switch (op.kind) {
-        case ScriptOp::Kind::Drag: return session.drag(op.constraints, report);
-        case ScriptOp::Kind::DragVertex: return session.dragVertex(op.vertex, op.target, report);
+        case ScriptOp::Kind::Drag: return session.drag(op.constraints, report, op.brush);
+        case ScriptOp::Kind::DragVertex: return session.dragVertex(op.vertex, op.target, report, op.brush);
         case ScriptOp::Kind::MoveControlPoint: {
             std::vector<int> ids;
             if (Status s = controlPointIds(session.lattice(), op.controlPoints, ids); !s) return s;
@@ -107,6 +107,7 @@ ScriptOp recordedOp(const Operation& operation) {
         case OperationKind::Drag:
             op.kind = ScriptOp::Kind::Drag;
             op.constraints = operation.constraints;
+            op.brush = operation.brush;
             break;
         case OperationKind::ControlPointEdit: {
             op.kind = ScriptOp::Kind::MoveControlPoint;

@@ -22,6 +22,7 @@ struct ScriptOp {
     std::vector<PointConstraint> constraints;      // Drag
     int vertex = -1;                               // DragVertex
     Eigen::Vector3d target = Eigen::Vector3d::Zero();
+    BrushSettings brush;                           // Drag, DragVertex: radius, strength, falloff, symmetry
     std::vector<std::array<int, 3>> controlPoints; // MoveControlPoint: (i,j,k) per point; SetPins: points to pin
     std::vector<std::array<int, 3>> unpinned;      // SetPins: pin-layer points to unpin (the rest: the layers)
     Eigen::MatrixX3d values;                       //   "to" positions or "by" offsets, one row per point

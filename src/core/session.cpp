@@ -11,12 +11,16 @@
 
 #include "core/injectivity.h"
 #include "core/lattice_boundary.h"
+#include "core/session_internal.h"
 
 namespace sculpt::core {
 
-namespace {
+using detail::Clock;
+using detail::mergeDelta;
+using detail::millisecondsSince;
+using detail::vectorText;
 
-using Clock = std::chrono::steady_clock;
+namespace detail {
 
 double millisecondsSince(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -27,6 +31,32 @@ std::string vectorText(const Eigen::Vector3d& v) {
     std::snprintf(buffer, sizeof buffer, "(%g, %g, %g)", v.x(), v.y(), v.z());
     return buffer;
 }
+
+// Adds b into a (sorted unions of control point ids).
+void mergeDelta(ControlDelta& a, const ControlDelta& b) {
+    ControlDelta merged;
+    merged.deltas.resize(static_cast<Eigen::Index>(a.indices.size() + b.indices.size()), 3);
+    size_t i = 0, j = 0;
+    Eigen::Index row = 0;
+    while (i < a.indices.size() || j < b.indices.size()) {
+        if (j == b.indices.size() || (i < a.indices.size() && a.indices[i] < b.indices[j])) {
+            merged.indices.push_back(a.indices[i]);
+            merged.deltas.row(row++) = a.deltas.row(static_cast<Eigen::Index>(i++));
+        } else if (i == a.indices.size() || b.indices[j] < a.indices[i]) {
+            merged.indices.push_back(b.indices[j]);
+            merged.deltas.row(row++) = b.deltas.row(static_cast<Eigen::Index>(j++));
+        } else {
+            merged.indices.push_back(a.indices[i]);
+            merged.deltas.row(row++) = a.deltas.row(static_cast<Eigen::Index>(i++)) + b.deltas.row(static_cast<Eigen::Index>(j++));
+        }
+    }
+    merged.deltas.conservativeResize(row, 3);
+    a = std::move(merged);
+}
+
+}  // namespace detail
+
+namespace {
 
 // Three significant digits: where on the mesh, for a person to find, not to compute with.
 std::string shortVectorText(const Eigen::Vector3d& v) {
@@ -57,32 +87,6 @@ std::string fingerprint(const Positions& positions, const Triangles& triangles) 
     return text;
 }
 
-bool sameSettings(const LatticeSettings& a, const LatticeSettings& b) {
-    return a.resolution == b.resolution && a.degree == b.degree && a.padding == b.padding && a.hasRegion == b.hasRegion &&
-           a.regionMin == b.regionMin && a.regionMax == b.regionMax && a.pinLayers == b.pinLayers;
-}
-
-// Adds b into a (sorted unions of control point ids).
-void mergeDelta(ControlDelta& a, const ControlDelta& b) {
-    ControlDelta merged;
-    merged.deltas.resize(static_cast<Eigen::Index>(a.indices.size() + b.indices.size()), 3);
-    size_t i = 0, j = 0;
-    Eigen::Index row = 0;
-    while (i < a.indices.size() || j < b.indices.size()) {
-        if (j == b.indices.size() || (i < a.indices.size() && a.indices[i] < b.indices[j])) {
-            merged.indices.push_back(a.indices[i]);
-            merged.deltas.row(row++) = a.deltas.row(static_cast<Eigen::Index>(i++));
-        } else if (i == a.indices.size() || b.indices[j] < a.indices[i]) {
-            merged.indices.push_back(b.indices[j]);
-            merged.deltas.row(row++) = b.deltas.row(static_cast<Eigen::Index>(j++));
-        } else {
-            merged.indices.push_back(a.indices[i]);
-            merged.deltas.row(row++) = a.deltas.row(static_cast<Eigen::Index>(i++)) + b.deltas.row(static_cast<Eigen::Index>(j++));
-        }
-    }
-    merged.deltas.conservativeResize(row, 3);
-    a = std::move(merged);
-}
 
 }  // namespace
 
@@ -183,6 +187,13 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     lattice_ = std::move(lattice);
     embedVertices(lattice_, rest_, embedding_);
     frames_.clear();
+    layers_.clear();
+    cageOut_.resize(0, 3);
+    layerActive_ = false;
+    {
+        const Eigen::Vector3d lo = positions.colwise().minCoeff().transpose(), hi = positions.colwise().maxCoeff().transpose();
+        symmetryCentre_ = 0.5 * (lo + hi);
+    }
     if (trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(rest_.rows()), 1.0);
     // The triangle check's index, and the pairs that already cross (they never count against an edit).
     meshIndex_.build(positions_, triangles_);
@@ -197,20 +208,19 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     return Status::success();
 }
 
-Eigen::Vector3d Session::currentImage(const Eigen::Vector3d& params) const {
-    const Eigen::Vector3d rest = lattice_.boxMin + params.cwiseProduct(lattice_.boxMax - lattice_.boxMin);
-    return rest + displacementAt(lattice_, params);
-}
-
 Status Session::parametersOfCurrentPoint(const Eigen::Vector3d& point, Eigen::Vector3d& params) const {
     if (!point.allFinite()) return Status::error("point has non-finite coordinates");
-    if (isUndeformed(lattice_)) {
-        if (!restParameters(lattice_, point, params))
+    Eigen::Vector3d y;
+    if (!toActiveSpace(point, y))
+        return Status::error("point " + vectorText(point) + " is not the image of any point inside the lattice");
+    const Lattice& lattice = activeLattice();
+    if (isUndeformed(lattice)) {
+        if (!restParameters(lattice, y, params))
             return Status::error("point " + vectorText(point) + " lies outside the lattice box");
         return Status::success();
     }
     // The deformed image of the box is what the user sees: find the rest point that maps onto this one.
-    return locateDeformedPoint(lattice_, point, params);
+    return locateDeformedPoint(lattice, y, params);
 }
 
 Status Session::parametersOfVertex(int vertex, Eigen::Vector3d& params) const {
@@ -223,9 +233,11 @@ Status Session::parametersOfVertex(int vertex, Eigen::Vector3d& params) const {
 }
 
 void Session::applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved) {
-    applyControlDelta(lattice_, delta, sign);
+    Lattice& lattice = activeLattice();
+    applyControlDelta(lattice, delta, sign);
     std::vector<int> changed;
-    evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, sign, positions_, increment_, &changed);
+    evaluateIncrement(lattice, activeEmbedding(), delta.indices, delta.deltas, sign, activeOutput(), increment_, &changed);
+    if (cageUnderLayers()) refreshLayerOutput(changed);
     positionsChanged(&changed);
     if (moved) moved->insert(moved->end(), changed.begin(), changed.end());
 }
@@ -264,166 +276,28 @@ size_t Session::historyBytes() const {
     return bytes;
 }
 
-// ---- frames ---------------------------------------------------------------------------------------------
-
-void Session::setTrackJacobian(bool track) {
-    if (track && !trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(rest_.rows()), 1.0);
-    if (!track) frozenJacobian_.clear();
-    trackJacobian_ = track;
-}
-
-void Session::accumulateFrameJacobian(bool divide) {
-    // Only vertices in cells reached by a non-zero control displacement have det J != 1 in this frame.
-    const std::vector<int> cells = cellsInfluencedBy(lattice_, displacedControlPoints(lattice_));
-    const int cellCount = static_cast<int>(cells.size());
-#pragma omp parallel for schedule(dynamic, 4) if (cellCount > 64)
-    for (int c = 0; c < cellCount; ++c) {
-        const int cell = cells[c];
-        for (int s = embedding_.cellStart[cell]; s < embedding_.cellStart[cell + 1]; ++s) {
-            const double det = jacobianDeterminant(lattice_, embeddedParameters(lattice_, embedding_, cell, s));
-            double& product = frozenJacobian_[embedding_.order[s]];
-            product = divide ? product / det : product * det;
-        }
-    }
-}
-
-std::vector<double> Session::totalJacobianDeterminants() const {
-    std::vector<double> det;
-    vertexJacobianDeterminants(lattice_, rest_, det);
-    if (trackJacobian_)
-        for (size_t v = 0; v < det.size(); ++v) det[v] *= frozenJacobian_[v];
-    return det;
-}
-
-void Session::enterFreshFrame(const LatticeSettings& settings, Progress* progress, Step* placed, const Step* recorded) {
-    if (trackJacobian_) accumulateFrameJacobian(false);
-    // Freeze the current frame compactly: its box, its non-zero control displacements, its pin edits.
-    FrozenFrame frozen;
-    frozen.settings = settings_;
-    frozen.boxMin = lattice_.boxMin;
-    frozen.boxMax = lattice_.boxMax;
-    frozen.displacement.indices = displacedControlPoints(lattice_);
-    frozen.displacement.deltas.resize(static_cast<Eigen::Index>(frozen.displacement.indices.size()), 3);
-    for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
-        frozen.displacement.deltas.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(frozen.displacement.indices[c]);
-    frozen.pinToggles = pinToggles();
-    if (progress && !progress->snapshot.latticeSaved) {
-        progress->snapshot.latticeSaved = true;
-        progress->snapshot.lattice = lattice_;
-    }
-    if (progress && !progress->snapshot.frameSaved) {
-        progress->snapshot.frameSaved = true;
-        progress->snapshot.rest = rest_;
-        progress->snapshot.settings = settings_;
-        progress->snapshot.frameCount = frames_.size();
-    }
-
-    // The fresh regular lattice. With unchanged settings (adaptive subdivision, or re-freezing) it keeps the
-    // current box, grown to contain the mesh if the deformation carried vertices out of it; new settings
-    // place it as a new set-up would. Either way the placement depends only on the mesh and the settings,
-    // so replaying a recording reproduces it.
-    Eigen::Vector3d lo = lattice_.boxMin, hi = lattice_.boxMax;
-    bool keepBox = sameSettings(settings, settings_);
-    if (recorded) {
-        lo = recorded->frameMin;
-        hi = recorded->frameMax;
-        keepBox = recorded->framePinsKept;
-    } else if (keepBox) {
-        // Only the vertices this lattice deforms count: a region-of-interest lattice never grows to take in
-        // the rest of the mesh.
-        if (embedding_.insideCount() > 0) {
-            Eigen::Vector3d boundsLo = Eigen::Vector3d::Constant(INFINITY), boundsHi = Eigen::Vector3d::Constant(-INFINITY);
-            for (int v : embedding_.order) {
-                boundsLo = boundsLo.cwiseMin(positions_.row(v).transpose());
-                boundsHi = boundsHi.cwiseMax(positions_.row(v).transpose());
-            }
-            const double pad = settings.padding * (boundsHi - boundsLo).norm();
-            for (int a = 0; a < 3; ++a) {
-                if (boundsLo[a] < lo[a]) lo[a] = boundsLo[a] - pad;
-                if (boundsHi[a] > hi[a]) hi[a] = boundsHi[a] + pad;
-            }
-        }
-    } else {
-        latticeBox(settings, positions_, lo, hi);
-    }
-    if (placed) {
-        placed->frameMin = lo;
-        placed->frameMax = hi;
-        placed->framePinsKept = keepBox;
-    }
-    Lattice fresh;
-    makeLatticeInBox(settings, lo, hi, fresh);
-    if (keepBox)
-        for (int idx : frozen.pinToggles) fresh.pinned[idx] ^= 1;
-    frames_.push_back(std::move(frozen));
-    settings_ = settings;
-    lattice_ = std::move(fresh);
-    rest_ = positions_;
-    embedVertices(lattice_, rest_, embedding_);
-    lastMovedAll_ = true;
-    if (progress) {
-        progress->movedAll = true;
-        progress->appliedInCurrentFrame = false;
-        progress->pendingFreshFrame = true;  // the next step applied belongs to this frame
-    }
-}
-
-void Session::leaveFrame() {
-    // The frame being left is (up to rounding) undeformed again: the mesh is its rest state, which is what
-    // the previous frame's deformation produced. Invert that deformation to get the previous rest state.
-    FrozenFrame frozen = std::move(frames_.back());
-    frames_.pop_back();
-    positions_ = rest_;
-    Lattice previous;
-    makeLatticeInBox(frozen.settings, frozen.boxMin, frozen.boxMax, previous);
-    for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
-        previous.displacement.row(frozen.displacement.indices[c]) = frozen.displacement.deltas.row(static_cast<Eigen::Index>(c));
-    for (int idx : frozen.pinToggles) previous.pinned[idx] ^= 1;
-    lattice_ = std::move(previous);
-    settings_ = frozen.settings;
-    positionsChanged(nullptr);
-    invertDeformation(lattice_, positions_, rest_);
-    embedVertices(lattice_, rest_, embedding_);
-    if (trackJacobian_) accumulateFrameJacobian(true);
-    lastMovedAll_ = true;
-}
-
-void Session::restoreSnapshot(Snapshot& snapshot) {
-    if (snapshot.frameSaved && trackJacobian_) {
-        // Undo the products of the frames this operation froze, newest first, each with its own lattice.
-        while (frames_.size() > snapshot.frameCount) leaveFrame();
-    }
-    if (snapshot.frameSaved) {
-        frames_.resize(snapshot.frameCount);
-        rest_ = snapshot.rest;
-        settings_ = snapshot.settings;
-    }
-    if (snapshot.positionsSaved) {
-        positions_ = snapshot.positions;
-        positionsChanged(nullptr);
-    }
-    if (snapshot.latticeSaved) lattice_ = snapshot.lattice;
-    if (snapshot.frameSaved) embedVertices(lattice_, rest_, embedding_);
-}
-
 // ---- InjectSubdiv ---------------------------------------------------------------------------------------
 
 bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure, double& injectivityMs,
                        double& triangleMs, bool keep) {
     const bool checking = injectivity_.mode != InjectivityMode::Off;
+    Lattice& lattice = activeLattice();
+    const Embedding& embedding = activeEmbedding();
+    Positions& output = activeOutput();  // the cage's output under layers (then carried through them)
+    const bool layered = cageUnderLayers();
     // Tentatively change the lattice; keep the rows so a refusal puts them back bitwise.
     Positions savedRows(static_cast<Eigen::Index>(delta.indices.size()), 3);
-    for (size_t c = 0; c < delta.indices.size(); ++c) savedRows.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(delta.indices[c]);
+    for (size_t c = 0; c < delta.indices.size(); ++c) savedRows.row(static_cast<Eigen::Index>(c)) = lattice.displacement.row(delta.indices[c]);
     const auto restoreLattice = [&] {
-        for (size_t c = 0; c < delta.indices.size(); ++c) lattice_.displacement.row(delta.indices[c]) = savedRows.row(static_cast<Eigen::Index>(c));
+        for (size_t c = 0; c < delta.indices.size(); ++c) lattice.displacement.row(delta.indices[c]) = savedRows.row(static_cast<Eigen::Index>(c));
     };
-    applyControlDelta(lattice_, delta, 1.0);
-    const std::vector<int> cells = cellsInfluencedBy(lattice_, delta.indices);
+    applyControlDelta(lattice, delta, 1.0);
+    const std::vector<int> cells = cellsInfluencedBy(lattice, delta.indices);
     if (checking && !cells.empty()) {
         // note: an empty change (every control point that could move is pinned) reaches no cell; an empty cell
         // list would mean "all cells" to the checker.
         // Gain & Dodgson 2001: det J > 0 in the cells the change reaches (the rest were tested before).
-        const InjectivityResult verdict = checkInjectivity(lattice_, injectivity_.mode, cells);
+        const InjectivityResult verdict = checkInjectivity(lattice, injectivity_.mode, cells);
         injectivityMs += verdict.milliseconds;
         if (!verdict.certified) {
             restoreLattice();
@@ -438,13 +312,13 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
         // A free boundary: det J > 0 is local only. The deformed box boundary must not overlap itself
         // (lattice_boundary.h); only pairs that did not overlap before the change count.
         bool boundaryMoved = false;
-        for (int idx : delta.indices) boundaryMoved = boundaryMoved || inOuterLayers(lattice_, idx, 1);
-        if (boundaryMoved && !boundaryUnmoved(lattice_)) {
+        for (int idx : delta.indices) boundaryMoved = boundaryMoved || inOuterLayers(lattice, idx, 1);
+        if (boundaryMoved && !boundaryUnmoved(lattice)) {
             const auto start = Clock::now();
-            std::vector<TrianglePairHit> after = boundarySelfIntersections(lattice_);
+            std::vector<TrianglePairHit> after = boundarySelfIntersections(lattice);
             if (!after.empty()) {
                 restoreLattice();
-                const std::vector<TrianglePairHit> before = boundarySelfIntersections(lattice_);
+                const std::vector<TrianglePairHit> before = boundarySelfIntersections(lattice);
                 for (const TrianglePairHit& hit : after) {
                     const bool existed = std::any_of(before.begin(), before.end(), [&](const TrianglePairHit& b) {
                         return b.first == hit.first && b.second == hit.second;
@@ -457,7 +331,7 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
                     injectivityMs += millisecondsSince(start);
                     return false;
                 }
-                applyControlDelta(lattice_, delta, 1.0);
+                applyControlDelta(lattice, delta, 1.0);
             }
             injectivityMs += millisecondsSince(start);
         }
@@ -469,17 +343,21 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
     std::vector<int> changed;
     if (!checkTriangles && keep) {
         const size_t first = moved ? moved->size() : 0;
-        evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, 1.0, positions_, increment_, moved ? moved : &changed);
-        if (meshIndex_.built()) {  // a point cloud has no triangle index to tell
-            if (moved) changed.assign(moved->begin() + static_cast<std::ptrdiff_t>(first), moved->end());
-            positionsChanged(&changed);
-        }
+        evaluateIncrement(lattice, embedding, delta.indices, delta.deltas, 1.0, output, increment_, moved ? moved : &changed);
+        if (moved) changed.assign(moved->begin() + static_cast<std::ptrdiff_t>(first), moved->end());
+        if (layered) refreshLayerOutput(changed);
+        if (meshIndex_.built()) positionsChanged(&changed);  // a point cloud has no triangle index to tell
         return true;
     }
     for (int cell : cells)
-        changed.insert(changed.end(), embedding_.order.begin() + embedding_.cellStart[cell], embedding_.order.begin() + embedding_.cellStart[cell + 1]);
+        changed.insert(changed.end(), embedding.order.begin() + embedding.cellStart[cell], embedding.order.begin() + embedding.cellStart[cell + 1]);
     for (int v : changed) before_.row(v) = positions_.row(v);
-    evaluateIncrement(lattice_, embedding_, delta.indices, delta.deltas, 1.0, positions_, increment_, nullptr);
+    if (layered) {
+        if (beforeCage_.rows() != positions_.rows()) beforeCage_.resize(positions_.rows(), 3);
+        for (int v : changed) beforeCage_.row(v) = cageOut_.row(v);
+    }
+    evaluateIncrement(lattice, embedding, delta.indices, delta.deltas, 1.0, output, increment_, nullptr);
+    if (layered) refreshLayerOutput(changed);
     bool refused = false;
     if (checkTriangles) {
         // The triangles the step moved must not cross any triangle they did not cross before.
@@ -504,6 +382,8 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
     if (refused || !keep) {
         restoreLattice();
         for (int v : changed) positions_.row(v) = before_.row(v);
+        if (layered)
+            for (int v : changed) cageOut_.row(v) = beforeCage_.row(v);
         positionsChanged(&changed);
         return !refused;
     }
@@ -568,44 +448,47 @@ std::string stepFailureAdvice(StepFailure::Cause cause) {
 }
 
 bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
-    // Each step after the first is a separate deformation in a fresh regular lattice around the mesh the
+    // Each step after the first is a separate deformation in a fresh lattice (a layer) around the mesh the
     // earlier steps produced (design.md): with one lattice the halves would just add up to the failing move.
-    if (progress.appliedInCurrentFrame) enterFreshFrame(settings_, &progress, &progress.pendingFrame);
+    // A brush drag's first step already has its own lattice: the region around the grabbed points.
+    const bool needLayer = progress.appliedInCurrentFrame || (progress.brush && !layerActive_);
+    if (depth > 0 || needLayer) saveSnapshot(progress.snapshot);  // what a rejection must restore
+    if (needLayer) {
+        const Status entered = enterLayer(&progress, &progress.pendingFrame, nullptr, progress.brush, &m.sources);
+        if (!entered) {
+            progress.failure.cause = StepFailure::Cause::SourceLeft;
+            progress.failure.technical = entered.message;
+            return false;
+        }
+    }
     std::vector<Eigen::Vector3d> params(m.sources.size());
     Eigen::MatrixX3d displacements(static_cast<Eigen::Index>(m.sources.size()), 3);
     for (size_t f = 0; f < m.sources.size(); ++f) {
-        if (Status s = parametersOfCurrentPoint(m.sources[f], params[f]); !s) {
+        Eigen::Vector3d target;
+        Status s = parametersOfCurrentPoint(m.sources[f], params[f]);
+        if (s && !toActiveSpace(m.targets[f], target))
+            s = Status::error("its target " + vectorText(m.targets[f]) + " is not the image of any point inside the lattice");
+        if (!s) {
             progress.failure.cause = StepFailure::Cause::SourceLeft;
             progress.failure.technical = "constraint " + std::to_string(f) + " source left the lattice: " + s.message;
             return false;
         }
-        displacements.row(static_cast<Eigen::Index>(f)) = (m.targets[f] - currentImage(params[f])).transpose();
+        // In the active lattice's own output space (under layers: traced back through them), where the
+        // explicit solution is linear in the control points.
+        displacements.row(static_cast<Eigen::Index>(f)) = (target - activeImage(params[f])).transpose();
     }
-    ControlDelta delta = directManipulation(lattice_, params, displacements).delta;  // Hu et al. 2001, eq. 7 / 12
+    ControlDelta delta = directManipulation(activeLattice(), params, displacements).delta;  // Hu et al. 2001, eq. 7 / 12
 
-    // Inside a subdivision, keep what a rejection must restore before the first step changes anything.
-    if (depth > 0 && !progress.snapshot.positionsSaved) {
-        progress.snapshot.positionsSaved = true;
-        progress.snapshot.positions = positions_;
-    }
-    if (depth > 0 && !progress.snapshot.latticeSaved) {
-        progress.snapshot.latticeSaved = true;
-        progress.snapshot.lattice = lattice_;
-    }
     if (!tryDelta(delta, &progress.moved, progress.failure, progress.injectivityMs, progress.triangleMs)) {
         if (progress.firstFailure.cause == StepFailure::Cause::None) progress.firstFailure = progress.failure;
         return false;
     }
 
     Step step;
+    if (progress.pendingFreshFrame) step = progress.pendingFrame;  // the layer's placement
     step.freshFrame = progress.pendingFreshFrame;
-    if (step.freshFrame) {
-        step.frameMin = progress.pendingFrame.frameMin;
-        step.frameMax = progress.pendingFrame.frameMax;
-        step.framePinsKept = progress.pendingFrame.framePinsKept;
-    }
     progress.pendingFreshFrame = false;
-    step.settings = settings_;
+    if (!step.freshFrame) step.settings = settings_;
     step.delta = std::move(delta);
     for (size_t f = 0; f < m.sources.size(); ++f) step.constraints.push_back({m.sources[f], currentImage(params[f])});
     progress.operation->steps.push_back(std::move(step));
@@ -630,18 +513,24 @@ bool Session::injectSubdiv(Manipulation& m, int depth, Progress& progress) {
     return true;
 }
 
-Status Session::runManipulation(Manipulation m, Operation operation, OpReport& report) {
+Status Session::runManipulation(Manipulation m, Operation operation, OpReport& report, const BrushSettings* brush) {
     const auto start = Clock::now();
     Progress progress(scratch_);
     progress.operation = &operation;
+    progress.brush = brush;
     const bool ok = injectSubdiv(m, 0, progress);
+    layerActive_ = false;  // the next operation starts in the cage
     report.injectivityMs = progress.injectivityMs;
     report.triangleCheckMs = progress.triangleMs;
     report.depthReached = operation.depthReached;
     if (!ok) {
         restoreSnapshot(progress.snapshot);
-        lastMoved_.clear();
-        lastMovedAll_ = progress.snapshot.frameSaved;
+        layerActive_ = false;
+        // The rows the failed steps had moved are back where they were.
+        std::sort(progress.moved.begin(), progress.moved.end());
+        progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
+        lastMoved_ = std::move(progress.moved);
+        lastMovedAll_ = false;
         report.status = OpStatus::Rejected;
         report.refusedBy = stepFailureCauseName(progress.failure.cause);
         if (progress.failure.cause == StepFailure::Cause::SourceLeft) {
@@ -691,35 +580,59 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
 
 // ---- commands -------------------------------------------------------------------------------------------
 
-Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& report) {
+double Session::mirrorMergeDistance(const BrushSettings& brush) const {
+    // Closer than a quarter of a knot span, two sources would pull on the same few control points in
+    // different directions: one point on the mirror plane.
+    if (brush.active()) return 0.25 * brush.radius / brushSpansPerRadius(brush.falloff);
+    double span = INFINITY;
+    for (int a = 0; a < 3; ++a) span = std::min(span, (lattice_.boxMax[a] - lattice_.boxMin[a]) / lattice_.axes[a].spans);
+    return 0.25 * span;
+}
+
+Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& report, const BrushSettings& brush) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "drag";
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (dragActive_) return Status::error("an interactive drag is in progress");
     if (constraints.empty()) return Status::error("drag has no constraints");
-    Manipulation m;
-    bool moves = false;
+    if (Status s = validateBrush(brush); !s) return s;
+    layerActive_ = false;
+    // The constraints as asked, their targets scaled by the brush's strength.
+    std::vector<Eigen::Vector3d> sources, targets;
     for (size_t f = 0; f < constraints.size(); ++f) {
         const std::string which = "constraint " + std::to_string(f);
         if (!constraints[f].source.allFinite()) return Status::error(which + " source has non-finite coordinates");
         if (!constraints[f].target.allFinite()) return Status::error(which + " target has non-finite coordinates");
-        Eigen::Vector3d params;
-        if (Status s = parametersOfCurrentPoint(constraints[f].source, params); !s)
-            return Status::error(which + " source: " + s.message);
-        m.sources.push_back(currentImage(params));  // the source as the engine sees it (equal up to rounding)
-        m.targets.push_back(constraints[f].target);
-        moves = moves || m.sources.back() != m.targets.back();
+        sources.push_back(constraints[f].source);
+        targets.push_back(constraints[f].source + brush.strength * (constraints[f].target - constraints[f].source));
+    }
+    // With symmetry, the mirror images join as further constraints (Hu et al. 2001, eq. 12).
+    Manipulation m;
+    for (const MirroredConstraint& c : mirrorConstraints(sources, {}, brush.symmetry, symmetryCentre_, mirrorMergeDistance(brush))) {
+        m.sources.push_back(c.source);
+        m.targets.push_back(mirroredTarget(c, targets, symmetryCentre_));
+    }
+    bool moves = false;
+    for (size_t f = 0; f < m.sources.size(); ++f) {
+        if (!brush.active()) {
+            // Solved in the cage: the source must lie in it (as the engine sees it: equal up to rounding).
+            const std::string which = f < constraints.size() ? "constraint " + std::to_string(f) : "the mirror image of a constraint";
+            Eigen::Vector3d params;
+            if (Status s = parametersOfCurrentPoint(m.sources[f], params); !s) return Status::error(which + " source: " + s.message);
+            m.sources[f] = currentImage(params);
+        }
+        moves = moves || m.sources[f] != m.targets[f];
     }
     if (!moves) {
         report.status = OpStatus::NoOp;
         report.reason = "every source is already on its target";
-        report.residuals.assign(constraints.size(), 0.0);
+        report.residuals.assign(m.sources.size(), 0.0);
         report.wallMs = millisecondsSince(start);
         return Status::success();
     }
     // Simple causes no subdivision can help, said plainly before any work.
-    if (std::string cause = unreachableDragCause(m); !cause.empty()) {
+    if (std::string cause = brush.active() ? std::string() : unreachableDragCause(m); !cause.empty()) {
         report.status = OpStatus::Rejected;
         report.reason = "refused: " + cause + "; nothing was changed";
         report.injectivity = "rejected: " + cause;
@@ -730,8 +643,11 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     Operation operation;
     operation.kind = OperationKind::Drag;
     operation.label = constraints.size() == 1 ? "drag" : "drag (" + std::to_string(constraints.size()) + " points)";
+    if (brush.active()) operation.label = "brush " + operation.label;
+    if (brush.symmetry.any()) operation.label += ", symmetric in " + symmetryText(brush.symmetry);
     operation.constraints = constraints;
-    const Status status = runManipulation(std::move(m), std::move(operation), report);
+    operation.brush = brush;
+    const Status status = runManipulation(std::move(m), std::move(operation), report, brush.active() ? &brush : nullptr);
     report.wallMs = millisecondsSince(start);
     return status;
 }
@@ -765,14 +681,18 @@ std::string Session::unreachableDragCause(const Manipulation& m) const {
     return "";
 }
 
-Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report) {
+Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report, const BrushSettings& brush) {
     report = OpReport{};
     report.op = "drag_vertex";
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (!target.allFinite()) return Status::error("drag_vertex target has non-finite coordinates");
+    if (vertex < 0 || vertex >= positions_.rows())
+        return Status::error("vertex index " + std::to_string(vertex) + " is out of range (mesh has " + std::to_string(positions_.rows()) +
+                             " vertices)");
     Eigen::Vector3d params;
-    if (Status s = parametersOfVertex(vertex, params); !s) return s;
-    const Status status = drag({PointConstraint{positions_.row(vertex).transpose(), target}}, report);
+    if (!brush.active())
+        if (Status s = parametersOfVertex(vertex, params); !s) return s;
+    const Status status = drag({PointConstraint{positions_.row(vertex).transpose(), target}}, report, brush);
     report.op = "drag_vertex";
     return status;
 }
@@ -800,13 +720,31 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     if (indices.empty()) return Status::error("no control point given");
     if (static_cast<Eigen::Index>(indices.size()) != values.rows())
         return Status::error("control point ids and values differ in count");
+    layerActive_ = false;
     std::vector<std::pair<int, Eigen::Vector3d>> moves;
     for (size_t c = 0; c < indices.size(); ++c) {
         const int idx = indices[c];
         if (Status s = checkMovable(idx); !s) return s;
         const Eigen::Vector3d value = values.row(static_cast<Eigen::Index>(c)).transpose();
         if (!value.allFinite()) return Status::error("control point move has non-finite coordinates");
-        moves.emplace_back(idx, relative ? value : Eigen::Vector3d(value - lattice_.controlPoint(idx)));
+        if (layers_.empty()) {
+            moves.emplace_back(idx, relative ? value : Eigen::Vector3d(value - lattice_.controlPoint(idx)));
+            continue;
+        }
+        // Under layers the user moves the cage as shown (carried through the layers): the cage point goes
+        // where the layers take it onto the asked position.
+        const Eigen::Vector3d shown = pushThroughLayers(lattice_.controlPoint(idx));
+        Eigen::Vector3d cageTarget;
+        if (!pullThroughLayers(relative ? Eigen::Vector3d(shown + value) : value, cageTarget, layers_.size())) {
+            // A valid request the sculpted shape cannot give: refused, not an error.
+            const std::array<int, 3> ijk = lattice_.ijk(idx);
+            report.status = OpStatus::Rejected;
+            report.reason = "refused: control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) +
+                            "] cannot go there: the later sculpting steps' lattices map no point onto it; nothing was changed";
+            report.wallMs = millisecondsSince(start);
+            return Status::success();
+        }
+        moves.emplace_back(idx, Eigen::Vector3d(cageTarget - lattice_.controlPoint(idx)));
     }
     // The same point listed twice: offsets add up for "by", the last position wins for "to".
     std::stable_sort(moves.begin(), moves.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -889,10 +827,9 @@ Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) 
                       "x" + std::to_string(settings.resolution[2]);
     operation.settings = settings;
     // A fresh, undeformed lattice is injective: no test needed.
+    layerActive_ = false;
     Step step;
-    step.freshFrame = true;
-    step.settings = settings;
-    enterFreshFrame(settings, nullptr, &step);
+    enterNewCage(settings, &step);
     operation.steps.push_back(std::move(step));
     pushOperation(std::move(operation));
     lastMoved_.clear();
@@ -904,8 +841,13 @@ Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) 
 }
 
 void Session::undoStep(const Step& step) {
-    applyDelta(step.delta, -1.0, &lastMoved_);  // the inverse manipulation within the step's frame
-    if (step.freshFrame) leaveFrame();          // inverse of the earlier frame's injective FFD
+    if (step.freshFrame) {
+        popLayer(&lastMoved_);  // the layer and everything it did go; the layers below give the positions
+        return;
+    }
+    layerActive_ = false;
+    applyDelta(step.delta, -1.0, &lastMoved_);  // the inverse manipulation in the cage (omega(S, -rho))
+    if (step.newCage) leaveCage();              // inverse of the frozen cage's injective FFD
 }
 
 void Session::revertSteps(const std::vector<Step>& steps) {
@@ -919,7 +861,9 @@ int Session::movedCount() const {
 }
 
 void Session::redoStep(const Step& step) {
-    if (step.freshFrame) enterFreshFrame(step.settings, nullptr, nullptr, &step);
+    if (step.newCage) enterNewCage(step.settings, nullptr, &step);
+    else if (step.freshFrame) enterLayer(nullptr, nullptr, &step);
+    else layerActive_ = false;  // a step without a lattice of its own is in the cage
     applyDelta(step.delta, 1.0, &lastMoved_);
 }
 
@@ -959,8 +903,8 @@ Status Session::groupOperations(int first, const std::string& label) {
         for (Step& step : op.steps) {
             // A fresh frame that moved nothing followed by a step in it is one step, as the interactive
             // operation that was recorded had it (same undo: the delta, then leaving the frame).
-            if (!merged.steps.empty() && merged.steps.back().freshFrame && merged.steps.back().delta.indices.empty() &&
-                !step.freshFrame) {
+            if (!merged.steps.empty() && merged.steps.back().newCage && merged.steps.back().delta.indices.empty() &&
+                !step.freshFrame && !step.newCage) {
                 Step& combined = merged.steps.back();
                 combined.delta = std::move(step.delta);
                 combined.constraints = std::move(step.constraints);
@@ -987,6 +931,7 @@ Status Session::undo(OpReport& report) {
         return Status::success();
     }
     const Operation& operation = history_[--cursor_];
+    layerActive_ = false;
     revertSteps(operation.steps);
     journal_.push_back(JournalEntry{JournalEntry::Kind::Undo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
@@ -1013,6 +958,7 @@ Status Session::redo(OpReport& report) {
     lastMoved_.clear();
     lastMovedAll_ = false;
     for (const Step& step : operation.steps) redoStep(step);
+    layerActive_ = false;
     journal_.push_back(JournalEntry{JournalEntry::Kind::Redo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;
@@ -1021,224 +967,6 @@ Status Session::redo(OpReport& report) {
     report.verticesMoved = movedCount();
     report.wallMs = millisecondsSince(start);
     return Status::success();
-}
-
-// ---- interactive drag -----------------------------------------------------------------------------------
-
-Status Session::beginDrag(const std::vector<Eigen::Vector3d>& sourceParams) {
-    if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is already in progress");
-    if (sourceParams.empty()) return Status::error("a drag needs at least one source");
-    for (size_t f = 0; f < sourceParams.size(); ++f)
-        if (!sourceParams[f].allFinite() || (sourceParams[f].array() < 0.0).any() || (sourceParams[f].array() > 1.0).any())
-            return Status::error("constraint " + std::to_string(f) + " source is outside the lattice");
-    DirectManipulationData data;
-    if (Status s = precomputeDirectManipulation(lattice_, sourceParams, data); !s) return s;
-    dragData_ = std::move(data);
-    dragOperation_ = Operation{};
-    dragOperation_.kind = OperationKind::Drag;
-    dragOperation_.interactive = true;
-    dragOperation_.label = sourceParams.size() == 1 ? "drag" : "drag (" + std::to_string(sourceParams.size()) + " points)";
-    dragSourceWorld_.clear();
-    for (const Eigen::Vector3d& t : sourceParams) {
-        dragSourceWorld_.push_back(currentImage(t));
-        dragOperation_.constraints.push_back({dragSourceWorld_.back(), dragSourceWorld_.back()});
-    }
-    dragParams_ = sourceParams;
-    dragAppliedInFrame_ = false;
-    dragActive_ = true;
-    return Status::success();
-}
-
-Status Session::beginControlDrag(const std::vector<int>& indices) {
-    if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is already in progress");
-    if (indices.empty()) return Status::error("no control point given");
-    std::vector<int> sorted = indices;
-    std::sort(sorted.begin(), sorted.end());
-    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-    for (int idx : sorted)
-        if (Status s = checkMovable(idx); !s) return s;
-    dragOperation_ = Operation{};
-    dragOperation_.kind = OperationKind::ControlPointEdit;
-    dragOperation_.interactive = true;
-    dragOperation_.label = sorted.size() == 1 ? "move control point" : "move " + std::to_string(sorted.size()) + " control points";
-    dragOperation_.controlPoints = sorted;
-    dragOperation_.offsets = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(sorted.size()), 3);
-    dragSourceWorld_.clear();
-    dragParams_.clear();
-    dragAppliedInFrame_ = false;
-    dragActive_ = true;
-    return Status::success();
-}
-
-std::vector<Eigen::Vector3d> Session::dragSources() const { return dragSourceWorld_; }
-
-void Session::mergeInteractiveStep(const ControlDelta& delta) {
-    if (!dragOperation_.steps.empty() && dragAppliedInFrame_) {
-        mergeDelta(dragOperation_.steps.back().delta, delta);
-    } else {
-        Step step;
-        step.settings = settings_;
-        step.delta = delta;
-        for (const Eigen::Vector3d& source : dragSourceWorld_) step.constraints.push_back({source, source});
-        dragOperation_.steps.push_back(std::move(step));
-    }
-    dragAppliedInFrame_ = true;
-}
-
-bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report) {
-    // Fast path: the whole increment as one change of the current lattice (the group property of Hu et al.
-    // 2001, section 4, makes a drag's increments add up to one control displacement per frame).
-    StepFailure failure;
-    lastMoved_.clear();
-    lastMovedAll_ = false;
-    if (tryDelta(delta, &lastMoved_, failure, report.injectivityMs, report.triangleCheckMs)) {
-        mergeInteractiveStep(delta);
-        for (size_t f = 0; f < dragParams_.size(); ++f) dragOperation_.steps.back().constraints[f].target = currentImage(dragParams_[f]);
-        report.subSteps = 1;
-        return true;
-    }
-    // Not injective as one step: subdivide this increment like any operation (Gain & Dodgson 2001, Appendix,
-    // InjectSubdiv); it may enter fresh frames.
-    Operation increments;
-    Progress progress(scratch_);
-    progress.operation = &increments;
-    progress.appliedInCurrentFrame = dragAppliedInFrame_;
-    progress.firstFailure = failure;
-    const bool ok = injectSubdiv(m, 0, progress);
-    report.injectivityMs += progress.injectivityMs;
-    report.triangleCheckMs += progress.triangleMs;
-    if (!ok) {
-        restoreSnapshot(progress.snapshot);
-        lastMovedAll_ = progress.snapshot.frameSaved;
-        report.status = OpStatus::Rejected;
-        report.refusedBy = stepFailureCauseName(progress.failure.cause);
-        report.reason = "Refused: " + stepFailureWords(progress.failure, true) + ". The drag stays at the last valid position; " +
-                        stepFailureAdvice(progress.failure.cause) + ".";
-        report.injectivity = "rejected: " + progress.failure.technical;
-        return false;
-    }
-    for (Step& step : increments.steps) {
-        if (!step.freshFrame && !dragOperation_.steps.empty() && dragAppliedInFrame_) {
-            mergeDelta(dragOperation_.steps.back().delta, step.delta);
-            for (size_t f = 0; f < step.constraints.size(); ++f)
-                dragOperation_.steps.back().constraints[f].target = step.constraints[f].target;
-        } else {
-            dragOperation_.steps.push_back(std::move(step));
-        }
-        dragAppliedInFrame_ = true;
-    }
-    dragOperation_.depthReached = std::max(dragOperation_.depthReached, increments.depthReached);
-    std::sort(progress.moved.begin(), progress.moved.end());
-    progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
-    lastMoved_ = std::move(progress.moved);
-    lastMovedAll_ = progress.movedAll;
-    report.subSteps = static_cast<int>(increments.steps.size());
-    report.depthReached = increments.depthReached;
-    report.refusedBy = stepFailureCauseName(failure.cause);
-    return true;
-}
-
-Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport& report) {
-    const auto start = Clock::now();
-    report = OpReport{};
-    report.op = "drag";
-    if (!dragActive_ || dragOperation_.kind != OperationKind::Drag) return Status::error("no interactive drag is in progress");
-    if (targets.size() != dragSourceWorld_.size()) return Status::error("drag target count changed");
-    for (const Eigen::Vector3d& t : targets)
-        if (!t.allFinite()) return Status::error("drag target has non-finite coordinates");
-
-    Eigen::MatrixX3d increment(static_cast<Eigen::Index>(targets.size()), 3);
-    for (size_t f = 0; f < targets.size(); ++f)
-        increment.row(static_cast<Eigen::Index>(f)) = (targets[f] - currentImage(dragParams_[f])).transpose();
-    if ((increment.array() == 0.0).all()) {
-        report.status = OpStatus::NoOp;
-        report.reason = "the sources are already there";
-        return Status::success();
-    }
-    // One incremental manipulation omega(S, increment) with the factorisation made at begin (eq. 7 / 12).
-    const DirectManipulationResult solved = solveDirectManipulation(dragData_, increment);
-    Manipulation m;
-    for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));
-    m.targets = targets;
-    const int framesBefore = frameDepth();
-    if (!applyInteractiveIncrement(solved.delta, m, report)) {
-        report.wallMs = millisecondsSince(start);
-        return Status::success();
-    }
-    if (report.subSteps == 1 && frameDepth() == framesBefore) {
-        report.residuals = solved.residuals;
-        report.rankDeficient = solved.rankDeficient;
-    } else {
-        // The frame may have changed: the sources' parameters are re-found where the steps left them.
-        for (size_t f = 0; f < m.sources.size(); ++f) parametersOfCurrentPoint(m.sources[f], dragParams_[f]);
-        DirectManipulationData data;
-        precomputeDirectManipulation(lattice_, dragParams_, data);
-        dragData_ = std::move(data);
-    }
-    for (size_t f = 0; f < targets.size(); ++f) {
-        dragSourceWorld_[f] = currentImage(dragParams_[f]);
-        dragOperation_.constraints[f].target = dragSourceWorld_[f];
-    }
-    report.status = OpStatus::Applied;
-    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
-    report.controlPointsChanged = static_cast<int>(solved.delta.indices.size());
-    report.verticesMoved = movedCount();
-    report.wallMs = millisecondsSince(start);
-    return Status::success();
-}
-
-Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& report) {
-    const auto start = Clock::now();
-    report = OpReport{};
-    report.op = "move_control_point";
-    if (!dragActive_ || dragOperation_.kind != OperationKind::ControlPointEdit)
-        return Status::error("no interactive control-point drag is in progress");
-    if (!offset.allFinite()) return Status::error("control point move has non-finite coordinates");
-    const Eigen::Index count = static_cast<Eigen::Index>(dragOperation_.controlPoints.size());
-    // Every point moves by the same offset since the drag began; this update adds what is still missing.
-    const Eigen::RowVector3d increment = offset.transpose() - dragOperation_.offsets.row(0);
-    if ((increment.array() == 0.0).all()) {
-        report.status = OpStatus::NoOp;
-        report.reason = "the control points are already there";
-        return Status::success();
-    }
-    ControlDelta delta;
-    delta.indices = dragOperation_.controlPoints;
-    delta.deltas = increment.replicate(count, 1);
-    // The points follow up to the last injective position and stop there (design.md "The cage is the user's
-    // object"): never a fresh lattice. A later update that moves back lets them follow again.
-    lastMoved_.clear();
-    lastMovedAll_ = false;
-    StepFailure failure;
-    const double fraction = applyLargestInjectiveFraction(delta, &lastMoved_, failure, report.injectivityMs, report.triangleCheckMs);
-    report.fractionApplied = fraction;
-    if (fraction > 0.0) {
-        delta.deltas *= fraction;
-        mergeInteractiveStep(delta);
-        dragOperation_.offsets.rowwise() += fraction * increment;
-    }
-    std::sort(lastMoved_.begin(), lastMoved_.end());
-    lastMoved_.erase(std::unique(lastMoved_.begin(), lastMoved_.end()), lastMoved_.end());
-    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
-    report.controlPointsChanged = fraction > 0.0 ? static_cast<int>(count) : 0;
-    report.verticesMoved = movedCount();
-    report.subSteps = fraction > 0.0 ? 1 : 0;
-    report.status = fraction > 0.0 ? OpStatus::Applied : OpStatus::Rejected;
-    if (fraction < 1.0) {
-        report.refusedBy = stepFailureCauseName(failure.cause);
-        report.reason = "Stopped where the lattice would fold: moving further, " + stepFailureWords(failure, false) + ".";
-    }
-    report.wallMs = millisecondsSince(start);
-    return Status::success();
-}
-
-void Session::endDrag() {
-    if (!dragActive_) return;
-    dragActive_ = false;
-    if (!dragOperation_.steps.empty()) pushOperation(std::move(dragOperation_));
-    dragOperation_ = Operation{};
 }
 
 std::vector<int> Session::pinToggles() const {
@@ -1256,28 +984,6 @@ Status Session::setPinToggles(const std::vector<int>& toggled) {
     for (int idx = 0; idx < n; ++idx) lattice_.pinned[idx] = inOuterLayers(lattice_, idx, settings_.pinLayers) ? 1 : 0;
     for (int idx : toggled) lattice_.pinned[idx] ^= 1;
     journalPins();
-    return Status::success();
-}
-
-Status Session::cancelDrag(OpReport& report) {
-    const auto start = Clock::now();
-    report = OpReport{};
-    report.op = "cancel_drag";
-    if (!dragActive_) {
-        report.status = OpStatus::NoOp;
-        report.reason = "no drag in progress";
-        return Status::success();
-    }
-    dragActive_ = false;
-    revertSteps(dragOperation_.steps);
-    // Taking it back is an inverse manipulation, exact only up to rounding: the replay repeats it.
-    if (!dragOperation_.steps.empty()) journal_.push_back(JournalEntry{JournalEntry::Kind::CancelledDrag, dragOperation_, 0, {}, {}, {}});
-    report.status = dragOperation_.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;
-    report.reason = dragOperation_.steps.empty() ? "the drag had not moved anything" : "the drag was taken back";
-    report.subSteps = static_cast<int>(dragOperation_.steps.size());
-    report.verticesMoved = movedCount();
-    dragOperation_ = Operation{};
-    report.wallMs = millisecondsSince(start);
     return Status::success();
 }
 
@@ -1304,15 +1010,22 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (dragActive_) return Status::error("an interactive drag is in progress");
     if (operation.steps.empty()) return Status::error("the recorded operation has no steps");
-    // Every step must fit the lattice it will be applied in (its own settings where it enters a fresh frame).
-    LatticeSettings settings = settings_;
+    // Every step must fit the lattice it will be applied in: its own where it makes one (a layer or a new
+    // cage), else the cage.
+    LatticeSettings cageSettings = settings_;
     for (size_t k = 0; k < operation.steps.size(); ++k) {
         const Step& step = operation.steps[k];
-        if (step.freshFrame) {
+        LatticeSettings settings = cageSettings;
+        if (step.freshFrame || step.newCage) {
             if (Status s = validateLatticeSettings(step.settings); !s) return Status::error("step " + std::to_string(k) + ": " + s.message);
+            if (!step.frameMin.allFinite() || !step.frameMax.allFinite() || !(step.frameMin.array() < step.frameMax.array()).all())
+                return Status::error("step " + std::to_string(k) + ": the lattice box must be finite with min < max on every axis");
             settings = step.settings;
+            if (step.newCage) cageSettings = step.settings;
         }
         const int count = settings.resolution[0] * settings.resolution[1] * settings.resolution[2];
+        for (int idx : step.regionFree)
+            if (idx < 0 || idx >= count) return Status::error("step " + std::to_string(k) + ": free control point id " + std::to_string(idx) + " is outside the lattice");
         if (static_cast<Eigen::Index>(step.delta.indices.size()) != step.delta.deltas.rows())
             return Status::error("step " + std::to_string(k) + ": control point ids and displacements differ in count");
         for (int idx : step.delta.indices)
@@ -1322,6 +1035,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     lastMoved_.clear();
     lastMovedAll_ = false;
     for (const Step& step : operation.steps) redoStep(step);
+    layerActive_ = false;
     report.status = OpStatus::Applied;
     report.subSteps = static_cast<int>(operation.steps.size());
     report.depthReached = operation.depthReached;

@@ -4,16 +4,25 @@
 // Positions follow design.md's data flow: rest positions X0 at lattice set-up, x = X0 + sum R delta,
 // re-evaluated only for the cells whose support contains a changed control point.
 //
-// Injectivity (Gain & Dodgson 2001): after every operation the changed cells of the lattice are tested
-// (conic-hull or exact). An operation that fails is split by InjectSubdiv (section 8, Appendix) into two
-// halves applied one after another, recursively up to the maximum depth; each half after the first is applied
-// in a fresh regular lattice around the mesh the earlier steps produced (a new "frame"), so the composition of
-// injective steps is injective. If the depth is exhausted the operation is rejected and nothing changes.
+// The cage and its layers. The lattice the user set up (the "cage") is the user's object (design.md): it is
+// never replaced behind their back. Deformations that need a lattice of their own are *layers* applied after
+// the cage, in order: the mesh shown is  x = L_k( ... L_1( C(X0) ) ),  C the cage's FFD of the rest positions.
+// - Adaptive subdivision (Gain & Dodgson 2001, section 8, Appendix): an operation that fails the injectivity
+//   test is split into two halves applied one after another, recursively up to the maximum depth; each half
+//   after the first is applied in a fresh regular lattice around the mesh the earlier steps produced (a new
+//   layer), so the composition of injective steps is injective. If the depth is exhausted the operation is
+//   rejected and nothing changes.
+// - A brush drag (brush.h) is solved in a region-of-interest lattice around the grabbed point (a layer).
+// Every operation starts in the cage: a drag is solved there through the layers (its source and target are
+// traced back through them by Newton's method), and a control-point edit moves the cage's points as they are
+// shown, carried through the layers (cagePoints()). Setting up a new lattice freezes the cage with its layers
+// (a "frame") and puts a fresh cage around the mesh.
 //
-// Undo is the inverse manipulation: within one frame it subtracts the step's control displacement (Hu et
-// al. 2001, section 4: the group inverse omega(S, -rho)); across frames it inverts the earlier frame's
-// injective FFD per vertex by Newton's method (injectivity is what makes the inverse exist). The history
-// holds operations and the small frozen frames, never copies of the mesh.
+// Undo is the inverse manipulation: in the cage it subtracts the step's control displacement (Hu et al. 2001,
+// section 4: the group inverse omega(S, -rho)) and carries the change through the layers; a step that made a
+// layer removes it, which recomputes the vertices it moved from the layers below; leaving a frozen frame
+// inverts its injective FFDs per vertex by Newton's method (injectivity is what makes the inverse exist). The
+// history holds operations and small lattices, never copies of the mesh.
 #pragma once
 
 #include <cmath>
@@ -22,6 +31,7 @@
 
 #include <Eigen/Core>
 
+#include "core/brush.h"
 #include "core/direct_manipulation.h"
 #include "core/embedding.h"
 #include "core/injectivity.h"
@@ -81,15 +91,21 @@ std::string stepFailureWords(const StepFailure& failure, bool drag);
 // What the user can do about it, e.g. "try a smaller move, a finer lattice, or a finer mesh there".
 std::string stepFailureAdvice(StepFailure::Cause cause);
 
-// One injective deformation: a control displacement in one frame (lattice placement).
+// One injective deformation: a control displacement in the cage, or in a layer the step made.
 struct Step {
-    bool freshFrame = false;   // a fresh regular lattice was put around the mesh before this step
-    LatticeSettings settings;  // with freshFrame: the settings of that lattice
-    // With freshFrame: the box it was placed in, and whether it kept the user's pin edits of the frame before
-    // (same settings); redo and replay place it exactly there instead of deciding again.
+    bool freshFrame = false;   // a new layer (subdivision or brush region) was put after the cage and its
+                               // layers before this step, and `delta` is its displacement
+    bool newCage = false;      // a lattice set-up: the cage was frozen with its layers and a fresh cage put
+                               // around the mesh; `delta` is in the new cage
+    LatticeSettings settings;  // with freshFrame or newCage: the settings of that lattice
+    // With freshFrame or newCage: the box it was placed in, and whether it kept the cage's pin edits (same
+    // settings); redo and replay place it exactly there instead of deciding again.
     Eigen::Vector3d frameMin = Eigen::Vector3d::Zero(), frameMax = Eigen::Vector3d::Zero();
     bool framePinsKept = false;
-    ControlDelta delta;        // the change of the control points in the step's frame
+    // A brush's region-of-interest layer: every control point is pinned except `regionFree` (brush.h).
+    bool region = false;
+    std::vector<int> regionFree;
+    ControlDelta delta;        // the change of the control points (cage, or the layer this step made)
     std::vector<PointConstraint> constraints;  // drags: where the sources were before and after the step
 };
 
@@ -106,6 +122,7 @@ struct Operation {
     int depthReached = 0;
     bool interactive = false;  // an interactive drag (recorded step by step: its increments were tested apart)
     std::vector<int> pinToggles;  // control points whose pin differed from the pin layers when it was applied
+    BrushSettings brush;          // Drag: the brush it was asked with (radius 0: none)
 };
 
 // One command as the session carried it out, in order: what a recording writes so that a replay on the same
@@ -126,12 +143,20 @@ struct JournalEntry {
     LatticeSettings settings;  // Pins: the settings of the lattice the pins are in (resolution, pin layers)
 };
 
-// A lattice that was replaced by a fresh one, kept compactly so undo can return to it.
+// A lattice applied after the cage (subdivision's fresh lattices, brush regions). Its own rest space is its
+// input: x -> x + sum R(t(x)) delta, the identity outside its box.
+struct Layer {
+    Lattice lattice;
+    LatticeSettings settings;
+};
+
+// A cage that was replaced by a fresh one (lattice set-up), kept compactly so undo can return to it.
 struct FrozenFrame {
     LatticeSettings settings;
     Eigen::Vector3d boxMin, boxMax;
     ControlDelta displacement;     // its non-zero control displacements at the time it was frozen
     std::vector<int> pinToggles;   // control points whose pin differs from the settings' pin layers
+    std::vector<Layer> layers;     // the layers it had
 };
 
 class Session {
@@ -150,9 +175,12 @@ public:
     // target with the least lattice change (Hu et al. 2001 eq. 7 / 12), subdivided into injective steps as
     // needed. Bad input (empty list, non-finite coordinates, a source outside the lattice) returns an error
     // and changes nothing; an operation that cannot be made injective is reported Rejected and changes nothing.
-    Status drag(const std::vector<PointConstraint>& constraints, OpReport& report);
+    // With a brush (brush.h): the targets are scaled by its strength, mirror images are added for its
+    // symmetry (planes through symmetryCentre()), and with a radius the drag is solved in a region-of-interest
+    // lattice (a layer) that moves nothing farther than 1.25 radius from a source. A bad brush is an error.
+    Status drag(const std::vector<PointConstraint>& constraints, OpReport& report, const BrushSettings& brush = {});
     // Drags a mesh vertex to target.
-    Status dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report);
+    Status dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report, const BrushSettings& brush = {});
     // Moves control points (ids as Lattice::index) to absolute positions, or by offsets when relative.
     // values: #indices x 3. Pinned points, ids out of range or non-finite values are errors.
     Status moveControlPoints(const std::vector<int>& indices, const Eigen::MatrixX3d& values, bool relative,
@@ -175,6 +203,10 @@ public:
     // incremental manipulation (subdivided or refused like any other), and endDrag() records the whole drag
     // as one history entry.
     Status beginDrag(const std::vector<Eigen::Vector3d>& sourceParams);
+    // The same from world points of the current shape, with a brush (strength, symmetry, region; see drag).
+    // held: per source, true for one that stays put (a pin): not mirrored, and with a radius left out when it
+    // lies outside the brush's region (nothing moves there). updateDrag then takes one target per source.
+    Status beginDragAt(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held, const BrushSettings& brush);
     Status updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
     // Interactive control-point drag: the points (not pinned) move together, each update by the offset since
     // beginControlDrag; tested and subdivided like any control-point edit, recorded as one history entry.
@@ -186,8 +218,10 @@ public:
     // the shape and the history as they were before beginDrag. No drag in progress: NoOp.
     Status cancelDrag(OpReport& report);
     bool dragging() const { return dragActive_; }
-    // Current world positions of the sources of the drag in progress.
+    // Current world positions of the sources of the drag in progress (with symmetry, the mirror images too).
     std::vector<Eigen::Vector3d> dragSources() const;
+    // The plane centre of symmetric drags: the centre of the mesh's bounding box when it was set.
+    Eigen::Vector3d symmetryCentre() const { return symmetryCentre_; }
 
     // Keeps, per vertex, the product of the det J of every frozen frame (the Jacobian of the total
     // deformation since the mesh was set is that times the current lattice's det J). Costs a det J per vertex
@@ -205,19 +239,24 @@ public:
     // Pins exactly the settings' pin layers, with the listed control points flipped. Bad ids change nothing.
     Status setPinToggles(const std::vector<int>& toggled);
 
-    // Lattice parameters of a point of the current (deformed) shape, e.g. a picked surface point.
+    // Cage parameters of a point of the current (deformed) shape, e.g. a picked surface point (traced back
+    // through the layers). Fails for a point outside the cage.
     Status parametersOfCurrentPoint(const Eigen::Vector3d& point, Eigen::Vector3d& params) const;
     // Lattice parameters of a vertex (from its rest position: exact). Fails if the vertex is outside the box.
     Status parametersOfVertex(int vertex, Eigen::Vector3d& params) const;
-    // Where the point with parameters t currently is: X0(t) + sum R(t) delta.
+    // Where the point with cage parameters t currently is: X0(t) + sum R(t) delta, carried through the layers.
     Eigen::Vector3d currentImage(const Eigen::Vector3d& params) const;
+    // The cage's control points as the user sees them: Q_ijk carried through the layers (#P x 3, rows by
+    // Lattice::index). Without layers, controlPointPositions(lattice()).
+    Positions cagePoints() const;
+    const std::vector<Layer>& layers() const { return layers_; }
 
     bool hasMesh() const { return rest_.rows() > 0; }
     const Positions& positions() const { return positions_; }
     const Positions& restPositions() const { return rest_; }
     const Positions& originalPositions() const { return original_; }
     const Triangles& triangles() const { return triangles_; }
-    const Lattice& lattice() const { return lattice_; }
+    const Lattice& lattice() const { return lattice_; }  // the cage
     const LatticeSettings& latticeSettings() const { return settings_; }
     const LatticeSettings& initialSettings() const { return initialSettings_; }
     // The box of the lattice the session started with (for recordings that replay on other meshes).
@@ -231,7 +270,8 @@ public:
     // the mesh with this fingerprint repeats the recorded steps exactly.
     const std::string& meshFingerprint() const { return meshFingerprint_; }
     int historyCursor() const { return cursor_; }  // entries [0, cursor) are applied
-    int frameDepth() const { return static_cast<int>(frames_.size()); }
+    // Lattices composed after the first one: frozen cages and layers.
+    int frameDepth() const { return static_cast<int>(frames_.size() + layers_.size()); }
     // Bytes held by the history (operations and frozen frames), not counting the mesh itself.
     size_t historyBytes() const;
     // Vertices whose position the last command changed (for sparse normal and buffer updates); when
@@ -249,21 +289,21 @@ private:
     };
     // State kept while an operation is being applied, so a rejection restores everything bitwise.
     struct Snapshot {
-        bool positionsSaved = false, frameSaved = false, latticeSaved = false;
-        Positions positions, rest;
-        Lattice lattice;
-        Embedding embedding;
-        LatticeSettings settings;
-        size_t frameCount = 0;
+        bool saved = false;
+        Positions positions, cageOut;
+        Lattice cage;
+        size_t layerCount = 0;
+        bool layerActive = false;
+        Lattice activeLayer;        // with layerActive: the newest layer's lattice
+        Embedding layerEmbedding;   // with layerActive
     };
     struct Progress {
-        explicit Progress(Snapshot& scratch) : snapshot(scratch) {
-            snapshot.positionsSaved = snapshot.frameSaved = snapshot.latticeSaved = false;
-        }
+        explicit Progress(Snapshot& scratch) : snapshot(scratch) { snapshot.saved = false; }
         Operation* operation = nullptr;
-        bool appliedInCurrentFrame = false;  // a step of this operation already changed the current frame
-        bool pendingFreshFrame = false;      // a fresh frame was entered and no step has been applied in it yet
-        Step pendingFrame;                   // that frame's placement (Step::frameMin, frameMax, framePinsKept)
+        bool appliedInCurrentFrame = false;  // a step of this operation already changed the active lattice
+        bool pendingFreshFrame = false;      // a layer was entered and no step has been applied in it yet
+        Step pendingFrame;                   // that layer's placement (Step::frameMin, frameMax, region, ...)
+        const BrushSettings* brush = nullptr;  // a brush drag: each step is solved in a region layer
         Snapshot& snapshot;  // the session's scratch_, reused so large copies do not fault in fresh pages
         StepFailure failure;                                        // the last step that failed
         StepFailure firstFailure;                                   // what first made it subdivide
@@ -286,17 +326,47 @@ private:
                                          double& injectivityMs, double& triangleMs);
     // The index of the triangle check learns which vertices moved (nullptr: all of them).
     void positionsChanged(const std::vector<int>* vertices);
+    // The lattice steps are solved in: the cage, or the newest layer while the operation that made it runs.
+    Lattice& activeLattice() { return layerActive_ ? layers_.back().lattice : lattice_; }
+    const Lattice& activeLattice() const { return layerActive_ ? layers_.back().lattice : lattice_; }
+    const Embedding& activeEmbedding() const { return layerActive_ ? layerEmbedding_ : embedding_; }
+    // What the active lattice's evaluation writes: the cage's output under layers, else the positions.
+    Positions& activeOutput() { return cageUnderLayers() ? cageOut_ : positions_; }
+    bool cageUnderLayers() const { return !layerActive_ && !layers_.empty(); }
+    // The active lattice's image of its rest point with parameters t (before any layer above it).
+    Eigen::Vector3d activeImage(const Eigen::Vector3d& params) const;
+    // A point of the current shape in the active lattice's output space (traced back through the layers when
+    // the cage is active); false where no layer point maps there.
+    bool toActiveSpace(const Eigen::Vector3d& point, Eigen::Vector3d& out) const;
+    // x carried through layers [first, end).
+    Eigen::Vector3d pushThroughLayers(Eigen::Vector3d x, size_t first = 0) const;
+    // The point that layers [0, count) carry onto y (Newton per layer, last first); false if there is none.
+    bool pullThroughLayers(const Eigen::Vector3d& y, Eigen::Vector3d& x, size_t count) const;
+    // positions_[v] = cageOut_[v] carried through every layer, for the listed vertices.
+    void refreshLayerOutput(const std::vector<int>& vertices);
+    // Puts a new layer after the others and makes it active: a recorded one (redo, replay), a brush region
+    // around `brushCentres`, or (neither) a fresh regular lattice with the cage's settings around the mesh the
+    // active lattice deforms. placed: its placement for the step that will be applied in it.
+    Status enterLayer(Progress* progress, Step* placed, const Step* recorded, const BrushSettings* brush = nullptr,
+                      const std::vector<Eigen::Vector3d>* centres = nullptr);
+    // Removes the newest layer: the vertices it moved get their positions from the layers below.
+    void popLayer(std::vector<int>* moved);
+    void saveSnapshot(Snapshot& snapshot);
+    // Multiplies (or divides) frozenJacobian_ by the det J of the layers at each vertex (when tracking).
+    void accumulateLayersJacobian(bool divide);
     bool injectSubdiv(Manipulation& m, int depth, Progress& progress);
     // A reason no deformation could do this drag (its sources cannot move, or a target outside a lattice whose
     // boundary is pinned), in the user's words with what to do; empty if there is none.
     std::string unreachableDragCause(const Manipulation& m) const;
     bool tryStep(Manipulation& m, int depth, Progress& progress);
-    // Freezes the current frame and puts a fresh regular lattice with `settings` around the mesh; `placed`
-    // gets its placement. recorded: place it as that step recorded (redo, replay) instead of deciding.
-    void enterFreshFrame(const LatticeSettings& settings, Progress* progress, Step* placed, const Step* recorded = nullptr);
-    void leaveFrame();
+    // Freezes the cage with its layers and puts a fresh cage with `settings` around the mesh (a set-up);
+    // `placed` gets its placement. recorded: place it as that step recorded (redo, replay).
+    void enterNewCage(const LatticeSettings& settings, Step* placed, const Step* recorded = nullptr);
+    void leaveCage();
     void restoreSnapshot(Snapshot& snapshot);
-    Status runManipulation(Manipulation m, Operation operation, OpReport& report);
+    Status runManipulation(Manipulation m, Operation operation, OpReport& report, const BrushSettings* brush = nullptr);
+    // How close two mirrored sources must come to count as one (mirrorConstraints).
+    double mirrorMergeDistance(const BrushSettings& brush) const;
     // One increment of an interactive drag: `delta` in the current frame when that is injective, otherwise m
     // subdivided; merged into dragOperation_. Returns false (report says why, nothing changed) if rejected.
     bool applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report);
@@ -323,6 +393,12 @@ private:
     IncrementScratch increment_;
     Lattice lattice_;
     Embedding embedding_;
+    std::vector<Layer> layers_;
+    Positions cageOut_;            // with layers: the cage's image of rest_ (the first layer's input)
+    bool layerActive_ = false;     // steps are solved in layers_.back() (only during the operation that made it)
+    Embedding layerEmbedding_;     // with layerActive_: that layer's input (the mesh when it was made) embedded
+    Positions beforeCage_;         // #V: rows of cageOut_ a step changes, as they were before it
+    Eigen::Vector3d symmetryCentre_ = Eigen::Vector3d::Zero();
     std::vector<FrozenFrame> frames_;
     std::vector<Operation> history_;
     int cursor_ = 0;
@@ -342,8 +418,20 @@ private:
     DirectManipulationData dragData_;
     Operation dragOperation_;
     std::vector<Eigen::Vector3d> dragSourceWorld_;  // where the drag's sources currently are
-    std::vector<Eigen::Vector3d> dragParams_;       // their parameters in the current frame
+    std::vector<Eigen::Vector3d> dragParams_;       // their parameters in the active lattice
     bool dragAppliedInFrame_ = false;
+    // With a brush or symmetry (beginDragAt): the user's sources at the start, what each solved constraint
+    // follows, and the brush; a region layer entered at the start and not yet given a step.
+    bool dragMirrored_ = false;
+    std::vector<Eigen::Vector3d> dragUserStarts_;
+    std::vector<MirroredConstraint> dragMirror_;
+    BrushSettings dragBrush_;
+    bool dragLayerPending_ = false;
+    Step dragPendingLayer_;
+    // The cage's points as shown when a control-point drag began (with layers: the drag moves those).
+    Positions dragControlStart_;
+    // Adds an increment's control delta (per point, in the cage) for an interactive control-point drag.
+    void applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& shownOffsets, OpReport& report);
 };
 
 // Inverts an injective lattice deformation per point: finds X with X + sum R(t(X)) delta = y for each row y of

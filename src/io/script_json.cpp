@@ -55,6 +55,39 @@ std::array<int, 3> int3(const json& value, const std::string& path) {
     return {integer(value[0], path + "[0]"), integer(value[1], path + "[1]"), integer(value[2], path + "[2]")};
 }
 
+// The brush fields of a drag or drag_vertex op (or of a recorded operation's "brush"): "radius" (world units,
+// 0 = none), "strength" in (0, 1], "falloff" ("smooth", "medium", "sharp"), "symmetry" ("x", "yz", ...).
+core::BrushSettings parseBrush(const json& j, const std::string& path) {
+    core::BrushSettings brush;
+    if (j.contains("radius")) {
+        brush.radius = number(j["radius"], path + ".radius");
+        if (brush.radius < 0.0) fail(path + ".radius", "expected a number >= 0 (world units; 0 = no brush)");
+    }
+    if (j.contains("strength")) {
+        brush.strength = number(j["strength"], path + ".strength");
+        if (brush.strength <= 0.0 || brush.strength > 1.0) fail(path + ".strength", "expected a number in (0, 1]");
+    }
+    if (j.contains("falloff")) {
+        if (!j["falloff"].is_string()) fail(path + ".falloff", "expected \"smooth\", \"medium\" or \"sharp\"");
+        if (Status s = core::parseBrushFalloff(j["falloff"].get<std::string>(), brush.falloff); !s) fail(path + ".falloff", s.message);
+    }
+    if (j.contains("symmetry")) {
+        if (!j["symmetry"].is_string()) fail(path + ".symmetry", "expected a string such as \"x\" or \"xz\"");
+        if (Status s = core::parseSymmetry(j["symmetry"].get<std::string>(), brush.symmetry); !s) fail(path + ".symmetry", s.message);
+    }
+    return brush;
+}
+
+bool brushUsed(const core::BrushSettings& brush) { return brush.active() || brush.symmetry.any() || brush.strength != 1.0; }
+
+void addBrushJson(json& j, const core::BrushSettings& brush) {
+    if (!brushUsed(brush)) return;
+    j["radius"] = brush.radius;
+    j["strength"] = brush.strength;
+    j["falloff"] = core::brushFalloffName(brush.falloff);
+    j["symmetry"] = core::symmetryText(brush.symmetry);
+}
+
 core::LatticeSettings parseLattice(const json& j, const std::string& path) {
     allowOnly(j, path, {"resolution", "degree", "padding", "pin_layers", "region"});
     core::LatticeSettings s;
@@ -106,7 +139,7 @@ Eigen::MatrixX3d vectorRows(const json& list, const std::string& path) {
 
 // A recorded operation as it was applied (ScriptOp::applied): its steps in their lattices.
 core::Operation parseApplied(const json& j, const std::string& path) {
-    allowOnly(j, path, {"kind", "label", "interactive", "depth", "constraints", "control_points", "offsets", "lattice", "steps"});
+    allowOnly(j, path, {"kind", "label", "interactive", "depth", "constraints", "control_points", "offsets", "lattice", "steps", "brush"});
     core::Operation operation;
     const json& kind = required(j, "kind", path);
     const std::string name = kind.is_string() ? kind.get<std::string>() : "";
@@ -129,17 +162,32 @@ core::Operation parseApplied(const json& j, const std::string& path) {
     if (operation.offsets.rows() != static_cast<Eigen::Index>(operation.controlPoints.size()))
         fail(path + ".offsets", "expected one [x,y,z] per control point");
     if (j.contains("lattice")) operation.settings = parseLattice(j["lattice"], path + ".lattice");
+    if (j.contains("brush")) {
+        allowOnly(j["brush"], path + ".brush", {"radius", "strength", "falloff", "symmetry"});
+        operation.brush = parseBrush(j["brush"], path + ".brush");
+    }
     const json& steps = required(j, "steps", path);
     if (!steps.is_array() || steps.empty()) fail(path + ".steps", "expected a non-empty array");
     for (size_t k = 0; k < steps.size(); ++k) {
         const std::string sp = path + ".steps[" + std::to_string(k) + "]";
-        allowOnly(steps[k], sp, {"fresh_frame", "frame", "lattice", "indices", "deltas", "constraints"});
+        allowOnly(steps[k], sp, {"new_layer", "new_cage", "fresh_frame", "frame", "region_free", "lattice", "indices", "deltas", "constraints"});
         core::Step step;
-        if (steps[k].contains("fresh_frame")) {
-            if (!steps[k]["fresh_frame"].is_boolean()) fail(sp + ".fresh_frame", "expected true or false");
-            step.freshFrame = steps[k]["fresh_frame"].get<bool>();
+        const auto flag = [&](const char* key) {
+            if (!steps[k].contains(key)) return false;
+            if (!steps[k][key].is_boolean()) fail(sp + "." + key, "expected true or false");
+            return steps[k][key].get<bool>();
+        };
+        step.freshFrame = flag("new_layer");
+        step.newCage = flag("new_cage");
+        // note: recordings before layers said "fresh_frame" for both; a set-up's was a new cage.
+        if (flag("fresh_frame")) (operation.kind == core::OperationKind::LatticeSetup ? step.newCage : step.freshFrame) = true;
+        if (step.freshFrame && step.newCage) fail(sp, "a step cannot make both a new layer and a new cage");
+        if (steps[k].contains("region_free")) {
+            if (!step.freshFrame) fail(sp + ".region_free", "only a step with \"new_layer\" has a region");
+            step.region = true;
+            step.regionFree = intList(steps[k]["region_free"], sp + ".region_free");
         }
-        if (step.freshFrame) {
+        if (step.freshFrame || step.newCage) {
             const json& frame = required(steps[k], "frame", sp);
             const std::string fp = sp + ".frame";
             allowOnly(frame, fp, {"min", "max", "pins_kept"});
@@ -180,15 +228,17 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
     const std::string name = j["op"].get<std::string>();
     core::ScriptOp op;
     if (name == "drag") {
-        allowOnly(j, path, {"op", "constraints", "applied", "cancelled"});
+        allowOnly(j, path, {"op", "constraints", "applied", "cancelled", "radius", "strength", "falloff", "symmetry"});
         op.kind = core::ScriptOp::Kind::Drag;
         op.constraints = parseConstraints(required(j, "constraints", path), path + ".constraints", false);
+        op.brush = parseBrush(j, path);
         parseRecorded(j, path, op);
     } else if (name == "drag_vertex") {
-        allowOnly(j, path, {"op", "vertex", "target"});
+        allowOnly(j, path, {"op", "vertex", "target", "radius", "strength", "falloff", "symmetry"});
         op.kind = core::ScriptOp::Kind::DragVertex;
         op.vertex = integer(required(j, "vertex", path), path + ".vertex");
         op.target = vector3(required(j, "target", path), path + ".target");
+        op.brush = parseBrush(j, path);
     } else if (name == "move_control_point") {
         allowOnly(j, path, {"op", "index", "indices", "to", "by", "applied", "cancelled"});
         op.kind = core::ScriptOp::Kind::MoveControlPoint;
@@ -381,6 +431,11 @@ json appliedJson(const core::Operation& operation) {
     j["label"] = operation.label;
     j["interactive"] = operation.interactive;
     j["depth"] = operation.depthReached;
+    if (brushUsed(operation.brush)) {
+        json brush;
+        addBrushJson(brush, operation.brush);
+        j["brush"] = brush;
+    }
     if (!operation.constraints.empty()) j["constraints"] = constraintsJson(operation.constraints);
     if (!operation.controlPoints.empty()) {
         j["control_points"] = operation.controlPoints;
@@ -389,9 +444,11 @@ json appliedJson(const core::Operation& operation) {
     if (operation.kind == core::OperationKind::LatticeSetup) j["lattice"] = latticeJson(operation.settings);
     json steps = json::array();
     for (const core::Step& step : operation.steps) {
-        json k = {{"fresh_frame", step.freshFrame}, {"lattice", latticeJson(step.settings)}, {"indices", step.delta.indices},
-                  {"deltas", rowsJson(step.delta.deltas)}};
-        if (step.freshFrame)
+        json k = {{"lattice", latticeJson(step.settings)}, {"indices", step.delta.indices}, {"deltas", rowsJson(step.delta.deltas)}};
+        if (step.freshFrame) k["new_layer"] = true;
+        if (step.newCage) k["new_cage"] = true;
+        if (step.region) k["region_free"] = step.regionFree;
+        if (step.freshFrame || step.newCage)
             k["frame"] = {{"min", vectorJson(step.frameMin)}, {"max", vectorJson(step.frameMax)}, {"pins_kept", step.framePinsKept}};
         if (!step.constraints.empty()) k["constraints"] = constraintsJson(step.constraints);
         steps.push_back(k);
@@ -413,10 +470,14 @@ std::string scriptToJson(const core::Script& script) {
         json j;
         j["op"] = core::scriptOpName(op.kind);
         switch (op.kind) {
-            case core::ScriptOp::Kind::Drag: j["constraints"] = constraintsJson(op.constraints); break;
+            case core::ScriptOp::Kind::Drag:
+                j["constraints"] = constraintsJson(op.constraints);
+                addBrushJson(j, op.brush);
+                break;
             case core::ScriptOp::Kind::DragVertex:
                 j["vertex"] = op.vertex;
                 j["target"] = vectorJson(op.target);
+                addBrushJson(j, op.brush);
                 break;
             case core::ScriptOp::Kind::MoveControlPoint: {
                 json ids = json::array(), values = json::array();

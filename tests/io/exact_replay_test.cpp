@@ -82,7 +82,8 @@ void randomCommand(Session& session, std::mt19937& rng, double size, int& openGr
             const bool relative = test::randomInt(rng, 0, 1) == 0;
             for (size_t c = 0; c < ids.size(); ++c) {
                 const Eigen::Vector3d offset = 0.5 * size * diagonal * test::randomVector(rng, -1, 1);
-                values.row(static_cast<Eigen::Index>(c)) = (relative ? offset : Eigen::Vector3d(lattice.controlPoint(ids[c]) + offset)).transpose();
+                // "to" is where the point is shown (carried through the layers) plus the offset
+                values.row(static_cast<Eigen::Index>(c)) = (relative ? offset : Eigen::Vector3d(session.cagePoints().row(ids[c]).transpose() + offset)).transpose();
             }
             REQUIRE(session.moveControlPoints(ids, values, relative, report).ok);
             break;
