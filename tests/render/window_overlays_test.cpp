@@ -9,6 +9,7 @@
 #include "app/window/sculpt_app.h"
 #include "app/window/tool_commands.h"
 #include "gl_test_support.h"
+#include "io/png_image.h"
 #include "offscreen_window.h"
 #include "render/overlay_geometry.h"
 #include "test_meshes.h"
@@ -177,6 +178,9 @@ TEST_CASE("window overlays: a large mesh is drawn as its proxy during a drag, wh
     std::vector<std::uint8_t> ui = window.uiMask();
     for (size_t p = 0; p < ui.size(); ++p) ui[p] |= uiDragging[p];
     CHECK(test::differingFraction(dragged, released, ui) <= test::goldenMaxDifferingFraction());
+    for (const auto& [image, name] : {std::pair<const render::Rgba8Image*, const char*>{&dragged, "proxy_dragging"}, {&released, "proxy_released"}})
+        CHECK(io::writePng(test::glTestOutputDir() + "/window_" + name + ".png", image->width, image->height,
+                           image->pixels.data()).ok);
 
     // Orbiting draws the proxy too.
     sculptApp.onMouseButton({app::MouseButton::Middle, app::ButtonAction::Press, cx, cy, {}}, {});
