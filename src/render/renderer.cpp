@@ -9,7 +9,6 @@
 #include "core/vertex_normals.h"
 #include "render/gl_functions.h"
 #include "render/legend.h"
-#include "render/mesh_proxy.h"
 #include "render/overlay_geometry.h"
 #include "render/palette.h"
 #include "render/shader_program.h"
@@ -83,6 +82,7 @@ struct Renderer::State {
     bool hasJacobian = false, hasAffected = false;
     // The element buffer holds the full mesh's triangles, then the proxy's (mesh_proxy.h; none for a small mesh).
     GLsizei proxyIndexCount = 0;
+    MeshProxyOptions proxyOptions;
     mutable int lastDrawnTriangles = 0;
     // ... and the CPU copy that sparse updates start from.
     Positions positions, normals;
@@ -277,8 +277,10 @@ void Renderer::release() {
             gl.DeleteBuffers(1, buffer);
     }
     const float pixelScale = s.pixelScale;
+    const MeshProxyOptions proxyOptions = s.proxyOptions;
     *state_ = State{};
     state_->pixelScale = pixelScale;
+    state_->proxyOptions = proxyOptions;
 }
 
 // ---- mesh ----------------------------------------------------------------------------------------
@@ -337,7 +339,7 @@ Status Renderer::setMesh(const Positions& positions, const Triangles& triangles)
     gl.BindBuffer(GL_ARRAY_BUFFER, 0);
     gl.BindVertexArray(s.meshVao);  // the element buffer binding belongs to the VAO
     // note: Triangles is row-major int; validated non-negative, so its bytes are valid GL_UNSIGNED_INT indices.
-    const Triangles proxy = buildMeshProxy(s.positions, s.triangles);
+    const Triangles proxy = buildMeshProxy(s.positions, s.triangles, s.proxyOptions);
     const GLsizeiptr fullBytes = GLsizeiptr(s.triangles.size() * sizeof(int));
     gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, fullBytes + GLsizeiptr(proxy.size() * sizeof(int)),
                   nullptr, GL_STATIC_DRAW);
@@ -691,6 +693,7 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
     return Status::success();
 }
 
+void Renderer::setMeshProxyOptions(const MeshProxyOptions& options) { state_->proxyOptions = options; }
 void Renderer::setPixelScale(float scale) { state_->pixelScale = scale > 0.0f ? scale : 1.0f; }
 float Renderer::pixelScale() const { return state_->pixelScale; }
 int Renderer::vertexCount() const { return int(state_->positions.rows()); }

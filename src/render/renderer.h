@@ -15,6 +15,7 @@
 #include "core/status.h"
 #include "render/camera.h"
 #include "render/gl_proc.h"
+#include "render/mesh_proxy.h"
 #include "render/scene.h"
 
 namespace sculpt::render {
@@ -78,6 +79,10 @@ public:
     // blending off, depth test on and depth writes on. Fails (drawing nothing) on a non-positive size or
     // before init(); reports a GL error raised while drawing.
     Status draw(const Camera& camera, const DrawOptions& options, int width, int height) const;
+
+    // How the next setMesh builds the decimated proxy (mesh_proxy.h); minTriangles = INT_MAX: never (the
+    // benchmark's comparison).
+    void setMeshProxyOptions(const MeshProxyOptions& options);
 
     // Screen-space sizes (line widths, marker diameters) are multiplied by this; 2 for a HiDPI window.
     void setPixelScale(float scale);

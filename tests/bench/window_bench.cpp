@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cstdio>
 #include <numeric>
 #include <vector>
@@ -48,12 +49,18 @@ Status loadInto(app::SculptApp& sculptApp, const test::TestMesh& mesh, const std
 // the centre of a UV sphere is dragged up, one mouse move per frame.
 // The engine's share is reported on its own (engine_ms: solve, injectivity and triangle checks, evaluation;
 // triangle_check_ms its part), and draw_fps is the rate the window's drawing alone would allow.
-void benchDragFrames(std::ostream& out, const char* name, const test::TestMesh& sphere, int resolution) {
+// proxy false: the whole mesh in every frame (what the proxy saves).
+void benchDragFrames(std::ostream& out, const char* name, const test::TestMesh& sphere, int resolution, bool proxy = true) {
     app::SculptApp sculptApp;
     if (Status s = loadInto(sculptApp, sphere, name, resolution); !s) return printError(out, name, s.message);
     test::OffscreenWindow window;
     if (Status s = window.open(sculptApp, kWidth, kHeight, 1); !s)
         return printError(out, name, "no EGL window, skipped: " + s.message);
+    if (!proxy) {
+        render::MeshProxyOptions never;
+        never.minTriangles = std::numeric_limits<int>::max();
+        sculptApp.renderer().setMeshProxyOptions(never);
+    }
     // The first frames build the font atlas and upload the mesh; then frames with nothing to update.
     for (int f = 0; f < 3; ++f)
         if (Status s = window.frame(); !s) return printError(out, name, s.message);
@@ -185,6 +192,8 @@ void runWindowBenchmarks(std::ostream& out, const std::vector<std::string>& filt
         benchDragFrames(out, "window_drag_100k", test::makeUvSphere(250, 201), 8);  // 2 * 250 * 200 = 100,000 triangles
     if (wanted(filters, "window_drag_250k"))
         benchDragFrames(out, "window_drag_250k", test::makeUvSphere(500, 501), 16);  // 250,002 vertices, 500,000 triangles
+    if (wanted(filters, "window_drag_250k_whole"))
+        benchDragFrames(out, "window_drag_250k_whole", test::makeUvSphere(500, 501), 16, false);
     const bool engine8 = wanted(filters, "window_drag_1m_engine");
     const bool engine16 = wanted(filters, "window_drag_1m_engine_16");
     if (!engine8 && !engine16) return;
