@@ -1,5 +1,7 @@
 // Screen-space line segments of constant pixel width: each instance is one segment, expanded to a quad
 // (triangle strip of 4 vertices) around the projected segment. Core profile has no wide lines.
+#include "depth_fade.glsl"
+
 layout(location = ATTRIB_SEGMENT_START) in vec3 aStart;
 layout(location = ATTRIB_SEGMENT_END) in vec3 aEnd;
 layout(location = ATTRIB_COLOR_START) in vec4 aColorStart;
@@ -8,6 +10,9 @@ layout(location = ATTRIB_COLOR_END) in vec4 aColorEnd;
 uniform mat4 uViewProjection;
 uniform vec2 uViewport;   // pixels
 uniform float uWidth;     // pixels, without the antialiasing fringe
+// Depth cue: alpha is multiplied by 1 at device depth uDepthFade.x, by uDepthFade.z at uDepthFade.y and
+// beyond (linear between); z = 1 turns it off.
+uniform vec3 uDepthFade;
 
 out vec4 vColor;
 out float vAcross;        // signed distance from the centre line, pixels
@@ -43,5 +48,6 @@ void main() {
     clip.xy += offsetPixels / (0.5 * uViewport) * clip.w;
     gl_Position = clip;
     vColor = atEnd ? aColorEnd : aColorStart;
+    vColor.a *= depthFade(clip.z / clip.w, uDepthFade);
     vAcross = side * vHalfWidth;
 }

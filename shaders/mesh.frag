@@ -1,6 +1,7 @@
 // Mesh surface: a neutral clay material under a soft key + fill light with a slight rim, lit in linear
 // RGB and written gamma-encoded (sRGB). Optional overlays recolour the albedo:
-//  - det J colour map (diverging, log scale, clamped at 1/4..4; fold-over det J <= 0 is loud magenta/black)
+//  - det J colour map (jacobian_colors.glsl: diverging, log scale, saturating at 1/2 and 2 by default; fold-over
+//    det J <= 0 is loud magenta/black)
 //  - affected-region weight, tinting toward a green highlight.
 // uMode 1 draws the wireframe overlay with a flat colour instead.
 uniform int uMode;            // 0 shaded surface, 1 wireframe lines
@@ -14,32 +15,22 @@ in float vJacobian;
 in float vAffected;
 out vec4 fragColor;
 
-// sRGB colours of the material and the maps (see the colour legend in the README).
-const vec3 kClay = vec3(0.80, 0.78, 0.74);       // neutral warm grey; also det J = 1 ("unchanged")
-const vec3 kExpansion = vec3(0.80, 0.11, 0.09);  // det J >= 4: strong red
-const vec3 kContraction = vec3(0.13, 0.32, 0.85);// det J <= 1/4: strong blue
-const vec3 kFoldA = vec3(1.0, 0.0, 1.0);         // det J <= 0: magenta ...
-const vec3 kFoldB = vec3(0.0, 0.0, 0.0);         // ... and black diagonal stripes
+#include "jacobian_colors.glsl"
+
+// sRGB colours of the affected-region map (see the colour legend in the README); the material is kClay.
 const vec3 kHighlight = vec3(0.10, 0.85, 0.45);  // affected region: green
 const vec3 kHighlightLine = vec3(0.02, 0.30, 0.14); // its boundary and half-weight iso-lines: dark green
-const float kJacobianClamp = 4.0;                // the map saturates at 1/4 and 4
 
 vec3 toLinear(vec3 c) { return pow(c, vec3(2.2)); }
 vec3 toSrgb(vec3 c) { return pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)); }
 
-// Diverging map on log(det J): equal factors of expansion and contraction look equally strong.
-// Interpolated in sRGB, which is closer to perceptually even than linear RGB.
-vec3 jacobianColor(float det) {
-    float t = clamp(log(det) / log(kJacobianClamp), -1.0, 1.0);
-    // note: a gentle power keeps small changes (det J 1.1) visible without saturating early.
-    float s = pow(abs(t), 0.75);
-    return t >= 0.0 ? mix(kClay, kExpansion, s) : mix(kClay, kContraction, s);
-}
-
-// 1 on the iso-line value == level (about one pixel wide), 0 away from it.
-float isoLine(float value, float level) {
-    float width = max(fwidth(value), 1e-6);  // value is a weight in [0, 1], not a length: no unit involved
-    return 1.0 - clamp(abs(value - level) / width, 0.0, 1.0);
+// Coverage of an antialiased iso-line value == level, halfWidth pixels either side: the distance to the
+// line in pixels is the value's difference over its screen-space gradient (a first-order estimate, exact for
+// the linear interpolation across a triangle), faded out over one pixel.
+float isoLine(float value, float level, float halfWidth) {
+    float gradient = length(vec2(dFdx(value), dFdy(value)));  // value is a weight, not a length: no unit involved
+    float pixels = abs(value - level) / max(gradient, 1e-6);
+    return 1.0 - smoothstep(halfWidth - 0.5, halfWidth + 0.5, pixels);
 }
 
 // Wrapped diffuse: light reaches a little past the terminator, which reads as soft, large light sources.
@@ -53,20 +44,23 @@ void main() {
     // Derivatives (fwidth) only in uniform control flow, before the fold-over branch below.
     float affectedLines = 0.0;
     if (uShowAffected != 0) {
-        // Thin darker iso-lines at the edge of the region (weight 0.02) and at half influence.
-        affectedLines = max(isoLine(vAffected, 0.02), 0.6 * isoLine(vAffected, 0.5));
+        // Thin darker iso-lines at the edge of the region (weight 0.02) and at half influence (0.5), drawn on the
+        // cube root of the weight: a B-spline influence fades like the cube of the distance to its support's
+        // edge, so the weight itself is nearly flat there (a line on it would be wide and ragged) while its
+        // cube root changes at an even rate across the region.
+        float evenWeight = pow(clamp(vAffected, 0.0, 1.0), 1.0 / 3.0);
+        affectedLines = max(isoLine(evenWeight, 0.2714, 0.8), 0.6 * isoLine(evenWeight, 0.7937, 0.8));
     }
     if (uShowJacobian != 0 && !(vJacobian > 0.0)) {
         // Fold-over (or NaN): unlit stripes, so it cannot be mistaken for shading or missed in a shadow.
-        float stripe = mod(floor((gl_FragCoord.x + gl_FragCoord.y) / 5.0), 2.0);
-        fragColor = vec4(stripe < 1.0 ? kFoldA : kFoldB, 1.0);
+        fragColor = vec4(foldColor(gl_FragCoord.xy), 1.0);
         return;
     }
     // note: the plain material's linear albedo is a constant the compiler folds; overlays pay for pow().
     vec3 albedo = toLinear(kClay);
     float highlight = 0.0;
     if (uShowJacobian != 0 || uShowAffected != 0) {
-        vec3 albedoSrgb = uShowJacobian != 0 ? jacobianColor(vJacobian) : kClay;
+        vec3 albedoSrgb = uShowJacobian != 0 ? jacobianMapColor(jacobianMapPosition(vJacobian)) : kClay;
         if (uShowAffected != 0) {
             highlight = clamp(vAffected, 0.0, 1.0);
             albedoSrgb = mix(albedoSrgb, kHighlight, 0.75 * highlight);

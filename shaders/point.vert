@@ -1,12 +1,16 @@
 // Screen-space markers (control points, constraint handles): each instance is a quad of a fixed pixel
 // size centred on a 3D point, depth-tested at the centre's depth.
+#include "depth_fade.glsl"
+
 layout(location = ATTRIB_MARKER_CENTER) in vec3 aCenter;
 layout(location = ATTRIB_MARKER_COLOR) in vec4 aColor;
-layout(location = ATTRIB_MARKER_STYLE) in vec2 aStyle;  // (diameter in pixels, shape: 0 disc, 1 square)
+// (diameter in pixels, shape: 0 disc 1 square, depth fade: 0 none 1 by uDepthFade as the lattice edges)
+layout(location = ATTRIB_MARKER_STYLE) in vec3 aStyle;
 
 uniform mat4 uViewProjection;
 uniform vec2 uViewport;     // pixels
 uniform float uSizeScale;   // multiplies every diameter (HiDPI, pass emphasis)
+uniform vec3 uDepthFade;    // as in line.vert
 
 out vec4 vColor;
 out vec2 vPixels;           // offset from the centre, pixels
@@ -24,5 +28,6 @@ void main() {
     if (clip.w <= 0.0) clip = vec4(2.0, 2.0, 2.0, 1.0);
     gl_Position = clip;
     vColor = aColor;
+    if (aStyle.z > 0.5) vColor.a *= depthFade(clip.z / clip.w, uDepthFade);
     vShape = aStyle.y;
 }

@@ -1,7 +1,7 @@
-# Build step: turns every shaders/*.vert and *.frag into a C++ raw string literal in one generated source,
+# Build step: turns every shaders/*.vert, *.frag and *.glsl (included by the others) into a C++ raw string literal in one generated source,
 # so the binary carries its GLSL and runs from any working directory (house style 11).
 # Usage: cmake -DSHADER_DIR=<dir> -DOUTPUT=<file.cpp> -P embed_shaders.cmake
-file(GLOB shader_files ${SHADER_DIR}/*.vert ${SHADER_DIR}/*.frag)
+file(GLOB shader_files ${SHADER_DIR}/*.vert ${SHADER_DIR}/*.frag ${SHADER_DIR}/*.glsl)
 list(SORT shader_files)
 set(delimiter "sculpt_glsl")
 set(body "")

@@ -1,5 +1,6 @@
 #include "render/overlay_geometry.h"
 
+#include <cstdint>
 #include <string>
 
 #include "render/palette.h"
@@ -53,6 +54,18 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
             return isSelected(p) ? kSelectedEdgeColor : isPinned(p) ? kPinnedEdgeColor : kLatticeEdgeColor;
         };
         const auto index = [&](int i, int j, int k) { return Eigen::Index(i) + lattice.nu * (Eigen::Index(j) + Eigen::Index(lattice.nv) * k); };
+        const int nu = lattice.nu, nv = lattice.nv, nw = lattice.nw;
+        // note: an edge lies on an outer face when one of the two coordinates it does not run along is at the
+        // face (its end points alone would also admit the interior edges from a face inwards).
+        const auto onOuterFace = [&](int a, int na, int b, int nb) {
+            return !lattice.outerOnly || a == 0 || a == na - 1 || b == 0 || b == nb - 1;
+        };
+        std::vector<std::uint8_t> shown(size_t(count), 1);
+        if (lattice.outerOnly)
+            for (int k = 0; k < nw; ++k)
+                for (int j = 0; j < nv; ++j)
+                    for (int i = 0; i < nu; ++i)
+                        shown[size_t(index(i, j, k))] = onLatticeBoundary(i, j, k, nu, nv, nw);
         const auto addEdge = [&](Eigen::Index a, Eigen::Index b) {
             appendPoint(edges, frame, lattice.controlPoints, a);
             appendPoint(edges, frame, lattice.controlPoints, b);
@@ -63,19 +76,20 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
             for (int j = 0; j < lattice.nv; ++j)
                 for (int i = 0; i < lattice.nu; ++i) {
                     const Eigen::Index p = index(i, j, k);
-                    if (i + 1 < lattice.nu) addEdge(p, index(i + 1, j, k));
-                    if (j + 1 < lattice.nv) addEdge(p, index(i, j + 1, k));
-                    if (k + 1 < lattice.nw) addEdge(p, index(i, j, k + 1));
+                    if (i + 1 < nu && onOuterFace(j, nv, k, nw)) addEdge(p, index(i + 1, j, k));
+                    if (j + 1 < nv && onOuterFace(i, nu, k, nw)) addEdge(p, index(i, j + 1, k));
+                    if (k + 1 < nw && onOuterFace(i, nu, j, nv)) addEdge(p, index(i, j, k + 1));
                 }
         // Plain points first, then pinned, then selected, so the ones the user works with draw on top.
         for (int pass = 0; pass < 3; ++pass)
             for (Eigen::Index p = 0; p < count; ++p) {
                 const int kind = isSelected(p) ? 2 : isPinned(p) ? 1 : 0;
-                if (kind != pass) continue;
+                if (kind != pass || (kind != 2 && !shown[size_t(p)])) continue;
                 appendPoint(points, frame, lattice.controlPoints, p);
                 appendColor(points, kind == 2 ? kSelectedPointColor : kind == 1 ? kPinnedPointColor : kControlPointColor);
                 points.push_back(kind == 2 ? kSelectedPointSize : kind == 1 ? kPinnedPointSize : kControlPointSize);
                 points.push_back(isPinned(p) ? 1.0f : 0.0f);  // pinned: square, even when selected
+                points.push_back(kind == 2 ? 0.0f : 1.0f);    // the selection stays at full strength at any depth
             }
         bounds = boundsOf(lattice.controlPoints);
     }
@@ -105,7 +119,7 @@ Status buildConstraintInstances(const ConstraintView& constraints, const LocalFr
         for (Eigen::Index c = 0; c < at.rows(); ++c) {
             appendPoint(points, frame, at, c);
             appendColor(points, color);
-            points.insert(points.end(), {kHandleSize, shape});
+            points.insert(points.end(), {kHandleSize, shape, 0.0f});  // no depth fade: always on top
         }
     };
     appendMarkers(constraints.sources, kSourceColor, 0.0f);  // shape 0: disc

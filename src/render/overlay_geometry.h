@@ -11,13 +11,21 @@
 namespace sculpt::render {
 
 inline constexpr int kLineFloats = 14;   // per segment: start xyz, end xyz, colour at start rgba, at end rgba
-inline constexpr int kMarkerFloats = 9;  // per marker: centre xyz, colour rgba, diameter (pixels), shape (0 disc, 1 square)
+// per marker: centre xyz, colour rgba, diameter (pixels), shape (0 disc, 1 square), depth fade (0 none, 1 fainter
+// further from the eye, like the lattice edges: the renderer's kLatticeFarAlpha)
+inline constexpr int kMarkerFloats = 10;
 
 // Positions in the arrays are in `frame`'s local coordinates (camera.h: world minus origin, over scale,
 // subtracted in double before the conversion to float); sizes are pixels, so nothing here is in world units.
 
+// Whether grid position (i, j, k) of an nu x nv x nw lattice lies on its outer faces.
+inline bool onLatticeBoundary(int i, int j, int k, int nu, int nv, int nw) {
+    return i == 0 || j == 0 || k == 0 || i == nu - 1 || j == nv - 1 || k == nw - 1;
+}
+
 // Edges between neighbouring control points (i+1, j+1, k+1) and one marker per control point (plain points
-// first, then pinned, then selected, so the ones the user works with draw on top). nu = nv = nw = 0 gives
+// first, then pinned, then selected, so the ones the user works with draw on top). With lattice.outerOnly,
+// only the edges and points on the outer faces, and every selected point. nu = nv = nw = 0 gives
 // empty arrays. bounds: of the control points, world units. Fails, leaving the outputs unchanged, on
 // inconsistent sizes or non-finite points.
 Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame, std::vector<float>& edges,

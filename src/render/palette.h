@@ -9,20 +9,25 @@ struct Rgba {
     float r, g, b, a;
 };
 
-// Lattice control points: orange discs; selected ones yellow and larger; pinned ones dark grey squares
-// with a light outline (yellow squares when also selected).
-inline constexpr Rgba kControlPointColor = {1.00f, 0.55f, 0.10f, 1.0f};
-inline constexpr Rgba kSelectedPointColor = {1.00f, 0.90f, 0.15f, 1.0f};
-inline constexpr Rgba kPinnedPointColor = {0.20f, 0.20f, 0.22f, 1.0f};
-inline constexpr float kControlPointSize = 8.0f;
-inline constexpr float kSelectedPointSize = 11.0f;
-inline constexpr float kPinnedPointSize = 9.0f;
+// Lattice control points, as in Blender's lattice edit mode: unselected ones small dark dots (they must not
+// hide the mesh: a 16^3 lattice has 4,096), selected ones bright orange and larger, pinned ones light blue
+// squares (orange squares when also selected).
+inline constexpr Rgba kControlPointColor = {0.07f, 0.07f, 0.08f, 0.85f};
+inline constexpr Rgba kSelectedPointColor = {1.00f, 0.55f, 0.08f, 1.0f};
+inline constexpr Rgba kPinnedPointColor = {0.55f, 0.72f, 0.95f, 1.0f};
+inline constexpr float kControlPointSize = 4.5f;
+inline constexpr float kSelectedPointSize = 8.0f;
+inline constexpr float kPinnedPointSize = 6.0f;
 
-// Lattice edges: thin and translucent, coloured by their end points (yellow toward selected points).
-inline constexpr Rgba kLatticeEdgeColor = {1.00f, 0.66f, 0.32f, 0.42f};
-inline constexpr Rgba kSelectedEdgeColor = {1.00f, 0.92f, 0.35f, 0.70f};
-inline constexpr Rgba kPinnedEdgeColor = {0.62f, 0.62f, 0.66f, 0.42f};
+// Lattice edges: one pixel, translucent mid grey (readable over the light clay and the dark background
+// alike), orange toward selected points, blue toward pinned ones.
+inline constexpr Rgba kLatticeEdgeColor = {0.58f, 0.60f, 0.64f, 0.55f};
+inline constexpr Rgba kSelectedEdgeColor = {1.00f, 0.60f, 0.15f, 0.85f};
+inline constexpr Rgba kPinnedEdgeColor = {0.55f, 0.70f, 0.92f, 0.55f};
 inline constexpr float kLatticeEdgeWidth = 1.0f;
+// Depth cue: edges and unselected points fade from full strength at the lattice's nearest point to this
+// at its farthest, so the front of the cage reads over the back.
+inline constexpr float kLatticeFarAlpha = 0.3f;
 // Parts of the lattice hidden behind the mesh are still drawn, this much fainter, so the user sees the
 // whole control volume without it competing with the surface.
 inline constexpr float kOccludedAlpha = 0.3f;
@@ -36,6 +41,13 @@ inline constexpr float kHandleSize = 11.0f;
 inline constexpr Rgba kSurfacePinColor = {0.20f, 0.78f, 0.38f, 1.0f};  // pinned surface points (squares)
 inline constexpr float kHandleLineWidth = 2.5f;
 inline constexpr float kHandleShadowWidth = 5.0f;
+
+// The det J legend (legend.h): light text on a translucent dark panel, like the window's panels. The map's
+// own colours are in shaders/jacobian_colors.glsl; it saturates at 1 / kJacobianRange and kJacobianRange, so
+// that a moderate edit (det J 0.8 .. 1.25) already shows 40% of the full colour.
+inline constexpr float kJacobianRange = 2.0f;
+inline constexpr Rgba kLegendPanelColor = {0.08f, 0.08f, 0.09f, 0.72f};
+inline constexpr Rgba kLegendTextColor = {0.92f, 0.92f, 0.94f, 1.0f};
 
 // Wireframe overlay: dark translucent edges.
 inline constexpr Rgba kWireColor = {0.10f, 0.10f, 0.12f, 0.40f};

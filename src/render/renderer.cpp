@@ -8,6 +8,7 @@
 
 #include "core/vertex_normals.h"
 #include "render/gl_functions.h"
+#include "render/legend.h"
 #include "render/overlay_geometry.h"
 #include "render/palette.h"
 #include "render/shader_program.h"
@@ -30,17 +31,24 @@ struct InstanceBatch {
 };
 
 struct MeshUniforms {
-    GLint view = -1, projection = -1, mode = -1, wireColor = -1, showJacobian = -1, showAffected = -1;
+    GLint view = -1, projection = -1, mode = -1, wireColor = -1, showJacobian = -1, showAffected = -1, jacobianRange = -1;
+};
+struct OverlayUniforms {
+    GLint viewport = -1, jacobianRange = -1;
 };
 struct BackgroundUniforms {
     GLint topColor = -1, bottomColor = -1;
 };
 struct LineUniforms {
-    GLint viewProjection = -1, viewport = -1, width = -1, tint = -1, alphaScale = -1;
+    GLint viewProjection = -1, viewport = -1, width = -1, tint = -1, alphaScale = -1, depthFade = -1;
 };
 struct PointUniforms {
-    GLint viewProjection = -1, viewport = -1, sizeScale = -1, alphaScale = -1;
+    GLint viewProjection = -1, viewport = -1, sizeScale = -1, alphaScale = -1, depthFade = -1;
 };
+
+constexpr Rgba kNoTint = {0, 0, 0, 0};  // lines keep their per-vertex colours
+// The depth cue's uniform (shaders/depth_fade.glsl) that leaves alpha as it is.
+constexpr glm::vec3 kNoDepthFade(0.0f, 1.0f, 1.0f);
 
 std::string glErrorText(GLenum error) {
     switch (error) {
@@ -60,8 +68,10 @@ struct Renderer::State {
     bool ready = false;
     float pixelScale = 1.0f;
 
-    GLuint backgroundProgram = 0, meshProgram = 0, lineProgram = 0, pointProgram = 0;
+    GLuint backgroundProgram = 0, meshProgram = 0, lineProgram = 0, pointProgram = 0, overlayProgram = 0;
     BackgroundUniforms backgroundUniforms;
+    OverlayUniforms overlayUniforms;
+    GLuint overlayVao = 0, overlayBuffer = 0;  // flat screen-space triangles (the det J legend), rebuilt per draw
     MeshUniforms meshUniforms;
     LineUniforms lineUniforms;
     PointUniforms pointUniforms;
@@ -70,6 +80,10 @@ struct Renderer::State {
     // Mesh on the GPU: interleaved position + normal records, 32-bit indices, optional fields.
     GLuint meshVao = 0, vertexBuffer = 0, indexBuffer = 0, jacobianBuffer = 0, affectedBuffer = 0;
     bool hasJacobian = false, hasAffected = false;
+    // The element buffer holds the full mesh's triangles, then the proxy's (mesh_proxy.h; none for a small mesh).
+    GLsizei proxyIndexCount = 0;
+    MeshProxyOptions proxyOptions;
+    mutable int lastDrawnTriangles = 0;
     // ... and the CPU copy that sparse updates start from.
     Positions positions, normals;
     Triangles triangles;
@@ -99,9 +113,13 @@ struct Renderer::State {
     // Rebuilds the lattice and constraint batches from the kept (already validated) views in `frame`.
     void uploadOverlays();
     void drawLines(const InstanceBatch& batch, const glm::mat4& viewProjection, int width, int height,
-                   float lineWidth, const Rgba& tint, float alphaScale) const;
+                   float lineWidth, const Rgba& tint, float alphaScale, const glm::vec3& depthFade = kNoDepthFade) const;
     void drawPoints(const InstanceBatch& batch, const glm::mat4& viewProjection, int width, int height,
-                    float alphaScale) const;
+                    float alphaScale, const glm::vec3& depthFade = kNoDepthFade) const;
+    // The det J legend in the bottom-right corner (legend.h), over everything.
+    void drawJacobianLegend(const DrawOptions& options, int width, int height) const;
+    // The lattice overlay: edges and control points, the parts behind the mesh fainter, faded with depth.
+    void drawLattice(const glm::mat4& view, const glm::mat4& projection, int width, int height) const;
 };
 
 Renderer::Renderer() : state_(std::make_unique<State>()) {}
@@ -141,15 +159,19 @@ Status Renderer::State::buildPrograms() {
     if (Status status = buildEmbeddedProgram(gl, "mesh", meshProgram); !status) return status;
     if (Status status = buildEmbeddedProgram(gl, "line", lineProgram); !status) return status;
     if (Status status = buildEmbeddedProgram(gl, "point", pointProgram); !status) return status;
+    if (Status status = buildEmbeddedProgram(gl, "overlay2d", overlayProgram); !status) return status;
     backgroundUniforms = {uniform(backgroundProgram, "uTopColor"), uniform(backgroundProgram, "uBottomColor")};
     meshUniforms = {uniform(meshProgram, "uView"),       uniform(meshProgram, "uProjection"),
                     uniform(meshProgram, "uMode"),       uniform(meshProgram, "uWireColor"),
-                    uniform(meshProgram, "uShowJacobian"), uniform(meshProgram, "uShowAffected")};
+                    uniform(meshProgram, "uShowJacobian"), uniform(meshProgram, "uShowAffected"),
+                    uniform(meshProgram, "uJacobianRange")};
+    overlayUniforms = {uniform(overlayProgram, "uViewport"), uniform(overlayProgram, "uJacobianRange")};
     lineUniforms = {uniform(lineProgram, "uViewProjection"), uniform(lineProgram, "uViewport"),
                     uniform(lineProgram, "uWidth"), uniform(lineProgram, "uTint"),
-                    uniform(lineProgram, "uAlphaScale")};
+                    uniform(lineProgram, "uAlphaScale"), uniform(lineProgram, "uDepthFade")};
     pointUniforms = {uniform(pointProgram, "uViewProjection"), uniform(pointProgram, "uViewport"),
-                     uniform(pointProgram, "uSizeScale"), uniform(pointProgram, "uAlphaScale")};
+                     uniform(pointProgram, "uSizeScale"), uniform(pointProgram, "uAlphaScale"),
+                     uniform(pointProgram, "uDepthFade")};
     return Status::success();
 }
 
@@ -180,6 +202,21 @@ void Renderer::State::createObjects() {
     setupLineBatch(handleLines);
     setupPointBatch(latticePoints);
     setupPointBatch(handlePoints);
+
+    gl.GenVertexArrays(1, &overlayVao);
+    gl.GenBuffers(1, &overlayBuffer);
+    gl.BindVertexArray(overlayVao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, overlayBuffer);
+    const GLsizei overlayStride = kOverlayFloats * sizeof(float);
+    static_assert(2 + 4 + 2 == kOverlayFloats, "overlay vertex layout");
+    gl.EnableVertexAttribArray(kAttribOverlayPixel);
+    gl.VertexAttribPointer(kAttribOverlayPixel, 2, GL_FLOAT, GL_FALSE, overlayStride, nullptr);
+    gl.EnableVertexAttribArray(kAttribOverlayColor);
+    gl.VertexAttribPointer(kAttribOverlayColor, 4, GL_FLOAT, GL_FALSE, overlayStride, reinterpret_cast<void*>(2 * sizeof(float)));
+    gl.EnableVertexAttribArray(kAttribOverlayFill);
+    gl.VertexAttribPointer(kAttribOverlayFill, 2, GL_FLOAT, GL_FALSE, overlayStride, reinterpret_cast<void*>(6 * sizeof(float)));
+    gl.BindVertexArray(0);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
 // An instanced batch: one buffer of interleaved per-instance float attributes (one row per segment/marker).
@@ -211,8 +248,8 @@ void Renderer::State::setupLineBatch(InstanceBatch& batch) {
 
 void Renderer::State::setupPointBatch(InstanceBatch& batch) {
     const GLuint locations[3] = {kAttribMarkerCenter, kAttribMarkerColor, kAttribMarkerStyle};
-    const GLint sizes[3] = {3, 4, 2};
-    static_assert(3 + 4 + 2 == kMarkerFloats, "marker instance layout");
+    const GLint sizes[3] = {3, 4, 3};
+    static_assert(3 + 4 + 3 == kMarkerFloats, "marker instance layout");
     setupInstanceBatch(batch, locations, sizes, 3);
 }
 
@@ -229,19 +266,21 @@ void Renderer::release() {
     // Also after a failed init, which may have created some objects (glDelete* ignores name 0).
     if (s.gl.DeleteProgram) {
         const GlFunctions& gl = s.gl;
-        for (GLuint program : {s.backgroundProgram, s.meshProgram, s.lineProgram, s.pointProgram})
+        for (GLuint program : {s.backgroundProgram, s.meshProgram, s.lineProgram, s.pointProgram, s.overlayProgram})
             if (program) gl.DeleteProgram(program);
         for (GLuint* vao : {&s.emptyVao, &s.meshVao, &s.latticeEdges.vao, &s.latticePoints.vao, &s.handleLines.vao,
-                            &s.handlePoints.vao})
+                            &s.handlePoints.vao, &s.overlayVao})
             gl.DeleteVertexArrays(1, vao);
         for (GLuint* buffer : {&s.vertexBuffer, &s.indexBuffer, &s.jacobianBuffer, &s.affectedBuffer,
                                &s.latticeEdges.buffer, &s.latticePoints.buffer, &s.handleLines.buffer,
-                               &s.handlePoints.buffer})
+                               &s.handlePoints.buffer, &s.overlayBuffer})
             gl.DeleteBuffers(1, buffer);
     }
     const float pixelScale = s.pixelScale;
+    const MeshProxyOptions proxyOptions = s.proxyOptions;
     *state_ = State{};
     state_->pixelScale = pixelScale;
+    state_->proxyOptions = proxyOptions;
 }
 
 // ---- mesh ----------------------------------------------------------------------------------------
@@ -300,8 +339,14 @@ Status Renderer::setMesh(const Positions& positions, const Triangles& triangles)
     gl.BindBuffer(GL_ARRAY_BUFFER, 0);
     gl.BindVertexArray(s.meshVao);  // the element buffer binding belongs to the VAO
     // note: Triangles is row-major int; validated non-negative, so its bytes are valid GL_UNSIGNED_INT indices.
-    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(s.triangles.size() * sizeof(int)),
-                  s.triangles.size() ? s.triangles.data() : nullptr, GL_STATIC_DRAW);
+    const Triangles proxy = buildMeshProxy(s.positions, s.triangles, s.proxyOptions);
+    const GLsizeiptr fullBytes = GLsizeiptr(s.triangles.size() * sizeof(int));
+    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, fullBytes + GLsizeiptr(proxy.size() * sizeof(int)),
+                  nullptr, GL_STATIC_DRAW);
+    if (fullBytes > 0) gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, fullBytes, s.triangles.data());
+    if (proxy.size() > 0)
+        gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, fullBytes, GLsizeiptr(proxy.size() * sizeof(int)), proxy.data());
+    s.proxyIndexCount = GLsizei(proxy.size());
     gl.BindVertexArray(0);
     s.lastUpload = {int(vertexCount), 1, true};
     setJacobianField({});
@@ -484,7 +529,8 @@ Status Renderer::setScene(const SceneData& scene) {
 // ---- drawing -------------------------------------------------------------------------------------
 
 void Renderer::State::drawLines(const InstanceBatch& batch, const glm::mat4& viewProjection, int width,
-                                int height, float lineWidth, const Rgba& tint, float alphaScale) const {
+                                int height, float lineWidth, const Rgba& tint, float alphaScale,
+                                const glm::vec3& depthFade) const {
     if (batch.count == 0) return;
     gl.UseProgram(lineProgram);
     gl.UniformMatrix4fv(lineUniforms.viewProjection, 1, GL_FALSE, glm::value_ptr(viewProjection));
@@ -492,20 +538,56 @@ void Renderer::State::drawLines(const InstanceBatch& batch, const glm::mat4& vie
     gl.Uniform1f(lineUniforms.width, lineWidth * pixelScale);
     gl.Uniform4f(lineUniforms.tint, tint.r, tint.g, tint.b, tint.a);
     gl.Uniform1f(lineUniforms.alphaScale, alphaScale);
+    gl.Uniform3f(lineUniforms.depthFade, depthFade.x, depthFade.y, depthFade.z);
     gl.BindVertexArray(batch.vao);
     gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, batch.count);
 }
 
 void Renderer::State::drawPoints(const InstanceBatch& batch, const glm::mat4& viewProjection, int width,
-                                 int height, float alphaScale) const {
+                                 int height, float alphaScale, const glm::vec3& depthFade) const {
     if (batch.count == 0) return;
     gl.UseProgram(pointProgram);
     gl.UniformMatrix4fv(pointUniforms.viewProjection, 1, GL_FALSE, glm::value_ptr(viewProjection));
     gl.Uniform2f(pointUniforms.viewport, float(width), float(height));
     gl.Uniform1f(pointUniforms.sizeScale, pixelScale);
     gl.Uniform1f(pointUniforms.alphaScale, alphaScale);
+    gl.Uniform3f(pointUniforms.depthFade, depthFade.x, depthFade.y, depthFade.z);
     gl.BindVertexArray(batch.vao);
     gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, batch.count);
+}
+
+void Renderer::State::drawLattice(const glm::mat4& view, const glm::mat4& projection, int width, int height) const {
+    if (latticeEdges.count == 0 && latticePoints.count == 0) return;
+    // Depth cue from the nearest to the farthest point of the sphere about the lattice's box, in device depth.
+    const glm::vec4 center = view * glm::vec4(glm::vec3(frame.toLocal(latticeBounds.center())), 1.0f);
+    const float radius = float(latticeBounds.radius() / frame.scale);
+    const auto deviceDepth = [&](float viewZ) {
+        const glm::vec4 clip = projection * glm::vec4(0.0f, 0.0f, viewZ, 1.0f);
+        return clip.w > 0.0f ? clip.z / clip.w : -1.0f;
+    };
+    const glm::vec3 fade(deviceDepth(std::min(center.z + radius, 0.0f)), deviceDepth(center.z - radius), kLatticeFarAlpha);
+    const glm::mat4 viewProjection = projection * view;
+    // Two passes: the parts behind the mesh faint, the visible parts at full (still translucent) strength.
+    gl.DepthFunc(GL_GREATER);
+    drawLines(latticeEdges, viewProjection, width, height, kLatticeEdgeWidth, kNoTint, kOccludedAlpha, fade);
+    drawPoints(latticePoints, viewProjection, width, height, kOccludedAlpha, fade);
+    gl.DepthFunc(GL_LEQUAL);
+    drawLines(latticeEdges, viewProjection, width, height, kLatticeEdgeWidth, kNoTint, 1.0f, fade);
+    drawPoints(latticePoints, viewProjection, width, height, 1.0f, fade);
+}
+
+void Renderer::State::drawJacobianLegend(const DrawOptions& options, int width, int height) const {
+    const std::vector<float> vertices = buildJacobianLegend(width, height, pixelScale, options.uiInsetBottom, kJacobianRange);
+    if (vertices.empty()) return;
+    gl.Disable(GL_DEPTH_TEST);
+    gl.UseProgram(overlayProgram);
+    gl.Uniform2f(overlayUniforms.viewport, float(width), float(height));
+    gl.Uniform1f(overlayUniforms.jacobianRange, kJacobianRange);
+    gl.BindVertexArray(overlayVao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, overlayBuffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_STREAM_DRAW);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size() / kOverlayFloats));
 }
 
 Status Renderer::draw(const Camera& camera, const DrawOptions& options, int width, int height) const {
@@ -520,7 +602,6 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
     const glm::mat4 view(camera.view(s.frame));
     const glm::mat4 projection(camera.projection(aspect, s.frame));
     const glm::mat4 viewProjection = projection * view;
-    constexpr Rgba kNoTint = {0, 0, 0, 0};
 
     for (int i = 0; i < 32 && gl.GetError() != GL_NO_ERROR; ++i) {
     }  // only errors raised below are reported
@@ -548,7 +629,11 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
 
     gl.Enable(GL_DEPTH_TEST);
     gl.DepthFunc(GL_LESS);
-    const GLsizei indexCount = GLsizei(s.triangles.size());
+    // The proxy while things move (when the mesh has one): the same vertices, fewer triangles.
+    const bool useProxy = options.proxy && s.proxyIndexCount > 0;
+    const GLsizei indexCount = useProxy ? s.proxyIndexCount : GLsizei(s.triangles.size());
+    const void* firstIndex = reinterpret_cast<const void*>(useProxy ? s.triangles.size() * sizeof(int) : 0);
+    s.lastDrawnTriangles = indexCount / 3;
     if (indexCount > 0) {
         gl.UseProgram(s.meshProgram);
         gl.UniformMatrix4fv(s.meshUniforms.view, 1, GL_FALSE, glm::value_ptr(view));
@@ -556,6 +641,7 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
         gl.Uniform1i(s.meshUniforms.mode, 0);
         gl.Uniform1i(s.meshUniforms.showJacobian, options.jacobian ? 1 : 0);
         gl.Uniform1i(s.meshUniforms.showAffected, options.affected ? 1 : 0);
+        gl.Uniform1f(s.meshUniforms.jacobianRange, kJacobianRange);
         // Absent fields read as constants: det J = 1 (unchanged), weight 0 (unaffected).
         if (!s.hasJacobian) gl.VertexAttrib1f(kAttribJacobian, 1.0f);
         if (!s.hasAffected) gl.VertexAttrib1f(kAttribAffected, 0.0f);
@@ -565,7 +651,7 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
             gl.Enable(GL_POLYGON_OFFSET_FILL);
             gl.PolygonOffset(1.0f, 1.0f);
         }
-        gl.DrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
+        gl.DrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, firstIndex);
         gl.Disable(GL_POLYGON_OFFSET_FILL);
         if (options.wireframe) {
             gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
@@ -575,7 +661,7 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
             gl.DepthMask(GL_FALSE);
             gl.Uniform1i(s.meshUniforms.mode, 1);
             gl.Uniform4f(s.meshUniforms.wireColor, kWireColor.r, kWireColor.g, kWireColor.b, kWireColor.a);
-            gl.DrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
+            gl.DrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, firstIndex);
             gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
             gl.DepthMask(GL_TRUE);
             gl.DepthFunc(GL_LESS);
@@ -586,15 +672,7 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
     gl.Enable(GL_BLEND);
     gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     gl.DepthMask(GL_FALSE);
-    if (options.lattice) {
-        // Two passes: the parts behind the mesh faint, the visible parts at full (still translucent) strength.
-        gl.DepthFunc(GL_GREATER);
-        s.drawLines(s.latticeEdges, viewProjection, width, height, kLatticeEdgeWidth, kNoTint, kOccludedAlpha);
-        s.drawPoints(s.latticePoints, viewProjection, width, height, kOccludedAlpha);
-        gl.DepthFunc(GL_LEQUAL);
-        s.drawLines(s.latticeEdges, viewProjection, width, height, kLatticeEdgeWidth, kNoTint, 1.0f);
-        s.drawPoints(s.latticePoints, viewProjection, width, height, 1.0f);
-    }
+    if (options.lattice) s.drawLattice(view, projection, width, height);
     if (options.constraints) {
         // Handles are what the user is manipulating: always on top (Hu et al. 2001, Fig. 1 style).
         gl.Disable(GL_DEPTH_TEST);
@@ -602,6 +680,7 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
         s.drawLines(s.handleLines, viewProjection, width, height, kHandleLineWidth, kNoTint, 1.0f);
         s.drawPoints(s.handlePoints, viewProjection, width, height, 1.0f);
     }
+    if (options.jacobian && s.hasJacobian && indexCount > 0) s.drawJacobianLegend(options, width, height);
 
     gl.Disable(GL_BLEND);
     gl.Enable(GL_DEPTH_TEST);
@@ -614,10 +693,13 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
     return Status::success();
 }
 
+void Renderer::setMeshProxyOptions(const MeshProxyOptions& options) { state_->proxyOptions = options; }
 void Renderer::setPixelScale(float scale) { state_->pixelScale = scale > 0.0f ? scale : 1.0f; }
 float Renderer::pixelScale() const { return state_->pixelScale; }
 int Renderer::vertexCount() const { return int(state_->positions.rows()); }
 int Renderer::triangleCount() const { return int(state_->triangles.rows()); }
+int Renderer::proxyTriangleCount() const { return int(state_->proxyIndexCount / 3); }
+int Renderer::lastDrawnTriangles() const { return state_->lastDrawnTriangles; }
 Bounds Renderer::meshBounds() const { return boundsOf(state_->positions); }
 Bounds Renderer::latticeBounds() const { return state_->latticeBounds; }
 LocalFrame Renderer::localFrame() const { return state_->frame; }

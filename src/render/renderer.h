@@ -15,6 +15,7 @@
 #include "core/status.h"
 #include "render/camera.h"
 #include "render/gl_proc.h"
+#include "render/mesh_proxy.h"
 #include "render/scene.h"
 
 namespace sculpt::render {
@@ -47,7 +48,8 @@ public:
     bool initialized() const;
 
     // Replaces the mesh. positions #V x 3 (all finite), triangles #F x 3 (indices in [0, #V)).
-    // Computes area-weighted vertex normals and uploads everything. Clears the per-vertex fields.
+    // Computes area-weighted vertex normals and uploads everything, with the decimated proxy of a large mesh
+    // (mesh_proxy.h: about 0.5 s for 500k triangles). Clears the per-vertex fields.
     // An empty mesh (#V = 0) is valid and draws nothing. On failure the previous mesh stays.
     Status setMesh(const Positions& positions, const Triangles& triangles);
 
@@ -73,10 +75,14 @@ public:
     Status setScene(const SceneData& scene);
 
     // Draws into the currently bound framebuffer, viewport (0, 0, width, height): clears colour and depth,
-    // then background, mesh, wireframe, lattice, constraints. Leaves VAO 0, program 0, polygon mode FILL,
+    // then background, mesh, wireframe, lattice, constraints, and with the det J overlay its legend. Leaves VAO 0, program 0, polygon mode FILL,
     // blending off, depth test on and depth writes on. Fails (drawing nothing) on a non-positive size or
     // before init(); reports a GL error raised while drawing.
     Status draw(const Camera& camera, const DrawOptions& options, int width, int height) const;
+
+    // How the next setMesh builds the decimated proxy (mesh_proxy.h); minTriangles = INT_MAX: never (the
+    // benchmark's comparison).
+    void setMeshProxyOptions(const MeshProxyOptions& options);
 
     // Screen-space sizes (line widths, marker diameters) are multiplied by this; 2 for a HiDPI window.
     void setPixelScale(float scale);
@@ -84,6 +90,10 @@ public:
 
     int vertexCount() const;
     int triangleCount() const;
+    // Triangles of the decimated proxy drawn while things move (mesh_proxy.h), 0 when the mesh has none.
+    int proxyTriangleCount() const;
+    // Mesh triangles the last draw() drew: triangleCount(), or proxyTriangleCount() with DrawOptions::proxy.
+    int lastDrawnTriangles() const;
     Bounds meshBounds() const;     // of the current positions
     Bounds latticeBounds() const;  // of the control points (empty without a lattice)
     // The frame the GPU coordinates are in (camera.h): set by setMesh from the mesh's centre and radius, by

@@ -14,10 +14,14 @@ struct LatticeView {
     int nu = 0, nv = 0, nw = 0;  // 0 = no lattice; otherwise each >= 1
     // (nu*nv*nw) x 3; control point (i, j, k) is row i + nu*(j + nv*k).
     Positions controlPoints;
-    // Empty, or one entry per control point (nonzero = true). Selected points are drawn yellow and
-    // larger, pinned ones as squares (dark grey unless also selected), the rest as orange discs.
+    // Empty, or one entry per control point (nonzero = true). As in Blender's lattice edit mode, selected
+    // points are drawn bright orange and larger, the rest small and dark; pinned ones as squares (light blue
+    // unless also selected). palette.h has the colours.
     std::vector<std::uint8_t> selected;
     std::vector<std::uint8_t> pinned;
+    // Only the control points and edges on the lattice's outer faces (Blender's lattice "Outside"), plus every
+    // selected point: a fine lattice's interior hides the mesh.
+    bool outerOnly = false;
 };
 
 // Direct-manipulation constraints (Hu et al. 2001, Fig. 1): each source point S is carried to its target T.
@@ -46,9 +50,15 @@ struct DrawOptions {
     bool lattice = false;      // lattice edges and control points
     bool constraints = true;   // source/target handles, drawn on top of everything
     bool wireframe = false;    // mesh edges over the shaded surface
-    bool jacobian = false;     // per-vertex det J colour map
+    bool jacobian = false;     // per-vertex det J colour map, and its legend (with a mesh and a det J field)
     bool affected = false;     // tint of the affected region
     bool background = true;    // gradient; false clears to transparent black (alpha 0) for compositing
+    // The camera or the shape is moving (a drag, an orbit): draw the mesh's decimated proxy where it has one
+    // (a large mesh, see mesh_proxy.h), so software GL keeps up; the full mesh once the motion stops.
+    bool proxy = false;
+    // Pixels at the bottom of the view covered by a UI drawn over it (the window's status line): the det J
+    // legend sits above them.
+    float uiInsetBottom = 0.0f;
 };
 
 }  // namespace sculpt::render

@@ -1,6 +1,8 @@
 #include "render/shader_program.h"
 
 #include <algorithm>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "render/embedded_shaders.h"
@@ -73,6 +75,9 @@ std::string shaderPreamble() {
     define("ATTRIB_MARKER_CENTER", kAttribMarkerCenter);
     define("ATTRIB_MARKER_COLOR", kAttribMarkerColor);
     define("ATTRIB_MARKER_STYLE", kAttribMarkerStyle);
+    define("ATTRIB_OVERLAY_PIXEL", kAttribOverlayPixel);
+    define("ATTRIB_OVERLAY_COLOR", kAttribOverlayColor);
+    define("ATTRIB_OVERLAY_FILL", kAttribOverlayFill);
     return text;
 }
 
@@ -106,13 +111,44 @@ Status buildProgram(const GlFunctions& gl, std::string_view name, std::string_vi
     return Status::success();
 }
 
+namespace {
+
+// Replaces each line `#include "file.glsl"` of source with the embedded shaders/file.glsl.
+Status resolveIncludes(std::string_view fileName, std::string_view source, std::string& resolved) {
+    constexpr std::string_view kDirective = "#include \"";
+    resolved.clear();
+    size_t lineStart = 0;
+    while (lineStart < source.size()) {
+        size_t lineEnd = source.find('\n', lineStart);
+        lineEnd = lineEnd == std::string_view::npos ? source.size() : lineEnd + 1;
+        const std::string_view line = source.substr(lineStart, lineEnd - lineStart);
+        if (line.substr(0, kDirective.size()) == kDirective) {
+            const size_t close = line.find('"', kDirective.size());
+            const std::string included(line.substr(kDirective.size(), close == std::string_view::npos ? 0 : close - kDirective.size()));
+            const std::string_view text = embeddedShaderSource(included);
+            if (text.empty())
+                return Status::error(std::string(fileName) + ": no embedded shaders/" + included + " to include");
+            resolved += text;
+            resolved += '\n';
+        } else {
+            resolved += line;
+        }
+        lineStart = lineEnd;
+    }
+    return Status::success();
+}
+
+}  // namespace
+
 Status buildEmbeddedProgram(const GlFunctions& gl, std::string_view name, GLuint& program) {
     program = 0;
     const std::string base(name);
-    const std::string_view vertexSource = embeddedShaderSource(base + ".vert");
-    const std::string_view fragmentSource = embeddedShaderSource(base + ".frag");
-    if (vertexSource.empty() || fragmentSource.empty())
-        return Status::error("no embedded shaders/" + base + ".vert and .frag in this binary");
+    std::string vertexSource, fragmentSource;
+    for (const auto& [file, out] : {std::pair{base + ".vert", &vertexSource}, std::pair{base + ".frag", &fragmentSource}}) {
+        const std::string_view source = embeddedShaderSource(file);
+        if (source.empty()) return Status::error("no embedded shaders/" + base + ".vert and .frag in this binary");
+        if (Status status = resolveIncludes(file, source, *out); !status) return status;
+    }
     return buildProgram(gl, name, vertexSource, fragmentSource, program);
 }
 

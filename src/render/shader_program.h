@@ -21,7 +21,10 @@ enum AttributeLocation : GLuint {
     kAttribColorEnd = 7,       // line (per instance): vec4 colour at end
     kAttribMarkerCenter = 8,   // point (per instance): vec3 centre
     kAttribMarkerColor = 9,    // point (per instance): vec4 fill colour
-    kAttribMarkerStyle = 10,   // point (per instance): vec2 (size in pixels, shape: 0 disc, 1 square)
+    kAttribMarkerStyle = 10,   // point (per instance): vec3 (size in pixels, shape: 0 disc 1 square, depth fade)
+    kAttribOverlayPixel = 11,  // overlay2d: vec2 window pixel (origin top-left)
+    kAttribOverlayColor = 12,  // overlay2d: vec4 colour
+    kAttribOverlayFill = 13,   // overlay2d: vec2 (fill kind: 0 colour, 1 det J map, 2 fold stripes; map position)
 };
 
 // The text prepended to every shader: `#version 330 core` and the ATTRIB_* defines above.
@@ -32,7 +35,9 @@ std::string shaderPreamble();
 Status buildProgram(const GlFunctions& gl, std::string_view name, std::string_view vertexSource,
                     std::string_view fragmentSource, GLuint& program);
 
-// buildProgram with shaders/<name>.vert and shaders/<name>.frag from the embedded table.
+// buildProgram with shaders/<name>.vert and shaders/<name>.frag from the embedded table. A line
+// `#include "file.glsl"` in either is replaced by that embedded shaders/ file (functions shared by several
+// shaders, such as the det J colour map), one level deep; a missing file is an error.
 Status buildEmbeddedProgram(const GlFunctions& gl, std::string_view name, GLuint& program);
 
 }  // namespace sculpt::render

@@ -381,12 +381,16 @@ TEST_CASE("any scale: a drag in the window moves the picked point with the curso
         if (!opened) WARN("EGL unavailable, window frames not drawn: " << opened.message);
         render::Rgba8Image image;
         if (opened) {
-            // As it opens (lattice shown and framed too), and framed on the mesh alone: a sensible share.
+            // With the lattice shown (and framed too), and framed on the mesh alone: a sensible share.
+            app::Overlays withCage = state.overlays;
+            withCage.sculpt.lattice = true;
+            app::setOverlays(state, withCage);
+            app::frameMesh(state);
             window.frame(nullptr);  // the first frame builds the font atlas
             const double withLattice = sceneShare(window, image);
             writeForALook(image, "any_scale_window_" + std::to_string(i) + ".png");
             app::Overlays plain = state.overlays;
-            plain.lattice = false;
+            plain.sculpt.lattice = false;
             app::setOverlays(state, plain);
             app::frameMesh(state);
             const double meshOnly = sceneShare(window, image);
@@ -497,7 +501,9 @@ TEST_CASE("any scale: markers, control points, pan and zoom in the window work a
         release(sculptApp, 130.0, 80.0, shift, app::MouseButton::Middle);
         CHECK((pixelOf(state, centre) - Eigen::Vector2d(cx + 30.0, cy - 20.0)).norm() < 0.01);
 
-        // Zoom: a factor per notch, limited relative to the content.
+        // Zoom: a factor per notch, limited relative to the content. (F first: what it frames depends on whether
+        // the current tool shows the lattice.)
+        sculptApp.onKey({app::Key::F, app::KeyAction::Press, {}}, {});
         const double framed = state.camera.distance;
         sculptApp.onScroll({0.0, 1.0}, {});
         CHECK(state.camera.distance == Approx(0.88 * framed).epsilon(1e-12));

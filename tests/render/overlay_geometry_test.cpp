@@ -90,11 +90,46 @@ TEST_CASE("overlay geometry: placed handles are red discs and surface pins green
             const render::Rgba expected = m < handles ? render::kSourceColor : render::kSurfacePinColor;
             CHECK(marker[3] == expected.r);
             CHECK(marker[5] == expected.b);
-            CHECK(marker[render::kMarkerFloats - 1] == (m < handles ? 0.0f : 1.0f));
+            CHECK(marker[8] == (m < handles ? 0.0f : 1.0f));
         }
         if (pins > 0) {
             constraints.pins(0, 1) = std::nan("");
             CHECK_FALSE(render::buildConstraintInstances(constraints, {}, segments, markers).ok);
+        }
+    }
+}
+
+TEST_CASE("overlay geometry: the outer cage keeps the outer faces' points and edges and every selected point", "[gl]") {
+    for (const auto& [nu, nv, nw] : {std::tuple{4, 4, 4}, std::tuple{5, 3, 4}, std::tuple{2, 2, 2}, std::tuple{6, 1, 3}}) {
+        render::LatticeView lattice = test::makeBoxLattice({-1, -1, -1}, {1, 1, 1}, nu, nv, nw);
+        const int count = nu * nv * nw;
+        lattice.selected.assign(size_t(count), 0);
+        lattice.outerOnly = true;
+        const int interior = std::max(nu - 2, 0) * std::max(nv - 2, 0) * std::max(nw - 2, 0);
+        std::vector<float> edges, markers;
+        render::Bounds bounds;
+        REQUIRE(render::buildLatticeInstances(lattice, {}, edges, markers, bounds).ok);
+        CHECK(markers.size() == size_t(count - interior) * render::kMarkerFloats);
+        // Edges along each axis: all of them minus those whose two other coordinates are both inside.
+        const auto inside = [](int n) { return std::max(n - 2, 0); };
+        const size_t expectedEdges = size_t((nu - 1) * (nv * nw - inside(nv) * inside(nw)) +
+                                            (nv - 1) * (nu * nw - inside(nu) * inside(nw)) +
+                                            (nw - 1) * (nu * nv - inside(nu) * inside(nv)));
+        CHECK(edges.size() == expectedEdges * render::kLineFloats);
+        for (size_t e = 0; e < expectedEdges && nu > 1 && nv > 1 && nw > 1; ++e) {
+            // Each kept edge lies on a face of the box: some coordinate is at +-1 at both its ends. (A
+            // dimension of 1 sits in the middle of the box.)
+            const float* segment = &edges[e * render::kLineFloats];
+            bool onFace = false;
+            for (int c = 0; c < 3; ++c)
+                onFace |= std::abs(segment[c]) == 1.0f && segment[c] == segment[3 + c];
+            CHECK(onFace);
+        }
+        if (interior > 0) {
+            lattice.selected[size_t(1 + nu * (1 + nv * 1))] = 1;  // (1, 1, 1): inside, but selected
+            REQUIRE(render::buildLatticeInstances(lattice, {}, edges, markers, bounds).ok);
+            CHECK(markers.size() == size_t(count - interior + 1) * render::kMarkerFloats);
+            CHECK(markers[markers.size() - render::kMarkerFloats + 3] == render::kSelectedPointColor.r);
         }
     }
 }

@@ -192,7 +192,7 @@ TEST_CASE("window tools: the lattice tool picks the control point under the curs
         const double x0 = ux(rng), y0 = uy(rng), x1 = ux(rng), y1 = uy(rng);
         if (std::abs(x1 - x0) < 5 || std::abs(y1 - y0) < 5) continue;
         // Start the box on empty space: pressing on a marker would grab it instead.
-        if (app::controlPointAtPixel(points, state.camera, kWidth, kHeight, x0, y0, 9.0) >= 0) continue;
+        if (app::controlPointAtPixel(points, {}, state.camera, kWidth, kHeight, x0, y0, 9.0) >= 0) continue;
         const bool additive = trial % 3 == 2;
         const std::vector<int> before = state.tools.lattice.points;
         const app::Modifiers m = additive ? shiftKey() : app::Modifiers{};
@@ -305,7 +305,7 @@ TEST_CASE("window tools: P pins the selection; a pinned selection cannot be drag
     CHECK(lattice.pinned[static_cast<size_t>(id)] == 1);
     double x = 0, y = 0;
     REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, lattice.controlPoint(id), x, y));
-    const int under = app::controlPointAtPixel(core::controlPointPositions(lattice), state.camera, kWidth, kHeight, x, y, 9.0);
+    const int under = app::controlPointAtPixel(core::controlPointPositions(lattice), {}, state.camera, kWidth, kHeight, x, y, 9.0);
     state.tools.lattice.points = {under};
     REQUIRE(state.session.setPinned({under}, true).ok);
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, {});

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "render/overlay_geometry.h"
+
 namespace sculpt::app {
 
 Status setMesh(AppState& state, const Positions& positions, const Triangles& triangles, const std::string& name,
@@ -117,6 +119,30 @@ void setOverlays(AppState& state, const Overlays& overlays) {
     state.gpu.fields = true;
 }
 
+ToolOverlays& overlaysOfTool(Overlays& overlays, ToolMode mode) {
+    return mode == ToolMode::Lattice ? overlays.latticeTool : overlays.sculpt;
+}
+
+const ToolOverlays& overlaysOfTool(const Overlays& overlays, ToolMode mode) {
+    return mode == ToolMode::Lattice ? overlays.latticeTool : overlays.sculpt;
+}
+
+bool latticeShown(const AppState& state) { return overlaysOfTool(state.overlays, state.tools.mode).lattice; }
+
+std::vector<std::uint8_t> shownControlPoints(const AppState& state) {
+    const core::Lattice& lattice = state.session.lattice();
+    std::vector<std::uint8_t> shown(static_cast<size_t>(lattice.controlPointCount()), 0);
+    if (!latticeShown(state)) return shown;
+    for (int k = 0, id = 0; k < lattice.count[2]; ++k)
+        for (int j = 0; j < lattice.count[1]; ++j)
+            for (int i = 0; i < lattice.count[0]; ++i, ++id)
+                shown[static_cast<size_t>(id)] = !state.overlays.latticeOuterOnly ||
+                                                 render::onLatticeBoundary(i, j, k, lattice.count[0], lattice.count[1], lattice.count[2]);
+    for (int id : state.tools.lattice.points)
+        if (id >= 0 && id < static_cast<int>(shown.size())) shown[static_cast<size_t>(id)] = 1;
+    return shown;
+}
+
 float framebufferAspect(const AppState& state) {
     if (state.framebufferWidth <= 0 || state.framebufferHeight <= 0) return 1.0f;
     return static_cast<float>(state.framebufferWidth) / static_cast<float>(state.framebufferHeight);
@@ -125,7 +151,7 @@ float framebufferAspect(const AppState& state) {
 void frameMesh(AppState& state) {
     render::Bounds bounds = render::boundsOf(state.session.positions());
     // With the lattice on screen, its box is framed too (its corners stick out of a round mesh's frame).
-    if (state.overlays.lattice || state.tools.mode == ToolMode::Lattice)
+    if (latticeShown(state))
         bounds.add(render::boundsOf(core::controlPointPositions(state.session.lattice())));
     state.camera.frame(bounds, framebufferAspect(state));
 }

@@ -4,6 +4,7 @@
 // pending GPU update in step with the session.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,10 +17,20 @@
 
 namespace sculpt::app {
 
+// Overlays that belong to one tool: as Blender keeps overlay settings per mode, switching tools switches
+// these, and the Overlays panel shows and edits the current tool's. (The sculpt tool's brush circle belongs
+// here too.)
+struct ToolOverlays {
+    bool lattice = false;  // lattice edges and control points
+};
+
 // Layers drawn over the shaded mesh.
 struct Overlays {
     bool wireframe = false;
-    bool lattice = true;   // the issue: the window opens with the lattice shown
+    ToolOverlays sculpt;                  // the lattice is off: it would cover the mesh being sculpted
+    ToolOverlays latticeTool{true};       // the lattice is what this tool edits
+    bool latticeOuterOnly = false;  // only the control points and edges on the lattice's outer faces (Blender's
+                                    // lattice "Outside"); selected points always show
     bool jacobian = false;  // det J colour map (turns on Jacobian tracking in the session)
     bool affected = false;  // influence of the last operation's control points
 };
@@ -70,6 +81,7 @@ struct AppState {
     std::string meshName;
     bool modified = false;  // unsaved changes (kept current by FileCommands::poll, file_commands.h)
     int framebufferWidth = 0, framebufferHeight = 0;
+    float statusLineHeight = 0.0f;  // pixels, as last drawn: the scene's det J legend sits above it
 
     std::string status = "Left-drag on the mesh to sculpt. Middle-drag or Alt+left-drag orbits, Shift+middle "
                          "pans, wheel zooms, F frames.";
@@ -105,6 +117,14 @@ void redoCommand(AppState& state);
 void jumpToHistory(AppState& state, int cursor);
 void setInjectivityCommand(AppState& state, const core::InjectivitySettings& settings);
 void setOverlays(AppState& state, const Overlays& overlays);
+// The overlays of a tool (the Overlays panel shows the current tool's).
+ToolOverlays& overlaysOfTool(Overlays& overlays, ToolMode mode);
+const ToolOverlays& overlaysOfTool(const Overlays& overlays, ToolMode mode);
+// Whether the lattice is drawn now: the current tool's Lattice overlay, nothing else.
+bool latticeShown(const AppState& state);
+// One flag per control point of the session's lattice: drawn by the lattice overlay, and so pickable by the
+// lattice tool (none while the overlay is off; with latticeOuterOnly the outer ones and the selected ones).
+std::vector<std::uint8_t> shownControlPoints(const AppState& state);
 // Points the camera at the current mesh so it fills the view (aspect of the current framebuffer).
 void frameMesh(AppState& state);
 

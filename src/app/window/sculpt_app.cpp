@@ -156,7 +156,7 @@ void SculptApp::syncGpu() {
         request.affected = o.affected;
         request.lastDragConstraints = false;
         request.mesh = false;  // the GPU has the mesh; only the overlays are wanted here
-        const bool showLattice = o.lattice || state_.tools.mode == ToolMode::Lattice;
+        const bool showLattice = latticeShown(state_);
         if (showLattice) {
             clampLatticeSelection(state_);
             request.selectedControlPoints.assign(static_cast<size_t>(session.lattice().controlPointCount()), 0);
@@ -170,6 +170,7 @@ void SculptApp::syncGpu() {
         if (showLattice || o.jacobian || o.affected) {
             render::SceneData scene = sceneFromSession(session, request);
             if (showLattice) lattice = std::move(scene.lattice);
+            lattice.outerOnly = o.latticeOuterOnly;
             jacobian = std::move(scene.jacobianDet);
             affected = std::move(scene.affectedWeight);
         }
@@ -194,11 +195,14 @@ Status SculptApp::renderFrame(int width, int height) {
     const auto start = std::chrono::steady_clock::now();
     render::DrawOptions options;
     options.wireframe = state_.overlays.wireframe;
-    options.lattice = state_.overlays.lattice;
+    options.lattice = latticeShown(state_);  // exactly what the Overlays panel's checkbox says
     options.jacobian = state_.overlays.jacobian;
     options.affected = state_.overlays.affected;
     options.constraints = true;  // the drag's constraints, placed handles and pins (empty: nothing drawn)
-    options.lattice = options.lattice || state_.tools.mode == ToolMode::Lattice;
+    // While the shape or the view moves, a large mesh is drawn as its decimated proxy; the first frame
+    // after the motion stops draws it whole.
+    options.proxy = state_.drag.active || state_.navigation != Navigation::None;
+    options.uiInsetBottom = state_.statusLineHeight;
     Status drawn = renderer_.draw(state_.camera, options, width, height);
     files_.afterSceneDrawn(state_, width, height);  // a requested screenshot: the scene without the UI
     if (imguiBackendReady_ && ImGui::GetCurrentContext()) {

@@ -15,6 +15,7 @@ void drawStatusLine(AppState& state) {
     const ImVec2 text = ImGui::CalcTextSize(state.status.c_str(), nullptr, false, wrapWidth);
     const bool oneLine = text.y <= ImGui::GetFontSize() * 1.5f;
     const float height = std::max(ImGui::GetFrameHeight(), text.y) + 2.0f * style.WindowPadding.y;
+    state.statusLineHeight = height;
     ImGui::SetNextWindowPos(ImVec2(viewport->Pos.x, viewport->Pos.y + viewport->Size.y - height));
     ImGui::SetNextWindowSize(ImVec2(viewport->Size.x, height));
     ImGui::SetNextWindowBgAlpha(0.95f);

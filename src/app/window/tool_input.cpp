@@ -309,8 +309,8 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
     clampLatticeSelection(state_);
     LatticeSelection& selection = state_.tools.lattice;
     const Positions points = core::controlPointPositions(session.lattice());
-    const int hit = controlPointAtPixel(points, state_.camera, state_.framebufferWidth, state_.framebufferHeight,
-                                        event.x, event.y, pickRadius());
+    const int hit = controlPointAtPixel(points, shownControlPoints(state_), state_.camera, state_.framebufferWidth,
+                                        state_.framebufferHeight, event.x, event.y, pickRadius());
     const bool shift = event.modifiers.shift;
     if (hit < 0) {  // on empty space: a selection rectangle
         selection.boxActive = true;
@@ -365,7 +365,7 @@ void SculptApp::finishBoxSelection() {
         }
     } else {
         const std::vector<int> inside = controlPointsInRectangle(
-            core::controlPointPositions(state_.session.lattice()), state_.camera, state_.framebufferWidth,
+            core::controlPointPositions(state_.session.lattice()), shownControlPoints(state_), state_.camera, state_.framebufferWidth,
             state_.framebufferHeight, selection.boxX0, selection.boxY0, selection.boxX1, selection.boxY1);
         if (!selection.boxAdditive) selection.points.clear();
         addToSelection(selection.points, inside);
@@ -409,7 +409,8 @@ void SculptApp::updateHint(double x, double y) {
             tools.hint = "Drag: sculpt. Shift+click: add handle. Ctrl+click: add pin. Tab: lattice tool.";
     } else {
         // note: the hover test projects every control point; at 64^3 that is ~2 ms, acceptable for a hint.
-        const int hit = controlPointAtPixel(core::controlPointPositions(session.lattice()), state_.camera, width, height, x, y, pickRadius());
+        const int hit = controlPointAtPixel(core::controlPointPositions(session.lattice()), shownControlPoints(state_),
+                                            state_.camera, width, height, x, y, pickRadius());
         tools.hint = hit >= 0 ? "Control point: click selects, Shift+click toggles, drag moves the selection, P pins."
                               : "Drag: box select (Shift adds). Click: clear selection. A: select all. Tab: sculpt tool.";
     }

@@ -66,13 +66,14 @@ int handleAtPixel(const ToolState& tools, const Positions& positions, const Tria
     return best;
 }
 
-int controlPointAtPixel(const Positions& controlPoints, const render::Camera& camera, int width, int height, double x,
-                        double y, double radius) {
+int controlPointAtPixel(const Positions& controlPoints, const std::vector<std::uint8_t>& shown,
+                        const render::Camera& camera, int width, int height, double x, double y, double radius) {
     if (width <= 0 || height <= 0) return -1;
     const ClipProjection projection(camera, width, height);
     int best = -1;
     double bestDistance = std::numeric_limits<double>::infinity(), bestDepth = std::numeric_limits<double>::infinity();
     for (Eigen::Index p = 0; p < controlPoints.rows(); ++p) {
+        if (!shown.empty() && !shown[static_cast<size_t>(p)]) continue;
         const glm::dvec4 clip = projection.toClip(controlPoints.row(p).transpose());
         double px = 0.0, py = 0.0;
         if (!clipToPixel(clip, width, height, px, py)) continue;
@@ -89,13 +90,15 @@ int controlPointAtPixel(const Positions& controlPoints, const render::Camera& ca
     return best;
 }
 
-std::vector<int> controlPointsInRectangle(const Positions& controlPoints, const render::Camera& camera, int width,
-                                          int height, double x0, double y0, double x1, double y1) {
+std::vector<int> controlPointsInRectangle(const Positions& controlPoints, const std::vector<std::uint8_t>& shown,
+                                          const render::Camera& camera, int width, int height, double x0, double y0,
+                                          double x1, double y1) {
     std::vector<int> inside;
     if (width <= 0 || height <= 0) return inside;
     const ClipProjection projection(camera, width, height);
     const double left = std::min(x0, x1), right = std::max(x0, x1), top = std::min(y0, y1), bottom = std::max(y0, y1);
     for (Eigen::Index p = 0; p < controlPoints.rows(); ++p) {
+        if (!shown.empty() && !shown[static_cast<size_t>(p)]) continue;
         double px = 0.0, py = 0.0;
         if (!clipToPixel(projection.toClip(controlPoints.row(p).transpose()), width, height, px, py)) continue;
         if (px >= left && px <= right && py >= top && py <= bottom) inside.push_back(static_cast<int>(p));

@@ -10,6 +10,7 @@
 // directly (Session::beginControlDrag, one undo step per drag), and pinned or unpinned (P).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -62,13 +63,16 @@ int handleAtPixel(const ToolState& tools, const Positions& positions, const Tria
                   const render::Camera& camera, int width, int height, double x, double y, double radius);
 
 // Control point (id) whose marker is nearest to pixel (x, y) within `radius` pixels (the one nearest the eye
-// among equally near markers), or -1. controlPoints #P x 3.
-int controlPointAtPixel(const Positions& controlPoints, const render::Camera& camera, int width, int height,
-                        double x, double y, double radius);
+// among equally near markers), or -1. controlPoints #P x 3; shown: empty (all), or #P flags, and only points
+// flagged nonzero (those the lattice overlay draws) count.
+int controlPointAtPixel(const Positions& controlPoints, const std::vector<std::uint8_t>& shown,
+                        const render::Camera& camera, int width, int height, double x, double y, double radius);
 
-// Control points whose projection lies inside the pixel rectangle (any two opposite corners), sorted.
-std::vector<int> controlPointsInRectangle(const Positions& controlPoints, const render::Camera& camera, int width,
-                                          int height, double x0, double y0, double x1, double y1);
+// Control points (of those `shown`, as above) whose projection lies inside the pixel rectangle (any two
+// opposite corners), sorted.
+std::vector<int> controlPointsInRectangle(const Positions& controlPoints, const std::vector<std::uint8_t>& shown,
+                                          const render::Camera& camera, int width, int height, double x0, double y0,
+                                          double x1, double y1);
 
 // Sorted-set helpers for the selection.
 void toggleInSelection(std::vector<int>& selection, int id);
