@@ -61,7 +61,16 @@ int brushDegree(BrushFalloff falloff) {
     return 3;
 }
 
-int brushSpansPerRadius(BrushFalloff falloff) { return brushDegree(falloff) + 1; }
+int brushSpansPerRadius(BrushFalloff falloff) {
+    // Knot spans h with sqrt(3) ((p+1)/2 + 1/2) h <= 1.25 radius: wherever the grabbed point lies, the support
+    // of the basis function centred nearest to it fits in the ball, so a brush always has a free point there.
+    switch (falloff) {
+        case BrushFalloff::Smooth: return 4;  // cubic over 4 spans: the bump reaches about one radius
+        case BrushFalloff::Medium: return 3;  // quadratic over 3 spans: one radius
+        case BrushFalloff::Sharp: return 3;   // linear over 2 spans: a peak reaching 2/3 radius
+    }
+    return 4;
+}
 
 Eigen::Vector3d reflectPoint(const Eigen::Vector3d& p, int mask, const Eigen::Vector3d& centre) {
     Eigen::Vector3d q = p;

@@ -50,8 +50,8 @@ struct BrushSettings {
 Status validateBrush(const BrushSettings& brush);
 
 // The degree and the knot spans per radius of a falloff: smooth = cubic, 4 spans per radius; medium =
-// quadratic, 3; sharp = linear, 2 (a cone-like peak). (p+1) spans make one radius, so the grabbed point's
-// basis functions reach about one radius from it.
+// quadratic, 3; sharp = linear, 3 (a cone-like peak reaching 2/3 radius). The grabbed point's basis
+// functions reach (p+1) spans from it: about one radius for smooth and medium.
 int brushDegree(BrushFalloff falloff);
 int brushSpansPerRadius(BrushFalloff falloff);
 

@@ -115,7 +115,9 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
                 boundsLo = boundsLo.cwiseMin(positions_.row(v).transpose());
                 boundsHi = boundsHi.cwiseMax(positions_.row(v).transpose());
             }
-            const double pad = settings.padding * (boundsHi - boundsLo).norm();
+            // note: a fixed margin, not the cage's padding: a recording replays the cage in its exact box with
+            // padding 0, and the layers must come out the same.
+            const double pad = 0.05 * (boundsHi - boundsLo).norm();
             for (int a = 0; a < 3; ++a) {
                 if (boundsLo[a] < lo[a]) lo[a] = boundsLo[a] - pad;
                 if (boundsHi[a] > hi[a]) hi[a] = boundsHi[a] + pad;

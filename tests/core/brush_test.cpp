@@ -1,0 +1,270 @@
+// The sculpting brush (core/brush.h): radius, falloff, strength and symmetry built from a region-of-interest
+// lattice and multi-point drags; and the cage that stays the user's under the layers (session.h).
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include "core/brush.h"
+#include "core/script.h"
+#include "core/session.h"
+#include "io/script_json.h"
+#include "mesh_fixtures.h"
+#include "test_support.h"
+
+using namespace sculpt;
+using namespace sculpt::core;
+
+namespace {
+
+struct Mesh {
+    Positions positions;
+    Triangles triangles;
+    double diagonal = 0.0;
+};
+
+Mesh sphereMesh(int levels, double radius, const Eigen::Vector3d& centre) {
+    Mesh m;
+    test::icosphere(levels, radius, centre, m.positions, m.triangles);
+    m.diagonal = (m.positions.colwise().maxCoeff() - m.positions.colwise().minCoeff()).norm();
+    return m;
+}
+
+// The vertex nearest to p (its distance in `distance`).
+int nearestVertex(const Positions& positions, const Eigen::Vector3d& p, double* distance = nullptr) {
+    Eigen::Index best;
+    const double d2 = (positions.rowwise() - p.transpose()).rowwise().squaredNorm().minCoeff(&best);
+    if (distance) *distance = std::sqrt(d2);
+    return static_cast<int>(best);
+}
+
+BrushFalloff randomFalloff(std::mt19937& rng) {
+    return std::array<BrushFalloff, 3>{BrushFalloff::Smooth, BrushFalloff::Medium, BrushFalloff::Sharp}[test::randomInt(rng, 0, 2)];
+}
+
+}  // namespace
+
+TEST_CASE("brush: the region lattice frees only control points whose support lies within 1.25 radius of a centre", "[core]") {
+    std::mt19937 rng(5);
+    for (int trial = 0; trial < 60; ++trial) {
+        std::vector<Eigen::Vector3d> centres;
+        for (int c = test::randomInt(rng, 1, 3); c > 0; --c) centres.push_back(test::randomVector(rng, -3.0, 3.0));
+        const double radius = std::exp(std::uniform_real_distribution<double>(std::log(1e-3), std::log(5.0))(rng));
+        const BrushFalloff falloff = randomFalloff(rng);
+        RegionLattice region;
+        REQUIRE(regionLattice(centres, radius, falloff, region).ok);
+        Lattice lattice;
+        REQUIRE(makeLatticeInBox(region.settings, region.boxMin, region.boxMax, lattice).ok);
+        pinAllBut(lattice, region.freePoints);
+        CHECK(boundaryUnmoved(lattice));
+        // An independent check of the support: random points where a free basis function is non-zero lie within
+        // the reach of some centre.
+        std::vector<int> freeSet(region.freePoints);
+        for (int sample = 0; sample < 400; ++sample) {
+            const Eigen::Vector3d t = test::randomParams(rng);
+            SupportWeights support;
+            supportWeights(lattice, t, support);
+            bool freeHere = false;
+            for (int c = 0; c < support.count; ++c)
+                freeHere = freeHere || (support.weight[c] > 0.0 && !lattice.pinned[support.index[c]]);
+            if (!freeHere) continue;
+            const Eigen::Vector3d x = lattice.boxMin + t.cwiseProduct(lattice.boxMax - lattice.boxMin);
+            double nearest = INFINITY;
+            for (const Eigen::Vector3d& c : centres) nearest = std::min(nearest, (x - c).norm());
+            CHECK(nearest <= 1.25 * radius * (1.0 + 1e-12));
+        }
+        // Each lone centre has free points around it (a brush that can move something).
+        if (centres.size() == 1) CHECK(!region.freePoints.empty());
+    }
+}
+
+TEST_CASE("brush: a drag with radius r moves nothing farther than 1.25 r and lands the grabbed point on its target", "[core]") {
+    std::mt19937 rng(11);
+    int applied = 0, trials = 0;
+    for (int level : {2, 3, 4}) {
+        const Mesh mesh = sphereMesh(level, 1.0 + level, test::randomVector(rng, -2.0, 2.0));
+        for (int trial = 0; trial < 8; ++trial, ++trials) {
+            Session session;
+            REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
+            InjectivitySettings injectivity;
+            injectivity.mode = trial % 2 ? InjectivityMode::Exact : InjectivityMode::Conic;
+            session.setInjectivity(injectivity);
+            BrushSettings brush;
+            brush.radius = std::uniform_real_distribution<double>(0.08, 0.35)(rng) * mesh.diagonal;
+            brush.falloff = randomFalloff(rng);
+            const int vertex = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
+            const Eigen::Vector3d grabbed = mesh.positions.row(vertex).transpose();
+            const Eigen::Vector3d target = grabbed + 0.4 * brush.radius * test::randomVector(rng, -1.0, 1.0);
+            OpReport report;
+            REQUIRE(session.dragVertex(vertex, target, report, brush).ok);
+            const Lattice cageBefore = session.lattice();
+            if (report.status != OpStatus::Applied) continue;
+            ++applied;
+            INFO("level " << level << " trial " << trial << " radius " << brush.radius << " falloff " << brushFalloffName(brush.falloff));
+            CHECK((session.positions().row(vertex).transpose() - target).norm() <= 1e-9 * mesh.diagonal);
+            int moved = 0;
+            for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
+                if (session.positions().row(v) == mesh.positions.row(v)) continue;
+                ++moved;
+                CHECK((mesh.positions.row(v).transpose() - grabbed).norm() <= 1.25 * brush.radius);
+            }
+            CHECK(moved > 0);
+            CHECK(isUndeformed(session.lattice()));  // the cage is not what the brush moves
+            CHECK(session.layers().size() == report.subSteps * 1u);
+        }
+    }
+    CHECK(applied >= trials * 3 / 4);
+}
+
+TEST_CASE("brush: with symmetry the mirror images land on the mirrored targets, with and without a radius", "[core]") {
+    std::mt19937 rng(23);
+    // An icosphere is symmetric in every coordinate plane through its centre, so each vertex has a mirror vertex.
+    const Eigen::Vector3d centre(0.7, -0.4, 1.1);
+    const Mesh mesh = sphereMesh(3, 1.5, centre);
+    const std::vector<std::string> symmetries = {"x", "y", "z", "xz", "xyz"};
+    int checked = 0;
+    for (int trial = 0; trial < 20; ++trial) {
+        Session session;
+        REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
+        CHECK((session.symmetryCentre() - centre).norm() <= 1e-12);
+        BrushSettings brush;
+        REQUIRE(parseSymmetry(symmetries[static_cast<size_t>(trial) % symmetries.size()], brush.symmetry).ok);
+        if (trial % 2 == 0) brush.radius = 0.25 * mesh.diagonal;
+        brush.strength = trial % 3 == 0 ? 0.5 : 1.0;
+        // A vertex well away from every mirror plane, so its images are separate points.
+        int vertex = -1;
+        for (int attempt = 0; attempt < 1000 && vertex < 0; ++attempt) {
+            const int v = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
+            if (((mesh.positions.row(v).transpose() - centre).cwiseAbs().array() > 0.4).all()) vertex = v;
+        }
+        REQUIRE(vertex >= 0);
+        const Eigen::Vector3d source = mesh.positions.row(vertex).transpose();
+        const Eigen::Vector3d asked = source + 0.1 * mesh.diagonal * test::randomVector(rng, -1.0, 1.0);
+        OpReport report;
+        REQUIRE(session.dragVertex(vertex, asked, report, brush).ok);
+        if (report.status != OpStatus::Applied) continue;
+        const Eigen::Vector3d target = source + brush.strength * (asked - source);
+        CHECK((session.positions().row(vertex).transpose() - target).norm() <= 1e-9 * mesh.diagonal);
+        for (int mask = 1; mask < 8; ++mask) {
+            bool usable = true;
+            for (int a = 0; a < 3; ++a) usable = usable && (!(mask & (1 << a)) || brush.symmetry.mirror[a]);
+            if (!usable) continue;
+            double distance = 0.0;
+            const int mirror = nearestVertex(mesh.positions, reflectPoint(source, mask, centre), &distance);
+            REQUIRE(distance <= 1e-12 * mesh.diagonal);
+            INFO("trial " << trial << " mask " << mask);
+            CHECK((session.positions().row(mirror).transpose() - reflectPoint(target, mask, centre)).norm() <= 1e-9 * mesh.diagonal);
+            ++checked;
+        }
+    }
+    CHECK(checked >= 20);
+}
+
+TEST_CASE("brush: a point on the mirror plane is one constraint moving in the plane", "[core]") {
+    std::vector<MirroredConstraint> mirrored = mirrorConstraints({Eigen::Vector3d(0.0, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)}, {}, Symmetry{{true, false, false}},
+                                                                 Eigen::Vector3d::Zero(), 1e-6);
+    REQUIRE(mirrored.size() == 3);
+    CHECK(mirrored[0].images.size() == 2);  // on the plane x = 0: its image is itself
+    const Eigen::Vector3d target = mirroredTarget(mirrored[0], {Eigen::Vector3d(0.3, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)}, Eigen::Vector3d::Zero());
+    CHECK(target.isApprox(Eigen::Vector3d(0.0, 1.0, 2.0)));
+    CHECK(mirrored[2].source.isApprox(Eigen::Vector3d(-0.5, 0.0, 0.0)));
+    // Held constraints (pins) are not mirrored.
+    CHECK(mirrorConstraints({Eigen::Vector3d(1, 1, 1)}, {true}, Symmetry{{true, true, true}}, Eigen::Vector3d::Zero(), 1e-6).size() == 1);
+    Symmetry s;
+    CHECK(!parseSymmetry("xq", s).ok);
+    CHECK(parseSymmetry("xq", s).message.find("'q'") != std::string::npos);
+    CHECK(!parseSymmetry("xx", s).ok);
+}
+
+TEST_CASE("brush: brush drags undo to the original and redo to the result; a recording replays them exactly", "[core]") {
+    std::mt19937 rng(31);
+    for (int level : {2, 3}) {
+        const Mesh mesh = sphereMesh(level, 1.0, test::randomVector(rng, -1.0, 1.0));
+        Session session;
+        REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
+        int applied = 0;
+        for (int op = 0; op < 25; ++op) {
+            BrushSettings brush;
+            brush.radius = std::uniform_real_distribution<double>(0.1, 0.4)(rng) * mesh.diagonal;
+            brush.falloff = randomFalloff(rng);
+            brush.symmetry.mirror[0] = op % 4 == 0;
+            const int vertex = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
+            OpReport report;
+            if (op % 5 == 4) {  // a plain drag in the cage between brush strokes
+                REQUIRE(session.dragVertex(vertex, session.positions().row(vertex).transpose() + 0.05 * mesh.diagonal * test::randomVector(rng, -1, 1), report).ok);
+            } else {
+                REQUIRE(session.dragVertex(vertex, session.positions().row(vertex).transpose() + 0.3 * brush.radius * test::randomVector(rng, -1, 1), report, brush).ok);
+            }
+            applied += report.status == OpStatus::Applied;
+        }
+        REQUIRE(applied > 10);
+        const Positions after = session.positions();
+        const Script recording = recordSession(session);
+        OpReport report;
+        while (session.historyCursor() > 0) REQUIRE(session.undo(report).ok);
+        CHECK(session.layers().empty());
+        CHECK((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+        while (session.historyCursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(report).ok);
+        CHECK((session.positions() - after).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+
+        // Through the JSON text, as a saved session is replayed: the same vertices, bit for bit.
+        Script parsed;
+        REQUIRE(io::parseScript(io::scriptToJson(recording), "recording", parsed).ok);
+        Session replayed;
+        REQUIRE(replayed.setMesh(mesh.positions, mesh.triangles, parsed.lattice).ok);
+        replayed.setInjectivity(parsed.injectivity);
+        ScriptReport scriptReport;
+        REQUIRE(runScript(replayed, parsed, scriptReport).ok);
+        CHECK(replayed.positions() == after);
+        // And decided again on the same ops (no recorded steps): brush ops keep their radius and symmetry.
+        for (ScriptOp& op : parsed.ops) op.hasApplied = false;
+        parsed.meshFingerprint.clear();
+        Session decided;
+        REQUIRE(decided.setMesh(mesh.positions, mesh.triangles, parsed.lattice).ok);
+        decided.setInjectivity(parsed.injectivity);
+        REQUIRE(runScript(decided, parsed, scriptReport).ok);
+        CHECK((decided.positions() - after).cwiseAbs().maxCoeff() <= 1e-9 * mesh.diagonal);
+    }
+}
+
+TEST_CASE("layers: after subdivided drags the cage is carried through the layers and edits move it as shown", "[core]") {
+    std::mt19937 rng(41);
+    const Mesh mesh = sphereMesh(3, 1.0, Eigen::Vector3d(0.1, 0.2, -0.3));
+    for (int trial = 0; trial < 6; ++trial) {
+        Session session;
+        LatticeSettings settings;
+        settings.resolution = {6, 6, 6};
+        settings.pinLayers = trial % 2;
+        REQUIRE(session.setMesh(mesh.positions, mesh.triangles, settings).ok);
+        // A strong pull that needs several injective steps.
+        Eigen::Index top;
+        mesh.positions.col(2).maxCoeff(&top);
+        OpReport report;
+        REQUIRE(session.dragVertex(static_cast<int>(top), mesh.positions.row(top).transpose() + Eigen::Vector3d(0.5, 0.2, 0.9), report).ok);
+        if (report.status != OpStatus::Applied || report.subSteps < 2) continue;
+        INFO("trial " << trial);
+        CHECK(session.frameDepth() == static_cast<int>(session.layers().size()));  // layers, not new cages
+        CHECK(session.latticeSettings().resolution == settings.resolution);
+        // The shown cage is the cage carried through the layers.
+        const Positions shown = session.cagePoints();
+        const Positions cage = controlPointPositions(session.lattice());
+        // A control point moved "by" an offset moves that much as shown, and the layers stay as they were.
+        int idx = -1;
+        for (int attempt = 0; attempt < 100 && idx < 0; ++attempt) {
+            const int candidate = test::randomInt(rng, 0, session.lattice().controlPointCount() - 1);
+            if (!session.lattice().pinned[candidate]) idx = candidate;
+        }
+        REQUIRE(idx >= 0);
+        const size_t layerCount = session.layers().size();
+        const Eigen::Vector3d offset = 0.02 * mesh.diagonal * test::randomVector(rng, -1.0, 1.0);
+        Eigen::MatrixX3d values(1, 3);
+        values.row(0) = offset.transpose();
+        REQUIRE(session.moveControlPoints({idx}, values, true, report).ok);
+        if (report.status == OpStatus::Applied && report.fractionApplied == 1.0) {
+            CHECK((session.cagePoints().row(idx) - shown.row(idx) - offset.transpose()).norm() <= 1e-9 * mesh.diagonal);
+            CHECK(session.layers().size() == layerCount);
+        }
+        REQUIRE(session.undo(report).ok);
+        CHECK((controlPointPositions(session.lattice()) - cage).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+        CHECK((session.cagePoints() - shown).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+    }
+}
