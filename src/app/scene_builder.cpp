@@ -16,7 +16,7 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
     scene.lattice.nu = lattice.count[0];
     scene.lattice.nv = lattice.count[1];
     scene.lattice.nw = lattice.count[2];
-    scene.lattice.controlPoints = core::controlPointPositions(lattice);
+    scene.lattice.controlPoints = session.cagePoints();  // the cage as shown: carried through the layers
     scene.lattice.pinned = lattice.pinned;
     scene.lattice.selected = request.selectedControlPoints;
 
@@ -36,8 +36,17 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
     }
     if (request.affected) {
         std::vector<int> ids = request.affectedControlPoints;
+        // The last operation's last step: in the cage, or in the layer it made (a brush region or a
+        // subdivision step; the newest layer, since later operations were undone).
+        const bool inLayer = ids.empty() && last && !last->steps.empty() && last->steps.back().freshFrame && !session.layers().empty();
         if (ids.empty() && last && !last->steps.empty()) ids = last->steps.back().delta.indices;
-        core::controlPointInfluence(lattice, session.embedding(), ids, scene.affectedWeight);
+        if (inLayer) {
+            // note: the layer's input is the mesh before its step; the mesh now is near enough for a tint.
+            const core::Lattice& layer = session.layers().back().lattice;
+            core::controlPointInfluence(layer, core::embedVertices(layer, session.positions()), ids, scene.affectedWeight);
+        } else {
+            core::controlPointInfluence(lattice, session.embedding(), ids, scene.affectedWeight);
+        }
     }
     return scene;
 }

@@ -220,6 +220,9 @@ public:
     bool dragging() const { return dragActive_; }
     // Current world positions of the sources of the drag in progress (with symmetry, the mirror images too).
     std::vector<Eigen::Vector3d> dragSources() const;
+    // Current world positions of the sources as given to beginDragAt (without mirror images; a held source
+    // left out of a brush drag stays where it was), or dragSources() after beginDrag.
+    std::vector<Eigen::Vector3d> dragUserSources() const;
     // The plane centre of symmetric drags: the centre of the mesh's bounding box when it was set.
     Eigen::Vector3d symmetryCentre() const { return symmetryCentre_; }
 

@@ -142,6 +142,14 @@ Status Session::beginControlDrag(const std::vector<int>& indices) {
 
 std::vector<Eigen::Vector3d> Session::dragSources() const { return dragSourceWorld_; }
 
+std::vector<Eigen::Vector3d> Session::dragUserSources() const {
+    if (!dragMirrored_) return dragSourceWorld_;
+    std::vector<Eigen::Vector3d> sources = dragUserStarts_;
+    for (size_t e = 0; e < dragMirror_.size(); ++e)
+        if (dragMirror_[e].images.front().second == 0) sources[static_cast<size_t>(dragMirror_[e].images.front().first)] = dragSourceWorld_[e];
+    return sources;
+}
+
 void Session::mergeInteractiveStep(const ControlDelta& delta) {
     if (!dragOperation_.steps.empty() && dragAppliedInFrame_) {
         mergeDelta(dragOperation_.steps.back().delta, delta);

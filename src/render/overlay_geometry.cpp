@@ -108,7 +108,14 @@ Status buildConstraintInstances(const ConstraintView& constraints, const LocalFr
     if (Status status = checkFinite(constraints.targets, "constraint target"); !status) return status;
     if (Status status = checkFinite(constraints.handles, "handle"); !status) return status;
     if (Status status = checkFinite(constraints.pins, "pin"); !status) return status;
+    if (Status status = checkFinite(constraints.outline, "brush outline point"); !status) return status;
     std::vector<float> lines, points;
+    for (Eigen::Index c = 0; c < constraints.outline.rows(); ++c) {
+        appendPoint(lines, frame, constraints.outline, c);
+        appendPoint(lines, frame, constraints.outline, (c + 1) % constraints.outline.rows());
+        appendColor(lines, kBrushOutlineColor);
+        appendColor(lines, kBrushOutlineColor);
+    }
     for (Eigen::Index c = 0; c < constraints.sources.rows(); ++c) {
         appendPoint(lines, frame, constraints.sources, c);
         appendPoint(lines, frame, constraints.targets, c);

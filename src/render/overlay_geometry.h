@@ -31,7 +31,8 @@ inline bool onLatticeBoundary(int i, int j, int k, int nu, int nv, int nw) {
 Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame, std::vector<float>& edges,
                              std::vector<float>& markers, Bounds& bounds);
 
-// One red-to-blue segment per constraint, then the source markers, then the target markers.
+// The brush outline's segments (a closed loop), one red-to-blue segment per constraint, then the source
+// markers, then the target markers.
 // Fails, leaving the outputs unchanged, on different source/target counts or non-finite points.
 Status buildConstraintInstances(const ConstraintView& constraints, const LocalFrame& frame,
                                 std::vector<float>& segments, std::vector<float>& markers);

@@ -38,7 +38,8 @@ inline constexpr Rgba kSourceColor = {0.92f, 0.16f, 0.12f, 1.0f};
 inline constexpr Rgba kTargetColor = {0.18f, 0.46f, 1.00f, 1.0f};
 inline constexpr Rgba kHandleShadow = {0.04f, 0.04f, 0.05f, 0.55f};
 inline constexpr float kHandleSize = 11.0f;
-inline constexpr Rgba kSurfacePinColor = {0.20f, 0.78f, 0.38f, 1.0f};  // pinned surface points (squares)
+inline constexpr Rgba kSurfacePinColor = {0.20f, 0.78f, 0.38f, 1.0f};
+inline constexpr Rgba kBrushOutlineColor = {0.95f, 0.95f, 0.95f, 0.9f};  // the sculpt brush's circle  // pinned surface points (squares)
 inline constexpr float kHandleLineWidth = 2.5f;
 inline constexpr float kHandleShadowWidth = 5.0f;
 

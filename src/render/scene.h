@@ -32,6 +32,7 @@ struct ConstraintView {
     Positions targets;  // #C x 3, drawn blue, joined to its source by a red-to-blue line
     Positions handles;  // #H x 3, placed handles not being dragged: red discs
     Positions pins;     // #P x 3, pinned surface points: green squares
+    Positions outline;  // #O x 3, a closed polyline drawn white: the sculpt brush's circle on the surface
 };
 
 struct SceneData {

@@ -411,6 +411,9 @@ TEST_CASE("any scale: a drag in the window moves the picked point with the curso
         CHECK((pixelOf(state, hit.point) - Eigen::Vector2d(cx, cy)).norm() < 0.01);
 
         // The press grabs that point; every move carries it onto the cursor (the drag plane faces the camera).
+        // The whole cage moves (no brush radius): the picked corner below must follow too, and these meshes'
+        // triangles are wider than a brush.
+        state.tools.brush.limited = false;
         press(sculptApp, cx, cy);
         REQUIRE(state.drag.active);
         CHECK((state.session.dragSources().front() - hit.point).norm() < 1e-6 * p.diameter);

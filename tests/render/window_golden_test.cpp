@@ -61,6 +61,7 @@ void settledFrame(test::OffscreenWindow& window, render::Rgba8Image& image) {
 // draws between mouse events), then the release. Long enough to change the silhouette, so the drag shows.
 void dragUp(app::SculptApp& sculptApp, test::OffscreenWindow& window) {
     const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
+    sculptApp.state().tools.brush.radiusPixels = 200.0;  // a broad pull, as wide as the 150-pixel move
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
     REQUIRE(sculptApp.state().drag.active);
     for (int m = 1; m <= 10; ++m) {

@@ -152,7 +152,7 @@ void frameMesh(AppState& state) {
     render::Bounds bounds = render::boundsOf(state.session.positions());
     // With the lattice on screen, its box is framed too (its corners stick out of a round mesh's frame).
     if (latticeShown(state))
-        bounds.add(render::boundsOf(core::controlPointPositions(state.session.lattice())));
+        bounds.add(render::boundsOf(state.session.cagePoints()));
     state.camera.frame(bounds, framebufferAspect(state));
 }
 

@@ -70,6 +70,8 @@ struct DragState {
     std::vector<int> moving;               // Surface: constraints that follow the cursor (the rest are held)
     std::vector<int> constraintHandles;    // Surface: per constraint, its handle (ToolState::handles) or -1
     int moves = 0, refused = 0;                             // updates, and how many were rejected
+    double brushRadius = 0.0;  // Surface: the brush radius of this drag in world units (0: the whole cage)
+    int grabbedConstraint = 0; // Surface: the constraint the cursor carries (the brush circle follows it)
 };
 
 enum class Navigation { None, Orbit, Pan };

@@ -52,6 +52,7 @@ void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags captur
             state_.navigation = Navigation::None;
         return;
     }
+    if (brushMouseButton(event)) return;  // a click ends an F / Shift+F brush resize
     if (capture.mouse || state_.drag.active || state_.navigation != Navigation::None) return;
     if (files_.blocksInput()) return;  // a load or save runs, or a file question is open
     if (event.button == MouseButton::Middle) {
@@ -70,6 +71,7 @@ void SculptApp::onMouseMove(const MouseMoveEvent& event, CaptureFlags /*capture*
     state_.cursorX = event.x;
     state_.cursorY = event.y;
     render::Camera& camera = state_.camera;
+    if (brushMouseMove(event.x, event.y)) return;
     if (state_.drag.active || state_.tools.lattice.boxActive || state_.navigation == Navigation::None) {
         moveTool(event.x, event.y);
     } else if (state_.navigation == Navigation::Orbit) {

@@ -73,6 +73,13 @@ private:
     void finishBoxSelection();
     double pickRadius() const;
     render::ConstraintView constraintView() const;
+    // The sculpt brush (brush_tool.cpp): F / Shift+F resizing, the circle under the cursor, and the brush a
+    // drag grabbing `at` gets (its radius in world units there).
+    bool brushKey(const KeyEvent& event);
+    bool brushMouseButton(const MouseButtonEvent& event);
+    bool brushMouseMove(double x, double y);
+    void updateBrushHover(double x, double y);
+    core::BrushSettings brushForDrag(const Eigen::Vector3d& at) const;
     void syncGpu();
     void drawUi();
 

@@ -199,14 +199,22 @@ void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, in
     core::Session& session = state_.session;
     const ToolState& tools = state_.tools;
     DragState drag;
-    std::vector<Eigen::Vector3d> params;
+    std::vector<Eigen::Vector3d> sources;
+    std::vector<bool> held;
+    // The grabbed point's brush: with a radius the drag is solved in a region lattice around it, so points
+    // outside the cage can be grabbed too; without one, in the cage.
+    Eigen::Vector3d grabbedPoint = triangle >= 0 ? handlePosition(SurfaceHandle{triangle, barycentric, false}, session.positions(), session.triangles())
+                                                 : Eigen::Vector3d(handlePosition(tools.handles[static_cast<size_t>(grabbedHandle)], session.positions(), session.triangles()));
+    const core::BrushSettings brush = brushForDrag(grabbedPoint);
     // The constraint list: the grabbed surface point (if any) first, then every handle and pin; those not
     // moving with the cursor are held where they are (seed 000 Fig. 3-4: fixed points are constraints too).
     auto add = [&](const SurfaceHandle& h, bool moving, int handleIndex) {
+        const Eigen::Vector3d world = handlePosition(h, session.positions(), session.triangles());
         Eigen::Vector3d t;
-        if (!surfaceParameters(session, h, handlePosition(h, session.positions(), session.triangles()), t)) return false;
-        if (moving) drag.moving.push_back(static_cast<int>(params.size()));
-        params.push_back(t);
+        if (!brush.active() && !surfaceParameters(session, h, world, t)) return false;
+        if (moving) drag.moving.push_back(static_cast<int>(sources.size()));
+        sources.push_back(world);
+        held.push_back(!moving);
         drag.constraintHandles.push_back(handleIndex);
         return true;
     };
@@ -229,25 +237,27 @@ void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, in
             return;
         }
     }
-    if (Status s = session.beginDrag(params); !s) {
+    if (Status s = session.beginDragAt(sources, held, brush); !s) {
         setStatus(state_, "Cannot grab this point: " + s.message, true);
         return;
     }
     drag.active = true;
     drag.kind = DragKind::Surface;
-    drag.starts = session.dragSources();
+    drag.starts = session.dragUserSources();
+    drag.brushRadius = brush.radius;
     const int grabbedConstraint = triangle >= 0 ? 0
         : static_cast<int>(std::find(drag.constraintHandles.begin(), drag.constraintHandles.end(), grabbedHandle) - drag.constraintHandles.begin());
+    drag.grabbedConstraint = grabbedConstraint;
     drag.planePoint = drag.starts[static_cast<size_t>(grabbedConstraint)];
     drag.planeNormal = towardsEye(state_.camera);
     drag.target = drag.planePoint;
     drag.targets = drag.starts;
     state_.drag = drag;
     state_.gpu.fields = true;
-    const size_t held = drag.starts.size() - drag.moving.size();
+    const size_t heldCount = drag.starts.size() - drag.moving.size();
     std::string text = triangle >= 0 ? "Dragging vertex " + std::to_string(drag.pickedVertex)
                                      : "Dragging " + plural(drag.moving.size(), "handle");
-    if (held > 0) text += " (" + plural(held, "point") + " held)";
+    if (heldCount > 0) text += " (" + plural(heldCount, "point") + " held)";
     setStatus(state_, text + "...", false);
 }
 
@@ -279,6 +289,7 @@ void SculptApp::endSculpt() {
     const DragState finished = state_.drag;
     state_.drag = DragState{};
     state_.gpu.fields = true;
+    updateBrushHover(state_.cursorX, state_.cursorY);  // the circle goes back under the cursor
     const bool recorded = state_.session.journal().size() > before;
     if (finished.moves == 0) return;  // a click (selecting, placing): its own message stays
     std::string text = recorded ? "Drag recorded as one undo step (" + plural(static_cast<size_t>(finished.moves), "move")
@@ -308,7 +319,7 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
     if (!session.hasMesh()) return;
     clampLatticeSelection(state_);
     LatticeSelection& selection = state_.tools.lattice;
-    const Positions points = core::controlPointPositions(session.lattice());
+    const Positions points = session.cagePoints();
     const int hit = controlPointAtPixel(points, shownControlPoints(state_), state_.camera, state_.framebufferWidth,
                                         state_.framebufferHeight, event.x, event.y, pickRadius());
     const bool shift = event.modifiers.shift;
@@ -365,7 +376,7 @@ void SculptApp::finishBoxSelection() {
         }
     } else {
         const std::vector<int> inside = controlPointsInRectangle(
-            core::controlPointPositions(state_.session.lattice()), shownControlPoints(state_), state_.camera, state_.framebufferWidth,
+            state_.session.cagePoints(), shownControlPoints(state_), state_.camera, state_.framebufferWidth,
             state_.framebufferHeight, selection.boxX0, selection.boxY0, selection.boxX1, selection.boxY1);
         if (!selection.boxAdditive) selection.points.clear();
         addToSelection(selection.points, inside);
@@ -388,6 +399,7 @@ void SculptApp::moveTool(double x, double y) {
         return;
     }
     updateHint(x, y);
+    updateBrushHover(x, y);
 }
 
 void SculptApp::updateHint(double x, double y) {
@@ -409,7 +421,7 @@ void SculptApp::updateHint(double x, double y) {
             tools.hint = "Drag: sculpt. Shift+click: add handle. Ctrl+click: add pin. Tab: lattice tool.";
     } else {
         // note: the hover test projects every control point; at 64^3 that is ~2 ms, acceptable for a hint.
-        const int hit = controlPointAtPixel(core::controlPointPositions(session.lattice()), shownControlPoints(state_),
+        const int hit = controlPointAtPixel(session.cagePoints(), shownControlPoints(state_),
                                             state_.camera, width, height, x, y, pickRadius());
         tools.hint = hit >= 0 ? "Control point: click selects, Shift+click toggles, drag moves the selection, P pins."
                               : "Drag: box select (Shift adds). Click: clear selection. A: select all. Tab: sculpt tool.";
@@ -428,6 +440,7 @@ bool SculptApp::keyTool(const KeyEvent& event) {
         cancelSculpt();
         return true;
     }
+    if (brushKey(event)) return true;  // F / Shift+F: brush radius and strength (sculpt tool)
     if (state_.drag.active || event.action != KeyAction::Press) return false;
     ToolState& tools = state_.tools;
     switch (event.key) {
@@ -476,8 +489,27 @@ render::ConstraintView SculptApp::constraintView() const {
     if (!session.hasMesh()) return view;
     std::vector<Eigen::Vector3d> sources, targets, handles, pins;
     std::vector<bool> drawn(tools.handles.size(), false);
+    // The brush circle: on the surface under the cursor, or around the grabbed point while dragging.
+    const auto circle = [](const Eigen::Vector3d& centre, const Eigen::Vector3d& normal, double radius) {
+        const Eigen::Vector3d u = normal.unitOrthogonal(), v = normal.cross(u).normalized();
+        constexpr int kSegments = 64;
+        Positions loop(kSegments, 3);
+        for (int k = 0; k < kSegments; ++k) {
+            const double angle = 2.0 * 3.14159265358979323846 * k / kSegments;
+            loop.row(k) = (centre + radius * (std::cos(angle) * u + std::sin(angle) * v)).transpose();
+        }
+        return loop;
+    };
+    if (tools.mode == ToolMode::Sculpt && drag.active && drag.kind == DragKind::Surface && drag.brushRadius > 0.0) {
+        const std::vector<Eigen::Vector3d> current = session.dragUserSources();
+        const glm::dvec3 eye = state_.camera.towardEye();
+        if (static_cast<size_t>(drag.grabbedConstraint) < current.size())
+            view.outline = circle(current[static_cast<size_t>(drag.grabbedConstraint)], Eigen::Vector3d(eye.x, eye.y, eye.z), drag.brushRadius);
+    } else if (tools.mode == ToolMode::Sculpt && !drag.active && tools.brush.hover && tools.brush.hoverRadius > 0.0) {
+        view.outline = circle(tools.brush.hoverPoint, tools.brush.hoverNormal, tools.brush.hoverRadius);
+    }
     if (drag.active && drag.kind == DragKind::Surface) {
-        const std::vector<Eigen::Vector3d> current = session.dragSources();
+        const std::vector<Eigen::Vector3d> current = session.dragUserSources();
         for (size_t c = 0; c < current.size() && c < drag.targets.size(); ++c) {
             const int handle = drag.constraintHandles[c];
             const bool moving = std::find(drag.moving.begin(), drag.moving.end(), static_cast<int>(c)) != drag.moving.end();

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "core/brush.h"
 #include "core/lattice.h"
 #include "core/mesh_types.h"
 #include "render/camera.h"
@@ -38,7 +39,26 @@ struct LatticeSelection {
     double boxX0 = 0.0, boxY0 = 0.0, boxX1 = 0.0, boxY1 = 0.0;  // framebuffer pixels
 };
 
+// The sculpt tool's brush (core/brush.h), as in Blender's sculpt mode: a radius on screen (framebuffer pixels,
+// turned into world units at the grabbed point when a drag begins), a strength, a falloff and X/Y/Z symmetry.
+struct BrushTool {
+    bool limited = true;           // false: a drag moves the whole cage (no radius)
+    double radiusPixels = 70.0;    // in [kMinBrushPixels, kMaxBrushPixels]
+    core::BrushSettings settings;  // strength, falloff, symmetry; the radius is set per drag
+    // F (radius) or Shift+F (strength), then the mouse, as in Blender: the value follows the cursor's distance
+    // from (centreX, centreY); a click or Enter keeps it, Esc or a right click puts `oldValue` back.
+    enum class Resize { None, Radius, Strength } resize = Resize::None;
+    double centreX = 0.0, centreY = 0.0, oldValue = 0.0;
+    // The circle under the cursor: the surface point, its normal and the radius there in world units.
+    bool hover = false;
+    Eigen::Vector3d hoverPoint = Eigen::Vector3d::Zero(), hoverNormal = Eigen::Vector3d::UnitZ();
+    double hoverRadius = 0.0;
+};
+constexpr double kMinBrushPixels = 5.0, kMaxBrushPixels = 1000.0;
+constexpr double kStrengthPixels = 200.0;  // Shift+F: the cursor this far from the centre is strength 1
+
 struct ToolState {
+    BrushTool brush;
     ToolMode mode = ToolMode::Sculpt;
     std::vector<SurfaceHandle> handles;
     bool moveHandlesTogether = true;  // dragging one handle moves every (non-pin) handle by the same offset

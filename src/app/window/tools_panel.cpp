@@ -49,6 +49,50 @@ void drawHandlesSection(AppState& state) {
         ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.3f, 1.0f), "Constraints conflict: least-squares fit");
 }
 
+void drawBrushSection(AppState& state) {
+    BrushTool& brush = state.tools.brush;
+    bool changed = ImGui::Checkbox("Limit to radius", &brush.limited);
+    helpMarker("On: a drag moves only the surface within the brush radius of the grabbed point, through a\n"
+               "small lattice of its own around it whose outer part is pinned, so the edit blends in smoothly.\n"
+               "Off: a drag moves the whole lattice (cage) around the mesh.\n"
+               "F and a mouse move sets the radius, Shift+F the strength (click keeps, Esc cancels).");
+    ImGui::BeginDisabled(!brush.limited);
+    float radius = static_cast<float>(brush.radiusPixels);
+    if (ImGui::SliderFloat("Radius (F)", &radius, static_cast<float>(kMinBrushPixels), 400.0f, "%.0f px")) {
+        brush.radiusPixels = std::clamp(static_cast<double>(radius), kMinBrushPixels, kMaxBrushPixels);
+        changed = true;
+    }
+    ImGui::EndDisabled();
+    float strength = static_cast<float>(brush.settings.strength);
+    if (ImGui::SliderFloat("Strength (Shift+F)", &strength, 0.01f, 1.0f, "%.2f")) {
+        brush.settings.strength = std::clamp(static_cast<double>(strength), 0.01, 1.0);
+        changed = true;
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("How far the grabbed point follows the cursor: 1 = all the way.");
+    int falloff = static_cast<int>(brush.settings.falloff);
+    ImGui::BeginDisabled(!brush.limited);
+    if (ImGui::Combo("Falloff", &falloff, "Smooth\0Medium\0Sharp\0")) {
+        brush.settings.falloff = static_cast<core::BrushFalloff>(falloff);
+        changed = true;
+    }
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("The shape of the pull: smooth (cubic), medium (quadratic) or sharp (linear, a peak).");
+    ImGui::TextUnformatted("Symmetry");
+    for (int a = 0; a < 3; ++a) {
+        ImGui::SameLine();
+        const char* names[] = {"X", "Y", "Z"};
+        bool mirror = brush.settings.symmetry.mirror[static_cast<size_t>(a)];
+        if (ImGui::Checkbox(names[a], &mirror)) {
+            brush.settings.symmetry.mirror[static_cast<size_t>(a)] = mirror;
+            changed = true;
+        }
+    }
+    helpMarker("Mirror every drag in the planes through the centre of the mesh's bounds at load: the mirror\n"
+               "image of the grabbed point moves to the mirror image of its target, exactly.");
+    if (changed) state.gpu.fields = true;
+}
+
 void drawSelectionSection(AppState& state) {
     ToolState& tools = state.tools;
     clampLatticeSelection(state);
@@ -119,8 +163,9 @@ void drawSetupSection(AppState& state) {
         if (ImGui::Button("Selected points")) {
             const double inf = std::numeric_limits<double>::infinity();
             Eigen::Vector3d a = Eigen::Vector3d::Constant(inf), b = Eigen::Vector3d::Constant(-inf);
+            const Positions shown = state.session.cagePoints();
             for (int id : tools.lattice.points) {
-                const Eigen::Vector3d p = state.session.lattice().controlPoint(id);
+                const Eigen::Vector3d p = shown.row(id).transpose();
                 a = a.cwiseMin(p);
                 b = b.cwiseMax(p);
             }
@@ -174,6 +219,7 @@ void drawToolsWindow(AppState& state) {
     ImGui::TextDisabled("Tab");
     if (changed) setToolMode(state, static_cast<ToolMode>(mode));
     if (state.tools.mode == ToolMode::Sculpt) {
+        if (ImGui::CollapsingHeader("Brush", ImGuiTreeNodeFlags_DefaultOpen)) drawBrushSection(state);
         if (ImGui::CollapsingHeader("Handles and pins", ImGuiTreeNodeFlags_DefaultOpen)) drawHandlesSection(state);
     } else {
         if (ImGui::CollapsingHeader("Selection", ImGuiTreeNodeFlags_DefaultOpen)) drawSelectionSection(state);

@@ -1,0 +1,139 @@
+// The sculpt tool's brush (tools.h BrushTool, core/brush.h), with Blender's keys: F and a mouse move sets
+// the radius, Shift+F the strength; a click or Enter keeps the value, Esc or a right click cancels. The
+// circle is drawn on the surface under the cursor, at the radius a drag grabbing there would get.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "app/window/picking.h"
+#include "app/window/sculpt_app.h"
+
+namespace sculpt::app {
+namespace {
+
+Eigen::Vector3d towardsEye(const render::Camera& camera) {
+    const glm::dvec3 d = camera.towardEye();
+    return Eigen::Vector3d(d.x, d.y, d.z);
+}
+
+// World length of `pixels` framebuffer pixels at `point`, in the plane through it facing the camera; 0 where
+// the point does not project (behind the eye, empty view).
+double worldLengthAt(const render::Camera& camera, int width, int height, const Eigen::Vector3d& point, double pixels) {
+    double x = 0.0, y = 0.0;
+    if (!projectToPixel(camera, width, height, point, x, y)) return 0.0;
+    Ray ray;
+    Eigen::Vector3d hit;
+    if (!rayThroughPixel(camera, width, height, x + pixels, y, ray) || !intersectPlane(ray, point, towardsEye(camera), hit)) return 0.0;
+    return (hit - point).norm();
+}
+
+std::string brushDescription(const BrushTool& brush) {
+    char text[160];
+    std::snprintf(text, sizeof text, "Brush: radius %.0f px, strength %.2f, %s falloff%s%s.", brush.radiusPixels, brush.settings.strength,
+                  core::brushFalloffName(brush.settings.falloff), brush.settings.symmetry.any() ? ", symmetric in " : "",
+                  core::symmetryText(brush.settings.symmetry).c_str());
+    return text;
+}
+
+}  // namespace
+
+core::BrushSettings SculptApp::brushForDrag(const Eigen::Vector3d& at) const {
+    const BrushTool& brush = state_.tools.brush;
+    core::BrushSettings settings = brush.settings;
+    settings.radius = brush.limited ? worldLengthAt(state_.camera, state_.framebufferWidth, state_.framebufferHeight, at, brush.radiusPixels) : 0.0;
+    if (!std::isfinite(settings.radius)) settings.radius = 0.0;
+    return settings;
+}
+
+bool SculptApp::brushKey(const KeyEvent& event) {
+    BrushTool& brush = state_.tools.brush;
+    if (event.action != KeyAction::Press) return false;
+    if (brush.resize != BrushTool::Resize::None) {
+        if (event.key == Key::Enter || event.key == Key::Escape) {
+            if (event.key == Key::Escape) {
+                (brush.resize == BrushTool::Resize::Radius ? brush.radiusPixels : brush.settings.strength) = brush.oldValue;
+                setStatus(state_, "Brush unchanged. " + brushDescription(brush), false);
+            } else {
+                setStatus(state_, brushDescription(brush), false);
+            }
+            brush.resize = BrushTool::Resize::None;
+            state_.gpu.fields = true;
+        }
+        return true;  // nothing else acts while the brush is being resized
+    }
+    if (event.key != Key::F || state_.tools.mode != ToolMode::Sculpt || state_.drag.active || event.modifiers.control ||
+        event.modifiers.super || event.modifiers.alt)
+        return false;
+    // As in Blender: the circle's centre sits one radius (or the strength's length) left of the cursor, so
+    // the value starts where it was and follows the cursor's distance from there.
+    const bool strength = event.modifiers.shift;
+    brush.resize = strength ? BrushTool::Resize::Strength : BrushTool::Resize::Radius;
+    brush.oldValue = strength ? brush.settings.strength : brush.radiusPixels;
+    const double length = strength ? brush.settings.strength * kStrengthPixels : brush.radiusPixels;
+    brush.centreX = state_.cursorX - length;
+    brush.centreY = state_.cursorY;
+    brush.limited = brush.limited || !strength;
+    setStatus(state_, strength ? "Move the mouse to set the brush strength; click or Enter keeps it, Esc cancels."
+                               : "Move the mouse to set the brush radius; click or Enter keeps it, Esc cancels.",
+              false);
+    return true;
+}
+
+bool SculptApp::brushMouseMove(double x, double y) {
+    BrushTool& brush = state_.tools.brush;
+    if (brush.resize == BrushTool::Resize::None) return false;
+    const double length = std::hypot(x - brush.centreX, y - brush.centreY);
+    if (brush.resize == BrushTool::Resize::Radius) brush.radiusPixels = std::clamp(length, kMinBrushPixels, kMaxBrushPixels);
+    else brush.settings.strength = std::clamp(length / kStrengthPixels, 0.01, 1.0);
+    char text[96];
+    if (brush.resize == BrushTool::Resize::Radius) std::snprintf(text, sizeof text, "Brush radius: %.0f px", brush.radiusPixels);
+    else std::snprintf(text, sizeof text, "Brush strength: %.2f", brush.settings.strength);
+    setStatus(state_, text, false);
+    state_.gpu.fields = true;
+    return true;
+}
+
+bool SculptApp::brushMouseButton(const MouseButtonEvent& event) {
+    BrushTool& brush = state_.tools.brush;
+    if (brush.resize == BrushTool::Resize::None || event.action != ButtonAction::Press) return false;
+    if (event.button == MouseButton::Right) {
+        (brush.resize == BrushTool::Resize::Radius ? brush.radiusPixels : brush.settings.strength) = brush.oldValue;
+        setStatus(state_, "Brush unchanged. " + brushDescription(brush), false);
+    } else {
+        setStatus(state_, brushDescription(brush), false);
+    }
+    brush.resize = BrushTool::Resize::None;
+    state_.gpu.fields = true;
+    return true;
+}
+
+void SculptApp::updateBrushHover(double x, double y) {
+    BrushTool& brush = state_.tools.brush;
+    const core::Session& session = state_.session;
+    const bool wasShown = brush.hover;
+    brush.hover = false;
+    if (state_.tools.mode == ToolMode::Sculpt && session.hasMesh() && brush.limited && state_.navigation == Navigation::None) {
+        // While resizing, the circle stays where it was: only its size follows the cursor.
+        if (brush.resize != BrushTool::Resize::None) {
+            brush.hover = wasShown;
+        } else {
+            Ray ray;
+            if (rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, x, y, ray)) {
+                const SurfaceHit hit = intersectMesh(ray, session.positions(), session.triangles());
+                if (hit.triangle >= 0) {
+                    const Eigen::Vector3d a = session.positions().row(session.triangles()(hit.triangle, 0)).transpose();
+                    const Eigen::Vector3d b = session.positions().row(session.triangles()(hit.triangle, 1)).transpose();
+                    const Eigen::Vector3d c = session.positions().row(session.triangles()(hit.triangle, 2)).transpose();
+                    const Eigen::Vector3d n = (b - a).cross(c - a);
+                    brush.hover = n.norm() > 0.0;
+                    brush.hoverPoint = hit.point;
+                    brush.hoverNormal = brush.hover ? n.normalized() : Eigen::Vector3d::UnitZ();
+                }
+            }
+        }
+        if (brush.hover) brush.hoverRadius = brushForDrag(brush.hoverPoint).radius;
+    }
+    if (brush.hover || wasShown) state_.gpu.fields = true;
+}
+
+}  // namespace sculpt::app
