@@ -1190,15 +1190,24 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport
 }
 
 Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& report) {
+    // Every point moves by the same offset since the drag began.
+    const Eigen::Index count = static_cast<Eigen::Index>(dragOperation_.controlPoints.size());
+    return updateControlDragPerPoint(offset.transpose().replicate(std::max<Eigen::Index>(count, 1), 1), report);
+}
+
+Status Session::updateControlDragPerPoint(const Eigen::MatrixX3d& offsets, OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "move_control_point";
     if (!dragActive_ || dragOperation_.kind != OperationKind::ControlPointEdit)
         return Status::error("no interactive control-point drag is in progress");
-    if (!offset.allFinite()) return Status::error("control point move has non-finite coordinates");
+    if (!offsets.allFinite()) return Status::error("control point move has non-finite coordinates");
     const Eigen::Index count = static_cast<Eigen::Index>(dragOperation_.controlPoints.size());
-    // Every point moves by the same offset since the drag began; this update adds what is still missing.
-    const Eigen::RowVector3d increment = offset.transpose() - dragOperation_.offsets.row(0);
+    if (offsets.rows() != count)
+        return Status::error("control point move has " + std::to_string(offsets.rows()) + " offsets for " +
+                             std::to_string(count) + " points");
+    // This update adds what is still missing since the drag began.
+    const Eigen::MatrixX3d increment = offsets - dragOperation_.offsets;
     if ((increment.array() == 0.0).all()) {
         report.status = OpStatus::NoOp;
         report.reason = "the control points are already there";
@@ -1206,7 +1215,7 @@ Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& repor
     }
     ControlDelta delta;
     delta.indices = dragOperation_.controlPoints;
-    delta.deltas = increment.replicate(count, 1);
+    delta.deltas = increment;
     // The points follow up to the last injective position and stop there (design.md "The cage is the user's
     // object"): never a fresh lattice. A later update that moves back lets them follow again.
     lastMoved_.clear();
@@ -1217,7 +1226,7 @@ Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& repor
     if (fraction > 0.0) {
         delta.deltas *= fraction;
         mergeInteractiveStep(delta);
-        dragOperation_.offsets.rowwise() += fraction * increment;
+        dragOperation_.offsets += fraction * increment;
     }
     std::sort(lastMoved_.begin(), lastMoved_.end());
     lastMoved_.erase(std::unique(lastMoved_.begin(), lastMoved_.end()), lastMoved_.end());
