@@ -23,8 +23,9 @@ inline constexpr int kMarkerFloats = 9;  // per marker: centre xyz, colour rgba,
 Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame, std::vector<float>& edges,
                              std::vector<float>& markers, Bounds& bounds);
 
-// One red-to-blue segment per constraint, then the source markers, then the target markers.
-// Fails, leaving the outputs unchanged, on different source/target counts or non-finite points.
+// One red-to-blue segment per constraint, then the axis lines in their axes' colours; the source markers, then
+// the target markers. Fails, leaving the outputs unchanged, on different source/target counts, non-finite
+// points or an axis line's axis outside 0-2.
 Status buildConstraintInstances(const ConstraintView& constraints, const LocalFrame& frame,
                                 std::vector<float>& segments, std::vector<float>& markers);
 

@@ -37,6 +37,9 @@ inline constexpr Rgba kSurfacePinColor = {0.20f, 0.78f, 0.38f, 1.0f};  // pinned
 inline constexpr float kHandleLineWidth = 2.5f;
 inline constexpr float kHandleShadowWidth = 5.0f;
 
+// World axes of transform guides (X, Y, Z), Blender's theme colours.
+inline constexpr Rgba kAxisColors[3] = {{1.00f, 0.20f, 0.32f, 1.0f}, {0.55f, 0.86f, 0.00f, 1.0f}, {0.16f, 0.56f, 1.00f, 1.0f}};
+
 // Wireframe overlay: dark translucent edges.
 inline constexpr Rgba kWireColor = {0.10f, 0.10f, 0.12f, 0.40f};
 

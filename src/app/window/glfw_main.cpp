@@ -110,7 +110,9 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) 
         case GLFW_KEY_O: event.key = Key::O; break;
         case GLFW_KEY_P: event.key = Key::P; break;
         case GLFW_KEY_Q: event.key = Key::Q; break;
+        case GLFW_KEY_R: event.key = Key::R; break;
         case GLFW_KEY_S: event.key = Key::S; break;
+        case GLFW_KEY_X: event.key = Key::X; break;
         case GLFW_KEY_Y: event.key = Key::Y; break;
         case GLFW_KEY_Z: event.key = Key::Z; break;
         case GLFW_KEY_TAB: event.key = Key::Tab; break;
@@ -118,7 +120,18 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) 
         case GLFW_KEY_BACKSPACE: event.key = Key::Backspace; break;
         case GLFW_KEY_ENTER: case GLFW_KEY_KP_ENTER: event.key = Key::Enter; break;
         case GLFW_KEY_ESCAPE: event.key = Key::Escape; break;
-        default: return;
+        case GLFW_KEY_HOME: event.key = Key::Home; break;
+        case GLFW_KEY_PERIOD: event.key = Key::Period; break;
+        case GLFW_KEY_MINUS: event.key = Key::Minus; break;
+        case GLFW_KEY_KP_DECIMAL: event.key = Key::NumpadDecimal; break;
+        case GLFW_KEY_KP_SUBTRACT: event.key = Key::NumpadMinus; break;
+        default:
+            if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9)
+                event.key = static_cast<Key>(static_cast<int>(Key::Digit0) + (key - GLFW_KEY_0));
+            else if (key >= GLFW_KEY_KP_0 && key <= GLFW_KEY_KP_9)
+                event.key = static_cast<Key>(static_cast<int>(Key::Numpad0) + (key - GLFW_KEY_KP_0));
+            else
+                return;
     }
     event.action = action == GLFW_PRESS ? KeyAction::Press
                  : action == GLFW_REPEAT ? KeyAction::Repeat : KeyAction::Release;

@@ -2,6 +2,8 @@
 // only through the commands of app_state.h. They draw inside the sidebar window begun by beginSidebar().
 #pragma once
 
+#include <imgui.h>
+
 #include "app/window/app_state.h"
 
 namespace sculpt::app {
@@ -20,6 +22,8 @@ void drawStatusLine(AppState& state);        // status_line.cpp: the verdict of 
 // selection and pins, lattice set-up; and the lattice tool's selection rectangle.
 void drawToolsWindow(AppState& state);
 float toolsWindowWidth();
+// A framebuffer pixel (input events, picking) in Dear ImGui's coordinates (they differ on HiDPI screens).
+ImVec2 framebufferToUi(const AppState& state, double x, double y);
 
 // Width of the sidebar in pixels (scaled with the font), so the viewport knows what is covered.
 float sidebarWidth();

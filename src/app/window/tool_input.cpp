@@ -416,7 +416,7 @@ void SculptApp::updateHint(double x, double y) {
 }
 
 void SculptApp::releaseTool() {
-    if (state_.drag.active) endSculpt();
+    if (state_.drag.active && state_.drag.kind != DragKind::Transform) endSculpt();
     if (state_.tools.lattice.boxActive) finishBoxSelection();
 }
 
@@ -435,7 +435,16 @@ bool SculptApp::keyTool(const KeyEvent& event) {
             setToolMode(state_, tools.mode == ToolMode::Sculpt ? ToolMode::Lattice : ToolMode::Sculpt);
             return true;
         case Key::G:
-            if (shortcut || tools.mode != ToolMode::Sculpt) return false;
+        case Key::R:
+        case Key::S:
+            if (shortcut || state_.navigation != Navigation::None) return false;
+            if (tools.mode == ToolMode::Lattice) {  // Blender's grab, rotate, scale (transform_tool.h)
+                beginTransform(state_, event.key == Key::G ? TransformKind::Move
+                                       : event.key == Key::R ? TransformKind::Rotate : TransformKind::Scale,
+                               state_.cursorX, state_.cursorY);
+                return true;
+            }
+            if (event.key != Key::G) return false;
             tools.moveHandlesTogether = !tools.moveHandlesTogether;
             setStatus(state_, tools.moveHandlesTogether ? "Dragging a handle moves all handles together."
                                                         : "Dragging a handle moves it alone; the others hold.", false);
@@ -505,6 +514,7 @@ render::ConstraintView SculptApp::constraintView() const {
     view.targets = toRows(targets);
     view.handles = toRows(handles);
     view.pins = toRows(pins);
+    appendTransformGuides(state_, view);
     return view;
 }
 

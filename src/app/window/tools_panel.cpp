@@ -185,10 +185,8 @@ void drawToolsWindow(AppState& state) {
     // The selection rectangle of the lattice tool, over the 3D view.
     const LatticeSelection& selection = state.tools.lattice;
     if (selection.boxActive) {
-        const float scale = viewport->Size.x > 0.0f && state.framebufferWidth > 0
-                                ? viewport->Size.x / static_cast<float>(state.framebufferWidth) : 1.0f;
-        const ImVec2 a(viewport->Pos.x + static_cast<float>(selection.boxX0) * scale, viewport->Pos.y + static_cast<float>(selection.boxY0) * scale);
-        const ImVec2 b(viewport->Pos.x + static_cast<float>(selection.boxX1) * scale, viewport->Pos.y + static_cast<float>(selection.boxY1) * scale);
+        const ImVec2 a = framebufferToUi(state, selection.boxX0, selection.boxY0);
+        const ImVec2 b = framebufferToUi(state, selection.boxX1, selection.boxY1);
         ImDrawList* draw = ImGui::GetForegroundDrawList();
         draw->AddRectFilled(ImVec2(std::min(a.x, b.x), std::min(a.y, b.y)), ImVec2(std::max(a.x, b.x), std::max(a.y, b.y)),
                             IM_COL32(255, 200, 60, 40));
@@ -198,5 +196,12 @@ void drawToolsWindow(AppState& state) {
 }
 
 float toolsWindowWidth() { return 19.0f * ImGui::GetFontSize(); }
+
+ImVec2 framebufferToUi(const AppState& state, double x, double y) {
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    const float scale = viewport->Size.x > 0.0f && state.framebufferWidth > 0
+                            ? viewport->Size.x / static_cast<float>(state.framebufferWidth) : 1.0f;
+    return ImVec2(viewport->Pos.x + static_cast<float>(x) * scale, viewport->Pos.y + static_cast<float>(y) * scale);
+}
 
 }  // namespace sculpt::app
