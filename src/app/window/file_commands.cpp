@@ -464,6 +464,7 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             if (!document_.sourcePath.empty() && sameFile(job.path, document_.sourcePath)) document_.sourceOverwritten = true;
             document_.meshPath = job.path;
             document_.meshPathConfirmed = true;
+            state.meshName = fileNameOfPath(job.path);  // the document is now that file: title, sidebar, prompts
             document_.saved = job.markAtStart;
             setStatus(state, "Saved " + name + " (" + std::to_string(state.session.positions().rows()) + " vertices) in " +
                                  took + ".", false);
@@ -488,6 +489,17 @@ bool FileCommands::modified(const AppState& state) const {
 std::string FileCommands::windowTitle(const AppState& state) const {
     const std::string name = state.meshName.empty() ? std::string("untitled") : state.meshName;
     return "DMFFD Sculpt - " + name + (modified(state) ? "*" : "");
+}
+
+std::string FileCommands::promptQuestion(const AppState& state) const {
+    const std::string name = state.meshName.empty() ? std::string("the mesh") : state.meshName;
+    std::string why;
+    switch (prompt_.kind) {
+        case PendingAction::Kind::Quit: why = "before quitting"; break;
+        case PendingAction::Kind::OpenPath: why = "before opening " + fileNameOfPath(prompt_.path); break;
+        default: why = "before opening another file"; break;
+    }
+    return "Save changes to " + name + " " + why + "?";
 }
 
 bool FileCommands::blocksInput() const {
@@ -721,14 +733,7 @@ void FileCommands::drawModals(AppState& state) {
 
     const bool wantPrompt = !wantProgress && promptOpen();
     if (beginModal("Unsaved changes###file_prompt", wantPrompt)) {
-        const std::string name = state.meshName.empty() ? std::string("the mesh") : state.meshName;
-        std::string why;
-        switch (prompt_.kind) {
-            case PendingAction::Kind::Quit: why = "before quitting"; break;
-            case PendingAction::Kind::OpenPath: why = "before opening " + fileNameOfPath(prompt_.path); break;
-            default: why = "before opening another file"; break;
-        }
-        ImGui::Text("Save changes to %s %s?", name.c_str(), why.c_str());
+        ImGui::TextUnformatted(promptQuestion(state).c_str());
         ImGui::TextDisabled("Without saving, the changes since the last save are lost.");
         if (!promptError_.empty()) {
             ImGui::PushTextWrapPos(32.0f * em);

@@ -2,6 +2,8 @@
 // only through the commands of app_state.h. They draw inside the sidebar window begun by beginSidebar().
 #pragma once
 
+#include <string>
+
 #include <imgui.h>
 
 #include "app/window/app_state.h"
@@ -11,6 +13,8 @@ namespace sculpt::app {
 // The fixed sidebar on the left of the viewport (ui_layout.cpp).
 void beginSidebar(AppState& state);
 void endSidebar();
+// "DMFFD Sculpt  -  copy2.obj*": the sidebar's header (the document's name, * while modified).
+std::string sidebarTitle(const AppState& state);
 
 void drawStatsPanel(AppState& state);        // stats_panel.cpp: mesh, lattice, timings, fps
 void drawOverlaysPanel(AppState& state);     // overlays_panel.cpp: wireframe, lattice, det J, affected region
