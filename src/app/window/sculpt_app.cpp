@@ -27,6 +27,12 @@ bool shortcutModifier(const Modifiers& m) { return m.control || m.super; }
 
 }  // namespace
 
+CaptureFlags SculptApp::uiCapture() {
+    if (!ImGui::GetCurrentContext()) return {};
+    const ImGuiIO& io = ImGui::GetIO();
+    return {io.WantCaptureMouse, io.WantCaptureKeyboard || io.WantTextInput || ImGui::IsAnyItemActive()};
+}
+
 Status SculptApp::loadMesh(const std::string& path) { return files_.loadMeshNow(state_, path); }
 
 void SculptApp::onDropFiles(const std::vector<std::string>& paths) {
