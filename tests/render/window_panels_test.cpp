@@ -32,11 +32,17 @@ constexpr float kResolutionY = 234.0f, kDegreeY = 263.0f, kPaddingY = 292.0f, kP
 struct Ui {
     app::SculptApp sculptApp;
     test::OffscreenWindow window;
-    bool open() {
-        const Status opened = window.open(sculptApp, kWidth, kHeight, 0);
-        if (!opened) WARN("no EGL context, panel test skipped: " << opened.message);
-        if (opened) ImGui::GetIO().KeyMap[ImGuiKey_Enter] = kEnterIndex;
-        return opened.ok;
+    // The window with the default mesh; latticeTool: switched to it, with its panels laid out (two frames:
+    // auto-resize settles a frame later).
+    bool open(bool latticeTool) {
+        if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kHeight)) return false;
+        ImGui::GetIO().KeyMap[ImGuiKey_Enter] = kEnterIndex;
+        if (latticeTool) {
+            appKey(app::Key::Tab);
+            frame();
+            frame();
+        }
+        return true;
     }
     void frame(render::Rgba8Image* image = nullptr) { REQUIRE(window.frame(image).ok); }
     // A click (two frames: down, up) at a pixel; twice for a double-click.
@@ -72,10 +78,8 @@ bool textFieldActive() {
 
 TEST_CASE("window panels: the Tools window's rows keep their place as the selection and its pins change", "[gl]") {
     Ui ui;
-    if (!ui.open()) return;
-    test::loadDefaultMesh(ui.sculptApp, kWidth, kHeight);
+    if (!ui.open(true)) return;
     app::AppState& state = ui.sculptApp.state();
-    ui.appKey(app::Key::Tab);
     const core::Lattice& lattice = state.session.lattice();
     const std::vector<int> selection = {lattice.index(2, 2, 2), lattice.index(3, 2, 2)};
     std::vector<float> heights;
@@ -94,12 +98,8 @@ TEST_CASE("window panels: the Tools window's rows keep their place as the select
 
 TEST_CASE("window panels: a text field being edited keeps every key from the 3D view", "[gl]") {
     Ui ui;
-    if (!ui.open()) return;
-    test::loadDefaultMesh(ui.sculptApp, kWidth, kHeight);
+    if (!ui.open(true)) return;
     app::AppState& state = ui.sculptApp.state();
-    ui.appKey(app::Key::Tab);
-    ui.frame();
-    ui.frame();
     ui.appKey(app::Key::Numpad1);  // not captured: the front view
     CHECK(state.camera.orthographic);
     ui.appKey(app::Key::Numpad5);
@@ -135,11 +135,7 @@ TEST_CASE("window panels: a text field being edited keeps every key from the 3D 
 
 TEST_CASE("window panels: every number field of the lattice set-up turns into a text field on a double-click", "[gl]") {
     Ui ui;
-    if (!ui.open()) return;
-    test::loadDefaultMesh(ui.sculptApp, kWidth, kHeight);
-    ui.appKey(app::Key::Tab);
-    ui.frame();
-    ui.frame();
+    if (!ui.open(true)) return;
     for (const float y : {kResolutionY, kDegreeY, kPaddingY, kPinnedLayersY}) {
         INFO("row at y = " << y);
         ui.click(kFieldX, y, 2);
@@ -156,8 +152,7 @@ TEST_CASE("window panels: Enter pressed and released within one frame in the Ope
     for (const bool queued : {false, true}) {
         INFO((queued ? "through KeyEventQueue" : "straight to io.KeysDown"));
         Ui ui;
-        if (!ui.open()) return;
-        test::loadDefaultMesh(ui.sculptApp, kWidth, kHeight);
+        if (!ui.open(false)) return;
         app::AppState& state = ui.sculptApp.state();
         app::Modifiers control;
         control.control = true;

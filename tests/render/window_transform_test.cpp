@@ -228,12 +228,7 @@ TEST_CASE("window transform: a left click confirms the mouse's move as one undo 
 TEST_CASE("window transform: the locked axis is drawn through the pivot in its colour (written for a look)", "[gl]") {
     app::SculptApp sculptApp;
     test::OffscreenWindow window;
-    const Status opened = window.open(sculptApp, kWidth, kHeight, 0);
-    if (!opened) {
-        WARN("no EGL context, frame skipped: " << opened.message);
-        return;
-    }
-    test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+    if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kHeight)) return;
     app::AppState& state = sculptApp.state();
     key(sculptApp, app::Key::Tab);
     const core::Lattice& lattice = state.session.lattice();

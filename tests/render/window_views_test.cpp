@@ -138,12 +138,7 @@ TEST_CASE("window views: numpad . frames the selected control points, Home frame
 TEST_CASE("window views: the top view, orthographic, renders the mesh and lattice from above (written for a look)", "[gl]") {
     app::SculptApp sculptApp;
     test::OffscreenWindow window;
-    const Status opened = window.open(sculptApp, kWidth, kHeight, 0);
-    if (!opened) {
-        WARN("no EGL context, frame skipped: " << opened.message);
-        return;
-    }
-    test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+    if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kHeight)) return;
     key(sculptApp, app::Key::Numpad7);
     render::Rgba8Image image;
     REQUIRE(window.frame(&image).ok);
