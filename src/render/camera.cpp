@@ -91,10 +91,13 @@ glm::dvec3 Camera::towardEye() const {
 glm::dvec3 Camera::eye() const { return target + distance * towardEye(); }
 
 glm::dvec3 Camera::right() const {
-    // glm::lookAt's side vector (forward x +Y, normalised) written from the yaw alone, so it stays defined
-    // looking straight down or up (pitch +-90, the top and bottom views).
-    const double yaw = glm::radians(double(yawDeg));
-    return {std::cos(yaw), 0.0, -std::sin(yaw)};
+    // glm::lookAt's side vector: forward x up, forward = -towardEye(). Looking straight down or up (pitch
+    // +-90, the top and bottom views) that is parallel to +Y; the same vector then comes from the yaw alone.
+    if (std::abs(pitchDeg) >= 90.0f) {
+        const double yaw = glm::radians(double(yawDeg));
+        return {std::cos(yaw), 0.0, -std::sin(yaw)};
+    }
+    return glm::normalize(glm::cross(-towardEye(), glm::dvec3(0.0, 1.0, 0.0)));
 }
 
 glm::dvec3 Camera::up() const { return glm::cross(right(), -towardEye()); }
