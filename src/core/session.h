@@ -212,6 +212,11 @@ public:
     // beginControlDrag; tested and subdivided like any control-point edit, recorded as one history entry.
     Status beginControlDrag(const std::vector<int>& indices);
     Status updateControlDrag(const Eigen::Vector3d& offset, OpReport& report);
+    // The same drag with an offset per point (a rotation or scale about a pivot moves each point differently):
+    // offsets #points x 3, row r for the r-th smallest id given to beginControlDrag, each since
+    // beginControlDrag. The whole change is one move, stopped like updateControlDrag at the last injective
+    // position along it (each point the same fraction of its way).
+    Status updateControlDragPerPoint(const Eigen::MatrixX3d& offsets, OpReport& report);
     // Ends either kind of interactive drag; a drag that changed something becomes one history entry.
     void endDrag();
     // Ends the drag in progress by undoing what it applied (its inverse manipulation, step by step), leaving

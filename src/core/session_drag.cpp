@@ -298,17 +298,24 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
 }
 
 Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& report) {
+    // Every point moves by the same offset since the drag began.
+    const Eigen::Index count = static_cast<Eigen::Index>(dragOperation_.controlPoints.size());
+    return updateControlDragPerPoint(offset.transpose().replicate(std::max<Eigen::Index>(count, 1), 1), report);
+}
+
+Status Session::updateControlDragPerPoint(const Eigen::MatrixX3d& offsets, OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "move_control_point";
     if (!dragActive_ || dragOperation_.kind != OperationKind::ControlPointEdit)
         return Status::error("no interactive control-point drag is in progress");
-    if (!offset.allFinite()) return Status::error("control point move has non-finite coordinates");
+    if (!offsets.allFinite()) return Status::error("control point move has non-finite coordinates");
     const std::vector<int>& ids = dragOperation_.controlPoints;
     const Eigen::Index count = static_cast<Eigen::Index>(ids.size());
-    // Every point moves by the same offset (as shown) since the drag began; this update adds what is still
-    // missing.
-    const Eigen::MatrixX3d shownIncrement = (offset.transpose().replicate(count, 1) - dragOperation_.offsets).eval();
+    if (offsets.rows() != count)
+        return Status::error("control point move has " + std::to_string(offsets.rows()) + " offsets for " + std::to_string(count) + " points");
+    // Offsets as shown since the drag began; this update adds what is still missing.
+    const Eigen::MatrixX3d shownIncrement = offsets - dragOperation_.offsets;
     if ((shownIncrement.array() == 0.0).all()) {
         report.status = OpStatus::NoOp;
         report.reason = "the control points are already there";
@@ -320,13 +327,14 @@ Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& repor
         delta.deltas = shownIncrement;
     } else {
         // Under layers the points follow the cursor as shown: each cage point goes where the layers take it
-        // onto its shown start plus the offset.
+        // onto its shown start plus its offset.
         delta.deltas.resize(count, 3);
         for (Eigen::Index c = 0; c < count; ++c) {
+            const Eigen::Vector3d shownTarget = dragControlStart_.row(c).transpose() + offsets.row(c).transpose();
             Eigen::Vector3d cageTarget;
-            if (!pullThroughLayers(dragControlStart_.row(c).transpose() + offset, cageTarget, layers_.size())) {
+            if (!pullThroughLayers(shownTarget, cageTarget, layers_.size())) {
                 report.status = OpStatus::Rejected;
-                report.reason = "Refused: no point of the lattice's layers maps onto " + vectorText(dragControlStart_.row(c).transpose() + offset) + ".";
+                report.reason = "Refused: no point of the lattice's layers maps onto " + vectorText(shownTarget) + ".";
                 return Status::success();
             }
             delta.deltas.row(c) = (cageTarget - lattice_.controlPoint(ids[static_cast<size_t>(c)])).transpose();

@@ -84,14 +84,19 @@ void Camera::frame(const Bounds& bounds, float aspect, float fill) {
 
 glm::dvec3 Camera::towardEye() const {
     const double yaw = glm::radians(double(yawDeg));
-    const double pitch = glm::radians(std::clamp(double(pitchDeg), -89.0, 89.0));
+    const double pitch = glm::radians(std::clamp(double(pitchDeg), -90.0, 90.0));
     return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw)};
 }
 
 glm::dvec3 Camera::eye() const { return target + distance * towardEye(); }
 
 glm::dvec3 Camera::right() const {
-    // glm::lookAt's side vector: forward x up, forward = -towardEye(); never parallel to +Y (pitch <= 89).
+    // glm::lookAt's side vector: forward x up, forward = -towardEye(). Looking straight down or up (pitch
+    // +-90, the top and bottom views) that is parallel to +Y; the same vector then comes from the yaw alone.
+    if (std::abs(pitchDeg) >= 90.0f) {
+        const double yaw = glm::radians(double(yawDeg));
+        return {std::cos(yaw), 0.0, -std::sin(yaw)};
+    }
     return glm::normalize(glm::cross(-towardEye(), glm::dvec3(0.0, 1.0, 0.0)));
 }
 
@@ -106,7 +111,9 @@ glm::dmat4 Camera::view(const LocalFrame& frame) const {
     // 1e7 away from the world origin still sees a 1e-3 mesh with all of double's digits.
     const glm::dvec3 localTarget = frame.toLocal(target);
     const glm::dvec3 localEye = localTarget + (distance / frame.scale) * towardEye();
-    return glm::lookAt(localEye, localTarget, glm::dvec3(0.0, 1.0, 0.0));
+    // note: +Y as lookAt's up hint except straight down or up, where it is parallel to the view direction.
+    const bool vertical = std::abs(pitchDeg) >= 90.0f;
+    return glm::lookAt(localEye, localTarget, vertical ? up() : glm::dvec3(0.0, 1.0, 0.0));
 }
 
 glm::dmat4 Camera::projection(double aspect, const LocalFrame& frame) const {
@@ -115,6 +122,13 @@ glm::dmat4 Camera::projection(double aspect, const LocalFrame& frame) const {
     // relative: the content's radius, and near at least 1e-3 of far (the ratio decides depth precision).
     const double reach = 4.0 * sceneRadius;
     const double farPlane = distance + reach;
+    if (orthographic) {
+        // A parallel view may reach behind the eye (zoomed in, the eye can sit inside the content).
+        const double halfHeight = distance * std::tan(glm::radians(double(fovYDeg)) * 0.5) / frame.scale;
+        const double halfWidth = halfHeight * std::max(aspect, 1e-3);
+        return glm::ortho(-halfWidth, halfWidth, -halfHeight, halfHeight, (distance - reach) / frame.scale,
+                          farPlane / frame.scale);
+    }
     const double nearPlane = std::max(distance - reach, farPlane * 1e-3);
     return glm::perspective(glm::radians(double(fovYDeg)), std::max(aspect, 1e-3), nearPlane / frame.scale,
                             farPlane / frame.scale);

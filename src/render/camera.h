@@ -55,10 +55,15 @@ LocalFrame localFrameOf(const Bounds& bounds);
 
 struct Camera {
     float yawDeg = 30.0f;       // rotation about +Y; 0 looks along -Z (eye on +Z), positive turns the eye toward +X
-    float pitchDeg = 20.0f;     // elevation of the eye above the target's horizontal plane, clamped to +-89
+    float pitchDeg = 20.0f;     // elevation of the eye above the target's horizontal plane, clamped to +-90
+                                // (+-90: straight down or up, the screen's up then -Z or +Z turned by yaw)
     double distance = 3.0;      // eye to target, world units, > 0
     glm::dvec3 target{0.0};     // orbit centre, world units
     float fovYDeg = 35.0f;      // vertical field of view
+    // Parallel projection: the view shows 2 * distance * tan(fovY / 2) world units vertically, what the
+    // perspective view shows at the target's depth, so switching keeps the target's size and zoom still
+    // works by changing distance.
+    bool orthographic = false;
     double sceneRadius = 1.0;   // radius of the content, world units: sets the near/far planes and zoom limits
 
     // Points the camera at the box's centre and sets distance so that the bounding sphere (framingRadius())
@@ -71,7 +76,8 @@ struct Camera {
     // World-space unit vectors of the view: right and up on the screen (as glm::lookAt with +Y up).
     glm::dvec3 right() const;
     glm::dvec3 up() const;
-    // World units per pixel at the target's depth, for a view `height` pixels tall (pan, screen-space sizes).
+    // World units per pixel at the target's depth (everywhere when orthographic), for a view `height` pixels
+    // tall (pan, screen-space sizes).
     double worldPerPixel(int height) const;
 
     // View and projection in `frame`'s local coordinates (world by default), in double: the renderer converts

@@ -18,6 +18,17 @@ void appendColor(std::vector<float>& out, const Rgba& color) {
     out.insert(out.end(), {color.r, color.g, color.b, color.a});
 }
 
+void appendAxisLines(std::vector<float>& out, const LocalFrame& frame, const std::vector<ConstraintView::AxisLine>& lines) {
+    for (const ConstraintView::AxisLine& line : lines) {
+        for (const Eigen::Vector3d& end : {line.from, line.to}) {
+            const glm::dvec3 local = frame.toLocal(glm::dvec3(end.x(), end.y(), end.z()));
+            out.insert(out.end(), {float(local.x), float(local.y), float(local.z)});
+        }
+        appendColor(out, kAxisColors[line.axis]);
+        appendColor(out, kAxisColors[line.axis]);
+    }
+}
+
 }  // namespace
 
 Status checkFinite(const Positions& points, const char* what) {
@@ -109,6 +120,9 @@ Status buildConstraintInstances(const ConstraintView& constraints, const LocalFr
     if (Status status = checkFinite(constraints.handles, "handle"); !status) return status;
     if (Status status = checkFinite(constraints.pins, "pin"); !status) return status;
     if (Status status = checkFinite(constraints.outline, "brush outline point"); !status) return status;
+    for (const ConstraintView::AxisLine& line : constraints.axisLines)
+        if (!line.from.allFinite() || !line.to.allFinite() || line.axis < 0 || line.axis > 2)
+            return Status::error("axis line: non-finite end or axis " + std::to_string(line.axis) + " (0, 1 or 2)");
     std::vector<float> lines, points;
     for (Eigen::Index c = 0; c < constraints.outline.rows(); ++c) {
         appendPoint(lines, frame, constraints.outline, c);
@@ -122,6 +136,7 @@ Status buildConstraintInstances(const ConstraintView& constraints, const LocalFr
         appendColor(lines, kSourceColor);
         appendColor(lines, kTargetColor);
     }
+    appendAxisLines(lines, frame, constraints.axisLines);
     const auto appendMarkers = [&points, &frame](const Positions& at, const Rgba& color, float shape) {
         for (Eigen::Index c = 0; c < at.rows(); ++c) {
             appendPoint(points, frame, at, c);

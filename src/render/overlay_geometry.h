@@ -31,9 +31,9 @@ inline bool onLatticeBoundary(int i, int j, int k, int nu, int nv, int nw) {
 Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame, std::vector<float>& edges,
                              std::vector<float>& markers, Bounds& bounds);
 
-// The brush outline's segments (a closed loop), one red-to-blue segment per constraint, then the source
-// markers, then the target markers.
-// Fails, leaving the outputs unchanged, on different source/target counts or non-finite points.
+// The brush outline's segments (a closed loop), one red-to-blue segment per constraint, then the axis lines in
+// their axes' colours; the source markers, then the target markers. Fails, leaving the outputs unchanged, on
+// different source/target counts, non-finite points or an axis line's axis outside 0-2.
 Status buildConstraintInstances(const ConstraintView& constraints, const LocalFrame& frame,
                                 std::vector<float>& segments, std::vector<float>& markers);
 

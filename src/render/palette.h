@@ -49,6 +49,8 @@ inline constexpr float kHandleShadowWidth = 5.0f;
 inline constexpr float kJacobianRange = 2.0f;
 inline constexpr Rgba kLegendPanelColor = {0.08f, 0.08f, 0.09f, 0.72f};
 inline constexpr Rgba kLegendTextColor = {0.92f, 0.92f, 0.94f, 1.0f};
+// World axes of transform guides (X, Y, Z), Blender's theme colours.
+inline constexpr Rgba kAxisColors[3] = {{1.00f, 0.20f, 0.32f, 1.0f}, {0.55f, 0.86f, 0.00f, 1.0f}, {0.16f, 0.56f, 1.00f, 1.0f}};
 
 // Wireframe overlay: dark translucent edges.
 inline constexpr Rgba kWireColor = {0.10f, 0.10f, 0.12f, 0.40f};

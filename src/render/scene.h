@@ -33,6 +33,13 @@ struct ConstraintView {
     Positions handles;  // #H x 3, placed handles not being dragged: red discs
     Positions pins;     // #P x 3, pinned surface points: green squares
     Positions outline;  // #O x 3, a closed polyline drawn white: the sculpt brush's circle on the surface
+    // Guide lines of a transform in progress, e.g. the locked axis through the pivot: from, to (finite), and
+    // the world axis (0, 1, 2) whose colour they take, red / green / blue as Blender draws X / Y / Z.
+    struct AxisLine {
+        Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
+        int axis = 0;
+    };
+    std::vector<AxisLine> axisLines;
 };
 
 struct SceneData {

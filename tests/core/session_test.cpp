@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 
+#include <Eigen/Geometry>
+
 #include "core/script.h"
 #include "core/session.h"
 #include "test_support.h"
@@ -258,6 +260,69 @@ TEST_CASE("session: an interactive control-point drag is one history entry equal
         REQUIRE(runScript(replayed, recording, scriptReport).ok);
         REQUIRE((replayed.positions() - after).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     }
+}
+
+TEST_CASE("session: a control-point drag with an offset per point equals one edit and stops where it would fold", "[core]") {
+    std::mt19937 rng(61);
+    int stopped = 0;
+    for (int trial = 0; trial < 10; ++trial) {
+        Session incremental = randomSession(rng, 900);
+        Session direct = incremental;  // injectivity off: applies the same edit in one go
+        // A soup of random crossing triangles: the lattice's test is under test, not the triangle check.
+        InjectivitySettings injectivity{InjectivityMode::Conic, 5};
+        injectivity.checkTriangles = false;
+        incremental.setInjectivity(injectivity);
+        const int n = incremental.lattice().controlPointCount();
+        const double diagonal = incremental.lattice().diagonal();
+        std::vector<int> ids;
+        for (int k = 0, count = test::randomInt(rng, 2, 5); k < count; ++k) ids.push_back(test::randomInt(rng, 0, n - 1));
+        std::sort(ids.begin(), ids.end());
+        ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+        // A rotation of the points about their centroid, in steps (as the window's R follows the mouse); large
+        // ones (odd trials) fold the lattice somewhere on the way.
+        std::vector<Eigen::Vector3d> starts;
+        Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+        for (int id : ids) {
+            starts.push_back(incremental.lattice().controlPoint(id));
+            centroid += starts.back() / double(ids.size());
+        }
+        const Eigen::Vector3d axis = test::randomVector(rng, -1, 1).normalized();
+        const double angle = (trial % 2 == 0 ? 0.15 : 2.5) * std::uniform_real_distribution<double>(0.5, 1.0)(rng);
+        const auto offsetsAt = [&](double a) {
+            Eigen::MatrixX3d offsets(static_cast<Eigen::Index>(ids.size()), 3);
+            const Eigen::Matrix3d rotation = Eigen::AngleAxisd(a, axis).toRotationMatrix();
+            for (size_t r = 0; r < ids.size(); ++r)
+                offsets.row(static_cast<Eigen::Index>(r)) = (rotation * (starts[r] - centroid) + centroid - starts[r]).transpose();
+            return offsets;
+        };
+        REQUIRE(incremental.beginControlDrag(ids).ok);
+        OpReport report;
+        REQUIRE_FALSE(incremental.updateControlDragPerPoint(Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(ids.size()) + 1, 3), report).ok);
+        bool anyStop = false;
+        for (int m = 1; m <= 8; ++m) {
+            REQUIRE(incremental.updateControlDragPerPoint(offsetsAt(angle * m / 8.0), report).ok);
+            anyStop = anyStop || report.fractionApplied < 1.0;
+        }
+        stopped += anyStop;
+        CHECK(incremental.frameDepth() == 0);  // never a fresh lattice: the points stop instead
+        // What the drag applied, as one edit: each point's displacement.
+        Eigen::MatrixX3d applied(static_cast<Eigen::Index>(ids.size()), 3);
+        for (size_t r = 0; r < ids.size(); ++r)
+            applied.row(static_cast<Eigen::Index>(r)) = (incremental.lattice().controlPoint(ids[r]) - starts[r]).transpose();
+        incremental.endDrag();
+        if (applied.isZero(0.0)) {
+            CHECK(incremental.history().empty());
+            continue;
+        }
+        REQUIRE(incremental.history().size() == 1);
+        CHECK((incremental.history().front().offsets - applied).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        if (!anyStop) CHECK((applied - offsetsAt(angle)).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        REQUIRE(direct.moveControlPoints(ids, applied, true, report).ok);
+        CHECK((incremental.positions() - direct.positions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        REQUIRE(incremental.undo(report).ok);
+        CHECK((incremental.positions() - incremental.restPositions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+    }
+    CHECK(stopped >= 1);
 }
 
 TEST_CASE("session: a control-point drag refuses pinned or unknown points and a drag of nothing changes nothing", "[core]") {

@@ -21,6 +21,7 @@
 
 #include <imgui.h>
 
+#include "app/window/panels.h"
 #include "app/window/sculpt_app.h"
 #include "app/window/ui_style.h"
 #include "core/script.h"
@@ -290,6 +291,44 @@ TEST_CASE("window files: save, reload, overwrite only after Replace, failures ke
     app::redoCommand(state);
     files.poll(state);
     CHECK(state.modified);
+}
+
+TEST_CASE("window files: after Save as the title, the sidebar header and the save prompt name the new file", "[gl]") {
+    TempFolder folder;
+    const std::string copy1 = folder.file("copy1.obj");
+    std::filesystem::copy_file(defaultMesh(), copy1);
+    app::SculptApp sculptApp;
+    UiFrames frames;
+    const bool ui = frames.start(sculptApp);
+    loadDefault(sculptApp, copy1);
+    app::AppState& state = sculptApp.state();
+    app::FileCommands& files = sculptApp.files();
+    for (const std::string& name : {std::string("copy2"), std::string("copy3.obj")}) {
+        INFO(name);
+        dragUp(sculptApp, 30.0);
+        sculptApp.onKey(ctrlKey(app::Key::S, true), {});  // Save as
+        REQUIRE(files.dialog().isOpen());
+        REQUIRE(files.dialog().submit(name));
+        files.dialogAccepted(state);
+        files.finishJob(state);
+        const std::string fileName = name.find(".obj") == std::string::npos ? name + ".obj" : name;
+        CHECK(sculptApp.windowTitle() == "DMFFD Sculpt - " + fileName);
+        if (ui) frames.frame();
+        CHECK(app::sidebarTitle(state) == "DMFFD Sculpt  -  " + fileName);
+        dragUp(sculptApp, 20.0);
+        files.poll(state);
+        CHECK(sculptApp.windowTitle() == "DMFFD Sculpt - " + fileName + "*");
+        sculptApp.requestQuit();
+        REQUIRE(files.promptOpen());
+        CHECK(files.promptQuestion(state) == "Save changes to " + fileName + " before quitting?");
+        if (ui) frames.frame();  // the prompt drawn
+        files.answerPrompt(state, app::PromptChoice::Cancel);
+        CHECK_FALSE(sculptApp.quitApproved());
+        // Save as again offers the current name.
+        sculptApp.onKey(ctrlKey(app::Key::S, true), {});
+        REQUIRE(files.dialog().isOpen());
+        files.dialog().close();
+    }
 }
 
 TEST_CASE("window files: the first Save over the original input asks once", "[gl]") {

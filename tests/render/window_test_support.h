@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "app/window/sculpt_app.h"
+#include "offscreen_window.h"
 
 namespace sculpt::test {
 
@@ -16,6 +17,18 @@ inline void loadDefaultMesh(app::SculptApp& sculptApp, int width, int height) {
     REQUIRE(loaded.ok);
     sculptApp.onFramebufferSize({width, height});
     app::frameMesh(sculptApp.state());
+}
+
+// Opens `window` for the app without MSAA (as on a software rasterizer) and loads the default mesh into it;
+// false, with a warning, where there is no EGL context (the caller skips its frames then).
+inline bool openWindowWithDefaultMesh(OffscreenWindow& window, app::SculptApp& sculptApp, int width, int height) {
+    const Status opened = window.open(sculptApp, width, height, 0);
+    if (!opened) {
+        WARN("no EGL context, frames skipped: " << opened.message);
+        return false;
+    }
+    loadDefaultMesh(sculptApp, width, height);
+    return true;
 }
 
 inline double boundsDiagonal(const Positions& p) { return (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm(); }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "app/window/wording.h"
 #include "render/overlay_geometry.h"
 
 namespace sculpt::app {
@@ -70,7 +71,7 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
     } else if (report.status == core::OpStatus::NoOp) {
         text = what + ": nothing to do" + (report.reason.empty() ? "" : " (" + report.reason + ")");
     } else {
-        text = what + ": " + std::to_string(report.verticesMoved) + " vertices moved";
+        text = what + ": " + countOf(static_cast<size_t>(report.verticesMoved), "vertex", "vertices") + " moved";
         if (report.subSteps > 1) text += ", " + std::to_string(report.subSteps) + " injective steps";
         if (!report.injectivity.empty()) text += ", " + report.injectivity;
         // A move stopped short of where it was asked, or constraints met only as closely as possible: say so.

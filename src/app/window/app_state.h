@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "app/window/tools.h"
+#include "app/window/transform_tool.h"
 #include "core/session.h"
 #include "render/camera.h"
 #include "render/scene.h"
@@ -53,11 +54,12 @@ struct FrameStats {
     bool hideTimings = false;
 };
 
-enum class DragKind { Surface, Control };
+enum class DragKind { Surface, Control, Transform };
 
 // A drag in progress. Surface: a multi-point manipulation (the grabbed point or handles move with the
 // cursor, the other handles and pins are held); Control: the selected control points move with the cursor.
-// Either way the cursor moves in the plane through the grabbed point facing the camera.
+// Either way the cursor moves in the plane through the grabbed point facing the camera. Transform: a modal
+// G / R / S of the lattice tool (AppState::transform holds its state; only `active` and `kind` are used).
 struct DragState {
     bool active = false;
     DragKind kind = DragKind::Surface;
@@ -95,7 +97,9 @@ struct AppState {
     PendingGpuUpdate gpu;
     DragState drag;
     ToolState tools;
+    TransformState transform;
     Navigation navigation = Navigation::None;
+    bool orthographicByAxisView = false;  // a numpad view made the camera orthographic; orbiting undoes it
     double cursorX = 0.0, cursorY = 0.0;
 };
 

@@ -1,4 +1,5 @@
 #include "app/window/file_commands.h"
+#include "app/window/wording.h"
 
 #include <atomic>
 #include <cmath>
@@ -444,19 +445,19 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             if (session) document_.sessionPath = job.path;
             document_.saved = markHistory(state.session);
             const core::Session& s = state.session;
-            std::string text = session ? "Opened session " + name + ": " + std::to_string(s.history().size()) +
-                                             " operations (" + std::to_string(result.opsReplayed) + " script ops) replayed on " +
+            std::string text = session ? "Opened session " + name + ": " + countOf(s.history().size(), "operation") +
+                                             " (" + countOf(static_cast<size_t>(result.opsReplayed), "script op") + ") replayed on " +
                                              fileNameOfPath(result.meshPath)
-                                       : "Loaded " + name + ": " + std::to_string(s.positions().rows()) + " vertices, " +
-                                             std::to_string(s.triangles().rows()) + " triangles";
+                                       : "Loaded " + name + ": " + countOf(static_cast<size_t>(s.positions().rows()), "vertex", "vertices") +
+                                             ", " + countOf(static_cast<size_t>(s.triangles().rows()), "triangle");
             if (result.opsRejected > 0) text += " (" + std::to_string(result.opsRejected) + " refused as not injective)";
-            if (result.screenshotsSkipped > 0) text += ", " + std::to_string(result.screenshotsSkipped) + " screenshot ops skipped";
+            if (result.screenshotsSkipped > 0) text += ", " + countOf(static_cast<size_t>(result.screenshotsSkipped), "screenshot op") + " skipped";
             text += " in " + took + ".";
             if (s.initialIntersectingPairs() > 0)
                 text += " The mesh already crosses itself (" + std::to_string(s.initialIntersectingPairs()) +
                         " triangle pairs); only new crossings are refused.";
             if (!result.warnings.empty())
-                text += " " + std::to_string(result.warnings.size()) + " warning(s), first: " + result.warnings.front();
+                text += " " + countOf(result.warnings.size(), "warning") + ", first: " + result.warnings.front();
             setStatus(state, text, false);
             break;
         }
@@ -464,15 +465,16 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             if (!document_.sourcePath.empty() && sameFile(job.path, document_.sourcePath)) document_.sourceOverwritten = true;
             document_.meshPath = job.path;
             document_.meshPathConfirmed = true;
+            state.meshName = fileNameOfPath(job.path);  // the document is now that file: title, sidebar, prompts
             document_.saved = job.markAtStart;
-            setStatus(state, "Saved " + name + " (" + std::to_string(state.session.positions().rows()) + " vertices) in " +
+            setStatus(state, "Saved " + name + " (" + countOf(static_cast<size_t>(state.session.positions().rows()), "vertex", "vertices") + ") in " +
                                  took + ".", false);
             break;
         case JobKind::SaveSession:
             document_.sessionPath = job.path;
             document_.saved = job.markAtStart;
-            setStatus(state, "Saved session " + name + " (" + std::to_string(state.session.historyCursor()) +
-                                 " operations) in " + took + ".", false);
+            setStatus(state, "Saved session " + name + " (" + countOf(static_cast<size_t>(state.session.historyCursor()), "operation") +
+                                 ") in " + took + ".", false);
             break;
         case JobKind::SaveScreenshot: setStatus(state, "Wrote screenshot " + name + ".", false); break;
     }
@@ -488,6 +490,17 @@ bool FileCommands::modified(const AppState& state) const {
 std::string FileCommands::windowTitle(const AppState& state) const {
     const std::string name = state.meshName.empty() ? std::string("untitled") : state.meshName;
     return "DMFFD Sculpt - " + name + (modified(state) ? "*" : "");
+}
+
+std::string FileCommands::promptQuestion(const AppState& state) const {
+    const std::string name = state.meshName.empty() ? std::string("the mesh") : state.meshName;
+    std::string why;
+    switch (prompt_.kind) {
+        case PendingAction::Kind::Quit: why = "before quitting"; break;
+        case PendingAction::Kind::OpenPath: why = "before opening " + fileNameOfPath(prompt_.path); break;
+        default: why = "before opening another file"; break;
+    }
+    return "Save changes to " + name + " " + why + "?";
 }
 
 bool FileCommands::blocksInput() const {
@@ -721,14 +734,7 @@ void FileCommands::drawModals(AppState& state) {
 
     const bool wantPrompt = !wantProgress && promptOpen();
     if (beginModal("Unsaved changes###file_prompt", wantPrompt)) {
-        const std::string name = state.meshName.empty() ? std::string("the mesh") : state.meshName;
-        std::string why;
-        switch (prompt_.kind) {
-            case PendingAction::Kind::Quit: why = "before quitting"; break;
-            case PendingAction::Kind::OpenPath: why = "before opening " + fileNameOfPath(prompt_.path); break;
-            default: why = "before opening another file"; break;
-        }
-        ImGui::Text("Save changes to %s %s?", name.c_str(), why.c_str());
+        ImGui::TextUnformatted(promptQuestion(state).c_str());
         ImGui::TextDisabled("Without saving, the changes since the last save are lost.");
         if (!promptError_.empty()) {
             ImGui::PushTextWrapPos(32.0f * em);

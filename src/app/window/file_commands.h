@@ -85,6 +85,8 @@ public:
     bool promptOpen() const { return prompt_.kind != PendingAction::Kind::None; }
     const PendingAction& prompt() const { return prompt_; }
     const std::string& promptError() const { return promptError_; }
+    // "Save changes to copy2.obj before quitting?": the prompt's question, naming the document as it is now.
+    std::string promptQuestion(const AppState& state) const;
     void answerPrompt(AppState& state, PromptChoice choice);
     bool replaceOriginalOpen() const { return replaceOriginal_; }
     // "Replace the original mesh?": 0 = replace, 1 = save as, 2 = cancel.

@@ -20,6 +20,7 @@
 
 #include "app/cli_options.h"
 #include "app/headless.h"
+#include "app/window/key_event_queue.h"
 #include "app/window/sculpt_app.h"
 #include "app/window/ui_style.h"
 #include "io/png_image.h"
@@ -36,14 +37,12 @@ constexpr int kExitNoDisplay = 2;
 struct WindowContext {
     SculptApp* app = nullptr;
     GLFWwindow* window = nullptr;
+    KeyEventQueue keys;  // key events on their way to ImGui's GLFW callback, one state change per key and frame
 };
 
 SculptApp& appOf(GLFWwindow* window) { return *static_cast<WindowContext*>(glfwGetWindowUserPointer(window))->app; }
 
-CaptureFlags captureFlags() {
-    const ImGuiIO& io = ImGui::GetIO();
-    return CaptureFlags{io.WantCaptureMouse, io.WantCaptureKeyboard};
-}
+CaptureFlags captureFlags() { return SculptApp::uiCapture(); }
 
 Modifiers modifiersOf(int mods) {
     return Modifiers{(mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_CONTROL) != 0, (mods & GLFW_MOD_ALT) != 0,
@@ -110,7 +109,9 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) 
         case GLFW_KEY_O: event.key = Key::O; break;
         case GLFW_KEY_P: event.key = Key::P; break;
         case GLFW_KEY_Q: event.key = Key::Q; break;
+        case GLFW_KEY_R: event.key = Key::R; break;
         case GLFW_KEY_S: event.key = Key::S; break;
+        case GLFW_KEY_X: event.key = Key::X; break;
         case GLFW_KEY_Y: event.key = Key::Y; break;
         case GLFW_KEY_Z: event.key = Key::Z; break;
         case GLFW_KEY_TAB: event.key = Key::Tab; break;
@@ -118,12 +119,29 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) 
         case GLFW_KEY_BACKSPACE: event.key = Key::Backspace; break;
         case GLFW_KEY_ENTER: case GLFW_KEY_KP_ENTER: event.key = Key::Enter; break;
         case GLFW_KEY_ESCAPE: event.key = Key::Escape; break;
-        default: return;
+        case GLFW_KEY_HOME: event.key = Key::Home; break;
+        case GLFW_KEY_PERIOD: event.key = Key::Period; break;
+        case GLFW_KEY_MINUS: event.key = Key::Minus; break;
+        case GLFW_KEY_KP_DECIMAL: event.key = Key::NumpadDecimal; break;
+        case GLFW_KEY_KP_SUBTRACT: event.key = Key::NumpadMinus; break;
+        default:
+            if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9)
+                event.key = static_cast<Key>(static_cast<int>(Key::Digit0) + (key - GLFW_KEY_0));
+            else if (key >= GLFW_KEY_KP_0 && key <= GLFW_KEY_KP_9)
+                event.key = static_cast<Key>(static_cast<int>(Key::Numpad0) + (key - GLFW_KEY_KP_0));
+            else
+                return;
     }
     event.action = action == GLFW_PRESS ? KeyAction::Press
                  : action == GLFW_REPEAT ? KeyAction::Repeat : KeyAction::Release;
     event.modifiers = modifiersOf(mods);
     appOf(window).onKey(event, captureFlags());
+}
+
+// Installed over ImGui's own key callback: the event reaches it (and through it onKey above) via the queue.
+void onKeyQueued(GLFWwindow* window, int key, int scancode, int action, int mods) {
+    auto* context = static_cast<WindowContext*>(glfwGetWindowUserPointer(window));
+    context->keys.push(key, action != GLFW_REPEAT, [=] { ImGui_ImplGlfw_KeyCallback(window, key, scancode, action, mods); });
 }
 
 void onFramebufferSize(GLFWwindow* window, int width, int height) {
@@ -201,7 +219,9 @@ int runWindow(const std::string& meshPath) {
     }
     glfwSwapInterval(1);  // vsync
 
-    WindowContext context{&app, window};
+    WindowContext context;
+    context.app = &app;
+    context.window = window;
     glfwSetWindowUserPointer(window, &context);
     glfwSetMouseButtonCallback(window, onMouseButton);
     glfwSetCursorPosCallback(window, onCursorPos);
@@ -214,7 +234,8 @@ int runWindow(const std::string& meshPath) {
     float scaleX = 1.0f, scaleY = 1.0f;
     glfwGetWindowContentScale(window, &scaleX, &scaleY);
     createUiContext(scaleX);
-    ImGui_ImplGlfw_InitForOpenGL(window, true);
+    ImGui_ImplGlfw_InitForOpenGL(window, true);  // chains its callbacks to ours (onKey included)
+    glfwSetKeyCallback(window, onKeyQueued);
 
     int exitCode = kExitOk;
     if (Status s = app.initGraphics(reinterpret_cast<render::GlGetProc>(glfwGetProcAddress)); !s) {
@@ -271,6 +292,7 @@ int runWindow(const std::string& meshPath) {
         }
         ImGui_ImplGlfw_NewFrame();
         if (Status s = app.renderFrame(width, height); !s) std::cerr << "sculpt: draw: " << s.message << "\n";
+        context.keys.frameDone();
         ++frame;
         const bool lastFrame = maxFrames > 0 && frame >= maxFrames;
         if (lastFrame && screenshot && haveGl) {

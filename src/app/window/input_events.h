@@ -34,8 +34,21 @@ struct ScrollEvent {
     double dx = 0.0, dy = 0.0;  // wheel notches (positive dy: away from the user = zoom in)
 };
 
-// Only the keys the app binds; everything else arrives as Other.
-enum class Key { A, F, G, L, N, O, P, Q, S, Y, Z, Tab, Delete, Backspace, Enter, Escape, Other };
+// Only the keys the app binds; everything else arrives as Other. Digits, Period and Minus are the main
+// keyboard's, Numpad* the keypad's (Blender's view keys; typed values take both).
+enum class Key {
+    A, F, G, L, N, O, P, Q, R, S, X, Y, Z, Tab, Delete, Backspace, Enter, Escape, Home,
+    Digit0, Digit1, Digit2, Digit3, Digit4, Digit5, Digit6, Digit7, Digit8, Digit9, Period, Minus,
+    Numpad0, Numpad1, Numpad2, Numpad3, Numpad4, Numpad5, Numpad6, Numpad7, Numpad8, Numpad9, NumpadDecimal,
+    NumpadMinus, Other
+};
+
+// 0-9 for a digit key of either the main keyboard or the keypad, -1 for any other key.
+inline int digitOf(Key key) {
+    if (key >= Key::Digit0 && key <= Key::Digit9) return static_cast<int>(key) - static_cast<int>(Key::Digit0);
+    if (key >= Key::Numpad0 && key <= Key::Numpad9) return static_cast<int>(key) - static_cast<int>(Key::Numpad0);
+    return -1;
+}
 
 struct KeyEvent {
     Key key = Key::Other;

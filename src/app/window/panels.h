@@ -2,6 +2,10 @@
 // only through the commands of app_state.h. They draw inside the sidebar window begun by beginSidebar().
 #pragma once
 
+#include <string>
+
+#include <imgui.h>
+
 #include "app/window/app_state.h"
 
 namespace sculpt::app {
@@ -9,6 +13,8 @@ namespace sculpt::app {
 // The fixed sidebar on the left of the viewport (ui_layout.cpp).
 void beginSidebar(AppState& state);
 void endSidebar();
+// "DMFFD Sculpt  -  copy2.obj*": the sidebar's header (the document's name, * while modified).
+std::string sidebarTitle(const AppState& state);
 
 void drawStatsPanel(AppState& state);        // stats_panel.cpp: mesh, lattice, timings, fps
 void drawOverlaysPanel(AppState& state);     // overlays_panel.cpp: wireframe, lattice, det J, affected region
@@ -20,6 +26,8 @@ void drawStatusLine(AppState& state);        // status_line.cpp: the verdict of 
 // selection and pins, lattice set-up; and the lattice tool's selection rectangle.
 void drawToolsWindow(AppState& state);
 float toolsWindowWidth();
+// A framebuffer pixel (input events, picking) in Dear ImGui's coordinates (they differ on HiDPI screens).
+ImVec2 framebufferToUi(const AppState& state, double x, double y);
 
 // Width of the sidebar in pixels (scaled with the font), so the viewport knows what is covered.
 float sidebarWidth();

@@ -12,6 +12,7 @@
 #include "app/window/panels.h"
 #include "app/window/picking.h"
 #include "app/window/tool_commands.h"
+#include "app/window/view_navigation.h"
 #include "app/file_browser.h"
 
 namespace sculpt::app {
@@ -24,10 +25,13 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 
 bool shortcutModifier(const Modifiers& m) { return m.control || m.super; }
 
-constexpr double kOrbitDegreesPerPixel = 0.35;
-constexpr double kZoomPerNotch = 0.88;  // distance factor per wheel notch towards the screen
-
 }  // namespace
+
+CaptureFlags SculptApp::uiCapture() {
+    if (!ImGui::GetCurrentContext()) return {};
+    const ImGuiIO& io = ImGui::GetIO();
+    return {io.WantCaptureMouse, io.WantCaptureKeyboard || io.WantTextInput || ImGui::IsAnyItemActive()};
+}
 
 Status SculptApp::loadMesh(const std::string& path) { return files_.loadMeshNow(state_, path); }
 
@@ -45,6 +49,11 @@ void SculptApp::onFramebufferSize(const FramebufferSizeEvent& event) {
 void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags capture) {
     state_.cursorX = event.x;
     state_.cursorY = event.y;
+    if (state_.transform.active) {  // G / R / S running: a left click confirms, a right click cancels, anywhere
+        if (event.action == ButtonAction::Press && event.button == MouseButton::Left) confirmTransform(state_);
+        else if (event.action == ButtonAction::Press && event.button == MouseButton::Right) cancelTransform(state_);
+        return;
+    }
     if (event.action == ButtonAction::Release) {
         // note: releases always reach us, even over a panel, so a drag or orbit never gets stuck.
         if (event.button == MouseButton::Left) releaseTool();
@@ -70,41 +79,50 @@ void SculptApp::onMouseMove(const MouseMoveEvent& event, CaptureFlags /*capture*
     const double dx = event.x - state_.cursorX, dy = event.y - state_.cursorY;
     state_.cursorX = event.x;
     state_.cursorY = event.y;
-    render::Camera& camera = state_.camera;
-    if (brushMouseMove(event.x, event.y)) return;
-    if (state_.drag.active || state_.tools.lattice.boxActive || state_.navigation == Navigation::None) {
+    if (brushMouseMove(event.x, event.y)) return;  // F / Shift+F: the brush radius or strength follows
+    if (state_.transform.active) {
+        transformMouseMove(state_, event.x, event.y);
+    } else if (state_.drag.active || state_.tools.lattice.boxActive || state_.navigation == Navigation::None) {
         moveTool(event.x, event.y);
     } else if (state_.navigation == Navigation::Orbit) {
-        camera.yawDeg = static_cast<float>(std::remainder(camera.yawDeg - dx * kOrbitDegreesPerPixel, 360.0));
-        camera.pitchDeg = static_cast<float>(std::clamp(camera.pitchDeg + dy * kOrbitDegreesPerPixel, -89.0, 89.0));
-    } else if (state_.navigation == Navigation::Pan && state_.framebufferHeight > 0) {
-        // The point under the cursor stays under it: world units per pixel at the target's depth (double, so
-        // a pan by a pixel of a 1e-3 mesh at 1e7 is not rounded away).
-        const double worldPerPixel = camera.worldPerPixel(state_.framebufferHeight);
-        camera.target += (-dx * camera.right() + dy * camera.up()) * worldPerPixel;
+        orbitView(state_, dx, dy);
+    } else if (state_.navigation == Navigation::Pan) {
+        panView(state_, dx, dy);
     }
 }
 
 void SculptApp::onScroll(const ScrollEvent& event, CaptureFlags capture) {
-    if (capture.mouse || !std::isfinite(event.dy)) return;
-    render::Camera& camera = state_.camera;
-    const double factor = std::pow(kZoomPerNotch, std::clamp(event.dy, -10.0, 10.0));
-    // Zoom is a factor, and its limits are relative to the content's radius: alike at every scale.
-    const double minDistance = 1e-3 * camera.sceneRadius, maxDistance = 1e3 * camera.sceneRadius;
-    camera.distance = std::clamp(camera.distance * factor, minDistance, maxDistance);
+    if (capture.mouse || state_.transform.active) return;
+    zoomView(state_, state_.cursorX, state_.cursorY, event.dy);
 }
 
 void SculptApp::onKey(const KeyEvent& event, CaptureFlags capture) {
     if (capture.keyboard || event.action == KeyAction::Release) return;
+    if (state_.transform.active) return transformKey(state_, event);  // every key, until confirmed or cancelled
     if (files_.onKey(state_, event)) return;  // Ctrl+O / S / Shift+S / Q, or ignored while files are busy
-    if (keyTool(event)) return;  // Tab, G, P, A, Esc / Delete of the editing tools
+    if (keyTool(event)) return;  // Tab, G, R, S, P, A, Esc / Delete of the editing tools
     const Modifiers& m = event.modifiers;
-    if (event.key == Key::Z && shortcutModifier(m)) {
-        if (m.shift) redoCommand(state_); else undoCommand(state_);
-    } else if (event.key == Key::Y && shortcutModifier(m)) {
-        redoCommand(state_);
-    } else if (event.key == Key::F && !shortcutModifier(m) && event.action == KeyAction::Press) {
-        frameMesh(state_);
+    const bool shortcut = shortcutModifier(m);
+    // note: undo and redo repeat while held; the view keys act once per press.
+    if (event.action != KeyAction::Press && event.key != Key::Z && event.key != Key::Y) return;
+    switch (event.key) {
+        case Key::Z:
+            if (shortcut && m.shift) redoCommand(state_);
+            else if (shortcut) undoCommand(state_);
+            break;
+        case Key::Y:
+            if (shortcut) redoCommand(state_);
+            break;
+        case Key::F:
+        case Key::Home:
+            if (!shortcut) frameMesh(state_);
+            break;
+        case Key::NumpadDecimal: frameSelected(state_); break;
+        case Key::Numpad1: setAxisView(state_, AxisView::Front, shortcut); break;
+        case Key::Numpad3: setAxisView(state_, AxisView::Right, shortcut); break;
+        case Key::Numpad7: setAxisView(state_, AxisView::Top, shortcut); break;
+        case Key::Numpad5: toggleOrthographic(state_); break;
+        default: break;
     }
 }
 
@@ -227,6 +245,7 @@ void SculptApp::drawUi() {
     drawHistoryPanel(state_);
     endSidebar();
     drawToolsWindow(state_);
+    drawTransformOverlay(state_);
     drawStatusLine(state_);
     files_.drawModals(state_);
 }

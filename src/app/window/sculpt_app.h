@@ -53,6 +53,11 @@ public:
     void onDropFiles(const std::vector<std::string>& paths);
     std::string windowTitle() const { return files_.windowTitle(state_); }
 
+    // What Dear ImGui claims right now (the current context; none: nothing). Keyboard: also while any item is
+    // active or wants text, since io.WantCaptureKeyboard is computed at NewFrame from the frame before and
+    // events arrive between frames: the keys typed right after a click into a field go to the field.
+    static CaptureFlags uiCapture();
+
     AppState& state() { return state_; }
     const AppState& state() const { return state_; }
     render::Renderer& renderer() { return renderer_; }

@@ -21,7 +21,11 @@ void drawStatsPanel(AppState& state) {
         row("Triangles", "%d", static_cast<int>(session.triangles().rows()));
         row("Lattice", "%d x %d x %d, degree %d", lattice.count[0], lattice.count[1], lattice.count[2],
             settings.degree[0]);
-        row("Frames", "%d", session.frameDepth() + 1);
+        row("Lattice frames", "%d", session.frameDepth() + 1);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("How many lattices the history has used: an edit that would fold the mesh in one\n"
+                              "lattice is split into injective steps, each later one in a fresh lattice (a frame)\n"
+                              "around the shape the earlier steps made. 1: everything in the first lattice.");
         if (state.stats.hideTimings) {
             row("Solve", "%s", "-- ms");
             row("GPU update", "-- ms (%d vtx)", state.stats.lastUploadVertices);

@@ -8,6 +8,7 @@
 #include "app/window/picking.h"
 #include "app/window/sculpt_app.h"
 #include "app/window/tool_commands.h"
+#include "app/window/wording.h"
 
 namespace sculpt::app {
 namespace {
@@ -19,10 +20,6 @@ constexpr double kPickRadius = 9.0;  // pixels (times the pixel scale) around a 
 Eigen::Vector3d towardsEye(const render::Camera& camera) {
     const glm::dvec3 d = camera.towardEye();
     return Eigen::Vector3d(d.x, d.y, d.z);
-}
-
-std::string plural(size_t n, const char* word) {
-    return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
 }
 
 // Lattice parameters of a surface point: the lattice's own inverse where it converges, otherwise the
@@ -73,7 +70,7 @@ void describeLatticeSelection(AppState& state) {
     }
     size_t pinned = 0;
     for (int id : points) pinned += state.session.lattice().pinned[static_cast<size_t>(id)] ? 1 : 0;
-    std::string text = plural(points.size(), "control point") + " selected";
+    std::string text = countOf(points.size(), "control point") + " selected";
     if (points.size() == 1) {
         const std::array<int, 3> ijk = state.session.lattice().ijk(points.front());
         text += " [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "]";
@@ -107,7 +104,7 @@ void togglePinsOfSelection(AppState& state) {
         return;
     }
     state.gpu.fields = true;
-    setStatus(state, std::string(allPinned ? "Unpinned " : "Pinned ") + plural(points.size(), "control point") +
+    setStatus(state, std::string(allPinned ? "Unpinned " : "Pinned ") + countOf(points.size(), "control point") +
                          (allPinned ? "." : ": the solver will not move them."),
               false);
 }
@@ -147,7 +144,7 @@ void SculptApp::pressSculpt(const MouseButtonEvent& event) {
         if (shift) {
             const std::string what = h.pin ? "pin" : "handle";  // read before the erase invalidates h
             tools.handles.erase(tools.handles.begin() + handle);
-            setStatus(state_, "Removed a " + what + " (" + plural(tools.handles.size(), "marker") + " left).", false);
+            setStatus(state_, "Removed a " + what + " (" + countOf(tools.handles.size(), "marker") + " left).", false);
         } else {
             h.pin = !h.pin;
             setStatus(state_, h.pin ? "The handle is now a pin: it holds its point while you drag others."
@@ -186,8 +183,8 @@ void SculptApp::pressSculpt(const MouseButtonEvent& event) {
         tools.handles.push_back(placed);
         state_.gpu.fields = true;
         const size_t pins = pinCount(tools);
-        setStatus(state_, std::string(control ? "Pin placed" : "Handle placed") + " (" + plural(tools.handles.size() - pins, "handle") +
-                              ", " + plural(pins, "pin") + "). Drag a handle to move " +
+        setStatus(state_, std::string(control ? "Pin placed" : "Handle placed") + " (" + countOf(tools.handles.size() - pins, "handle") +
+                              ", " + countOf(pins, "pin") + "). Drag a handle to move " +
                               (tools.moveHandlesTogether ? "all handles together" : "it alone") + " (G toggles); pins hold still.",
                   false);
         return;
@@ -256,8 +253,8 @@ void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, in
     state_.gpu.fields = true;
     const size_t heldCount = drag.starts.size() - drag.moving.size();
     std::string text = triangle >= 0 ? "Dragging vertex " + std::to_string(drag.pickedVertex)
-                                     : "Dragging " + plural(drag.moving.size(), "handle");
-    if (heldCount > 0) text += " (" + plural(heldCount, "point") + " held)";
+                                     : "Dragging " + countOf(drag.moving.size(), "handle");
+    if (heldCount > 0) text += " (" + countOf(heldCount, "point") + " held)";
     setStatus(state_, text + "...", false);
 }
 
@@ -292,8 +289,8 @@ void SculptApp::endSculpt() {
     updateBrushHover(state_.cursorX, state_.cursorY);  // the circle goes back under the cursor
     const bool recorded = state_.session.journal().size() > before;
     if (finished.moves == 0) return;  // a click (selecting, placing): its own message stays
-    std::string text = recorded ? "Drag recorded as one undo step (" + plural(static_cast<size_t>(finished.moves), "move")
-                                : "Drag changed nothing (" + plural(static_cast<size_t>(finished.moves), "move");
+    std::string text = recorded ? "Drag recorded as one undo step (" + countOf(static_cast<size_t>(finished.moves), "move")
+                                : "Drag changed nothing (" + countOf(static_cast<size_t>(finished.moves), "move");
     if (finished.refused > 0) text += ", " + std::to_string(finished.refused) + " refused as not injective";
     text += ").";
     if (finished.refused > 0 && state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected)
@@ -360,8 +357,8 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
     state_.drag = drag;
     state_.gpu.fields = true;
     const size_t pinned = selection.points.size() - movable.size();
-    setStatus(state_, "Moving " + plural(movable.size(), "control point") +
-                          (pinned > 0 ? " (" + plural(pinned, "pinned point") + " stay)" : std::string()) + "...",
+    setStatus(state_, "Moving " + countOf(movable.size(), "control point") +
+                          (pinned > 0 ? " (" + countOf(pinned, "pinned point") + " stay)" : std::string()) + "...",
               false);
 }
 
@@ -429,7 +426,7 @@ void SculptApp::updateHint(double x, double y) {
 }
 
 void SculptApp::releaseTool() {
-    if (state_.drag.active) endSculpt();
+    if (state_.drag.active && state_.drag.kind != DragKind::Transform) endSculpt();
     if (state_.tools.lattice.boxActive) finishBoxSelection();
 }
 
@@ -449,7 +446,16 @@ bool SculptApp::keyTool(const KeyEvent& event) {
             setToolMode(state_, tools.mode == ToolMode::Sculpt ? ToolMode::Lattice : ToolMode::Sculpt);
             return true;
         case Key::G:
-            if (shortcut || tools.mode != ToolMode::Sculpt) return false;
+        case Key::R:
+        case Key::S:
+            if (shortcut || state_.navigation != Navigation::None) return false;
+            if (tools.mode == ToolMode::Lattice) {  // Blender's grab, rotate, scale (transform_tool.h)
+                beginTransform(state_, event.key == Key::G ? TransformKind::Move
+                                       : event.key == Key::R ? TransformKind::Rotate : TransformKind::Scale,
+                               state_.cursorX, state_.cursorY);
+                return true;
+            }
+            if (event.key != Key::G) return false;
             tools.moveHandlesTogether = !tools.moveHandlesTogether;
             setStatus(state_, tools.moveHandlesTogether ? "Dragging a handle moves all handles together."
                                                         : "Dragging a handle moves it alone; the others hold.", false);
@@ -538,6 +544,7 @@ render::ConstraintView SculptApp::constraintView() const {
     view.targets = toRows(targets);
     view.handles = toRows(handles);
     view.pins = toRows(pins);
+    appendTransformGuides(state_, view);
     return view;
 }
 

@@ -11,6 +11,7 @@
 
 #include "app/window/panels.h"
 #include "app/window/tool_commands.h"
+#include "app/window/wording.h"
 #include "render/camera.h"
 
 namespace sculpt::app {
@@ -33,7 +34,7 @@ void helpMarker(const char* text) {
 void drawHandlesSection(AppState& state) {
     ToolState& tools = state.tools;
     const size_t pins = pinCount(tools);
-    ImGui::Text("%zu handles, %zu pins", tools.handles.size() - pins, pins);
+    ImGui::Text("%s, %s", countOf(tools.handles.size() - pins, "handle").c_str(), countOf(pins, "pin").c_str());
     helpMarker("Shift+click on the mesh places a handle (red), Ctrl+click a pin (green square).\n"
                "Dragging a handle moves it (or all handles, see below) while every other handle\n"
                "and pin holds its point: one multi-point manipulation (Hu et al. 2001, eq. 12).\n"
@@ -104,7 +105,11 @@ void drawSelectionSection(AppState& state) {
                "empty space to select what it covers (Shift adds). Drag a selected point to move\n"
                "the selection: one undoable edit, tested for injectivity like any other.\n"
                "P pins or unpins the selection: pinned points (grey squares) never move.");
-    if (pinned > 0) ImGui::TextDisabled("%zu of them pinned", pinned);
+    // note: the line is always there (empty without a selection), so the rows below never jump.
+    const size_t selected = tools.lattice.points.size();
+    ImGui::TextDisabled("%s", selected == 0 ? "" : pinned == 0 ? "none of them pinned"
+                              : pinned == selected && selected > 1 ? "all of them pinned"
+                              : (std::to_string(pinned) + " of them pinned").c_str());
     const float third = (ImGui::GetContentRegionAvail().x - 2.0f * ImGui::GetStyle().ItemSpacing.x) / 3.0f;
     ImGui::BeginDisabled(state.drag.active);
     if (ImGui::Button("All (A)", ImVec2(third, 0.0f))) selectAllControlPoints(state, true);
@@ -125,16 +130,20 @@ void drawSetupSection(AppState& state) {
     bool edited = false;
     const float labelWidth = ImGui::CalcTextSize("Pinned layers").x + ImGui::GetStyle().ItemInnerSpacing.x;
     ImGui::PushItemWidth(-labelWidth);
-    edited |= ImGui::DragInt3("Resolution", s.resolution.data(), 0.1f, 2, 64);
+    // One kind of control for every number here, as Blender's fields: drag to change, double-click or
+    // Ctrl+click to type; typed values are clamped to the range like dragged ones.
+    constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;
+    edited |= ImGui::DragInt3("Resolution", s.resolution.data(), 0.1f, 2, 64, "%d", kClamp);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Control points per axis (degree + 1 to 64).");
-    edited |= ImGui::SliderInt3("Degree", s.degree.data(), 1, 5);
+    edited |= ImGui::DragInt3("Degree", s.degree.data(), 0.05f, 1, 5, "%d", kClamp);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Polynomial degree of the B-splines per axis (1 to 5).");
     float padding = static_cast<float>(s.padding);
-    if (ImGui::SliderFloat("Padding", &padding, 0.0f, 0.5f, "%.3f")) {
+    if (ImGui::DragFloat("Padding", &padding, 0.002f, 0.0f, 0.5f, "%.3f", kClamp)) {
         s.padding = padding;
         edited = true;
     }
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Added on every side of the box, as a fraction of its diagonal.");
-    edited |= ImGui::SliderInt("Pinned layers", &s.pinLayers, 0, 3);
+    edited |= ImGui::DragInt("Pinned layers", &s.pinLayers, 0.05f, 0, 3, "%d", kClamp);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("Pins the k outer layers of control points: the lattice boundary stays fixed,\n"
                           "which makes the injectivity guarantee global.");
@@ -231,10 +240,8 @@ void drawToolsWindow(AppState& state) {
     // The selection rectangle of the lattice tool, over the 3D view.
     const LatticeSelection& selection = state.tools.lattice;
     if (selection.boxActive) {
-        const float scale = viewport->Size.x > 0.0f && state.framebufferWidth > 0
-                                ? viewport->Size.x / static_cast<float>(state.framebufferWidth) : 1.0f;
-        const ImVec2 a(viewport->Pos.x + static_cast<float>(selection.boxX0) * scale, viewport->Pos.y + static_cast<float>(selection.boxY0) * scale);
-        const ImVec2 b(viewport->Pos.x + static_cast<float>(selection.boxX1) * scale, viewport->Pos.y + static_cast<float>(selection.boxY1) * scale);
+        const ImVec2 a = framebufferToUi(state, selection.boxX0, selection.boxY0);
+        const ImVec2 b = framebufferToUi(state, selection.boxX1, selection.boxY1);
         ImDrawList* draw = ImGui::GetForegroundDrawList();
         draw->AddRectFilled(ImVec2(std::min(a.x, b.x), std::min(a.y, b.y)), ImVec2(std::max(a.x, b.x), std::max(a.y, b.y)),
                             IM_COL32(255, 200, 60, 40));
@@ -244,5 +251,12 @@ void drawToolsWindow(AppState& state) {
 }
 
 float toolsWindowWidth() { return 19.0f * ImGui::GetFontSize(); }
+
+ImVec2 framebufferToUi(const AppState& state, double x, double y) {
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    const float scale = viewport->Size.x > 0.0f && state.framebufferWidth > 0
+                            ? viewport->Size.x / static_cast<float>(state.framebufferWidth) : 1.0f;
+    return ImVec2(viewport->Pos.x + static_cast<float>(x) * scale, viewport->Pos.y + static_cast<float>(y) * scale);
+}
 
 }  // namespace sculpt::app

@@ -15,13 +15,15 @@ void beginSidebar(AppState& state) {
     ImGui::SetNextWindowSizeConstraints(ImVec2(sidebarWidth(), 0.0f),
                                         ImVec2(sidebarWidth(), viewport->WorkSize.y - statusHeight - 2.0f * margin));
     ImGui::SetNextWindowBgAlpha(0.92f);
-    const std::string title = "DMFFD Sculpt" + (state.meshName.empty() ? std::string() : "  -  " + state.meshName) +
-                              (state.modified ? "*" : "");
-    ImGui::Begin((title + "###sidebar").c_str(), nullptr,
+    ImGui::Begin((sidebarTitle(state) + "###sidebar").c_str(), nullptr,
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
                      ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
 }
 
 void endSidebar() { ImGui::End(); }
+
+std::string sidebarTitle(const AppState& state) {
+    return "DMFFD Sculpt" + (state.meshName.empty() ? std::string() : "  -  " + state.meshName) + (state.modified ? "*" : "");
+}
 
 }  // namespace sculpt::app
