@@ -504,15 +504,15 @@ TEST_CASE("any scale: markers, control points, pan and zoom in the window work a
         release(sculptApp, 130.0, 80.0, shift, app::MouseButton::Middle);
         CHECK((pixelOf(state, centre) - Eigen::Vector2d(cx + 30.0, cy - 20.0)).norm() < 0.01);
 
-        // Zoom: a factor per notch, limited relative to the content. (F first: what it frames depends on whether
+        // Zoom: a factor per notch, limited relative to the content. (Home first: what it frames depends on whether
         // the current tool shows the lattice.)
-        sculptApp.onKey({app::Key::F, app::KeyAction::Press, {}}, {});
+        sculptApp.onKey({app::Key::Home, app::KeyAction::Press, {}}, {});
         const double framed = state.camera.distance;
         sculptApp.onScroll({0.0, 1.0}, {});
         CHECK(state.camera.distance == Approx(0.88 * framed).epsilon(1e-12));
         for (int n = 0; n < 100; ++n) sculptApp.onScroll({0.0, -10.0}, {});
         CHECK(state.camera.distance == Approx(1e3 * state.camera.sceneRadius).epsilon(1e-12));
-        sculptApp.onKey({app::Key::F, app::KeyAction::Press, {}}, {});
+        sculptApp.onKey({app::Key::Home, app::KeyAction::Press, {}}, {});
         CHECK(state.camera.distance == Approx(framed).epsilon(1e-12));
     }
 }

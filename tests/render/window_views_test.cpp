@@ -120,8 +120,10 @@ TEST_CASE("window views: numpad . frames the selected control points, Home frame
     app::SculptApp sculptApp;
     test::loadDefaultMesh(sculptApp, kWidth, kHeight);
     app::AppState& state = sculptApp.state();
-    const render::Camera framed = state.camera;
     key(sculptApp, app::Key::Tab);
+    // In the lattice tool the lattice is shown, so "everything" includes it.
+    key(sculptApp, app::Key::Home);
+    const render::Camera framed = state.camera;
     const core::Lattice& lattice = state.session.lattice();
     const int a = lattice.index(1, 2, 3), b = lattice.index(2, 2, 3);
     state.tools.lattice.points = {a, b};

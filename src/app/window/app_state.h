@@ -88,7 +88,7 @@ struct AppState {
     float statusLineHeight = 0.0f;  // pixels, as last drawn: the scene's det J legend sits above it
 
     std::string status = "Left-drag on the mesh to sculpt. Middle-drag or Alt+left-drag orbits, Shift+middle "
-                         "pans, wheel zooms, F frames.";
+                         "pans, wheel zooms, Home frames. F sets the brush radius.";
     bool statusIsError = false;
     bool hasReport = false;
     core::OpReport lastReport;

@@ -30,7 +30,7 @@ void drawOverlaysPanel(AppState& state) {
         ImGui::SetTooltip("Only the control points and edges on the lattice's outer faces (and the selected ones);\n"
                           "the lattice tool picks only what is drawn.");
     if (changed) setOverlays(state, overlays);
-    if (ImGui::Button("Frame mesh (F)")) frameMesh(state);
+    if (ImGui::Button("Frame mesh (Home)")) frameMesh(state);
 }
 
 }  // namespace sculpt::app

@@ -211,6 +211,10 @@ Status SculptApp::renderFrame(int width, int height) {
     if (state_.framebufferWidth != width || state_.framebufferHeight != height)
         onFramebufferSize({width, height});
     files_.poll(state_);  // installs a finished background load before the upload below
+    // The surface under the cursor moved (undo, redo, a script): the brush circle goes where it now is.
+    const PendingGpuUpdate& gpu = state_.gpu;
+    if (state_.tools.brush.hover && !state_.drag.active && (gpu.mesh || gpu.allPositions || !gpu.vertices.empty()))
+        updateBrushHover(state_.cursorX, state_.cursorY);
     syncGpu();
     const auto start = std::chrono::steady_clock::now();
     render::DrawOptions options;

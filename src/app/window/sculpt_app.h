@@ -6,7 +6,8 @@
 // Mouse: left-press on the mesh picks the surface point under the cursor and starts an interactive drag
 // (Session::beginDrag); every move puts the target where the cursor ray meets the plane through the picked
 // point facing the camera and calls Session::updateDrag (live); release ends it (one undo step).
-// Middle-drag or Alt+left-drag orbits, Shift+middle-drag pans, the wheel zooms. Keys: F frames the mesh,
+// Middle-drag or Alt+left-drag orbits, Shift+middle-drag pans, the wheel zooms. Keys: Home frames the mesh (F too
+// in the lattice tool; in the sculpt tool F sets the brush radius),
 // Ctrl+Z undoes, Ctrl+Shift+Z / Ctrl+Y redo. Input the UI claims (CaptureFlags) is left alone.
 #pragma once
 

@@ -52,6 +52,8 @@ void drawHandlesSection(AppState& state) {
 
 void drawBrushSection(AppState& state) {
     BrushTool& brush = state.tools.brush;
+    // Narrow fields, so the labels beside them fit the panel.
+    ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.5f);
     bool changed = ImGui::Checkbox("Limit to radius", &brush.limited);
     helpMarker("On: a drag moves only the surface within the brush radius of the grabbed point, through a\n"
                "small lattice of its own around it whose outer part is pinned, so the edit blends in smoothly.\n"
@@ -65,11 +67,11 @@ void drawBrushSection(AppState& state) {
     }
     ImGui::EndDisabled();
     float strength = static_cast<float>(brush.settings.strength);
-    if (ImGui::SliderFloat("Strength (Shift+F)", &strength, 0.01f, 1.0f, "%.2f")) {
+    if (ImGui::SliderFloat("Strength", &strength, 0.01f, 1.0f, "%.2f")) {
         brush.settings.strength = std::clamp(static_cast<double>(strength), 0.01, 1.0);
         changed = true;
     }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("How far the grabbed point follows the cursor: 1 = all the way.");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("How far the grabbed point follows the cursor: 1 = all the way. Shift+F and a mouse move sets it.");
     int falloff = static_cast<int>(brush.settings.falloff);
     ImGui::BeginDisabled(!brush.limited);
     if (ImGui::Combo("Falloff", &falloff, "Smooth\0Medium\0Sharp\0")) {
@@ -91,6 +93,7 @@ void drawBrushSection(AppState& state) {
     }
     helpMarker("Mirror every drag in the planes through the centre of the mesh's bounds at load: the mirror\n"
                "image of the grabbed point moves to the mirror image of its target, exactly.");
+    ImGui::PopItemWidth();
     if (changed) state.gpu.fields = true;
 }
 
