@@ -99,10 +99,49 @@ std::vector<MirroredConstraint> mirrorConstraints(const std::vector<Eigen::Vecto
 }
 
 Eigen::Vector3d mirroredTarget(const MirroredConstraint& constraint, const std::vector<Eigen::Vector3d>& userTargets,
-                               const Eigen::Vector3d& centre) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (const auto& [user, mask] : constraint.images) sum += reflectPoint(userTargets[static_cast<size_t>(user)], mask, centre);
-    return sum / static_cast<double>(constraint.images.size());
+                               const std::vector<Eigen::Vector3d>& userSources) {
+    Eigen::Vector3d move = Eigen::Vector3d::Zero();
+    for (const auto& [user, mask] : constraint.images) {
+        // A reflection is affine: the image of a move is the move with the mirrored axes negated.
+        Eigen::Vector3d d = userTargets[static_cast<size_t>(user)] - userSources[static_cast<size_t>(user)];
+        for (int a = 0; a < 3; ++a)
+            if (mask & (1 << a)) d[a] = -d[a];
+        move += d;
+    }
+    return constraint.source + constraint.weight * move / static_cast<double>(constraint.images.size());
+}
+
+double brushProfile(BrushFalloff falloff, double x) {
+    x = std::clamp(x, 0.0, 1.0);
+    switch (falloff) {
+        case BrushFalloff::Smooth: return 1.0 - x * x * (3.0 - 2.0 * x);
+        case BrushFalloff::Medium: return std::sqrt(1.0 - x * x);
+        case BrushFalloff::Sharp: return (1.0 - x) * (1.0 - x);
+    }
+    return 0.0;
+}
+
+void addBrushProfile(std::vector<MirroredConstraint>& constraints, const std::vector<bool>& held, double radius, BrushFalloff falloff) {
+    const size_t count = constraints.size();
+    const double distance = 0.3 * radius, minGap = 0.2 * radius;
+    std::vector<Eigen::Vector3d> directions;
+    for (int a = 0; a < 3; ++a)
+        for (double sign : {-1.0, 1.0}) directions.push_back(sign * Eigen::Vector3d::Unit(a));
+    for (int corner = 0; corner < 8; ++corner)
+        directions.push_back(Eigen::Vector3d(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1).normalized());
+    for (size_t e = 0; e < count; ++e) {
+        const MirroredConstraint grabbed = constraints[e];
+        const int user = grabbed.images.front().first;
+        if (grabbed.weight != 1.0 || (static_cast<size_t>(user) < held.size() && held[static_cast<size_t>(user)])) continue;
+        for (const Eigen::Vector3d& direction : directions) {
+            const Eigen::Vector3d q = grabbed.source + distance * direction;
+            bool crowded = false;
+            for (size_t other = 0; other < constraints.size() && !crowded; ++other)
+                crowded = other != e && (constraints[other].source - q).norm() < minGap;
+            if (crowded) continue;
+            constraints.push_back({q, grabbed.images, brushProfile(falloff, distance / radius)});
+        }
+    }
 }
 
 Status regionLattice(const std::vector<Eigen::Vector3d>& centres, double radius, BrushFalloff falloff, RegionLattice& out) {
@@ -156,6 +195,17 @@ Status regionLattice(const std::vector<Eigen::Vector3d>& centres, double radius,
             }
     out = std::move(region);
     return Status::success();
+}
+
+double freeCoverage(const Lattice& lattice, const Eigen::Vector3d& params) {
+    SupportWeights support;
+    supportWeights(lattice, params, support);
+    double free = 0.0, total = 0.0;
+    for (int c = 0; c < support.count; ++c) {
+        total += support.weight[c];
+        if (!lattice.pinned[static_cast<size_t>(support.index[c])]) free += support.weight[c];
+    }
+    return total > 0.0 ? free / total : 0.0;
 }
 
 void pinAllBut(Lattice& lattice, const std::vector<int>& freePoints) {

@@ -62,6 +62,7 @@ int brushSpansPerRadius(BrushFalloff falloff);
 struct MirroredConstraint {
     Eigen::Vector3d source = Eigen::Vector3d::Zero();
     std::vector<std::pair<int, int>> images;  // (user constraint, mirror mask)
+    double weight = 1.0;  // the fraction of the images' move it makes (< 1: a falloff profile sample)
 };
 // The constraints of a drag with their mirror images added: for every non-empty subset of the mirrored axes,
 // each constraint not `held` reflected in those planes (held constraints, e.g. pins, are not mirrored). The
@@ -70,9 +71,24 @@ std::vector<MirroredConstraint> mirrorConstraints(const std::vector<Eigen::Vecto
                                                   const Symmetry& symmetry, const Eigen::Vector3d& centre, double mergeDistance);
 // The point p reflected in the planes of `mask` through `centre`.
 Eigen::Vector3d reflectPoint(const Eigen::Vector3d& p, int mask, const Eigen::Vector3d& centre);
-// The target of a mirrored constraint given the user's targets (one per user constraint).
+// The target of a constraint given the user's sources and targets (one each per user constraint): its source
+// moved by `weight` times the mean of its images' moves, each reflected by its mask (for a weight of 1 and a
+// source on the images: the mean of the mirrored targets).
 Eigen::Vector3d mirroredTarget(const MirroredConstraint& constraint, const std::vector<Eigen::Vector3d>& userTargets,
-                               const Eigen::Vector3d& centre);
+                               const std::vector<Eigen::Vector3d>& userSources);
+
+// The falloff's profile: the fraction of the grabbed point's move wanted at distance x (in radii) from it,
+// 1 at 0 and 0 at 1, as Blender's brush curves: smooth 1 - (3x^2 - 2x^3), medium (sphere) sqrt(1 - x^2),
+// sharp (1 - x)^2.
+double brushProfile(BrushFalloff falloff, double x);
+// The brush's shape as constraints (Hu et al. 2001, eq. 12): around every moving constraint (weight 1, not
+// held), 14 points at 0.3 radius (the 6 axis and 8 diagonal directions) that move brushProfile(0.3) of its
+// move, so the bump is the falloff's shape rather than the narrow peak of the basis at the grabbed point
+// alone. A sample closer than 0.2 radius to another constraint is left out (the system stays well posed);
+// the session also leaves out samples whose basis the pins mostly hold (freeCoverage), and all of them in a
+// step where they and the user's constraints cannot all be met: the user's are always met exactly.
+// constraints: as mirrorConstraints made them; held: per user constraint.
+void addBrushProfile(std::vector<MirroredConstraint>& constraints, const std::vector<bool>& held, double radius, BrushFalloff falloff);
 
 // The region-of-interest lattice of a brush drag grabbing `centres` (world points; the drag's sources).
 struct RegionLattice {
@@ -84,6 +100,11 @@ struct RegionLattice {
 // bounds grown by 1.25 radius on every side, with the knot spacing of the falloff (coarser where more than
 // 64 control points an axis would be needed, which leaves fewer points free).
 Status regionLattice(const std::vector<Eigen::Vector3d>& centres, double radius, BrushFalloff falloff, RegionLattice& out);
+// The share of the volume's basis at params carried by control points that are not pinned (1: none pinned;
+// partition of unity). A brush profile sample below kProfileCoverage is left out of the solve: meeting it
+// exactly would take huge moves of the few free points there.
+double freeCoverage(const Lattice& lattice, const Eigen::Vector3d& params);
+constexpr double kProfileCoverage = 0.5;
 // Pins every control point of `lattice` except `freePoints` (ids in range).
 void pinAllBut(Lattice& lattice, const std::vector<int>& freePoints);
 

@@ -454,7 +454,7 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
     const bool needLayer = progress.appliedInCurrentFrame || (progress.brush && !layerActive_);
     if (depth > 0 || needLayer) saveSnapshot(progress.snapshot);  // what a rejection must restore
     if (needLayer) {
-        const Status entered = enterLayer(&progress, &progress.pendingFrame, nullptr, progress.brush, &m.sources);
+        const Status entered = enterLayer(&progress, &progress.pendingFrame, nullptr, progress.brush, &progress.regionCentres);
         if (!entered) {
             progress.failure.cause = StepFailure::Cause::SourceLeft;
             progress.failure.technical = entered.message;
@@ -477,7 +477,25 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
         // explicit solution is linear in the control points.
         displacements.row(static_cast<Eigen::Index>(f)) = (target - activeImage(params[f])).transpose();
     }
-    ControlDelta delta = directManipulation(activeLattice(), params, displacements).delta;  // Hu et al. 2001, eq. 7 / 12
+    // A profile sample whose basis is mostly pinned would ask for huge control moves: left out of this step.
+    bool dropSoft = false;
+    for (size_t f = 0; f < m.soft.size() && !dropSoft; ++f) dropSoft = m.soft[f] && freeCoverage(activeLattice(), params[f]) < kProfileCoverage;
+    DirectManipulationResult solved = directManipulation(activeLattice(), params, displacements);  // Hu et al. 2001, eq. 7 / 12
+    if ((dropSoft || solved.rankDeficient) && std::find(m.soft.begin(), m.soft.end(), true) != m.soft.end()) {
+        // The brush's profile samples ask more than the free control points can give: meet the user's
+        // constraints exactly without them.
+        std::vector<Eigen::Vector3d> hardParams;
+        Eigen::MatrixX3d hardDisplacements(static_cast<Eigen::Index>(m.sources.size()), 3);
+        Eigen::Index rows = 0;
+        for (size_t f = 0; f < m.sources.size(); ++f) {
+            if (m.soft[f] && (solved.rankDeficient || freeCoverage(activeLattice(), params[f]) < kProfileCoverage)) continue;
+            hardParams.push_back(params[f]);
+            hardDisplacements.row(rows++) = displacements.row(static_cast<Eigen::Index>(f));
+        }
+        hardDisplacements.conservativeResize(rows, 3);
+        solved = directManipulation(activeLattice(), hardParams, hardDisplacements);
+    }
+    ControlDelta delta = std::move(solved.delta);
 
     if (!tryDelta(delta, &progress.moved, progress.failure, progress.injectivityMs, progress.triangleMs)) {
         if (progress.firstFailure.cause == StepFailure::Cause::None) progress.firstFailure = progress.failure;
@@ -513,11 +531,13 @@ bool Session::injectSubdiv(Manipulation& m, int depth, Progress& progress) {
     return true;
 }
 
-Status Session::runManipulation(Manipulation m, Operation operation, OpReport& report, const BrushSettings* brush) {
+Status Session::runManipulation(Manipulation m, Operation operation, OpReport& report, const BrushSettings* brush,
+                                const std::vector<Eigen::Vector3d>& regionCentres) {
     const auto start = Clock::now();
     Progress progress(scratch_);
     progress.operation = &operation;
     progress.brush = brush;
+    progress.regionCentres = regionCentres;
     const bool ok = injectSubdiv(m, 0, progress);
     layerActive_ = false;  // the next operation starts in the cage
     report.injectivityMs = progress.injectivityMs;
@@ -580,6 +600,18 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
 
 // ---- commands -------------------------------------------------------------------------------------------
 
+void Session::trimResiduals(OpReport& report, size_t userConstraints) const {
+    // Mirror images and profile samples are the engine's own constraints: the report speaks of the user's.
+    if (report.residuals.size() <= userConstraints) return;
+    report.residuals.resize(userConstraints);
+    double worst = 0.0;
+    for (double r : report.residuals) worst = std::max(worst, r);
+    if (report.rankDeficient && worst <= 1e-9 * lattice_.diagonal()) {
+        report.rankDeficient = false;
+        if (report.reason.rfind("the constraints contradict", 0) == 0) report.reason.clear();
+    }
+}
+
 double Session::mirrorMergeDistance(const BrushSettings& brush) const {
     // Closer than a quarter of a knot span, two sources would pull on the same few control points in
     // different directions: one point on the mirror plane.
@@ -608,10 +640,16 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
         targets.push_back(constraints[f].source + brush.strength * (constraints[f].target - constraints[f].source));
     }
     // With symmetry, the mirror images join as further constraints (Hu et al. 2001, eq. 12).
+    // With a radius, the falloff's profile joins as constraints around each source (brush.h).
     Manipulation m;
-    for (const MirroredConstraint& c : mirrorConstraints(sources, {}, brush.symmetry, symmetryCentre_, mirrorMergeDistance(brush))) {
+    std::vector<MirroredConstraint> solved = mirrorConstraints(sources, {}, brush.symmetry, symmetryCentre_, mirrorMergeDistance(brush));
+    std::vector<Eigen::Vector3d> regionCentres;
+    if (brush.active()) addBrushProfile(solved, {}, brush.radius, brush.falloff);
+    for (const MirroredConstraint& c : solved) {
         m.sources.push_back(c.source);
-        m.targets.push_back(mirroredTarget(c, targets, symmetryCentre_));
+        m.targets.push_back(mirroredTarget(c, targets, sources));
+        m.soft.push_back(c.weight != 1.0);
+        if (c.weight == 1.0) regionCentres.push_back(c.source);
     }
     bool moves = false;
     for (size_t f = 0; f < m.sources.size(); ++f) {
@@ -647,7 +685,8 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     if (brush.symmetry.any()) operation.label += ", symmetric in " + symmetryText(brush.symmetry);
     operation.constraints = constraints;
     operation.brush = brush;
-    const Status status = runManipulation(std::move(m), std::move(operation), report, brush.active() ? &brush : nullptr);
+    const Status status = runManipulation(std::move(m), std::move(operation), report, brush.active() ? &brush : nullptr, regionCentres);
+    trimResiduals(report, constraints.size());
     report.wallMs = millisecondsSince(start);
     return status;
 }

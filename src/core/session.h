@@ -294,6 +294,9 @@ private:
     // A drag being subdivided: world-space sources and targets.
     struct Manipulation {
         std::vector<Eigen::Vector3d> sources, targets;
+        // Per constraint (or empty: none): a brush profile sample, which a step leaves out where the lattice
+        // cannot meet every constraint exactly (the user's constraints are always met).
+        std::vector<bool> soft;
     };
     // State kept while an operation is being applied, so a rejection restores everything bitwise.
     struct Snapshot {
@@ -312,6 +315,9 @@ private:
         bool pendingFreshFrame = false;      // a layer was entered and no step has been applied in it yet
         Step pendingFrame;                   // that layer's placement (Step::frameMin, frameMax, region, ...)
         const BrushSettings* brush = nullptr;  // a brush drag: each step is solved in a region layer
+        // ...around these points: the grabbed points where the operation began (every step's region is the
+        // same ball, so nothing farther than 1.25 radius from them moves).
+        std::vector<Eigen::Vector3d> regionCentres;
         Snapshot& snapshot;  // the session's scratch_, reused so large copies do not fault in fresh pages
         StepFailure failure;                                        // the last step that failed
         StepFailure firstFailure;                                   // what first made it subdivide
@@ -372,9 +378,12 @@ private:
     void enterNewCage(const LatticeSettings& settings, Step* placed, const Step* recorded = nullptr);
     void leaveCage();
     void restoreSnapshot(Snapshot& snapshot);
-    Status runManipulation(Manipulation m, Operation operation, OpReport& report, const BrushSettings* brush = nullptr);
+    Status runManipulation(Manipulation m, Operation operation, OpReport& report, const BrushSettings* brush = nullptr,
+                           const std::vector<Eigen::Vector3d>& regionCentres = {});
     // How close two mirrored sources must come to count as one (mirrorConstraints).
     double mirrorMergeDistance(const BrushSettings& brush) const;
+    // Keeps the first `userConstraints` residuals (the constraints the user gave) and judges the fit on them.
+    void trimResiduals(OpReport& report, size_t userConstraints) const;
     // One increment of an interactive drag: `delta` in the current frame when that is injective, otherwise m
     // subdivided; merged into dragOperation_. Returns false (report says why, nothing changed) if rejected.
     bool applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report);
@@ -433,6 +442,7 @@ private:
     bool dragMirrored_ = false;
     std::vector<Eigen::Vector3d> dragUserStarts_;
     std::vector<MirroredConstraint> dragMirror_;
+    std::vector<bool> dragRegionCentre_;  // per constraint of dragMirror_: a grabbed point or its image (region centre)
     BrushSettings dragBrush_;
     bool dragLayerPending_ = false;
     Step dragPendingLayer_;

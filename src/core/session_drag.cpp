@@ -45,6 +45,7 @@ Status Session::beginDrag(const std::vector<Eigen::Vector3d>& sourceParams) {
     dragParams_ = sourceParams;
     dragAppliedInFrame_ = false;
     dragMirrored_ = false;
+    dragBrush_ = BrushSettings{};
     dragLayerPending_ = false;
     dragActive_ = true;
     return Status::success();
@@ -62,10 +63,11 @@ Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const s
     std::vector<MirroredConstraint> mirror = mirrorConstraints(sources, held, brush.symmetry, symmetryCentre_, mirrorMergeDistance(brush));
     Step pending;
     if (brush.active()) {
-        // The brush's region around every moving source and its mirror images (brush.h).
+        // The brush's region around every moving source and its mirror images (brush.h), and its profile.
         std::vector<Eigen::Vector3d> centres;
         for (const MirroredConstraint& c : mirror)
             if (!isHeld(static_cast<size_t>(c.images.front().first))) centres.push_back(c.source);
+        addBrushProfile(mirror, held, brush.radius, brush.falloff);
         if (centres.empty()) return Status::error("every source of the drag is held");
         if (Status s = enterLayer(nullptr, &pending, nullptr, &brush, &centres); !s) return s;
         // A held point outside the region needs no constraint: nothing moves there.
@@ -76,20 +78,44 @@ Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const s
                      }),
                      mirror.end());
     }
+
     std::vector<Eigen::Vector3d> params(mirror.size());
     Status located = Status::success();
     for (size_t e = 0; e < mirror.size() && located; ++e) {
         located = parametersOfCurrentPoint(mirror[e].source, params[e]);
+        if (located && mirror[e].weight != 1.0 && freeCoverage(activeLattice(), params[e]) < kProfileCoverage) {
+            mirror.erase(mirror.begin() + static_cast<std::ptrdiff_t>(e));  // a profile sample the pins hold back
+            params.pop_back();
+            --e;
+            continue;
+        }
         if (!located) located = Status::error((mirror[e].images.front().second == 0 ? "constraint " + std::to_string(mirror[e].images.front().first)
                                                                                     : std::string("the mirror image of a constraint")) +
                                               " source: " + located.message);
     }
     DirectManipulationData data;
     if (located) located = precomputeDirectManipulation(activeLattice(), params, data);
+    if (located && data.rank < data.constraintCount && mirror.size() > sources.size()) {
+        // The brush's profile samples ask more than the free control points can give: the user's constraints
+        // (and their mirror images) alone, met exactly.
+        std::vector<Eigen::Vector3d> hard;
+        std::vector<MirroredConstraint> kept;
+        for (size_t e = 0; e < mirror.size(); ++e)
+            if (mirror[e].weight == 1.0) {
+                kept.push_back(mirror[e]);
+                hard.push_back(params[e]);
+            }
+        mirror = std::move(kept);
+        params = std::move(hard);
+        located = precomputeDirectManipulation(activeLattice(), params, data);
+    }
     if (!located) {
         if (brush.active()) popLayer(nullptr);
         return located;
     }
+    dragRegionCentre_.clear();
+    for (const MirroredConstraint& c : mirror)
+        dragRegionCentre_.push_back(c.weight == 1.0 && !isHeld(static_cast<size_t>(c.images.front().first)));
     dragData_ = std::move(data);
     dragOperation_ = Operation{};
     dragOperation_.kind = OperationKind::Drag;
@@ -185,6 +211,9 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
     progress.appliedInCurrentFrame = dragAppliedInFrame_;
     progress.firstFailure = failure;
     progress.brush = dragBrush_.active() ? &dragBrush_ : nullptr;
+    // An interactive brush keeps pulling: a new region goes around where the grabbed points are now.
+    for (size_t e = 0; e < dragMirror_.size() && dragBrush_.active(); ++e)
+        if (dragRegionCentre_[e]) progress.regionCentres.push_back(m.sources[e]);
     if (dragLayerPending_) {
         progress.pendingFreshFrame = true;
         progress.pendingFrame = dragPendingLayer_;
@@ -243,7 +272,7 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
         for (size_t u = 0; u < userTargets.size(); ++u)
             scaled[u] = dragUserStarts_[u] + dragBrush_.strength * (userTargets[u] - dragUserStarts_[u]);
         targets.clear();
-        for (const MirroredConstraint& c : dragMirror_) targets.push_back(mirroredTarget(c, scaled, symmetryCentre_));
+        for (const MirroredConstraint& c : dragMirror_) targets.push_back(mirroredTarget(c, scaled, dragUserStarts_));
     }
 
     Eigen::MatrixX3d increment(static_cast<Eigen::Index>(targets.size()), 3);
@@ -266,6 +295,9 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
     Manipulation m;
     for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));
     m.targets = targets;
+    if (dragMirrored_)
+        for (const MirroredConstraint& c : dragMirror_) m.soft.push_back(c.weight != 1.0);
+
     const int framesBefore = frameDepth();
     if (!applyInteractiveIncrement(solved.delta, m, report)) {
         report.wallMs = millisecondsSince(start);
@@ -274,6 +306,7 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
     if (report.subSteps == 1 && frameDepth() == framesBefore) {
         report.residuals = solved.residuals;
         report.rankDeficient = solved.rankDeficient;
+        if (dragMirrored_) trimResiduals(report, dragUserStarts_.size());
     } else {
         // The active lattice may have changed: the sources' parameters are re-found where the steps left them.
         for (size_t f = 0; f < m.sources.size(); ++f) parametersOfCurrentPoint(m.sources[f], dragParams_[f]);

@@ -93,7 +93,8 @@ TEST_CASE("brush: a drag with radius r moves nothing farther than 1.25 r and lan
             brush.falloff = randomFalloff(rng);
             const int vertex = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
             const Eigen::Vector3d grabbed = mesh.positions.row(vertex).transpose();
-            const Eigen::Vector3d target = grabbed + 0.4 * brush.radius * test::randomVector(rng, -1.0, 1.0);
+            // A pull of up to half the radius: the brush's region is a ball the grabbed point cannot leave.
+            const Eigen::Vector3d target = grabbed + 0.5 * brush.radius * test::randomVector(rng, -1.0, 1.0).normalized() * std::uniform_real_distribution<double>(0.2, 1.0)(rng);
             OpReport report;
             REQUIRE(session.dragVertex(vertex, target, report, brush).ok);
             const Lattice cageBefore = session.lattice();
@@ -164,7 +165,8 @@ TEST_CASE("brush: a point on the mirror plane is one constraint moving in the pl
                                                                  Eigen::Vector3d::Zero(), 1e-6);
     REQUIRE(mirrored.size() == 3);
     CHECK(mirrored[0].images.size() == 2);  // on the plane x = 0: its image is itself
-    const Eigen::Vector3d target = mirroredTarget(mirrored[0], {Eigen::Vector3d(0.3, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)}, Eigen::Vector3d::Zero());
+    const Eigen::Vector3d target = mirroredTarget(mirrored[0], {Eigen::Vector3d(0.3, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)},
+                                                  {Eigen::Vector3d(0.0, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)});
     CHECK(target.isApprox(Eigen::Vector3d(0.0, 1.0, 2.0)));
     CHECK(mirrored[2].source.isApprox(Eigen::Vector3d(-0.5, 0.0, 0.0)));
     // Held constraints (pins) are not mirrored.
