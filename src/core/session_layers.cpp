@@ -8,6 +8,21 @@
 
 namespace sculpt::core {
 
+namespace {
+
+// A step's record of the lattice it put in place (a layer, or with newCage a cage), for redo and replay.
+void recordPlacement(Step& step, bool newCage, const LatticeSettings& settings, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                     bool pinsKept) {
+    step.newCage = newCage;
+    step.freshFrame = !newCage;
+    step.settings = settings;
+    step.frameMin = lo;
+    step.frameMax = hi;
+    step.framePinsKept = pinsKept;
+}
+
+}  // namespace
+
 // ---- composition through the layers ---------------------------------------------------------------------
 
 Eigen::Vector3d Session::pushThroughLayers(Eigen::Vector3d x, size_t first) const {
@@ -130,12 +145,7 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
     else if (pinsKept)
         for (int idx : pinToggles()) layer.lattice.pinned[static_cast<size_t>(idx)] ^= 1;
     if (placed) {
-        placed->freshFrame = true;
-        placed->newCage = false;
-        placed->settings = settings;
-        placed->frameMin = lo;
-        placed->frameMax = hi;
-        placed->framePinsKept = pinsKept;
+        recordPlacement(*placed, false, settings, lo, hi, pinsKept);
         placed->region = region;
         placed->regionFree = free;
     }
@@ -215,14 +225,7 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
     } else {
         latticeBox(settings, positions_, lo, hi);
     }
-    if (placed) {
-        placed->newCage = true;
-        placed->freshFrame = false;
-        placed->settings = settings;
-        placed->frameMin = lo;
-        placed->frameMax = hi;
-        placed->framePinsKept = pinsKept;
-    }
+    if (placed) recordPlacement(*placed, true, settings, lo, hi, pinsKept);
     Lattice fresh;
     makeLatticeInBox(settings, lo, hi, fresh);
     if (pinsKept)

@@ -35,6 +35,15 @@ std::string brushDescription(const BrushTool& brush) {
     return text;
 }
 
+// Ends an F / Shift+F resize: keep the new value, or put the old one back.
+void finishBrushResize(AppState& state, bool keep) {
+    BrushTool& brush = state.tools.brush;
+    if (!keep) (brush.resize == BrushTool::Resize::Radius ? brush.radiusPixels : brush.settings.strength) = brush.oldValue;
+    setStatus(state, (keep ? "" : "Brush unchanged. ") + brushDescription(brush), false);
+    brush.resize = BrushTool::Resize::None;
+    state.gpu.fields = true;
+}
+
 }  // namespace
 
 core::BrushSettings SculptApp::brushForDrag(const Eigen::Vector3d& at) const {
@@ -49,16 +58,7 @@ bool SculptApp::brushKey(const KeyEvent& event) {
     BrushTool& brush = state_.tools.brush;
     if (event.action != KeyAction::Press) return false;
     if (brush.resize != BrushTool::Resize::None) {
-        if (event.key == Key::Enter || event.key == Key::Escape) {
-            if (event.key == Key::Escape) {
-                (brush.resize == BrushTool::Resize::Radius ? brush.radiusPixels : brush.settings.strength) = brush.oldValue;
-                setStatus(state_, "Brush unchanged. " + brushDescription(brush), false);
-            } else {
-                setStatus(state_, brushDescription(brush), false);
-            }
-            brush.resize = BrushTool::Resize::None;
-            state_.gpu.fields = true;
-        }
+        if (event.key == Key::Enter || event.key == Key::Escape) finishBrushResize(state_, event.key == Key::Enter);
         return true;  // nothing else acts while the brush is being resized
     }
     if (event.key != Key::F || state_.tools.mode != ToolMode::Sculpt || state_.drag.active || event.modifiers.control ||
@@ -96,14 +96,7 @@ bool SculptApp::brushMouseMove(double x, double y) {
 bool SculptApp::brushMouseButton(const MouseButtonEvent& event) {
     BrushTool& brush = state_.tools.brush;
     if (brush.resize == BrushTool::Resize::None || event.action != ButtonAction::Press) return false;
-    if (event.button == MouseButton::Right) {
-        (brush.resize == BrushTool::Resize::Radius ? brush.radiusPixels : brush.settings.strength) = brush.oldValue;
-        setStatus(state_, "Brush unchanged. " + brushDescription(brush), false);
-    } else {
-        setStatus(state_, brushDescription(brush), false);
-    }
-    brush.resize = BrushTool::Resize::None;
-    state_.gpu.fields = true;
+    finishBrushResize(state_, event.button != MouseButton::Right);
     return true;
 }
 
