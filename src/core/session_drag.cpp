@@ -211,9 +211,10 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
     progress.appliedInCurrentFrame = dragAppliedInFrame_;
     progress.firstFailure = failure;
     progress.brush = dragBrush_.active() ? &dragBrush_ : nullptr;
-    // An interactive brush keeps pulling: a new region goes around where the grabbed points are now.
+    // Every region of a brush drag is the same ball around where the grabbed points began: nothing farther
+    // than 1.25 radius from them moves, however far the cursor goes (a longer pull is a new stroke).
     for (size_t e = 0; e < dragMirror_.size() && dragBrush_.active(); ++e)
-        if (dragRegionCentre_[e]) progress.regionCentres.push_back(m.sources[e]);
+        if (dragRegionCentre_[e]) progress.regionCentres.push_back(dragMirror_[e].source);
     if (dragLayerPending_) {
         progress.pendingFreshFrame = true;
         progress.pendingFrame = dragPendingLayer_;

@@ -151,3 +151,24 @@ TEST_CASE("window cage: after sculpting drags in several steps the lattice tool 
         CHECK(state.session.layers().size() == layers);  // the layers stay as they were
     }
 }
+
+TEST_CASE("window cage: in an orthographic view a click picks the control point nearest the eye", "[gl]") {
+    app::SculptApp sculptApp;
+    test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+    app::AppState& state = sculptApp.state();
+    key(sculptApp, app::Key::Tab);
+    for (app::Key view : {app::Key::Numpad1, app::Key::Numpad3, app::Key::Numpad7}) {
+        key(sculptApp, view);  // an axis view: orthographic, so every point has the same clip w
+        REQUIRE(state.camera.orthographic);
+        const Positions points = state.session.cagePoints();
+        const core::Lattice& lattice = state.session.lattice();
+        // A column of points one behind the other along the view axis projects to one pixel.
+        const Eigen::Vector3d toEye(state.camera.towardEye().x, state.camera.towardEye().y, state.camera.towardEye().z);
+        const Eigen::Vector2d at = pixelOf(state, points.row(lattice.index(4, 4, 4)).transpose());
+        const int picked = app::controlPointAtPixel(points, {}, state.camera, kWidth, kHeight, at.x(), at.y(), 9.0);
+        REQUIRE(picked >= 0);
+        for (Eigen::Index p = 0; p < points.rows(); ++p)
+            if ((pixelOf(state, points.row(p).transpose()) - at).norm() < 0.5)
+                CHECK(points.row(p).dot(toEye.transpose()) <= points.row(picked).dot(toEye.transpose()) + 1e-12);
+    }
+}

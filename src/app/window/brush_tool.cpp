@@ -90,6 +90,7 @@ bool SculptApp::brushMouseMove(double x, double y) {
     else std::snprintf(text, sizeof text, "Brush strength: %.2f", brush.settings.strength);
     setStatus(state_, text, false);
     state_.gpu.fields = true;
+    if (brush.hover) brush.hoverRadius = brushForDrag(brush.hoverPoint).radius;  // the circle grows and shrinks live
     return true;
 }
 

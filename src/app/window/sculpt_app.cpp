@@ -242,6 +242,9 @@ Status SculptApp::renderFrame(int width, int height) {
 
 void SculptApp::drawUi() {
     files_.drawMenuBar(state_);
+    // Tab is the tool switch, as in Blender: it never walks the keyboard into the panels' fields (a click
+    // on a checkbox followed by Tab once put "Max depth" into typing mode, and the next digit changed it).
+    ImGui::PushAllowKeyboardFocus(false);
     beginSidebar(state_);
     drawStatsPanel(state_);
     drawOverlaysPanel(state_);
@@ -249,6 +252,7 @@ void SculptApp::drawUi() {
     drawHistoryPanel(state_);
     endSidebar();
     drawToolsWindow(state_);
+    ImGui::PopAllowKeyboardFocus();
     drawTransformOverlay(state_);
     drawStatusLine(state_);
     files_.drawModals(state_);

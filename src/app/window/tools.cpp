@@ -79,12 +79,14 @@ int controlPointAtPixel(const Positions& controlPoints, const std::vector<std::u
         if (!clipToPixel(clip, width, height, px, py)) continue;
         const double distance = std::hypot(px - x, py - y);
         if (distance > radius) continue;
-        // note: markers closer than a pixel to each other are one target to the user; the front one wins.
-        const bool nearer = distance < bestDistance - 1.0 || (distance <= bestDistance + 1.0 && clip.w < bestDepth);
+        // note: markers closer than a pixel to each other are one target to the user; the front one wins. The
+        // depth is NDC z: in an orthographic view clip.w is 1 for every point.
+        const double depth = clip.z / clip.w;
+        const bool nearer = distance < bestDistance - 1.0 || (distance <= bestDistance + 1.0 && depth < bestDepth);
         if (best < 0 || nearer) {
             best = static_cast<int>(p);
             bestDistance = distance;
-            bestDepth = clip.w;
+            bestDepth = depth;
         }
     }
     return best;

@@ -1,0 +1,156 @@
+// The sculpt tool's brush in the window (issue "A window a sculptor keeps using", point 2): F / Shift+F set
+// the radius and strength as in Blender, a drag moves nothing beyond 1.25 radius of the grabbed point, and
+// with symmetry the mirror image of the grabbed point follows the mirrored cursor.
+#include <catch2/catch.hpp>
+
+#include "app/window/sculpt_app.h"
+#include "app/window/tools.h"
+#include "core/brush.h"
+#include "window_test_support.h"
+
+using namespace sculpt;
+
+namespace {
+
+constexpr int kWidth = 960, kHeight = 600;
+
+void press(app::SculptApp& sculptApp, app::Key k, bool shift = false) {
+    app::KeyEvent event;
+    event.key = k;
+    event.modifiers.shift = shift;
+    sculptApp.onKey(event, {});
+}
+
+void move(app::SculptApp& sculptApp, double x, double y) { sculptApp.onMouseMove({x, y, {}}, {}); }
+
+void click(app::SculptApp& sculptApp, double x, double y, app::MouseButton button = app::MouseButton::Left) {
+    sculptApp.onMouseButton({button, app::ButtonAction::Press, x, y, {}}, {});
+    sculptApp.onMouseButton({button, app::ButtonAction::Release, x, y, {}}, {});
+}
+
+Eigen::Vector2d pixelOf(const app::AppState& state, const Eigen::Vector3d& p) {
+    double x = 0, y = 0;
+    REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, p, x, y));
+    return {x, y};
+}
+
+}  // namespace
+
+TEST_CASE("window brush: F and a mouse move set the radius, Shift+F the strength; a click or Enter keeps, Esc or a right click puts back", "[gl]") {
+    app::SculptApp sculptApp;
+    test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+    app::AppState& state = sculptApp.state();
+    app::BrushTool& brush = state.tools.brush;
+    const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
+    move(sculptApp, cx, cy);
+    CHECK(brush.hover);  // the circle is on the surface under the cursor
+    CHECK(brush.hoverRadius > 0.0);
+    const double start = brush.radiusPixels;
+
+    press(sculptApp, app::Key::F);
+    REQUIRE(brush.resize == app::BrushTool::Resize::Radius);
+    move(sculptApp, cx + 50.0, cy);  // the centre sits one radius left of where F was pressed
+    CHECK(brush.radiusPixels == Approx(start + 50.0));
+    click(sculptApp, cx + 50.0, cy);
+    CHECK(brush.resize == app::BrushTool::Resize::None);
+    CHECK(brush.radiusPixels == Approx(start + 50.0));
+    CHECK(state.session.history().empty());  // the click that kept the radius did not sculpt
+
+    press(sculptApp, app::Key::F);
+    move(sculptApp, cx + 200.0, cy + 100.0);
+    CHECK(brush.radiusPixels != Approx(start + 50.0));
+    press(sculptApp, app::Key::Escape);
+    CHECK(brush.radiusPixels == Approx(start + 50.0));
+    press(sculptApp, app::Key::F);
+    move(sculptApp, cx + 250.0, cy);
+    click(sculptApp, cx + 250.0, cy, app::MouseButton::Right);
+    CHECK(brush.radiusPixels == Approx(start + 50.0));
+
+    press(sculptApp, app::Key::F, true);
+    REQUIRE(brush.resize == app::BrushTool::Resize::Strength);
+    const double strength = brush.settings.strength;
+    move(sculptApp, cx + 250.0 - strength * app::kStrengthPixels + 0.5 * app::kStrengthPixels, cy);
+    CHECK(brush.settings.strength == Approx(0.5));
+    press(sculptApp, app::Key::Enter);
+    CHECK(brush.resize == app::BrushTool::Resize::None);
+    CHECK(brush.settings.strength == Approx(0.5));
+
+    // In the lattice tool F frames, as before.
+    press(sculptApp, app::Key::Tab);
+    press(sculptApp, app::Key::F);
+    CHECK(brush.resize == app::BrushTool::Resize::None);
+}
+
+TEST_CASE("window brush: a drag moves nothing beyond 1.25 radius of the grabbed point, which follows the cursor", "[gl]") {
+    for (const double radiusPixels : {40.0, 90.0}) {
+        app::SculptApp sculptApp;
+        test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+        app::AppState& state = sculptApp.state();
+        state.tools.brush.radiusPixels = radiusPixels;
+        const Positions original = state.session.positions();
+        const double cx = 0.5 * kWidth + 40.0, cy = 0.5 * kHeight - 30.0;
+        move(sculptApp, cx, cy);
+        sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
+        REQUIRE(state.drag.active);
+        const double radius = state.drag.brushRadius;
+        REQUIRE(radius > 0.0);
+        CHECK(radius == Approx(state.tools.brush.hoverRadius).epsilon(1e-9));  // the circle shown is the radius used
+        const Eigen::Vector3d grabbed = state.drag.planePoint;
+        int applied = 0;
+        for (int m = 1; m <= 5; ++m) {
+            const Eigen::Vector2d cursor(cx, cy - 0.08 * radiusPixels * m);
+            move(sculptApp, cursor.x(), cursor.y());
+            if (state.lastReport.status != core::OpStatus::Applied) continue;
+            ++applied;
+            CHECK((pixelOf(state, state.session.dragUserSources().front()) - cursor).norm() < 0.05);
+        }
+        sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 0.4 * radiusPixels, {}}, {});
+        INFO("radius " << radiusPixels << " px: " << state.status);
+        CHECK(applied >= 3);
+        REQUIRE(state.session.history().size() == 1);
+        int moved = 0;
+        for (Eigen::Index v = 0; v < original.rows(); ++v) {
+            if (state.session.positions().row(v) == original.row(v)) continue;
+            ++moved;
+            CHECK((original.row(v).transpose() - grabbed).norm() <= 1.25 * radius);
+        }
+        CHECK(moved > 0);
+        CHECK(core::isUndeformed(state.session.lattice()));  // the cage is not what the brush moves
+        app::KeyEvent undo;
+        undo.key = app::Key::Z;
+        undo.modifiers.control = true;
+        sculptApp.onKey(undo, {});
+        CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * test::boundsDiagonal(original));
+    }
+}
+
+TEST_CASE("window brush: with X symmetry the mirror image of the grabbed point follows the mirrored cursor", "[gl]") {
+    app::SculptApp sculptApp;
+    test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+    app::AppState& state = sculptApp.state();
+    state.tools.brush.settings.symmetry.mirror[0] = true;
+    const double diagonal = test::boundsDiagonal(state.session.positions());
+    const Eigen::Vector3d centre = state.session.symmetryCentre();
+    // Grab well off the mirror plane (left of the middle of the view).
+    const double cx = 0.5 * kWidth - 200.0, cy = 0.5 * kHeight - 40.0;
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
+    REQUIRE(state.drag.active);
+    const Eigen::Vector3d start = state.drag.planePoint;
+    REQUIRE(std::abs(start.x() - centre.x()) > 0.05 * diagonal);
+    int checked = 0;
+    for (int m = 1; m <= 4; ++m) {
+        move(sculptApp, cx, cy - 6.0 * m);
+        if (state.lastReport.status != core::OpStatus::Applied) continue;
+        const Eigen::Vector3d target = state.drag.targets.front();
+        const Eigen::Vector3d mirroredTarget = core::reflectPoint(target, 1, centre);
+        // Among the drag's constraints is the mirror image of the grabbed point, met exactly.
+        double nearest = INFINITY;
+        for (const Eigen::Vector3d& source : state.session.dragSources()) nearest = std::min(nearest, (source - mirroredTarget).norm());
+        CHECK(nearest <= 1e-9 * diagonal);
+        ++checked;
+    }
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 24.0, {}}, {});
+    CHECK(checked >= 2);
+    REQUIRE(state.session.history().size() == 1);
+    CHECK(state.session.history().front().label.find("symmetric in x") != std::string::npos);
+}
