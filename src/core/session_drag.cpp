@@ -219,7 +219,12 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
         progress.pendingFreshFrame = true;
         progress.pendingFrame = dragPendingLayer_;
     }
+    // A brush drag is re-tried on every mouse move: halving it only a few times keeps a move beyond what the
+    // brush can give from stalling the window (each step is a region lattice of its own).
+    const int maxDepth = injectivity_.maxDepth;
+    if (dragBrush_.active()) injectivity_.maxDepth = std::min(maxDepth, 3);
     const bool ok = injectSubdiv(m, 0, progress);
+    injectivity_.maxDepth = maxDepth;
     report.injectivityMs += progress.injectivityMs;
     report.triangleCheckMs += progress.triangleMs;
     if (!ok) {
@@ -276,6 +281,19 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
         for (const MirroredConstraint& c : dragMirror_) targets.push_back(mirroredTarget(c, scaled, dragUserStarts_));
     }
 
+    // The brush's region is a ball around where the grabbed points began, which they cannot leave.
+    if (dragMirrored_ && dragBrush_.active()) {
+        const double reach = 1.25 * dragBrush_.radius;
+        for (size_t e = 0; e < dragMirror_.size(); ++e)
+            if (dragRegionCentre_[e] && (targets[e] - dragMirror_[e].source).norm() >= 0.95 * reach) {
+                report.status = OpStatus::Rejected;
+                report.refusedBy = "brush";
+                report.reason = "Stopped at the brush's reach (1.25 x its radius from where the stroke began): release and pull "
+                                "again, or use a larger radius.";
+                report.wallMs = millisecondsSince(start);
+                return Status::success();
+            }
+    }
     Eigen::MatrixX3d increment(static_cast<Eigen::Index>(targets.size()), 3);
     for (size_t f = 0; f < targets.size(); ++f) {
         Eigen::Vector3d target;

@@ -117,6 +117,7 @@ TEST_CASE("window: a move the injectivity test refuses changes nothing and the s
     strict.mode = core::InjectivityMode::Conic;
     strict.maxDepth = 0;  // no subdivision: a large move must be refused outright
     app::setInjectivityCommand(state, strict);
+    state.tools.brush.limited = false;  // the whole cage: its fold, not the brush's reach
     const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
     REQUIRE(state.drag.active);

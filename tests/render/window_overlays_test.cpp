@@ -160,6 +160,7 @@ TEST_CASE("window overlays: a large mesh is drawn as its proxy during a drag, wh
     CHECK(renderer.lastDrawnTriangles() == renderer.triangleCount());  // idle: the whole mesh
 
     const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
+    state.tools.brush.limited = false;  // the whole cage, no brush circle: only the mesh differs between the frames
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
     REQUIRE(state.drag.active);
     render::Rgba8Image dragged;

@@ -121,6 +121,7 @@ TEST_CASE("window tools: a plain drag keeps every handle and pin where it is", "
     loadDefault(sculptApp);
     app::AppState& state = sculptApp.state();
     const double diagonal = diagonalOf(state.session.positions());
+    state.tools.brush.radiusPixels = 200.0;  // a brush wide enough for the 60-pixel pull
     // Markers left and right of the centre, then a drag from the centre.
     click(sculptApp, 0.5 * kWidth - 120, 0.5 * kHeight, controlKey());
     click(sculptApp, 0.5 * kWidth + 120, 0.5 * kHeight, shiftKey());
