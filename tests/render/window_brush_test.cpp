@@ -10,6 +10,8 @@
 
 using namespace sculpt;
 
+using test::pixelOf;
+
 namespace {
 
 constexpr int kWidth = 960, kHeight = 600;
@@ -26,12 +28,6 @@ void move(app::SculptApp& sculptApp, double x, double y) { sculptApp.onMouseMove
 void click(app::SculptApp& sculptApp, double x, double y, app::MouseButton button = app::MouseButton::Left) {
     sculptApp.onMouseButton({button, app::ButtonAction::Press, x, y, {}}, {});
     sculptApp.onMouseButton({button, app::ButtonAction::Release, x, y, {}}, {});
-}
-
-Eigen::Vector2d pixelOf(const app::AppState& state, const Eigen::Vector3d& p) {
-    double x = 0, y = 0;
-    REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, p, x, y));
-    return {x, y};
 }
 
 }  // namespace

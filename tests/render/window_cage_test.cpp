@@ -12,6 +12,8 @@
 
 using namespace sculpt;
 
+using test::pixelOf;
+
 namespace {
 
 constexpr int kWidth = 960, kHeight = 600;
@@ -27,12 +29,6 @@ void undo(app::SculptApp& sculptApp) {
     event.key = app::Key::Z;
     event.modifiers.control = true;
     sculptApp.onKey(event, {});
-}
-
-Eigen::Vector2d pixelOf(const app::AppState& state, const Eigen::Vector3d& p) {
-    double x = 0, y = 0;
-    REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, p, x, y));
-    return {x, y};
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "app/window/sculpt_app.h"
+#include "app/window/tools.h"
 #include "offscreen_window.h"
 
 namespace sculpt::test {
@@ -29,6 +30,13 @@ inline bool openWindowWithDefaultMesh(OffscreenWindow& window, app::SculptApp& s
     }
     loadDefaultMesh(sculptApp, width, height);
     return true;
+}
+
+// Pixel position of a world point in the app's framebuffer (a point behind the eye fails the test).
+inline Eigen::Vector2d pixelOf(const app::AppState& state, const Eigen::Vector3d& point) {
+    double x = 0, y = 0;
+    REQUIRE(app::projectToPixel(state.camera, state.framebufferWidth, state.framebufferHeight, point, x, y));
+    return {x, y};
 }
 
 inline double boundsDiagonal(const Positions& p) { return (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm(); }
