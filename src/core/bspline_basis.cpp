@@ -16,33 +16,44 @@ using Poly = std::vector<double>;  // coefficients of x^0..x^p
 
 }  // namespace
 
-SplineAxis makeSplineAxis(int count, int degree) {
-    assert(degree >= kMinDegree && degree <= kMaxDegree);
-    assert(count >= degree + 1 && count <= kMaxControlPointsPerAxis);
+bool splineAxisCountValid(int count, int degree, int multiplicity) {
+    return degree >= kMinDegree && degree <= kMaxDegree && multiplicity >= 1 && multiplicity <= degree &&
+           count >= degree + 1 && count <= kMaxControlPointsPerAxis && (count - 1 - degree) % multiplicity == 0;
+}
+
+void SplineAxis::supportSpans(int f, int& lo, int& hi) const {
+    // f is non-zero on span s iff first(s) <= f <= first(s) + p.
+    lo = std::max(0, (f - degree + multiplicity - 1) / multiplicity);
+    if (f - degree < 0) lo = 0;
+    hi = std::min(spans - 1, f / multiplicity);
+}
+
+SplineAxis makeSplineAxis(int count, int degree, int multiplicity) {
+    assert(splineAxisCountValid(count, degree, multiplicity));
     SplineAxis axis;
     axis.count = count;
     axis.degree = degree;
-    axis.spans = count - degree;
+    axis.multiplicity = multiplicity;
+    axis.spans = (count - 1 - degree) / multiplicity + 1;
     const int p = degree;
     const int spans = axis.spans;
 
+    // Knot k: p+1 zeros, then interior knot j/spans repeated `multiplicity` times, then p+1 ones.
+    auto knotNumerator = [&](int k) { return k <= p ? 0 : std::min(spans, (k - p - 1) / multiplicity + 1); };
     axis.knots.resize(static_cast<size_t>(count + p + 1));
-    for (int i = 0; i < count + p + 1; ++i) {
-        const int interior = std::clamp(i - p, 0, spans);
-        axis.knots[i] = static_cast<double>(interior) / spans;
-    }
+    for (int i = 0; i < count + p + 1; ++i) axis.knots[i] = static_cast<double>(knotNumerator(i)) / spans;
     axis.greville.resize(count);
     for (int i = 0; i < count; ++i) {
         // note: summing integer knot numerators keeps xi exact-ish: xi_i = (sum of interior indices) / (p * spans)
         int numerator = 0;
-        for (int k = 1; k <= p; ++k) numerator += std::clamp(i + k - p, 0, spans);
+        for (int k = 1; k <= p; ++k) numerator += knotNumerator(i + k);
         axis.greville[i] = static_cast<double>(numerator) / (static_cast<double>(p) * spans);
     }
 
     const int n = p + 1;
     axis.coefficients.assign(static_cast<size_t>(spans) * n * n, 0.0);
     for (int s = 0; s < spans; ++s) {
-        const int knotSpan = s + p;  // t_{knotSpan} <= u < t_{knotSpan+1}
+        const int knotSpan = axis.first(s) + p;  // t_{knotSpan} <= u < t_{knotSpan+1}
         const double spanStart = static_cast<double>(s) / spans;
         const double width = 1.0 / spans;
         // u as a polynomial of x: u = spanStart + width * x

@@ -31,6 +31,7 @@ Status precomputeDirectManipulation(const Lattice& lattice, const std::vector<Ei
     d.constraintCount = h;
     d.rankThreshold = options.rankThreshold;
     d.columns = columns;
+    d.net = lattice.net;
     d.rt = Eigen::MatrixXd::Zero(h, m);
     for (int f = 0; f < h; ++f)
         for (int c = 0; c < supports[f].count; ++c) {
@@ -97,6 +98,7 @@ DirectManipulationResult solveDirectManipulation(const DirectManipulationData& d
 
     result.delta.indices = data.columns;
     result.delta.deltas = delta;
+    if (data.net && data.net->hasWelds) expandWelds(*data.net, result.delta);
     const Eigen::MatrixX3d achieved = m > 0 ? Eigen::MatrixX3d(data.rt * delta) : Eigen::MatrixX3d::Zero(h, 3);
     result.residuals.resize(h);
     for (int f = 0; f < h; ++f) result.residuals[f] = (displacements.row(f) - achieved.row(f)).norm();
@@ -109,6 +111,34 @@ DirectManipulationResult directManipulation(const Lattice& lattice, const std::v
     DirectManipulationData data;
     if (!precomputeDirectManipulation(lattice, sourceParams, data, options)) return {};
     return solveDirectManipulation(data, displacements);
+}
+
+void expandWelds(const LatticeNet& net, ControlDelta& delta) {
+    std::vector<std::pair<int, int>> rows;  // (slot, row of delta)
+    for (size_t c = 0; c < delta.indices.size(); ++c) {
+        const int rep = net.weldedTo[delta.indices[c]];
+        bool grouped = false;
+        for (const auto& group : net.weldGroups)
+            if (group[0] == rep) {
+                for (int s : group) rows.emplace_back(s, static_cast<int>(c));
+                grouped = true;
+                break;
+            }
+        if (!grouped) rows.emplace_back(delta.indices[c], static_cast<int>(c));
+    }
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a.first == b.first; }), rows.end());
+    ControlDelta out;
+    out.deltas.resize(static_cast<Eigen::Index>(rows.size()), 3);
+    for (size_t r = 0; r < rows.size(); ++r) {
+        out.indices.push_back(rows[r].first);
+        out.deltas.row(static_cast<Eigen::Index>(r)) = delta.deltas.row(rows[r].second);
+    }
+    delta = std::move(out);
+}
+
+void expandWelds(const Lattice& lattice, ControlDelta& delta) {
+    if (lattice.net && lattice.net->hasWelds) expandWelds(*lattice.net, delta);
 }
 
 void applyControlDelta(Lattice& lattice, const ControlDelta& delta, double sign) {

@@ -14,6 +14,7 @@
 // factorisation is done once per drag and each mouse move costs one small solve.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -53,6 +54,7 @@ struct DirectManipulationData {
     std::optional<Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>> cod;  // of R^T, otherwise
     int rank = 0;
     double rankThreshold = 1e-8;       // copied from the options
+    std::shared_ptr<const LatticeNet> net;  // a net lattice: solutions are expanded to every welded slot
 };
 
 // sourceParams: h parameter points in [0,1]^3. Fails only for h == 0.
@@ -72,6 +74,12 @@ DirectManipulationResult solveDirectManipulation(const DirectManipulationData& d
 DirectManipulationResult directManipulation(const Lattice& lattice, const std::vector<Eigen::Vector3d>& sourceParams,
                                             const Eigen::MatrixX3d& displacements,
                                             const DirectManipulationOptions& options = {});
+
+// Gives every slot of a weld group the displacement of its member in `delta` (Coquillart 1990, 3.1.2: welded
+// points act as one control point). Sorted, unique ids; a no-op for lattices without welds. Every delta
+// applied to a net lattice goes through this (the solver's results already have).
+void expandWelds(const LatticeNet& net, ControlDelta& delta);
+void expandWelds(const Lattice& lattice, ControlDelta& delta);
 
 // Applies a control delta (sign +1) or its inverse (sign -1) to the lattice.
 void applyControlDelta(Lattice& lattice, const ControlDelta& delta, double sign = 1.0);

@@ -1,6 +1,7 @@
 #include "core/embedding.h"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 #include "core/evaluation_kernel.h"
@@ -60,7 +61,15 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
     const double hi[3] = {lattice.boxMax.x(), lattice.boxMax.y(), lattice.boxMax.z()};
     const double* positions = rest.data();
     // The parameters are the box's linear map (restParameters), inlined here: this runs on every re-embedding.
+    // A net lattice freezes each vertex by Newton (Coquillart 1990, 3.3) once, in pass 1, into scratchParams.
+    const bool net = lattice.net != nullptr;
     auto parameters = [&](int v, double t[3]) {
+        if (net) {
+            const double* frozen = &e.scratchParams[3 * static_cast<size_t>(v)];
+            if (!(frozen[0] >= 0.0)) return false;  // NaN marks a vertex outside every chunk
+            for (int a = 0; a < 3; ++a) t[a] = frozen[a];
+            return true;
+        }
         for (int a = 0; a < 3; ++a) {
             const double x = positions[3 * static_cast<size_t>(v) + a];
             if (!(x >= lo[a] && x <= hi[a])) return false;
@@ -69,6 +78,19 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
         return true;
     };
 
+    if (net) {
+        e.scratchParams.resize(3 * static_cast<size_t>(n));
+#pragma omp parallel for schedule(dynamic, 256) if (n > 2000)
+        for (int v = 0; v < n; ++v) {
+            Eigen::Vector3d t;
+            double* frozen = &e.scratchParams[3 * static_cast<size_t>(v)];
+            if (restParameters(lattice, rest.row(v).transpose(), t)) {
+                for (int a = 0; a < 3; ++a) frozen[a] = t[a];
+            } else {
+                frozen[0] = frozen[1] = frozen[2] = std::numeric_limits<double>::quiet_NaN();
+            }
+        }
+    }
     // Pass 1: the cell of every vertex (-1 outside the box).
     std::vector<int>& cellOf = e.scratchCell;
     cellOf.resize(n);
@@ -129,12 +151,10 @@ std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int
     std::vector<int> cells;
     for (int idx : controlPoints) {
         const std::array<int, 3> c = lattice.ijk(idx);
-        // Control point i has support on spans [i - p, i] (clamped to the existing spans).
+        // Control point i has support on spans [i - p, i] (clamped to the existing spans; SplineAxis::supportSpans
+        // with repeated knots).
         int lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::max(0, c[a] - lattice.degree[a]);
-            hi[a] = std::min(spans[a] - 1, c[a]);
-        }
+        for (int a = 0; a < 3; ++a) lattice.axes[a].supportSpans(c[a], lo[a], hi[a]);
         for (int w = lo[2]; w <= hi[2]; ++w)
             for (int v = lo[1]; v <= hi[1]; ++v)
                 for (int u = lo[0]; u <= hi[0]; ++u) cells.push_back(u + spans[0] * (v + spans[1] * w));

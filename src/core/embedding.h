@@ -25,9 +25,12 @@ struct Embedding {
     int insideCount() const { return static_cast<int>(order.size()); }
     // Working storage kept between re-embeddings (fresh pages cost ~10 us each on this machine class).
     std::vector<int> scratchCell, scratchCursor;
+    std::vector<double> scratchParams;  // net lattices: 3 frozen parameters per vertex (NaN outside)
 };
 
-// rest: #V x 3. Vertices outside the lattice box are left out (they never move).
+// rest: #V x 3. Vertices outside the lattice box are left out (they never move). A net lattice freezes every
+// vertex by Newton's method (Coquillart 1990, 3.3; freezePoint), in parallel; vertices outside every chunk
+// are left out.
 Embedding embedVertices(const Lattice& lattice, const Positions& rest);
 // The same, refilling `embedding` in place and reusing its storage (no page faults when re-embedding a
 // mesh of the same size, as adaptive subdivision does).

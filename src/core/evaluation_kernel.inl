@@ -34,7 +34,7 @@ void evaluateCellFixed(const Lattice& lattice, const Embedding& e, int cell, dou
     for (int k = 0; k < N; ++k)
         for (int j = 0; j < N; ++j)
             for (int i = 0; i < N; ++i) {
-                const int idx = lattice.index(su + i, sv + j, sw + k);
+                const int idx = lattice.index(lattice.axes[0].first(su) + i, lattice.axes[1].first(sv) + j, lattice.axes[2].first(sw) + k);
                 const double w = Rational ? lattice.weights[idx] : 1.0;
                 for (int c = 0; c < 3; ++c) block[k][j][i][c] = Lanes{} + w * lattice.displacement(idx, c);
                 if constexpr (Rational) block[k][j][i][3] = Lanes{} + w;
@@ -112,7 +112,7 @@ void incrementCellFixed(const Lattice& lattice, const Embedding& e, int cell, co
     for (int k = 0; k < N; ++k)
         for (int j = 0; j < N; ++j)
             for (int i = 0; i < N; ++i) {
-                const int idx = lattice.index(su + i, sv + j, sw + k);
+                const int idx = lattice.index(lattice.axes[0].first(su) + i, lattice.axes[1].first(sv) + j, lattice.axes[2].first(sw) + k);
                 for (int c = 0; c < 3; ++c) block[k][j][i][c] = Lanes{} + increment(idx, c);
                 if (changed[idx]) {
                     lo[0] = std::min(lo[0], i), hi[0] = std::max(hi[0], i);
@@ -182,7 +182,7 @@ void incrementCellMixed(const Lattice& lattice, const Embedding& e, int cell, co
         for (int k = 0; k < nw; ++k)
             for (int j = 0; j < nv; ++j)
                 for (int i = 0; i < nu; ++i) {
-                    const int idx = lattice.index(su + i, sv + j, sw + k);
+                    const int idx = lattice.index(lattice.axes[0].first(su) + i, lattice.axes[1].first(sv) + j, lattice.axes[2].first(sw) + k);
                     if (!changed[idx]) continue;
                     const double w = bu[i] * bv[j] * bw[k];
                     for (int c = 0; c < 3; ++c) sum[c] += w * increment(idx, c);
@@ -208,7 +208,7 @@ void evaluateCellMixed(const Lattice& lattice, const Embedding& e, int cell, dou
         for (int k = 0; k < nw; ++k)
             for (int j = 0; j < nv; ++j)
                 for (int i = 0; i < nu; ++i) {
-                    const int idx = lattice.index(su + i, sv + j, sw + k);
+                    const int idx = lattice.index(lattice.axes[0].first(su) + i, lattice.axes[1].first(sv) + j, lattice.axes[2].first(sw) + k);
                     const double w = lattice.weights[idx] * bu[i] * bv[j] * bw[k];
                     for (int c = 0; c < 3; ++c) sum[c] += w * lattice.displacement(idx, c);
                     sum[3] += w;

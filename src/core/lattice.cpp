@@ -43,6 +43,7 @@ std::array<int, 3> gridIjk(const std::array<int, 3>& count, int idx) {
 std::array<int, 3> Lattice::ijk(int idx) const { return gridIjk(count, idx); }
 
 Eigen::Vector3d Lattice::restControlPoint(int idx) const {
+    if (net) return net->rest.row(idx).transpose();
     const std::array<int, 3> c = ijk(idx);
     Eigen::Vector3d p;
     for (int a = 0; a < 3; ++a) p[a] = boxMin[a] + axes[a].greville[c[a]] * (boxMax[a] - boxMin[a]);
@@ -50,6 +51,13 @@ Eigen::Vector3d Lattice::restControlPoint(int idx) const {
 }
 
 Status validateLatticeSettings(const LatticeSettings& s) {
+    if (s.net) {
+        if (s.pinLayers < 0 || s.pinLayers > 3) return Status::error("pin_layers must be in [0, 3]");
+        for (int a = 0; a < 3; ++a)
+            if (2 * s.pinLayers >= s.net->count[a] && s.pinLayers > 0 && (s.net->boundaryFace[a][0] || s.net->boundaryFace[a][1]))
+                return Status::error("pin_layers " + std::to_string(s.pinLayers) + " would pin every control point along " + axisName(a));
+        return Status::success();
+    }
     for (int a = 0; a < 3; ++a) {
         if (s.degree[a] < kMinDegree || s.degree[a] > kMaxDegree)
             return Status::error("lattice degree along " + axisName(a) + " is " + std::to_string(s.degree[a]) +
@@ -75,6 +83,11 @@ Status validateLatticeSettings(const LatticeSettings& s) {
 
 Status latticeBox(const LatticeSettings& settings, const Positions& points, Eigen::Vector3d& boxMin, Eigen::Vector3d& boxMax) {
     if (Status s = validateLatticeSettings(settings); !s) return s;
+    if (settings.net) {
+        boxMin = settings.net->bounds.min();
+        boxMax = settings.net->bounds.max();
+        return Status::success();
+    }
     Eigen::Vector3d lo, hi;
     if (settings.hasRegion) {
         lo = settings.regionMin;
@@ -102,7 +115,14 @@ Status latticeBox(const LatticeSettings& settings, const Positions& points, Eige
     return Status::success();
 }
 
+bool sameLatticeNet(const LatticeNet& a, const LatticeNet& b) {
+    return a.count == b.count && a.degree == b.degree && a.multiplicity == b.multiplicity && a.rest == b.rest &&
+           a.weights == b.weights && a.weldedTo == b.weldedTo;
+}
+
 bool sameLatticeSettings(const LatticeSettings& a, const LatticeSettings& b) {
+    if (a.net || b.net)
+        return a.net && b.net && a.pinLayers == b.pinLayers && (a.net == b.net || sameLatticeNet(*a.net, *b.net));
     return a.resolution == b.resolution && a.degree == b.degree && a.padding == b.padding && a.hasRegion == b.hasRegion &&
            a.regionMin == b.regionMin && a.regionMax == b.regionMax && a.pinLayers == b.pinLayers;
 }
@@ -110,6 +130,28 @@ bool sameLatticeSettings(const LatticeSettings& a, const LatticeSettings& b) {
 Status makeLatticeInBox(const LatticeSettings& settings, const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax,
                         Lattice& out) {
     if (Status s = validateLatticeSettings(settings); !s) return s;
+    if (settings.net) {
+        // A net lattice is where its net is; the box is its bounds (for sizes and the outside test).
+        const LatticeNet& net = *settings.net;
+        Lattice lattice;
+        lattice.net = settings.net;
+        lattice.count = net.count;
+        lattice.degree = net.degree;
+        lattice.axes = net.axes;
+        lattice.boxMin = net.bounds.min();
+        lattice.boxMax = net.bounds.max();
+        lattice.weights = net.weights;
+        lattice.rational = net.rational;
+        const int n = lattice.controlPointCount();
+        lattice.displacement = Positions::Zero(n, 3);
+        lattice.pinned.assign(n, 0);
+        for (int idx = 0; idx < n; ++idx) lattice.pinned[idx] = inOuterLayers(lattice, idx, settings.pinLayers) ? 1 : 0;
+        // A weld group is one control point: pinned if any of its slots is.
+        for (int idx = 0; idx < n; ++idx) lattice.pinned[lattice.representative(idx)] |= lattice.pinned[idx];
+        for (int idx = 0; idx < n; ++idx) lattice.pinned[idx] = lattice.pinned[lattice.representative(idx)];
+        out = std::move(lattice);
+        return Status::success();
+    }
     if (!boxMin.allFinite() || !boxMax.allFinite() || !(boxMin.array() < boxMax.array()).all())
         return Status::error("the lattice box must be finite with min < max on every axis");
     Lattice lattice;
@@ -134,6 +176,7 @@ Status makeLattice(const LatticeSettings& settings, const Positions& points, Lat
 }
 
 bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen::Vector3d& params) {
+    if (lattice.net) return freezePoint(*lattice.net, lattice.net->rest, lattice.net->restIndex, point, params);
     Eigen::Vector3d t;
     for (int a = 0; a < 3; ++a) {
         if (!(point[a] >= lattice.boxMin[a] && point[a] <= lattice.boxMax[a])) return false;  // also rejects NaN
@@ -153,7 +196,7 @@ void supportWeights(const Lattice& lattice, const Eigen::Vector3d& params, Suppo
     for (int k = 0; k < nw; ++k)
         for (int j = 0; j < nv; ++j)
             for (int i = 0; i < nu; ++i) {
-                const int idx = lattice.index(b.span[0] + i, b.span[1] + j, b.span[2] + k);
+                const int idx = lattice.index(lattice.axes[0].first(b.span[0]) + i, lattice.axes[1].first(b.span[1]) + j, lattice.axes[2].first(b.span[2]) + k);
                 const double w = lattice.weights[idx] * b.value[0][i] * b.value[1][j] * b.value[2][k];
                 out.index[out.count] = idx;
                 out.weight[out.count] = w;
@@ -164,6 +207,24 @@ void supportWeights(const Lattice& lattice, const Eigen::Vector3d& params, Suppo
     // polynomial case stays exactly the tensor-product B-spline.
     if (lattice.rational)
         for (int c = 0; c < out.count; ++c) out.weight[c] /= sum;
+    if (lattice.net && lattice.net->hasWelds) {
+        // Coquillart 1990, 3.1.2: a weld group's basis function is the sum of its slots'.
+        int kept = 0;
+        for (int c = 0; c < out.count; ++c) {
+            const int id = lattice.net->weldedTo[out.index[c]];
+            int found = -1;
+            for (int d = 0; d < kept; ++d)
+                if (out.index[d] == id) found = d;
+            if (found >= 0) {
+                out.weight[found] += out.weight[c];
+            } else {
+                out.index[kept] = id;
+                out.weight[kept] = out.weight[c];
+                ++kept;
+            }
+        }
+        out.count = kept;
+    }
 }
 
 Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& params) {
@@ -184,6 +245,18 @@ Eigen::Vector3d volumePoint(const Lattice& lattice, const Eigen::Vector3d& param
 
 void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, Eigen::Vector3d& displacement,
                          Eigen::Matrix3d& jacobian) {
+    if (lattice.net) {
+        // x(X0) = X0 + D(t(X0)) with Q0(t(X0)) = X0, so dx/dX0 = I + dD/dt (dQ0/dt)^-1 = dQ/dt (dQ0/dt)^-1
+        // (Coquillart 1990, 3.4: the frozen parameters are fixed while the net moves).
+        const LatticeNet& net = *lattice.net;
+        // note: D = sum R delta is the same rational combination as Q0, so one evaluation of each suffices.
+        Eigen::Vector3d rest;
+        Eigen::Matrix3d restDerivative, displacementDerivative;
+        evaluateNetVolume(net, net.rest, params, rest, &restDerivative);
+        evaluateNetVolume(net, lattice.displacement, params, displacement, &displacementDerivative);
+        jacobian = (restDerivative + displacementDerivative) * restDerivative.inverse();
+        return;
+    }
     const AxisBases b = axisBases(lattice, params, true);
     const int nu = lattice.degree[0] + 1, nv = lattice.degree[1] + 1, nw = lattice.degree[2] + 1;
     Eigen::Matrix3d dDisplacementDt;
@@ -195,7 +268,7 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
         for (int k = 0; k < nw; ++k)
             for (int j = 0; j < nv; ++j)
                 for (int i = 0; i < nu; ++i) {
-                    const double* d = &lattice.displacement(lattice.index(b.span[0] + i, b.span[1] + j, b.span[2] + k), 0);
+                    const double* d = &lattice.displacement(lattice.index(lattice.axes[0].first(b.span[0]) + i, lattice.axes[1].first(b.span[1]) + j, lattice.axes[2].first(b.span[2]) + k), 0);
                     for (int c = 0; c < 3; ++c) {
                         w0[i][j][c] += b.value[2][k] * d[c];
                         w1[i][j][c] += b.derivative[2][k] * d[c];
@@ -227,7 +300,7 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
         for (int k = 0; k < nw; ++k)
             for (int j = 0; j < nv; ++j)
                 for (int i = 0; i < nu; ++i) {
-                    const int idx = lattice.index(b.span[0] + i, b.span[1] + j, b.span[2] + k);
+                    const int idx = lattice.index(lattice.axes[0].first(b.span[0]) + i, lattice.axes[1].first(b.span[1]) + j, lattice.axes[2].first(b.span[2]) + k);
                     const double w = lattice.weights[idx];
                     const double basis = b.value[0][i] * b.value[1][j] * b.value[2][k];
                     const Eigen::Vector3d grad(b.derivative[0][i] * b.value[1][j] * b.value[2][k],
@@ -249,6 +322,12 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
 Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deformedPoint, Eigen::Vector3d& params,
                            double tolerance) {
     if (!finite3(deformedPoint)) return Status::error("point has non-finite coordinates");
+    if (lattice.net) {
+        const Positions moved = lattice.net->rest + lattice.displacement;
+        if (freezePoint(*lattice.net, moved, buildChunkIndex(*lattice.net, moved), deformedPoint, params)) return Status::success();
+        return Status::error("point (" + std::to_string(deformedPoint.x()) + ", " + std::to_string(deformedPoint.y()) + ", " +
+                             std::to_string(deformedPoint.z()) + ") is not inside the deformed lattice");
+    }
     const double diagonal = lattice.diagonal();
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
     Eigen::Vector3d rest = deformedPoint.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
@@ -279,7 +358,15 @@ bool inOuterLayers(const std::array<int, 3>& count, const std::array<int, 3>& c,
     return false;
 }
 
-bool inOuterLayers(const Lattice& lattice, int index, int layers) { return inOuterLayers(lattice.count, lattice.ijk(index), layers); }
+bool inOuterLayers(const Lattice& lattice, int index, int layers) {
+    if (!lattice.net) return inOuterLayers(lattice.count, lattice.ijk(index), layers);
+    // A net lattice: layers counted from its boundary faces only (not from a seam or a collapsed axis).
+    const std::array<int, 3> c = lattice.ijk(index);
+    for (int a = 0; a < 3; ++a)
+        if ((lattice.net->boundaryFace[a][0] && c[a] < layers) || (lattice.net->boundaryFace[a][1] && c[a] >= lattice.count[a] - layers))
+            return true;
+    return false;
+}
 
 Positions controlPointPositions(const Lattice& lattice) {
     Positions points(lattice.controlPointCount(), 3);
@@ -296,7 +383,7 @@ std::vector<int> displacedControlPoints(const Lattice& lattice) {
 
 bool boundaryUnmoved(const Lattice& lattice) {
     for (int idx : displacedControlPoints(lattice))
-        if (inOuterLayers(lattice, idx, 1)) return false;
+        if (lattice.net ? lattice.net->boundarySlot[idx] != 0 : inOuterLayers(lattice, idx, 1)) return false;
     return true;
 }
 

@@ -10,11 +10,13 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "core/bspline_basis.h"
+#include "core/lattice_net.h"
 #include "core/mesh_types.h"
 #include "core/status.h"
 
@@ -28,12 +30,18 @@ struct LatticeSettings {
     Eigen::Vector3d regionMin = Eigen::Vector3d::Zero();  // with hasRegion: the user-given box (then padded)
     Eigen::Vector3d regionMax = Eigen::Vector3d::Zero();
     int pinLayers = 0;                       // pin the k outer layers of control points, k in [0, 3]
+    // A lattice of any shape (lattice_net.h, Coquillart 1990): its control net, placed where it is in world
+    // space. When set, resolution, degree, padding and region are the net's (the fields above are ignored
+    // except pinLayers, which counts layers from the net's boundary faces only).
+    std::shared_ptr<const LatticeNet> net;
 };
 
 // Checks ranges and finiteness; the message names the offending field.
 Status validateLatticeSettings(const LatticeSettings& settings);
-// Every field equal (the same control point ids and placement rule).
+// Every field equal (the same control point ids and placement rule); nets compared by value.
 bool sameLatticeSettings(const LatticeSettings& a, const LatticeSettings& b);
+// Two nets with the same counts, degrees, multiplicities, rest points, weights and welds (bitwise).
+bool sameLatticeNet(const LatticeNet& a, const LatticeNet& b);
 
 // Up to (kMaxDegree+1)^3 control points with their basis weights R_ijk at one parameter point.
 struct SupportWeights {
@@ -52,6 +60,11 @@ struct Lattice {
     bool rational = false;              // some weight differs from 1
     Positions displacement;             // #P x 3, delta_ijk accumulated since set-up
     std::vector<std::uint8_t> pinned;   // #P, 1 = the solver never moves this control point
+    // A net lattice (lattice_net.h): rest control points, weights and welds come from the net, parameters
+    // of rest points from freezing (Newton), boxMin/boxMax are the net's bounds. Null: the box lattice.
+    // Welded control points always carry equal displacements (ControlDeltas are expanded to every slot of a
+    // weld group by expandWelds) and equal pins.
+    std::shared_ptr<const LatticeNet> net;
 
     int controlPointCount() const { return count[0] * count[1] * count[2]; }
     int index(int i, int j, int k) const { return i + count[0] * (j + count[1] * k); }
@@ -59,8 +72,10 @@ struct Lattice {
     std::array<int, 3> spans() const { return {axes[0].spans, axes[1].spans, axes[2].spans}; }
     int cellCount() const { return axes[0].spans * axes[1].spans * axes[2].spans; }
     double diagonal() const { return (boxMax - boxMin).norm(); }
-    // P0_ijk: the rest position, boxMin + greville * size per axis.
+    // P0_ijk: the rest position, boxMin + greville * size per axis (a net lattice: the net's point).
     Eigen::Vector3d restControlPoint(int index) const;
+    // The representative of control point `index`'s weld group (itself when not welded).
+    int representative(int index) const { return net && net->hasWelds ? net->weldedTo[index] : index; }
     // P0 + delta.
     Eigen::Vector3d controlPoint(int index) const { return restControlPoint(index) + displacement.row(index).transpose(); }
 };
@@ -79,9 +94,12 @@ Status makeLatticeInBox(const LatticeSettings& settings, const Eigen::Vector3d& 
 
 // Parameters t in [0,1]^3 of a rest-space point, by the linear map of the box (O(1), no iteration).
 // Returns false (t untouched) for points outside the closed box; points on a face get exactly 0 or 1.
+// A net lattice freezes the point (freezePoint: Newton per chunk, Coquillart 1990, 3.3); false outside it.
 bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen::Vector3d& params);
 
 // R_ijk(t) for the (p+1)(q+1)(r+1) control points whose basis is non-zero at t (Hu et al. 2001, eq. 2).
+// Welded control points are reported once, on their representative, with the sum of their basis functions
+// (Coquillart 1990, 3.1.2: merged points act as one control point).
 void supportWeights(const Lattice& lattice, const Eigen::Vector3d& params, SupportWeights& out);
 
 // sum_ijk R_ijk(t) delta_ijk.

@@ -1,0 +1,154 @@
+// Lattices of any shape: extended free-form deformation (Coquillart 1990, "EFFD", seed 004).
+//
+// A lattice is a trivariate tensor-product NURBS volume Q(t) = sum R_s(t) P_s over t in [0,1]^3 (Hu et al.
+// 2001, eq. 1-2). The box lattice (lattice.h) places its control points P0_s on a regular grid in an
+// axis-aligned box, so a point's parameters follow from the box's linear map. A *net* lattice places them
+// anywhere: a parallelepiped in any orientation, a cylinder, a sphere, a prism extruded or lofted from 2D
+// lattices (3.1.1, 3.1.3), or a net the user edited (3.1.4). Such a lattice has to be *frozen* (3.3): each
+// point X0 inside gets the parameters t with Q0(t) = X0 by Newton's method per chunk (one Bezier piece of the
+// volume, a knot-span triple). After that it deforms exactly like the box lattice: x = X0 + sum R_s(t) delta_s
+// (3.4), so the explicit solution (Hu et al. 2001, eq. 7 / 12), the evaluation kernels, history and undo
+// are shared by every kind.
+//
+// Welded control points (3.1.2, 3.1.4) are grid slots that act as one control point: the cylinder's axis,
+// a sphere's poles and centre, the seam of a periodic (closed) angle axis, points merged by the user. Every
+// slot of a weld group carries the same displacement, and the group's basis function is the sum of its
+// slots' (supportWeights reports it on the group's representative, the smallest slot id).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/bspline_basis.h"
+#include "core/mesh_types.h"
+#include "core/status.h"
+
+namespace sculpt::core {
+
+// A spatial index of a net's chunks: the bounds of every chunk's control points (a chunk lies in their
+// convex hull, weights > 0), and a uniform grid over all of them listing the chunks that overlap each grid
+// cell, so a point's candidate chunks cost O(1) to find.
+struct ChunkIndex {
+    std::vector<Eigen::AlignedBox3d> chunkBounds;
+    Eigen::AlignedBox3d bounds;
+    std::array<int, 3> gridSize{1, 1, 1};
+    std::vector<int> gridStart, gridChunks;  // CSR: chunks of grid cell g are gridChunks[gridStart[g] .. gridStart[g+1])
+    // Candidate chunks of x, ascending ids (empty outside the bounds).
+    void candidates(const Eigen::Vector3d& x, std::vector<int>& out) const;
+};
+
+// The rest shape of a net lattice. Immutable once built (shared between the copies of a Lattice, its
+// layers and the history); edits make a new one.
+struct LatticeNet {
+    std::string kind = "net";        // "parallelepiped", "cylinder", "sphere", "prism", "loft", "net"
+    std::array<int, 3> count{};      // grid slots per axis
+    std::array<int, 3> degree{};
+    std::array<int, 3> multiplicity{1, 1, 1};  // interior knot multiplicity per axis (SplineAxis)
+    std::array<SplineAxis, 3> axes;
+    Positions rest;                  // #slots x 3, P0 per slot, slot id = i + count0 * (j + count1 * k)
+    std::vector<double> weights;     // #slots, > 0 (NURBS weights W_s)
+    bool rational = false;           // some weight differs from another
+    std::vector<int> weldedTo;       // #slots: the representative (smallest slot) of the slot's weld group
+    bool hasWelds = false;
+    std::vector<std::vector<int>> weldGroups;  // groups of two or more slots, each sorted (representative first)
+    std::array<bool, 3> periodic{};  // the axis is closed: its last slice is welded onto its first (the seam)
+    // Per axis and side (0 low, 1 high): the face is part of the volume's outer surface, i.e. neither a seam
+    // nor collapsed (a cylinder's axis, a sphere's pole). Pinning and the boundary rule use only these.
+    std::array<std::array<bool, 2>, 3> boundaryFace{};
+    std::vector<std::uint8_t> boundarySlot;  // #slots: the slot lies on a boundary face
+    ChunkIndex restIndex;            // derived (finishLatticeNet): the rest net's chunk index
+    Eigen::AlignedBox3d bounds;      // of the rest control points
+
+    int slotCount() const { return count[0] * count[1] * count[2]; }
+    int slot(int i, int j, int k) const { return i + count[0] * (j + count[1] * k); }
+    std::array<int, 3> spans() const { return {axes[0].spans, axes[1].spans, axes[2].spans}; }
+    int chunkCount() const { return axes[0].spans * axes[1].spans * axes[2].spans; }
+    double diagonal() const { return bounds.diagonal().norm(); }
+};
+
+// Validates the raw fields (counts, degrees, multiplicities, rest #slots x 3 finite, weights > 0 finite,
+// weldedTo in range) and fills the derived ones: axes, rational, weld groups, boundary faces and slots,
+// chunk bounds and the grid index. Welded slots must coincide at rest (to 1e-9 of the diagonal).
+// Fails with a message naming the field; `net` is then unspecified.
+Status finishLatticeNet(LatticeNet& net);
+
+// Welds every group of slots whose rest points coincide to `tolerance` * diagonal (the predefined lattices'
+// axis, poles, centre and seam). Call before finishLatticeNet.
+void weldCoincidentSlots(LatticeNet& net, double tolerance = 1e-12);
+
+// ---- predefined lattices (3.1.1, 3.1.3, Fig. 2) ---------------------------------------------------------
+// Every constructor takes the number of chunks (knot spans) per axis and fails with a clear message on
+// non-finite or degenerate input; none needs a mesh.
+
+// A parallelepiped: P0(t) = origin + edges * t (edges' columns are the three edge vectors, right-handed,
+// det > 0). Control points at the Greville points of a uniform clamped B-spline of `degree` per axis, so the
+// rest volume is the affine map itself. PyGeM's oriented FFD box is origin + R diag(lengths).
+Status makeParallelepipedNet(const Eigen::Vector3d& origin, const Eigen::Matrix3d& edges, const std::array<int, 3>& chunks,
+                             const std::array<int, 3>& degree, LatticeNet& out);
+
+// A cylinder around `axis` (any non-zero direction) from `base` to base + height * axis/|axis|, of
+// `radius`: parameters (r, theta, z). theta is periodic (the seam is welded) and built from rational
+// quadratic arcs, so rest circles are exact (weights cos(alpha/2) at the arc middles); the axis (r = 0) is
+// one welded point per z slice. chunks = {radial, angular >= 3, axial}; degree = {radial, axial} in [1, 5].
+Status makeCylinderNet(const Eigen::Vector3d& base, const Eigen::Vector3d& axis, double radius, double height,
+                       const std::array<int, 3>& chunks, const std::array<int, 2>& degree, LatticeNet& out);
+
+// A ball of `radius` around `centre`: parameters (r, theta in [0, 2 pi) periodic, phi from the south pole to
+// the north pole along `axis`), a surface of revolution of rational arcs (weights w_theta * w_phi). The
+// centre is one welded point, each pole one welded point per radial slice. chunks = {radial, angular >= 3,
+// polar >= 2}; radialDegree in [1, 5].
+Status makeSphereNet(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius,
+                     const std::array<int, 3>& chunks, int radialDegree, LatticeNet& out);
+
+// A 2D lattice in a plane: a tensor-product NURBS surface net of count[0] x count[1] points (2D
+// coordinates, row u fastest), weights and knot multiplicities per axis (1 or the degree).
+struct PlanarNet {
+    std::array<int, 2> count{};
+    std::array<int, 2> degree{};
+    std::array<int, 2> multiplicity{1, 1};
+    std::vector<Eigen::Vector2d> points;
+    std::vector<double> weights;
+};
+// A regular 2D grid over [lo, hi] with `chunks` spans of `degree` per axis.
+PlanarNet makeRectangleNet(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, const std::array<int, 2>& chunks,
+                           const std::array<int, 2>& degree);
+
+// Prismatic lattice by extrusion (3.1.1, Fig. 2): the 2D lattice placed at `origin` in the plane spanned by
+// uAxis, vAxis (orthonormalised), swept along `direction` (not in that plane) with `chunks` spans of `degree`.
+Status makeExtrusionNet(const PlanarNet& profile, const Eigen::Vector3d& origin, const Eigen::Vector3d& uAxis,
+                        const Eigen::Vector3d& vAxis, const Eigen::Vector3d& direction, int chunks, int degree,
+                        LatticeNet& out);
+
+// Prismatic lattice by loft (3.1.4, the "S" of Fig. 8): sections[k] is the k-th slice of control points
+// (count[0] x count[1] world points each, same counts and weights as `profile`), interpolated along w with
+// `degree` (sections.size() >= degree + 1).
+Status makeLoftNet(const PlanarNet& profile, const std::vector<Positions>& sections, int degree, LatticeNet& out);
+
+// ---- evaluation and freezing (3.3) ----------------------------------------------------------------------
+
+// Q(t) and dQ/dt (columns = d/dt_a) of the net with control points `points` (#slots x 3: the rest net, or the
+// rest net plus the displacements), rational by the quotient rule. t in [0,1]^3 (clamped).
+void evaluateNetVolume(const LatticeNet& net, const Positions& points, const Eigen::Vector3d& t, Eigen::Vector3d& value,
+                       Eigen::Matrix3d* derivative = nullptr);
+
+// The chunk index of the net with control points `points` (#slots x 3).
+ChunkIndex buildChunkIndex(const LatticeNet& net, const Positions& points);
+
+// Freezing: the parameters t with Q(t) = x, Q the volume of `points` (#slots x 3) indexed by `index`
+// (buildChunkIndex of the same points). Candidate chunks come from the grid index (those whose control-point bounds contain x), lowest chunk id first; in each, Newton's
+// method starts at the chunk centre and, where it does not converge, at the centres of the chunk's octants
+// and then of its 64 sub-boxes; steps use the pseudo-inverse of dQ/dt where it is (nearly) singular (the
+// cylinder's axis). The first chunk holding a solution gives the answer (deterministic for points on a
+// chunk face or in overlapping chunks). Converged means |Q(t) - x| <= 1e-13 * diagonal. Returns false for
+// points outside every chunk (they do not move) and for non-finite x.
+// For the rest net: freezePoint(net, net.rest, net.restIndex, x, t).
+bool freezePoint(const LatticeNet& net, const Positions& points, const ChunkIndex& index, const Eigen::Vector3d& x,
+                 Eigen::Vector3d& t);
+
+}  // namespace sculpt::core
