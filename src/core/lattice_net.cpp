@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <Eigen/LU>
@@ -316,46 +317,47 @@ void evaluateNetVolume(const LatticeNet& net, const Positions& points, const Eig
 
 namespace {
 
-// Newton's method for Q(t) = x inside the parameter box [lo, hi] (a chunk), from `start`.
+// Newton's method for Q(t) = x inside the parameter box [lo, hi] (a chunk), from `start`. Converged: the
+// residual reaches `tight` (rounding level), or stalls there below `loose`.
 bool newtonInChunk(const LatticeNet& net, const Positions& points, const Eigen::Vector3d& x, const Eigen::Vector3d& lo,
-                   const Eigen::Vector3d& hi, Eigen::Vector3d start, double tolerance, Eigen::Vector3d& t) {
-    Eigen::Vector3d u = start;
+                   const Eigen::Vector3d& hi, const Eigen::Vector3d& start, double tight, double loose, Eigen::Vector3d& t) {
+    Eigen::Vector3d u = start, best = start;
     const Eigen::Vector3d width = hi - lo;
-    double previous = std::numeric_limits<double>::infinity();
+    double bestResidual = std::numeric_limits<double>::infinity();
     int stalled = 0;
-    for (int iteration = 0; iteration < 50; ++iteration) {
+    for (int iteration = 0; iteration < 60 && stalled < 4; ++iteration) {
         Eigen::Vector3d q;
         Eigen::Matrix3d d;
         evaluateNetVolume(net, points, u, q, &d);
         const Eigen::Vector3d residual = x - q;
         const double r = residual.norm();
-        if (r <= tolerance) {
-            t = u;
-            return true;
-        }
-        if (r >= previous) {
-            if (++stalled > 4) return false;
+        if (r < bestResidual) {
+            // note: a step that gains less than a tenth is a stall (rounding level or a point outside the chunk).
+            stalled = r > 0.9 * bestResidual ? stalled + 1 : 0;
+            bestResidual = r;
+            best = u;
         } else {
-            stalled = 0;
+            ++stalled;
         }
-        previous = std::min(previous, r);
+        if (r <= tight) break;
         // Full-rank steps by LU; near-singular Jacobians (a collapsed axis or pole) by the pseudo-inverse, which
         // moves only along the directions the volume can move in (3.3: degenerate chunks).
         Eigen::Vector3d step;
         const double scale = d.colwise().norm().prod();
-        if (std::abs(d.determinant()) > 1e-9 * scale && scale > 0.0) {
+        if (scale > 0.0 && std::abs(d.determinant()) > 1e-9 * scale) {
             step = d.partialPivLu().solve(residual);
         } else {
             Eigen::JacobiSVD<Eigen::Matrix3d> svd(d, Eigen::ComputeFullU | Eigen::ComputeFullV);
             svd.setThreshold(1e-9);
             step = svd.solve(residual);
         }
-        if (!step.allFinite()) return false;
+        if (!step.allFinite()) break;
         // Damped: at most half the chunk per axis per iteration, and stay in the chunk.
         for (int a = 0; a < 3; ++a) step[a] = std::clamp(step[a], -0.5 * width[a], 0.5 * width[a]);
         u = (u + step).cwiseMax(lo).cwiseMin(hi);
     }
-    return false;
+    t = best;
+    return bestResidual <= loose;
 }
 
 }  // namespace
@@ -366,24 +368,49 @@ bool freezePoint(const LatticeNet& net, const Positions& points, const ChunkInde
     thread_local std::vector<int> candidates;
     index.candidates(x, candidates);
     if (candidates.empty()) return false;
-    const double tolerance = 1e-13 * std::max(index.bounds.diagonal().norm(), 1e-300);
+    const double diagonal = std::max(index.bounds.diagonal().norm(), 1e-300);
+    const double tight = 1e-15 * diagonal + 4.0 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
+    const double loose = 1e-13 * diagonal + 64.0 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
     const std::array<int, 3> spans = net.spans();
-    for (int chunk : candidates) {
+    auto chunkBox = [&](int chunk, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
         const int c[3] = {chunk % spans[0], (chunk / spans[0]) % spans[1], chunk / (spans[0] * spans[1])};
-        Eigen::Vector3d lo, hi;
         for (int a = 0; a < 3; ++a) {
             lo[a] = static_cast<double>(c[a]) / spans[a];
             hi[a] = c[a] + 1 == spans[a] ? 1.0 : static_cast<double>(c[a] + 1) / spans[a];
         }
-        // Starts: the chunk centre, then the centres of its 8 octants, then of its 64 sub-boxes.
-        for (int level = 1; level <= 4; level *= 2) {
+    };
+    // Pass 1: Newton over the whole parameter domain from each candidate chunk's centre (it may walk into a
+    // neighbouring chunk: the answer is the same point of the volume). The first candidate that converges
+    // gives the answer, so a point on a chunk face or in overlapping chunks always gets the same one.
+    const Eigen::Vector3d zero = Eigen::Vector3d::Zero(), one = Eigen::Vector3d::Ones();
+    bool allStoppedOnBoundary = true;
+    for (int chunk : candidates) {
+        Eigen::Vector3d lo, hi;
+        chunkBox(chunk, lo, hi);
+        Eigen::Vector3d end;
+        if (newtonInChunk(net, points, x, zero, one, 0.5 * (lo + hi), tight, loose, end)) {
+            t = end;
+            return true;
+        }
+        // note: for a point outside the volume Newton walks to the volume's outer surface and stops there
+        // (the clamp); only a start that stalled elsewhere needs the finer starts below.
+        bool onBoundary = false;
+        for (int a = 0; a < 3; ++a)
+            onBoundary = onBoundary || (end[a] == 0.0 && net.boundaryFace[a][0]) || (end[a] == 1.0 && net.boundaryFace[a][1]);
+        allStoppedOnBoundary = allStoppedOnBoundary && onBoundary;
+    }
+    if (allStoppedOnBoundary) return false;
+    // Pass 2 (3.3: "subdivide the chunk for a better start"): inside each chunk, from the centres of its 8
+    // octants, then of its 64 sub-boxes.
+    for (int level = 2; level <= 4; level *= 2)
+        for (int chunk : candidates) {
+            Eigen::Vector3d lo, hi;
+            chunkBox(chunk, lo, hi);
             for (int s = 0; s < level * level * level; ++s) {
                 const Eigen::Vector3d local((s % level + 0.5) / level, ((s / level) % level + 0.5) / level, (s / (level * level) + 0.5) / level);
-                const Eigen::Vector3d start = lo + (hi - lo).cwiseProduct(local);
-                if (newtonInChunk(net, points, x, lo, hi, start, tolerance, t)) return true;
+                if (newtonInChunk(net, points, x, lo, hi, lo + (hi - lo).cwiseProduct(local), tight, loose, t)) return true;
             }
         }
-    }
     return false;
 }
 
