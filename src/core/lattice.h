@@ -38,6 +38,9 @@ struct LatticeSettings {
 
 // Checks ranges and finiteness; the message names the offending field.
 Status validateLatticeSettings(const LatticeSettings& settings);
+// Control points per axis of the lattice these settings make (the net's counts, or the resolution).
+inline std::array<int, 3> latticeCounts(const LatticeSettings& settings) { return settings.net ? settings.net->count : settings.resolution; }
+
 // Every field equal (the same control point ids and placement rule); nets compared by value.
 bool sameLatticeSettings(const LatticeSettings& a, const LatticeSettings& b);
 // Two nets with the same counts, degrees, multiplicities, rest points, weights and welds (bitwise).

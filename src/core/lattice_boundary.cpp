@@ -14,15 +14,46 @@ void latticeBoundarySurface(const Lattice& lattice, int samplesPerSpan, Position
     const auto node = [&](int i, int j, int k) -> int& { return id[static_cast<size_t>(i) + static_cast<size_t>(n[0]) * (j + static_cast<size_t>(n[1]) * k)]; };
     std::vector<Eigen::Vector3d> points;
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
+    const LatticeNet* net = lattice.net.get();
+    // A net lattice's sample nodes that are one point of the volume share one id: the periodic seam's last
+    // slice is its first, and on a collapsed face (a cylinder's axis, a pole) the collapsed direction has one
+    // node. Its surface is only its boundary faces (not the seam, not the collapsed ones).
+    const auto canonical = [&](std::array<int, 3> g) {
+        if (!net) return g;
+        for (int pass = 0; pass < 2; ++pass)
+            for (int a = 0; a < 3; ++a) {
+                if (net->periodic[a] && g[a] == n[a] - 1) g[a] = 0;
+                for (int side = 0; side < 2; ++side)
+                    if (g[a] == (side ? n[a] - 1 : 0))
+                        for (int b = 0; b < 3; ++b)
+                            if (net->collapsedAlong[a][side] & (1 << b)) g[b] = 0;
+            }
+        return g;
+    };
     for (int k = 0; k < n[2]; ++k)
         for (int j = 0; j < n[1]; ++j)
             for (int i = 0; i < n[0]; ++i) {
                 if (i != 0 && j != 0 && k != 0 && i != n[0] - 1 && j != n[1] - 1 && k != n[2] - 1) continue;
+                const std::array<int, 3> c = canonical({i, j, k});
+                if (c != std::array<int, 3>{i, j, k}) continue;  // its canonical node (visited first: smaller ids) has the id
                 const Eigen::Vector3d t(static_cast<double>(i) / (n[0] - 1), static_cast<double>(j) / (n[1] - 1),
                                         static_cast<double>(k) / (n[2] - 1));
                 node(i, j, k) = static_cast<int>(points.size());
-                points.push_back(lattice.boxMin + t.cwiseProduct(size) + displacementAt(lattice, t));
+                if (net) {
+                    Eigen::Vector3d rest;
+                    evaluateNetVolume(*net, net->rest, t, rest);
+                    points.push_back(rest + displacementAt(lattice, t));
+                } else {
+                    points.push_back(lattice.boxMin + t.cwiseProduct(size) + displacementAt(lattice, t));
+                }
             }
+    for (int k = 0; k < n[2]; ++k)
+        for (int j = 0; j < n[1]; ++j)
+            for (int i = 0; i < n[0]; ++i)
+                if (node(i, j, k) < 0) {
+                    const std::array<int, 3> c = canonical({i, j, k});
+                    if (c != std::array<int, 3>{i, j, k}) node(i, j, k) = node(c[0], c[1], c[2]);
+                }
     positions.resize(static_cast<Eigen::Index>(points.size()), 3);
     for (size_t v = 0; v < points.size(); ++v) positions.row(static_cast<Eigen::Index>(v)) = points[v].transpose();
 
@@ -31,6 +62,7 @@ void latticeBoundarySurface(const Lattice& lattice, int samplesPerSpan, Position
     for (int a = 0; a < 3; ++a) {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
         for (int side = 0; side < 2; ++side) {
+            if (net && !net->boundaryFace[a][side]) continue;
             for (int u = 0; u + 1 < n[b]; ++u)
                 for (int w = 0; w + 1 < n[c]; ++w) {
                     const auto at = [&](int uu, int ww) {
@@ -42,12 +74,15 @@ void latticeBoundarySurface(const Lattice& lattice, int samplesPerSpan, Position
                     };
                     const int p00 = at(u, w), p10 = at(u + 1, w), p11 = at(u + 1, w + 1), p01 = at(u, w + 1);
                     // (b, c, a) is right-handed: counter-clockwise in (b, c) faces +a; the low side faces -a.
+                    const auto add = [&](int x, int y, int z) {
+                        if (x != y && y != z && x != z) tris.push_back({x, y, z});  // collapsed corners drop
+                    };
                     if (side) {
-                        tris.push_back({p00, p10, p11});
-                        tris.push_back({p00, p11, p01});
+                        add(p00, p10, p11);
+                        add(p00, p11, p01);
                     } else {
-                        tris.push_back({p00, p11, p10});
-                        tris.push_back({p00, p01, p11});
+                        add(p00, p11, p10);
+                        add(p00, p01, p11);
                     }
                 }
         }

@@ -253,7 +253,9 @@ Status finishLatticeNet(LatticeNet& net) {
                     }
                 return true;
             };
-            net.boundaryFace[a][side] = !seam && !collapsed(true) && !collapsed(false);
+            const bool alongB = collapsed(true), alongC = collapsed(false);
+            net.collapsedAlong[a][side] = (alongB ? 1 << b : 0) | (alongC ? 1 << c : 0);
+            net.boundaryFace[a][side] = !seam && !alongB && !alongC;
         }
     }
     net.boundarySlot.assign(n, 0);
@@ -412,6 +414,32 @@ bool freezePoint(const LatticeNet& net, const Positions& points, const ChunkInde
             }
         }
     return false;
+}
+
+Status placeLatticeNet(const LatticeNet& tool, const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size,
+                       LatticeNet& out) {
+    if (!point.allFinite() || !normal.allFinite() || !(normal.norm() > 0.0)) return Status::error("placing a lattice needs a finite point and a non-zero normal");
+    if (!finitePositive(size)) return Status::error("placing a lattice needs a size that is finite and > 0");
+    const Eigen::Matrix3d rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal.normalized()).toRotationMatrix();
+    const Eigen::Vector3d centre = tool.bounds.center();
+    const double scale = size / tool.diagonal();
+    LatticeNet net;
+    net.kind = tool.kind;
+    net.count = tool.count;
+    net.degree = tool.degree;
+    net.multiplicity = tool.multiplicity;
+    net.weights = tool.weights;
+    net.weldedTo = tool.weldedTo;
+    net.rest.resize(tool.rest.rows(), 3);
+    for (Eigen::Index s = 0; s < tool.rest.rows(); ++s)
+        net.rest.row(s) = (point + scale * (rotation * (tool.rest.row(s).transpose() - centre))).transpose();
+    // note: welded points coincide before the similarity, so they coincide after it up to rounding; make them
+    // exactly equal again.
+    for (const auto& group : tool.weldGroups)
+        for (int s : group) net.rest.row(s) = net.rest.row(group[0]);
+    if (Status st = finishLatticeNet(net); !st) return st;
+    out = std::move(net);
+    return Status::success();
 }
 
 // ---- predefined lattices -----------------------------------------------------------------------------

@@ -61,6 +61,7 @@ struct LatticeNet {
     // Per axis and side (0 low, 1 high): the face is part of the volume's outer surface, i.e. neither a seam
     // nor collapsed (a cylinder's axis, a sphere's pole). Pinning and the boundary rule use only these.
     std::array<std::array<bool, 2>, 3> boundaryFace{};
+    std::array<std::array<int, 2>, 3> collapsedAlong{};  // per face: bit b set = every line along axis b is one point
     std::vector<std::uint8_t> boundarySlot;  // #slots: the slot lies on a boundary face
     ChunkIndex restIndex;            // derived (finishLatticeNet): the rest net's chunk index
     Eigen::AlignedBox3d bounds;      // of the rest control points
@@ -129,6 +130,12 @@ Status makeExtrusionNet(const PlanarNet& profile, const Eigen::Vector3d& origin,
 // (count[0] x count[1] world points each, same counts and weights as `profile`), interpolated along w with
 // `degree` (sections.size() >= degree + 1).
 Status makeLoftNet(const PlanarNet& profile, const std::vector<Positions>& sections, int degree, LatticeNet& out);
+
+// The positioning command (Coquillart 1990, 3.2): the lattice moved so that the centre of its bounds is at
+// `point`, its own z axis turned onto `normal` (the shortest rotation), and scaled so its bounds' diagonal
+// is `size`. Weights and welds are kept. Fails on a zero normal or a size that is not finite and > 0.
+Status placeLatticeNet(const LatticeNet& tool, const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size,
+                       LatticeNet& out);
 
 // ---- evaluation and freezing (3.3) ----------------------------------------------------------------------
 

@@ -18,6 +18,11 @@ const char* scriptOpName(ScriptOp::Kind kind) {
         case ScriptOp::Kind::BeginGroup: return "begin_group";
         case ScriptOp::Kind::EndGroup: return "end_group";
         case ScriptOp::Kind::Group: return "group";
+        case ScriptOp::Kind::AddLattice: return "add_lattice";
+        case ScriptOp::Kind::EditLattice: return "edit_lattice";
+        case ScriptOp::Kind::RemoveLattice: return "remove_lattice";
+        case ScriptOp::Kind::Freeze: return "freeze";
+        case ScriptOp::Kind::Unfreeze: return "unfreeze";
     }
     return "?";
 }
@@ -84,6 +89,11 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
             return Status::success();
         case ScriptOp::Kind::Undo: return session.undo(report);
         case ScriptOp::Kind::Redo: return session.redo(report);
+        case ScriptOp::Kind::AddLattice: return session.addLatticeTool(op.tool, report);
+        case ScriptOp::Kind::EditLattice: return session.editLatticeTool(op.toolIndex, op.tool, report);
+        case ScriptOp::Kind::RemoveLattice: return session.removeLatticeTool(op.toolIndex, report);
+        case ScriptOp::Kind::Freeze: return session.freezeLattice(op.toolIndex, op.pinLayers, report);
+        case ScriptOp::Kind::Unfreeze: return session.unfreezeLattice(report);
         case ScriptOp::Kind::Screenshot: {
             const auto start = std::chrono::steady_clock::now();
             report = OpReport{};
@@ -113,7 +123,7 @@ ScriptOp recordedOp(const Operation& operation) {
             op.kind = ScriptOp::Kind::MoveControlPoint;
             op.relative = true;
             op.values = operation.offsets;
-            const std::array<int, 3>& resolution = operation.steps.front().settings.resolution;
+            const std::array<int, 3> resolution = latticeCounts(operation.steps.front().settings);
             for (int idx : operation.controlPoints) op.controlPoints.push_back(gridIjk(resolution, idx));
             break;
         }
@@ -121,7 +131,21 @@ ScriptOp recordedOp(const Operation& operation) {
             op.kind = ScriptOp::Kind::SetupLattice;
             op.hasSettings = true;
             op.settings = operation.settings;
+            if (operation.frozenAfter >= 0) {  // a freeze: on another mesh the tool is frozen again
+                op.kind = ScriptOp::Kind::Freeze;
+                op.toolIndex = operation.frozenAfter;
+                op.pinLayers = operation.settings.pinLayers;
+            } else if (operation.frozenBefore >= 0) {
+                op.kind = ScriptOp::Kind::Unfreeze;
+            }
             break;
+        case OperationKind::LatticeTools:
+            // The list changes repeat as they were (they do not depend on the mesh).
+            op.tool = operation.toolAfter;
+            op.toolIndex = operation.toolIndex;
+            op.kind = !operation.toolBefore.net ? ScriptOp::Kind::AddLattice
+                                                : (!operation.toolAfter.net ? ScriptOp::Kind::RemoveLattice : ScriptOp::Kind::EditLattice);
+            return op;
     }
     op.hasApplied = true;
     op.applied = operation;
@@ -192,8 +216,8 @@ Script recordSession(const Session& session) {
                 // The user's pins shape the solution (pinned points are removed from R, Hu et al. eq. 12).
                 op.kind = ScriptOp::Kind::SetPins;
                 for (int idx : entry.pinToggles) {
-                    const std::array<int, 3> ijk = gridIjk(entry.settings.resolution, idx);
-                    (inOuterLayers(entry.settings.resolution, ijk, entry.settings.pinLayers) ? op.unpinned : op.controlPoints).push_back(ijk);
+                    const std::array<int, 3> ijk = gridIjk(latticeCounts(entry.settings), idx);
+                    (inOuterLayers(latticeCounts(entry.settings), ijk, entry.settings.pinLayers) ? op.unpinned : op.controlPoints).push_back(ijk);
                 }
                 break;
         }

@@ -17,7 +17,10 @@
 namespace sculpt::core {
 
 struct ScriptOp {
-    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins, BeginGroup, EndGroup, Group };
+    enum class Kind {
+        Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins, BeginGroup, EndGroup, Group,
+        AddLattice, EditLattice, RemoveLattice, Freeze, Unfreeze
+    };
     Kind kind = Kind::Undo;
     std::vector<PointConstraint> constraints;      // Drag
     int vertex = -1;                               // DragVertex
@@ -32,6 +35,9 @@ struct ScriptOp {
     bool hasSettings = false;                      // SetupLattice: new settings, or (false) a fresh lattice
     LatticeSettings settings;                      //   with the current ones around the current shape
     int groupFirst = 0;                            // Group: history entries [groupFirst, end) become one (label)
+    LatticeTool tool;                              // AddLattice, EditLattice: the lattice tool (already placed)
+    int toolIndex = -1;                            // EditLattice, RemoveLattice, Freeze: which tool of the list
+    int pinLayers = 0;                             // Freeze: outer layers kept fixed (from its boundary faces)
     // Recordings: what the operation was applied as (its steps: fresh frames and control displacements). A
     // replay on the mesh it was recorded on applies these exactly instead of deciding again.
     bool hasApplied = false;

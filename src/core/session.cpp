@@ -799,6 +799,7 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     }
     delta.deltas.resize(static_cast<Eigen::Index>(offsets.size()), 3);
     for (size_t c = 0; c < offsets.size(); ++c) delta.deltas.row(static_cast<Eigen::Index>(c)) = offsets[c].transpose();
+    expandWelds(lattice_, delta);  // a welded point moves as one (Coquillart 1990, 3.1.2)
     if ((delta.deltas.array() == 0.0).all()) {
         report.status = OpStatus::NoOp;
         report.reason = "the control points are already there";
@@ -862,8 +863,9 @@ Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) 
     if (Status s = latticeBox(settings, positions_, lo, hi); !s) return s;
     Operation operation;
     operation.kind = OperationKind::LatticeSetup;
-    operation.label = "set up lattice " + std::to_string(settings.resolution[0]) + "x" + std::to_string(settings.resolution[1]) +
-                      "x" + std::to_string(settings.resolution[2]);
+    const std::array<int, 3> counts = latticeCounts(settings);
+    operation.label = "set up " + (settings.net ? settings.net->kind + " " : std::string()) + "lattice " + std::to_string(counts[0]) + "x" +
+                      std::to_string(counts[1]) + "x" + std::to_string(counts[2]);
     operation.settings = settings;
     // A fresh, undeformed lattice is injective: no test needed.
     layerActive_ = false;
@@ -972,6 +974,8 @@ Status Session::undo(OpReport& report) {
     const Operation& operation = history_[--cursor_];
     layerActive_ = false;
     revertSteps(operation.steps);
+    if (operation.kind == OperationKind::LatticeTools) applyToolChange(operation, false);
+    if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) frozenTool_ = operation.frozenBefore;
     journal_.push_back(JournalEntry{JournalEntry::Kind::Undo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
@@ -997,6 +1001,8 @@ Status Session::redo(OpReport& report) {
     lastMoved_.clear();
     lastMovedAll_ = false;
     for (const Step& step : operation.steps) redoStep(step);
+    if (operation.kind == OperationKind::LatticeTools) applyToolChange(operation, true);
+    if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) frozenTool_ = operation.frozenAfter;
     layerActive_ = false;
     journal_.push_back(JournalEntry{JournalEntry::Kind::Redo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
@@ -1062,7 +1068,8 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
             settings = step.settings;
             if (step.newCage) cageSettings = step.settings;
         }
-        const int count = settings.resolution[0] * settings.resolution[1] * settings.resolution[2];
+        const std::array<int, 3> counts = latticeCounts(settings);
+        const int count = counts[0] * counts[1] * counts[2];
         for (int idx : step.regionFree)
             if (idx < 0 || idx >= count) return Status::error("step " + std::to_string(k) + ": free control point id " + std::to_string(idx) + " is outside the lattice");
         if (static_cast<Eigen::Index>(step.delta.indices.size()) != step.delta.deltas.rows())
@@ -1074,6 +1081,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     lastMoved_.clear();
     lastMovedAll_ = false;
     for (const Step& step : operation.steps) redoStep(step);
+    if (operation.kind == OperationKind::LatticeSetup && !cancelled) frozenTool_ = operation.frozenAfter;
     layerActive_ = false;
     report.status = OpStatus::Applied;
     report.subSteps = static_cast<int>(operation.steps.size());

@@ -26,6 +26,7 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -76,7 +77,14 @@ struct OpReport {
     double fractionApplied = 1.0;
 };
 
-enum class OperationKind { Drag, ControlPointEdit, LatticeSetup };
+enum class OperationKind { Drag, ControlPointEdit, LatticeSetup, LatticeTools };
+
+// A lattice tool associated with the mesh (Coquillart 1990, 3.2: a list of lattices per surface, one frozen at
+// a time): a named lattice of any shape, placed in world space. Editing it never touches the mesh.
+struct LatticeTool {
+    std::string name;
+    std::shared_ptr<const LatticeNet> net;
+};
 
 // Why a step of an operation was not applied: what failed, in the engine's terms, and where on the mesh.
 struct StepFailure {
@@ -123,6 +131,12 @@ struct Operation {
     bool interactive = false;  // an interactive drag (recorded step by step: its increments were tested apart)
     std::vector<int> pinToggles;  // control points whose pin differed from the pin layers when it was applied
     BrushSettings brush;          // Drag: the brush it was asked with (radius 0: none)
+    // LatticeTools: tool `toolIndex` of the list went from toolBefore to toolAfter (a null net: it did not
+    // exist; add appends, remove erases). LatticeSetup by freeze / unfreeze: the frozen tool before and after
+    // (-1: the box lattice).
+    int toolIndex = -1;
+    LatticeTool toolBefore, toolAfter;
+    int frozenBefore = -1, frozenAfter = -1;
 };
 
 // One command as the session carried it out, in order: what a recording writes so that a replay on the same
@@ -167,6 +181,25 @@ public:
 
     // Puts a fresh lattice with new settings around the current (deformed) mesh, as an undoable operation.
     Status setupLattice(const LatticeSettings& settings, OpReport& report);
+
+    // ---- lattices of any shape (Coquillart 1990, EFFD; session_lattices.cpp) ----
+    // The list of lattice tools associated with the mesh; each change is a history operation (undoable,
+    // recorded). A tool that is frozen cannot be edited or removed (unfreeze it first).
+    const std::vector<LatticeTool>& latticeTools() const { return tools_; }
+    // The frozen tool, -1 when the box lattice is the cage.
+    int frozenTool() const { return frozenTool_; }
+    Status addLatticeTool(const LatticeTool& tool, OpReport& report);
+    Status editLatticeTool(int index, const LatticeTool& tool, OpReport& report);
+    Status removeLatticeTool(int index, OpReport& report);
+    // Freezing (3.3): the tool becomes the cage. Every vertex inside it gets its parameters by Newton's
+    // method, vertices outside every chunk do not move; drags, control-point moves, pins and undo then work
+    // on its basis functions (3.4). The box lattice and any earlier deformation are frozen underneath (a
+    // lattice set-up: undo returns to them). pinLayers: outer layers of points kept fixed, counted from the
+    // tool's boundary faces (3.4: two fixed planes give a C1 seam where the lattice crosses the surface).
+    Status freezeLattice(int index, int pinLayers, OpReport& report);
+    // Unfreezing: the deformation stays and a box lattice with the session's first settings is put around
+    // the mesh again. NoOp when no tool is frozen.
+    Status unfreezeLattice(OpReport& report);
 
     void setInjectivity(const InjectivitySettings& settings) { injectivity_ = settings; }
     const InjectivitySettings& injectivity() const { return injectivity_; }
@@ -419,6 +452,10 @@ private:
     std::vector<FrozenFrame> frames_;
     std::vector<Operation> history_;
     int cursor_ = 0;
+    std::vector<LatticeTool> tools_;
+    int frozenTool_ = -1;
+    // Applies (forward) or takes back a LatticeTools operation's change of the list.
+    void applyToolChange(const Operation& operation, bool forward);
     std::vector<JournalEntry> journal_;
     std::string meshFingerprint_;
     void journalPins();

@@ -402,6 +402,7 @@ void Session::applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& 
     // object"): never a fresh lattice. A later update that moves back lets them follow again.
     lastMoved_.clear();
     lastMovedAll_ = false;
+    expandWelds(lattice_, delta);  // a welded point moves as one (Coquillart 1990, 3.1.2)
     StepFailure failure;
     const double fraction = applyLargestInjectiveFraction(delta, &lastMoved_, failure, report.injectivityMs, report.triangleCheckMs);
     report.fractionApplied = fraction;

@@ -10,50 +10,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/json_fields.h"
+#include "io/lattice_json.h"
+
 namespace sculpt::io {
 
 namespace {
 
 using nlohmann::json;
 
-// A parse failure carries the field path; thrown only inside this file and turned into a Status.
-struct FieldError {
-    std::string path;
-    std::string what;
-};
-
-[[noreturn]] void fail(const std::string& path, const std::string& what) { throw FieldError{path, what}; }
-
-void allowOnly(const json& object, const std::string& path, std::initializer_list<const char*> keys) {
-    if (!object.is_object()) fail(path, "expected an object");
-    const std::set<std::string> allowed(keys.begin(), keys.end());
-    for (auto it = object.begin(); it != object.end(); ++it)
-        if (!allowed.count(it.key())) fail(path + "." + it.key(), "unknown field");
-}
-
-double number(const json& value, const std::string& path) {
-    if (!value.is_number()) fail(path, "expected a number");
-    const double d = value.get<double>();
-    if (!std::isfinite(d)) fail(path, "expected a finite number");
-    return d;
-}
-
-int integer(const json& value, const std::string& path) {
-    if (!value.is_number_integer()) fail(path, "expected an integer");
-    const auto i = value.get<long long>();
-    if (i < -1000000000LL || i > 1000000000LL) fail(path, "integer out of range");
-    return static_cast<int>(i);
-}
-
-Eigen::Vector3d vector3(const json& value, const std::string& path) {
-    if (!value.is_array() || value.size() != 3) fail(path, "expected an array of 3 numbers");
-    return {number(value[0], path + "[0]"), number(value[1], path + "[1]"), number(value[2], path + "[2]")};
-}
-
-std::array<int, 3> int3(const json& value, const std::string& path) {
-    if (!value.is_array() || value.size() != 3) fail(path, "expected an array of 3 integers");
-    return {integer(value[0], path + "[0]"), integer(value[1], path + "[1]"), integer(value[2], path + "[2]")};
-}
+using namespace json_fields;
 
 // The brush fields of a drag or drag_vertex op (or of a recorded operation's "brush"): "radius" (world units,
 // 0 = none), "strength" in (0, 1], "falloff" ("smooth", "medium", "sharp"), "symmetry" ("x", "yz", ...).
@@ -89,8 +55,22 @@ void addBrushJson(json& j, const core::BrushSettings& brush) {
 }
 
 core::LatticeSettings parseLattice(const json& j, const std::string& path) {
-    allowOnly(j, path, {"resolution", "degree", "padding", "pin_layers", "region"});
     core::LatticeSettings s;
+    if (j.is_object() && j.contains("kind")) {
+        // A lattice of any shape (lattice_json.h), with the pin layers counted from its boundary faces.
+        json shape = j;
+        shape.erase("pin_layers");
+        core::LatticeNet net;
+        if (Status status = parseLatticeNetJson(shape, path, net); !status) {
+            const size_t colon = status.message.find(": ");  // "field.path: what"
+            fail(status.message.substr(0, colon), colon == std::string::npos ? status.message : status.message.substr(colon + 2));
+        }
+        s.net = std::make_shared<const core::LatticeNet>(std::move(net));
+        if (j.contains("pin_layers")) s.pinLayers = integer(j["pin_layers"], path + ".pin_layers");
+        if (Status status = core::validateLatticeSettings(s); !status) fail(path, status.message);
+        return s;
+    }
+    allowOnly(j, path, {"resolution", "degree", "padding", "pin_layers", "region"});
     if (j.contains("resolution")) s.resolution = int3(j["resolution"], path + ".resolution");
     if (j.contains("degree")) s.degree = int3(j["degree"], path + ".degree");
     if (j.contains("padding")) s.padding = number(j["padding"], path + ".padding");
@@ -107,10 +87,6 @@ core::LatticeSettings parseLattice(const json& j, const std::string& path) {
     return s;
 }
 
-const json& required(const json& object, const char* key, const std::string& path) {
-    if (!object.contains(key)) fail(path + "." + key, "missing");
-    return object[key];
-}
 
 std::vector<core::PointConstraint> parseConstraints(const json& list, const std::string& path, bool allowEmpty) {
     if (!list.is_array() || (!allowEmpty && list.empty())) fail(path, allowEmpty ? "expected an array" : "expected a non-empty array");
@@ -139,7 +115,7 @@ Eigen::MatrixX3d vectorRows(const json& list, const std::string& path) {
 
 // A recorded operation as it was applied (ScriptOp::applied): its steps in their lattices.
 core::Operation parseApplied(const json& j, const std::string& path) {
-    allowOnly(j, path, {"kind", "label", "interactive", "depth", "constraints", "control_points", "offsets", "lattice", "steps", "brush"});
+    allowOnly(j, path, {"kind", "label", "interactive", "depth", "constraints", "control_points", "offsets", "lattice", "steps", "brush", "frozen"});
     core::Operation operation;
     const json& kind = required(j, "kind", path);
     const std::string name = kind.is_string() ? kind.get<std::string>() : "";
@@ -162,6 +138,11 @@ core::Operation parseApplied(const json& j, const std::string& path) {
     if (operation.offsets.rows() != static_cast<Eigen::Index>(operation.controlPoints.size()))
         fail(path + ".offsets", "expected one [x,y,z] per control point");
     if (j.contains("lattice")) operation.settings = parseLattice(j["lattice"], path + ".lattice");
+    if (j.contains("frozen")) {  // a freeze or unfreeze: the frozen lattice tool before and after (-1: the box)
+        const std::array<int, 2> frozen = intArray<2>(j["frozen"], path + ".frozen");
+        operation.frozenBefore = frozen[0];
+        operation.frozenAfter = frozen[1];
+    }
     if (j.contains("brush")) {
         allowOnly(j["brush"], path + ".brush", {"radius", "strength", "falloff", "symmetry"});
         operation.brush = parseBrush(j["brush"], path + ".brush");
@@ -220,6 +201,46 @@ void parseRecorded(const json& j, const std::string& path, core::ScriptOp& op) {
         op.cancelled = j["cancelled"].get<bool>();
         if (op.cancelled && !op.hasApplied) fail(path + ".cancelled", "needs \"applied\"");
     }
+}
+
+// The folder file paths in a script are relative to (the script's own), set by parseScript.
+thread_local std::string gScriptFolder;
+
+// The lattice tool of an add_lattice / edit_lattice op: "lattice" (lattice_json.h) or "file" (a library file,
+// relative to the script's folder), then optionally "place" (the positioning command, Coquillart 1990, 3.2).
+core::LatticeTool parseTool(const json& j, const std::string& path, bool needName) {
+    core::LatticeTool tool;
+    core::LatticeNet net;
+    if (j.contains("lattice") == j.contains("file")) fail(path, "expected one of \"lattice\" and \"file\"");
+    if (j.contains("file")) {
+        std::filesystem::path file(text(j["file"], path + ".file"));
+        if (file.is_relative() && !gScriptFolder.empty()) file = std::filesystem::path(gScriptFolder) / file;
+        LatticeFile library;
+        if (Status s = readLatticeFile(file.string(), library); !s) fail(path + ".file", s.message);
+        net = std::move(library.net);
+        tool.name = library.name;
+    } else if (Status s = parseLatticeNetJson(j["lattice"], path + ".lattice", net); !s) {
+        const size_t colon = s.message.find(": ");
+        fail(s.message.substr(0, colon), colon == std::string::npos ? s.message : s.message.substr(colon + 2));
+    }
+    if (j.contains("place")) {
+        const json& place = j["place"];
+        allowOnly(place, path + ".place", {"point", "normal", "size"});
+        core::LatticeNet placed;
+        if (Status s = core::placeLatticeNet(net, vector3(required(place, "point", path + ".place"), path + ".place.point"),
+                                             vector3(required(place, "normal", path + ".place"), path + ".place.normal"),
+                                             number(required(place, "size", path + ".place"), path + ".place.size"), placed);
+            !s)
+            fail(path + ".place", s.message);
+        net = std::move(placed);
+    }
+    if (j.contains("name")) tool.name = text(j["name"], path + ".name");
+    if (tool.name.empty()) {
+        if (needName) fail(path + ".name", "missing (a lattice tool needs a name)");
+        tool.name = net.kind;
+    }
+    tool.net = std::make_shared<const core::LatticeNet>(std::move(net));
+    return tool;
 }
 
 core::ScriptOp parseOp(const json& j, const std::string& path) {
@@ -288,6 +309,27 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
             auto& list = std::string(key) == "pin" ? op.controlPoints : op.unpinned;
             for (size_t c = 0; c < ids.size(); ++c) list.push_back(int3(ids[c], kp + "[" + std::to_string(c) + "]"));
         }
+    } else if (name == "add_lattice" || name == "edit_lattice") {
+        allowOnly(j, path, {"op", "name", "lattice", "file", "place", "index"});
+        op.kind = name == "add_lattice" ? core::ScriptOp::Kind::AddLattice : core::ScriptOp::Kind::EditLattice;
+        if (op.kind == core::ScriptOp::Kind::EditLattice) op.toolIndex = integer(required(j, "index", path), path + ".index");
+        else if (j.contains("index")) fail(path + ".index", "add_lattice appends to the list; it takes no index");
+        op.tool = parseTool(j, path, false);
+    } else if (name == "remove_lattice") {
+        allowOnly(j, path, {"op", "index"});
+        op.kind = core::ScriptOp::Kind::RemoveLattice;
+        op.toolIndex = integer(required(j, "index", path), path + ".index");
+    } else if (name == "freeze") {
+        allowOnly(j, path, {"op", "index", "pin_layers", "applied"});
+        op.kind = core::ScriptOp::Kind::Freeze;
+        op.toolIndex = integer(required(j, "index", path), path + ".index");
+        if (j.contains("pin_layers")) op.pinLayers = integer(j["pin_layers"], path + ".pin_layers");
+        if (op.pinLayers < 0 || op.pinLayers > 3) fail(path + ".pin_layers", "expected 0 to 3");
+        parseRecorded(j, path, op);
+    } else if (name == "unfreeze") {
+        allowOnly(j, path, {"op", "applied"});
+        op.kind = core::ScriptOp::Kind::Unfreeze;
+        parseRecorded(j, path, op);
     } else if (name == "begin_group") {
         allowOnly(j, path, {"op", "label"});
         op.kind = core::ScriptOp::Kind::BeginGroup;
@@ -317,12 +359,11 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
         op.path = p.get<std::string>();
     } else {
         fail(path + ".op", "unknown op \"" + name +
-                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, begin_group, end_group, group, undo, redo, screenshot)");
+                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, add_lattice, edit_lattice, remove_lattice, freeze, unfreeze, begin_group, end_group, group, undo, redo, screenshot)");
     }
     return op;
 }
 
-json vectorJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 int lineOfByte(const std::string& text, size_t byte) {
     int line = 1;
@@ -384,6 +425,7 @@ Status parseScript(const std::string& text, const std::string& displayName, core
         if (root.contains("ops")) {
             const json& ops = root["ops"];
             if (!ops.is_array()) fail("ops", "expected an array");
+            gScriptFolder = std::filesystem::path(displayName).parent_path().string();
             for (size_t i = 0; i < ops.size(); ++i) script.ops.push_back(parseOp(ops[i], "ops[" + std::to_string(i) + "]"));
         }
         out = std::move(script);
@@ -403,6 +445,11 @@ json injectivityJson(const core::InjectivitySettings& s) {
 }
 
 json latticeJson(const core::LatticeSettings& s) {
+    if (s.net) {
+        json j = latticeNetJson(*s.net);
+        j["pin_layers"] = s.pinLayers;
+        return j;
+    }
     json j = {{"resolution", s.resolution}, {"degree", s.degree}, {"padding", s.padding}, {"pin_layers", s.pinLayers}};
     j["region"] = s.hasRegion ? json{{"min", vectorJson(s.regionMin)}, {"max", vectorJson(s.regionMax)}} : json(nullptr);
     return j;
@@ -427,6 +474,7 @@ json appliedJson(const core::Operation& operation) {
         case core::OperationKind::Drag: j["kind"] = "drag"; break;
         case core::OperationKind::ControlPointEdit: j["kind"] = "control_point_edit"; break;
         case core::OperationKind::LatticeSetup: j["kind"] = "lattice_setup"; break;
+        case core::OperationKind::LatticeTools: j["kind"] = "lattice_tools"; break;  // never recorded as applied
     }
     j["label"] = operation.label;
     j["interactive"] = operation.interactive;
@@ -442,6 +490,7 @@ json appliedJson(const core::Operation& operation) {
         j["offsets"] = rowsJson(operation.offsets);
     }
     if (operation.kind == core::OperationKind::LatticeSetup) j["lattice"] = latticeJson(operation.settings);
+    if (operation.frozenBefore >= 0 || operation.frozenAfter >= 0) j["frozen"] = {operation.frozenBefore, operation.frozenAfter};
     json steps = json::array();
     for (const core::Step& step : operation.steps) {
         json k = {{"lattice", latticeJson(step.settings)}, {"indices", step.delta.indices}, {"deltas", rowsJson(step.delta.deltas)}};
@@ -505,6 +554,18 @@ std::string scriptToJson(const core::Script& script) {
                 if (!op.label.empty()) j["label"] = op.label;
                 break;
             case core::ScriptOp::Kind::Screenshot: j["path"] = op.path; break;
+            case core::ScriptOp::Kind::AddLattice:
+            case core::ScriptOp::Kind::EditLattice:
+                if (op.kind == core::ScriptOp::Kind::EditLattice) j["index"] = op.toolIndex;
+                j["name"] = op.tool.name;
+                j["lattice"] = latticeNetJson(*op.tool.net);
+                break;
+            case core::ScriptOp::Kind::RemoveLattice: j["index"] = op.toolIndex; break;
+            case core::ScriptOp::Kind::Freeze:
+                j["index"] = op.toolIndex;
+                j["pin_layers"] = op.pinLayers;
+                break;
+            case core::ScriptOp::Kind::Unfreeze: break;
             case core::ScriptOp::Kind::Undo:
             case core::ScriptOp::Kind::Redo: break;
         }

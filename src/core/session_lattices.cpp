@@ -1,0 +1,140 @@
+// Lattices of any shape in the session (Coquillart 1990, EFFD): the list of lattice tools associated with the
+// mesh, freezing one (3.3) and unfreezing it, each a history operation.
+#include "core/session.h"
+#include "core/session_internal.h"
+
+namespace sculpt::core {
+
+namespace {
+
+Status checkTool(const LatticeTool& tool) {
+    if (!tool.net) return Status::error("the lattice tool has no lattice");
+    if (tool.name.empty()) return Status::error("the lattice tool needs a name");
+    return Status::success();
+}
+
+}  // namespace
+
+void Session::applyToolChange(const Operation& operation, bool forward) {
+    const LatticeTool& from = forward ? operation.toolBefore : operation.toolAfter;
+    const LatticeTool& to = forward ? operation.toolAfter : operation.toolBefore;
+    const auto at = tools_.begin() + operation.toolIndex;
+    if (!from.net) tools_.insert(at, to);       // added (forward) or a removal taken back
+    else if (!to.net) tools_.erase(at);         // removed (forward) or an addition taken back
+    else tools_[static_cast<size_t>(operation.toolIndex)] = to;
+}
+
+Status Session::addLatticeTool(const LatticeTool& tool, OpReport& report) {
+    report = OpReport{};
+    report.op = "add_lattice";
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (Status s = checkTool(tool); !s) return s;
+    Operation operation;
+    operation.kind = OperationKind::LatticeTools;
+    operation.label = "add lattice " + tool.name;
+    operation.toolIndex = static_cast<int>(tools_.size());
+    operation.toolAfter = tool;
+    operation.frozenBefore = operation.frozenAfter = frozenTool_;
+    applyToolChange(operation, true);
+    pushOperation(std::move(operation));
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    report.status = OpStatus::Applied;
+    return Status::success();
+}
+
+Status Session::editLatticeTool(int index, const LatticeTool& tool, OpReport& report) {
+    report = OpReport{};
+    report.op = "edit_lattice";
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (index < 0 || index >= static_cast<int>(tools_.size())) return Status::error("there is no lattice " + std::to_string(index));
+    if (index == frozenTool_)
+        return Status::error("lattice " + tools_[static_cast<size_t>(index)].name + " is frozen: unfreeze it before editing its shape");
+    if (Status s = checkTool(tool); !s) return s;
+    Operation operation;
+    operation.kind = OperationKind::LatticeTools;
+    operation.label = "edit lattice " + tool.name;
+    operation.toolIndex = index;
+    operation.toolBefore = tools_[static_cast<size_t>(index)];
+    operation.toolAfter = tool;
+    operation.frozenBefore = operation.frozenAfter = frozenTool_;
+    applyToolChange(operation, true);
+    pushOperation(std::move(operation));
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    report.status = OpStatus::Applied;
+    return Status::success();
+}
+
+Status Session::removeLatticeTool(int index, OpReport& report) {
+    report = OpReport{};
+    report.op = "remove_lattice";
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (index < 0 || index >= static_cast<int>(tools_.size())) return Status::error("there is no lattice " + std::to_string(index));
+    if (index == frozenTool_) return Status::error("lattice " + tools_[static_cast<size_t>(index)].name + " is frozen: unfreeze it first");
+    Operation operation;
+    operation.kind = OperationKind::LatticeTools;
+    operation.label = "remove lattice " + tools_[static_cast<size_t>(index)].name;
+    operation.toolIndex = index;
+    operation.toolBefore = tools_[static_cast<size_t>(index)];
+    operation.frozenBefore = frozenTool_;
+    operation.frozenAfter = frozenTool_ > index ? frozenTool_ - 1 : frozenTool_;
+    applyToolChange(operation, true);
+    frozenTool_ = operation.frozenAfter;
+    pushOperation(std::move(operation));
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    report.status = OpStatus::Applied;
+    return Status::success();
+}
+
+Status Session::freezeLattice(int index, int pinLayers, OpReport& report) {
+    if (index < 0 || index >= static_cast<int>(tools_.size())) return Status::error("there is no lattice " + std::to_string(index));
+    LatticeSettings settings;
+    settings.net = tools_[static_cast<size_t>(index)].net;
+    settings.pinLayers = pinLayers;
+    if (Status s = validateLatticeSettings(settings); !s) return s;
+    const int before = frozenTool_;
+    if (Status s = setupLattice(settings, report); !s) return s;
+    report.op = "freeze";
+    if (report.status != OpStatus::Applied) return Status::success();
+    frozenTool_ = index;
+    Operation& operation = history_.back();
+    operation.label = "freeze lattice " + tools_[static_cast<size_t>(index)].name;
+    operation.frozenBefore = before;
+    operation.frozenAfter = index;
+    journal_.back().operation.label = operation.label;
+    journal_.back().operation.frozenBefore = before;
+    journal_.back().operation.frozenAfter = index;
+    int inside = embedding_.insideCount();
+    report.reason = "froze " + std::to_string(inside) + " of " + std::to_string(positions_.rows()) + " vertices in lattice " +
+                    tools_[static_cast<size_t>(index)].name;
+    return Status::success();
+}
+
+Status Session::unfreezeLattice(OpReport& report) {
+    if (frozenTool_ < 0) {
+        report = OpReport{};
+        report.op = "unfreeze";
+        report.status = OpStatus::NoOp;
+        report.reason = "no lattice is frozen";
+        return Status::success();
+    }
+    const int before = frozenTool_;
+    LatticeSettings box = initialSettings_;
+    box.hasRegion = false;  // around the mesh as it is now
+    if (Status s = setupLattice(box, report); !s) return s;
+    report.op = "unfreeze";
+    if (report.status != OpStatus::Applied) return Status::success();
+    frozenTool_ = -1;
+    Operation& operation = history_.back();
+    operation.label = "unfreeze lattice " + tools_[static_cast<size_t>(before)].name;
+    operation.frozenBefore = before;
+    operation.frozenAfter = -1;
+    journal_.back().operation.label = operation.label;
+    journal_.back().operation.frozenBefore = before;
+    journal_.back().operation.frozenAfter = -1;
+    return Status::success();
+}
+
+}  // namespace sculpt::core

@@ -1,0 +1,184 @@
+// Lattice tools as JSON: predefined shapes and explicit nets (lattice_json.h).
+#include "io/lattice_json.h"
+
+#include "io/atomic_file.h"
+#include "io/json_fields.h"
+#include "io/script_json.h"
+
+namespace sculpt::io {
+
+using namespace json_fields;
+
+namespace {
+
+void check(const Status& status, const std::string& path) {
+    if (!status) fail(path, status.message);
+}
+
+Eigen::Matrix3d edgesOf(const json& j, const std::string& path) {
+    if (!j.is_array() || j.size() != 3) fail(path, "expected 3 edge vectors [[x,y,z], [x,y,z], [x,y,z]]");
+    Eigen::Matrix3d edges;
+    for (int a = 0; a < 3; ++a) edges.col(a) = vector3(j[a], path + "[" + std::to_string(a) + "]");
+    return edges;
+}
+
+core::PlanarNet parseProfile(const json& j, const std::string& path) {
+    allowOnly(j, path, {"min", "max", "chunks", "degree", "points"});
+    const std::array<int, 2> chunks = intArray<2>(required(j, "chunks", path), path + ".chunks");
+    const std::array<int, 2> degree = j.contains("degree") ? intArray<2>(j["degree"], path + ".degree") : std::array<int, 2>{2, 2};
+    for (int a = 0; a < 2; ++a) {
+        if (degree[a] < core::kMinDegree || degree[a] > core::kMaxDegree) fail(path + ".degree", "expected degrees in [1, 5]");
+        if (chunks[a] < 1 || chunks[a] + degree[a] > core::kMaxControlPointsPerAxis) fail(path + ".chunks", "expected 1 or more chunks (at most 64 points per axis)");
+    }
+    const Eigen::Vector2d lo = vector2(required(j, "min", path), path + ".min"), hi = vector2(required(j, "max", path), path + ".max");
+    if (!(lo.array() < hi.array()).all()) fail(path, "min must be below max on both axes");
+    core::PlanarNet net = core::makeRectangleNet(lo, hi, chunks, degree);
+    if (j.contains("points")) {  // the 2D lattice's points moved by hand (row u fastest)
+        const json& points = j["points"];
+        if (!points.is_array() || points.size() != net.points.size())
+            fail(path + ".points", "expected " + std::to_string(net.points.size()) + " [u,v] points");
+        for (size_t p = 0; p < points.size(); ++p) net.points[p] = vector2(points[p], path + ".points[" + std::to_string(p) + "]");
+    }
+    return net;
+}
+
+core::LatticeNet parseNet(const json& j, const std::string& path) {
+    if (!j.is_object()) fail(path, "expected a lattice object");
+    const std::string kind = text(required(j, "kind", path), path + ".kind");
+    core::LatticeNet net;
+    if (kind == "parallelepiped") {
+        allowOnly(j, path, {"kind", "origin", "edges", "chunks", "degree"});
+        const std::array<int, 3> degree = j.contains("degree") ? int3(j["degree"], path + ".degree") : std::array<int, 3>{3, 3, 3};
+        check(core::makeParallelepipedNet(vector3(required(j, "origin", path), path + ".origin"), edgesOf(required(j, "edges", path), path + ".edges"),
+                                          int3(required(j, "chunks", path), path + ".chunks"), degree, net),
+              path);
+    } else if (kind == "cylinder") {
+        allowOnly(j, path, {"kind", "base", "axis", "radius", "height", "chunks", "degree"});
+        const std::array<int, 2> degree = j.contains("degree") ? intArray<2>(j["degree"], path + ".degree") : std::array<int, 2>{2, 2};
+        check(core::makeCylinderNet(vector3(required(j, "base", path), path + ".base"), vector3(required(j, "axis", path), path + ".axis"),
+                                    number(required(j, "radius", path), path + ".radius"), number(required(j, "height", path), path + ".height"),
+                                    int3(required(j, "chunks", path), path + ".chunks"), degree, net),
+              path);
+    } else if (kind == "sphere") {
+        allowOnly(j, path, {"kind", "centre", "axis", "radius", "chunks", "degree"});
+        const Eigen::Vector3d axis = j.contains("axis") ? vector3(j["axis"], path + ".axis") : Eigen::Vector3d::UnitZ();
+        check(core::makeSphereNet(vector3(required(j, "centre", path), path + ".centre"), axis, number(required(j, "radius", path), path + ".radius"),
+                                  int3(required(j, "chunks", path), path + ".chunks"), j.contains("degree") ? integer(j["degree"], path + ".degree") : 2, net),
+              path);
+    } else if (kind == "prism") {
+        allowOnly(j, path, {"kind", "profile", "origin", "u_axis", "v_axis", "direction", "chunks", "degree"});
+        const core::PlanarNet profile = parseProfile(required(j, "profile", path), path + ".profile");
+        check(core::makeExtrusionNet(profile, vector3(required(j, "origin", path), path + ".origin"),
+                                     j.contains("u_axis") ? vector3(j["u_axis"], path + ".u_axis") : Eigen::Vector3d::UnitX(),
+                                     j.contains("v_axis") ? vector3(j["v_axis"], path + ".v_axis") : Eigen::Vector3d::UnitY(),
+                                     vector3(required(j, "direction", path), path + ".direction"),
+                                     j.contains("chunks") ? integer(j["chunks"], path + ".chunks") : 1,
+                                     j.contains("degree") ? integer(j["degree"], path + ".degree") : 1, net),
+              path);
+    } else if (kind == "net") {
+        allowOnly(j, path, {"kind", "shape", "count", "degree", "multiplicity", "points", "weights", "welds"});
+        if (j.contains("shape")) net.kind = text(j["shape"], path + ".shape");
+        net.count = int3(required(j, "count", path), path + ".count");
+        net.degree = int3(required(j, "degree", path), path + ".degree");
+        net.multiplicity = j.contains("multiplicity") ? int3(j["multiplicity"], path + ".multiplicity") : std::array<int, 3>{1, 1, 1};
+        for (int a = 0; a < 3; ++a)
+            if (!core::splineAxisCountValid(net.count[a], net.degree[a], net.multiplicity[a]))
+                fail(path + ".count", "axis " + std::to_string(a) + ": " + std::to_string(net.count[a]) + " points of degree " +
+                                          std::to_string(net.degree[a]) + " and knot multiplicity " + std::to_string(net.multiplicity[a]) +
+                                          " do not make whole knot spans (degree 1-5, multiplicity 1-degree, at most 64 points)");
+        const json& points = required(j, "points", path);
+        const size_t n = static_cast<size_t>(net.count[0]) * net.count[1] * net.count[2];
+        if (!points.is_array() || points.size() != n) fail(path + ".points", "expected " + std::to_string(n) + " [x,y,z] points (count's product)");
+        net.rest.resize(static_cast<Eigen::Index>(n), 3);
+        for (size_t p = 0; p < n; ++p) net.rest.row(static_cast<Eigen::Index>(p)) = vector3(points[p], path + ".points[" + std::to_string(p) + "]").transpose();
+        if (j.contains("weights")) {
+            const json& weights = j["weights"];
+            if (!weights.is_array() || weights.size() != n) fail(path + ".weights", "expected " + std::to_string(n) + " weights");
+            for (size_t p = 0; p < n; ++p) {
+                const double w = number(weights[p], path + ".weights[" + std::to_string(p) + "]");
+                if (!(w > 0.0)) fail(path + ".weights[" + std::to_string(p) + "]", "expected a weight > 0");
+                net.weights.push_back(w);
+            }
+        }
+        net.weldedTo.resize(n);
+        for (size_t p = 0; p < n; ++p) net.weldedTo[p] = static_cast<int>(p);
+        if (j.contains("welds")) {
+            const json& welds = j["welds"];
+            if (!welds.is_array()) fail(path + ".welds", "expected an array of groups of control point ids");
+            for (size_t g = 0; g < welds.size(); ++g) {
+                const std::string gp = path + ".welds[" + std::to_string(g) + "]";
+                if (!welds[g].is_array() || welds[g].size() < 2) fail(gp, "expected a group of 2 or more control point ids");
+                int smallest = static_cast<int>(n);
+                std::vector<int> group;
+                for (size_t m = 0; m < welds[g].size(); ++m) {
+                    const int id = integer(welds[g][m], gp + "[" + std::to_string(m) + "]");
+                    if (id < 0 || id >= static_cast<int>(n)) fail(gp + "[" + std::to_string(m) + "]", "control point id outside the lattice");
+                    if (net.weldedTo[id] != id) fail(gp + "[" + std::to_string(m) + "]", "control point is already in another weld group");
+                    group.push_back(id);
+                    smallest = std::min(smallest, id);
+                }
+                for (int id : group) net.weldedTo[id] = smallest;
+            }
+        }
+        check(core::finishLatticeNet(net), path);
+    } else {
+        fail(path + ".kind", "unknown lattice kind \"" + kind + "\" (known: parallelepiped, cylinder, sphere, prism, net)");
+    }
+    return net;
+}
+
+}  // namespace
+
+Status parseLatticeNetJson(const json& j, const std::string& path, core::LatticeNet& out) {
+    try {
+        out = parseNet(j, path);
+    } catch (const FieldError& e) {
+        return Status::error(e.path + ": " + e.what);
+    }
+    return Status::success();
+}
+
+json latticeNetJson(const core::LatticeNet& net) {
+    json points = json::array();
+    for (Eigen::Index p = 0; p < net.rest.rows(); ++p) points.push_back(vectorJson(net.rest.row(p).transpose()));
+    json welds = json::array();
+    for (const auto& group : net.weldGroups) welds.push_back(group);
+    return {{"kind", "net"},        {"shape", net.kind},  {"count", net.count}, {"degree", net.degree}, {"multiplicity", net.multiplicity},
+            {"points", points},     {"weights", net.weights}, {"welds", welds}};
+}
+
+Status parseLatticeFile(const std::string& content, const std::string& displayName, LatticeFile& out) {
+    json j;
+    try {
+        j = json::parse(content);
+    } catch (const json::parse_error& e) {
+        return Status::error(displayName + ": not valid JSON (" + e.what() + ")");
+    }
+    LatticeFile file;
+    try {
+        allowOnly(j, "", {"format", "version", "name", "lattice"});
+        if (text(required(j, "format", ""), ".format") != "dmffd-lattice") fail(".format", "expected \"dmffd-lattice\"");
+        if (integer(required(j, "version", ""), ".version") != 1) fail(".version", "expected 1");
+        file.name = j.contains("name") ? json_fields::text(j["name"], ".name") : std::string("lattice");
+        file.net = parseNet(required(j, "lattice", ""), "lattice");
+    } catch (const FieldError& e) {
+        return Status::error(displayName + ": " + e.path + ": " + e.what);
+    }
+    out = std::move(file);
+    return Status::success();
+}
+
+Status readLatticeFile(const std::string& path, LatticeFile& out) {
+    std::string content;
+    if (Status s = readTextFile(path, content); !s) return s;
+    return parseLatticeFile(content, path, out);
+}
+
+std::string latticeFileText(const LatticeFile& file) {
+    const json j = {{"format", "dmffd-lattice"}, {"version", 1}, {"name", file.name}, {"lattice", latticeNetJson(file.net)}};
+    return j.dump(1) + "\n";
+}
+
+Status writeLatticeFile(const std::string& path, const LatticeFile& file) { return writeFileAtomically(path, latticeFileText(file)); }
+
+}  // namespace sculpt::io

@@ -1,0 +1,45 @@
+// Lattice tools as JSON (Coquillart 1990, 3.1-3.2: lattices are tools kept in a library, apart from any
+// mesh). One format serves the library files (*.lattice.json), the scripts' "lattice" objects and the
+// recordings (README "Lattice files").
+//
+// A lattice object is either a predefined shape, decided when read:
+//   {"kind": "parallelepiped", "origin": [x,y,z], "edges": [[..],[..],[..]], "chunks": [3], "degree": [3]}
+//   {"kind": "cylinder", "base": [..], "axis": [..], "radius": r, "height": h, "chunks": [radial, angular, axial],
+//    "degree": [radial, axial]}
+//   {"kind": "sphere", "centre": [..], "axis": [..], "radius": r, "chunks": [radial, angular, polar], "degree": d}
+//   {"kind": "prism", "profile": {"min": [u,v], "max": [u,v], "chunks": [2], "degree": [2], "points": [[u,v],..]?},
+//    "origin": [..], "u_axis": [..], "v_axis": [..], "direction": [..], "chunks": n, "degree": d}
+// or an explicit net, which is how every lattice is written (exact: doubles in shortest round-trip form):
+//   {"kind": "net", "shape": "cylinder", "count": [3], "degree": [3], "multiplicity": [3],
+//    "points": [[x,y,z], ...], "weights": [...], "welds": [[slot, slot, ...], ...]}
+// A library file wraps one lattice: {"format": "dmffd-lattice", "version": 1, "name": "...", "lattice": {...}}.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/lattice_net.h"
+#include "core/status.h"
+
+namespace sculpt::io {
+
+// Parses a lattice object (either form). Errors name the field path under `path` and what was expected.
+Status parseLatticeNetJson(const nlohmann::json& j, const std::string& path, core::LatticeNet& out);
+// The explicit form of a net.
+nlohmann::json latticeNetJson(const core::LatticeNet& net);
+
+// A library entry: a named lattice tool.
+struct LatticeFile {
+    std::string name;
+    core::LatticeNet net;
+};
+// Reads a library file; the error names the file, the field and what is wrong; `out` untouched on failure.
+Status readLatticeFile(const std::string& path, LatticeFile& out);
+Status parseLatticeFile(const std::string& text, const std::string& displayName, LatticeFile& out);
+// Writes it atomically (a failed save leaves an existing file as it was).
+Status writeLatticeFile(const std::string& path, const LatticeFile& file);
+std::string latticeFileText(const LatticeFile& file);
+
+}  // namespace sculpt::io
