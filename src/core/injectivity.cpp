@@ -197,8 +197,10 @@ struct ExactWorkspace {
 };
 
 struct CellOutcome {
-    // BrokenWeld: a net chunk's collapsed face whose welded points no longer coincide.
-    enum Kind { Skipped, Positive, Fold, Undecided, Unsupported, NonFinite, BrokenWeld } kind = Skipped;
+    // BrokenWeld: a net chunk's collapsed face whose welded points no longer coincide. Winding: det J > 0 in a
+    // net chunk, but the lattice winds round its collapsed axis or pole other than once (value: the turns,
+    // NaN if they could not be counted).
+    enum Kind { Skipped, Positive, Fold, Undecided, Unsupported, NonFinite, BrokenWeld, Winding } kind = Skipped;
     Eigen::Vector3d local = Eigen::Vector3d::Constant(0.5);  // fold point, or least sampled point if undecided
     double value = 0.0;  // det J there (net chunks: the determinant polynomial, see injectivity_net.h)
     double minSampled = std::numeric_limits<double>::infinity();
@@ -444,6 +446,23 @@ void exactNetChunk(const Lattice& lattice, const NetChunkBasis& basis, const std
     if (outcome.kind == CellOutcome::Positive) outcome.lowerBound = options.tolerance;
     if (outcome.kind == CellOutcome::Fold || outcome.kind == CellOutcome::Undecided)
         outcome.value = jacobianDeterminantInCell(lattice, chunk, outcome.local);
+    // A positive quotient on a face collapsed along one axis still allows a ring wound twice round it
+    // (injectivity_net.h): count the turns, once per face.
+    for (int a = 0; a < 3 && outcome.kind == CellOutcome::Positive; ++a)
+        for (int side = 0; side < 2; ++side) {
+            if (info.divided[a][side] != 1) continue;
+            const int mask = basis.collapse[a][side];
+            const int b = (mask & 1) ? 0 : ((mask & 2) ? 1 : 2);
+            double turns = std::numeric_limits<double>::quiet_NaN();
+            const bool counted = netRingWinding(lattice, basis, chunk, a, side, work.chunk, turns);
+            const bool once = lattice.net->periodic[b] ? std::abs(std::round(turns)) == 1.0 : std::abs(turns) < 1.0;
+            if (counted && once) continue;
+            outcome.kind = CellOutcome::Winding;
+            outcome.value = counted ? turns : std::numeric_limits<double>::quiet_NaN();
+            outcome.local = Eigen::Vector3d::Constant(0.5);
+            outcome.local[a] = side;
+            break;
+        }
 }
 
 }  // namespace
@@ -671,7 +690,7 @@ InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptio
         minSampled = std::min(minSampled, o.minSampled);
         lowerBound = std::min(lowerBound, o.lowerBound);
         if ((o.kind == CellOutcome::Undecided || o.kind == CellOutcome::Unsupported || o.kind == CellOutcome::NonFinite ||
-             o.kind == CellOutcome::BrokenWeld) &&
+             o.kind == CellOutcome::BrokenWeld || o.kind == CellOutcome::Winding) &&
             firstOpen < 0)
             firstOpen = w;
     }
@@ -704,6 +723,14 @@ InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptio
                 result.message = "exact test: chunk " + formatCell(result.failingCellIjk) +
                                  " lies on a collapsed face (an axis or a pole) whose welded control points no longer "
                                  "coincide; not certified";
+        } else if (o.kind == CellOutcome::Winding) {
+            result.verdict = InjectivityVerdict::Undecided;
+            result.message = "exact test: det J > 0 in chunk " + formatCell(result.failingCellIjk) + ", but near " +
+                             formatPoint(result.failingParams) + " the lattice " +
+                             (std::isnan(o.value) ? std::string("turns round its collapsed axis (or pole) in a way that could not be counted")
+                                                  : "turns " + formatValue(o.value) + " times round its collapsed axis (or pole), so it is "
+                                                    "not one to one there") +
+                             "; not certified";
         } else {
             result.verdict = InjectivityVerdict::Undecided;
             const double value = o.value;

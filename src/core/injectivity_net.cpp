@@ -41,6 +41,26 @@ bool faceCollapsedAlong(const LatticeNet& net, int a, int side, int b) {
     return true;
 }
 
+// The chunk's control points P0 + delta (or P0) in 3 blocks of n0 n1 n2 values, and their weights in a
+// fourth block. Returns whether the weights are all equal (a polynomial chunk).
+bool gatherChunk(const Lattice& lattice, const std::array<int, 3>& chunk, bool deformed, double* control) {
+    const LatticeNet& net = *lattice.net;
+    const int n0 = lattice.degree[0] + 1, n1 = lattice.degree[1] + 1, n2 = lattice.degree[2] + 1;
+    const int n = n0 * n1 * n2;
+    const double firstWeight = lattice.weights[chunkSlot(lattice, chunk, 0, 0, 0)];
+    bool polynomial = true;
+    for (int k = 0; k < n2; ++k)
+        for (int j = 0; j < n1; ++j)
+            for (int i = 0; i < n0; ++i) {
+                const int s = chunkSlot(lattice, chunk, i, j, k);
+                const int e = i + n0 * (j + n1 * k);
+                for (int c = 0; c < 3; ++c) control[c * n + e] = net.rest(s, c) + (deformed ? lattice.displacement(s, c) : 0.0);
+                control[3 * n + e] = lattice.weights[s];
+                polynomial = polynomial && lattice.weights[s] == firstWeight;
+            }
+    return polynomial;
+}
+
 // Separable B-spline -> Bezier conversion of `components` blocks of n0 n1 n2 control values (the chunk's
 // per-span matrices along u, v, w). control -> bezier, temp as scratch.
 void chunkToBezier(const CellBezierBasis& basis, const std::array<int, 3>& chunk, int components, const double* control,
@@ -180,27 +200,14 @@ NetChunkBasis makeNetChunkBasis(const Lattice& lattice) {
 void netChunkDeterminantBernstein(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk,
                                   bool deformed, NetChunkWorkspace& work, double* determinant, NetChunkDeterminantInfo& info) {
     assert(lattice.net);
-    const LatticeNet& net = *lattice.net;
     const CellBezierBasis& bezierBasis = basis.bezier;
     const BernsteinDegree& d = bezierBasis.degree;
     const int n0 = d[0] + 1, n1 = d[1] + 1, n2 = d[2] + 1;
     const int n = n0 * n1 * n2;
     info = NetChunkDeterminantInfo{};
 
-    // The chunk's control points P0 + delta (or P0), and whether its weights are all equal.
     double* control = work.control.data();
-    const double firstWeight = lattice.weights[chunkSlot(lattice, chunk, 0, 0, 0)];
-    bool polynomial = true;
-    for (int k = 0; k < n2; ++k)
-        for (int j = 0; j < n1; ++j)
-            for (int i = 0; i < n0; ++i) {
-                const int s = chunkSlot(lattice, chunk, i, j, k);
-                const int e = i + n0 * (j + n1 * k);
-                for (int c = 0; c < 3; ++c)
-                    control[c * n + e] = net.rest(s, c) + (deformed ? lattice.displacement(s, c) : 0.0);
-                control[3 * n + e] = lattice.weights[s];
-                polynomial = polynomial && lattice.weights[s] == firstWeight;
-            }
+    const bool polynomial = gatherChunk(lattice, chunk, deformed, control);
     info.rational = !polynomial;
 
     // Collapsed faces the chunk lies on, and whether their welded points still coincide.
@@ -330,6 +337,120 @@ void netChunkDerivatives(const Lattice& lattice, const std::array<int, 3>& chunk
             }
     restDerivative = (restGrad - (restSum / weightSum) * weightGrad.transpose()) / weightSum;
     displacementDerivative = (displacementGrad - (displacementSum / weightSum) * weightGrad.transpose()) / weightSum;
+}
+
+namespace {
+
+// The turn of a plane polynomial curve with control vectors v[0..degree] round the origin: split by de
+// Casteljau until the control vectors fit in an open half-plane (then the curve stays in their cone, never
+// meets the origin, and turns by the angle from its first vector to its last).
+bool addCurveTurn(const Eigen::Vector2d* v, int degree, int depth, double& angle) {
+    double largest = 0.0;
+    for (int m = 0; m <= degree; ++m) largest = std::max(largest, v[m].norm());
+    double lo = 0.0, hi = 0.0, last = 0.0;
+    bool fits = largest > 0.0;
+    for (int m = 0; m <= degree && fits; ++m) {
+        if (!(v[m].norm() > 1e-12 * largest)) {
+            fits = false;
+            break;
+        }
+        const double relative = std::atan2(v[0].x() * v[m].y() - v[0].y() * v[m].x(), v[0].dot(v[m]));
+        lo = std::min(lo, relative);
+        hi = std::max(hi, relative);
+        last = relative;
+    }
+    if (fits && hi - lo < 3.14159265358979323846 - 1e-9) {
+        angle += last;
+        return true;
+    }
+    if (depth >= 12 || !(largest > 0.0)) return false;
+    Eigen::Vector2d work[kMaxDegree + 1], left[kMaxDegree + 1], right[kMaxDegree + 1];
+    for (int m = 0; m <= degree; ++m) work[m] = v[m];
+    for (int r = 0; r <= degree; ++r) {
+        left[r] = work[0];
+        right[degree - r] = work[degree - r];
+        for (int m = 0; m < degree - r; ++m) work[m] = 0.5 * (work[m] + work[m + 1]);
+    }
+    return addCurveTurn(left, degree, depth + 1, angle) && addCurveTurn(right, degree, depth + 1, angle);
+}
+
+// The value at 0.5 of the univariate Bernstein polynomial of `degree` with coefficients at base + o * stride,
+// and (derivative != nullptr) its derivative there.
+double bernsteinLineAtHalf(const double* base, int stride, int degree, double* derivative) {
+    double coefficients[kMaxDegree + 1], differences[kMaxDegree + 1];
+    for (int o = 0; o <= degree; ++o) coefficients[o] = base[o * stride];
+    if (derivative) {
+        for (int o = 0; o < degree; ++o) differences[o] = degree * (coefficients[o + 1] - coefficients[o]);
+        *derivative = degree > 0 ? evaluateBernstein1(differences, degree - 1, 0.5) : 0.0;
+    }
+    return evaluateBernstein1(coefficients, degree, 0.5);
+}
+
+}  // namespace
+
+bool netRingWinding(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk, int axis, int side,
+                    NetChunkWorkspace& work, double& turns) {
+    assert(lattice.net);
+    const int a = axis;
+    const int mask = basis.collapse[a][side];
+    if (collapseOrder(mask) != 1) return false;
+    const int b = (mask & 1) ? 0 : ((mask & 2) ? 1 : 2), c = 3 - a - b;
+    const CellBezierBasis& bezierBasis = basis.bezier;
+    const BernsteinDegree& d = bezierBasis.degree;
+    const int n0 = d[0] + 1, n1 = d[1] + 1;
+    const int n = n0 * n1 * (d[2] + 1);
+    const int stride[3] = {1, n0, n0 * n1};
+    const int layer0 = side == 0 ? 0 : d[a], layer1 = side == 0 ? 1 : d[a] - 1;
+    const int spansB = bezierBasis.spans[b];
+    // Per chunk along b: the homogeneous Bezier points of the face layer and the next one, at the middle
+    // along c (4 components each, d[b] + 1 of them).
+    Eigen::Vector4d face[kMaxDegree + 1], next[kMaxDegree + 1];
+    Eigen::Vector3d base = Eigen::Vector3d::Zero(), tangent = Eigen::Vector3d::Zero();
+    std::vector<std::array<Eigen::Vector3d, kMaxDegree + 1>> ring(static_cast<size_t>(spansB));
+    for (int jb = 0; jb < spansB; ++jb) {
+        std::array<int, 3> piece = chunk;
+        piece[b] = jb;
+        gatherChunk(lattice, piece, true, work.control.data());
+        for (int e = 0; e < n; ++e)
+            for (int comp = 0; comp < 3; ++comp) work.control[comp * n + e] *= work.control[3 * n + e];
+        chunkToBezier(bezierBasis, piece, 4, work.control.data(), work.temp.data(), work.bezier.data());
+        double slopes[4] = {0.0, 0.0, 0.0, 0.0};  // d/dx_c of the first face point's components (first piece)
+        for (int m = 0; m <= d[b]; ++m) {
+            const int start0 = layer0 * stride[a] + m * stride[b], start1 = layer1 * stride[a] + m * stride[b];
+            for (int comp = 0; comp < 4; ++comp) {
+                const double* block = work.bezier.data() + comp * n;
+                face[m][comp] = bernsteinLineAtHalf(block + start0, stride[c], d[c], jb == 0 && m == 0 ? &slopes[comp] : nullptr);
+                next[m][comp] = bernsteinLineAtHalf(block + start1, stride[c], d[c], nullptr);
+            }
+        }
+        if (jb == 0) {
+            // The collapsed line A = N / W along c; A' is parallel to N' W - N W'.
+            base = face[0].head<3>() / face[0][3];
+            tangent = Eigen::Vector3d(slopes[0], slopes[1], slopes[2]) * face[0][3] - face[0].head<3>() * slopes[3];
+        }
+        // Every face point is the same point A (the face is collapsed along b); the ring vectors are
+        // H1.xyz - H1.w A (a positive multiple of dQ/dx_a, up to the side's sign, as a polynomial curve).
+        for (int m = 0; m <= d[b]; ++m) {
+            if (!((face[m].head<3>() / face[m][3] - base).norm() <= basis.weldTolerance)) return false;
+            ring[static_cast<size_t>(jb)][static_cast<size_t>(m)] = next[m].head<3>() - next[m][3] * base;
+        }
+    }
+    if (!(tangent.norm() > 0.0) || !tangent.allFinite()) return false;
+    const Eigen::Vector3d normal = tangent.normalized();
+    const Eigen::Vector3d helper = std::abs(normal.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d e1 = (helper - helper.dot(normal) * normal).normalized();
+    const Eigen::Vector3d e2 = normal.cross(e1);
+    double angle = 0.0;
+    for (int jb = 0; jb < spansB; ++jb) {
+        Eigen::Vector2d plane[kMaxDegree + 1];
+        for (int m = 0; m <= d[b]; ++m) {
+            const Eigen::Vector3d& v = ring[static_cast<size_t>(jb)][static_cast<size_t>(m)];
+            plane[m] = Eigen::Vector2d(v.dot(e1), v.dot(e2));
+        }
+        if (!addCurveTurn(plane, d[b], 0, angle)) return false;
+    }
+    turns = angle / (2.0 * 3.14159265358979323846);
+    return std::isfinite(turns);
 }
 
 double netJacobianDeterminantInChunk(const Lattice& lattice, const std::array<int, 3>& chunk, const Eigen::Vector3d& local) {

@@ -28,7 +28,13 @@
 // > 0 on the closed chunk. That means det J > 0 everywhere off the collapsed face, and on it the limit of
 // det J is positive: the deformation keeps the degeneracy (welded points move together, so the face stays
 // a curve or a point) and keeps a non-degenerate polar structure there (around the cylinder's axis, the
-// first ring of points turns monotonically round the deformed axis). Welded points always carry equal
+// first ring of points turns monotonically round the deformed axis). A positive quotient still allows that
+// ring to wind twice round an axis or pole (a branched double cover, locally 2:1 on the axis), so on a face
+// collapsed along one axis (m = 1) the ring's winding number is also counted (netRingWinding) and must be
+// 1 (a closed ring; an open fan must turn less than once). At a face collapsed to a point (m = 2, a sphere's
+// centre) nothing more is needed: the directions out of the point then map the sphere of directions onto
+// itself as a local diffeomorphism (its poles are covered by the pole faces' count), hence one to one.
+// Welded points always carry equal
 // displacements; a chunk whose collapsed face's points no longer coincide (to the weld tolerance, 1e-9 of
 // the diagonal) is reported, not divided. Only the net's outer faces are looked at for collapse; an
 // interior face or a partly collapsed face makes det(dQ0/dt) vanish there and is not certified.
@@ -97,6 +103,18 @@ BernsteinTensor netChunkDeterminantBernstein(const Lattice& lattice, const std::
 // that chunk's polynomials (a point on a chunk face is seen from this chunk). Rational by the quotient rule.
 void netChunkDerivatives(const Lattice& lattice, const std::array<int, 3>& chunk, const Eigen::Vector3d& local,
                          Eigen::Matrix3d& restDerivative, Eigen::Matrix3d& displacementDerivative);
+
+// How many times the deformed volume winds round the collapsed line of the chunk's face (axis, side), a face
+// collapsed along exactly one axis b (a cylinder's axis, a sphere's pole): the first ring of points (the
+// direction of dQ/dx_axis on the face, a polynomial curve in homogeneous form over the chunks along b) at the
+// middle of the chunk along the third axis, projected on the plane normal to the collapsed line, and its
+// angle summed piece by piece (pieces split by de Casteljau until their control vectors fit in a half-plane,
+// so each piece's turn is the angle between its ends). turns: signed, in whole turns (+-1 at rest for a closed
+// ring, whose count is an integer; a fraction for an open fan). Returns false if it cannot be told: the
+// collapsed line's tangent or a ring vector vanishes, a piece still straddles after 12 halvings, or the face's
+// weights are not separable so its ring is not a single curve.
+bool netRingWinding(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk, int axis, int side,
+                    NetChunkWorkspace& work, double& turns);
 
 // det J = det(dQ/dt) / det(dQ0/dt) at local coordinates of the chunk: exactly 1 if no control point of the
 // chunk moved; on (or within 1e-8 relative of) a collapsed face, where det(dQ0/dt) vanishes, the limit, as

@@ -3,6 +3,7 @@
 // collapsed axis and poles of cylinders and spheres, and det J per point and per vertex.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -253,6 +254,14 @@ TEST_CASE("injectivity net: verdicts agree with dense sampling of det(dQ/dt) on 
             REQUIRE(exact.failingParams.allFinite());
             REQUIRE(jacobianDeterminantInCell(lattice, exact.failingCellIjk, exact.failingLocalParams) <= 1e-9);
             REQUIRE_FALSE(exact.message.empty());
+            // Independently: det(dQ/dt) by evaluateNetVolume just inside the failing chunk, next to the point.
+            Eigen::Vector3d t;
+            for (int a = 0; a < 3; ++a)
+                t[a] = (exact.failingCellIjk[a] + std::clamp(exact.failingLocalParams[a], 1e-9, 1.0 - 1e-9)) / lattice.axes[a].spans;
+            Eigen::Vector3d q;
+            Eigen::Matrix3d d;
+            evaluateNetVolume(*lattice.net, movedPoints(lattice), t, q, &d);
+            REQUIRE(d.determinant() <= 1e-6 * std::pow(lattice.net->diagonal(), 3));
         }
         // The conic mode runs the exact test on nets.
         const InjectivityResult conic = checkInjectivityConic(lattice);
@@ -499,4 +508,47 @@ TEST_CASE("injectivity net: the tolerance bounds det J itself on a uniformly sca
         REQUIRE(strict.minDeterminantFound == Approx(0.729).epsilon(1e-9));
         REQUIRE(strict.message.find("not above the tolerance") != std::string::npos);
     }
+}
+
+TEST_CASE("injectivity net: a cylinder wall wound twice round its axis has det J > 0 yet is not certified", "[injectivity][net]") {
+    // One radial chunk of degree 1: Q = (1 - r) A(z) + r W(theta, z), so det(dQ/dt) = r det[W - A, W_theta, A'] is
+    // positive wherever the wall turns monotonically round the axis, whether it goes round once or twice. Twice
+    // is a double cover near the axis (2:1): the winding count must refuse it.
+    LatticeNet net;
+    const Eigen::Vector3d axis = Eigen::Vector3d(0.2, 0.1, 1.0).normalized();
+    REQUIRE(makeCylinderNet(Eigen::Vector3d(0.1, -0.2, 0.3), axis, 1.0, 2.0, {1, 6, 1}, {1, 1}, net));
+    Lattice lattice = latticeOf(net);
+    Eigen::Vector3d e1, e2;
+    {
+        const Eigen::Vector3d onWall = (net.rest.row(net.slot(1, 0, 0)) - net.rest.row(net.slot(0, 0, 0))).transpose();
+        e1 = onWall.normalized();
+        e2 = axis.cross(e1);
+    }
+    for (int k = 0; k < net.count[2]; ++k)
+        for (int j = 0; j < net.count[1]; ++j) {
+            const int s = net.slot(1, j, k);
+            const Eigen::Vector3d centre = net.rest.row(net.slot(0, j, k)).transpose();
+            const Eigen::Vector3d radial = net.rest.row(s).transpose() - centre;
+            const double angle = std::atan2(radial.dot(e2), radial.dot(e1));
+            const double distance = j % 2 ? 2.0 : 1.0;  // arc middles: 1 / cos(60 degrees) for 120 degree arcs
+            const Eigen::Vector3d wound = centre + distance * (std::cos(2.0 * angle) * e1 + std::sin(2.0 * angle) * e2);
+            lattice.displacement.row(s) = (wound - net.rest.row(s).transpose()).transpose();
+        }
+    weldDisplacements(lattice);
+    REQUIRE(sampledMinimum(lattice, 6) > 0.0);
+    const InjectivityResult exact = checkInjectivityExact(lattice);
+    INFO(exact.message);
+    REQUIRE_FALSE(exact.certified);
+    REQUIRE(exact.verdict == InjectivityVerdict::Undecided);
+    REQUIRE(exact.message.find("turns 2 times") != std::string::npos);
+    REQUIRE(exact.failingLocalParams[0] == 0.0);
+    // The same wall wound once (the rest shape moved rigidly) passes, and so does its turn count.
+    const NetChunkBasis basis = makeNetChunkBasis(lattice);
+    NetChunkWorkspace work;
+    double turns = 0.0;
+    REQUIRE(netRingWinding(lattice, basis, {0, 0, 0}, 0, 0, work, turns));
+    REQUIRE(std::abs(turns) == Approx(2.0));
+    lattice.displacement.setZero();
+    REQUIRE(netRingWinding(lattice, basis, {0, 3, 0}, 0, 0, work, turns));
+    REQUIRE(std::abs(turns) == Approx(1.0));
 }
