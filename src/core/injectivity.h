@@ -126,7 +126,8 @@ struct ExactOptions {
 // det of the deformation Jacobian dx/dX0 at lattice parameters t in [0,1]^3 (1 for the undeformed lattice;
 // rational lattices by the quotient rule). On an interior knot the cell above is used (SplineAxis::locate).
 // A net lattice: det(dQ/dt) / det(dQ0/dt), exactly 1 in a chunk with no moved control point, and its limit
-// (finite) on a collapsed axis, pole or centre.
+// (finite) on a collapsed axis, pole or centre, approached along the parameters t (on the axis the limit
+// depends on the angle t gives: the deformation need not be differentiable there).
 double jacobianDeterminant(const Lattice& lattice, const Eigen::Vector3d& params);
 
 // out[v] = det J of this lattice's deformation at rest vertex v (#V values), for the renderer's colour map;

@@ -118,7 +118,8 @@ bool netRingWinding(const Lattice& lattice, const NetChunkBasis& basis, const st
 
 // det J = det(dQ/dt) / det(dQ0/dt) at local coordinates of the chunk: exactly 1 if no control point of the
 // chunk moved; on (or within 1e-8 relative of) a collapsed face, where det(dQ0/dt) vanishes, the limit, as
-// the ratio of the face-divided determinant polynomials (costly: two chunk polynomials, ~0.1 ms). Never
+// the ratio of the face-divided determinant polynomials (along `local`'s direction; costly: two chunk
+// polynomials, ~50 us). Never
 // NaN for finite displacements: a point where even the rest quotient is not positive (an invalid rest net)
 // gives the plain ratio if finite, else 0.
 double netJacobianDeterminantInChunk(const Lattice& lattice, const std::array<int, 3>& chunk, const Eigen::Vector3d& local);

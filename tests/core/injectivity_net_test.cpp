@@ -552,3 +552,17 @@ TEST_CASE("injectivity net: a cylinder wall wound twice round its axis has det J
     REQUIRE(netRingWinding(lattice, basis, {0, 3, 0}, 0, 0, work, turns));
     REQUIRE(std::abs(turns) == Approx(1.0));
 }
+
+TEST_CASE("injectivity net: deformationJacobian is the identity on the axis of an undeformed chunk", "[injectivity][net]") {
+    LatticeNet net;
+    REQUIRE(makeCylinderNet(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0, 2.0, {2, 4, 2}, {2, 2}, net));
+    Lattice lattice = latticeOf(net);
+    lattice.displacement.row(net.slot(net.count[0] - 1, 2, net.count[2] - 1)) = Eigen::RowVector3d(0.1, 0.0, 0.0);  // far away
+    for (double z : {0.1, 0.3}) {
+        Eigen::Vector3d displacement;
+        Eigen::Matrix3d jacobian;
+        deformationJacobian(lattice, Eigen::Vector3d(0.0, 0.3, z), displacement, jacobian);
+        REQUIRE(jacobian == Eigen::Matrix3d::Identity());
+        REQUIRE(jacobianDeterminant(lattice, Eigen::Vector3d(0.0, 0.3, z)) == 1.0);
+    }
+}
