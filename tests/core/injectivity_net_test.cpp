@@ -566,3 +566,19 @@ TEST_CASE("injectivity net: deformationJacobian is the identity on the axis of a
         REQUIRE(jacobianDeterminant(lattice, Eigen::Vector3d(0.0, 0.3, z)) == 1.0);
     }
 }
+
+TEST_CASE("injectivity net: non-finite displacements are never certified, on the axis or off it", "[injectivity][net]") {
+    LatticeNet net;
+    REQUIRE(makeCylinderNet(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0, 2.0, {2, 4, 2}, {2, 2}, net));
+    for (int i : {0, 1}) {
+        Lattice lattice = latticeOf(net);
+        lattice.displacement.row(net.slot(i, 0, 1)) = Eigen::RowVector3d(std::nan(""), 0.0, 0.0);
+        weldDisplacements(lattice);
+        for (InjectivityMode mode : {InjectivityMode::Conic, InjectivityMode::Exact}) {
+            const InjectivityResult result = checkInjectivity(lattice, mode);
+            REQUIRE_FALSE(result.certified);
+            REQUIRE(result.verdict == InjectivityVerdict::Undecided);
+            REQUIRE(result.message.find("non-finite") != std::string::npos);
+        }
+    }
+}
