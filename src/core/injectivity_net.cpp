@@ -171,7 +171,7 @@ NetChunkWorkspace::NetChunkWorkspace()
     : control(4 * kMaxCellControlPoints),
       bezier(4 * kMaxCellControlPoints),
       temp(4 * kMaxCellControlPoints),
-      columns(16 * kMaxCellControlPoints),
+      columns(12 * kMaxCellControlPoints),
       scaled(16 * kMaxCellControlPoints),
       minors(12 * static_cast<size_t>(kMaxNetMinorCoefficients)),
       product(kMaxNetDeterminantCoefficients),
@@ -237,12 +237,11 @@ void netChunkDeterminantBernstein(const Lattice& lattice, const NetChunkBasis& b
                 info.weldsHold = false;
         }
 
-    double* const columns[4] = {work.columns.data(), work.columns.data() + 4 * kMaxCellControlPoints,
-                                work.columns.data() + 8 * kMaxCellControlPoints,
-                                work.columns.data() + 12 * kMaxCellControlPoints};
     BernsteinDegree degree{};
     if (polynomial) {
         // det(dQ/dt) = Q_u . (Q_v x Q_w): the box lattice's product, on the chunk's own hodographs.
+        double* const columns[3] = {work.columns.data(), work.columns.data() + 4 * kMaxCellControlPoints,
+                                    work.columns.data() + 8 * kMaxCellControlPoints};
         chunkToBezier(bezierBasis, chunk, 3, control, work.temp.data(), work.bezier.data());
         double bound = 6.0;
         for (int a = 0; a < 3; ++a) bound *= chunkColumn(bezierBasis, a, 3, work.bezier.data(), columns[a]);
