@@ -217,6 +217,32 @@ void elevateBernstein(const double* in, const BernsteinDegree& degree, int axis,
         }
 }
 
+double divideBernsteinByFace(const double* in, const BernsteinDegree& degree, int axis, int side, int power, double* out) {
+    assert(axis >= 0 && axis < 3 && power >= 0 && power <= degree[axis]);
+    const BinomialTable& table = binomials();
+    const int n = degree[axis];
+    BernsteinDegree reduced = degree;
+    reduced[axis] -= power;
+    double multiplier[kTableSize];
+    double largest = 0.0;
+    for (int j = 0; j <= n - power; ++j) {
+        const int source = side == 0 ? j + power : j;
+        multiplier[j] = table.value[n][source] / table.value[n - power][j];
+        largest = std::max(largest, multiplier[j]);
+    }
+    const int shift = side == 0 ? power : 0;
+    int c = 0;
+    for (int k = 0; k <= reduced[2]; ++k)
+        for (int j = 0; j <= reduced[1]; ++j)
+            for (int i = 0; i <= reduced[0]; ++i, ++c) {
+                int at[3] = {i, j, k};
+                const int layer = at[axis];
+                at[axis] += shift;
+                out[c] = in[at[0] + (degree[0] + 1) * (at[1] + (degree[1] + 1) * at[2])] * multiplier[layer];
+            }
+    return largest;
+}
+
 double bernsteinEvaluate(const BernsteinTensor& f, const Eigen::Vector3d& x) {
     return evaluateBernstein(f.coefficients.data(), f.degree, x);
 }

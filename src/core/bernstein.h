@@ -72,6 +72,15 @@ void splitBernstein(const double* in, const BernsteinDegree& degree, int axis, d
 // c'_i = i/(n+1) c_{i-1} + (1 - i/(n+1)) c_i). in and out must not overlap.
 void elevateBernstein(const double* in, const BernsteinDegree& degree, int axis, double* out);
 
+// Exact division by a factor vanishing on a face of the box: f = x^power g (side 0, the face x_axis = 0) or
+// f = (1 - x)^power g (side 1, x_axis = 1), f of degree n along `axis` (power <= n, asserted). out = g, of
+// degree n - power along `axis`: x^m b_j^(n-m) = C(n-m, j) / C(n, j+m) b_(j+m)^n, so
+//   side 0: g_j = f_(j+m) C(n, j+m) / C(n-m, j),   side 1: g_j = f_j C(n, j) / C(n-m, j).
+// The m layers of f that the factor makes zero (i < m, or i > n - m) are not read: the caller asserts they
+// vanish in exact arithmetic. Returns the largest multiplier C(n, .) / C(n-m, .) used (for rounding bounds).
+// in and out must not overlap.
+double divideBernsteinByFace(const double* in, const BernsteinDegree& degree, int axis, int side, int power, double* out);
+
 // ---- value type ---------------------------------------------------------------------------------------
 
 struct BernsteinTensor {

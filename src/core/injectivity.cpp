@@ -24,6 +24,7 @@
 
 #include "core/bernstein.h"
 #include "core/injectivity_cell.h"
+#include "core/injectivity_net.h"
 
 namespace sculpt::core {
 
@@ -46,9 +47,9 @@ Eigen::Vector3d globalParams(const Lattice& lattice, const std::array<int, 3>& c
     return t;
 }
 
-// The requested cells (all for an empty list) that have a non-zero displacement somewhere in their support,
-// in increasing order; cells outside this list have det J == 1 exactly. requestedCount gets the size of the
-// request.
+// The requested cells (all for an empty list; the chunks of a net lattice) that have a non-zero displacement
+// somewhere in their support, in increasing order; cells outside this list have det J == 1 exactly.
+// requestedCount gets the size of the request.
 std::vector<int> deformedCells(const Lattice& lattice, const std::vector<int>& requested, int& requestedCount) {
     const int cellCount = lattice.cellCount();
     requestedCount = requested.empty() ? cellCount : static_cast<int>(requested.size());
@@ -73,10 +74,9 @@ std::vector<int> deformedCells(const Lattice& lattice, const std::vector<int>& r
             continue;
         const std::array<int, 3> c = lattice.ijk(idx);
         int lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {  // control point i is in the support of spans i-p .. i
-            lo[a] = std::max(0, c[a] - lattice.degree[a]);
-            hi[a] = std::min(spans[a] - 1, c[a]);
-        }
+        // Control point i is in the support of spans i-p .. i (box lattice); SplineAxis::supportSpans also
+        // covers the repeated knots of net lattices.
+        for (int a = 0; a < 3; ++a) lattice.axes[a].supportSpans(c[a], lo[a], hi[a]);
         for (int w = lo[2]; w <= hi[2]; ++w)
             for (int v = lo[1]; v <= hi[1]; ++v)
                 for (int u = lo[0]; u <= hi[0]; ++u) deformed[u + spans[0] * (v + spans[1] * w)] = 1;
@@ -113,6 +113,16 @@ double exactMicrosecondsPerCell(const Lattice& lattice) {
     const double column = static_cast<double>(p) * (q + 1) * (r + 1);  // about the size of each J_a
     const double cross = (2.0 * p + 1) * (2 * q) * (2 * r);            // J_v x J_w
     return 2.6e-4 * (6.0 * column * column + 3.0 * column * cross);    // the products dominate
+}
+
+double exactMicrosecondsPerNetChunk(const Lattice& lattice) {
+    const double p = lattice.degree[0], q = lattice.degree[1], r = lattice.degree[2];
+    if (!lattice.rational) return exactMicrosecondsPerCell(lattice);
+    // det4: 24 products of columns into 12 minors, then 6 products of minors (measured: ~25 us for a (2,2,2)
+    // cylinder chunk, its turn count round the axis included).
+    const double column = (p + 1) * (q + 1) * (r + 1);
+    const double minor = (2 * p) * (2 * q) * (2 * r + 1);
+    return 4.4e-4 * (24.0 * column * column + 6.0 * minor * minor);
 }
 
 void setFailingCell(const Lattice& lattice, int cell, const Eigen::Vector3d& local, InjectivityResult& result) {
@@ -170,26 +180,32 @@ struct Box {
     double minimum = 0.0;  // least coefficient (for the search order)
 };
 
+// capacity: the largest determinant polynomial searched (kMaxDeterminantCoefficients for box cells,
+// kMaxNetDeterminantCoefficients for net chunks).
 struct ExactWorkspace {
     std::vector<double> bezier, columnStorage, scratch, root;
     std::vector<double> halves, quarters, eighths;  // children of one octree split
     std::vector<double> pool;                       // coefficients of the boxes on the stack
     std::vector<Box> stack;
-    ExactWorkspace()
+    explicit ExactWorkspace(int capacity = kMaxDeterminantCoefficients)
         : bezier(3 * kMaxCellControlPoints),
           columnStorage(9 * kMaxCellControlPoints),
           scratch(3 * kMaxDeterminantCoefficients),
-          root(kMaxDeterminantCoefficients),
-          halves(2 * kMaxDeterminantCoefficients),
-          quarters(4 * kMaxDeterminantCoefficients),
-          eighths(8 * kMaxDeterminantCoefficients) {}
+          root(capacity),
+          halves(2 * static_cast<size_t>(capacity)),
+          quarters(4 * static_cast<size_t>(capacity)),
+          eighths(8 * static_cast<size_t>(capacity)) {}
 };
 
 struct CellOutcome {
-    enum Kind { Skipped, Positive, Fold, Undecided, Unsupported, NonFinite } kind = Skipped;
+    // BrokenWeld: a net chunk's collapsed face whose welded points no longer coincide. Winding: det J > 0 in a
+    // net chunk, but the lattice winds round its collapsed axis or pole other than once (value: the turns,
+    // NaN if they could not be counted).
+    enum Kind { Skipped, Positive, Fold, Undecided, Unsupported, NonFinite, BrokenWeld, Winding } kind = Skipped;
     Eigen::Vector3d local = Eigen::Vector3d::Constant(0.5);  // fold point, or least sampled point if undecided
     double value = 0.0;                                      // det J there
     double minSampled = std::numeric_limits<double>::infinity();
+    Eigen::Vector3d minLocal = Eigen::Vector3d::Constant(0.5);  // where minSampled was seen
     double lowerBound = std::numeric_limits<double>::infinity();
     long long boxes = 0;
 };
@@ -212,7 +228,11 @@ BoxKind examineBox(const BoxSearch& search, const double* c, const double lo[3],
     for (int corner = 0; corner < 8; ++corner) {
         const int i = (corner & 1) ? d[0] : 0, j = (corner & 2) ? d[1] : 0, k = (corner & 4) ? d[2] : 0;
         const double value = c[i + (d[0] + 1) * (j + (d[1] + 1) * k)];
-        if (value < outcome.minSampled) outcome.minSampled = value;
+        if (value < outcome.minSampled) {
+            outcome.minSampled = value;
+            outcome.minLocal = Eigen::Vector3d(lo[0] + ((corner & 1) ? size : 0.0), lo[1] + ((corner & 2) ? size : 0.0),
+                                               lo[2] + ((corner & 4) ? size : 0.0));
+        }
         if (value <= search.foldThreshold) {
             outcome.kind = CellOutcome::Fold;
             outcome.local = Eigen::Vector3d(lo[0] + ((corner & 1) ? size : 0.0), lo[1] + ((corner & 2) ? size : 0.0),
@@ -369,6 +389,83 @@ ExactWorkspace& exactWorkspace() {
     return workspace;
 }
 
+// A net lattice's chunk (injectivity_net.h): the sign polynomial of det(dQ/dt), divided by the collapsed
+// faces' factors, searched like a box cell's det J. With a tolerance, det J > tolerance is
+// det(dQ/dt) - tolerance det(dQ0/dt) > 0: the same polynomial form of the rest volume (same factors W^4 and
+// face powers) is subtracted, so the searched polynomial is positive iff det J > tolerance.
+struct NetExactWorkspace {
+    ExactWorkspace search{kMaxNetDeterminantCoefficients};
+    NetChunkWorkspace chunk;
+    std::vector<double> rest = std::vector<double>(kMaxNetDeterminantCoefficients);
+};
+
+NetExactWorkspace& netExactWorkspace() {
+    thread_local NetExactWorkspace workspace;
+    return workspace;
+}
+
+void exactNetChunk(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk,
+                   const ExactOptions& options, NetExactWorkspace& work, CellOutcome& outcome) {
+    NetChunkDeterminantInfo info;
+    double* root = work.search.root.data();
+    netChunkDeterminantBernstein(lattice, basis, chunk, true, work.chunk, root, info);
+    const int coefficientCount = bernsteinCoefficientCount(info.degree);
+    for (int c = 0; c < coefficientCount; ++c)
+        if (!std::isfinite(root[c])) {
+            outcome.kind = CellOutcome::NonFinite;
+            outcome.value = std::numeric_limits<double>::quiet_NaN();
+            return;
+        }
+    if (!info.weldsHold) {
+        outcome.kind = CellOutcome::BrokenWeld;
+        return;
+    }
+    double certifyThreshold = options.roundingGuard * info.termBound;
+    if (options.tolerance != 0.0) {
+        NetChunkDeterminantInfo restInfo;
+        netChunkDeterminantBernstein(lattice, basis, chunk, false, work.chunk, work.rest.data(), restInfo);
+        if (!restInfo.weldsHold || restInfo.degree != info.degree) {
+            outcome.kind = CellOutcome::BrokenWeld;
+            return;
+        }
+        for (int c = 0; c < coefficientCount; ++c) root[c] -= options.tolerance * work.rest[c];
+        certifyThreshold += options.roundingGuard * std::abs(options.tolerance) * restInfo.termBound;
+    }
+    BoxSearch search{root, info.degree, 0.0, certifyThreshold, &outcome};
+    searchCell(search, options, work.search);
+    // The search saw values of a polynomial with the sign of det J - tolerance; report det J itself. The least
+    // sampled point is moved 1e-3 off a collapsed face (det J is continuous there; its limit costs two more
+    // chunk polynomials), the fold or undecided point is evaluated where it is.
+    if (outcome.kind == CellOutcome::Positive || outcome.kind == CellOutcome::Undecided) {
+        Eigen::Vector3d at = outcome.minLocal;
+        for (int a = 0; a < 3; ++a) {
+            if (info.divided[a][0] > 0) at[a] = std::max(at[a], 1e-3);
+            if (info.divided[a][1] > 0) at[a] = std::min(at[a], 1.0 - 1e-3);
+        }
+        outcome.minSampled = jacobianDeterminantInCell(lattice, chunk, at);
+    }
+    if (outcome.kind == CellOutcome::Positive) outcome.lowerBound = options.tolerance;
+    if (outcome.kind == CellOutcome::Fold || outcome.kind == CellOutcome::Undecided)
+        outcome.value = jacobianDeterminantInCell(lattice, chunk, outcome.local);
+    // A positive quotient on a face collapsed along one axis still allows a ring wound twice round it
+    // (injectivity_net.h): count the turns, once per face.
+    for (int a = 0; a < 3 && outcome.kind == CellOutcome::Positive; ++a)
+        for (int side = 0; side < 2; ++side) {
+            if (info.divided[a][side] != 1) continue;
+            const int mask = basis.collapse[a][side];
+            const int b = (mask & 1) ? 0 : ((mask & 2) ? 1 : 2);
+            double turns = std::numeric_limits<double>::quiet_NaN();
+            const bool counted = netRingWinding(lattice, basis, chunk, a, side, work.chunk, turns);
+            const bool once = lattice.net->periodic[b] ? std::abs(std::round(turns)) == 1.0 : std::abs(turns) < 1.0;
+            if (counted && once) continue;
+            outcome.kind = CellOutcome::Winding;
+            outcome.value = counted ? turns : std::numeric_limits<double>::quiet_NaN();
+            outcome.local = Eigen::Vector3d::Constant(0.5);
+            outcome.local[a] = side;
+            break;
+        }
+}
+
 }  // namespace
 
 const char* injectivityModeName(InjectivityMode mode) {
@@ -407,6 +504,35 @@ double jacobianDeterminant(const Lattice& lattice, const Eigen::Vector3d& params
     return jacobianDeterminantInCell(lattice, cell, local);
 }
 
+namespace {
+
+// A net lattice: each vertex is frozen (Newton) only if one of the chunks whose bounds hold it is deformed;
+// the others keep det J == 1 without the cost of freezing.
+void netVertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, const std::vector<std::uint8_t>& isDeformed,
+                                   std::vector<double>& out) {
+    const LatticeNet& net = *lattice.net;
+    const int n = static_cast<int>(rest.rows());
+    const int s0 = lattice.axes[0].spans, s1 = lattice.axes[1].spans;
+#pragma omp parallel for schedule(dynamic, 64) if (n > 500)
+    for (int v = 0; v < n; ++v) {
+        thread_local std::vector<int> candidates;
+        const Eigen::Vector3d point = rest.row(v).transpose();
+        net.restIndex.candidates(point, candidates);
+        bool any = false;
+        for (int chunk : candidates) any = any || isDeformed[chunk];
+        if (!any) continue;
+        Eigen::Vector3d t;
+        if (!restParameters(lattice, point, t)) continue;
+        std::array<int, 3> cell;
+        Eigen::Vector3d local;
+        for (int a = 0; a < 3; ++a) cell[a] = lattice.axes[a].locate(t[a], local[a]);
+        if (isDeformed[cell[0] + s0 * (cell[1] + s1 * cell[2])])
+            out[static_cast<size_t>(v)] = netJacobianDeterminantInChunk(lattice, cell, local);
+    }
+}
+
+}  // namespace
+
 void vertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, std::vector<double>& out) {
     const int n = static_cast<int>(rest.rows());
     out.assign(static_cast<size_t>(n), 1.0);
@@ -417,6 +543,7 @@ void vertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, s
     if (deformed.empty()) return;
     std::vector<std::uint8_t> isDeformed(static_cast<size_t>(cellCount), 0);
     for (int cell : deformed) isDeformed[cell] = 1;
+    if (lattice.net) return netVertexJacobianDeterminants(lattice, rest, isDeformed, out);
     const int s0 = lattice.axes[0].spans, s1 = lattice.axes[1].spans;
 #pragma omp parallel for schedule(static) if (n > 2000)
     for (int v = 0; v < n; ++v) {
@@ -441,9 +568,63 @@ std::vector<int> cellsToCheck(const Lattice& lattice, const std::vector<int>& ce
     return work;
 }
 
+// Lowers `first` to w if w is smaller: the lowest-index failure is reported whatever the thread timing.
+void noteFirst(std::atomic<int>& first, int w) {
+    int current = first.load();
+    while (w < current && !first.compare_exchange_weak(current, w)) {
+    }
+}
+
+// The exact test's per-cell loop over a box lattice's deformed cells; returns the first folding one (count if none).
+int exactBoxCells(const Lattice& lattice, const ExactOptions& options, const std::vector<int>& work,
+                  std::vector<CellOutcome>& outcomes) {
+    const int count = static_cast<int>(work.size());
+    std::atomic<int> firstFold{count};
+    const CellBezierBasis basis = makeCellBezierBasis(lattice);
+    const bool parallel = count > 1 && count * exactMicrosecondsPerCell(lattice) > kParallelMicroseconds;
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
+    for (int w = 0; w < count; ++w) {
+        // Skip cells after a known fold; the lowest-index fold is always found (deterministic report).
+        if (w > firstFold.load(std::memory_order_relaxed)) continue;
+        exactCell(lattice, basis, cellIjk(lattice, work[w]), options, exactWorkspace(), outcomes[w]);
+        if (outcomes[w].kind == CellOutcome::Fold) noteFirst(firstFold, w);
+    }
+    return firstFold.load();
+}
+
+// The same over a net lattice's deformed chunks.
+int exactNetChunks(const Lattice& lattice, const ExactOptions& options, const std::vector<int>& work,
+                   std::vector<CellOutcome>& outcomes) {
+    const int count = static_cast<int>(work.size());
+    std::atomic<int> firstFold{count};
+    const NetChunkBasis basis = makeNetChunkBasis(lattice);
+    const bool parallel = count > 1 && count * exactMicrosecondsPerNetChunk(lattice) > kParallelMicroseconds;
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
+    for (int w = 0; w < count; ++w) {
+        if (w > firstFold.load(std::memory_order_relaxed)) continue;
+        exactNetChunk(lattice, basis, cellIjk(lattice, work[w]), options, netExactWorkspace(), outcomes[w]);
+        if (outcomes[w].kind == CellOutcome::Fold) noteFirst(firstFold, w);
+    }
+    return firstFold.load();
+}
+
+std::string formatValue(double value) {
+    char text[48];
+    std::snprintf(text, sizeof text, "%.6g", value);
+    return text;
+}
+
 }  // namespace
 
 InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vector<int>& cells) {
+    if (lattice.net) {
+        // note: the cones of section 7 are around the axes e_a, the directions of a box lattice's hodographs at
+        // rest; a curved net's rest hodographs point anywhere, so the cones would fail at rest. The exact test
+        // decides net chunks instead (a few times slower, and never weaker).
+        InjectivityResult result = checkInjectivityExact(lattice, ExactOptions{}, cells);
+        if (!result.message.empty()) result.message += " (net lattice: the conic test runs the exact test)";
+        return result;
+    }
     const Clock::time_point start = Clock::now();
     InjectivityResult result;
     const std::vector<int> work = cellsToCheck(lattice, cells, result);
@@ -462,11 +643,7 @@ InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vecto
                 // the lowest failing one is always examined, so the report does not depend on timing.
                 if (w > firstFailure.load(std::memory_order_relaxed)) continue;
                 checks[w] = conicCell(lattice, basis, cellIjk(lattice, work[w]), bezier);
-                if (checks[w] != CellCheck::Certified) {
-                    int current = firstFailure.load();
-                    while (w < current && !firstFailure.compare_exchange_weak(current, w)) {
-                    }
-                }
+                if (checks[w] != CellCheck::Certified) noteFirst(firstFailure, w);
             }
         }
     }
@@ -498,22 +675,10 @@ InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptio
     const std::vector<int> work = cellsToCheck(lattice, cells, result);
     const int count = result.cellsDeformed;
     std::vector<CellOutcome> outcomes(static_cast<size_t>(count));
-    std::atomic<int> firstFold{count};
-    if (count > 0) {
-        const CellBezierBasis basis = makeCellBezierBasis(lattice);
-        const bool parallel = count > 1 && count * exactMicrosecondsPerCell(lattice) > kParallelMicroseconds;
-#pragma omp parallel for schedule(dynamic, 1) if (parallel)
-        for (int w = 0; w < count; ++w) {
-            // Skip cells after a known fold; the lowest-index fold is always found (deterministic report).
-            if (w > firstFold.load(std::memory_order_relaxed)) continue;
-            exactCell(lattice, basis, cellIjk(lattice, work[w]), options, exactWorkspace(), outcomes[w]);
-            if (outcomes[w].kind == CellOutcome::Fold) {
-                int current = firstFold.load();
-                while (w < current && !firstFold.compare_exchange_weak(current, w)) {
-                }
-            }
-        }
-    }
+    const bool net = lattice.net != nullptr;
+    int fold = count;
+    if (count > 0) fold = net ? exactNetChunks(lattice, options, work, outcomes) : exactBoxCells(lattice, options, work, outcomes);
+    const char* unit = net ? "chunk " : "cell ";
     // Combine in cell order: a fold anywhere decides; otherwise the first undecided / unsupported cell.
     const bool undeformedChecked = result.cellsChecked > count;
     double minSampled = undeformedChecked ? 1.0 : std::numeric_limits<double>::infinity();
@@ -525,46 +690,51 @@ InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptio
         if (o.kind == CellOutcome::Skipped) continue;
         minSampled = std::min(minSampled, o.minSampled);
         lowerBound = std::min(lowerBound, o.lowerBound);
-        if ((o.kind == CellOutcome::Undecided || o.kind == CellOutcome::Unsupported ||
-             o.kind == CellOutcome::NonFinite) &&
+        if ((o.kind == CellOutcome::Undecided || o.kind == CellOutcome::Unsupported || o.kind == CellOutcome::NonFinite ||
+             o.kind == CellOutcome::BrokenWeld || o.kind == CellOutcome::Winding) &&
             firstOpen < 0)
             firstOpen = w;
     }
-    const int fold = firstFold.load();
     if (fold < count) {
         const CellOutcome& o = outcomes[fold];
         setFailingCell(lattice, work[fold], o.local, result);
         result.verdict = InjectivityVerdict::Fold;
         result.minDeterminantFound = o.value;
-        char value[48];
-        std::snprintf(value, sizeof value, "%.6g", o.value);
-        result.message = "exact test: det J = " + std::string(value) + " at lattice parameters " +
-                         formatPoint(result.failingParams) + " in cell " + formatCell(result.failingCellIjk) +
+        result.message = "exact test: det J = " + formatValue(o.value) + " at lattice parameters " +
+                         formatPoint(result.failingParams) + " in " + unit + formatCell(result.failingCellIjk) +
                          (o.value < 0.0 ? ": the deformation folds there (not injective)"
                                         : ": not above the tolerance there (degenerate or nearly so; not certified)");
     } else if (firstOpen >= 0) {
         const CellOutcome& o = outcomes[firstOpen];
         setFailingCell(lattice, work[firstOpen], o.local, result);
         result.minDeterminantFound = minSampled;
-        if (o.kind == CellOutcome::Unsupported) {
-            result.verdict = InjectivityVerdict::Unsupported;
+        if (o.kind == CellOutcome::Unsupported || o.kind == CellOutcome::NonFinite || o.kind == CellOutcome::BrokenWeld) {
+            result.verdict = o.kind == CellOutcome::Unsupported ? InjectivityVerdict::Unsupported : InjectivityVerdict::Undecided;
             result.failingLocalParams = Eigen::Vector3d::Constant(0.5);
             result.failingParams = globalParams(lattice, result.failingCellIjk, result.failingLocalParams);
-            result.message = "cell " + formatCell(result.failingCellIjk) +
-                             " has differing NURBS weights; the exact test covers polynomial cells only, so the "
-                             "deformation is not certified";
-        } else if (o.kind == CellOutcome::NonFinite) {
+            if (o.kind == CellOutcome::Unsupported)
+                result.message = "cell " + formatCell(result.failingCellIjk) +
+                                 " has differing NURBS weights; the exact test covers polynomial cells only, so the "
+                                 "deformation is not certified";
+            else if (o.kind == CellOutcome::NonFinite)
+                result.message = "exact test: " + std::string(unit) + formatCell(result.failingCellIjk) +
+                                 " has non-finite control point displacements; not certified";
+            else
+                result.message = "exact test: chunk " + formatCell(result.failingCellIjk) +
+                                 " lies on a collapsed face (an axis or a pole) whose welded control points no longer "
+                                 "coincide; not certified";
+        } else if (o.kind == CellOutcome::Winding) {
             result.verdict = InjectivityVerdict::Undecided;
-            result.failingLocalParams = Eigen::Vector3d::Constant(0.5);
-            result.failingParams = globalParams(lattice, result.failingCellIjk, result.failingLocalParams);
-            result.message = "exact test: cell " + formatCell(result.failingCellIjk) +
-                             " has non-finite control point displacements; not certified";
+            result.message = "exact test: det J > 0 in chunk " + formatCell(result.failingCellIjk) + ", but near " +
+                             formatPoint(result.failingParams) + " the lattice " +
+                             (std::isnan(o.value) ? std::string("turns round its collapsed axis (or pole) in a way that could not be counted")
+                                                  : "turns " + formatValue(o.value) + " times round its collapsed axis (or pole), so it is "
+                                                    "not one to one there") +
+                             "; not certified";
         } else {
             result.verdict = InjectivityVerdict::Undecided;
-            char value[48];
-            std::snprintf(value, sizeof value, "%.6g", o.value);
-            result.message = "exact test: undecided in cell " + formatCell(result.failingCellIjk) +
-                             " after the subdivision limit (det J sampled down to " + std::string(value) + " near " +
+            result.message = "exact test: undecided in " + std::string(unit) + formatCell(result.failingCellIjk) +
+                             " after the subdivision limit (det J sampled down to " + formatValue(o.value) + " near " +
                              formatPoint(result.failingParams) + "); not certified";
         }
     } else {

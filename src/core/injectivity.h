@@ -8,8 +8,18 @@
 //   * exact  (section 6): det J of each cell in Bernstein form, subdivided by de Casteljau until every box
 //            is proven positive or a point with det J <= 0 is found. Necessary and sufficient up to the
 //            subdivision depth limit and rounding; it never certifies what it has not proven.
-// Both cover polynomial lattices (all weights equal in a cell). A cell of a rational lattice with differing
-// weights is reported as Unsupported (not certified) rather than guessed at.
+// Both cover polynomial box lattices (all weights equal in a cell). A cell of a rational box lattice with
+// differing weights is reported as Unsupported (not certified) rather than guessed at.
+//
+// Net lattices (lattice.net set: lattices of any shape, Coquillart 1990) are checked chunk by chunk on
+// det(dQ/dt), whose sign is det J's (det J = det(dQ/dt) / det(dQ0/dt), the rest net has det(dQ0/dt) > 0):
+// polynomial chunks as a Bernstein polynomial of degree (3p-1, 3q-1, 3r-1), rational chunks (cylinders,
+// spheres, weighted nets) through the homogeneous det4[H_u, H_v, H_w, H] = W^4 det(dQ/dt) of degree
+// (4p-1, 4q-1, 4r-1), so no rational net chunk is Unsupported. On a collapsed outer face (a cylinder's axis,
+// a sphere's poles and centre) the determinant vanishes even at rest; it is divided exactly by x_a^m there and
+// the chunk is certified iff the quotient is positive (injectivity_net.h states the rule). The conic test's
+// cones are around the axes of a box lattice's rest hodographs, which a curved net does not have: on a net
+// lattice checkInjectivityConic runs the exact test (its verdicts are the exact test's).
 //
 // The engine calls checkInjectivity() after every change; pass the cells whose support contains changed
 // control points (cellsInfluencedBy in embedding.h) to check only those.
@@ -52,7 +62,7 @@ enum class InjectivityVerdict {
                    // deformation folds (not injective); in [0, tolerance] it is degenerate or nearly so
     Undecided,     // exact test: subdivision or work limit reached with coefficients still straddling zero
                    // and no fold point found, or non-finite displacements; treated as not certified
-    Unsupported,   // a checked cell is rational (differing weights): nothing proven there
+    Unsupported,   // a checked cell of a box lattice is rational (differing weights): nothing proven there
 };
 const char* injectivityVerdictName(InjectivityVerdict verdict);
 
@@ -73,9 +83,12 @@ struct InjectivityResult {
     // Exact test: the least det J among the points it evaluated (Bezier box corners, i.e. cell corners and
     // subdivision points). For Fold it is the value at the reported point; otherwise over every checked
     // cell (undeformed cells contribute 1). An upper bound of the true minimum. +inf for the conic test.
+    // Net lattices: det J evaluated at each chunk's corner of least determinant polynomial (moved 1e-3 of the
+    // chunk off a collapsed face).
     double minDeterminantFound = std::numeric_limits<double>::infinity();
     // Exact test, Certified: det J >= this everywhere in the checked cells (least coefficient of the boxes
-    // that proved positive). -inf otherwise.
+    // that proved positive). -inf otherwise. Net lattices: the tolerance (the test proves det J > tolerance
+    // through det(dQ/dt) - tolerance det(dQ0/dt) > 0, not a bound of det J itself); 1 if no chunk moved.
     double determinantLowerBound = -std::numeric_limits<double>::infinity();
     // No control point of the outer layer has moved, so the box's faces map onto themselves. Only then does
     // det J > 0 give global injectivity (a local homeomorphism that is one-to-one on the boundary is
@@ -112,22 +125,29 @@ struct ExactOptions {
 
 // det of the deformation Jacobian dx/dX0 at lattice parameters t in [0,1]^3 (1 for the undeformed lattice;
 // rational lattices by the quotient rule). On an interior knot the cell above is used (SplineAxis::locate).
+// A net lattice: det(dQ/dt) / det(dQ0/dt), exactly 1 in a chunk with no moved control point, and its limit
+// (finite) on a collapsed axis, pole or centre, approached along the parameters t (on the axis the limit
+// depends on the angle t gives: the deformation need not be differentiable there).
 double jacobianDeterminant(const Lattice& lattice, const Eigen::Vector3d& params);
 
 // out[v] = det J of this lattice's deformation at rest vertex v (#V values), for the renderer's colour map;
 // 1 for vertices outside the lattice box (they never move) and, exactly, for vertices in cells with no
-// moved control point (those are not evaluated). Parallel over vertices (OpenMP). rest: #V x 3.
+// moved control point (those are not evaluated). Parallel over vertices (OpenMP). rest: #V x 3. A net
+// lattice freezes (restParameters) only the vertices that some deformed chunk's bounds hold (~1-5 us each).
 // note: ~0.2 us per evaluated vertex (cubic, one core); with composed frames (Session) the total det J is
 // the product over the frames.
 void vertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, std::vector<double>& out);
 
 // Conic-hull hodograph test (section 7, Appendix InjectiveTest) on the Bezier hodographs of each cell.
 // cells: linear cell indices (su + S0*(sv + S1*sw)) to check, each in [0, cellCount) (asserted); empty =
-// all cells. Verdicts: Certified, NotCertified, Unsupported.
+// all cells. Verdicts: Certified, NotCertified, Unsupported. A net lattice: the exact test instead (its
+// verdicts, its message with "(net lattice: the conic test runs the exact test)" added).
 InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vector<int>& cells = {});
 
 // Exact test (section 6). cells as above. Verdicts: Certified, Fold, Undecided, Unsupported (a fold found
-// in any cell takes precedence over the others).
+// in any cell takes precedence over the others). A net lattice's cells are its chunks; verdicts Certified,
+// Fold, Undecided (also for a chunk on a collapsed face whose welded control points no longer coincide).
+// note: ~25 us per deformed chunk of a rational (2,2,2) cylinder net (one core), ~1.5x a cubic box cell.
 InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptions& options = {},
                                         const std::vector<int>& cells = {});
 

@@ -6,6 +6,7 @@
 // per-span basis polynomials make that a small matrix product) and det J is multiplied out in Bernstein
 // form, which gives the same cell-wise Bezier coefficients of eq. 8 directly.
 #include "core/injectivity_cell.h"
+#include "core/injectivity_net.h"
 
 #include <algorithm>
 #include <cassert>
@@ -39,18 +40,21 @@ CellBezierBasis makeCellBezierBasis(const Lattice& lattice) {
 
 bool cellIsPolynomial(const Lattice& lattice, const std::array<int, 3>& cell) {
     if (!lattice.rational) return true;
-    const double first = lattice.weights[lattice.index(cell[0], cell[1], cell[2])];
+    // The cell's first control point per axis (SplineAxis::first: the span itself for the box lattice).
+    const int i0 = lattice.axes[0].first(cell[0]), j0 = lattice.axes[1].first(cell[1]), k0 = lattice.axes[2].first(cell[2]);
+    const double first = lattice.weights[lattice.index(i0, j0, k0)];
     for (int k = 0; k <= lattice.degree[2]; ++k)
         for (int j = 0; j <= lattice.degree[1]; ++j)
             for (int i = 0; i <= lattice.degree[0]; ++i)
-                if (lattice.weights[lattice.index(cell[0] + i, cell[1] + j, cell[2] + k)] != first) return false;
+                if (lattice.weights[lattice.index(i0 + i, j0 + j, k0 + k)] != first) return false;
     return true;
 }
 
 bool cellIsUndeformed(const Lattice& lattice, const std::array<int, 3>& cell) {
+    const int i0 = lattice.axes[0].first(cell[0]), j0 = lattice.axes[1].first(cell[1]), k0 = lattice.axes[2].first(cell[2]);
     for (int k = 0; k <= lattice.degree[2]; ++k)
         for (int j = 0; j <= lattice.degree[1]; ++j) {
-            const int row = lattice.index(cell[0], cell[1] + j, cell[2] + k);
+            const int row = lattice.index(i0, j0 + j, k0 + k);
             for (int i = 0; i <= lattice.degree[0]; ++i)
                 for (int c = 0; c < 3; ++c)
                     if (lattice.displacement(row + i, c) != 0.0) return false;
@@ -160,6 +164,7 @@ bool hodographConesKernel(const CellBezierBasis& basis, const double* bezier, st
 
 void cellBezierDisplacement(const Lattice& lattice, const CellBezierBasis& basis, const std::array<int, 3>& cell,
                             double* bezier) {
+    assert(!lattice.net);
     const std::array<int, 3>& d = basis.degree;
     if (d[0] == d[1] && d[1] == d[2]) switch (d[0]) {
             case 1: return bezierDisplacementKernel<2, 2, 2>(lattice, basis, cell, bezier);
@@ -269,6 +274,7 @@ BernsteinTensor cellJacobianDeterminantBernstein(const Lattice& lattice, const s
 }
 
 double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3>& cell, const Eigen::Vector3d& local) {
+    if (lattice.net) return netJacobianDeterminantInChunk(lattice, cell, local);
     double value[3][kMaxDegree + 1], derivative[3][kMaxDegree + 1];
     for (int a = 0; a < 3; ++a) {
         lattice.axes[a].evaluate(cell[a], local[a], value[a]);

@@ -40,6 +40,11 @@ struct CellBezierBasis {
 
 CellBezierBasis makeCellBezierBasis(const Lattice& lattice);
 
+// note: the Bezier form, hodographs and determinant below are the box lattice's (J = I + dD/dt diag(1/size));
+// a net lattice's chunks have their own (injectivity_net.h). cellIsPolynomial, cellIsUndeformed and
+// jacobianDeterminantInCell hold for every kind of lattice (a cell of a net lattice is a chunk; its support
+// starts at SplineAxis::first of each span).
+
 // True if the Bezier form below describes the cell exactly: the lattice is polynomial there, i.e. all
 // weights of the cell's (p+1)(q+1)(r+1) control points are equal (then R_ijk = B_i B_j B_k in the cell,
 // whatever the common weight). False for a cell of a rational lattice with differing weights.
@@ -48,7 +53,7 @@ bool cellIsPolynomial(const Lattice& lattice, const std::array<int, 3>& cell);
 // True if every control point displacement in the cell's support is exactly zero (det J == 1 there).
 bool cellIsUndeformed(const Lattice& lattice, const std::array<int, 3>& cell);
 
-// Bezier control points of the displacement over the cell, for a polynomial cell:
+// Box lattice only (asserted). Bezier control points of the displacement over the cell, for a polynomial cell:
 // bezier[c * n + l + (p+1) * (m + (q+1) * o)] for coordinate c in {0,1,2}, n = (p+1)(q+1)(r+1).
 // bezier must hold 3 n doubles.
 void cellBezierDisplacement(const Lattice& lattice, const CellBezierBasis& basis, const std::array<int, 3>& cell,
@@ -74,12 +79,14 @@ BernsteinDegree determinantDegree(const CellBezierBasis& basis);
 void cellDeterminantBernstein(const CellBezierBasis& basis, double* const columns[3], double* scratch,
                               double* determinant);
 
-// Convenience for tests and tools: det J of one polynomial cell as a BernsteinTensor (allocates).
+// Convenience for tests and tools: det J of one polynomial cell of a box lattice as a BernsteinTensor
+// (allocates; a net lattice's chunk: netChunkDeterminantBernstein).
 BernsteinTensor cellJacobianDeterminantBernstein(const Lattice& lattice, const std::array<int, 3>& cell);
 
 // det of the deformation Jacobian at local coordinates `local` in [0,1]^3 of the given cell, with that
 // cell's polynomials (so a point on a cell face is evaluated from this side; it matters for degree 1,
-// where the Jacobian jumps across faces). Rational lattices are handled with the quotient rule.
+// where the Jacobian jumps across faces). Rational lattices are handled with the quotient rule. A net
+// lattice: det(dQ/dt) / det(dQ0/dt), with its limit on a collapsed face (netJacobianDeterminantInChunk).
 double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3>& cell, const Eigen::Vector3d& local);
 
 }  // namespace sculpt::core

@@ -254,6 +254,12 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
         Eigen::Matrix3d restDerivative, displacementDerivative;
         evaluateNetVolume(net, net.rest, params, rest, &restDerivative);
         evaluateNetVolume(net, lattice.displacement, params, displacement, &displacementDerivative);
+        // note: dQ0/dt is singular on a collapsed axis, pole or centre; where the displacement is locally constant
+        // (an undeformed chunk) the Jacobian is I there too, without forming 0 * inf.
+        if (displacementDerivative.isZero(0.0)) {
+            jacobian.setIdentity();
+            return;
+        }
         jacobian = (restDerivative + displacementDerivative) * restDerivative.inverse();
         return;
     }

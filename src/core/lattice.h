@@ -113,7 +113,10 @@ Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& pa
 Eigen::Vector3d volumePoint(const Lattice& lattice, const Eigen::Vector3d& params);
 
 // The deformation of rest space, x(X0) = X0 + displacementAt(t(X0)), and its Jacobian dx/dX0 at the point
-// with parameters t. Rational weights are differentiated with the quotient rule.
+// with parameters t. Rational weights are differentiated with the quotient rule. A net lattice:
+// dQ/dt (dQ0/dt)^-1; on a collapsed axis, pole or centre (dQ0/dt singular) it is I where the displacement is
+// locally constant and otherwise not finite (the map need not be differentiable there: its derivative
+// depends on the direction); jacobianDeterminant (injectivity.h) gives det J's limit there.
 void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, Eigen::Vector3d& displacement,
                          Eigen::Matrix3d& jacobian);
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <random>
 
 #include "bench_support.h"
@@ -13,6 +14,7 @@
 #include "core/embedding.h"
 #include "core/injectivity.h"
 #include "core/lattice.h"
+#include "core/lattice_net.h"
 
 namespace sculpt::bench {
 
@@ -135,6 +137,24 @@ void runInjectivityBenchmarks(const std::vector<std::string>& filters) {
             timeCase("inject_exact_8_dense", runs, dense, dense.cellCount(),
                      [&] { return checkInjectivityExact(dense); });
         }
+    }
+    if (wanted(filters, "inject_exact_cylinder")) {
+        // A net lattice (rational (2,2,2) chunks, the axis collapsed): every control point moved by up to 5% of
+        // the radius, welded points together, so all 24 chunks are checked, 12 of them on the axis.
+        LatticeNet net;
+        makeCylinderNet(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0, 2.0, {2, 6, 2}, {2, 2}, net);
+        LatticeSettings settings;
+        settings.net = std::make_shared<LatticeNet>(net);
+        Lattice lattice;
+        makeLatticeInBox(settings, {}, {}, lattice);
+        denseDisplacement(lattice, 0.0);
+        std::mt19937 rng(6);
+        std::uniform_real_distribution<double> d(-0.05, 0.05);
+        for (int c = 0; c < lattice.controlPointCount(); ++c)
+            if (lattice.representative(c) == c) lattice.displacement.row(c) = Eigen::RowVector3d(d(rng), d(rng), d(rng));
+        for (int c = 0; c < lattice.controlPointCount(); ++c)
+            lattice.displacement.row(c) = lattice.displacement.row(lattice.representative(c)).eval();
+        timeCase("inject_exact_cylinder", runs, lattice, lattice.cellCount(), [&] { return checkInjectivityExact(lattice); });
     }
 }
 

@@ -211,3 +211,22 @@ TEST_CASE("bernstein: degree elevation keeps the polynomial and tightens the hul
         REQUIRE(raisedHi <= hi + 1e-15);
     }
 }
+
+TEST_CASE("bernstein: dividing by a face factor undoes the product with x^m or (1-x)^m", "[core][bernstein]") {
+    std::mt19937 rng(77);
+    for (int trial = 0; trial < 60; ++trial) {
+        BernsteinTensor g({test::randomInt(rng, 0, 6), test::randomInt(rng, 0, 6), test::randomInt(rng, 0, 6)});
+        for (double& c : g.coefficients) c = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
+        const int axis = test::randomInt(rng, 0, 2), side = test::randomInt(rng, 0, 1), power = test::randomInt(rng, 1, 3);
+        // The factor as a Bernstein polynomial of degree `power` along the axis: x^m = b_m^m, (1-x)^m = b_0^m.
+        BernsteinDegree factorDegree{0, 0, 0};
+        factorDegree[axis] = power;
+        BernsteinTensor factor(factorDegree);
+        factor.coefficients[side == 0 ? power : 0] = 1.0;
+        const BernsteinTensor f = bernsteinProduct(factor, g);
+        BernsteinTensor quotient(g.degree);
+        const double gain = divideBernsteinByFace(f.coefficients.data(), f.degree, axis, side, power, quotient.coefficients.data());
+        REQUIRE(gain >= 1.0);
+        for (size_t c = 0; c < g.coefficients.size(); ++c) REQUIRE(quotient.coefficients[c] == Approx(g.coefficients[c]).margin(1e-12));
+    }
+}
