@@ -235,6 +235,13 @@ Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& pa
     return d;
 }
 
+Eigen::Vector3d restPoint(const Lattice& lattice, const Eigen::Vector3d& params) {
+    if (!lattice.net) return lattice.boxMin + params.cwiseProduct(lattice.boxMax - lattice.boxMin);
+    Eigen::Vector3d rest;
+    evaluateNetVolume(*lattice.net, lattice.net->rest, params, rest);
+    return rest;
+}
+
 Eigen::Vector3d volumePoint(const Lattice& lattice, const Eigen::Vector3d& params) {
     SupportWeights support;
     supportWeights(lattice, params, support);

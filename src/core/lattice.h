@@ -105,6 +105,10 @@ bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen:
 // (Coquillart 1990, 3.1.2: merged points act as one control point).
 void supportWeights(const Lattice& lattice, const Eigen::Vector3d& params, SupportWeights& out);
 
+// The rest point with parameters t: X0(t) = boxMin + t * size for the box lattice, Q0(t) for a net lattice
+// (lattice_net.h). Undeformed, the deformation is the identity, so this is also where t's point is at rest.
+Eigen::Vector3d restPoint(const Lattice& lattice, const Eigen::Vector3d& params);
+
 // sum_ijk R_ijk(t) delta_ijk.
 Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& params);
 

@@ -102,6 +102,28 @@ const char* opStatusName(OpStatus status) {
 void invertDeformation(const Lattice& lattice, const Positions& deformed, Positions& rest) {
     rest = deformed;  // same size as before: no new pages
     const int n = static_cast<int>(deformed.rows());
+    if (lattice.net) {
+        // A net lattice: the parameters t of y in the deformed volume (freezing it, Coquillart 1990, 3.3), whose
+        // rest point Q0(t) is the preimage. Points the deformed volume does not hold did not move.
+        const LatticeNet& net = *lattice.net;
+        const Positions moved = net.rest + lattice.displacement;
+        const ChunkIndex index = buildChunkIndex(net, moved);
+        const bool boundaryFixed = boundaryUnmoved(lattice);
+#pragma omp parallel for schedule(dynamic, 256) if (n > 2000)
+        for (int v = 0; v < n; ++v) {
+            const Eigen::Vector3d y = deformed.row(v).transpose();
+            Eigen::Vector3d t;
+            const bool inside = restParameters(lattice, y, t);
+            if (inside && displacementAt(lattice, t).isZero(0.0)) continue;  // bitwise its own preimage
+            // With the boundary fixed the volume maps onto itself, so a point outside it never moved.
+            if (!inside && boundaryFixed) continue;
+            if (!freezePoint(net, moved, index, y, t)) continue;
+            Eigen::Vector3d x;
+            evaluateNetVolume(net, net.rest, t, x);
+            rest.row(v) = x.transpose();
+        }
+        return;
+    }
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
     // note: the residual x + d(x) - y sums up to (p+1)^3 terms of size ~|x|, so it cannot go much below a few
     // ulps of the box; Newton stops at 1e-14 of the diagonal or when even a halved step no longer improves

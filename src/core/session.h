@@ -454,6 +454,11 @@ private:
     int cursor_ = 0;
     std::vector<LatticeTool> tools_;
     int frozenTool_ = -1;
+    // A net lattice that does not hold every vertex keeps its boundary faces pinned: the vertices outside it
+    // never move, so a moving boundary would tear the mesh there and the deformation of space (identity
+    // outside, the volume inside) would not be injective (Gain & Dodgson 2001, section 5: the boundary
+    // condition; Coquillart 1990, 3.4 keeps the outer planes fixed for the same seam).
+    void pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding) const;
     // Applies (forward) or takes back a LatticeTools operation's change of the list.
     void applyToolChange(const Operation& operation, bool forward);
     std::vector<JournalEntry> journal_;

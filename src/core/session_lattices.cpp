@@ -15,6 +15,12 @@ Status checkTool(const LatticeTool& tool) {
 
 }  // namespace
 
+void Session::pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding) const {
+    if (!lattice.net || embedding.insideCount() == static_cast<int>(positions_.rows())) return;
+    for (int idx = 0; idx < lattice.controlPointCount(); ++idx)
+        if (lattice.net->boundarySlot[idx]) lattice.pinned[idx] = 1;
+}
+
 void Session::applyToolChange(const Operation& operation, bool forward) {
     const LatticeTool& from = forward ? operation.toolBefore : operation.toolAfter;
     const LatticeTool& to = forward ? operation.toolAfter : operation.toolBefore;

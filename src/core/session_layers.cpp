@@ -43,11 +43,13 @@ bool Session::pullThroughLayers(const Eigen::Vector3d& y, Eigen::Vector3d& x, si
             lo = lo.cwiseMin(layer.controlPoint(idx));
             hi = hi.cwiseMax(layer.controlPoint(idx));
         }
-        const bool inBox = (point.array() >= layer.boxMin.array()).all() && (point.array() <= layer.boxMax.array()).all();
+        Eigen::Vector3d restParams;
+        const bool inBox = layer.net ? restParameters(layer, point, restParams)
+                                     : (point.array() >= layer.boxMin.array()).all() && (point.array() <= layer.boxMax.array()).all();
         if (!((point.array() >= lo.array()).all() && (point.array() <= hi.array()).all())) continue;  // the identity there
         Eigen::Vector3d params;
         if (locateDeformedPoint(layer, point, params)) {
-            point = layer.boxMin + params.cwiseProduct(layer.boxMax - layer.boxMin);
+            point = restPoint(layer, params);
             continue;
         }
         // Outside the box a layer is the identity: a point there no box point reaches is its own preimage.
@@ -68,7 +70,7 @@ void Session::refreshLayerOutput(const std::vector<int>& vertices) {
 
 Eigen::Vector3d Session::activeImage(const Eigen::Vector3d& params) const {
     const Lattice& lattice = activeLattice();
-    return lattice.boxMin + params.cwiseProduct(lattice.boxMax - lattice.boxMin) + displacementAt(lattice, params);
+    return restPoint(lattice, params) + displacementAt(lattice, params);
 }
 
 bool Session::toActiveSpace(const Eigen::Vector3d& point, Eigen::Vector3d& out) const {
@@ -153,6 +155,7 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
     layer.settings = settings;
     layers_.push_back(std::move(layer));
     embedVertices(layers_.back().lattice, positions_, layerEmbedding_);
+    pinBoundaryIfPartial(layers_.back().lattice, layerEmbedding_);
     layerActive_ = true;
     if (progress) {
         progress->appliedInCurrentFrame = false;
@@ -235,6 +238,7 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
     lattice_ = std::move(fresh);
     rest_ = positions_;
     embedVertices(lattice_, rest_, embedding_);
+    pinBoundaryIfPartial(lattice_, embedding_);
     lastMovedAll_ = true;
 }
 

@@ -1,0 +1,175 @@
+// Lattices of any shape in the session (Coquillart 1990, EFFD, 3.2-3.4): freezing a lattice tool, deforming
+// with it (drags solved on its basis, control-point moves), undo as the inverse manipulation, several lattices
+// per mesh one after another, and recordings that replay exactly.
+#include <catch2/catch.hpp>
+
+#include <memory>
+#include <random>
+
+#include "core/injectivity.h"
+#include "core/lattice_net.h"
+#include "core/script.h"
+#include "core/session.h"
+#include "io/script_json.h"
+#include "mesh_fixtures.h"
+#include "test_support.h"
+
+using namespace sculpt;
+using namespace sculpt::core;
+
+namespace {
+
+// A sphere mesh of radius 1 at the origin and a session on it (box lattice first, as setMesh makes it).
+Session sphereSession(int levels, InjectivityMode mode = InjectivityMode::Exact) {
+    Positions positions;
+    Triangles triangles;
+    test::icosphere(levels, 1.0, Eigen::Vector3d::Zero(), positions, triangles);
+    Session session;
+    LatticeSettings box;
+    box.resolution = {5, 5, 5};
+    box.degree = {3, 3, 3};
+    REQUIRE(session.setMesh(positions, triangles, box));
+    InjectivitySettings injectivity;
+    injectivity.mode = mode;
+    session.setInjectivity(injectivity);
+    return session;
+}
+
+LatticeTool cylinderTool(std::mt19937& rng) {
+    LatticeNet net;
+    // A cylinder through the sphere along a random direction, wider than it in part of the runs (so some
+    // vertices are outside the lattice and must not move).
+    const Eigen::Vector3d axis = test::randomVector(rng, -1, 1).normalized();
+    const double radius = std::uniform_real_distribution<double>(0.6, 1.3)(rng);
+    REQUIRE(makeCylinderNet(-1.2 * axis, axis, radius, 2.4, {2, 8, 2}, {2, 2}, net));
+    return {"cylinder", std::make_shared<const LatticeNet>(std::move(net))};
+}
+
+LatticeTool sphereTool() {
+    LatticeNet net;
+    REQUIRE(makeSphereNet(Eigen::Vector3d(0.3, 0, 0), Eigen::Vector3d::UnitZ(), 1.1, {2, 6, 4}, 2, net));
+    return {"ball", std::make_shared<const LatticeNet>(std::move(net))};
+}
+
+}  // namespace
+
+TEST_CASE("effd session: drags on a frozen cylinder meet their targets and undo restores the mesh", "[core][net][effd]") {
+    std::mt19937 rng(50);
+    for (int trial = 0; trial < 6; ++trial) {
+        Session session = sphereSession(3);
+        const Positions original = session.positions();
+        OpReport report;
+        REQUIRE(session.addLatticeTool(cylinderTool(rng), report));
+        REQUIRE(session.freezeLattice(0, trial % 2, report));
+        REQUIRE(report.status == OpStatus::Applied);
+        REQUIRE(session.frozenTool() == 0);
+        REQUIRE(session.lattice().net);
+        REQUIRE(session.positions() == original);  // freezing moves nothing
+        // Which vertices are inside the cylinder: only those may ever move.
+        std::vector<bool> inside(original.rows());
+        for (int v = 0; v < original.rows(); ++v) {
+            Eigen::Vector3d t;
+            inside[v] = restParameters(session.lattice(), original.row(v).transpose(), t);
+        }
+        int applied = 0;
+        for (int drag = 0; drag < 4; ++drag) {
+            int vertex = test::randomInt(rng, 0, static_cast<int>(original.rows()) - 1);
+            while (!inside[vertex]) vertex = test::randomInt(rng, 0, static_cast<int>(original.rows()) - 1);
+            const Eigen::Vector3d target = session.positions().row(vertex).transpose() + test::randomVector(rng, -0.15, 0.15);
+            REQUIRE(session.dragVertex(vertex, target, report));
+            INFO(report.reason << " / " << report.injectivity);
+            if (report.status != OpStatus::Applied) continue;
+            ++applied;
+            if (!report.rankDeficient) REQUIRE((session.positions().row(vertex).transpose() - target).norm() <= 1e-9);
+            // Certified on the net lattice (exact test, rational chunks included).
+            REQUIRE(checkInjectivityExact(session.lattice()).verdict != InjectivityVerdict::Fold);
+        }
+        INFO(report.reason << " / " << report.injectivity);
+        CHECK(applied > 0);
+        for (int v = 0; v < original.rows(); ++v)
+            if (!inside[v]) REQUIRE(session.positions().row(v) == original.row(v));  // outside every chunk: never moves
+        // Unfreeze keeps the shape; undo everything returns to the original mesh.
+        const Positions sculpted = session.positions();
+        {
+            const Positions restBefore = session.restPositions();
+            const size_t layersBefore = session.layers().size();
+            REQUIRE(session.unfreezeLattice(report));
+            REQUIRE(session.undo(report));
+            INFO("layers " << layersBefore);
+            REQUIRE((session.restPositions() - restBefore).cwiseAbs().maxCoeff() <= 1e-12);  // the frozen net inverted by Newton
+            REQUIRE(session.redo(report));
+            REQUIRE(session.undo(report));
+        }
+        REQUIRE(session.unfreezeLattice(report));
+        REQUIRE(session.frozenTool() == -1);
+        REQUIRE(session.positions() == sculpted);
+        while (session.historyCursor() > 0) REQUIRE(session.undo(report));
+        REQUIRE(session.latticeTools().empty());
+        REQUIRE((session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9);
+    }
+}
+
+TEST_CASE("effd session: several lattices in turn, moved control points, and a recording that replays bitwise", "[core][net][effd]") {
+    std::mt19937 rng(51);
+    Session session = sphereSession(3, InjectivityMode::Conic);
+    OpReport report;
+    REQUIRE(session.addLatticeTool(cylinderTool(rng), report));
+    REQUIRE(session.addLatticeTool(sphereTool(), report));
+    REQUIRE(session.freezeLattice(0, 0, report));
+    // Move the cylinder's axis (one welded point per slice) and a ring point.
+    const Lattice& cylinder = session.lattice();
+    const int axisPoint = cylinder.index(0, 0, 2);
+    REQUIRE(session.moveControlPoints({axisPoint}, Eigen::RowVector3d(0.05, 0.02, 0.1), true, report));
+    REQUIRE(report.status == OpStatus::Applied);
+    for (int j = 0; j < cylinder.count[1]; ++j)  // the whole welded group moved
+        REQUIRE(session.lattice().displacement.row(cylinder.index(0, j, 2)) == session.lattice().displacement.row(axisPoint));
+    REQUIRE(session.dragVertex(5, session.positions().row(5).transpose() + Eigen::Vector3d(0, 0, 0.1), report));
+    REQUIRE(session.unfreezeLattice(report));
+    REQUIRE(session.freezeLattice(1, 1, report));
+    REQUIRE(session.frozenTool() == 1);
+    REQUIRE(session.dragVertex(40, session.positions().row(40).transpose() + Eigen::Vector3d(0.1, 0, 0), report));
+    REQUIRE(session.undo(report));
+    REQUIRE(session.redo(report));
+    const Positions final = session.positions();
+
+    // The recording replays bitwise on the same mesh, through its JSON text.
+    const Script recorded = recordSession(session);
+    Script parsed;
+    REQUIRE(io::parseScript(io::scriptToJson(recorded), "recording.json", parsed));
+    Session replay = sphereSession(3, InjectivityMode::Conic);
+    LatticeSettings start = parsed.lattice;
+    REQUIRE(replay.setMesh(replay.originalPositions(), replay.triangles(), start));
+    ScriptReport scriptReport;
+    REQUIRE(runScript(replay, parsed, scriptReport));
+    REQUIRE(replay.positions() == final);
+    REQUIRE(replay.latticeTools().size() == 2);
+    REQUIRE(replay.frozenTool() == 1);
+    // Undo in the replay walks back through the freezes to the original mesh.
+    while (replay.historyCursor() > 0) REQUIRE(replay.undo(report));
+    REQUIRE((replay.positions() - replay.originalPositions()).cwiseAbs().maxCoeff() <= 1e-9);
+
+    // On another mesh (a finer sphere) the same recording is decided again: the lattices are frozen on it.
+    Session other = sphereSession(4, InjectivityMode::Conic);
+    REQUIRE(runScript(other, parsed, scriptReport));
+    REQUIRE(other.frozenTool() == 1);
+    REQUIRE(other.latticeTools().size() == 2);
+}
+
+TEST_CASE("effd session: bad lattice input is refused and changes nothing", "[core][net][effd]") {
+    Session session = sphereSession(2);
+    OpReport report;
+    REQUIRE_FALSE(session.addLatticeTool(LatticeTool{"empty", nullptr}, report));
+    REQUIRE_FALSE(session.freezeLattice(0, 0, report));
+    REQUIRE(session.addLatticeTool(sphereTool(), report));
+    REQUIRE(session.freezeLattice(0, 0, report));
+    REQUIRE_FALSE(session.editLatticeTool(0, sphereTool(), report));  // frozen: unfreeze first
+    REQUIRE_FALSE(session.removeLatticeTool(0, report));
+    REQUIRE(session.historyCursor() == 2);
+    Script script;
+    const std::string bad = R"({"ops": [{"op": "add_lattice", "lattice": {"kind": "cylinder", "base": [0,0,0], "axis": [0,0,0], "radius": 1, "height": 1, "chunks": [1,4,1]}}]})";
+    const Status parsed = io::parseScript(bad, "bad.json", script);
+    REQUIRE_FALSE(parsed);
+    INFO(parsed.message);
+    REQUIRE(parsed.message.find("ops[0].lattice") != std::string::npos);
+    REQUIRE(parsed.message.find("axis") != std::string::npos);
+}
