@@ -18,6 +18,8 @@ const char* scriptOpName(ScriptOp::Kind kind) {
         case ScriptOp::Kind::BeginGroup: return "begin_group";
         case ScriptOp::Kind::EndGroup: return "end_group";
         case ScriptOp::Kind::Group: return "group";
+        case ScriptOp::Kind::Refine: return "refine";
+        case ScriptOp::Kind::SetRefinement: return "set_refinement";
     }
     return "?";
 }
@@ -82,6 +84,13 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
             if (Status s = session.groupOperations(op.groupFirst, op.label); !s) return s;
             report.status = OpStatus::Applied;
             return Status::success();
+        case ScriptOp::Kind::Refine:
+            return session.refine(op.tolerance > 0.0 ? op.tolerance : session.refinement().options.tolerance, report);
+        case ScriptOp::Kind::SetRefinement:
+            report = OpReport{};
+            if (Status s = session.setRefinement(op.refinement); !s) return s;
+            report.status = OpStatus::Applied;
+            return Status::success();
         case ScriptOp::Kind::Undo: return session.undo(report);
         case ScriptOp::Kind::Redo: return session.redo(report);
         case ScriptOp::Kind::Screenshot: {
@@ -121,6 +130,10 @@ ScriptOp recordedOp(const Operation& operation) {
             op.kind = ScriptOp::Kind::SetupLattice;
             op.hasSettings = true;
             op.settings = operation.settings;
+            break;
+        case OperationKind::Refine:
+            op.kind = ScriptOp::Kind::Refine;
+            op.tolerance = operation.refinement.tolerance;
             break;
     }
     op.hasApplied = true;
@@ -195,6 +208,10 @@ Script recordSession(const Session& session) {
                     const std::array<int, 3> ijk = gridIjk(entry.settings.resolution, idx);
                     (inOuterLayers(entry.settings.resolution, ijk, entry.settings.pinLayers) ? op.unpinned : op.controlPoints).push_back(ijk);
                 }
+                break;
+            case JournalEntry::Kind::Refinement:
+                op.kind = ScriptOp::Kind::SetRefinement;
+                op.refinement = entry.refinement;
                 break;
         }
         script.ops.push_back(std::move(op));

@@ -17,7 +17,8 @@
 namespace sculpt::core {
 
 struct ScriptOp {
-    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins, BeginGroup, EndGroup, Group };
+    enum class Kind { Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins, BeginGroup, EndGroup, Group,
+                      Refine, SetRefinement };
     Kind kind = Kind::Undo;
     std::vector<PointConstraint> constraints;      // Drag
     int vertex = -1;                               // DragVertex
@@ -32,6 +33,8 @@ struct ScriptOp {
     bool hasSettings = false;                      // SetupLattice: new settings, or (false) a fresh lattice
     LatticeSettings settings;                      //   with the current ones around the current shape
     int groupFirst = 0;                            // Group: history entries [groupFirst, end) become one (label)
+    double tolerance = 0.0;                        // Refine: fraction of the diagonal (0: the session's setting)
+    RefinementSettings refinement;                 // SetRefinement: Session::setRefinement
     // Recordings: what the operation was applied as (its steps: fresh frames and control displacements). A
     // replay on the mesh it was recorded on applies these exactly instead of deciding again.
     bool hasApplied = false;

@@ -267,6 +267,7 @@ size_t Session::historyBytes() const {
         size_t bytes = op.label.capacity() + op.constraints.capacity() * sizeof(PointConstraint) + op.controlPoints.capacity() * sizeof(int) +
                        static_cast<size_t>(op.offsets.size()) * sizeof(double) + op.steps.capacity() * sizeof(Step);
         for (const Step& step : op.steps) bytes += deltaBytes(step.delta);
+        bytes += op.refinement.splits.capacity() * sizeof(EdgeSplit) + op.refinement.halvings.capacity() * sizeof(TriangleHalving);
         return bytes;
     };
     size_t bytes = history_.capacity() * sizeof(Operation) + frames_.capacity() * sizeof(FrozenFrame) + journal_.capacity() * sizeof(JournalEntry);
@@ -593,6 +594,7 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
         report.reason = "the constraints contradict each other or ask more than the free control points can give (largest miss " +
                         std::to_string(worst) + "): met as closely as possible; use fewer constraints, unpin points, or a finer lattice";
     }
+    refineAfterEdit(operation, &report);
     pushOperation(std::move(operation));
     report.wallMs = millisecondsSince(start);
     return Status::success();
@@ -847,6 +849,7 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
         report.reason = "stopped where the lattice would fold: moved " + percentText(fraction) + " of the way (beyond it " + stepFailureWords(failure, false) + "); control point [" + std::to_string(ijk[0]) + "," +
                         std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "] ended at " + vectorText(lattice_.controlPoint(delta.indices.front()));
     }
+    refineAfterEdit(operation, &report);
     pushOperation(std::move(operation));
     report.wallMs = millisecondsSince(start);
     return Status::success();
@@ -917,7 +920,7 @@ Status Session::groupOperations(int first, const std::string& label) {
     const Operation* lastEdit = nullptr;
     for (int i = first; i < cursor_; ++i) {
         const Operation& op = history_[static_cast<size_t>(i)];
-        if (op.kind == OperationKind::LatticeSetup) continue;
+        if (op.kind == OperationKind::LatticeSetup || op.kind == OperationKind::Refine) continue;
         if (firstEdit && op.kind != firstEdit->kind) return Status::error("a group mixes drags and control-point edits");
         if (!firstEdit) firstEdit = &op;
         lastEdit = &op;
@@ -933,12 +936,17 @@ Status Session::groupOperations(int first, const std::string& label) {
             for (size_t c = 0; c < merged.constraints.size(); ++c) merged.constraints[c].target = lastEdit->constraints[c].target;
     } else {
         merged.settings = history_[static_cast<size_t>(cursor_ - 1)].settings;
+        if (history_[static_cast<size_t>(cursor_ - 1)].kind == OperationKind::Refine) merged.kind = OperationKind::Refine;
     }
     merged.interactive = true;
     merged.label = label.empty() ? (firstEdit ? firstEdit->label : history_[static_cast<size_t>(first)].label) : label;
     for (int i = first; i < cursor_; ++i) {
         Operation& op = history_[static_cast<size_t>(i)];
         merged.depthReached = std::max(merged.depthReached, op.depthReached);
+        // The refinements, in order, are one sequence of splits (undone before the steps, redone after them).
+        for (const EdgeSplit& split : op.refinement.splits) merged.refinement.splits.push_back(split);
+        for (const TriangleHalving& halving : op.refinement.halvings) merged.refinement.halvings.push_back(halving);
+        if (!op.refinement.empty()) merged.refinement.tolerance = op.refinement.tolerance;
         for (Step& step : op.steps) {
             // A fresh frame that moved nothing followed by a step in it is one step, as the interactive
             // operation that was recorded had it (same undo: the delta, then leaving the frame).
@@ -972,6 +980,7 @@ Status Session::undo(OpReport& report) {
     const Operation& operation = history_[--cursor_];
     layerActive_ = false;
     revertSteps(operation.steps);
+    removeRefinement(operation.refinement);
     journal_.push_back(JournalEntry{JournalEntry::Kind::Undo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
@@ -998,6 +1007,7 @@ Status Session::redo(OpReport& report) {
     lastMovedAll_ = false;
     for (const Step& step : operation.steps) redoStep(step);
     layerActive_ = false;
+    reapplyRefinement(history_[static_cast<size_t>(cursor_ - 1)]);
     journal_.push_back(JournalEntry{JournalEntry::Kind::Redo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;
@@ -1048,7 +1058,8 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     report.op = "replay";
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (dragActive_) return Status::error("an interactive drag is in progress");
-    if (operation.steps.empty()) return Status::error("the recorded operation has no steps");
+    if (operation.steps.empty() && operation.kind != OperationKind::Refine) return Status::error("the recorded operation has no steps");
+    if (Status s = checkRecordedRefinement(operation, cancelled); !s) return s;
     // Every step must fit the lattice it will be applied in: its own where it makes one (a layer or a new
     // cage), else the cage.
     LatticeSettings cageSettings = settings_;
@@ -1086,6 +1097,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
         report.reason = "replayed the steps of a drag that was taken back, and took them back";
     } else {
         pushOperation(operation);
+        reapplyRefinement(history_.back());
         report.reason = "replayed " + operation.label + " as recorded (" + std::to_string(report.subSteps) + " steps)";
     }
     report.verticesMoved = movedCount();
