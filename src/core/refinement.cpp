@@ -112,14 +112,56 @@ private:
     int vertexCount_ = 0;
 };
 
-// triangleDeviation from the images of the sample points (edge midpoints in corner order: ab, bc, ca).
-double deviationFromSamples(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                            const Eigen::Vector3d& imageAB, const Eigen::Vector3d& imageBC, const Eigen::Vector3d& imageCA,
-                            const Eigen::Vector3d& imageCentroid) {
-    const double midpoints = std::max({(imageAB - 0.5 * (a + b)).norm(), (imageBC - 0.5 * (b + c)).norm(), (imageCA - 0.5 * (c + a)).norm()});
-    const double centroid = (imageCentroid - (a + b + c) / 3.0).norm();
-    // The quadratic bound (header note): 4/3 of the worst midpoint.
-    return std::max(midpoints * (4.0 / 3.0), centroid);
+// The deviation of one flat triangle (corner images a, b, c) from a quadratic patch through the images of
+// its edge midpoints (ab, bc, ca) and centroid: 4/3 of the worst midpoint (header note), or the centroid's
+// own value if larger.
+double quadraticDeviation(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& ab,
+                          const Eigen::Vector3d& bc, const Eigen::Vector3d& ca, const Eigen::Vector3d& centroid) {
+    const double midpoints = std::max({(ab - 0.5 * (a + b)).norm(), (bc - 0.5 * (b + c)).norm(), (ca - 0.5 * (c + a)).norm()});
+    return std::max(midpoints * (4.0 / 3.0), (centroid - (a + b + c) / 3.0).norm());
+}
+
+// The images triangleDeviation samples, for a triangle with corners 0, 1, 2 (edge k runs from corner k to
+// k + 1; m_k is its midpoint).
+struct TriangleSamples {
+    std::array<std::array<Eigen::Vector3d, 3>, 3> edge;  // edge k at 1/4, 1/2, 3/4 of the way from corner k
+    std::array<Eigen::Vector3d, 3> inner;                // midpoint of m_k and m_{k+1}
+    std::array<Eigen::Vector3d, 4> centroid;             // of the corner sub-triangle (r_j, m_j, m_{j-1}); [3]: (m_0, m_1, m_2)
+};
+
+// The rest points of TriangleSamples::inner and ::centroid (the edge points come from edgeSamplePoints).
+void innerSamplePoints(const Eigen::Vector3d r[3], std::array<Eigen::Vector3d, 7>& points) {
+    const Eigen::Vector3d m[3] = {0.5 * (r[0] + r[1]), 0.5 * (r[1] + r[2]), 0.5 * (r[2] + r[0])};
+    for (int k = 0; k < 3; ++k) points[static_cast<size_t>(k)] = 0.5 * (m[k] + m[(k + 1) % 3]);
+    for (int j = 0; j < 3; ++j) points[static_cast<size_t>(3 + j)] = (r[j] + m[j] + m[(j + 2) % 3]) / 3.0;
+    points[6] = (m[0] + m[1] + m[2]) / 3.0;
+}
+
+// The rest points at 1/4, 1/2, 3/4 from ra to rb. note: the middle one is exactly the vertex a split puts
+// there (appendSplitMidpoints), whichever way the edge is walked.
+std::array<Eigen::Vector3d, 3> edgeSamplePoints(const Eigen::Vector3d& ra, const Eigen::Vector3d& rb) {
+    const Eigen::Vector3d mid = 0.5 * (ra + rb);
+    return {0.5 * (ra + mid), mid, 0.5 * (mid + rb)};
+}
+
+// triangleDeviation from the samples: the triangle split 1-to-4 (virtually); on each part S the error is at
+// most S's quadratic deviation from the flat triangle through S's corner images, plus the largest error at
+// S's corners (the difference of the two flat triangles is linear, so largest at a corner). Half the size,
+// the quadratic model is four times as close; cubic B-spline pieces a triangle spans are seen.
+double deviationFromSamples(const Eigen::Vector3d x[3], const TriangleSamples& s) {
+    const Eigen::Vector3d m[3] = {s.edge[0][1], s.edge[1][1], s.edge[2][1]};
+    double cornerError[3];
+    for (int k = 0; k < 3; ++k) cornerError[k] = (m[k] - 0.5 * (x[k] + x[(k + 1) % 3])).norm();
+    double worst = 0.0;
+    for (int j = 0; j < 3; ++j) {
+        const int previous = (j + 2) % 3;
+        // (x_j, m_j, m_prev): edges x_j-m_j (edge j at 1/4), m_j-m_prev (inner[prev]), m_prev-x_j (edge prev at 3/4).
+        const double part = quadraticDeviation(x[j], m[j], m[previous], s.edge[static_cast<size_t>(j)][0], s.inner[static_cast<size_t>(previous)],
+                                               s.edge[static_cast<size_t>(previous)][2], s.centroid[static_cast<size_t>(j)]);
+        worst = std::max(worst, part + std::max(cornerError[j], cornerError[previous]));
+    }
+    const double middle = quadraticDeviation(m[0], m[1], m[2], s.inner[0], s.inner[1], s.inner[2], s.centroid[3]);
+    return std::max(worst, middle + std::max({cornerError[0], cornerError[1], cornerError[2]}));
 }
 
 }  // namespace
@@ -136,8 +178,17 @@ Status validateRefinementOptions(const RefinementOptions& options) {
 double triangleDeviation(const Eigen::Vector3d& restA, const Eigen::Vector3d& restB, const Eigen::Vector3d& restC,
                          const Eigen::Vector3d& currentA, const Eigen::Vector3d& currentB, const Eigen::Vector3d& currentC,
                          const RestImage& image) {
-    return deviationFromSamples(currentA, currentB, currentC, image(0.5 * (restA + restB)), image(0.5 * (restB + restC)),
-                                image(0.5 * (restC + restA)), image((restA + restB + restC) / 3.0));
+    const Eigen::Vector3d r[3] = {restA, restB, restC}, x[3] = {currentA, currentB, currentC};
+    TriangleSamples samples;
+    for (int k = 0; k < 3; ++k) {
+        const std::array<Eigen::Vector3d, 3> points = edgeSamplePoints(r[k], r[(k + 1) % 3]);
+        for (int i = 0; i < 3; ++i) samples.edge[static_cast<size_t>(k)][static_cast<size_t>(i)] = image(points[static_cast<size_t>(i)]);
+    }
+    std::array<Eigen::Vector3d, 7> inner;
+    innerSamplePoints(r, inner);
+    for (int i = 0; i < 3; ++i) samples.inner[static_cast<size_t>(i)] = image(inner[static_cast<size_t>(i)]);
+    for (int i = 0; i < 4; ++i) samples.centroid[static_cast<size_t>(i)] = image(inner[static_cast<size_t>(3 + i)]);
+    return deviationFromSamples(x, samples);
 }
 
 Status applyEdgeSplits(Triangles& triangles, int vertexCount, const std::vector<EdgeSplit>& splits,
@@ -199,15 +250,21 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
     double diagonal = 0.0;
     if (current.rows() > 0) diagonal = (current.colwise().maxCoeff() - current.colwise().minCoeff()).norm();
     out.toleranceWorld = options.tolerance * diagonal;
+    // note: a triangle no longer than this in rest space is not split. A smooth deformation would have to
+    // stretch it by 1 / tolerance for it to stray that far; where one does (the image jumps, e.g. at the box
+    // of a lattice whose outer control points moved, outside which nothing moves), splitting never converges.
+    const double restDiagonal = rest.rows() > 0 ? (rest.colwise().maxCoeff() - rest.colwise().minCoeff()).norm() : 0.0;
+    const double shortestSplit = options.tolerance * restDiagonal;
 
     SplittableMesh mesh(triangles, static_cast<int>(rest.rows()));
-    std::unordered_map<std::uint64_t, Eigen::Vector3d> midpointImage;  // per edge of the mesh, once evaluated
+    // Per edge of the mesh, once evaluated: the images at 1/4, 1/2, 3/4 from its smaller vertex id to the
+    // other (shared by its triangles; the middle one is where a split puts the new vertex).
+    std::unordered_map<std::uint64_t, std::array<Eigen::Vector3d, 3>> edgeImages;
     std::vector<double> deviation(static_cast<size_t>(mesh.triangleCount()), 0.0);
     std::vector<std::uint8_t> stale(deviation.size(), 1);  // deviation not computed for the triangle as it is now
-    const auto restMidpoint = [&](int a, int b) { return Eigen::Vector3d(0.5 * (restPoints[static_cast<size_t>(a)] + restPoints[static_cast<size_t>(b)])); };
+    const auto restPoint = [&](int v) -> const Eigen::Vector3d& { return restPoints[static_cast<size_t>(v)]; };
 
-    // Evaluates every stale triangle: the images of its edge midpoints (shared with its neighbours and kept
-    // for the vertex a split would put there) and of its centroid, in parallel.
+    // Evaluates every stale triangle (triangleDeviation) from the images of its samples, in parallel.
     const auto evaluate = [&]() {
         std::vector<int> list;
         for (int t = 0; t < mesh.triangleCount(); ++t)
@@ -216,39 +273,47 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
                 deviation[static_cast<size_t>(t)] = 0.0;
                 if (!repeatsVertex(mesh.triangle(t))) list.push_back(t);
             }
+        const std::array<Eigen::Vector3d, 3> unevaluated{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
         std::vector<std::uint64_t> keys;
-        std::vector<Eigen::Vector3d> points;
+        std::vector<Eigen::Vector3d> points;  // 3 per new edge
         for (int t : list) {
             const Corners& c = mesh.triangle(t);
             for (int k = 0; k < 3; ++k) {
-                const int a = c[static_cast<size_t>(k)], b = c[static_cast<size_t>((k + 1) % 3)];
-                if (midpointImage.emplace(edgeKey(a, b), Eigen::Vector3d::Zero()).second) {
+                const int a = std::min(c[static_cast<size_t>(k)], c[static_cast<size_t>((k + 1) % 3)]);
+                const int b = std::max(c[static_cast<size_t>(k)], c[static_cast<size_t>((k + 1) % 3)]);
+                if (edgeImages.emplace(edgeKey(a, b), unevaluated).second) {
                     keys.push_back(edgeKey(a, b));
-                    points.push_back(restMidpoint(a, b));
+                    for (const Eigen::Vector3d& p : edgeSamplePoints(restPoint(a), restPoint(b))) points.push_back(p);
                 }
             }
         }
         const int pointCount = static_cast<int>(points.size());
 #pragma omp parallel for schedule(dynamic, 64) if (pointCount > 256)
         for (int i = 0; i < pointCount; ++i) points[static_cast<size_t>(i)] = image(points[static_cast<size_t>(i)]);
-        for (size_t i = 0; i < keys.size(); ++i) midpointImage[keys[i]] = points[i];
-        std::vector<std::array<const Eigen::Vector3d*, 3>> samples(list.size());
+        for (size_t i = 0; i < keys.size(); ++i) edgeImages[keys[i]] = {points[3 * i], points[3 * i + 1], points[3 * i + 2]};
+        // The edge samples in each triangle's own direction (edge k from corner k).
+        std::vector<TriangleSamples> samples(list.size());
         for (size_t i = 0; i < list.size(); ++i) {
             const Corners& c = mesh.triangle(list[i]);
-            for (int k = 0; k < 3; ++k)
-                samples[i][static_cast<size_t>(k)] = &midpointImage.at(edgeKey(c[static_cast<size_t>(k)], c[static_cast<size_t>((k + 1) % 3)]));
+            for (int k = 0; k < 3; ++k) {
+                const int a = c[static_cast<size_t>(k)], b = c[static_cast<size_t>((k + 1) % 3)];
+                const std::array<Eigen::Vector3d, 3>& e = edgeImages.at(edgeKey(a, b));
+                for (int j = 0; j < 3; ++j) samples[i].edge[static_cast<size_t>(k)][static_cast<size_t>(j)] = e[static_cast<size_t>(a < b ? j : 2 - j)];
+            }
         }
         const int listCount = static_cast<int>(list.size());
-#pragma omp parallel for schedule(dynamic, 64) if (listCount > 256)
+#pragma omp parallel for schedule(dynamic, 32) if (listCount > 64)
         for (int i = 0; i < listCount; ++i) {
             const Corners& c = mesh.triangle(list[static_cast<size_t>(i)]);
-            const Eigen::Vector3d& a = currentPoints[static_cast<size_t>(c[0])];
-            const Eigen::Vector3d& b = currentPoints[static_cast<size_t>(c[1])];
-            const Eigen::Vector3d& d = currentPoints[static_cast<size_t>(c[2])];
-            const Eigen::Vector3d centroid =
-                (restPoints[static_cast<size_t>(c[0])] + restPoints[static_cast<size_t>(c[1])] + restPoints[static_cast<size_t>(c[2])]) / 3.0;
-            const auto& s = samples[static_cast<size_t>(i)];
-            deviation[static_cast<size_t>(list[static_cast<size_t>(i)])] = deviationFromSamples(a, b, d, *s[0], *s[1], *s[2], image(centroid));
+            const Eigen::Vector3d r[3] = {restPoint(c[0]), restPoint(c[1]), restPoint(c[2])};
+            const Eigen::Vector3d x[3] = {currentPoints[static_cast<size_t>(c[0])], currentPoints[static_cast<size_t>(c[1])],
+                                          currentPoints[static_cast<size_t>(c[2])]};
+            std::array<Eigen::Vector3d, 7> inner;
+            innerSamplePoints(r, inner);
+            TriangleSamples& sample = samples[static_cast<size_t>(i)];
+            for (int j = 0; j < 3; ++j) sample.inner[static_cast<size_t>(j)] = image(inner[static_cast<size_t>(j)]);
+            for (int j = 0; j < 4; ++j) sample.centroid[static_cast<size_t>(j)] = image(inner[static_cast<size_t>(3 + j)]);
+            deviation[static_cast<size_t>(list[static_cast<size_t>(i)])] = deviationFromSamples(x, sample);
         }
     };
     const auto worst = [&](int* over) {
@@ -288,16 +353,16 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
     const auto splitEdge = [&](int a, int b) {
         if (mesh.vertexCount() >= options.maxVertices) return false;
         const std::uint64_t key = edgeKey(a, b);
-        const Eigen::Vector3d restPoint = restMidpoint(a, b);
-        const auto cached = midpointImage.find(key);
-        const Eigen::Vector3d currentPoint = cached != midpointImage.end() ? cached->second : image(restPoint);
-        if (cached != midpointImage.end()) midpointImage.erase(cached);
+        const Eigen::Vector3d restMiddle = 0.5 * (restPoint(a) + restPoint(b));
+        const auto cached = edgeImages.find(key);
+        const Eigen::Vector3d currentMiddle = cached != edgeImages.end() ? cached->second[1] : image(restMiddle);
+        if (cached != edgeImages.end()) edgeImages.erase(cached);
         halved.clear();
         [[maybe_unused]] const bool ok = mesh.split(a, b, nullptr, &halved);
         assert(ok);
         out.splits.push_back({a, b});
-        restPoints.push_back(restPoint);
-        currentPoints.push_back(currentPoint);
+        restPoints.push_back(restMiddle);
+        currentPoints.push_back(currentMiddle);
         deviation.resize(static_cast<size_t>(mesh.triangleCount()), 0.0);
         stale.resize(deviation.size(), 1);
         halvedThisRound.resize(deviation.size(), 1);
@@ -307,31 +372,53 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
         }
         return true;
     };
+    const auto restLengthSq = [&](int a, int b) { return (restPoint(a) - restPoint(b)).squaredNorm(); };
     // Rivara's LEPP bisection of t: follow the longest-edge propagation path from t to its terminal edge (the
     // longest edge of both triangles sharing it, or a boundary edge), split that, and repeat until t itself
     // is halved. False at the vertex limit.
+    // note: in rest space the path's edges shrink with every split, so it ends (Rivara); in the current shape
+    // a jump in the image keeps an edge across it long however often it is split, and the path could go on
+    // splitting there forever. So no edge shorter than shortestSplit in rest space is split, and after
+    // kMaxPathSplits splits (or where the path ends at such an edge) t's longest rest-space edge is split: it
+    // is long enough, or t would not be over the tolerance and splittable. Conforming either way.
+    constexpr int kMaxPathSplits = 16;
+    const double shortestSq = shortestSplit * shortestSplit;
     const auto bisect = [&](int t) {
-        while (!halvedThisRound[static_cast<size_t>(t)]) {
-            int at = t;
-            for (;;) {
+        for (int splits = 0; !halvedThisRound[static_cast<size_t>(t)]; ++splits) {
+            int a = -1, b = -1;
+            for (int at = t; splits < kMaxPathSplits;) {  // the path (not once kMaxPathSplits were made)
                 const int k = longestCorner(at);
                 const Corners& c = mesh.triangle(at);
-                const int a = c[static_cast<size_t>(k)], b = c[static_cast<size_t>((k + 1) % 3)];
-                const std::vector<int>* sharing = mesh.trianglesOf(a, b);
+                const int u = c[static_cast<size_t>(k)], v = c[static_cast<size_t>((k + 1) % 3)];
+                const std::vector<int>* sharing = mesh.trianglesOf(u, v);
                 int neighbour = -1;
                 if (sharing && sharing->size() == 2) neighbour = (*sharing)[0] == at ? (*sharing)[1] : (*sharing)[0];
                 bool terminal = neighbour < 0;
                 if (!terminal) {
                     const int kn = longestCorner(neighbour);
                     const Corners& cn = mesh.triangle(neighbour);
-                    terminal = edgeKey(cn[static_cast<size_t>(kn)], cn[static_cast<size_t>((kn + 1) % 3)]) == edgeKey(a, b);
+                    terminal = edgeKey(cn[static_cast<size_t>(kn)], cn[static_cast<size_t>((kn + 1) % 3)]) == edgeKey(u, v);
                 }
                 if (terminal) {
-                    if (!splitEdge(a, b)) return false;
+                    if (restLengthSq(u, v) >= shortestSq) {
+                        a = u;
+                        b = v;
+                    }
                     break;
                 }
                 at = neighbour;
             }
+            if (a < 0) {
+                const Corners& c = mesh.triangle(t);
+                int k = 0;
+                for (int j = 1; j < 3; ++j)
+                    if (restLengthSq(c[static_cast<size_t>(j)], c[static_cast<size_t>((j + 1) % 3)]) >
+                        restLengthSq(c[static_cast<size_t>(k)], c[static_cast<size_t>((k + 1) % 3)]))
+                        k = j;
+                a = c[static_cast<size_t>(k)];
+                b = c[static_cast<size_t>((k + 1) % 3)];
+            }
+            if (!splitEdge(a, b)) return false;
         }
         return true;
     };
@@ -340,10 +427,19 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
     out.worstBefore = worst(nullptr);
     for (;;) {
         std::vector<int> over;
-        for (int t = 0; t < mesh.triangleCount(); ++t)
-            if (deviation[static_cast<size_t>(t)] > out.toleranceWorld) over.push_back(t);
+        int smallest = 0;  // over the tolerance, but too small to split
+        for (int t = 0; t < mesh.triangleCount(); ++t) {
+            if (!(deviation[static_cast<size_t>(t)] > out.toleranceWorld)) continue;
+            const Corners& c = mesh.triangle(t);
+            double longest = 0.0;
+            for (int k = 0; k < 3; ++k)
+                longest = std::max(longest, (restPoint(c[static_cast<size_t>(k)]) - restPoint(c[static_cast<size_t>((k + 1) % 3)])).squaredNorm());
+            if (longest >= shortestSq) over.push_back(t);
+            else ++smallest;
+        }
         if (over.empty()) {
-            out.converged = true;
+            out.converged = smallest == 0;
+            if (smallest > 0) out.stopped = "smallest size";
             break;
         }
         if (out.rounds == options.maxRounds) {

@@ -71,11 +71,14 @@ Status validateRefinementOptions(const RefinementOptions& options);
 using RestImage = std::function<Eigen::Vector3d(const Eigen::Vector3d&)>;
 
 // How far the image of the rest triangle (restA, restB, restC) strays from the flat triangle through its mapped
-// corners (currentA, currentB, currentC), in world units: the deformed image of each sample point (the three edge
-// midpoints and the centroid) against the point with the same barycentric coordinates on the flat triangle.
+// corners (currentA, currentB, currentC), in world units: an estimate of the largest distance between the image
+// of a rest point and the point with the same barycentric coordinates on the flat triangle.
 // note: for a quadratic patch the error is e(b) = sum_{i<j} b_i b_j c_ij, whose largest value over the triangle
-// is at most 1/3 max|c_ij|, while the edge midpoints show |c_ij| / 4: so the midpoints' worst times 4/3 bounds
-// the whole triangle; the centroid's own value catches what the quadratic model misses.
+// is at most 1/3 max|c_ij|, while the edge midpoints show |c_ij| / 4: 4/3 of the midpoints' worst bounds it.
+// The estimate applies that bound to the four halves of the triangle's 1-to-4 split, each against the flat
+// triangle through its own corner images, plus the error at those corners (16 images: every edge at 1/4, 1/2
+// and 3/4, the inner triangle's edge midpoints, the four centroids): at half the size the quadratic model is four
+// times closer, so the cubic B-spline pieces a large triangle spans are not missed.
 double triangleDeviation(const Eigen::Vector3d& restA, const Eigen::Vector3d& restB, const Eigen::Vector3d& restC,
                          const Eigen::Vector3d& currentA, const Eigen::Vector3d& currentB, const Eigen::Vector3d& currentC,
                          const RestImage& image);
@@ -101,7 +104,9 @@ struct RefinementResult {
     Positions rest, current;        // the refined mesh: #V' x 3, the input's rows first
     Triangles triangles;            // #T' x 3, the input's rows first (halved ones changed in place)
     bool converged = false;         // every triangle is within the tolerance
-    std::string stopped;            // otherwise why it stopped ("max rounds", "max vertices")
+    std::string stopped;            // otherwise why it stopped: "max rounds", "max vertices", or "smallest size"
+                                    // (the triangles still over it are no longer than tolerance times the rest
+                                    // diagonal: the deformation jumps there)
     int rounds = 0;                 // rounds of bisection done
     double toleranceWorld = 0.0;    // the tolerance in world units
     double worstBefore = 0.0;       // the largest triangleDeviation before and after, world units
@@ -116,8 +121,11 @@ struct RefinementResult {
 // LEPP bisection: the neighbour across the edge is bisected first where the edge is not its own longest), so
 // the mesh stays conforming, keeps its orientation, and its triangles do not degenerate into slivers. New
 // vertices get rest position = the midpoint of the rest edge and current position = image(that midpoint).
+// A triangle whose rest-space edges are all shorter than options.tolerance times the rest bounding-box diagonal
+// is not split (only a jump in the image keeps one that small over the tolerance: "smallest size").
 // Triangles with a repeated vertex id are left as they are. Bad options or arrays of different sizes are
-// errors (result untouched). Cost: about 2.5 image evaluations per triangle evaluated, in parallel.
+// errors (result untouched). Cost: about 11.5 image evaluations per triangle evaluated (edge samples are shared),
+// in parallel.
 Status refineMesh(const Positions& rest, const Positions& current, const Triangles& triangles, const RestImage& image,
                   const RefinementOptions& options, RefinementResult& result);
 
