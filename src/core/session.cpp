@@ -914,6 +914,7 @@ Status Session::groupOperations(int first, const std::string& label) {
     if (cursor_ != static_cast<int>(history_.size())) return Status::error("a group must end at the last operation");
     if (first < 0 || first > cursor_) return Status::error("the group's first operation is outside the history");
     if (cursor_ == first) return Status::success();  // an empty group
+    if (Status s = checkGroupRefinement(first); !s) return s;
     Operation merged;
     merged.kind = OperationKind::LatticeSetup;
     const Operation* firstEdit = nullptr;

@@ -501,6 +501,9 @@ private:
     void removeRefinement(const RefinementRecord& record);
     // Re-applies an operation's recorded refinement after its steps (redo, replay; no-op when empty).
     void reapplyRefinement(Operation& operation) { if (!operation.refinement.empty()) applyRefinement(operation.refinement); }
+    // A group redoes its steps, then its refinements: none may come before a lattice set-up in it (whose rest
+    // positions would then lack the refined vertices' images).
+    Status checkGroupRefinement(int first) const;
     // A recorded refinement fits the mesh as it is now (replay); cancelled drags have none.
     Status checkRecordedRefinement(const Operation& operation, bool cancelled) const;
     RefinementSettings refinement_;

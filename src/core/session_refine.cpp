@@ -213,6 +213,17 @@ void Session::removeRefinement(const RefinementRecord& record) {
     ++topologyVersion_;
 }
 
+Status Session::checkGroupRefinement(int first) const {
+    bool refined = false;
+    for (int i = first; i < cursor_; ++i) {
+        const Operation& op = history_[static_cast<size_t>(i)];
+        for (const Step& step : op.steps)
+            if (refined && step.newCage) return Status::error("a group cannot hold a lattice set-up after a refinement");
+        refined = refined || !op.refinement.empty();
+    }
+    return Status::success();
+}
+
 Status Session::checkRecordedRefinement(const Operation& operation, bool cancelled) const {
     if (operation.refinement.empty()) {
         if (operation.kind == OperationKind::Refine) return Status::error("the recorded refinement splits no edge");

@@ -444,3 +444,76 @@ TEST_CASE("refinement: new vertices follow the cage through its layers and after
     REQUIRE(session.positions().rows() > refined.rows());
     requireConforming(session.restPositions(), session.triangles(), triangles);
 }
+
+TEST_CASE("refinement: the triangle check refuses a refinement that would make the surface cross itself", "[refine]") {
+    // Two sheets 0.1 apart; the lattice holds only the lower one. A ridge between the lower sheet's vertices
+    // moves none of them (the coarse mesh does not change, so the edit passes), but its image rises through the
+    // upper sheet: refined, the lower sheet would cross it.
+    Positions positions(12, 3);
+    positions << 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 1, 1, 0, 2, 1, 0,  //
+        0, 0, 0.1, 1, 0, 0.1, 2, 0, 0.1, 0, 1, 0.1, 1, 1, 0.1, 2, 1, 0.1;
+    Triangles triangles(8, 3);
+    triangles << 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 6, 7, 10, 6, 10, 9, 7, 8, 11, 7, 11, 10;
+    LatticeSettings settings;
+    settings.resolution = {17, 4, 4};
+    settings.padding = 0.0;
+    settings.hasRegion = true;
+    settings.regionMin = Eigen::Vector3d(0.0, 0.0, -0.04);
+    settings.regionMax = Eigen::Vector3d(2.0, 1.0, 0.04);
+    for (bool checking : {true, false}) {
+        Session session;
+        REQUIRE(session.setMesh(positions, triangles, settings).ok);
+        if (!checking) session.setInjectivity({InjectivityMode::Off, 6, false});
+        const Lattice& lattice = session.lattice();
+        std::vector<int> ids;
+        for (int k = 0; k < lattice.count[2]; ++k)
+            for (int j = 0; j < lattice.count[1]; ++j) ids.push_back(lattice.index(4, j, k));  // near x = 0.5
+        Eigen::MatrixX3d offsets(static_cast<Eigen::Index>(ids.size()), 3);
+        offsets.rowwise() = Eigen::RowVector3d(0.0, 0.0, 0.3);
+        OpReport report;
+        REQUIRE(session.moveControlPoints(ids, offsets, true, report).ok);
+        REQUIRE(report.status == OpStatus::Applied);
+        REQUIRE(sameBits(session.positions(), positions));  // no vertex in reach
+        REQUIRE(session.imageOfRestPoint(Eigen::Vector3d(0.5, 0.5, 0.0)).z() > 0.1);
+        REQUIRE(session.refine(0.002, report).ok);
+        if (checking) {
+            INFO(report.reason);
+            REQUIRE(report.status == OpStatus::Rejected);
+            REQUIRE(report.refusedBy == "triangles");
+            REQUIRE(report.reason.find("pass through itself") != std::string::npos);
+            REQUIRE(sameBits(session.positions(), positions));
+            REQUIRE(sameBits(session.triangles(), triangles));
+            REQUIRE(session.history().size() == 1);
+        } else {
+            REQUIRE(report.status == OpStatus::Applied);
+            REQUIRE(session.positions().rows() > positions.rows());
+        }
+    }
+}
+
+TEST_CASE("refinement: a group with refinements undoes and redoes as one entry", "[refine]") {
+    Positions positions;
+    Triangles triangles;
+    twoQuads(positions, triangles);
+    Session session;
+    REQUIRE(session.setMesh(positions, triangles, ridgeLattice()).ok);
+    OpReport report;
+    raiseRidge(session, 0.3, report);
+    REQUIRE(session.refine(0.003, report).ok);
+    raiseRidge(session, 0.1, report);
+    REQUIRE(session.refine(0.002, report).ok);
+    const Triangles refined = session.triangles();
+    const Positions shape = session.positions();
+    REQUIRE(session.groupOperations(0, "ridge").ok);
+    REQUIRE(session.history().size() == 1);
+    REQUIRE(session.history().front().kind == OperationKind::ControlPointEdit);
+    REQUIRE(session.undo(report).ok);
+    REQUIRE(sameBits(session.triangles(), triangles));
+    REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-12);
+    REQUIRE(session.redo(report).ok);
+    REQUIRE(sameBits(session.triangles(), refined));
+    REQUIRE((session.positions() - shape).cwiseAbs().maxCoeff() <= 1e-12);
+    // A set-up after a refinement cannot join its group.
+    REQUIRE(session.setupLattice(ridgeLattice(), report).ok);
+    REQUIRE_FALSE(session.groupOperations(0, "").ok);
+}
