@@ -386,7 +386,7 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
     const auto bisect = [&](int t) {
         for (int splits = 0; !halvedThisRound[static_cast<size_t>(t)]; ++splits) {
             int a = -1, b = -1;
-            for (int at = t; splits < kMaxPathSplits;) {  // the path (not once kMaxPathSplits were made)
+            for (int at = t; splits < kMaxPathSplits;) {  // the path, until kMaxPathSplits were made
                 const int k = longestCorner(at);
                 const Corners& c = mesh.triangle(at);
                 const int u = c[static_cast<size_t>(k)], v = c[static_cast<size_t>((k + 1) % 3)];
