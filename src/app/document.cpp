@@ -74,6 +74,7 @@ HistoryMark markHistory(const core::Session& session) {
         for (Eigen::Index r = 0; r < op.offsets.rows(); ++r) f.add(Eigen::Vector3d(op.offsets.row(r).transpose()));
         f.add(op.settings);
         f.add(static_cast<std::uint64_t>(op.steps.size()));
+        f.add(static_cast<std::uint64_t>(op.refinement.splits.size()));
         for (const core::Step& step : op.steps) {
             f.add(step.freshFrame);
             f.add(step.constraints);

@@ -9,6 +9,7 @@
 #include "core/session.h"
 #include "io/atomic_file.h"
 #include "io/obj_mesh.h"
+#include "io/obj_refine.h"
 #include "io/script_json.h"
 
 namespace sculpt::app {
@@ -67,7 +68,8 @@ int runHeadless(const CliOptions& options, const char* argv0) {
         std::printf(")\n");
     }
 
-    if (Status s = io::saveObj(options.output, mesh, session.positions()); !s) {
+    // A refined session writes the refined mesh, texture coordinates interpolated at the splits.
+    if (Status s = io::saveRefinedObj(options.output, mesh, session.appliedSplits(), session.positions()); !s) {
         std::cerr << "sculpt: " << s.message << "\n";
         return kExitWriteFailed;
     }

@@ -23,6 +23,8 @@ const char* scriptOpName(ScriptOp::Kind kind) {
         case ScriptOp::Kind::RemoveLattice: return "remove_lattice";
         case ScriptOp::Kind::Freeze: return "freeze";
         case ScriptOp::Kind::Unfreeze: return "unfreeze";
+        case ScriptOp::Kind::Refine: return "refine";
+        case ScriptOp::Kind::SetRefinement: return "set_refinement";
     }
     return "?";
 }
@@ -87,6 +89,13 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
             if (Status s = session.groupOperations(op.groupFirst, op.label); !s) return s;
             report.status = OpStatus::Applied;
             return Status::success();
+        case ScriptOp::Kind::Refine:
+            return session.refine(op.tolerance > 0.0 ? op.tolerance : session.refinement().options.tolerance, report);
+        case ScriptOp::Kind::SetRefinement:
+            report = OpReport{};
+            if (Status s = session.setRefinement(op.refinement); !s) return s;
+            report.status = OpStatus::Applied;
+            return Status::success();
         case ScriptOp::Kind::Undo: return session.undo(report);
         case ScriptOp::Kind::Redo: return session.redo(report);
         case ScriptOp::Kind::AddLattice: return session.addLatticeTool(op.tool, report);
@@ -138,6 +147,10 @@ ScriptOp recordedOp(const Operation& operation) {
             } else if (operation.frozenBefore >= 0) {
                 op.kind = ScriptOp::Kind::Unfreeze;
             }
+            break;
+        case OperationKind::Refine:
+            op.kind = ScriptOp::Kind::Refine;
+            op.tolerance = operation.refinement.tolerance;
             break;
         case OperationKind::LatticeTools:
             // The list changes repeat as they were (they do not depend on the mesh).
@@ -219,6 +232,10 @@ Script recordSession(const Session& session) {
                     const std::array<int, 3> ijk = gridIjk(latticeCounts(entry.settings), idx);
                     (inOuterLayers(latticeCounts(entry.settings), ijk, entry.settings.pinLayers) ? op.unpinned : op.controlPoints).push_back(ijk);
                 }
+                break;
+            case JournalEntry::Kind::Refinement:
+                op.kind = ScriptOp::Kind::SetRefinement;
+                op.refinement = entry.refinement;
                 break;
         }
         script.ops.push_back(std::move(op));

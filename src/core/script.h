@@ -19,7 +19,7 @@ namespace sculpt::core {
 struct ScriptOp {
     enum class Kind {
         Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins, BeginGroup, EndGroup, Group,
-        AddLattice, EditLattice, RemoveLattice, Freeze, Unfreeze
+        AddLattice, EditLattice, RemoveLattice, Freeze, Unfreeze, Refine, SetRefinement
     };
     Kind kind = Kind::Undo;
     std::vector<PointConstraint> constraints;      // Drag
@@ -38,6 +38,8 @@ struct ScriptOp {
     LatticeTool tool;                              // AddLattice, EditLattice: the lattice tool (already placed)
     int toolIndex = -1;                            // EditLattice, RemoveLattice, Freeze: which tool of the list
     int pinLayers = 0;                             // Freeze: outer layers kept fixed (from its boundary faces)
+    double tolerance = 0.0;                        // Refine: fraction of the diagonal (0: the session's setting)
+    RefinementSettings refinement;                 // SetRefinement: Session::setRefinement
     // Recordings: what the operation was applied as (its steps: fresh frames and control displacements). A
     // replay on the mesh it was recorded on applies these exactly instead of deciding again.
     bool hasApplied = false;

@@ -289,6 +289,7 @@ size_t Session::historyBytes() const {
         size_t bytes = op.label.capacity() + op.constraints.capacity() * sizeof(PointConstraint) + op.controlPoints.capacity() * sizeof(int) +
                        static_cast<size_t>(op.offsets.size()) * sizeof(double) + op.steps.capacity() * sizeof(Step);
         for (const Step& step : op.steps) bytes += deltaBytes(step.delta);
+        bytes += op.refinement.splits.capacity() * sizeof(EdgeSplit) + op.refinement.halvings.capacity() * sizeof(TriangleHalving);
         return bytes;
     };
     size_t bytes = history_.capacity() * sizeof(Operation) + frames_.capacity() * sizeof(FrozenFrame) + journal_.capacity() * sizeof(JournalEntry);
@@ -615,6 +616,7 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
         report.reason = "the constraints contradict each other or ask more than the free control points can give (largest miss " +
                         std::to_string(worst) + "): met as closely as possible; use fewer constraints, unpin points, or a finer lattice";
     }
+    refineAfterEdit(operation, &report);
     pushOperation(std::move(operation));
     report.wallMs = millisecondsSince(start);
     return Status::success();
@@ -870,6 +872,7 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
         report.reason = "stopped where the lattice would fold: moved " + percentText(fraction) + " of the way (beyond it " + stepFailureWords(failure, false) + "); control point [" + std::to_string(ijk[0]) + "," +
                         std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "] ended at " + vectorText(lattice_.controlPoint(delta.indices.front()));
     }
+    refineAfterEdit(operation, &report);
     pushOperation(std::move(operation));
     report.wallMs = millisecondsSince(start);
     return Status::success();
@@ -935,13 +938,14 @@ Status Session::groupOperations(int first, const std::string& label) {
     if (cursor_ != static_cast<int>(history_.size())) return Status::error("a group must end at the last operation");
     if (first < 0 || first > cursor_) return Status::error("the group's first operation is outside the history");
     if (cursor_ == first) return Status::success();  // an empty group
+    if (Status s = checkGroupRefinement(first); !s) return s;
     Operation merged;
     merged.kind = OperationKind::LatticeSetup;
     const Operation* firstEdit = nullptr;
     const Operation* lastEdit = nullptr;
     for (int i = first; i < cursor_; ++i) {
         const Operation& op = history_[static_cast<size_t>(i)];
-        if (op.kind == OperationKind::LatticeSetup) continue;
+        if (op.kind == OperationKind::LatticeSetup || op.kind == OperationKind::Refine) continue;
         if (firstEdit && op.kind != firstEdit->kind) return Status::error("a group mixes drags and control-point edits");
         if (!firstEdit) firstEdit = &op;
         lastEdit = &op;
@@ -957,12 +961,17 @@ Status Session::groupOperations(int first, const std::string& label) {
             for (size_t c = 0; c < merged.constraints.size(); ++c) merged.constraints[c].target = lastEdit->constraints[c].target;
     } else {
         merged.settings = history_[static_cast<size_t>(cursor_ - 1)].settings;
+        if (history_[static_cast<size_t>(cursor_ - 1)].kind == OperationKind::Refine) merged.kind = OperationKind::Refine;
     }
     merged.interactive = true;
     merged.label = label.empty() ? (firstEdit ? firstEdit->label : history_[static_cast<size_t>(first)].label) : label;
     for (int i = first; i < cursor_; ++i) {
         Operation& op = history_[static_cast<size_t>(i)];
         merged.depthReached = std::max(merged.depthReached, op.depthReached);
+        // The refinements, in order, are one sequence of splits (undone before the steps, redone after them).
+        for (const EdgeSplit& split : op.refinement.splits) merged.refinement.splits.push_back(split);
+        for (const TriangleHalving& halving : op.refinement.halvings) merged.refinement.halvings.push_back(halving);
+        if (!op.refinement.empty()) merged.refinement.tolerance = op.refinement.tolerance;
         for (Step& step : op.steps) {
             // A fresh frame that moved nothing followed by a step in it is one step, as the interactive
             // operation that was recorded had it (same undo: the delta, then leaving the frame).
@@ -998,6 +1007,7 @@ Status Session::undo(OpReport& report) {
     revertSteps(operation.steps);
     if (operation.kind == OperationKind::LatticeTools) applyToolChange(operation, false);
     if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) frozenTool_ = operation.frozenBefore;
+    removeRefinement(operation.refinement);
     journal_.push_back(JournalEntry{JournalEntry::Kind::Undo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
@@ -1026,6 +1036,7 @@ Status Session::redo(OpReport& report) {
     if (operation.kind == OperationKind::LatticeTools) applyToolChange(operation, true);
     if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) frozenTool_ = operation.frozenAfter;
     layerActive_ = false;
+    reapplyRefinement(history_[static_cast<size_t>(cursor_ - 1)]);
     journal_.push_back(JournalEntry{JournalEntry::Kind::Redo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;
@@ -1076,7 +1087,8 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     report.op = "replay";
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (dragActive_) return Status::error("an interactive drag is in progress");
-    if (operation.steps.empty()) return Status::error("the recorded operation has no steps");
+    if (operation.steps.empty() && operation.kind != OperationKind::Refine) return Status::error("the recorded operation has no steps");
+    if (Status s = checkRecordedRefinement(operation, cancelled); !s) return s;
     // Every step must fit the lattice it will be applied in: its own where it makes one (a layer or a new
     // cage), else the cage.
     LatticeSettings cageSettings = settings_;
@@ -1116,6 +1128,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
         report.reason = "replayed the steps of a drag that was taken back, and took them back";
     } else {
         pushOperation(operation);
+        reapplyRefinement(history_.back());
         report.reason = "replayed " + operation.label + " as recorded (" + std::to_string(report.subSteps) + " steps)";
     }
     report.verticesMoved = movedCount();

@@ -38,6 +38,7 @@
 #include "core/injectivity.h"
 #include "core/lattice.h"
 #include "core/mesh_types.h"
+#include "core/refinement.h"
 #include "core/self_intersection.h"
 #include "core/status.h"
 
@@ -75,9 +76,14 @@ struct OpReport {
     // A control-point edit stopped short of where it was asked, at the last injective position along the
     // move: the fraction of the move applied (1 = all of it).
     double fractionApplied = 1.0;
+    // Refinement (refine, or a drag or edit refined automatically): what it added, and the largest deviation
+    // of a triangle from its curved image afterwards (world units; refinement.h).
+    int verticesAdded = 0;
+    int trianglesAdded = 0;
+    double deviation = 0.0;
 };
 
-enum class OperationKind { Drag, ControlPointEdit, LatticeSetup, LatticeTools };
+enum class OperationKind { Drag, ControlPointEdit, LatticeSetup, LatticeTools, Refine };
 
 // A lattice tool associated with the mesh (Coquillart 1990, 3.2: a list of lattices per surface, one frozen at
 // a time): a named lattice of any shape, placed in world space. Editing it never touches the mesh.
@@ -137,6 +143,7 @@ struct Operation {
     int toolIndex = -1;
     LatticeTool toolBefore, toolAfter;
     int frozenBefore = -1, frozenAfter = -1;
+    RefinementRecord refinement;  // edges split after the steps: a Refine, or an edit refined automatically
 };
 
 // One command as the session carried it out, in order: what a recording writes so that a replay on the same
@@ -147,7 +154,8 @@ struct JournalEntry {
         Undo, Redo,     // of the last / next history entry
         CancelledDrag,  // `operation`'s steps were applied by an interactive drag, then taken back (Esc)
         Group,          // history entries [groupFirst, end) became one (label)
-        Pins            // the pins became the pin layers with `pinToggles` flipped
+        Pins,           // the pins became the pin layers with `pinToggles` flipped
+        Refinement      // the refinement setting became `refinement` (Session::setRefinement)
     };
     Kind kind = Kind::Operation;
     Operation operation;
@@ -155,6 +163,7 @@ struct JournalEntry {
     std::string label;
     std::vector<int> pinToggles;
     LatticeSettings settings;  // Pins: the settings of the lattice the pins are in (resolution, pin layers)
+    RefinementSettings refinement = {};  // Refinement (the "= {}" keeps brace-initialised entries warning-free)
 };
 
 // A lattice applied after the cage (subdivision's fresh lattices, brush regions). Its own rest space is its
@@ -492,6 +501,56 @@ private:
     Positions dragControlStart_;
     // Adds an increment's control delta (per point, in the cage) for an interactive control-point drag.
     void applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& shownOffsets, OpReport& report);
+
+    // ---- Refinement where the surface stretches (session_refine.cpp, refinement.h) --------------------------
+    // Coquillart 1990 section 3.4: triangles whose image strays from flat are split at their rest-space edge
+    // midpoints, each new vertex put where the deformation takes that rest point. A topology change is an
+    // operation like any other: undo removes exactly the vertices and triangles it added (the others come back
+    // bitwise, in their order), redo and replay split the same edges again. Only the cage and its layers are
+    // followed: frozen frames are part of the rest mesh (restPositions(), the mesh when the cage was set up).
+public:
+    // Where the current deformation puts a point of rest space (restPositions()'s space): the cage's FFD
+    // (X0 + sum R(t(X0)) delta inside its box, X0 outside), then the layers. A vertex v is at
+    // imageOfRestPoint(restPositions().row(v)) up to rounding. Thread-safe (const).
+    Eigen::Vector3d imageOfRestPoint(const Eigen::Vector3d& rest) const;
+    // Splits the triangles whose image strays from their flat triangle by more than tolerance times the
+    // current bounding-box diagonal (refineMesh, with the limits of refinement().options), as one undoable
+    // operation (OperationKind::Refine). Bad tolerance (<= 0, not finite) or a drag in progress: an error,
+    // nothing changes. Nothing over the tolerance: NoOp. With the triangle check on (InjectivitySettings), a
+    // refinement that would make two triangles cross that did not before is Rejected and changes nothing.
+    // report: verticesAdded, trianglesAdded, deviation; reason says when a limit stopped it short.
+    Status refine(double tolerance, OpReport& report);
+    // The refinement setting. automatic: every applied drag or control-point edit (interactive ones when they
+    // end) is followed by a refinement with these options, in the same history entry. Not an operation on
+    // the shape; journaled so recordings keep it. Bad options: an error, nothing changes.
+    Status setRefinement(const RefinementSettings& settings);
+    const RefinementSettings& refinement() const { return refinement_; }
+    // The splits of the applied history entries, in order: the mesh as set, split by these (applyEdgeSplits),
+    // is triangles(). What a writer needs to carry per-corner data (texture coordinates) over.
+    std::vector<EdgeSplit> appliedSplits() const;
+    // Changes whenever triangles() does (a refinement applied or taken back): a view re-uploads the mesh.
+    int topologyVersion() const { return topologyVersion_; }
+
+private:
+    // Plans (refineMesh) and applies a refinement with `options`; fills record and report. False if nothing
+    // was applied (nothing over the tolerance, or refused by the triangle check: report says so).
+    bool refineNow(const RefinementOptions& options, RefinementRecord& record, OpReport& report);
+    // An applied drag or edit about to be pushed: refined when the setting is automatic (report may be null).
+    void refineAfterEdit(Operation& operation, OpReport* report);
+    // Splits record.splits (filling record.halvings) and brings every per-vertex array along.
+    void applyRefinement(RefinementRecord& record);
+    // The inverse of applyRefinement (no-op for an empty record).
+    void removeRefinement(const RefinementRecord& record);
+    // Re-applies an operation's recorded refinement after its steps (redo, replay; no-op when empty).
+    void reapplyRefinement(Operation& operation) { if (!operation.refinement.empty()) applyRefinement(operation.refinement); }
+    // A group redoes its steps, then its refinements: none may come before a lattice set-up in it (whose rest
+    // positions would then lack the refined vertices' images).
+    Status checkGroupRefinement(int first) const;
+    // A recorded refinement fits the mesh as it is now (replay); cancelled drags have none.
+    Status checkRecordedRefinement(const Operation& operation, bool cancelled) const;
+    RefinementSettings refinement_;
+    int topologyVersion_ = 0;
+    // ---- end of refinement ----------------------------------------------------------------------------------
 };
 
 // Inverts an injective lattice deformation per point: finds X with X + sum R(t(X)) delta = y for each row y of

@@ -430,7 +430,10 @@ void Session::endDrag() {
     if (dragLayerPending_) popLayer(nullptr);  // a brush region that never moved anything
     dragLayerPending_ = false;
     layerActive_ = false;  // the next operation starts in the cage
-    if (!dragOperation_.steps.empty()) pushOperation(std::move(dragOperation_));
+    if (!dragOperation_.steps.empty()) {
+        refineAfterEdit(dragOperation_, nullptr);
+        pushOperation(std::move(dragOperation_));
+    }
     dragOperation_ = Operation{};
 }
 

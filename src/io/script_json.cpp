@@ -113,16 +113,54 @@ Eigen::MatrixX3d vectorRows(const json& list, const std::string& path) {
     return out;
 }
 
+// A fraction of the bounding-box diagonal: finite and > 0.
+double tolerance(const json& value, const std::string& path) {
+    const double t = number(value, path);
+    if (t <= 0.0) fail(path, "expected a number > 0 (a fraction of the bounding-box diagonal)");
+    return t;
+}
+
+// "refinement" of a recorded operation: {"tolerance": t, "splits": [[a, b], ...]} (refinement.h, EdgeSplit).
+core::RefinementRecord parseRefinementRecord(const json& j, const std::string& path) {
+    allowOnly(j, path, {"tolerance", "splits"});
+    core::RefinementRecord record;
+    if (j.contains("tolerance")) record.tolerance = tolerance(j["tolerance"], path + ".tolerance");
+    const json& splits = required(j, "splits", path);
+    if (!splits.is_array()) fail(path + ".splits", "expected an array of [a, b] vertex pairs");
+    record.splits.reserve(splits.size());
+    for (size_t k = 0; k < splits.size(); ++k) {
+        const std::string sp = path + ".splits[" + std::to_string(k) + "]";
+        if (!splits[k].is_array() || splits[k].size() != 2) fail(sp, "expected [a, b]: the two vertices of the edge split");
+        record.splits.push_back({integer(splits[k][0], sp + "[0]"), integer(splits[k][1], sp + "[1]")});
+    }
+    return record;
+}
+
+// The fields of set_refinement (Session::setRefinement); absent ones keep their defaults.
+core::RefinementSettings parseRefinementSettings(const json& j, const std::string& path) {
+    core::RefinementSettings settings;
+    if (j.contains("automatic")) {
+        if (!j["automatic"].is_boolean()) fail(path + ".automatic", "expected true or false");
+        settings.automatic = j["automatic"].get<bool>();
+    }
+    if (j.contains("tolerance")) settings.options.tolerance = tolerance(j["tolerance"], path + ".tolerance");
+    if (j.contains("max_rounds")) settings.options.maxRounds = integer(j["max_rounds"], path + ".max_rounds");
+    if (j.contains("max_vertices")) settings.options.maxVertices = integer(j["max_vertices"], path + ".max_vertices");
+    if (Status s = core::validateRefinementOptions(settings.options); !s) fail(path, s.message);
+    return settings;
+}
+
 // A recorded operation as it was applied (ScriptOp::applied): its steps in their lattices.
 core::Operation parseApplied(const json& j, const std::string& path) {
-    allowOnly(j, path, {"kind", "label", "interactive", "depth", "constraints", "control_points", "offsets", "lattice", "steps", "brush", "frozen"});
+    allowOnly(j, path, {"kind", "label", "interactive", "depth", "constraints", "control_points", "offsets", "lattice", "steps", "brush", "frozen", "refinement"});
     core::Operation operation;
     const json& kind = required(j, "kind", path);
     const std::string name = kind.is_string() ? kind.get<std::string>() : "";
     if (name == "drag") operation.kind = core::OperationKind::Drag;
     else if (name == "control_point_edit") operation.kind = core::OperationKind::ControlPointEdit;
     else if (name == "lattice_setup") operation.kind = core::OperationKind::LatticeSetup;
-    else fail(path + ".kind", "expected \"drag\", \"control_point_edit\" or \"lattice_setup\"");
+    else if (name == "refine") operation.kind = core::OperationKind::Refine;
+    else fail(path + ".kind", "expected \"drag\", \"control_point_edit\", \"lattice_setup\" or \"refine\"");
     if (j.contains("label")) {
         if (!j["label"].is_string()) fail(path + ".label", "expected a string");
         operation.label = j["label"].get<std::string>();
@@ -147,8 +185,11 @@ core::Operation parseApplied(const json& j, const std::string& path) {
         allowOnly(j["brush"], path + ".brush", {"radius", "strength", "falloff", "symmetry"});
         operation.brush = parseBrush(j["brush"], path + ".brush");
     }
+    if (j.contains("refinement")) operation.refinement = parseRefinementRecord(j["refinement"], path + ".refinement");
+    if (operation.kind == core::OperationKind::Refine && operation.refinement.empty()) fail(path + ".refinement", "a refine splits at least one edge");
     const json& steps = required(j, "steps", path);
-    if (!steps.is_array() || steps.empty()) fail(path + ".steps", "expected a non-empty array");
+    // A refine has no lattice steps, only its splits.
+    if (!steps.is_array() || (steps.empty() && operation.kind != core::OperationKind::Refine)) fail(path + ".steps", "expected a non-empty array");
     for (size_t k = 0; k < steps.size(); ++k) {
         const std::string sp = path + ".steps[" + std::to_string(k) + "]";
         allowOnly(steps[k], sp, {"new_layer", "new_cage", "fresh_frame", "frame", "region_free", "lattice", "indices", "deltas", "constraints"});
@@ -348,6 +389,15 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
             if (!j["label"].is_string()) fail(path + ".label", "expected a string");
             op.label = j["label"].get<std::string>();
         }
+    } else if (name == "refine") {
+        allowOnly(j, path, {"op", "tolerance", "applied"});
+        op.kind = core::ScriptOp::Kind::Refine;
+        if (j.contains("tolerance")) op.tolerance = tolerance(j["tolerance"], path + ".tolerance");
+        parseRecorded(j, path, op);
+    } else if (name == "set_refinement") {
+        allowOnly(j, path, {"op", "automatic", "tolerance", "max_rounds", "max_vertices"});
+        op.kind = core::ScriptOp::Kind::SetRefinement;
+        op.refinement = parseRefinementSettings(j, path);
     } else if (name == "undo" || name == "redo") {
         allowOnly(j, path, {"op"});
         op.kind = name == "undo" ? core::ScriptOp::Kind::Undo : core::ScriptOp::Kind::Redo;
@@ -359,7 +409,7 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
         op.path = p.get<std::string>();
     } else {
         fail(path + ".op", "unknown op \"" + name +
-                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, add_lattice, edit_lattice, remove_lattice, freeze, unfreeze, begin_group, end_group, group, undo, redo, screenshot)");
+                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, add_lattice, edit_lattice, remove_lattice, freeze, unfreeze, begin_group, end_group, group, refine, set_refinement, undo, redo, screenshot)");
     }
     return op;
 }
@@ -475,6 +525,7 @@ json appliedJson(const core::Operation& operation) {
         case core::OperationKind::ControlPointEdit: j["kind"] = "control_point_edit"; break;
         case core::OperationKind::LatticeSetup: j["kind"] = "lattice_setup"; break;
         case core::OperationKind::LatticeTools: j["kind"] = "lattice_tools"; break;  // never recorded as applied
+        case core::OperationKind::Refine: j["kind"] = "refine"; break;
     }
     j["label"] = operation.label;
     j["interactive"] = operation.interactive;
@@ -503,6 +554,11 @@ json appliedJson(const core::Operation& operation) {
         steps.push_back(k);
     }
     j["steps"] = steps;
+    if (!operation.refinement.empty()) {
+        json splits = json::array();
+        for (const core::EdgeSplit& split : operation.refinement.splits) splits.push_back(json::array({split.a, split.b}));
+        j["refinement"] = {{"tolerance", operation.refinement.tolerance}, {"splits", splits}};
+    }
     return j;
 }
 
@@ -566,6 +622,15 @@ std::string scriptToJson(const core::Script& script) {
                 j["pin_layers"] = op.pinLayers;
                 break;
             case core::ScriptOp::Kind::Unfreeze: break;
+            case core::ScriptOp::Kind::Refine:
+                if (op.tolerance > 0.0) j["tolerance"] = op.tolerance;
+                break;
+            case core::ScriptOp::Kind::SetRefinement:
+                j["automatic"] = op.refinement.automatic;
+                j["tolerance"] = op.refinement.options.tolerance;
+                j["max_rounds"] = op.refinement.options.maxRounds;
+                j["max_vertices"] = op.refinement.options.maxVertices;
+                break;
             case core::ScriptOp::Kind::Undo:
             case core::ScriptOp::Kind::Redo: break;
         }
@@ -639,6 +704,11 @@ std::string reportToJson(const core::ScriptReport& report, const core::Session& 
         if (r.fractionApplied < 1.0) op["fraction_applied"] = r.fractionApplied;
         op["control_points_changed"] = r.controlPointsChanged;
         op["vertices_moved"] = r.verticesMoved;
+        if (r.verticesAdded > 0 || r.deviation > 0.0) {
+            op["vertices_added"] = r.verticesAdded;
+            op["triangles_added"] = r.trianglesAdded;
+            op["max_deviation"] = r.deviation;
+        }
         op["wall_ms"] = r.wallMs;
         ops.push_back(op);
     }

@@ -10,6 +10,7 @@
 
 #include "core/script.h"
 #include "io/atomic_file.h"
+#include "io/obj_refine.h"
 #include "io/png_image.h"
 #include "io/script_json.h"
 #include "render/framebuffer_readback.h"
@@ -265,10 +266,11 @@ bool FileCommands::startSave(AppState& state, JobKind kind, const std::string& p
     if (kind == JobKind::SaveMesh) {
         // note: a copy of the positions (24 MB for 1M vertices, a few ms): the worker never reads the session.
         Positions positions = state.session.positions();
-        startJob(state, kind, path, [path, mesh, positions = std::move(positions)](JobProgress& progress) {
+        std::vector<core::EdgeSplit> splits = state.session.appliedSplits();  // a refined mesh: its splits
+        startJob(state, kind, path, [path, mesh, positions = std::move(positions), splits = std::move(splits)](JobProgress& progress) {
             progress.phase = static_cast<int>(JobPhase::Writing);
             JobResult result;
-            result.status = io::saveObj(path, *mesh, positions);
+            result.status = io::saveRefinedObj(path, *mesh, splits, positions);
             return result;
         });
     } else {

@@ -151,7 +151,10 @@ void SculptApp::syncGpu() {
     PendingGpuUpdate& gpu = state_.gpu;
     const core::Session& session = state_.session;
     bool uploaded = false, positionsUploaded = false;
+    // A refinement (or its undo) changes the triangles: a full upload.
+    if (session.topologyVersion() != uploadedTopology_) gpu.mesh = true;
     if (gpu.mesh) {
+        uploadedTopology_ = session.topologyVersion();
         if (Status s = renderer_.setMesh(session.positions(), session.triangles()); !s)
             setStatus(state_, "GPU upload failed: " + s.message, true);
         gpu.mesh = false;

@@ -92,6 +92,7 @@ private:
     AppState state_;
     FileCommands files_;
     render::Renderer renderer_;
+    int uploadedTopology_ = -1;  // Session::topologyVersion() of the mesh last uploaded
     bool imguiBackendReady_ = false;
 };
 
