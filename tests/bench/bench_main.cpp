@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include "bench_support.h"
+#include "effd_bench.h"
 #include "injectivity_bench.h"
 #include "core/injectivity.h"
 #include "core/direct_manipulation.h"
@@ -339,6 +340,7 @@ int main(int argc, char** argv) {
     benchSolves();
     benchParameters(points);
     sculpt::bench::runInjectivityBenchmarks(gFilters);
+    sculpt::bench::runEffdBenchmarks(gFilters);
     benchSubdivision();
     benchTriangleCheck();
 #ifdef SCULPT_BENCH_RENDER
