@@ -81,6 +81,33 @@ void netBases(const LatticeNet& net, const Eigen::Vector3d& t, bool derivatives,
     }
 }
 
+// A net of count[0] x count[1] x count[2] slots whose point and weight come from `slot(i, j, k, point, weight)`,
+// with coincident slots welded, finished (validated and indexed).
+template <class SlotFunction>
+Status buildGridNet(const std::string& kind, const std::array<int, 3>& count, const std::array<int, 3>& degree,
+                    const std::array<int, 3>& multiplicity, SlotFunction slot, LatticeNet& out) {
+    LatticeNet net;
+    net.kind = kind;
+    net.count = count;
+    net.degree = degree;
+    net.multiplicity = multiplicity;
+    net.rest.resize(net.slotCount(), 3);
+    net.weights.resize(net.slotCount());
+    for (int k = 0; k < count[2]; ++k)
+        for (int j = 0; j < count[1]; ++j)
+            for (int i = 0; i < count[0]; ++i) {
+                Eigen::Vector3d point;
+                double weight = 1.0;
+                slot(i, j, k, point, weight);
+                net.rest.row(net.slot(i, j, k)) = point.transpose();
+                net.weights[net.slot(i, j, k)] = weight;
+            }
+    weldCoincidentSlots(net);
+    if (Status s = finishLatticeNet(net); !s) return s;
+    out = std::move(net);
+    return Status::success();
+}
+
 double restOrientationAt(const LatticeNet& net, const Eigen::Vector3d& t) {
     Eigen::Vector3d q;
     Eigen::Matrix3d d;
@@ -451,22 +478,15 @@ Status makeParallelepipedNet(const Eigen::Vector3d& origin, const Eigen::Matrix3
     const double det = edges.determinant();
     if (!(det > 1e-12 * edges.colwise().norm().prod()))
         return Status::error("parallelepiped edges must be non-zero, not coplanar, and right-handed (det > 0)");
-    LatticeNet net;
-    net.kind = "parallelepiped";
-    net.degree = degree;
     std::array<std::vector<double>, 3> g;
+    std::array<int, 3> count{};
     for (int a = 0; a < 3; ++a) {
-        net.count[a] = chunks[a] + degree[a];
         g[a] = grevillePoints(chunks[a], degree[a]);
+        count[a] = static_cast<int>(g[a].size());
     }
-    net.rest.resize(net.slotCount(), 3);
-    for (int k = 0; k < net.count[2]; ++k)
-        for (int j = 0; j < net.count[1]; ++j)
-            for (int i = 0; i < net.count[0]; ++i)
-                net.rest.row(net.slot(i, j, k)) = (origin + edges * Eigen::Vector3d(g[0][i], g[1][j], g[2][k])).transpose();
-    if (Status s = finishLatticeNet(net); !s) return s;
-    out = std::move(net);
-    return Status::success();
+    return buildGridNet("parallelepiped", count, degree, {1, 1, 1}, [&](int i, int j, int k, Eigen::Vector3d& point, double&) {
+        point = origin + edges * Eigen::Vector3d(g[0][i], g[1][j], g[2][k]);
+    }, out);
 }
 
 Status makeCylinderNet(const Eigen::Vector3d& base, const Eigen::Vector3d& axis, double radius, double height,
@@ -482,27 +502,14 @@ Status makeCylinderNet(const Eigen::Vector3d& base, const Eigen::Vector3d& axis,
     std::vector<double> arcWeights;
     circularArc(chunks[1], 0.0, 2.0 * kPi, arc, arcWeights);
     const std::vector<double> gr = grevillePoints(chunks[0], degree[0]), gz = grevillePoints(chunks[2], degree[1]);
-    LatticeNet net;
-    net.kind = "cylinder";
-    net.degree = {degree[0], 2, degree[1]};
-    net.multiplicity = {1, 2, 1};
-    net.count = {static_cast<int>(gr.size()), static_cast<int>(arc.size()), static_cast<int>(gz.size())};
-    net.rest.resize(net.slotCount(), 3);
-    net.weights.resize(net.slotCount());
-    for (int k = 0; k < net.count[2]; ++k)
-        for (int j = 0; j < net.count[1]; ++j)
-            for (int i = 0; i < net.count[0]; ++i) {
-                const int s = net.slot(i, j, k);
-                // note: the seam slice is the first one exactly (no cos(2 pi) rounding), so the weld is exact.
-                const Eigen::Vector2d c = j + 1 == net.count[1] ? arc[0] : arc[j];
-                net.rest.row(s) = (base + gz[k] * height * e3 + gr[i] * radius * (c.x() * e1 + c.y() * e2)).transpose();
-                if (i == 0) net.rest.row(s) = (base + gz[k] * height * e3).transpose();
-                net.weights[s] = arcWeights[j];
-            }
-    weldCoincidentSlots(net);
-    if (Status s = finishLatticeNet(net); !s) return s;
-    out = std::move(net);
-    return Status::success();
+    const std::array<int, 3> count{static_cast<int>(gr.size()), static_cast<int>(arc.size()), static_cast<int>(gz.size())};
+    return buildGridNet("cylinder", count, {degree[0], 2, degree[1]}, {1, 2, 1}, [&](int i, int j, int k, Eigen::Vector3d& point, double& weight) {
+        // note: the seam slice is the first one exactly (no cos(2 pi) rounding) and the axis is exactly on the
+        // axis, so the welds are exact.
+        const Eigen::Vector2d c = j + 1 == count[1] ? arc[0] : arc[j];
+        point = base + gz[k] * height * e3 + (i == 0 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(gr[i] * radius * (c.x() * e1 + c.y() * e2)));
+        weight = arcWeights[j];
+    }, out);
 }
 
 Status makeSphereNet(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius, const std::array<int, 3>& chunks,
@@ -522,26 +529,13 @@ Status makeSphereNet(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
     profile.front() = Eigen::Vector2d(0.0, -1.0);
     profile.back() = Eigen::Vector2d(0.0, 1.0);
     const std::vector<double> gr = grevillePoints(chunks[0], radialDegree);
-    LatticeNet net;
-    net.kind = "sphere";
-    net.degree = {radialDegree, 2, 2};
-    net.multiplicity = {1, 2, 2};
-    net.count = {static_cast<int>(gr.size()), static_cast<int>(arc.size()), static_cast<int>(profile.size())};
-    net.rest.resize(net.slotCount(), 3);
-    net.weights.resize(net.slotCount());
-    for (int k = 0; k < net.count[2]; ++k)
-        for (int j = 0; j < net.count[1]; ++j)
-            for (int i = 0; i < net.count[0]; ++i) {
-                const int s = net.slot(i, j, k);
-                const Eigen::Vector2d c = j + 1 == net.count[1] ? arc[0] : arc[j];
-                const Eigen::Vector3d direction = profile[k].x() * (c.x() * e1 + c.y() * e2) + profile[k].y() * e3;
-                net.rest.row(s) = (centre + (i == 0 ? 0.0 : gr[i] * radius) * direction).transpose();
-                net.weights[s] = arcWeights[j] * profileWeights[k];
-            }
-    weldCoincidentSlots(net);
-    if (Status s = finishLatticeNet(net); !s) return s;
-    out = std::move(net);
-    return Status::success();
+    const std::array<int, 3> count{static_cast<int>(gr.size()), static_cast<int>(arc.size()), static_cast<int>(profile.size())};
+    return buildGridNet("sphere", count, {radialDegree, 2, 2}, {1, 2, 2}, [&](int i, int j, int k, Eigen::Vector3d& point, double& weight) {
+        const Eigen::Vector2d c = j + 1 == count[1] ? arc[0] : arc[j];
+        const Eigen::Vector3d direction = profile[k].x() * (c.x() * e1 + c.y() * e2) + profile[k].y() * e3;
+        point = centre + (i == 0 ? 0.0 : gr[i] * radius) * direction;
+        weight = arcWeights[j] * profileWeights[k];
+    }, out);
 }
 
 PlanarNet makeRectangleNet(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, const std::array<int, 2>& chunks,

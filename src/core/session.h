@@ -470,6 +470,8 @@ private:
     void pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding) const;
     // Applies (forward) or takes back a LatticeTools operation's change of the list.
     void applyToolChange(const Operation& operation, bool forward);
+    // Applies a new LatticeTools operation and pushes it onto the history.
+    Status pushToolChange(Operation operation, OpReport& report);
     std::vector<JournalEntry> journal_;
     std::string meshFingerprint_;
     void journalPins();

@@ -30,6 +30,16 @@ void Session::applyToolChange(const Operation& operation, bool forward) {
     else tools_[static_cast<size_t>(operation.toolIndex)] = to;
 }
 
+Status Session::pushToolChange(Operation operation, OpReport& report) {
+    applyToolChange(operation, true);
+    frozenTool_ = operation.frozenAfter;
+    pushOperation(std::move(operation));
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    report.status = OpStatus::Applied;
+    return Status::success();
+}
+
 Status Session::addLatticeTool(const LatticeTool& tool, OpReport& report) {
     report = OpReport{};
     report.op = "add_lattice";
@@ -41,12 +51,7 @@ Status Session::addLatticeTool(const LatticeTool& tool, OpReport& report) {
     operation.toolIndex = static_cast<int>(tools_.size());
     operation.toolAfter = tool;
     operation.frozenBefore = operation.frozenAfter = frozenTool_;
-    applyToolChange(operation, true);
-    pushOperation(std::move(operation));
-    lastMoved_.clear();
-    lastMovedAll_ = false;
-    report.status = OpStatus::Applied;
-    return Status::success();
+    return pushToolChange(std::move(operation), report);
 }
 
 Status Session::editLatticeTool(int index, const LatticeTool& tool, OpReport& report) {
@@ -64,12 +69,7 @@ Status Session::editLatticeTool(int index, const LatticeTool& tool, OpReport& re
     operation.toolBefore = tools_[static_cast<size_t>(index)];
     operation.toolAfter = tool;
     operation.frozenBefore = operation.frozenAfter = frozenTool_;
-    applyToolChange(operation, true);
-    pushOperation(std::move(operation));
-    lastMoved_.clear();
-    lastMovedAll_ = false;
-    report.status = OpStatus::Applied;
-    return Status::success();
+    return pushToolChange(std::move(operation), report);
 }
 
 Status Session::removeLatticeTool(int index, OpReport& report) {
@@ -85,13 +85,7 @@ Status Session::removeLatticeTool(int index, OpReport& report) {
     operation.toolBefore = tools_[static_cast<size_t>(index)];
     operation.frozenBefore = frozenTool_;
     operation.frozenAfter = frozenTool_ > index ? frozenTool_ - 1 : frozenTool_;
-    applyToolChange(operation, true);
-    frozenTool_ = operation.frozenAfter;
-    pushOperation(std::move(operation));
-    lastMoved_.clear();
-    lastMovedAll_ = false;
-    report.status = OpStatus::Applied;
-    return Status::success();
+    return pushToolChange(std::move(operation), report);
 }
 
 Status Session::freezeLattice(int index, int pinLayers, OpReport& report) {
