@@ -316,32 +316,49 @@ Status finishLatticeNet(LatticeNet& net) {
 void evaluateNetVolume(const LatticeNet& net, const Positions& points, const Eigen::Vector3d& t, Eigen::Vector3d& value,
                        Eigen::Matrix3d* derivative) {
     NetBases b;
-    netBases(net, t, derivative != nullptr, b);
+    const bool withDerivative = derivative != nullptr;
+    netBases(net, t, withDerivative, b);
     const int nu = net.degree[0] + 1, nv = net.degree[1] + 1, nw = net.degree[2] + 1;
-    // Homogeneous sums: N = sum W B P, D = sum W B, and their t-gradients (Hu et al. 2001, eq. 1-2).
-    Eigen::Vector3d numerator = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d numeratorGrad = Eigen::Matrix3d::Zero();
-    double denominator = 0.0;
-    Eigen::Vector3d denominatorGrad = Eigen::Vector3d::Zero();
-    for (int k = 0; k < nw; ++k)
+    // Homogeneous sums H = sum W B (P, 1) and their t-derivatives (Hu et al. 2001, eq. 1-2), contracted one axis
+    // at a time (u, then v, then w): h[0] = H, h[1..3] = dH/dt_a.
+    const double* p = points.data();  // row-major #slots x 3
+    double h[4][4] = {};
+    for (int k = 0; k < nw; ++k) {
+        double hv[3][4] = {};  // sum over j of: B_j * A, B'_j * A, B_j * Au
         for (int j = 0; j < nv; ++j) {
-            const double bjk = b.value[1][j] * b.value[2][k];
+            double a[4] = {}, au[4] = {};
+            const int row = net.slot(b.first[0], b.first[1] + j, b.first[2] + k);
             for (int i = 0; i < nu; ++i) {
-                const int s = net.slot(b.first[0] + i, b.first[1] + j, b.first[2] + k);
-                const double w = net.weights[s];
-                const Eigen::Vector3d p = points.row(s).transpose();
-                numerator += w * b.value[0][i] * bjk * p;
-                denominator += w * b.value[0][i] * bjk;
-                if (derivative) {
-                    const Eigen::Vector3d grad(b.derivative[0][i] * bjk, b.value[0][i] * b.derivative[1][j] * b.value[2][k],
-                                               b.value[0][i] * b.value[1][j] * b.derivative[2][k]);
-                    numeratorGrad += w * p * grad.transpose();
-                    denominatorGrad += w * grad;
+                const int s = row + i;
+                const double w = net.weights[static_cast<size_t>(s)];
+                const double* q = p + 3 * static_cast<size_t>(s);
+                const double wb = w * b.value[0][i];
+                a[0] += wb * q[0], a[1] += wb * q[1], a[2] += wb * q[2], a[3] += wb;
+                if (withDerivative) {
+                    const double wd = w * b.derivative[0][i];
+                    au[0] += wd * q[0], au[1] += wd * q[1], au[2] += wd * q[2], au[3] += wd;
                 }
             }
+            const double bj = b.value[1][j], dj = withDerivative ? b.derivative[1][j] : 0.0;
+            for (int c = 0; c < 4; ++c) {
+                hv[0][c] += bj * a[c];
+                hv[1][c] += bj * au[c];
+                hv[2][c] += dj * a[c];
+            }
         }
-    value = numerator / denominator;
-    if (derivative) *derivative = (numeratorGrad - value * denominatorGrad.transpose()) / denominator;
+        const double bk = b.value[2][k], dk = withDerivative ? b.derivative[2][k] : 0.0;
+        for (int c = 0; c < 4; ++c) {
+            h[0][c] += bk * hv[0][c];
+            h[1][c] += bk * hv[1][c];
+            h[2][c] += bk * hv[2][c];
+            h[3][c] += dk * hv[0][c];
+        }
+    }
+    const double inverse = 1.0 / h[0][3];
+    value = Eigen::Vector3d(h[0][0], h[0][1], h[0][2]) * inverse;
+    if (derivative)  // quotient rule: d(N/W) = (dN - Q dW) / W
+        for (int a = 0; a < 3; ++a)
+            for (int c = 0; c < 3; ++c) (*derivative)(c, a) = (h[a + 1][c] - value[c] * h[a + 1][3]) * inverse;
 }
 
 namespace {
@@ -383,7 +400,12 @@ bool newtonInChunk(const LatticeNet& net, const Positions& points, const Eigen::
         if (!step.allFinite()) break;
         // Damped: at most half the chunk per axis per iteration, and stay in the chunk.
         for (int a = 0; a < 3; ++a) step[a] = std::clamp(step[a], -0.5 * width[a], 0.5 * width[a]);
-        u = (u + step).cwiseMax(lo).cwiseMin(hi);
+        u += step;
+        for (int a = 0; a < 3; ++a) {
+            // Over the whole domain a periodic axis wraps round its seam instead of stopping there.
+            if (net.periodic[a] && lo[a] == 0.0 && hi[a] == 1.0) u[a] -= std::floor(u[a]);
+            u[a] = std::clamp(u[a], lo[a], hi[a]);
+        }
     }
     t = best;
     return bestResidual <= loose;
@@ -398,7 +420,7 @@ bool freezePoint(const LatticeNet& net, const Positions& points, const ChunkInde
     index.candidates(x, candidates);
     if (candidates.empty()) return false;
     const double diagonal = std::max(index.bounds.diagonal().norm(), 1e-300);
-    const double tight = 1e-15 * diagonal + 4.0 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
+    const double tight = 4e-15 * diagonal + 8.0 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
     const double loose = 1e-13 * diagonal + 64.0 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
     const std::array<int, 3> spans = net.spans();
     auto chunkBox = [&](int chunk, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {

@@ -152,7 +152,7 @@ ChunkIndex buildChunkIndex(const LatticeNet& net, const Positions& points);
 // method starts at the chunk centre and, where it does not converge, at the centres of the chunk's octants
 // and then of its 64 sub-boxes; steps use the pseudo-inverse of dQ/dt where it is (nearly) singular (the
 // cylinder's axis). The first chunk holding a solution gives the answer (deterministic for points on a
-// chunk face or in overlapping chunks). Converged means |Q(t) - x| reaches rounding level (1e-15 of the
+// chunk face or in overlapping chunks). Converged means |Q(t) - x| reaches rounding level (4e-15 of the
 // diagonal), or stalls below 1e-13 of it. Returns false for
 // points outside every chunk (they do not move) and for non-finite x.
 // For the rest net: freezePoint(net, net.rest, net.restIndex, x, t).

@@ -41,7 +41,7 @@ Positions pointsInCylinder(int n) {
 }  // namespace
 
 void runEffdBenchmarks(const std::vector<std::string>& filters) {
-    if (!wanted(filters, "effd") && !wanted(filters, "box_eval_1m")) return;
+    if (!wanted(filters, "effd_freeze_1m") && !wanted(filters, "effd_eval_1m") && !wanted(filters, "effd_drag_step")) return;
     LatticeNet cylinder;
     if (Status s = makeCylinderNet(Eigen::Vector3d(0, 0, -1), Eigen::Vector3d::UnitZ(), 1.0, 2.0, {2, 12, 1}, {2, 2}, cylinder); !s) {
         printError(std::cout, "effd", s.message);
