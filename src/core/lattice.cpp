@@ -371,14 +371,26 @@ bool inOuterLayers(const std::array<int, 3>& count, const std::array<int, 3>& c,
     return false;
 }
 
+namespace {
+
+// A net lattice's pin layers are counted from its boundary faces only (not from a seam or a collapsed axis).
+bool inNetOuterLayers(const LatticeNet& net, int index, int layers) {
+    const std::array<int, 3> c = gridIjk(net.count, index);
+    for (int a = 0; a < 3; ++a)
+        if ((net.boundaryFace[a][0] && c[a] < layers) || (net.boundaryFace[a][1] && c[a] >= net.count[a] - layers)) return true;
+    return false;
+}
+
+}  // namespace
+
 bool inOuterLayers(const Lattice& lattice, int index, int layers) {
     if (!lattice.net) return inOuterLayers(lattice.count, lattice.ijk(index), layers);
-    // A net lattice: layers counted from its boundary faces only (not from a seam or a collapsed axis).
-    const std::array<int, 3> c = lattice.ijk(index);
-    for (int a = 0; a < 3; ++a)
-        if ((lattice.net->boundaryFace[a][0] && c[a] < layers) || (lattice.net->boundaryFace[a][1] && c[a] >= lattice.count[a] - layers))
-            return true;
-    return false;
+    return inNetOuterLayers(*lattice.net, index, layers);
+}
+
+bool inPinLayers(const LatticeSettings& settings, int index) {
+    if (settings.net) return inNetOuterLayers(*settings.net, index, settings.pinLayers);
+    return inOuterLayers(settings.resolution, gridIjk(settings.resolution, index), settings.pinLayers);
 }
 
 Positions controlPointPositions(const Lattice& lattice) {

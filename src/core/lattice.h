@@ -132,6 +132,8 @@ Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deform
 
 // True if control point `index` lies in one of the `layers` outer layers (the pin_layers rule).
 bool inOuterLayers(const Lattice& lattice, int index, int layers);
+// The same for the lattice these settings make (a net lattice: layers from its boundary faces only).
+bool inPinLayers(const LatticeSettings& settings, int index);
 // The same for grid position c = (i,j,k) of a count[0] x count[1] x count[2] lattice.
 bool inOuterLayers(const std::array<int, 3>& count, const std::array<int, 3>& c, int layers);
 // Grid position (i,j,k) of control point id `index` (Lattice::index's inverse) in a lattice of `count` points.

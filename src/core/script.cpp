@@ -230,7 +230,7 @@ Script recordSession(const Session& session) {
                 op.kind = ScriptOp::Kind::SetPins;
                 for (int idx : entry.pinToggles) {
                     const std::array<int, 3> ijk = gridIjk(latticeCounts(entry.settings), idx);
-                    (inOuterLayers(latticeCounts(entry.settings), ijk, entry.settings.pinLayers) ? op.unpinned : op.controlPoints).push_back(ijk);
+                    (inPinLayers(entry.settings, idx) ? op.unpinned : op.controlPoints).push_back(ijk);
                 }
                 break;
             case JournalEntry::Kind::Refinement:

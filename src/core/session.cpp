@@ -1050,7 +1050,7 @@ Status Session::redo(OpReport& report) {
 std::vector<int> Session::pinToggles() const {
     std::vector<int> toggled;
     for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
-        if (inOuterLayers(lattice_, idx, settings_.pinLayers) != static_cast<bool>(lattice_.pinned[idx])) toggled.push_back(idx);
+        if (basePinned(idx) != static_cast<bool>(lattice_.pinned[idx])) toggled.push_back(idx);
     return toggled;
 }
 
@@ -1059,8 +1059,10 @@ Status Session::setPinToggles(const std::vector<int>& toggled) {
     for (int idx : toggled)
         if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
     if (dragActive_) return Status::error("an interactive drag is in progress");
-    for (int idx = 0; idx < n; ++idx) lattice_.pinned[idx] = inOuterLayers(lattice_, idx, settings_.pinLayers) ? 1 : 0;
-    for (int idx : toggled) lattice_.pinned[idx] ^= 1;
+    for (int idx = 0; idx < n; ++idx) lattice_.pinned[idx] = basePinned(idx) ? 1 : 0;
+    // A welded point is one control point: a toggle of any of its slots toggles the group once.
+    for (int idx : weldGroupsOf(toggled)) lattice_.pinned[idx] ^= 1;
+    pinBoundaryIfPartial(lattice_, embedding_);
     journalPins();
     return Status::success();
 }
@@ -1069,7 +1071,8 @@ Status Session::setPinned(const std::vector<int>& indices, bool pinned) {
     const int n = lattice_.controlPointCount();
     for (int idx : indices)
         if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
-    for (int idx : indices) lattice_.pinned[idx] = pinned ? 1 : 0;
+    for (int idx : weldGroupsOf(indices)) lattice_.pinned[idx] = pinned ? 1 : 0;
+    pinBoundaryIfPartial(lattice_, embedding_);
     journalPins();
     return Status::success();
 }

@@ -468,6 +468,11 @@ private:
     // outside, the volume inside) would not be injective (Gain & Dodgson 2001, section 5: the boundary
     // condition; Coquillart 1990, 3.4 keeps the outer planes fixed for the same seam).
     void pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding) const;
+    // The pin a control point has before the user's pin edits: the pin layers, and the boundary a net lattice
+    // that does not hold the whole mesh keeps (pinBoundaryIfPartial). pinToggles() are relative to this.
+    bool basePinned(int idx) const;
+    // The ids with every slot of their weld groups added (sorted, unique): a welded point pins as one.
+    std::vector<int> weldGroupsOf(const std::vector<int>& ids) const;
     // Applies (forward) or takes back a LatticeTools operation's change of the list.
     void applyToolChange(const Operation& operation, bool forward);
     // Applies a new LatticeTools operation and pushes it onto the history.

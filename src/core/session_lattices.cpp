@@ -3,6 +3,8 @@
 #include "core/session.h"
 #include "core/session_internal.h"
 
+#include <algorithm>
+
 namespace sculpt::core {
 
 namespace {
@@ -19,6 +21,33 @@ void Session::pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding)
     if (!lattice.net || embedding.insideCount() == static_cast<int>(positions_.rows())) return;
     for (int idx = 0; idx < lattice.controlPointCount(); ++idx)
         if (lattice.net->boundarySlot[idx]) lattice.pinned[idx] = 1;
+}
+
+bool Session::basePinned(int idx) const {
+    if (inOuterLayers(lattice_, idx, settings_.pinLayers)) return true;
+    return lattice_.net && lattice_.net->boundarySlot[idx] && embedding_.insideCount() < static_cast<int>(positions_.rows());
+}
+
+std::vector<int> Session::weldGroupsOf(const std::vector<int>& ids) const {
+    std::vector<int> out;
+    for (int idx : ids) {
+        const int rep = lattice_.representative(idx);
+        if (rep == idx && !(lattice_.net && lattice_.net->hasWelds)) {
+            out.push_back(idx);
+            continue;
+        }
+        bool grouped = false;
+        for (const auto& group : lattice_.net->weldGroups)
+            if (group[0] == rep) {
+                out.insert(out.end(), group.begin(), group.end());
+                grouped = true;
+                break;
+            }
+        if (!grouped) out.push_back(idx);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
 }
 
 void Session::applyToolChange(const Operation& operation, bool forward) {

@@ -270,6 +270,7 @@ void Session::leaveCage() {
         invertDeformation(lattice_, cageOut_, rest_);
     }
     embedVertices(lattice_, rest_, embedding_);
+    pinBoundaryIfPartial(lattice_, embedding_);
     if (trackJacobian_) {
         accumulateFrameJacobian(true);
         accumulateLayersJacobian(true);

@@ -173,3 +173,33 @@ TEST_CASE("effd session: bad lattice input is refused and changes nothing", "[co
     REQUIRE(parsed.message.find("ops[0].lattice") != std::string::npos);
     REQUIRE(parsed.message.find("axis") != std::string::npos);
 }
+
+TEST_CASE("effd session: a welded point pins as one, and pins on a frozen net lattice replay", "[core][net][effd]") {
+    std::mt19937 rng(52);
+    Session session = sphereSession(3, InjectivityMode::Conic);
+    OpReport report;
+    REQUIRE(session.addLatticeTool(cylinderTool(rng), report));
+    REQUIRE(session.freezeLattice(0, 1, report));
+    const Lattice& cylinder = session.lattice();
+    // Pinning one slot of the axis pins every slot welded to it: a move through another copy is refused.
+    REQUIRE(session.setPinned({cylinder.index(0, 0, 2)}, true));
+    for (int j = 0; j < cylinder.count[1]; ++j) REQUIRE(session.lattice().pinned[cylinder.index(0, j, 2)]);
+    REQUIRE_FALSE(session.moveControlPoints({cylinder.index(0, 5, 2)}, Eigen::RowVector3d(0, 0, 0.05), true, report));
+    // The seam: the last angular slice is the first one.
+    const int last = cylinder.count[1] - 1;
+    REQUIRE(session.setPinned({cylinder.index(1, last, 2)}, true));
+    REQUIRE(session.lattice().pinned[cylinder.index(1, 0, 2)]);
+    // Unpinning a pin-layer point and a drag, recorded and replayed through the script's set_pins.
+    REQUIRE(session.setPinned({cylinder.index(1, 0, 0)}, false));
+    REQUIRE(session.dragVertex(7, session.positions().row(7).transpose() + Eigen::Vector3d(0.02, 0.03, 0.0), report));
+    Script parsed;
+    REQUIRE(io::parseScript(io::scriptToJson(recordSession(session)), "recording.json", parsed));
+    Session replay = sphereSession(3, InjectivityMode::Conic);
+    REQUIRE(replay.setMesh(replay.originalPositions(), replay.triangles(), parsed.lattice));
+    ScriptReport scriptReport;
+    const Status ran = runScript(replay, parsed, scriptReport);
+    INFO(ran.message);
+    REQUIRE(ran);
+    REQUIRE(replay.positions() == session.positions());
+    REQUIRE(replay.lattice().pinned == session.lattice().pinned);
+}
