@@ -416,4 +416,48 @@ bool isUndeformed(const Lattice& lattice) {
     return (lattice.displacement.array() == 0.0).all();
 }
 
+std::vector<std::array<int, 2>> controlNetEdges(const Lattice& lattice) {
+    std::vector<std::array<int, 2>> edges;
+    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
+        const std::array<int, 3> c = lattice.ijk(idx);
+        for (int a = 0; a < 3; ++a) {
+            if (c[a] + 1 >= lattice.count[a]) continue;
+            std::array<int, 3> n = c;
+            ++n[a];
+            const int p = lattice.representative(idx), q = lattice.representative(lattice.index(n[0], n[1], n[2]));
+            if (p != q) edges.push_back({std::min(p, q), std::max(p, q)});
+        }
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    return edges;
+}
+
+std::vector<Positions> chunkEdgeCurves(const Lattice& lattice, int samplesPerSpan) {
+    std::vector<Positions> curves;
+    samplesPerSpan = std::max(samplesPerSpan, 1);
+    const std::array<int, 3> spans = lattice.spans();
+    const double tiny = 1e-12 * std::max(lattice.diagonal(), 1e-300);
+    for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        const bool periodicB = lattice.net && lattice.net->periodic[b], periodicC = lattice.net && lattice.net->periodic[c];
+        const int samples = spans[a] * samplesPerSpan;
+        for (int kc = 0; kc <= spans[c] - (periodicC ? 1 : 0); ++kc)
+            for (int kb = 0; kb <= spans[b] - (periodicB ? 1 : 0); ++kb) {
+                Positions curve(samples + 1, 3);
+                double length = 0.0;
+                for (int s = 0; s <= samples; ++s) {
+                    Eigen::Vector3d t;
+                    t[a] = static_cast<double>(s) / samples;
+                    t[b] = static_cast<double>(kb) / spans[b];
+                    t[c] = static_cast<double>(kc) / spans[c];
+                    curve.row(s) = (restPoint(lattice, t) + displacementAt(lattice, t)).transpose();
+                    if (s > 0) length += (curve.row(s) - curve.row(s - 1)).norm();
+                }
+                if (length > tiny) curves.push_back(std::move(curve));
+            }
+    }
+    return curves;
+}
+
 }  // namespace sculpt::core

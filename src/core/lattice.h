@@ -152,4 +152,17 @@ bool boundaryUnmoved(const Lattice& lattice);
 // True if every control point displacement is exactly zero.
 bool isUndeformed(const Lattice& lattice);
 
+// ---- drawing and picking (the window's lattice overlay) ----
+// The control net's edges: pairs {a, b} (a < b) of control point ids joined along a grid line, each weld
+// group drawn once on its representative (Lattice::representative), so merged points have no edge between
+// them and a welded seam or axis is not drawn twice. Sorted, unique.
+std::vector<std::array<int, 2>> controlNetEdges(const Lattice& lattice);
+
+// The chunk edges of the deformed volume, x(t) = X0(t) + sum R(t) delta (restPoint + displacementAt), as
+// polylines: every parameter line along one axis through the knot values of the other two (the curved
+// edges of a cylinder's or sphere's chunks), `samplesPerSpan` >= 1 segments per knot span. A periodic axis'
+// closing knot line is the seam and is not repeated; lines that collapse to a point (a cylinder's axis
+// along its angle, a pole) are left out. Each polyline: rows = points, 3 columns.
+std::vector<Positions> chunkEdgeCurves(const Lattice& lattice, int samplesPerSpan);
+
 }  // namespace sculpt::core

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <set>
 
 #include "core/direct_manipulation.h"
 #include "core/embedding.h"
@@ -286,4 +287,61 @@ TEST_CASE("net lattice: an oriented parallelepiped gives the box lattice's resul
     }
     INFO("largest difference " << worst);
     REQUIRE(worst <= 1e-11);  // coordinates of size 100: a few hundred ulps
+}
+
+TEST_CASE("net lattice: drawing shows merged points once and the chunks' edges as exact curves", "[core][net]") {
+    std::mt19937 rng(1044);
+    for (int trial = 0; trial < 24; ++trial) {
+        const int kind = trial % 4;
+        const RandomNet r = randomNet(rng, kind);
+        LatticeSettings settings;
+        settings.net = std::make_shared<LatticeNet>(r.net);
+        Lattice lattice;
+        REQUIRE(makeLattice(settings, Positions::Zero(1, 3), lattice));
+        // Every edge joins two distinct representatives, once; every grid neighbour pair of distinct groups is there.
+        const std::vector<std::array<int, 2>> edges = controlNetEdges(lattice);
+        std::set<std::array<int, 2>> seen(edges.begin(), edges.end());
+        REQUIRE(seen.size() == edges.size());
+        for (const auto& e : edges) {
+            REQUIRE(e[0] < e[1]);
+            REQUIRE(lattice.representative(e[0]) == e[0]);
+            REQUIRE(lattice.representative(e[1]) == e[1]);
+        }
+        for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
+            const std::array<int, 3> c = lattice.ijk(idx);
+            for (int a = 0; a < 3; ++a) {
+                if (c[a] + 1 >= lattice.count[a]) continue;
+                std::array<int, 3> n = c;
+                ++n[a];
+                const int p = lattice.representative(idx), q = lattice.representative(lattice.index(n[0], n[1], n[2]));
+                if (p != q) REQUIRE(seen.count({std::min(p, q), std::max(p, q)}) == 1);
+            }
+        }
+        // Chunk edges lie on the volume: on a cylinder, the rest curves along the angle are exact circles
+        // (rational arcs), so every sample is at the knot radius from the axis.
+        const std::vector<Positions> curves = chunkEdgeCurves(lattice, 6);
+        REQUIRE(!curves.empty());
+        for (const Positions& curve : curves) REQUIRE(curve.allFinite());
+        if (kind == 1) {
+            const Eigen::Vector3d base = r.net.rest.row(0).transpose();  // slot 0 lies on the axis (r = 0, z = 0)
+            const Eigen::Vector3d top = r.net.rest.row(r.net.slot(0, 0, r.net.count[2] - 1)).transpose();
+            const Eigen::Vector3d axis = (top - base).normalized();
+            int circles = 0;
+            for (const Positions& curve : curves) {
+                double lo = 1e300, hi = 0.0;
+                for (int s = 0; s < curve.rows(); ++s) {
+                    const Eigen::Vector3d d = curve.row(s).transpose() - base;
+                    const double radius = (d - d.dot(axis) * axis).norm();
+                    lo = std::min(lo, radius), hi = std::max(hi, radius);
+                }
+                // a curve through the angle is closed (first = last sample) and of constant radius
+                if ((curve.row(0) - curve.row(curve.rows() - 1)).norm() < 1e-9 * lattice.diagonal() && lo > 1e-6 * lattice.diagonal()) {
+                    ++circles;
+                    REQUIRE(hi - lo <= 1e-12 * lattice.diagonal());
+                }
+            }
+            const std::array<int, 3> spans = r.net.spans();
+            REQUIRE(circles == spans[0] * (spans[2] + 1));
+        }
+    }
 }
