@@ -1,6 +1,9 @@
 // Lattice tools as JSON: predefined shapes and explicit nets (lattice_json.h).
 #include "io/lattice_json.h"
 
+#include <algorithm>
+#include <stdexcept>
+
 #include "io/atomic_file.h"
 #include "io/json_fields.h"
 #include "io/script_json.h"
@@ -180,5 +183,46 @@ std::string latticeFileText(const LatticeFile& file) {
 }
 
 Status writeLatticeFile(const std::string& path, const LatticeFile& file) { return writeFileAtomically(path, latticeFileText(file)); }
+
+namespace {
+
+std::vector<VolumeFormat>& volumeFormats() {
+    static std::vector<VolumeFormat> formats = [] {
+        VolumeFormat net;
+        net.kinds = {"net", "parallelepiped", "cylinder", "sphere", "prism", "loft"};
+        net.read = [](const json& j, const std::string& path, std::shared_ptr<const core::Volume>& out) {
+            core::LatticeNet parsed;
+            if (Status s = parseLatticeNetJson(j, path, parsed); !s) return s;
+            out = std::make_shared<const core::LatticeNet>(std::move(parsed));
+            return Status::success();
+        };
+        net.write = [](const core::Volume& volume, json& out) {
+            if (!volume.tensorNet()) return false;
+            out = latticeNetJson(*volume.tensorNet());
+            return true;
+        };
+        return std::vector<VolumeFormat>{net};
+    }();
+    return formats;
+}
+
+}  // namespace
+
+void registerVolumeFormat(VolumeFormat format) { volumeFormats().push_back(std::move(format)); }
+
+Status parseVolumeJson(const json& j, const std::string& path, std::shared_ptr<const core::Volume>& out) {
+    const std::string kind = j.is_object() && j.contains("kind") && j["kind"].is_string() ? j["kind"].get<std::string>() : std::string("net");
+    for (const VolumeFormat& format : volumeFormats())
+        if (std::find(format.kinds.begin(), format.kinds.end(), kind) != format.kinds.end()) return format.read(j, path, out);
+    // Unknown kinds: the net parser names the known ones.
+    return volumeFormats().front().read(j, path, out);
+}
+
+json volumeJson(const core::Volume& volume) {
+    json out;
+    for (const VolumeFormat& format : volumeFormats())
+        if (format.write(volume, out)) return out;
+    throw std::invalid_argument("no JSON format is registered for lattice kind " + volume.kindName());
+}
 
 }  // namespace sculpt::io

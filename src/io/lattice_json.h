@@ -15,8 +15,10 @@
 // A library file wraps one lattice: {"format": "dmffd-lattice", "version": 1, "name": "...", "lattice": {...}}.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -41,5 +43,23 @@ Status parseLatticeFile(const std::string& text, const std::string& displayName,
 // Writes it atomically (a failed save leaves an existing file as it was).
 Status writeLatticeFile(const std::string& path, const LatticeFile& file);
 std::string latticeFileText(const LatticeFile& file);
+
+// ---- volume kinds (core/volume.h) -------------------------------------------------------------------------
+// Every lattice kind has a JSON form; a kind added to the engine registers its reader and writer here, and
+// the scripts, recordings and library files then carry it with no other change. LatticeNet (every "kind"
+// above) is registered from the start.
+struct VolumeFormat {
+    std::vector<std::string> kinds;  // the "kind" values it reads
+    // Parses a lattice object of one of those kinds; errors name the field path under `path`.
+    std::function<Status(const nlohmann::json& j, const std::string& path, std::shared_ptr<const core::Volume>& out)> read;
+    // Writes the volume if it is of this format's kind (returns false otherwise).
+    std::function<bool(const core::Volume& volume, nlohmann::json& out)> write;
+};
+void registerVolumeFormat(VolumeFormat format);
+// Parses a lattice object of any registered kind ("kind" selects the format). On failure `out` is untouched.
+Status parseVolumeJson(const nlohmann::json& j, const std::string& path, std::shared_ptr<const core::Volume>& out);
+// The explicit JSON form of a volume of any registered kind (a tensor net: latticeNetJson). Throws
+// std::invalid_argument for a kind no format writes (a programming error: every kind registers one).
+nlohmann::json volumeJson(const core::Volume& volume);
 
 }  // namespace sculpt::io

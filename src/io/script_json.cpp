@@ -60,12 +60,10 @@ core::LatticeSettings parseLattice(const json& j, const std::string& path) {
         // A lattice of any shape (lattice_json.h), with the pin layers counted from its boundary faces.
         json shape = j;
         shape.erase("pin_layers");
-        core::LatticeNet net;
-        if (Status status = parseLatticeNetJson(shape, path, net); !status) {
+        if (Status status = parseVolumeJson(shape, path, s.volume); !status) {
             const size_t colon = status.message.find(": ");  // "field.path: what"
             fail(status.message.substr(0, colon), colon == std::string::npos ? status.message : status.message.substr(colon + 2));
         }
-        s.net = std::make_shared<const core::LatticeNet>(std::move(net));
         if (j.contains("pin_layers")) s.pinLayers = integer(j["pin_layers"], path + ".pin_layers");
         if (Status status = core::validateLatticeSettings(s); !status) fail(path, status.message);
         return s;
@@ -495,8 +493,8 @@ json injectivityJson(const core::InjectivitySettings& s) {
 }
 
 json latticeJson(const core::LatticeSettings& s) {
-    if (s.net) {
-        json j = latticeNetJson(*s.net);
+    if (s.volume) {
+        json j = volumeJson(*s.volume);
         j["pin_layers"] = s.pinLayers;
         return j;
     }
