@@ -131,6 +131,14 @@ TEST_CASE("lattice edit: refining any axis of any kind of net leaves the volume 
                     const Eigen::Vector3d t = randomParameter(rng);
                     REQUIRE((volumeAt(fine, fine.rest, t) - volumeAt(net, net.rest, t)).norm() <= tolerance);
                 }
+                // Freezing in the refined net (its own chunk index) finds the same parameters (away from the
+                // seam and the collapsed faces, where a point has several).
+                for (int sample = 0; sample < 10; ++sample) {
+                    const Eigen::Vector3d t = Eigen::Vector3d::Constant(0.1) + 0.8 * randomParameter(rng);
+                    Eigen::Vector3d frozen;
+                    REQUIRE(freezePoint(fine, fine.rest, fine.restIndex, volumeAt(net, net.rest, t), frozen));
+                    REQUIRE((frozen - t).cwiseAbs().maxCoeff() <= 1e-8);
+                }
                 // The weld structure is the same lattice's: seams stay seams, collapsed faces stay collapsed.
                 REQUIRE(fine.periodic == net.periodic);
                 REQUIRE(fine.collapsedAlong == net.collapsedAlong);
