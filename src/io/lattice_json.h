@@ -9,6 +9,12 @@
 //   {"kind": "sphere", "centre": [..], "axis": [..], "radius": r, "chunks": [radial, angular, polar], "degree": d}
 //   {"kind": "prism", "profile": {"min": [u,v], "max": [u,v], "chunks": [2], "degree": [2], "points": [[u,v],..]?},
 //    "origin": [..], "u_axis": [..], "v_axis": [..], "direction": [..], "chunks": n, "degree": d}
+//   {"kind": "loft", "profile": {... as prism's ...}, "sections": [section, ...], "degree": d (2)}: a prism lofted
+//    through its sections (3.1.4, the "S" of Fig. 8), which are the control points along w (at least d + 1,
+//    at most 64); each section is the profile placed by hand, {"origin": [..], "u_axis": [..] (x), "v_axis":
+//    [..] (y), "scale": s or [s_u, s_v] (1)}: world point = origin + s_u p_u u + s_v p_v v with u, v
+//    orthonormalised (v made orthogonal to u), or its count_u x count_v world points [[x,y,z], ...]. The
+//    sections must advance along u x v (a right-handed lattice).
 // or an explicit net, which is how every lattice is written (exact: doubles in shortest round-trip form):
 //   {"kind": "net", "shape": "cylinder", "count": [3], "degree": [3], "multiplicity": [3],
 //    "points": [[x,y,z], ...], "weights": [...], "welds": [[slot, slot, ...], ...]}
