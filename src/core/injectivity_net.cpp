@@ -41,65 +41,9 @@ bool faceCollapsedAlong(const LatticeNet& net, int a, int side, int b) {
     return true;
 }
 
-// The chunk's control points P0 + delta (or P0) in 3 blocks of n0 n1 n2 values, and their weights in a
-// fourth block. Returns whether the weights are all equal (a polynomial chunk).
-bool gatherChunk(const Lattice& lattice, const std::array<int, 3>& chunk, bool deformed, double* control) {
-    const LatticeNet& net = *lattice.tensorNet();
-    const int n0 = lattice.degree[0] + 1, n1 = lattice.degree[1] + 1, n2 = lattice.degree[2] + 1;
-    const int n = n0 * n1 * n2;
-    const double firstWeight = lattice.weights[chunkSlot(lattice, chunk, 0, 0, 0)];
-    bool polynomial = true;
-    for (int k = 0; k < n2; ++k)
-        for (int j = 0; j < n1; ++j)
-            for (int i = 0; i < n0; ++i) {
-                const int s = chunkSlot(lattice, chunk, i, j, k);
-                const int e = i + n0 * (j + n1 * k);
-                for (int c = 0; c < 3; ++c) control[c * n + e] = net.rest(s, c) + (deformed ? lattice.displacement(s, c) : 0.0);
-                control[3 * n + e] = lattice.weights[s];
-                polynomial = polynomial && lattice.weights[s] == firstWeight;
-            }
-    return polynomial;
-}
-
-// Separable B-spline -> Bezier conversion of `components` blocks of n0 n1 n2 control values (the chunk's
-// per-span matrices along u, v, w). control -> bezier, temp as scratch.
-void chunkToBezier(const CellBezierBasis& basis, const std::array<int, 3>& chunk, int components, const double* control,
-                   double* temp, double* bezier) {
-    const int n0 = basis.degree[0] + 1, n1 = basis.degree[1] + 1, n2 = basis.degree[2] + 1;
-    const int n = n0 * n1 * n2;
-    const double* mu = basis.toBezier[0].data() + static_cast<size_t>(chunk[0]) * n0 * n0;
-    const double* mv = basis.toBezier[1].data() + static_cast<size_t>(chunk[1]) * n1 * n1;
-    const double* mw = basis.toBezier[2].data() + static_cast<size_t>(chunk[2]) * n2 * n2;
-    for (int line = 0; line < components * n1 * n2; ++line) {  // u
-        const double* in = control + n0 * line;
-        double* out = bezier + n0 * line;
-        for (int l = 0; l < n0; ++l) {
-            double sum = 0.0;
-            for (int i = 0; i < n0; ++i) sum += mu[l * n0 + i] * in[i];
-            out[l] = sum;
-        }
-    }
-    for (int c = 0; c < components; ++c)  // v
-        for (int k = 0; k < n2; ++k)
-            for (int m = 0; m < n1; ++m)
-                for (int l = 0; l < n0; ++l) {
-                    double sum = 0.0;
-                    for (int j = 0; j < n1; ++j) sum += mv[m * n1 + j] * bezier[c * n + l + n0 * (j + n1 * k)];
-                    temp[c * n + l + n0 * (m + n1 * k)] = sum;
-                }
-    const int plane = n0 * n1;
-    for (int c = 0; c < components; ++c)  // w
-        for (int o = 0; o < n2; ++o)
-            for (int e = 0; e < plane; ++e) {
-                double sum = 0.0;
-                for (int k = 0; k < n2; ++k) sum += mw[o * n2 + k] * temp[c * n + e + plane * k];
-                bezier[c * n + e + plane * o] = sum;
-            }
-}
-
 // Column a (a < 3): the hodograph p_a S_a (b_{l+1} - b_l) along a, of each of `components` blocks; column 3
 // (rational only): the Bezier points themselves. Returns the largest magnitude written.
-double chunkColumn(const CellBezierBasis& basis, int a, int components, const double* bezier, double* column) {
+double chunkColumn(const CellBezierBasis& basis, const BezierChunk& chunk, int a, int components, const double* bezier, double* column) {
     const BernsteinDegree& d = basis.degree;
     const int n0 = d[0] + 1, n1 = d[1] + 1;
     const int n = n0 * n1 * (d[2] + 1);
@@ -112,7 +56,7 @@ double chunkColumn(const CellBezierBasis& basis, int a, int components, const do
     const BernsteinDegree cd = columnDegree(basis, a);
     const int count = bernsteinCoefficientCount(cd);
     const int stride[3] = {1, n0, n0 * n1};
-    const double scale = static_cast<double>(d[a]) * basis.spans[a];
+    const double scale = static_cast<double>(d[a]) / chunk.parameterScale[a];
     for (int c = 0; c < components; ++c) {
         int out = 0;
         for (int k = 0; k <= cd[2]; ++k)
@@ -168,10 +112,7 @@ void determinant4(const std::array<BernsteinDegree, 4>& degree, double* const co
 }  // namespace
 
 NetChunkWorkspace::NetChunkWorkspace()
-    : control(4 * kMaxCellControlPoints),
-      bezier(4 * kMaxCellControlPoints),
-      temp(4 * kMaxCellControlPoints),
-      columns(12 * kMaxCellControlPoints),
+    : columns(12 * kMaxCellControlPoints),
       scaled(16 * kMaxCellControlPoints),
       minors(12 * static_cast<size_t>(kMaxNetMinorCoefficients)),
       product(kMaxNetDeterminantCoefficients),
@@ -206,16 +147,23 @@ void netChunkDeterminantBernstein(const Lattice& lattice, const NetChunkBasis& b
     const int n = n0 * n1 * n2;
     info = NetChunkDeterminantInfo{};
 
-    double* control = work.control.data();
-    const bool polynomial = gatherChunk(lattice, chunk, deformed, control);
+    // The chunk in Bezier form, through the volume interface (volume.h): Euclidean points of a polynomial
+    // chunk, homogeneous (W P, W) ones of a rational chunk.
+    const Volume& volume = *lattice.volume;
+    const int chunkId = chunk[0] + bezierBasis.spans[0] * (chunk[1] + bezierBasis.spans[1] * chunk[2]);
+    BezierChunk& bezier = work.chunk;
+    volume.bezierChunk(chunkId, deformed ? &lattice.displacement : nullptr, bezier);
+    const bool polynomial = bezier.polynomial;
     info.rational = !polynomial;
+    const double* points = bezier.points.data();
 
-    // Collapsed faces the chunk lies on, and whether their welded points still coincide.
+    // Collapsed faces the chunk lies on, and whether their welded points still coincide (the face's Bezier
+    // points along the collapsed direction, as Euclidean points).
     std::array<std::array<int, 2>, 3> divide{};
     for (int a = 0; a < 3; ++a)
         for (int side = 0; side < 2; ++side) {
-            const int mask = basis.collapse[a][side];
-            if (mask == 0 || chunk[a] != (side == 0 ? 0 : bezierBasis.spans[a] - 1)) continue;
+            const int mask = bezier.collapse[a][side];
+            if (mask == 0) continue;
             const int ia = side == 0 ? 0 : d[a];
             bool hold = true;
             for (int b = 0; b < 3 && hold; ++b) {
@@ -228,7 +176,8 @@ void netChunkDeterminantBernstein(const Lattice& lattice, const NetChunkBasis& b
                         const int e0 = first[0] + n0 * (first[1] + n1 * first[2]);
                         const int e1 = other[0] + n0 * (other[1] + n1 * other[2]);
                         for (int comp = 0; comp < 3; ++comp)
-                            hold = hold && std::abs(control[comp * n + e1] - control[comp * n + e0]) <= basis.weldTolerance;
+                            hold = hold && std::abs(points[comp * n + e1] / points[3 * n + e1] - points[comp * n + e0] / points[3 * n + e0]) <=
+                                               basis.weldTolerance;
                     }
             }
             if (hold)
@@ -242,17 +191,13 @@ void netChunkDeterminantBernstein(const Lattice& lattice, const NetChunkBasis& b
         // det(dQ/dt) = Q_u . (Q_v x Q_w): the box lattice's product, on the chunk's own hodographs.
         double* const columns[3] = {work.columns.data(), work.columns.data() + 4 * kMaxCellControlPoints,
                                     work.columns.data() + 8 * kMaxCellControlPoints};
-        chunkToBezier(bezierBasis, chunk, 3, control, work.temp.data(), work.bezier.data());
         double bound = 6.0;
-        for (int a = 0; a < 3; ++a) bound *= chunkColumn(bezierBasis, a, 3, work.bezier.data(), columns[a]);
+        for (int a = 0; a < 3; ++a) bound *= chunkColumn(bezierBasis, bezier, a, 3, points, columns[a]);
         cellDeterminantBernstein(bezierBasis, columns, work.scratch.data(), work.product.data());
         degree = determinantDegree(bezierBasis);
         info.termBound = bound;
     } else {
-        // Homogeneous points (W P, W), then det4[H_u, H_v, H_w, H] = W^4 det(dQ/dt).
-        for (int e = 0; e < n; ++e)
-            for (int c = 0; c < 3; ++c) control[c * n + e] *= control[3 * n + e];
-        chunkToBezier(bezierBasis, chunk, 4, control, work.temp.data(), work.bezier.data());
+        // Homogeneous points (W P, W): det4[H_u, H_v, H_w, H] = W^4 det(dQ/dt).
         std::array<BernsteinDegree, 4> degrees{columnDegree(bezierBasis, 0), columnDegree(bezierBasis, 1),
                                                columnDegree(bezierBasis, 2), d};
         double bound = 24.0;
@@ -260,7 +205,7 @@ void netChunkDeterminantBernstein(const Lattice& lattice, const NetChunkBasis& b
                                    work.scaled.data() + 8 * kMaxCellControlPoints,
                                    work.scaled.data() + 12 * kMaxCellControlPoints};
         for (int a = 0; a < 4; ++a) {
-            bound *= chunkColumn(bezierBasis, a, 4, work.bezier.data(), scaled[a]);
+            bound *= chunkColumn(bezierBasis, bezier, a, 4, points, scaled[a]);
             const int count = bernsteinCoefficientCount(degrees[a]);
             for (int c = 0; c < 4; ++c) scaleToBinomialForm(scaled[a] + c * count, degrees[a]);
         }
@@ -409,15 +354,14 @@ bool netRingWinding(const Lattice& lattice, const NetChunkBasis& basis, const st
     for (int jb = 0; jb < spansB; ++jb) {
         std::array<int, 3> piece = chunk;
         piece[b] = jb;
-        gatherChunk(lattice, piece, true, work.control.data());
-        for (int e = 0; e < n; ++e)
-            for (int comp = 0; comp < 3; ++comp) work.control[comp * n + e] *= work.control[3 * n + e];
-        chunkToBezier(bezierBasis, piece, 4, work.control.data(), work.temp.data(), work.bezier.data());
+        // Homogeneous Bezier points (a polynomial chunk's have W = 1).
+        lattice.volume->bezierChunk(piece[0] + bezierBasis.spans[0] * (piece[1] + bezierBasis.spans[1] * piece[2]), &lattice.displacement,
+                                    work.chunk);
         double slopes[4] = {0.0, 0.0, 0.0, 0.0};  // d/dx_c of the first face point's components (first piece)
         for (int m = 0; m <= d[b]; ++m) {
             const int start0 = layer0 * stride[a] + m * stride[b], start1 = layer1 * stride[a] + m * stride[b];
             for (int comp = 0; comp < 4; ++comp) {
-                const double* block = work.bezier.data() + comp * n;
+                const double* block = work.chunk.points.data() + comp * n;
                 face[m][comp] = bernsteinLineAtHalf(block + start0, stride[c], d[c], jb == 0 && m == 0 ? &slopes[comp] : nullptr);
                 next[m][comp] = bernsteinLineAtHalf(block + start1, stride[c], d[c], nullptr);
             }

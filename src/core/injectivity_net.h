@@ -15,9 +15,10 @@
 //  * rational chunk: with the homogeneous H = (W Q, W) (a polynomial 4-vector of degree (p, q, r)),
 //    det4[H_u, H_v, H_w, H] = W^4 det(dQ/dt) (subtract W_a / W times the last column from column a, expand
 //    along the last row), a polynomial of degree (4p-1, 4q-1, 4r-1) with the sign of det(dQ/dt).
-// The Bezier control points come from the per-span B-spline -> Bezier matrices of makeCellBezierBasis (they
-// are per span, so they hold for any multiplicity) applied to the chunk's control points; the hodograph
-// control vectors along axis a are p_a S_a (b_{l+1} - b_l) (S_a = spans: derivatives in t, not x).
+// The Bezier control points come from the volume interface (Volume::bezierChunk, volume.h: for a net, the
+// per-span B-spline -> Bezier matrices, which hold for any multiplicity), so every kind whose chunks are
+// Bezier pieces is tested by the same code; the hodograph control vectors along axis a are
+// p_a / (dt_a/dx_a) (b_{l+1} - b_l) (derivatives in t, not x).
 //
 // Collapsed faces. Where the net is collapsed on one of its outer faces (LatticeNet::boundaryFace false and
 // not a seam: the cylinder's axis r = 0, a sphere's poles, its centre), Q does not depend on one tangential
@@ -83,7 +84,8 @@ struct NetChunkDeterminantInfo {
 
 // Scratch of netChunkDeterminantBernstein (allocated once; keep one per thread).
 struct NetChunkWorkspace {
-    std::vector<double> control, bezier, temp, columns, scaled, minors, product, scratch;
+    BezierChunk chunk;  // Volume::bezierChunk's output
+    std::vector<double> columns, scaled, minors, product, scratch;
     NetChunkWorkspace();
 };
 

@@ -735,12 +735,12 @@ void LatticeNet::chunkSupport(int chunk, std::vector<int>& ids) const {
     std::sort(ids.begin(), ids.end());
 }
 
-void LatticeNet::bezierChunk(int chunk, const Positions& points, BezierChunk& out) const {
+void LatticeNet::bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const {
     const std::array<int, 3> c = chunkIjk(chunk);
     const int n0 = degree[0] + 1, n1 = degree[1] + 1, n2 = degree[2] + 1;
     const int n = n0 * n1 * n2;
     out.degree = degree;
-    out.points.resize(4 * static_cast<size_t>(n));
+    if (out.points.size() < 4 * static_cast<size_t>(n)) out.points.resize(4 * static_cast<size_t>(n));
     double* control = out.points.data();
     const double firstWeight = weights[static_cast<size_t>(slot(axes[0].first(c[0]), axes[1].first(c[1]), axes[2].first(c[2])))];
     bool polynomial = true;
@@ -750,7 +750,7 @@ void LatticeNet::bezierChunk(int chunk, const Positions& points, BezierChunk& ou
                 const int s = slot(axes[0].first(c[0]) + i, axes[1].first(c[1]) + j, axes[2].first(c[2]) + k);
                 const int e = i + n0 * (j + n1 * k);
                 const double w = weights[static_cast<size_t>(s)];
-                for (int comp = 0; comp < 3; ++comp) control[comp * n + e] = points(s, comp);
+                for (int comp = 0; comp < 3; ++comp) control[comp * n + e] = rest(s, comp) + (displacement ? (*displacement)(s, comp) : 0.0);
                 control[3 * n + e] = w;
                 polynomial = polynomial && w == firstWeight;
             }

@@ -103,7 +103,7 @@ struct LatticeNet final : Volume {
     Eigen::Vector3d chunkParameters(int chunk, const Eigen::Vector3d& local) const override;
     void chunkSupport(int chunk, std::vector<int>& ids) const override;
     // Knot insertion to Bezier form per axis (toBezier); collapse = collapsedAlong on the net's outer faces.
-    void bezierChunk(int chunk, const Positions& points, BezierChunk& out) const override;
+    void bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const override;
     std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const override;
     const LatticeNet* tensorNet() const override { return this; }
 };

@@ -62,7 +62,7 @@ struct BezierChunk {
     bool polynomial = true;
     std::array<double, 3> parameterScale{1.0, 1.0, 1.0};
     std::array<std::array<int, 2>, 3> collapse{};
-    std::vector<double> points;  // 4 n values, see above
+    std::vector<double> points;  // 4 n values used (it may hold more when reused), see above
 };
 
 class Volume {
@@ -124,8 +124,9 @@ public:
     virtual Eigen::Vector3d chunkParameters(int chunk, const Eigen::Vector3d& local) const = 0;
     // The ids whose basis is non-zero somewhere in the chunk (ascending).
     virtual void chunkSupport(int chunk, std::vector<int>& ids) const = 0;
-    // The chunk of the volume with control points `points` (#controlPointCount x 3) in Bezier form.
-    virtual void bezierChunk(int chunk, const Positions& points, BezierChunk& out) const = 0;
+    // The chunk in Bezier form: of the rest volume, or with the control points moved by `displacement`
+    // (#controlPointCount x 3) when it is not null. `out` is reused (no allocation once it is large enough).
+    virtual void bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const = 0;
     // Lines of chunk edges in parameter space, for drawing (from, to): each drawn once, seams not repeated.
     virtual std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const = 0;
 

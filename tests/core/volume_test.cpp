@@ -40,7 +40,7 @@ public:
     int chunkOf(const Eigen::Vector3d& t, Eigen::Vector3d& local) const override { return net_->chunkOf(t, local); }
     Eigen::Vector3d chunkParameters(int chunk, const Eigen::Vector3d& local) const override { return net_->chunkParameters(chunk, local); }
     void chunkSupport(int chunk, std::vector<int>& ids) const override { net_->chunkSupport(chunk, ids); }
-    void bezierChunk(int chunk, const Positions& points, BezierChunk& out) const override { net_->bezierChunk(chunk, points, out); }
+    void bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const override { net_->bezierChunk(chunk, displacement, out); }
     std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const override { return net_->chunkEdgeLines(); }
 
 private:
