@@ -3,6 +3,7 @@
 #include "core/session.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -642,6 +643,20 @@ double Session::mirrorMergeDistance(const BrushSettings& brush) const {
     return 0.25 * span;
 }
 
+Status Session::checkBrush(const BrushSettings& brush) const {
+    if (Status s = validateBrush(brush); !s) return s;
+    // A radius beyond all scale of the mesh makes the region lattice's numbers overflow: name it, with the size
+    // that covers everything (the whole mesh is within a radius of its diagonal).
+    const double diagonal = (positions_.colwise().maxCoeff() - positions_.colwise().minCoeff()).norm();
+    if (brush.active() && brush.radius > 1000.0 * std::max(diagonal, 1e-300)) {
+        char text[160];
+        std::snprintf(text, sizeof text, "brush radius %g is far larger than the mesh (diagonal %g): use at most %g, which already reaches every vertex",
+                      brush.radius, diagonal, 1000.0 * diagonal);
+        return Status::error(text);
+    }
+    return Status::success();
+}
+
 Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& report, const BrushSettings& brush) {
     const auto start = Clock::now();
     report = OpReport{};
@@ -649,7 +664,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (dragActive_) return Status::error("an interactive drag is in progress");
     if (constraints.empty()) return Status::error("drag has no constraints");
-    if (Status s = validateBrush(brush); !s) return s;
+    if (Status s = checkBrush(brush); !s) return s;
     layerActive_ = false;
     // The constraints as asked, their targets scaled by the brush's strength.
     std::vector<Eigen::Vector3d> sources, targets;
@@ -806,7 +821,9 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
         }
         moves.emplace_back(idx, Eigen::Vector3d(cageTarget - lattice_.controlPoint(idx)));
     }
-    // The same point listed twice: offsets add up for "by", the last position wins for "to".
+    // The same point listed twice (or two copies of one welded point, Coquillart 1990, 3.1.2: they are one
+    // control point): offsets add up for "by", the last position wins for "to".
+    for (auto& move : moves) move.first = lattice_.representative(move.first);
     std::stable_sort(moves.begin(), moves.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     ControlDelta delta;
     std::vector<Eigen::Vector3d> offsets;

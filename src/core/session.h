@@ -225,6 +225,9 @@ public:
     Status dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report, const BrushSettings& brush = {});
     // Moves control points (ids as Lattice::index) to absolute positions, or by offsets when relative.
     // values: #indices x 3. Pinned points, ids out of range or non-finite values are errors.
+    // validateBrush, and a radius within 1000 x the mesh's diagonal (the error names the radius that reaches
+    // every vertex).
+    Status checkBrush(const BrushSettings& brush) const;
     Status moveControlPoints(const std::vector<int>& indices, const Eigen::MatrixX3d& values, bool relative,
                              OpReport& report);
     // Makes the operations history()[first, historyCursor()) one history entry (an interactive operation made

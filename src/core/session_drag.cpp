@@ -55,7 +55,7 @@ Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const s
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (dragActive_) return Status::error("an interactive drag is already in progress");
     if (sources.empty()) return Status::error("a drag needs at least one source");
-    if (Status s = validateBrush(brush); !s) return s;
+    if (Status s = checkBrush(brush); !s) return s;
     for (size_t f = 0; f < sources.size(); ++f)
         if (!sources[f].allFinite()) return Status::error("constraint " + std::to_string(f) + " source has non-finite coordinates");
     layerActive_ = false;

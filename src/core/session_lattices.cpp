@@ -110,11 +110,26 @@ Status Session::removeLatticeTool(int index, OpReport& report) {
 }
 
 Status Session::freezeLattice(int index, int pinLayers, OpReport& report) {
+    if (!hasMesh()) return Status::error("no mesh is loaded");
     if (index < 0 || index >= static_cast<int>(tools_.size())) return Status::error("there is no lattice " + std::to_string(index));
     LatticeSettings settings;
     settings.volume = tools_[static_cast<size_t>(index)].net;
     settings.pinLayers = pinLayers;
     if (Status s = validateLatticeSettings(settings); !s) return s;
+    // Freezing a lattice that holds no vertex would do nothing but replace the cage: say so instead.
+    {
+        const Volume& volume = *settings.volume;
+        const Eigen::AlignedBox3d box = volume.restBounds();
+        bool holds = false;
+        for (Eigen::Index v = 0; v < positions_.rows() && !holds; ++v) {
+            const Eigen::Vector3d x = positions_.row(v).transpose();
+            Eigen::Vector3d t;
+            holds = box.contains(x) && volume.freeze(x, t);
+        }
+        if (!holds)
+            return Status::error("lattice " + tools_[static_cast<size_t>(index)].name +
+                                 " holds none of the mesh's vertices: place it over the part to deform (add_lattice \"place\")");
+    }
     const int before = frozenTool_;
     if (Status s = setupLattice(settings, report); !s) return s;
     report.op = "freeze";

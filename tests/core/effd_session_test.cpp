@@ -203,3 +203,55 @@ TEST_CASE("effd session: a welded point pins as one, and pins on a frozen net la
     REQUIRE(replay.positions() == session.positions());
     REQUIRE(replay.lattice().pinned == session.lattice().pinned);
 }
+
+TEST_CASE("effd session: bad requests on lattices of any shape are errors that change nothing", "[core][net][effd]") {
+    std::mt19937 rng(77);
+    for (int trial = 0; trial < 4; ++trial) {
+        Session session = sphereSession(2);
+        OpReport report;
+        // A lattice placed away from the mesh: freezing it is an error naming it, and nothing changes.
+        LatticeNet far;
+        const Eigen::Vector3d offset = 5.0 * test::randomVector(rng, -1, 1).normalized();
+        REQUIRE(makeCylinderNet(offset, Eigen::Vector3d::UnitZ(), 0.5, 1.0, {1, 6, 1}, {2, 2}, far));
+        REQUIRE(session.addLatticeTool({"far", std::make_shared<const LatticeNet>(far)}, report));
+        const size_t journal = session.journal().size();
+        const Status frozen = session.freezeLattice(0, 0, report);
+        REQUIRE_FALSE(frozen);
+        REQUIRE(frozen.message.find("far holds none of the mesh's vertices") != std::string::npos);
+        REQUIRE(session.frozenTool() == -1);
+        REQUIRE(session.journal().size() == journal);
+        REQUIRE_FALSE(session.lattice().volume);
+        // A brush radius beyond all scale of the mesh is an error naming the radius.
+        const Positions before = session.positions();
+        BrushSettings brush;
+        brush.radius = std::pow(10.0, 10 + 50 * trial);
+        const Status huge = session.drag({{before.row(0).transpose(), before.row(0).transpose() + Eigen::Vector3d(0, 0, 0.1)}}, report, brush);
+        REQUIRE_FALSE(huge);
+        REQUIRE(huge.message.find("brush radius") != std::string::npos);
+        REQUIRE(huge.message.find("nan") == std::string::npos);
+        REQUIRE(session.positions() == before);
+    }
+}
+
+TEST_CASE("effd session: two copies of one welded point move as the one control point they are", "[core][net][effd]") {
+    Session session = sphereSession(3);
+    OpReport report;
+    LatticeNet net;
+    REQUIRE(makeCylinderNet(Eigen::Vector3d(0, 0, -1.3), Eigen::Vector3d::UnitZ(), 1.3, 2.6, {2, 8, 2}, {2, 2}, net));
+    REQUIRE(session.addLatticeTool({"pie", std::make_shared<const LatticeNet>(net)}, report));
+    REQUIRE(session.freezeLattice(0, 0, report));
+    // Slots (0, 0, 2) and (0, 3, 2) are both the axis point of the middle slice.
+    const Lattice& lattice = session.lattice();
+    const int a = lattice.index(0, 0, 2), b = lattice.index(0, 3, 2);
+    REQUIRE(lattice.representative(a) == lattice.representative(b));
+    Eigen::MatrixX3d by(2, 3);
+    by << 0.0, 0.0, 0.05, 0.0, 0.02, 0.0;
+    REQUIRE(session.moveControlPoints({a, b}, by, true, report));
+    REQUIRE(report.status == OpStatus::Applied);
+    // Offsets to the same point add up, as when one id is listed twice; every copy moved alike.
+    const Eigen::Vector3d moved = session.lattice().displacement.row(a).transpose();
+    REQUIRE((moved - Eigen::Vector3d(0.0, 0.02, 0.05)).norm() <= 1e-15);
+    for (int s = 0; s < session.lattice().controlPointCount(); ++s)
+        if (session.lattice().representative(s) == session.lattice().representative(a))
+            REQUIRE(session.lattice().displacement.row(s) == session.lattice().displacement.row(a));
+}
