@@ -24,6 +24,7 @@
 
 #include "core/bernstein.h"
 #include "core/injectivity_cell.h"
+#include "core/embedding.h"
 #include "core/injectivity_net.h"
 
 namespace sculpt::core {
@@ -36,12 +37,17 @@ double elapsedMs(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// A volume that is not one tensor product (volume.h): its cells are its chunks, reported as (chunk, 0, 0).
+bool chunked(const Lattice& lattice) { return lattice.volume && !lattice.tensorNet(); }
+
 std::array<int, 3> cellIjk(const Lattice& lattice, int cell) {
+    if (chunked(lattice)) return {cell, 0, 0};
     const int s0 = lattice.axes[0].spans, s1 = lattice.axes[1].spans;
     return {cell % s0, (cell / s0) % s1, cell / (s0 * s1)};
 }
 
 Eigen::Vector3d globalParams(const Lattice& lattice, const std::array<int, 3>& cell, const Eigen::Vector3d& local) {
+    if (chunked(lattice)) return lattice.volume->chunkParameters(cell[0], local);
     Eigen::Vector3d t;
     for (int a = 0; a < 3; ++a) t[a] = (cell[a] + local[a]) / lattice.axes[a].spans;
     return t;
@@ -54,6 +60,16 @@ std::vector<int> deformedCells(const Lattice& lattice, const std::vector<int>& r
     const int cellCount = lattice.cellCount();
     requestedCount = requested.empty() ? cellCount : static_cast<int>(requested.size());
     std::vector<int> work;
+    if (chunked(lattice)) {
+        // The chunks whose support holds a moved control point (Volume::chunkSupport).
+        std::vector<int> deformed = cellsInfluencedBy(lattice, displacedControlPoints(lattice));
+        if (requested.empty()) return deformed;
+        for (int cell : requested)
+            if (std::binary_search(deformed.begin(), deformed.end(), cell)) work.push_back(cell);
+        std::sort(work.begin(), work.end());
+        work.erase(std::unique(work.begin(), work.end()), work.end());
+        return work;
+    }
     const int support = (lattice.degree[0] + 1) * (lattice.degree[1] + 1) * (lattice.degree[2] + 1);
     if (!requested.empty() && static_cast<long long>(requested.size()) * support < lattice.controlPointCount()) {
         // A few cells of a big lattice: look at their supports directly.
@@ -404,11 +420,11 @@ NetExactWorkspace& netExactWorkspace() {
     return workspace;
 }
 
-void exactNetChunk(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk,
-                   const ExactOptions& options, NetExactWorkspace& work, CellOutcome& outcome) {
+void exactNetChunk(const Lattice& lattice, int chunk, double weldTolerance, const ExactOptions& options, NetExactWorkspace& work,
+                   CellOutcome& outcome) {
     NetChunkDeterminantInfo info;
     double* root = work.search.root.data();
-    netChunkDeterminantBernstein(lattice, basis, chunk, true, work.chunk, root, info);
+    chunkDeterminantBernstein(lattice, chunk, weldTolerance, true, work.chunk, root, info);
     const int coefficientCount = bernsteinCoefficientCount(info.degree);
     for (int c = 0; c < coefficientCount; ++c)
         if (!std::isfinite(root[c])) {
@@ -423,7 +439,7 @@ void exactNetChunk(const Lattice& lattice, const NetChunkBasis& basis, const std
     double certifyThreshold = options.roundingGuard * info.termBound;
     if (options.tolerance != 0.0) {
         NetChunkDeterminantInfo restInfo;
-        netChunkDeterminantBernstein(lattice, basis, chunk, false, work.chunk, work.rest.data(), restInfo);
+        chunkDeterminantBernstein(lattice, chunk, weldTolerance, false, work.chunk, work.rest.data(), restInfo);
         if (!restInfo.weldsHold || restInfo.degree != info.degree) {
             outcome.kind = CellOutcome::BrokenWeld;
             return;
@@ -442,21 +458,20 @@ void exactNetChunk(const Lattice& lattice, const NetChunkBasis& basis, const std
             if (info.divided[a][0] > 0) at[a] = std::max(at[a], 1e-3);
             if (info.divided[a][1] > 0) at[a] = std::min(at[a], 1.0 - 1e-3);
         }
-        outcome.minSampled = jacobianDeterminantInCell(lattice, chunk, at);
+        outcome.minSampled = chunkJacobianDeterminant(lattice, chunk, at);
     }
     if (outcome.kind == CellOutcome::Positive) outcome.lowerBound = options.tolerance;
     if (outcome.kind == CellOutcome::Fold || outcome.kind == CellOutcome::Undecided)
-        outcome.value = jacobianDeterminantInCell(lattice, chunk, outcome.local);
+        outcome.value = chunkJacobianDeterminant(lattice, chunk, outcome.local);
     // A positive quotient on a face collapsed along one axis still allows a ring wound twice round it
     // (injectivity_net.h): count the turns, once per face.
     for (int a = 0; a < 3 && outcome.kind == CellOutcome::Positive; ++a)
         for (int side = 0; side < 2; ++side) {
             if (info.divided[a][side] != 1) continue;
-            const int mask = basis.collapse[a][side];
-            const int b = (mask & 1) ? 0 : ((mask & 2) ? 1 : 2);
             double turns = std::numeric_limits<double>::quiet_NaN();
-            const bool counted = netRingWinding(lattice, basis, chunk, a, side, work.chunk, turns);
-            const bool once = lattice.tensorNet()->periodic[b] ? std::abs(std::round(turns)) == 1.0 : std::abs(turns) < 1.0;
+            bool closed = false;
+            const bool counted = chunkRingWinding(lattice, chunk, a, side, weldTolerance, work.chunk, turns, closed);
+            const bool once = closed ? std::abs(std::round(turns)) == 1.0 : std::abs(turns) < 1.0;
             if (counted && once) continue;
             outcome.kind = CellOutcome::Winding;
             outcome.value = counted ? turns : std::numeric_limits<double>::quiet_NaN();
@@ -498,6 +513,11 @@ const char* injectivityVerdictName(InjectivityVerdict verdict) {
 }
 
 double jacobianDeterminant(const Lattice& lattice, const Eigen::Vector3d& params) {
+    if (chunked(lattice)) {
+        Eigen::Vector3d local;
+        const int chunk = lattice.volume->chunkOf(params, local);
+        return chunk < 0 ? 1.0 : chunkJacobianDeterminant(lattice, chunk, local);
+    }
     std::array<int, 3> cell;
     Eigen::Vector3d local;
     for (int a = 0; a < 3; ++a) cell[a] = lattice.axes[a].locate(params[a], local[a]);
@@ -544,6 +564,17 @@ void vertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, s
     std::vector<std::uint8_t> isDeformed(static_cast<size_t>(cellCount), 0);
     for (int cell : deformed) isDeformed[cell] = 1;
     if (lattice.tensorNet()) return netVertexJacobianDeterminants(lattice, rest, isDeformed, out);
+    if (chunked(lattice)) {
+#pragma omp parallel for schedule(dynamic, 64) if (n > 500)
+        for (int v = 0; v < n; ++v) {
+            Eigen::Vector3d t, local;
+            if (!restParameters(lattice, rest.row(v).transpose(), t)) continue;
+            const int chunk = lattice.volume->chunkOf(t, local);
+            if (chunk >= 0 && isDeformed[static_cast<size_t>(chunk)])
+                out[static_cast<size_t>(v)] = chunkJacobianDeterminant(lattice, chunk, local);
+        }
+        return;
+    }
     const int s0 = lattice.axes[0].spans, s1 = lattice.axes[1].spans;
 #pragma omp parallel for schedule(static) if (n > 2000)
     for (int v = 0; v < n; ++v) {
@@ -597,12 +628,13 @@ int exactNetChunks(const Lattice& lattice, const ExactOptions& options, const st
                    std::vector<CellOutcome>& outcomes) {
     const int count = static_cast<int>(work.size());
     std::atomic<int> firstFold{count};
-    const NetChunkBasis basis = makeNetChunkBasis(lattice);
+    // Welded points coincide to 1e-9 of the rest diagonal (finishLatticeNet's rule).
+    const double weldTolerance = 1e-9 * lattice.volume->restBounds().diagonal().norm();
     const bool parallel = count > 1 && count * exactMicrosecondsPerNetChunk(lattice) > kParallelMicroseconds;
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
     for (int w = 0; w < count; ++w) {
         if (w > firstFold.load(std::memory_order_relaxed)) continue;
-        exactNetChunk(lattice, basis, cellIjk(lattice, work[w]), options, netExactWorkspace(), outcomes[w]);
+        exactNetChunk(lattice, work[w], weldTolerance, options, netExactWorkspace(), outcomes[w]);
         if (outcomes[w].kind == CellOutcome::Fold) noteFirst(firstFold, w);
     }
     return firstFold.load();
@@ -617,7 +649,7 @@ std::string formatValue(double value) {
 }  // namespace
 
 InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vector<int>& cells) {
-    if (lattice.tensorNet()) {
+    if (lattice.volume) {
         // note: the cones of section 7 are around the axes e_a, the directions of a box lattice's hodographs at
         // rest; a curved net's rest hodographs point anywhere, so the cones would fail at rest. The exact test
         // decides net chunks instead (a few times slower, and never weaker).
@@ -675,7 +707,7 @@ InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptio
     const std::vector<int> work = cellsToCheck(lattice, cells, result);
     const int count = result.cellsDeformed;
     std::vector<CellOutcome> outcomes(static_cast<size_t>(count));
-    const bool net = lattice.tensorNet() != nullptr;
+    const bool net = lattice.volume != nullptr;
     int fold = count;
     if (count > 0) fold = net ? exactNetChunks(lattice, options, work, outcomes) : exactBoxCells(lattice, options, work, outcomes);
     const char* unit = net ? "chunk " : "cell ";

@@ -275,6 +275,7 @@ BernsteinTensor cellJacobianDeterminantBernstein(const Lattice& lattice, const s
 
 double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3>& cell, const Eigen::Vector3d& local) {
     if (lattice.tensorNet()) return netJacobianDeterminantInChunk(lattice, cell, local);
+    if (lattice.volume) return chunkJacobianDeterminant(lattice, cell[0], local);  // a chunk id (injectivity.h)
     double value[3][kMaxDegree + 1], derivative[3][kMaxDegree + 1];
     for (int a = 0; a < 3; ++a) {
         lattice.axes[a].evaluate(cell[a], local[a], value[a]);

@@ -138,21 +138,30 @@ NetChunkBasis makeNetChunkBasis(const Lattice& lattice) {
     return basis;
 }
 
+int tensorChunkId(const NetChunkBasis& basis, const std::array<int, 3>& chunk) {
+    return chunk[0] + basis.bezier.spans[0] * (chunk[1] + basis.bezier.spans[1] * chunk[2]);
+}
+
 void netChunkDeterminantBernstein(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk,
                                   bool deformed, NetChunkWorkspace& work, double* determinant, NetChunkDeterminantInfo& info) {
     assert(lattice.tensorNet());
-    const CellBezierBasis& bezierBasis = basis.bezier;
-    const BernsteinDegree& d = bezierBasis.degree;
-    const int n0 = d[0] + 1, n1 = d[1] + 1, n2 = d[2] + 1;
-    const int n = n0 * n1 * n2;
-    info = NetChunkDeterminantInfo{};
+    chunkDeterminantBernstein(lattice, tensorChunkId(basis, chunk), basis.weldTolerance, deformed, work, determinant, info);
+}
 
+void chunkDeterminantBernstein(const Lattice& lattice, int chunkId, double weldTolerance, bool deformed, NetChunkWorkspace& work,
+                               double* determinant, NetChunkDeterminantInfo& info) {
+    assert(lattice.volume);
+    info = NetChunkDeterminantInfo{};
     // The chunk in Bezier form, through the volume interface (volume.h): Euclidean points of a polynomial
     // chunk, homogeneous (W P, W) ones of a rational chunk.
     const Volume& volume = *lattice.volume;
-    const int chunkId = chunk[0] + bezierBasis.spans[0] * (chunk[1] + bezierBasis.spans[1] * chunk[2]);
     BezierChunk& bezier = work.chunk;
     volume.bezierChunk(chunkId, deformed ? &lattice.displacement : nullptr, bezier);
+    CellBezierBasis bezierBasis;  // the column and determinant degrees below read only the degree
+    bezierBasis.degree = bezier.degree;
+    const BernsteinDegree& d = bezierBasis.degree;
+    const int n0 = d[0] + 1, n1 = d[1] + 1, n2 = d[2] + 1;
+    const int n = n0 * n1 * n2;
     const bool polynomial = bezier.polynomial;
     info.rational = !polynomial;
     const double* points = bezier.points.data();
@@ -177,7 +186,7 @@ void netChunkDeterminantBernstein(const Lattice& lattice, const NetChunkBasis& b
                         const int e1 = other[0] + n0 * (other[1] + n1 * other[2]);
                         for (int comp = 0; comp < 3; ++comp)
                             hold = hold && std::abs(points[comp * n + e1] / points[3 * n + e1] - points[comp * n + e0] / points[3 * n + e0]) <=
-                                               basis.weldTolerance;
+                                               weldTolerance;
                     }
             }
             if (hold)
@@ -335,28 +344,36 @@ double bernsteinLineAtHalf(const double* base, int stride, int degree, double* d
 bool netRingWinding(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk, int axis, int side,
                     NetChunkWorkspace& work, double& turns) {
     assert(lattice.tensorNet());
+    bool closed = false;
+    return chunkRingWinding(lattice, tensorChunkId(basis, chunk), axis, side, basis.weldTolerance, work, turns, closed);
+}
+
+bool chunkRingWinding(const Lattice& lattice, int chunkId, int axis, int side, double weldTolerance, NetChunkWorkspace& work,
+                      double& turns, bool& closed) {
+    assert(lattice.volume);
+    const Volume& volume = *lattice.volume;
     const int a = axis;
-    const int mask = basis.collapse[a][side];
+    volume.bezierChunk(chunkId, &lattice.displacement, work.chunk);
+    const int mask = work.chunk.collapse[a][side];
     if (collapseOrder(mask) != 1) return false;
     const int b = (mask & 1) ? 0 : ((mask & 2) ? 1 : 2), c = 3 - a - b;
-    const CellBezierBasis& bezierBasis = basis.bezier;
-    const BernsteinDegree& d = bezierBasis.degree;
+    const BernsteinDegree d = work.chunk.degree;
     const int n0 = d[0] + 1, n1 = d[1] + 1;
     const int n = n0 * n1 * (d[2] + 1);
     const int stride[3] = {1, n0, n0 * n1};
     const int layer0 = side == 0 ? 0 : d[a], layer1 = side == 0 ? 1 : d[a] - 1;
-    const int spansB = bezierBasis.spans[b];
+    std::vector<int> row;
+    volume.chunksAlong(chunkId, b, row, closed);
+    const int spansB = static_cast<int>(row.size());
     // Per chunk along b: the homogeneous Bezier points of the face layer and the next one, at the middle
     // along c (4 components each, d[b] + 1 of them).
     Eigen::Vector4d face[kMaxDegree + 1], next[kMaxDegree + 1];
     Eigen::Vector3d base = Eigen::Vector3d::Zero(), tangent = Eigen::Vector3d::Zero();
     std::vector<std::array<Eigen::Vector3d, kMaxDegree + 1>> ring(static_cast<size_t>(spansB));
     for (int jb = 0; jb < spansB; ++jb) {
-        std::array<int, 3> piece = chunk;
-        piece[b] = jb;
         // Homogeneous Bezier points (a polynomial chunk's have W = 1).
-        lattice.volume->bezierChunk(piece[0] + bezierBasis.spans[0] * (piece[1] + bezierBasis.spans[1] * piece[2]), &lattice.displacement,
-                                    work.chunk);
+        volume.bezierChunk(row[static_cast<size_t>(jb)], &lattice.displacement, work.chunk);
+        if (work.chunk.degree != d) return false;
         double slopes[4] = {0.0, 0.0, 0.0, 0.0};  // d/dx_c of the first face point's components (first piece)
         for (int m = 0; m <= d[b]; ++m) {
             const int start0 = layer0 * stride[a] + m * stride[b], start1 = layer1 * stride[a] + m * stride[b];
@@ -374,7 +391,7 @@ bool netRingWinding(const Lattice& lattice, const NetChunkBasis& basis, const st
         // Every face point is the same point A (the face is collapsed along b); the ring vectors are
         // H1.xyz - H1.w A (a positive multiple of dQ/dx_a, up to the side's sign, as a polynomial curve).
         for (int m = 0; m <= d[b]; ++m) {
-            if (!((face[m].head<3>() / face[m][3] - base).norm() <= basis.weldTolerance)) return false;
+            if (!((face[m].head<3>() / face[m][3] - base).norm() <= weldTolerance)) return false;
             ring[static_cast<size_t>(jb)][static_cast<size_t>(m)] = next[m].head<3>() - next[m][3] * base;
         }
     }
@@ -422,6 +439,39 @@ double netJacobianDeterminantInChunk(const Lattice& lattice, const std::array<in
         const double restValue = evaluateBernstein(restPolynomial.data(), restInfo.degree, x);
         const double value = evaluateBernstein(polynomial.data(), info.degree, x);
         if (restValue > 0.0 && std::isfinite(value / restValue)) return value / restValue;
+    }
+    const double ratio = det / restDet;
+    return std::isfinite(ratio) ? ratio : 0.0;
+}
+
+double chunkJacobianDeterminant(const Lattice& lattice, int chunkId, const Eigen::Vector3d& local) {
+    assert(lattice.volume);
+    if (const LatticeNet* net = lattice.tensorNet()) return netJacobianDeterminantInChunk(lattice, net->chunkIjk(chunkId), local);
+    const Volume& volume = *lattice.volume;
+    thread_local std::vector<int> support;
+    volume.chunkSupport(chunkId, support);
+    if (std::all_of(support.begin(), support.end(), [&](int id) { return lattice.displacement.row(id).isZero(0.0); })) return 1.0;
+    const Eigen::Vector3d x = local.cwiseMax(0.0).cwiseMin(1.0);
+    const Eigen::Vector3d t = volume.chunkParameters(chunkId, x);
+    Eigen::Vector3d value;
+    Eigen::Matrix3d rest, displacement;
+    volume.evaluate(volume.restControlPoints(), t, value, &rest);
+    volume.evaluate(lattice.displacement, t, value, &displacement);
+    const double restDet = rest.determinant();
+    const double det = (rest + displacement).determinant();
+    const double diagonal = volume.restBounds().diagonal().norm();
+    if (std::abs(restDet) > 1e-8 * diagonal * diagonal * diagonal) return det / restDet;
+    // Near a collapsed face: the ratio of the face-divided determinant polynomials (as for a net's chunk).
+    thread_local NetChunkWorkspace work;
+    thread_local std::vector<double> restPolynomial(kMaxNetDeterminantCoefficients), polynomial(kMaxNetDeterminantCoefficients);
+    NetChunkDeterminantInfo restInfo, info;
+    const double tolerance = 1e-9 * diagonal;
+    chunkDeterminantBernstein(lattice, chunkId, tolerance, false, work, restPolynomial.data(), restInfo);
+    chunkDeterminantBernstein(lattice, chunkId, tolerance, true, work, polynomial.data(), info);
+    if (restInfo.weldsHold && info.weldsHold && restInfo.degree == info.degree) {
+        const double restValue = evaluateBernstein(restPolynomial.data(), restInfo.degree, x);
+        const double deformedValue = evaluateBernstein(polynomial.data(), info.degree, x);
+        if (restValue > 0.0 && std::isfinite(deformedValue / restValue)) return deformedValue / restValue;
     }
     const double ratio = det / restDet;
     return std::isfinite(ratio) ? ratio : 0.0;

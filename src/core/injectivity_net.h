@@ -97,6 +97,11 @@ struct NetChunkWorkspace {
 void netChunkDeterminantBernstein(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk,
                                   bool deformed, NetChunkWorkspace& work, double* determinant, NetChunkDeterminantInfo& info);
 
+// The same for chunk `chunkId` of any volume kind (Volume::bezierChunk; lattice.volume must be set): the
+// engine's test for volumes that are not one tensor product. weldTolerance: 1e-9 of the rest diagonal.
+void chunkDeterminantBernstein(const Lattice& lattice, int chunkId, double weldTolerance, bool deformed, NetChunkWorkspace& work,
+                               double* determinant, NetChunkDeterminantInfo& info);
+
 // Convenience for tests and one-off use (allocates).
 BernsteinTensor netChunkDeterminantBernstein(const Lattice& lattice, const std::array<int, 3>& chunk, bool deformed = true,
                                              NetChunkDeterminantInfo* info = nullptr);
@@ -118,6 +123,12 @@ void netChunkDerivatives(const Lattice& lattice, const std::array<int, 3>& chunk
 bool netRingWinding(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk, int axis, int side,
                     NetChunkWorkspace& work, double& turns);
 
+// The same for chunk `chunkId` of any volume kind, walking the row of chunks along the collapsed direction
+// (Volume::chunksAlong); closed receives whether that row is a ring (then the count must be +-1, else the fan
+// must turn less than once).
+bool chunkRingWinding(const Lattice& lattice, int chunkId, int axis, int side, double weldTolerance, NetChunkWorkspace& work,
+                      double& turns, bool& closed);
+
 // det J = det(dQ/dt) / det(dQ0/dt) at local coordinates of the chunk: exactly 1 if no control point of the
 // chunk moved; on (or within 1e-8 relative of) a collapsed face, where det(dQ0/dt) vanishes, the limit, as
 // the ratio of the face-divided determinant polynomials (along `local`'s direction; costly: two chunk
@@ -125,5 +136,7 @@ bool netRingWinding(const Lattice& lattice, const NetChunkBasis& basis, const st
 // NaN for finite displacements: a point where even the rest quotient is not positive (an invalid rest net)
 // gives the plain ratio if finite, else 0.
 double netJacobianDeterminantInChunk(const Lattice& lattice, const std::array<int, 3>& chunk, const Eigen::Vector3d& local);
+// The same for chunk `chunkId` of any volume kind (lattice.volume set; a tensor net goes to the above).
+double chunkJacobianDeterminant(const Lattice& lattice, int chunkId, const Eigen::Vector3d& local);
 
 }  // namespace sculpt::core

@@ -803,6 +803,16 @@ void LatticeNet::bezierChunk(int chunk, const Positions* displacement, BezierChu
     }
 }
 
+void LatticeNet::chunksAlong(int chunk, int axis, std::vector<int>& row, bool& closed) const {
+    std::array<int, 3> c = chunkIjk(chunk);
+    row.clear();
+    for (int s = 0; s < axes[axis].spans; ++s) {
+        c[axis] = s;
+        row.push_back(c[0] + axes[0].spans * (c[1] + axes[1].spans * c[2]));
+    }
+    closed = periodic[axis];
+}
+
 std::vector<std::array<Eigen::Vector3d, 2>> LatticeNet::chunkEdgeLines() const {
     std::vector<std::array<Eigen::Vector3d, 2>> lines;
     const std::array<int, 3> sp = spans();

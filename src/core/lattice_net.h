@@ -104,6 +104,7 @@ struct LatticeNet final : Volume {
     void chunkSupport(int chunk, std::vector<int>& ids) const override;
     // Knot insertion to Bezier form per axis (toBezier); collapse = collapsedAlong on the net's outer faces.
     void bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const override;
+    void chunksAlong(int chunk, int axis, std::vector<int>& row, bool& closed) const override;
     std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const override;
     const LatticeNet* tensorNet() const override { return this; }
 };

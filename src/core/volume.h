@@ -127,6 +127,10 @@ public:
     // The chunk in Bezier form: of the rest volume, or with the control points moved by `displacement`
     // (#controlPointCount x 3) when it is not null. `out` is reused (no allocation once it is large enough).
     virtual void bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const = 0;
+    // The row of chunks through `chunk` along parameter axis `axis`, in order (the chunk itself included);
+    // closed: the row is a ring (a periodic axis: its last chunk joins its first). The injectivity tests walk
+    // it to count how often the volume winds round a collapsed line (injectivity_net.h).
+    virtual void chunksAlong(int chunk, int axis, std::vector<int>& row, bool& closed) const = 0;
     // Lines of chunk edges in parameter space, for drawing (from, to): each drawn once, seams not repeated.
     virtual std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const = 0;
 
