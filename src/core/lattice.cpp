@@ -474,11 +474,11 @@ std::vector<Positions> chunkEdgeCurves(const Lattice& lattice, int samplesPerSpa
     }
     for (const auto& line : lines) {
         // Samples per chunk crossed: the line's extent in chunks, measured with chunkOf at its ends.
-        int spans = 1;
+        // (a volume that is not one tensor product: 8 chunks' worth along every line)
+        int spans = lattice.volume && !lattice.tensorNet() ? 8 : 1;
         const Eigen::Vector3d direction = line[1] - line[0];
-        for (int a = 0; a < 3; ++a)
-            if (direction[a] != 0.0)
-                spans = std::max(spans, static_cast<int>(std::lround(std::abs(direction[a]) * (lattice.tensorNet() || !lattice.volume ? lattice.axes[a].spans : 1))));
+        for (int a = 0; a < 3 && spans == 1; ++a)
+            if (direction[a] != 0.0) spans = std::max(spans, static_cast<int>(std::lround(std::abs(direction[a]) * lattice.axes[a].spans)));
         const int samples = spans * samplesPerSpan;
         Positions curve(samples + 1, 3);
         double length = 0.0;

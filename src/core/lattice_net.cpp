@@ -330,13 +330,18 @@ Status finishLatticeNet(LatticeNet& net) {
 
 void evaluateNetVolume(const LatticeNet& net, const Positions& points, const Eigen::Vector3d& t, Eigen::Vector3d& value,
                        Eigen::Matrix3d* derivative) {
+    evaluateNetVolume(net, points.data(), t, value, derivative);
+}
+
+void evaluateNetVolume(const LatticeNet& net, const double* points, const Eigen::Vector3d& t, Eigen::Vector3d& value,
+                       Eigen::Matrix3d* derivative) {
     NetBases b;
     const bool withDerivative = derivative != nullptr;
     netBases(net, t, withDerivative, b);
     const int nu = net.degree[0] + 1, nv = net.degree[1] + 1, nw = net.degree[2] + 1;
     // Homogeneous sums H = sum W B (P, 1) and their t-derivatives (Hu et al. 2001, eq. 1-2), contracted one axis
     // at a time (u, then v, then w): h[0] = H, h[1..3] = dH/dt_a.
-    const double* p = points.data();  // row-major #slots x 3
+    const double* p = points;  // row-major #slots x 3
     double h[4][4] = {};
     for (int k = 0; k < nw; ++k) {
         double hv[3][4] = {};  // sum over j of: B_j * A, B'_j * A, B_j * Au
@@ -736,6 +741,10 @@ void LatticeNet::chunkSupport(int chunk, std::vector<int>& ids) const {
 }
 
 void LatticeNet::bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const {
+    bezierChunkWith(chunk, displacement ? displacement->data() : nullptr, out);
+}
+
+void LatticeNet::bezierChunkWith(int chunk, const double* displacement, BezierChunk& out) const {
     const std::array<int, 3> c = chunkIjk(chunk);
     const int n0 = degree[0] + 1, n1 = degree[1] + 1, n2 = degree[2] + 1;
     const int n = n0 * n1 * n2;
@@ -750,7 +759,7 @@ void LatticeNet::bezierChunk(int chunk, const Positions* displacement, BezierChu
                 const int s = slot(axes[0].first(c[0]) + i, axes[1].first(c[1]) + j, axes[2].first(c[2]) + k);
                 const int e = i + n0 * (j + n1 * k);
                 const double w = weights[static_cast<size_t>(s)];
-                for (int comp = 0; comp < 3; ++comp) control[comp * n + e] = rest(s, comp) + (displacement ? (*displacement)(s, comp) : 0.0);
+                for (int comp = 0; comp < 3; ++comp) control[comp * n + e] = rest(s, comp) + (displacement ? displacement[3 * static_cast<size_t>(s) + comp] : 0.0);
                 control[3 * n + e] = w;
                 polynomial = polynomial && w == firstWeight;
             }

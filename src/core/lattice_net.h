@@ -104,6 +104,8 @@ struct LatticeNet final : Volume {
     void chunkSupport(int chunk, std::vector<int>& ids) const override;
     // Knot insertion to Bezier form per axis (toBezier); collapse = collapsedAlong on the net's outer faces.
     void bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const override;
+    // The same with the displacement as row-major #slots x 3 doubles (or null): a block of a composite.
+    void bezierChunkWith(int chunk, const double* displacement, BezierChunk& out) const;
     void chunksAlong(int chunk, int axis, std::vector<int>& row, bool& closed) const override;
     std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const override;
     const LatticeNet* tensorNet() const override { return this; }
@@ -178,6 +180,9 @@ Status placeLatticeNet(const LatticeNet& tool, const Eigen::Vector3d& point, con
 // Q(t) and dQ/dt (columns = d/dt_a) of the net with control points `points` (#slots x 3: the rest net, or the
 // rest net plus the displacements), rational by the quotient rule. t in [0,1]^3 (clamped).
 void evaluateNetVolume(const LatticeNet& net, const Positions& points, const Eigen::Vector3d& t, Eigen::Vector3d& value,
+                       Eigen::Matrix3d* derivative = nullptr);
+// The same with the points as row-major #slots x 3 doubles (a block of a longer array).
+void evaluateNetVolume(const LatticeNet& net, const double* points, const Eigen::Vector3d& t, Eigen::Vector3d& value,
                        Eigen::Matrix3d* derivative = nullptr);
 
 // The chunk index of the net with control points `points` (#slots x 3).

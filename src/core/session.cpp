@@ -334,6 +334,13 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
         // (lattice_boundary.h); only pairs that did not overlap before the change count.
         bool boundaryMoved = false;
         for (int idx : delta.indices) boundaryMoved = boundaryMoved || inOuterLayers(lattice, idx, 1);
+        if (boundaryMoved && !boundaryUnmoved(lattice) && lattice.volume && !lattice.tensorNet()) {
+            // The boundary overlap test tessellates tensor lattices' faces only; a composite's outer surface stays.
+            restoreLattice();
+            failure.cause = StepFailure::Cause::Boundary;
+            failure.technical = "the outer surface of a " + lattice.volume->kindName() + " lattice stays where it is (pin it again)";
+            return false;
+        }
         if (boundaryMoved && !boundaryUnmoved(lattice)) {
             const auto start = Clock::now();
             std::vector<TrianglePairHit> after = boundarySelfIntersections(lattice);

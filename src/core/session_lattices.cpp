@@ -18,14 +18,18 @@ Status checkTool(const LatticeTool& tool) {
 }  // namespace
 
 void Session::pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding) const {
-    if (!lattice.volume || embedding.insideCount() == static_cast<int>(positions_.rows())) return;
+    // A volume that is not one tensor product (a composite) keeps its outer surface always: the boundary
+    // overlap test (lattice_boundary.h) tessellates tensor lattices only.
+    const bool chunked = lattice.volume && !lattice.tensorNet();
+    if (!lattice.volume || (!chunked && embedding.insideCount() == static_cast<int>(positions_.rows()))) return;
     for (int idx = 0; idx < lattice.controlPointCount(); ++idx)
         if (lattice.volume->onOuterSurface(idx)) lattice.pinned[idx] = 1;
 }
 
 bool Session::basePinned(int idx) const {
     if (inOuterLayers(lattice_, idx, settings_.pinLayers)) return true;
-    return lattice_.volume && lattice_.volume->onOuterSurface(idx) && embedding_.insideCount() < static_cast<int>(positions_.rows());
+    return lattice_.volume && lattice_.volume->onOuterSurface(idx) &&
+           (!lattice_.tensorNet() || embedding_.insideCount() < static_cast<int>(positions_.rows()));
 }
 
 std::vector<int> Session::weldGroupsOf(const std::vector<int>& ids) const {
