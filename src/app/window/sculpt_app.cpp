@@ -9,6 +9,7 @@
 #include <imgui_impl_opengl3.h>
 
 #include "app/scene_builder.h"
+#include "app/window/lattice_commands.h"
 #include "app/window/panels.h"
 #include "app/window/picking.h"
 #include "app/window/tool_commands.h"
@@ -68,6 +69,7 @@ void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags captur
         state_.navigation = event.modifiers.shift ? Navigation::Pan : Navigation::Orbit;
     } else if (event.button == MouseButton::Left) {
         if (event.modifiers.alt) state_.navigation = event.modifiers.shift ? Navigation::Pan : Navigation::Orbit;
+        else if (placeLatticeAtPixel(state_, event.x, event.y)) return;  // the Lattices panel's "Place" waits for it
         else if (state_.tools.mode == ToolMode::Lattice) pressLattice(event);
         else pressSculpt(event);
     }
@@ -194,6 +196,8 @@ void SculptApp::syncGpu() {
             render::SceneData scene = sceneFromSession(session, request);
             if (showLattice) lattice = std::move(scene.lattice);
             lattice.outerOnly = o.latticeOuterOnly;
+            // A net lattice: exactly the points the lattice tool picks (one per weld group, outer only).
+            if (showLattice && session.lattice().net) lattice.drawn = shownControlPoints(state_);
             jacobian = std::move(scene.jacobianDet);
             affected = std::move(scene.affectedWeight);
         }
@@ -254,7 +258,7 @@ void SculptApp::drawUi() {
     drawInjectivityPanel(state_);
     drawHistoryPanel(state_);
     endSidebar();
-    drawToolsWindow(state_);
+    drawToolsWindow(state_, &files_);
     ImGui::PopAllowKeyboardFocus();
     drawTransformOverlay(state_);
     drawStatusLine(state_);

@@ -208,7 +208,7 @@ void drawSetupSection(AppState& state) {
 
 }  // namespace
 
-void drawToolsWindow(AppState& state) {
+void drawToolsWindow(AppState& state, FileCommands* files) {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
     const float margin = 0.6f * ImGui::GetFontSize();
     const float width = toolsWindowWidth();
@@ -238,6 +238,8 @@ void drawToolsWindow(AppState& state) {
     }
     if (ImGui::CollapsingHeader("Lattice set-up", state.tools.mode == ToolMode::Lattice ? ImGuiTreeNodeFlags_DefaultOpen : 0))
         drawSetupSection(state);
+    // Lattices of any shape: the tools beside the cage they can become.
+    if (files) drawLatticesPanel(state, *files);
     ImGui::End();
 
     // The selection rectangle of the lattice tool, over the 3D view.
