@@ -111,7 +111,7 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
 
     // Place at picked point: the next click on the mesh puts the library lattice there, aligned with the normal.
     history = session.history().size();
-    ui.click("Place at picked point");
+    ui.click("Place on mesh");
     REQUIRE(state.lattices.placing == app::LatticesPanelState::Placing::LibraryEntry);
     const double x = 0.5 * kWidth, y = 0.5 * Ui::kPanelHeight;
     app::Ray ray;

@@ -60,7 +60,9 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     const bool chosen = panel.selectedTool >= 0 && panel.selectedTool < count;
     if (chosen && tools[static_cast<size_t>(panel.selectedTool)].net)
         ImGui::TextWrapped("%s", describeLatticeNet(*tools[static_cast<size_t>(panel.selectedTool)].net).c_str());
-    ImGui::TextDisabled(frozen >= 0 ? "Frozen: drags and the lattice tool work in it." : "Edit mode: the box lattice is the cage.");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped(frozen >= 0 ? "Frozen: drags and the lattice tool work in it." : "Edit mode: the box lattice is the cage.");
+    ImGui::PopStyleColor();
 
     ImGui::SetNextItemWidth(half);
     if (ImGui::InputInt("Pin layers", &panel.pinLayers)) panel.pinLayers = std::clamp(panel.pinLayers, 0, 2);
@@ -74,8 +76,10 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     if (panelButton(panel, "Remove", idle && chosen && panel.selectedTool != frozen, half))
         removeLatticeToolCommand(state, panel.selectedTool);
     ImGui::SameLine();
-    if (panelButton(panel, "Move to picked point", idle && chosen && panel.selectedTool != frozen, half))
+    if (panelButton(panel, "Move on mesh", idle && chosen && panel.selectedTool != frozen, half))
         beginPlacingLattice(state, LatticesPanelState::Placing::Tool);
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("The next click on the mesh moves the selected lattice there, along the surface normal.");
     if (panelButton(panel, "Save to library...", chosen, -1.0f)) files.saveLatticeFile(state, panel.selectedTool);
 
     // The library: shipped lattices and those opened.
@@ -98,8 +102,11 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     if (panelButton(panel, "Open...", !files.busy(), half)) files.openLatticeFile(state);
     if (panelButton(panel, "Add", idle && !library.empty(), half)) addLatticeFromLibrary(state, panel.libraryChoice);
     ImGui::SameLine();
-    if (panelButton(panel, "Place at picked point", idle && !library.empty(), half))
+    if (panelButton(panel, "Place on mesh", idle && !library.empty(), half))
         beginPlacingLattice(state, LatticesPanelState::Placing::LibraryEntry);
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("The next click on the mesh adds the chosen lattice there: its centre on the surface,\n"
+                          "its z axis along the normal, its size \"Place size\" times the mesh's.");
     float fraction = static_cast<float>(panel.placeSizeFraction);
     ImGui::SetNextItemWidth(half);
     if (ImGui::DragFloat("Place size", &fraction, 0.005f, 0.02f, 2.0f, "%.2f"))
