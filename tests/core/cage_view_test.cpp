@@ -102,3 +102,20 @@ TEST_CASE("cage view: an unfrozen tool's rest chunk edges, and none for the box 
         for (Eigen::Index s = 0; s < curve.rows(); ++s) CHECK(std::hypot(curve(s, 0), curve(s, 2)) <= kRadius + 1e-9);
     CHECK(restChunkEdges(nullptr, 4).empty());
 }
+
+TEST_CASE("cage view: with layers after the cage, points and curves are carried as the session shows them", "[core][effd]") {
+    Session session = frozenCylinderSession();
+    // A brush drag puts a region lattice after the cage (a layer).
+    BrushSettings brush;
+    brush.radius = 0.5;
+    OpReport report;
+    REQUIRE(session.drag({{Eigen::Vector3d(0.3, 0.9, 0.3), Eigen::Vector3d(0.3, 1.0, 0.4)}}, report, brush));
+    REQUIRE(report.status == OpStatus::Applied);
+    REQUIRE(!session.layers().empty());
+    const CageView view = cageView(session, 4);
+    // The same map as the session's: the cage's points carried through the layers are cagePoints().
+    const Positions carried = carryThroughLayers(session.layers(), controlPointPositions(session.lattice()));
+    CHECK((carried - session.cagePoints()).cwiseAbs().maxCoeff() == 0.0);
+    CHECK((view.points - session.cagePoints()).cwiseAbs().maxCoeff() == 0.0);
+    REQUIRE(view.curves.size() == chunkEdgeCurves(session.lattice(), 4).size());
+}

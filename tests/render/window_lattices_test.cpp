@@ -19,6 +19,7 @@
 #include "app/window/tools.h"
 #include "core/lattice_net.h"
 #include "gl_test_support.h"
+#include "io/lattice_json.h"
 #include "offscreen_window.h"
 #include "render/overlay_geometry.h"
 #include "window_test_support.h"
@@ -162,6 +163,27 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     ui.frame();
     ui.click("Remove");
     CHECK(session.latticeTools().size() == 2);
+
+    // Esc takes a waiting placement back; nothing is added.
+    history = session.history().size();
+    ui.click("Place on mesh");
+    REQUIRE(state.lattices.placing == app::LatticesPanelState::Placing::LibraryEntry);
+    ui.appKey(app::Key::Escape);
+    CHECK(state.lattices.placing == app::LatticesPanelState::Placing::None);
+    CHECK(session.history().size() == history);
+
+    // Save to library: the placed tool round-trips through its file; a save that cannot be written says so on
+    // the status line and leaves the file that is there as it was.
+    const std::string path = test::glTestOutputDir() + "/placed.lattice.json";
+    REQUIRE(app::saveLatticeToolCommand(state, 1, path).ok);
+    io::LatticeFile file;
+    REQUIRE(io::readLatticeFile(path, file).ok);
+    CHECK(file.name == "cylinder");
+    CHECK(file.net.rest == session.latticeTools()[1].net->rest);
+    CHECK_FALSE(app::saveLatticeToolCommand(state, 1, test::glTestOutputDir() + "/no such folder/x.lattice.json").ok);
+    CHECK(state.statusIsError);
+    REQUIRE(app::openLatticeFile(state, path));  // and it can be opened into the library again
+    CHECK(state.lattices.library[size_t(state.lattices.libraryChoice)].path == path);
 }
 
 TEST_CASE("window lattices: a frozen cylinder is drawn with curved edges on its circles and each welded point once", "[gl][effd]") {

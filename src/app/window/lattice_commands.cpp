@@ -86,9 +86,10 @@ bool openLatticeFile(AppState& state, const std::string& path) {
     }
     LatticesPanelState& panel = state.lattices;
     const auto same = std::find_if(panel.library.begin(), panel.library.end(), [&](const LatticeLibraryEntry& e) { return e.path == path; });
+    const int at = static_cast<int>(same - panel.library.begin());  // note: before a push_back moves the entries
     if (same != panel.library.end()) *same = entry;
     else panel.library.push_back(entry);
-    panel.libraryChoice = static_cast<int>((same != panel.library.end() ? same : panel.library.end() - 1) - panel.library.begin());
+    panel.libraryChoice = at;
     setStatus(state, "Lattice " + entry.name + " (" + describeLatticeNet(*entry.net) + ") is in the library: Add or Place it.", false);
     return true;
 }
