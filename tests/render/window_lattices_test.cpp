@@ -104,7 +104,8 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     REQUIRE(session.latticeTools().size() == 1);
     CHECK(session.latticeTools()[0].name == "cylinder");
     CHECK(session.history().size() == history + 1);
-    CHECK(app::latticeShown(state));  // turned on, so the user sees it
+    CHECK(app::latticeToolsShown(state));  // drawn (dim, at rest) though the sculpt tool's Lattice overlay is off
+    CHECK_FALSE(app::latticeShown(state));
     ui.undo();
     CHECK(session.latticeTools().empty());
     ui.redo();

@@ -130,6 +130,11 @@ const ToolOverlays& overlaysOfTool(const Overlays& overlays, ToolMode mode) {
 
 bool latticeShown(const AppState& state) { return overlaysOfTool(state.overlays, state.tools.mode).lattice; }
 
+bool latticeToolsShown(const AppState& state) {
+    const int tools = static_cast<int>(state.session.latticeTools().size());
+    return state.lattices.showTools && tools > (state.session.frozenTool() >= 0 ? 1 : 0);
+}
+
 std::vector<std::uint8_t> shownControlPoints(const AppState& state) {
     const core::Lattice& lattice = state.session.lattice();
     std::vector<std::uint8_t> shown(static_cast<size_t>(lattice.controlPointCount()), 0);

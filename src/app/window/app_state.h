@@ -94,6 +94,7 @@ struct LatticesPanelState {
     int libraryChoice = 0;        // the entry "Add" and "Place" use
     int selectedTool = -1;        // the row of the session's tool list that Freeze, Remove, Save, Move act on
     double placeSizeFraction = 0.25;  // "Place": the tool's bounds diagonal, as a fraction of the mesh's
+    bool showTools = true;        // draw the tools that are not frozen (dim, at rest), even with the Lattice overlay off
     int pinLayers = 0;            // Freeze: outer layers pinned, 0-2
     // "Place at picked point" waiting for its click on the mesh: a library entry is added there, or the
     // selected tool is moved there (edit_lattice).
@@ -158,6 +159,9 @@ ToolOverlays& overlaysOfTool(Overlays& overlays, ToolMode mode);
 const ToolOverlays& overlaysOfTool(const Overlays& overlays, ToolMode mode);
 // Whether the lattice is drawn now: the current tool's Lattice overlay, nothing else.
 bool latticeShown(const AppState& state);
+// Whether lattice tools that are not frozen are drawn (dim, at rest): the Lattices panel's "Show tools" and
+// at least one such tool.
+bool latticeToolsShown(const AppState& state);
 // One flag per control point of the session's lattice: drawn by the lattice overlay, and so pickable by the
 // lattice tool (none while the overlay is off; with latticeOuterOnly the outer ones and the selected ones).
 // A net lattice (EFFD): only the representative of each weld group, so welded points are one marker.

@@ -21,7 +21,8 @@ namespace fs = std::filesystem;
 
 // The status line after a lattice command: the engine's own account where it gives one (freeze: "froze
 // 812 of 2562 vertices in lattice cylinder"), otherwise `done`.
-// show: turn the current tool's Lattice overlay on, so the user sees the lattice just added, placed or frozen.
+// show: turn the current tool's Lattice overlay on, so the user sees the lattice just frozen (tools that are
+// not frozen show without it: latticeToolsShown).
 void reportLatticeOperation(AppState& state, const core::OpReport& report, const Status& status, const std::string& done,
                             bool show = false) {
     if (status && report.status == core::OpStatus::Applied) {
@@ -105,7 +106,7 @@ void addLatticeFromLibrary(AppState& state, int entry) {
     const Status s = state.session.addLatticeTool({library[static_cast<size_t>(entry)].name, library[static_cast<size_t>(entry)].net}, report);
     if (s && report.status == core::OpStatus::Applied)
         state.lattices.selectedTool = static_cast<int>(state.session.latticeTools().size()) - 1;
-    reportLatticeOperation(state, report, s, "Added lattice " + library[static_cast<size_t>(entry)].name, true);
+    reportLatticeOperation(state, report, s, "Added lattice " + library[static_cast<size_t>(entry)].name);
 }
 
 void placeLatticeCommand(AppState& state, const core::LatticeNet& net, const std::string& name, int editIndex,
@@ -121,7 +122,7 @@ void placeLatticeCommand(AppState& state, const core::LatticeNet& net, const std
     const Status s = editIndex < 0 ? state.session.addLatticeTool(tool, report) : state.session.editLatticeTool(editIndex, tool, report);
     if (s && report.status == core::OpStatus::Applied)
         state.lattices.selectedTool = editIndex < 0 ? static_cast<int>(state.session.latticeTools().size()) - 1 : editIndex;
-    reportLatticeOperation(state, report, s, (editIndex < 0 ? "Placed lattice " : "Moved lattice ") + name, true);
+    reportLatticeOperation(state, report, s, (editIndex < 0 ? "Placed lattice " : "Moved lattice ") + name);
 }
 
 void freezeLatticeCommand(AppState& state, int index, int pinLayers) {

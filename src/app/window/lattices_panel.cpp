@@ -113,6 +113,10 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
         panel.placeSizeFraction = std::clamp(static_cast<double>(fraction), 0.02, 2.0);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("The placed lattice's bounds diagonal, as a fraction of the mesh's (%.4g units now).", placementSize(state));
+    if (ImGui::Checkbox("Show tools", &panel.showTools)) state.gpu.fields = true;
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Draw the lattice tools that are not frozen (dim grey, at rest), even with the Lattice\n"
+                          "overlay off, so you see where they are.");
     if (panel.placing != LatticesPanelState::Placing::None)
         ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.3f, 1.0f), "Click on the mesh to place it (Esc cancels).");
 }
