@@ -31,7 +31,7 @@ Status precomputeDirectManipulation(const Lattice& lattice, const std::vector<Ei
     d.constraintCount = h;
     d.rankThreshold = options.rankThreshold;
     d.columns = columns;
-    d.net = lattice.net;
+    d.volume = lattice.volume;
     d.rt = Eigen::MatrixXd::Zero(h, m);
     for (int f = 0; f < h; ++f)
         for (int c = 0; c < supports[f].count; ++c) {
@@ -98,7 +98,7 @@ DirectManipulationResult solveDirectManipulation(const DirectManipulationData& d
 
     result.delta.indices = data.columns;
     result.delta.deltas = delta;
-    if (data.net && data.net->hasWelds) expandWelds(*data.net, result.delta);
+    if (data.volume) expandWelds(*data.volume, result.delta);
     const Eigen::MatrixX3d achieved = m > 0 ? Eigen::MatrixX3d(data.rt * delta) : Eigen::MatrixX3d::Zero(h, 3);
     result.residuals.resize(h);
     for (int f = 0; f < h; ++f) result.residuals[f] = (displacements.row(f) - achieved.row(f)).norm();
@@ -113,18 +113,14 @@ DirectManipulationResult directManipulation(const Lattice& lattice, const std::v
     return solveDirectManipulation(data, displacements);
 }
 
-void expandWelds(const LatticeNet& net, ControlDelta& delta) {
-    std::vector<std::pair<int, int>> rows;  // (slot, row of delta)
+void expandWelds(const Volume& volume, ControlDelta& delta) {
+    if (volume.weldGroupList().empty()) return;
+    std::vector<std::pair<int, int>> rows;  // (id, row of delta)
     for (size_t c = 0; c < delta.indices.size(); ++c) {
-        const int rep = net.weldedTo[delta.indices[c]];
-        bool grouped = false;
-        for (const auto& group : net.weldGroups)
-            if (group[0] == rep) {
-                for (int s : group) rows.emplace_back(s, static_cast<int>(c));
-                grouped = true;
-                break;
-            }
-        if (!grouped) rows.emplace_back(delta.indices[c], static_cast<int>(c));
+        if (const std::vector<int>* group = weldGroupOf(volume, delta.indices[c]))
+            for (int s : *group) rows.emplace_back(s, static_cast<int>(c));
+        else
+            rows.emplace_back(delta.indices[c], static_cast<int>(c));
     }
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a.first == b.first; }), rows.end());
@@ -138,7 +134,7 @@ void expandWelds(const LatticeNet& net, ControlDelta& delta) {
 }
 
 void expandWelds(const Lattice& lattice, ControlDelta& delta) {
-    if (lattice.net && lattice.net->hasWelds) expandWelds(*lattice.net, delta);
+    if (lattice.volume) expandWelds(*lattice.volume, delta);
 }
 
 void applyControlDelta(Lattice& lattice, const ControlDelta& delta, double sign) {

@@ -54,7 +54,7 @@ struct DirectManipulationData {
     std::optional<Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>> cod;  // of R^T, otherwise
     int rank = 0;
     double rankThreshold = 1e-8;       // copied from the options
-    std::shared_ptr<const LatticeNet> net;  // a net lattice: solutions are expanded to every welded slot
+    std::shared_ptr<const Volume> volume;  // a lattice of another kind: solutions are expanded to every welded id
 };
 
 // sourceParams: h parameter points in [0,1]^3. Fails only for h == 0.
@@ -78,7 +78,7 @@ DirectManipulationResult directManipulation(const Lattice& lattice, const std::v
 // Gives every slot of a weld group the displacement of its member in `delta` (Coquillart 1990, 3.1.2: welded
 // points act as one control point). Sorted, unique ids; a no-op for lattices without welds. Every delta
 // applied to a net lattice goes through this (the solver's results already have).
-void expandWelds(const LatticeNet& net, ControlDelta& delta);
+void expandWelds(const Volume& volume, ControlDelta& delta);
 void expandWelds(const Lattice& lattice, ControlDelta& delta);
 
 // Applies a control delta (sign +1) or its inverse (sign -1) to the lattice.

@@ -61,8 +61,10 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
     const double hi[3] = {lattice.boxMax.x(), lattice.boxMax.y(), lattice.boxMax.z()};
     const double* positions = rest.data();
     // The parameters are the box's linear map (restParameters), inlined here: this runs on every re-embedding.
-    // A net lattice freezes each vertex by Newton (Coquillart 1990, 3.3) once, in pass 1, into scratchParams.
-    const bool net = lattice.net != nullptr;
+    // A lattice of another kind freezes each vertex (Coquillart 1990, 3.3) once, in pass 1, into scratchParams.
+    const bool net = lattice.volume != nullptr;
+    // A volume that is not one tensor product: its cells are its chunks (Volume::chunkOf).
+    const Volume* chunked = lattice.volume && !lattice.tensorNet() ? lattice.volume.get() : nullptr;
     auto parameters = [&](int v, double t[3]) {
         if (net) {
             const double* frozen = &e.scratchParams[3 * static_cast<size_t>(v)];
@@ -101,6 +103,11 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
             cellOf[v] = -1;
             continue;
         }
+        if (chunked) {
+            Eigen::Vector3d localT;
+            cellOf[v] = chunked->chunkOf(Eigen::Vector3d(t[0], t[1], t[2]), localT);
+            continue;
+        }
         cellOf[v] = spanOf(t[0], spans[0], local) + spans[0] * (spanOf(t[1], spans[1], local) + spans[1] * spanOf(t[2], spans[2], local));
     }
     // Counting sort by cell: stable, O(n + cells).
@@ -128,9 +135,15 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
         const int v = e.order[s];
         double t[3] = {0.0, 0.0, 0.0};
         parameters(v, t);  // inside by construction of `order`
-        spanOf(t[0], spans[0], e.localX[s]);
+        if (chunked) {
+            Eigen::Vector3d localT;
+            chunked->chunkOf(Eigen::Vector3d(t[0], t[1], t[2]), localT);
+            e.localX[s] = localT[0], e.localY[s] = localT[1], e.localZ[s] = localT[2];
+        } else {
+            spanOf(t[0], spans[0], e.localX[s]);
         spanOf(t[1], spans[1], e.localY[s]);
-        spanOf(t[2], spans[2], e.localZ[s]);
+            spanOf(t[2], spans[2], e.localZ[s]);
+        }
         e.restX[s] = positions[3 * static_cast<size_t>(v)];
         e.restY[s] = positions[3 * static_cast<size_t>(v) + 1];
         e.restZ[s] = positions[3 * static_cast<size_t>(v) + 2];
@@ -138,6 +151,8 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
 }
 
 Eigen::Vector3d embeddedParameters(const Lattice& lattice, const Embedding& embedding, int cell, int entry) {
+    if (lattice.volume && !lattice.tensorNet())
+        return lattice.volume->chunkParameters(cell, {embedding.localX[entry], embedding.localY[entry], embedding.localZ[entry]});
     const std::array<int, 3> spans = lattice.spans();
     const int cellIndex[3] = {cell % spans[0], (cell / spans[0]) % spans[1], cell / (spans[0] * spans[1])};
     const double local[3] = {embedding.localX[entry], embedding.localY[entry], embedding.localZ[entry]};
@@ -149,6 +164,17 @@ Eigen::Vector3d embeddedParameters(const Lattice& lattice, const Embedding& embe
 std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int>& controlPoints) {
     const std::array<int, 3> spans = lattice.spans();
     std::vector<int> cells;
+    if (lattice.volume && !lattice.tensorNet()) {
+        std::vector<std::uint8_t> chosen(static_cast<size_t>(lattice.controlPointCount()), 0);
+        for (int idx : controlPoints) chosen[static_cast<size_t>(idx)] = 1;
+        std::vector<int> support;
+        for (int chunk = 0; chunk < lattice.cellCount(); ++chunk) {
+            lattice.volume->chunkSupport(chunk, support);
+            if (std::any_of(support.begin(), support.end(), [&](int id) { return chosen[static_cast<size_t>(id)] != 0; }))
+                cells.push_back(chunk);
+        }
+        return cells;
+    }
     for (int idx : controlPoints) {
         const std::array<int, 3> c = lattice.ijk(idx);
         // Control point i has support on spans [i - p, i] (clamped to the existing spans; SplineAxis::supportSpans
@@ -164,11 +190,33 @@ std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int
     return cells;
 }
 
+namespace {
+
+// A volume that is not one tensor product (no vectorised kernel): x = X0 + sum R(t) delta per vertex.
+void evaluateChunksGeneric(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& cells, Positions& positions) {
+    const int count = static_cast<int>(cells.size());
+#pragma omp parallel for schedule(dynamic, 4) if (count > 8)
+    for (int c = 0; c < count; ++c) {
+        const int cell = cells[static_cast<size_t>(c)];
+        for (int s = embedding.cellStart[cell]; s < embedding.cellStart[cell + 1]; ++s) {
+            const Eigen::Vector3d d = displacementAt(lattice, embeddedParameters(lattice, embedding, cell, s));
+            const int v = embedding.order[static_cast<size_t>(s)];
+            positions(v, 0) = embedding.restX[s] + d.x();
+            positions(v, 1) = embedding.restY[s] + d.y();
+            positions(v, 2) = embedding.restZ[s] + d.z();
+        }
+    }
+}
+
+bool chunkedVolume(const Lattice& lattice) { return lattice.volume && !lattice.tensorNet(); }
+
+}  // namespace
+
 void evaluateIncrement(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& controlPoints,
                        const Positions& deltas, double sign, Positions& positions, IncrementScratch& scratch,
                        std::vector<int>* movedVertices) {
     const std::vector<int> cells = cellsInfluencedBy(lattice, controlPoints);
-    if (lattice.rational) return evaluateCells(lattice, embedding, cells, positions, movedVertices);
+    if (lattice.rational || chunkedVolume(lattice)) return evaluateCells(lattice, embedding, cells, positions, movedVertices);
     const int n = lattice.controlPointCount();
     if (scratch.increment.rows() != n) scratch.increment = Positions::Zero(n, 3);
     if (static_cast<int>(scratch.changed.size()) != n) scratch.changed.assign(n, 0);
@@ -209,12 +257,16 @@ void controlPointInfluence(const Lattice& lattice, const Embedding& embedding, c
 void evaluateAll(const Lattice& lattice, const Embedding& embedding, Positions& positions) {
     std::vector<int> cells(lattice.cellCount());
     std::iota(cells.begin(), cells.end(), 0);
+    if (chunkedVolume(lattice)) return evaluateChunksGeneric(lattice, embedding, cells, positions);
     gKernel(lattice, embedding, cells.data(), static_cast<int>(cells.size()), positions.data());
 }
 
 void evaluateCells(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& cells,
                    Positions& positions, std::vector<int>* movedVertices) {
-    gKernel(lattice, embedding, cells.data(), static_cast<int>(cells.size()), positions.data());
+    if (chunkedVolume(lattice))
+        evaluateChunksGeneric(lattice, embedding, cells, positions);
+    else
+        gKernel(lattice, embedding, cells.data(), static_cast<int>(cells.size()), positions.data());
     if (movedVertices)
         for (int cell : cells)
             movedVertices->insert(movedVertices->end(), embedding.order.begin() + embedding.cellStart[cell],

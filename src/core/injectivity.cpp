@@ -456,7 +456,7 @@ void exactNetChunk(const Lattice& lattice, const NetChunkBasis& basis, const std
             const int b = (mask & 1) ? 0 : ((mask & 2) ? 1 : 2);
             double turns = std::numeric_limits<double>::quiet_NaN();
             const bool counted = netRingWinding(lattice, basis, chunk, a, side, work.chunk, turns);
-            const bool once = lattice.net->periodic[b] ? std::abs(std::round(turns)) == 1.0 : std::abs(turns) < 1.0;
+            const bool once = lattice.tensorNet()->periodic[b] ? std::abs(std::round(turns)) == 1.0 : std::abs(turns) < 1.0;
             if (counted && once) continue;
             outcome.kind = CellOutcome::Winding;
             outcome.value = counted ? turns : std::numeric_limits<double>::quiet_NaN();
@@ -510,7 +510,7 @@ namespace {
 // the others keep det J == 1 without the cost of freezing.
 void netVertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, const std::vector<std::uint8_t>& isDeformed,
                                    std::vector<double>& out) {
-    const LatticeNet& net = *lattice.net;
+    const LatticeNet& net = *lattice.tensorNet();
     const int n = static_cast<int>(rest.rows());
     const int s0 = lattice.axes[0].spans, s1 = lattice.axes[1].spans;
 #pragma omp parallel for schedule(dynamic, 64) if (n > 500)
@@ -543,7 +543,7 @@ void vertexJacobianDeterminants(const Lattice& lattice, const Positions& rest, s
     if (deformed.empty()) return;
     std::vector<std::uint8_t> isDeformed(static_cast<size_t>(cellCount), 0);
     for (int cell : deformed) isDeformed[cell] = 1;
-    if (lattice.net) return netVertexJacobianDeterminants(lattice, rest, isDeformed, out);
+    if (lattice.tensorNet()) return netVertexJacobianDeterminants(lattice, rest, isDeformed, out);
     const int s0 = lattice.axes[0].spans, s1 = lattice.axes[1].spans;
 #pragma omp parallel for schedule(static) if (n > 2000)
     for (int v = 0; v < n; ++v) {
@@ -617,7 +617,7 @@ std::string formatValue(double value) {
 }  // namespace
 
 InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vector<int>& cells) {
-    if (lattice.net) {
+    if (lattice.tensorNet()) {
         // note: the cones of section 7 are around the axes e_a, the directions of a box lattice's hodographs at
         // rest; a curved net's rest hodographs point anywhere, so the cones would fail at rest. The exact test
         // decides net chunks instead (a few times slower, and never weaker).
@@ -675,7 +675,7 @@ InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptio
     const std::vector<int> work = cellsToCheck(lattice, cells, result);
     const int count = result.cellsDeformed;
     std::vector<CellOutcome> outcomes(static_cast<size_t>(count));
-    const bool net = lattice.net != nullptr;
+    const bool net = lattice.tensorNet() != nullptr;
     int fold = count;
     if (count > 0) fold = net ? exactNetChunks(lattice, options, work, outcomes) : exactBoxCells(lattice, options, work, outcomes);
     const char* unit = net ? "chunk " : "cell ";

@@ -164,7 +164,7 @@ bool hodographConesKernel(const CellBezierBasis& basis, const double* bezier, st
 
 void cellBezierDisplacement(const Lattice& lattice, const CellBezierBasis& basis, const std::array<int, 3>& cell,
                             double* bezier) {
-    assert(!lattice.net);
+    assert(!lattice.volume);
     const std::array<int, 3>& d = basis.degree;
     if (d[0] == d[1] && d[1] == d[2]) switch (d[0]) {
             case 1: return bezierDisplacementKernel<2, 2, 2>(lattice, basis, cell, bezier);
@@ -274,7 +274,7 @@ BernsteinTensor cellJacobianDeterminantBernstein(const Lattice& lattice, const s
 }
 
 double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3>& cell, const Eigen::Vector3d& local) {
-    if (lattice.net) return netJacobianDeterminantInChunk(lattice, cell, local);
+    if (lattice.tensorNet()) return netJacobianDeterminantInChunk(lattice, cell, local);
     double value[3][kMaxDegree + 1], derivative[3][kMaxDegree + 1];
     for (int a = 0; a < 3; ++a) {
         lattice.axes[a].evaluate(cell[a], local[a], value[a]);

@@ -44,7 +44,7 @@ bool faceCollapsedAlong(const LatticeNet& net, int a, int side, int b) {
 // The chunk's control points P0 + delta (or P0) in 3 blocks of n0 n1 n2 values, and their weights in a
 // fourth block. Returns whether the weights are all equal (a polynomial chunk).
 bool gatherChunk(const Lattice& lattice, const std::array<int, 3>& chunk, bool deformed, double* control) {
-    const LatticeNet& net = *lattice.net;
+    const LatticeNet& net = *lattice.tensorNet();
     const int n0 = lattice.degree[0] + 1, n1 = lattice.degree[1] + 1, n2 = lattice.degree[2] + 1;
     const int n = n0 * n1 * n2;
     const double firstWeight = lattice.weights[chunkSlot(lattice, chunk, 0, 0, 0)];
@@ -178,8 +178,8 @@ NetChunkWorkspace::NetChunkWorkspace()
       scratch(3 * kMaxDeterminantCoefficients) {}
 
 NetChunkBasis makeNetChunkBasis(const Lattice& lattice) {
-    assert(lattice.net);
-    const LatticeNet& net = *lattice.net;
+    assert(lattice.tensorNet());
+    const LatticeNet& net = *lattice.tensorNet();
     NetChunkBasis basis;
     basis.bezier = makeCellBezierBasis(lattice);
     basis.weldTolerance = 1e-9 * net.diagonal();
@@ -199,7 +199,7 @@ NetChunkBasis makeNetChunkBasis(const Lattice& lattice) {
 
 void netChunkDeterminantBernstein(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk,
                                   bool deformed, NetChunkWorkspace& work, double* determinant, NetChunkDeterminantInfo& info) {
-    assert(lattice.net);
+    assert(lattice.tensorNet());
     const CellBezierBasis& bezierBasis = basis.bezier;
     const BernsteinDegree& d = bezierBasis.degree;
     const int n0 = d[0] + 1, n1 = d[1] + 1, n2 = d[2] + 1;
@@ -304,8 +304,8 @@ BernsteinTensor netChunkDeterminantBernstein(const Lattice& lattice, const std::
 
 void netChunkDerivatives(const Lattice& lattice, const std::array<int, 3>& chunk, const Eigen::Vector3d& local,
                          Eigen::Matrix3d& restDerivative, Eigen::Matrix3d& displacementDerivative) {
-    assert(lattice.net);
-    const LatticeNet& net = *lattice.net;
+    assert(lattice.tensorNet());
+    const LatticeNet& net = *lattice.tensorNet();
     double value[3][kMaxDegree + 1], derivative[3][kMaxDegree + 1];
     for (int a = 0; a < 3; ++a) {
         lattice.axes[a].evaluate(chunk[a], local[a], value[a]);
@@ -389,7 +389,7 @@ double bernsteinLineAtHalf(const double* base, int stride, int degree, double* d
 
 bool netRingWinding(const Lattice& lattice, const NetChunkBasis& basis, const std::array<int, 3>& chunk, int axis, int side,
                     NetChunkWorkspace& work, double& turns) {
-    assert(lattice.net);
+    assert(lattice.tensorNet());
     const int a = axis;
     const int mask = basis.collapse[a][side];
     if (collapseOrder(mask) != 1) return false;
@@ -453,13 +453,13 @@ bool netRingWinding(const Lattice& lattice, const NetChunkBasis& basis, const st
 }
 
 double netJacobianDeterminantInChunk(const Lattice& lattice, const std::array<int, 3>& chunk, const Eigen::Vector3d& local) {
-    assert(lattice.net);
+    assert(lattice.tensorNet());
     if (cellIsUndeformed(lattice, chunk)) return 1.0;
     Eigen::Matrix3d rest, displacement;
     netChunkDerivatives(lattice, chunk, local, rest, displacement);
     const double restDet = rest.determinant();
     const double det = (rest + displacement).determinant();
-    const double diagonal = lattice.net->diagonal();
+    const double diagonal = lattice.tensorNet()->diagonal();
     // note: dQ0/dt is of the size of the net (t spans [0,1]), so det(dQ0/dt) ~ diagonal^3 away from a
     // collapsed face and falls linearly (or quadratically) towards it; below 1e-8 of that the plain ratio of
     // two small determinants loses digits, and on the face it is 0 / 0.

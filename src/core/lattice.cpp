@@ -43,7 +43,7 @@ std::array<int, 3> gridIjk(const std::array<int, 3>& count, int idx) {
 std::array<int, 3> Lattice::ijk(int idx) const { return gridIjk(count, idx); }
 
 Eigen::Vector3d Lattice::restControlPoint(int idx) const {
-    if (net) return net->rest.row(idx).transpose();
+    if (volume) return volume->restControlPoints().row(idx).transpose();
     const std::array<int, 3> c = ijk(idx);
     Eigen::Vector3d p;
     for (int a = 0; a < 3; ++a) p[a] = boxMin[a] + axes[a].greville[c[a]] * (boxMax[a] - boxMin[a]);
@@ -51,12 +51,13 @@ Eigen::Vector3d Lattice::restControlPoint(int idx) const {
 }
 
 Status validateLatticeSettings(const LatticeSettings& s) {
-    if (s.net) {
+    if (s.volume) {
         if (s.pinLayers < 0 || s.pinLayers > 3) return Status::error("pin_layers must be in [0, 3]");
-        for (int a = 0; a < 3; ++a)
-            if (2 * s.pinLayers >= s.net->count[a] && s.pinLayers > 0 && (s.net->boundaryFace[a][0] || s.net->boundaryFace[a][1]))
-                return Status::error("pin_layers " + std::to_string(s.pinLayers) + " would pin every control point along " + axisName(a));
-        return Status::success();
+        if (s.pinLayers == 0) return Status::success();
+        for (int id = 0; id < s.volume->controlPointCount(); ++id)
+            if (!s.volume->inSurfaceLayers(id, s.pinLayers)) return Status::success();
+        return Status::error("pin_layers " + std::to_string(s.pinLayers) + " would pin every control point of the " +
+                             s.volume->kindName() + " lattice");
     }
     for (int a = 0; a < 3; ++a) {
         if (s.degree[a] < kMinDegree || s.degree[a] > kMaxDegree)
@@ -83,9 +84,9 @@ Status validateLatticeSettings(const LatticeSettings& s) {
 
 Status latticeBox(const LatticeSettings& settings, const Positions& points, Eigen::Vector3d& boxMin, Eigen::Vector3d& boxMax) {
     if (Status s = validateLatticeSettings(settings); !s) return s;
-    if (settings.net) {
-        boxMin = settings.net->bounds.min();
-        boxMax = settings.net->bounds.max();
+    if (settings.volume) {
+        boxMin = settings.volume->restBounds().min();
+        boxMax = settings.volume->restBounds().max();
         return Status::success();
     }
     Eigen::Vector3d lo, hi;
@@ -120,9 +121,25 @@ bool sameLatticeNet(const LatticeNet& a, const LatticeNet& b) {
            a.weights == b.weights && a.weldedTo == b.weldedTo;
 }
 
+bool sameVolume(const Volume& a, const Volume& b) {
+    if (&a == &b) return true;
+    if (a.tensorNet() || b.tensorNet()) return a.tensorNet() && b.tensorNet() && sameLatticeNet(*a.tensorNet(), *b.tensorNet());
+    if (a.kindName() != b.kindName() || a.controlPointCount() != b.controlPointCount()) return false;
+    if (a.restControlPoints() != b.restControlPoints() || a.controlWeights() != b.controlWeights()) return false;
+    for (int id = 0; id < a.controlPointCount(); ++id)
+        if (a.representativeOf(id) != b.representativeOf(id)) return false;
+    return true;
+}
+
+std::array<int, 3> latticeCounts(const LatticeSettings& settings) {
+    if (!settings.volume) return settings.resolution;
+    if (const LatticeNet* net = settings.volume->tensorNet()) return net->count;
+    return {settings.volume->controlPointCount(), 1, 1};
+}
+
 bool sameLatticeSettings(const LatticeSettings& a, const LatticeSettings& b) {
-    if (a.net || b.net)
-        return a.net && b.net && a.pinLayers == b.pinLayers && (a.net == b.net || sameLatticeNet(*a.net, *b.net));
+    if (a.volume || b.volume)
+        return a.volume && b.volume && a.pinLayers == b.pinLayers && sameVolume(*a.volume, *b.volume);
     return a.resolution == b.resolution && a.degree == b.degree && a.padding == b.padding && a.hasRegion == b.hasRegion &&
            a.regionMin == b.regionMin && a.regionMax == b.regionMax && a.pinLayers == b.pinLayers;
 }
@@ -130,18 +147,22 @@ bool sameLatticeSettings(const LatticeSettings& a, const LatticeSettings& b) {
 Status makeLatticeInBox(const LatticeSettings& settings, const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax,
                         Lattice& out) {
     if (Status s = validateLatticeSettings(settings); !s) return s;
-    if (settings.net) {
-        // A net lattice is where its net is; the box is its bounds (for sizes and the outside test).
-        const LatticeNet& net = *settings.net;
+    if (settings.volume) {
+        // A lattice of another kind is where its volume is; the box is its bounds (for sizes and the outside test).
+        const Volume& volume = *settings.volume;
         Lattice lattice;
-        lattice.net = settings.net;
-        lattice.count = net.count;
-        lattice.degree = net.degree;
-        lattice.axes = net.axes;
-        lattice.boxMin = net.bounds.min();
-        lattice.boxMax = net.bounds.max();
-        lattice.weights = net.weights;
-        lattice.rational = net.rational;
+        lattice.volume = settings.volume;
+        if (const LatticeNet* net = volume.tensorNet()) {
+            lattice.count = net->count;
+            lattice.degree = net->degree;
+            lattice.axes = net->axes;
+        } else {
+            lattice.count = {volume.controlPointCount(), 1, 1};
+        }
+        lattice.boxMin = volume.restBounds().min();
+        lattice.boxMax = volume.restBounds().max();
+        lattice.weights = volume.controlWeights();
+        lattice.rational = volume.isRational();
         const int n = lattice.controlPointCount();
         lattice.displacement = Positions::Zero(n, 3);
         lattice.pinned.assign(n, 0);
@@ -176,7 +197,7 @@ Status makeLattice(const LatticeSettings& settings, const Positions& points, Lat
 }
 
 bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen::Vector3d& params) {
-    if (lattice.net) return freezePoint(*lattice.net, lattice.net->rest, lattice.net->restIndex, point, params);
+    if (lattice.volume) return lattice.volume->freeze(point, params);
     Eigen::Vector3d t;
     for (int a = 0; a < 3; ++a) {
         if (!(point[a] >= lattice.boxMin[a] && point[a] <= lattice.boxMax[a])) return false;  // also rejects NaN
@@ -189,6 +210,28 @@ bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen:
 }
 
 void supportWeights(const Lattice& lattice, const Eigen::Vector3d& params, SupportWeights& out) {
+    if (lattice.volume) {
+        const Volume& volume = *lattice.volume;
+        volume.basisAt(params, out);
+        if (volume.weldGroupList().empty()) return;
+        // Coquillart 1990, 3.1.2: a weld group's basis function is the sum of its ids'.
+        int kept = 0;
+        for (int c = 0; c < out.count; ++c) {
+            const int id = volume.representativeOf(out.index[c]);
+            int found = -1;
+            for (int d = 0; d < kept; ++d)
+                if (out.index[d] == id) found = d;
+            if (found >= 0) {
+                out.weight[found] += out.weight[c];
+            } else {
+                out.index[kept] = id;
+                out.weight[kept] = out.weight[c];
+                ++kept;
+            }
+        }
+        out.count = kept;
+        return;
+    }
     const AxisBases b = axisBases(lattice, params, false);
     const int nu = lattice.degree[0] + 1, nv = lattice.degree[1] + 1, nw = lattice.degree[2] + 1;
     out.count = 0;
@@ -207,24 +250,6 @@ void supportWeights(const Lattice& lattice, const Eigen::Vector3d& params, Suppo
     // polynomial case stays exactly the tensor-product B-spline.
     if (lattice.rational)
         for (int c = 0; c < out.count; ++c) out.weight[c] /= sum;
-    if (lattice.net && lattice.net->hasWelds) {
-        // Coquillart 1990, 3.1.2: a weld group's basis function is the sum of its slots'.
-        int kept = 0;
-        for (int c = 0; c < out.count; ++c) {
-            const int id = lattice.net->weldedTo[out.index[c]];
-            int found = -1;
-            for (int d = 0; d < kept; ++d)
-                if (out.index[d] == id) found = d;
-            if (found >= 0) {
-                out.weight[found] += out.weight[c];
-            } else {
-                out.index[kept] = id;
-                out.weight[kept] = out.weight[c];
-                ++kept;
-            }
-        }
-        out.count = kept;
-    }
 }
 
 Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& params) {
@@ -236,9 +261,9 @@ Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& pa
 }
 
 Eigen::Vector3d restPoint(const Lattice& lattice, const Eigen::Vector3d& params) {
-    if (!lattice.net) return lattice.boxMin + params.cwiseProduct(lattice.boxMax - lattice.boxMin);
+    if (!lattice.volume) return lattice.boxMin + params.cwiseProduct(lattice.boxMax - lattice.boxMin);
     Eigen::Vector3d rest;
-    evaluateNetVolume(*lattice.net, lattice.net->rest, params, rest);
+    lattice.volume->evaluate(lattice.volume->restControlPoints(), params, rest);
     return rest;
 }
 
@@ -252,15 +277,15 @@ Eigen::Vector3d volumePoint(const Lattice& lattice, const Eigen::Vector3d& param
 
 void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, Eigen::Vector3d& displacement,
                          Eigen::Matrix3d& jacobian) {
-    if (lattice.net) {
+    if (lattice.volume) {
         // x(X0) = X0 + D(t(X0)) with Q0(t(X0)) = X0, so dx/dX0 = I + dD/dt (dQ0/dt)^-1 = dQ/dt (dQ0/dt)^-1
         // (Coquillart 1990, 3.4: the frozen parameters are fixed while the net moves).
-        const LatticeNet& net = *lattice.net;
+        const Volume& volume = *lattice.volume;
         // note: D = sum R delta is the same rational combination as Q0, so one evaluation of each suffices.
         Eigen::Vector3d rest;
         Eigen::Matrix3d restDerivative, displacementDerivative;
-        evaluateNetVolume(net, net.rest, params, rest, &restDerivative);
-        evaluateNetVolume(net, lattice.displacement, params, displacement, &displacementDerivative);
+        volume.evaluate(volume.restControlPoints(), params, rest, &restDerivative);
+        volume.evaluate(lattice.displacement, params, displacement, &displacementDerivative);
         // note: dQ0/dt is singular on a collapsed axis, pole or centre; where the displacement is locally constant
         // (an undeformed chunk) the Jacobian is I there too, without forming 0 * inf.
         if (displacementDerivative.isZero(0.0)) {
@@ -335,9 +360,9 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
 Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deformedPoint, Eigen::Vector3d& params,
                            double tolerance) {
     if (!finite3(deformedPoint)) return Status::error("point has non-finite coordinates");
-    if (lattice.net) {
-        const Positions moved = lattice.net->rest + lattice.displacement;
-        if (freezePoint(*lattice.net, moved, buildChunkIndex(*lattice.net, moved), deformedPoint, params)) return Status::success();
+    if (lattice.volume) {
+        if (lattice.volume->locatorFor(lattice.volume->restControlPoints() + lattice.displacement)->freeze(deformedPoint, params))
+            return Status::success();
         return Status::error("point (" + std::to_string(deformedPoint.x()) + ", " + std::to_string(deformedPoint.y()) + ", " +
                              std::to_string(deformedPoint.z()) + ") is not inside the deformed lattice");
     }
@@ -371,25 +396,13 @@ bool inOuterLayers(const std::array<int, 3>& count, const std::array<int, 3>& c,
     return false;
 }
 
-namespace {
-
-// A net lattice's pin layers are counted from its boundary faces only (not from a seam or a collapsed axis).
-bool inNetOuterLayers(const LatticeNet& net, int index, int layers) {
-    const std::array<int, 3> c = gridIjk(net.count, index);
-    for (int a = 0; a < 3; ++a)
-        if ((net.boundaryFace[a][0] && c[a] < layers) || (net.boundaryFace[a][1] && c[a] >= net.count[a] - layers)) return true;
-    return false;
-}
-
-}  // namespace
-
 bool inOuterLayers(const Lattice& lattice, int index, int layers) {
-    if (!lattice.net) return inOuterLayers(lattice.count, lattice.ijk(index), layers);
-    return inNetOuterLayers(*lattice.net, index, layers);
+    if (!lattice.volume) return inOuterLayers(lattice.count, lattice.ijk(index), layers);
+    return lattice.volume->inSurfaceLayers(index, layers);
 }
 
 bool inPinLayers(const LatticeSettings& settings, int index) {
-    if (settings.net) return inNetOuterLayers(*settings.net, index, settings.pinLayers);
+    if (settings.volume) return settings.volume->inSurfaceLayers(index, settings.pinLayers);
     return inOuterLayers(settings.resolution, gridIjk(settings.resolution, index), settings.pinLayers);
 }
 
@@ -408,7 +421,7 @@ std::vector<int> displacedControlPoints(const Lattice& lattice) {
 
 bool boundaryUnmoved(const Lattice& lattice) {
     for (int idx : displacedControlPoints(lattice))
-        if (lattice.net ? lattice.net->boundarySlot[idx] != 0 : inOuterLayers(lattice, idx, 1)) return false;
+        if (lattice.volume ? lattice.volume->onOuterSurface(idx) : inOuterLayers(lattice, idx, 1)) return false;
     return true;
 }
 
@@ -418,14 +431,20 @@ bool isUndeformed(const Lattice& lattice) {
 
 std::vector<std::array<int, 2>> controlNetEdges(const Lattice& lattice) {
     std::vector<std::array<int, 2>> edges;
-    for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
-        const std::array<int, 3> c = lattice.ijk(idx);
-        for (int a = 0; a < 3; ++a) {
-            if (c[a] + 1 >= lattice.count[a]) continue;
-            std::array<int, 3> n = c;
-            ++n[a];
-            const int p = lattice.representative(idx), q = lattice.representative(lattice.index(n[0], n[1], n[2]));
+    if (lattice.volume) {
+        for (const auto& e : lattice.volume->controlNetEdgeList()) {
+            const int p = lattice.representative(e[0]), q = lattice.representative(e[1]);
             if (p != q) edges.push_back({std::min(p, q), std::max(p, q)});
+        }
+    } else {
+        for (int idx = 0; idx < lattice.controlPointCount(); ++idx) {
+            const std::array<int, 3> c = lattice.ijk(idx);
+            for (int a = 0; a < 3; ++a) {
+                if (c[a] + 1 >= lattice.count[a]) continue;
+                std::array<int, 3> n = c;
+                ++n[a];
+                edges.push_back({idx, lattice.index(n[0], n[1], n[2])});
+            }
         }
     }
     std::sort(edges.begin(), edges.end());
@@ -436,26 +455,39 @@ std::vector<std::array<int, 2>> controlNetEdges(const Lattice& lattice) {
 std::vector<Positions> chunkEdgeCurves(const Lattice& lattice, int samplesPerSpan) {
     std::vector<Positions> curves;
     samplesPerSpan = std::max(samplesPerSpan, 1);
-    const std::array<int, 3> spans = lattice.spans();
     const double tiny = 1e-12 * std::max(lattice.diagonal(), 1e-300);
-    for (int a = 0; a < 3; ++a) {
-        const int b = (a + 1) % 3, c = (a + 2) % 3;
-        const bool periodicB = lattice.net && lattice.net->periodic[b], periodicC = lattice.net && lattice.net->periodic[c];
-        const int samples = spans[a] * samplesPerSpan;
-        for (int kc = 0; kc <= spans[c] - (periodicC ? 1 : 0); ++kc)
-            for (int kb = 0; kb <= spans[b] - (periodicB ? 1 : 0); ++kb) {
-                Positions curve(samples + 1, 3);
-                double length = 0.0;
-                for (int s = 0; s <= samples; ++s) {
-                    Eigen::Vector3d t;
-                    t[a] = static_cast<double>(s) / samples;
-                    t[b] = static_cast<double>(kb) / spans[b];
-                    t[c] = static_cast<double>(kc) / spans[c];
-                    curve.row(s) = (restPoint(lattice, t) + displacementAt(lattice, t)).transpose();
-                    if (s > 0) length += (curve.row(s) - curve.row(s - 1)).norm();
+    std::vector<std::array<Eigen::Vector3d, 2>> lines;
+    if (lattice.volume) {
+        lines = lattice.volume->chunkEdgeLines();
+    } else {
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            for (int kc = 0; kc <= lattice.axes[c].spans; ++kc)
+                for (int kb = 0; kb <= lattice.axes[b].spans; ++kb) {
+                    Eigen::Vector3d from, to;
+                    from[a] = 0.0, to[a] = 1.0;
+                    from[b] = to[b] = static_cast<double>(kb) / lattice.axes[b].spans;
+                    from[c] = to[c] = static_cast<double>(kc) / lattice.axes[c].spans;
+                    lines.push_back({from, to});
                 }
-                if (length > tiny) curves.push_back(std::move(curve));
-            }
+        }
+    }
+    for (const auto& line : lines) {
+        // Samples per chunk crossed: the line's extent in chunks, measured with chunkOf at its ends.
+        int spans = 1;
+        const Eigen::Vector3d direction = line[1] - line[0];
+        for (int a = 0; a < 3; ++a)
+            if (direction[a] != 0.0)
+                spans = std::max(spans, static_cast<int>(std::lround(std::abs(direction[a]) * (lattice.tensorNet() || !lattice.volume ? lattice.axes[a].spans : 1))));
+        const int samples = spans * samplesPerSpan;
+        Positions curve(samples + 1, 3);
+        double length = 0.0;
+        for (int s = 0; s <= samples; ++s) {
+            const Eigen::Vector3d t = line[0] + direction * (static_cast<double>(s) / samples);
+            curve.row(s) = (restPoint(lattice, t) + displacementAt(lattice, t)).transpose();
+            if (s > 0) length += (curve.row(s) - curve.row(s - 1)).norm();
+        }
+        if (length > tiny) curves.push_back(std::move(curve));
     }
     return curves;
 }

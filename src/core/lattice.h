@@ -19,6 +19,7 @@
 #include "core/lattice_net.h"
 #include "core/mesh_types.h"
 #include "core/status.h"
+#include "core/volume.h"
 
 namespace sculpt::core {
 
@@ -30,28 +31,25 @@ struct LatticeSettings {
     Eigen::Vector3d regionMin = Eigen::Vector3d::Zero();  // with hasRegion: the user-given box (then padded)
     Eigen::Vector3d regionMax = Eigen::Vector3d::Zero();
     int pinLayers = 0;                       // pin the k outer layers of control points, k in [0, 3]
-    // A lattice of any shape (lattice_net.h, Coquillart 1990): its control net, placed where it is in world
-    // space. When set, resolution, degree, padding and region are the net's (the fields above are ignored
-    // except pinLayers, which counts layers from the net's boundary faces only).
-    std::shared_ptr<const LatticeNet> net;
+    // A lattice of any kind (volume.h; e.g. a net of any shape, lattice_net.h, Coquillart 1990), placed where
+    // it is in world space. When set, resolution, degree, padding and region are the volume's (the fields
+    // above are ignored except pinLayers, which counts layers from the volume's outer surface only).
+    std::shared_ptr<const Volume> volume;
 };
 
 // Checks ranges and finiteness; the message names the offending field.
 Status validateLatticeSettings(const LatticeSettings& settings);
 // Control points per axis of the lattice these settings make (the net's counts, or the resolution).
-inline std::array<int, 3> latticeCounts(const LatticeSettings& settings) { return settings.net ? settings.net->count : settings.resolution; }
+// A volume that is not one tensor product reports {controlPointCount, 1, 1}.
+std::array<int, 3> latticeCounts(const LatticeSettings& settings);
 
 // Every field equal (the same control point ids and placement rule); nets compared by value.
 bool sameLatticeSettings(const LatticeSettings& a, const LatticeSettings& b);
 // Two nets with the same counts, degrees, multiplicities, rest points, weights and welds (bitwise).
 bool sameLatticeNet(const LatticeNet& a, const LatticeNet& b);
-
-// Up to (kMaxDegree+1)^3 control points with their basis weights R_ijk at one parameter point.
-struct SupportWeights {
-    int count = 0;
-    std::array<int, 216> index{};
-    std::array<double, 216> weight{};
-};
+// Two volumes of the same kind and the same control points, weights and welds (bitwise; tensor nets by
+// sameLatticeNet).
+bool sameVolume(const Volume& a, const Volume& b);
 
 struct Lattice {
     std::array<int, 3> count{};   // control points per axis
@@ -63,22 +61,26 @@ struct Lattice {
     bool rational = false;              // some weight differs from 1
     Positions displacement;             // #P x 3, delta_ijk accumulated since set-up
     std::vector<std::uint8_t> pinned;   // #P, 1 = the solver never moves this control point
-    // A net lattice (lattice_net.h): rest control points, weights and welds come from the net, parameters
-    // of rest points from freezing (Newton), boxMin/boxMax are the net's bounds. Null: the box lattice.
-    // Welded control points always carry equal displacements (ControlDeltas are expanded to every slot of a
-    // weld group by expandWelds) and equal pins.
-    std::shared_ptr<const LatticeNet> net;
+    // A lattice of another kind (volume.h): rest control points, weights, welds and chunks come from the
+    // volume, parameters of rest points from freezing, boxMin/boxMax are its bounds. Null: the box lattice
+    // (the fast path). Welded control points always carry equal displacements (ControlDeltas are expanded to
+    // every id of a weld group by expandWelds) and equal pins. A tensor-product volume (tensorNet) also fills
+    // count, degree and axes; another kind has count {#P, 1, 1} and its cells are its chunks.
+    std::shared_ptr<const Volume> volume;
+    // The volume as one tensor-product net (null for the box lattice and for other kinds).
+    const LatticeNet* tensorNet() const { return volume ? volume->tensorNet() : nullptr; }
 
     int controlPointCount() const { return count[0] * count[1] * count[2]; }
     int index(int i, int j, int k) const { return i + count[0] * (j + count[1] * k); }
     std::array<int, 3> ijk(int index) const;
     std::array<int, 3> spans() const { return {axes[0].spans, axes[1].spans, axes[2].spans}; }
-    int cellCount() const { return axes[0].spans * axes[1].spans * axes[2].spans; }
+    // Cells: knot-span triples of a tensor lattice, a volume's chunks otherwise.
+    int cellCount() const { return volume && !volume->tensorNet() ? volume->chunkCount() : axes[0].spans * axes[1].spans * axes[2].spans; }
     double diagonal() const { return (boxMax - boxMin).norm(); }
     // P0_ijk: the rest position, boxMin + greville * size per axis (a net lattice: the net's point).
     Eigen::Vector3d restControlPoint(int index) const;
     // The representative of control point `index`'s weld group (itself when not welded).
-    int representative(int index) const { return net && net->hasWelds ? net->weldedTo[index] : index; }
+    int representative(int index) const { return volume ? volume->representativeOf(index) : index; }
     // P0 + delta.
     Eigen::Vector3d controlPoint(int index) const { return restControlPoint(index) + displacement.row(index).transpose(); }
 };

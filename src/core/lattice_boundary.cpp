@@ -14,7 +14,8 @@ void latticeBoundarySurface(const Lattice& lattice, int samplesPerSpan, Position
     const auto node = [&](int i, int j, int k) -> int& { return id[static_cast<size_t>(i) + static_cast<size_t>(n[0]) * (j + static_cast<size_t>(n[1]) * k)]; };
     std::vector<Eigen::Vector3d> points;
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
-    const LatticeNet* net = lattice.net.get();
+    const LatticeNet* net = lattice.tensorNet();
+    assert(net || !lattice.volume);  // tensor kinds only (header)
     // A net lattice's sample nodes that are one point of the volume share one id: the periodic seam's last
     // slice is its first, and on a collapsed face (a cylinder's axis, a pole) the collapsed direction has one
     // node. Its surface is only its boundary faces (not the seam, not the collapsed ones).

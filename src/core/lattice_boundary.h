@@ -19,6 +19,8 @@ namespace sculpt::core {
 // The deformed outer surface of the lattice, sampled `samplesPerSpan` times per knot span along each axis and
 // triangulated as one closed, welded surface (shared vertices along the box's edges and corners), outward
 // facing at rest. samplesPerSpan >= 1. The same lattice shape always gives the same vertex and triangle ids.
+// Tensor-product kinds (the box lattice and LatticeNet: their outer surface is the parameter box's faces that
+// are neither seams nor collapsed); asserted.
 void latticeBoundarySurface(const Lattice& lattice, int samplesPerSpan, Positions& positions, Triangles& triangles);
 
 // The intersecting triangle pairs of that surface (empty: the boundary does not overlap itself at this

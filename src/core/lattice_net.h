@@ -28,6 +28,7 @@
 #include "core/bspline_basis.h"
 #include "core/mesh_types.h"
 #include "core/status.h"
+#include "core/volume.h"
 
 namespace sculpt::core {
 
@@ -43,9 +44,10 @@ struct ChunkIndex {
     void candidates(const Eigen::Vector3d& x, std::vector<int>& out) const;
 };
 
-// The rest shape of a net lattice. Immutable once built (shared between the copies of a Lattice, its
-// layers and the history); edits make a new one.
-struct LatticeNet {
+// The rest shape of a net lattice: one tensor-product NURBS volume placed anywhere, the Volume kind of every
+// lattice of seed 004 (volume.h). Immutable once built (shared between the copies of a Lattice, its layers and
+// the history); edits make a new one. Chunk id = su + S_u (sv + S_v sw); control point id = slot.
+struct LatticeNet final : Volume {
     std::string kind = "net";        // "parallelepiped", "cylinder", "sphere", "prism", "loft", "net"
     std::array<int, 3> count{};      // grid slots per axis
     std::array<int, 3> degree{};
@@ -66,11 +68,44 @@ struct LatticeNet {
     ChunkIndex restIndex;            // derived (finishLatticeNet): the rest net's chunk index
     Eigen::AlignedBox3d bounds;      // of the rest control points
 
+    // Derived: per axis, the B-spline -> Bezier matrices of every knot span (span s: (p+1) x (p+1) row-major at
+    // s (p+1)^2, row l = Bernstein coefficient l of the span's basis functions).
+    std::array<std::vector<double>, 3> toBezier;
+
     int slotCount() const { return count[0] * count[1] * count[2]; }
     int slot(int i, int j, int k) const { return i + count[0] * (j + count[1] * k); }
     std::array<int, 3> spans() const { return {axes[0].spans, axes[1].spans, axes[2].spans}; }
-    int chunkCount() const { return axes[0].spans * axes[1].spans * axes[2].spans; }
     double diagonal() const { return bounds.diagonal().norm(); }
+    std::array<int, 3> chunkIjk(int chunk) const {
+        return {chunk % axes[0].spans, (chunk / axes[0].spans) % axes[1].spans, chunk / (axes[0].spans * axes[1].spans)};
+    }
+
+    // ---- Volume (volume.h) ----
+    const std::string& kindName() const override { return kind; }
+    int controlPointCount() const override { return slotCount(); }
+    const Positions& restControlPoints() const override { return rest; }
+    const std::vector<double>& controlWeights() const override { return weights; }
+    bool isRational() const override { return rational; }
+    int representativeOf(int id) const override { return hasWelds ? weldedTo[static_cast<size_t>(id)] : id; }
+    const std::vector<std::vector<int>>& weldGroupList() const override { return weldGroups; }
+    Eigen::AlignedBox3d restBounds() const override { return bounds; }
+    bool onOuterSurface(int id) const override { return boundarySlot[static_cast<size_t>(id)] != 0; }
+    // Layers counted from the boundary faces only (not from a seam or a collapsed face).
+    bool inSurfaceLayers(int id, int layers) const override;
+    std::vector<std::array<int, 2>> controlNetEdgeList() const override;
+    void basisAt(const Eigen::Vector3d& t, SupportWeights& out) const override;
+    void evaluate(const Positions& points, const Eigen::Vector3d& t, Eigen::Vector3d& value,
+                  Eigen::Matrix3d* derivative = nullptr) const override;
+    bool freeze(const Eigen::Vector3d& x, Eigen::Vector3d& t) const override;
+    std::unique_ptr<Locator> locatorFor(const Positions& points) const override;
+    int chunkCount() const override { return axes[0].spans * axes[1].spans * axes[2].spans; }
+    int chunkOf(const Eigen::Vector3d& t, Eigen::Vector3d& local) const override;
+    Eigen::Vector3d chunkParameters(int chunk, const Eigen::Vector3d& local) const override;
+    void chunkSupport(int chunk, std::vector<int>& ids) const override;
+    // Knot insertion to Bezier form per axis (toBezier); collapse = collapsedAlong on the net's outer faces.
+    void bezierChunk(int chunk, const Positions& points, BezierChunk& out) const override;
+    std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const override;
+    const LatticeNet* tensorNet() const override { return this; }
 };
 
 // Validates the raw fields (counts, degrees, multiplicities, rest #slots x 3 finite, weights > 0 finite,

@@ -99,7 +99,21 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
         case ScriptOp::Kind::Undo: return session.undo(report);
         case ScriptOp::Kind::Redo: return session.redo(report);
         case ScriptOp::Kind::AddLattice: return session.addLatticeTool(op.tool, report);
-        case ScriptOp::Kind::EditLattice: return session.editLatticeTool(op.toolIndex, op.tool, report);
+        case ScriptOp::Kind::EditLattice: {
+            const std::vector<LatticeTool>& tools = session.latticeTools();
+            if (op.toolIndex < 0 || op.toolIndex >= static_cast<int>(tools.size()) || op.toolIndex == session.frozenTool())
+                return session.editLatticeTool(op.toolIndex, op.tool, report);  // refused there, with the reason
+            const LatticeTool& current = tools[static_cast<size_t>(op.toolIndex)];
+            LatticeTool tool = op.tool;
+            if (tool.name.empty()) tool.name = current.name;  // an edit keeps the tool's name unless it gives one
+            if (!tool.net) tool.net = current.net;
+            if (!op.netEdits.empty()) {
+                LatticeNet edited;
+                if (Status s = applyNetEdits(*tool.net, op.netEdits, edited); !s) return s;
+                tool.net = std::make_shared<const LatticeNet>(std::move(edited));
+            }
+            return session.editLatticeTool(op.toolIndex, tool, report);
+        }
         case ScriptOp::Kind::RemoveLattice: return session.removeLatticeTool(op.toolIndex, report);
         case ScriptOp::Kind::Freeze: return session.freezeLattice(op.toolIndex, op.pinLayers, report);
         case ScriptOp::Kind::Unfreeze: return session.unfreezeLattice(report);

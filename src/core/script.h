@@ -11,6 +11,7 @@
 
 #include "core/injectivity.h"
 #include "core/lattice.h"
+#include "core/lattice_edit.h"
 #include "core/session.h"
 #include "core/status.h"
 
@@ -35,7 +36,10 @@ struct ScriptOp {
     bool hasSettings = false;                      // SetupLattice: new settings, or (false) a fresh lattice
     LatticeSettings settings;                      //   with the current ones around the current shape
     int groupFirst = 0;                            // Group: history entries [groupFirst, end) become one (label)
-    LatticeTool tool;                              // AddLattice, EditLattice: the lattice tool (already placed)
+    LatticeTool tool;                              // AddLattice, EditLattice: the lattice tool (already placed);
+                                                   //   EditLattice: a null net = the tool's current net, an
+                                                   //   empty name = the tool's current name
+    std::vector<NetEdit> netEdits;                 // EditLattice: edits applied in order to that net (3.1.4)
     int toolIndex = -1;                            // EditLattice, RemoveLattice, Freeze: which tool of the list
     int pinLayers = 0;                             // Freeze: outer layers kept fixed (from its boundary faces)
     double tolerance = 0.0;                        // Refine: fraction of the diagonal (0: the session's setting)

@@ -102,12 +102,11 @@ const char* opStatusName(OpStatus status) {
 void invertDeformation(const Lattice& lattice, const Positions& deformed, Positions& rest) {
     rest = deformed;  // same size as before: no new pages
     const int n = static_cast<int>(deformed.rows());
-    if (lattice.net) {
-        // A net lattice: the parameters t of y in the deformed volume (freezing it, Coquillart 1990, 3.3), whose
-        // rest point Q0(t) is the preimage. Points the deformed volume does not hold did not move.
-        const LatticeNet& net = *lattice.net;
-        const Positions moved = net.rest + lattice.displacement;
-        const ChunkIndex index = buildChunkIndex(net, moved);
+    if (lattice.volume) {
+        // A lattice of another kind: the parameters t of y in the deformed volume (freezing it, Coquillart 1990,
+        // 3.3), whose rest point Q0(t) is the preimage. Points the deformed volume does not hold did not move.
+        const Volume& volume = *lattice.volume;
+        const std::unique_ptr<Volume::Locator> locator = volume.locatorFor(volume.restControlPoints() + lattice.displacement);
         const bool boundaryFixed = boundaryUnmoved(lattice);
 #pragma omp parallel for schedule(dynamic, 256) if (n > 2000)
         for (int v = 0; v < n; ++v) {
@@ -117,10 +116,8 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
             if (inside && displacementAt(lattice, t).isZero(0.0)) continue;  // bitwise its own preimage
             // With the boundary fixed the volume maps onto itself, so a point outside it never moved.
             if (!inside && boundaryFixed) continue;
-            if (!freezePoint(net, moved, index, y, t)) continue;
-            Eigen::Vector3d x;
-            evaluateNetVolume(net, net.rest, t, x);
-            rest.row(v) = x.transpose();
+            if (!locator->freeze(y, t)) continue;
+            rest.row(v) = restPoint(lattice, t).transpose();
         }
         return;
     }
@@ -889,7 +886,7 @@ Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) 
     Operation operation;
     operation.kind = OperationKind::LatticeSetup;
     const std::array<int, 3> counts = latticeCounts(settings);
-    operation.label = "set up " + (settings.net ? settings.net->kind + " " : std::string()) + "lattice " + std::to_string(counts[0]) + "x" +
+    operation.label = "set up " + (settings.volume ? settings.volume->kindName() + " " : std::string()) + "lattice " + std::to_string(counts[0]) + "x" +
                       std::to_string(counts[1]) + "x" + std::to_string(counts[2]);
     operation.settings = settings;
     // A fresh, undeformed lattice is injective: no test needed.

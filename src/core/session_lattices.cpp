@@ -18,32 +18,24 @@ Status checkTool(const LatticeTool& tool) {
 }  // namespace
 
 void Session::pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding) const {
-    if (!lattice.net || embedding.insideCount() == static_cast<int>(positions_.rows())) return;
+    if (!lattice.volume || embedding.insideCount() == static_cast<int>(positions_.rows())) return;
     for (int idx = 0; idx < lattice.controlPointCount(); ++idx)
-        if (lattice.net->boundarySlot[idx]) lattice.pinned[idx] = 1;
+        if (lattice.volume->onOuterSurface(idx)) lattice.pinned[idx] = 1;
 }
 
 bool Session::basePinned(int idx) const {
     if (inOuterLayers(lattice_, idx, settings_.pinLayers)) return true;
-    return lattice_.net && lattice_.net->boundarySlot[idx] && embedding_.insideCount() < static_cast<int>(positions_.rows());
+    return lattice_.volume && lattice_.volume->onOuterSurface(idx) && embedding_.insideCount() < static_cast<int>(positions_.rows());
 }
 
 std::vector<int> Session::weldGroupsOf(const std::vector<int>& ids) const {
     std::vector<int> out;
     for (int idx : ids) {
-        const int rep = lattice_.representative(idx);
-        if (rep == idx && !(lattice_.net && lattice_.net->hasWelds)) {
+        const std::vector<int>* group = lattice_.volume ? weldGroupOf(*lattice_.volume, idx) : nullptr;
+        if (group)
+            out.insert(out.end(), group->begin(), group->end());
+        else
             out.push_back(idx);
-            continue;
-        }
-        bool grouped = false;
-        for (const auto& group : lattice_.net->weldGroups)
-            if (group[0] == rep) {
-                out.insert(out.end(), group.begin(), group.end());
-                grouped = true;
-                break;
-            }
-        if (!grouped) out.push_back(idx);
     }
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
@@ -120,7 +112,7 @@ Status Session::removeLatticeTool(int index, OpReport& report) {
 Status Session::freezeLattice(int index, int pinLayers, OpReport& report) {
     if (index < 0 || index >= static_cast<int>(tools_.size())) return Status::error("there is no lattice " + std::to_string(index));
     LatticeSettings settings;
-    settings.net = tools_[static_cast<size_t>(index)].net;
+    settings.volume = tools_[static_cast<size_t>(index)].net;
     settings.pinLayers = pinLayers;
     if (Status s = validateLatticeSettings(settings); !s) return s;
     const int before = frozenTool_;

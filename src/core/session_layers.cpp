@@ -44,7 +44,7 @@ bool Session::pullThroughLayers(const Eigen::Vector3d& y, Eigen::Vector3d& x, si
             hi = hi.cwiseMax(layer.controlPoint(idx));
         }
         Eigen::Vector3d restParams;
-        const bool inBox = layer.net ? restParameters(layer, point, restParams)
+        const bool inBox = layer.volume ? restParameters(layer, point, restParams)
                                      : (point.array() >= layer.boxMin.array()).all() && (point.array() <= layer.boxMax.array()).all();
         if (!((point.array() >= lo.array()).all() && (point.array() <= hi.array()).all())) continue;  // the identity there
         Eigen::Vector3d params;

@@ -1,6 +1,9 @@
 // Lattice tools as JSON: predefined shapes and explicit nets (lattice_json.h).
 #include "io/lattice_json.h"
 
+#include <algorithm>
+#include <stdexcept>
+
 #include "io/atomic_file.h"
 #include "io/json_fields.h"
 #include "io/script_json.h"
@@ -42,6 +45,39 @@ core::PlanarNet parseProfile(const json& j, const std::string& path) {
     return net;
 }
 
+// A loft section: the profile placed by hand, {"origin", "u_axis", "v_axis", "scale"} (world point = origin +
+// scale_u p_u u + scale_v p_v v, u and v orthonormalised as an extrusion's), or its count_u x count_v world
+// points [[x,y,z], ...] (row u fastest).
+Positions parseSection(const json& j, const std::string& path, const core::PlanarNet& profile) {
+    const size_t perSection = profile.points.size();
+    Positions section(static_cast<Eigen::Index>(perSection), 3);
+    if (j.is_array()) {
+        if (j.size() != perSection) fail(path, "expected " + std::to_string(perSection) + " [x,y,z] points (the profile's count_u x count_v)");
+        for (size_t p = 0; p < perSection; ++p)
+            section.row(static_cast<Eigen::Index>(p)) = vector3(j[p], path + "[" + std::to_string(p) + "]").transpose();
+        return section;
+    }
+    if (!j.is_object()) fail(path, "expected a placement {\"origin\", \"u_axis\", \"v_axis\", \"scale\"} or an array of [x,y,z] points");
+    allowOnly(j, path, {"origin", "u_axis", "v_axis", "scale"});
+    const Eigen::Vector3d origin = vector3(required(j, "origin", path), path + ".origin");
+    const Eigen::Vector3d uAxis = j.contains("u_axis") ? vector3(j["u_axis"], path + ".u_axis") : Eigen::Vector3d::UnitX();
+    const Eigen::Vector3d vAxis = j.contains("v_axis") ? vector3(j["v_axis"], path + ".v_axis") : Eigen::Vector3d::UnitY();
+    Eigen::Vector2d scale(1.0, 1.0);
+    if (j.contains("scale")) {
+        const json& sj = j["scale"];
+        scale = sj.is_array() ? vector2(sj, path + ".scale") : Eigen::Vector2d::Constant(number(sj, path + ".scale"));
+        if (!(scale.array() > 0.0).all()) fail(path + ".scale", "expected a scale > 0 (or [u, v] scales > 0)");
+    }
+    const Eigen::Vector3d u = uAxis.normalized();
+    const Eigen::Vector3d v = (vAxis - vAxis.dot(u) * u).normalized();
+    if (!(uAxis.norm() > 0.0) || !u.allFinite() || !v.allFinite() || !(u.cross(vAxis).norm() > 1e-12 * vAxis.norm()))
+        fail(path, "u_axis and v_axis must be non-zero and not parallel");
+    for (size_t p = 0; p < perSection; ++p)
+        section.row(static_cast<Eigen::Index>(p)) =
+            (origin + scale.x() * profile.points[p].x() * u + scale.y() * profile.points[p].y() * v).transpose();
+    return section;
+}
+
 core::LatticeNet parseNet(const json& j, const std::string& path) {
     if (!j.is_object()) fail(path, "expected a lattice object");
     const std::string kind = text(required(j, "kind", path), path + ".kind");
@@ -75,6 +111,15 @@ core::LatticeNet parseNet(const json& j, const std::string& path) {
                                      j.contains("chunks") ? integer(j["chunks"], path + ".chunks") : 1,
                                      j.contains("degree") ? integer(j["degree"], path + ".degree") : 1, net),
               path);
+    } else if (kind == "loft") {
+        allowOnly(j, path, {"kind", "profile", "sections", "degree"});
+        const core::PlanarNet profile = parseProfile(required(j, "profile", path), path + ".profile");
+        const json& sections = required(j, "sections", path);
+        if (!sections.is_array()) fail(path + ".sections", "expected an array of sections");
+        std::vector<Positions> placed;
+        for (size_t k = 0; k < sections.size(); ++k)
+            placed.push_back(parseSection(sections[k], path + ".sections[" + std::to_string(k) + "]", profile));
+        check(core::makeLoftNet(profile, placed, j.contains("degree") ? integer(j["degree"], path + ".degree") : 2, net), path);
     } else if (kind == "net") {
         allowOnly(j, path, {"kind", "shape", "count", "degree", "multiplicity", "points", "weights", "welds"});
         if (j.contains("shape")) net.kind = text(j["shape"], path + ".shape");
@@ -122,7 +167,7 @@ core::LatticeNet parseNet(const json& j, const std::string& path) {
         }
         check(core::finishLatticeNet(net), path);
     } else {
-        fail(path + ".kind", "unknown lattice kind \"" + kind + "\" (known: parallelepiped, cylinder, sphere, prism, net)");
+        fail(path + ".kind", "unknown lattice kind \"" + kind + "\" (known: parallelepiped, cylinder, sphere, prism, loft, net)");
     }
     return net;
 }
@@ -180,5 +225,46 @@ std::string latticeFileText(const LatticeFile& file) {
 }
 
 Status writeLatticeFile(const std::string& path, const LatticeFile& file) { return writeFileAtomically(path, latticeFileText(file)); }
+
+namespace {
+
+std::vector<VolumeFormat>& volumeFormats() {
+    static std::vector<VolumeFormat> formats = [] {
+        VolumeFormat net;
+        net.kinds = {"net", "parallelepiped", "cylinder", "sphere", "prism", "loft"};
+        net.read = [](const json& j, const std::string& path, std::shared_ptr<const core::Volume>& out) {
+            core::LatticeNet parsed;
+            if (Status s = parseLatticeNetJson(j, path, parsed); !s) return s;
+            out = std::make_shared<const core::LatticeNet>(std::move(parsed));
+            return Status::success();
+        };
+        net.write = [](const core::Volume& volume, json& out) {
+            if (!volume.tensorNet()) return false;
+            out = latticeNetJson(*volume.tensorNet());
+            return true;
+        };
+        return std::vector<VolumeFormat>{net};
+    }();
+    return formats;
+}
+
+}  // namespace
+
+void registerVolumeFormat(VolumeFormat format) { volumeFormats().push_back(std::move(format)); }
+
+Status parseVolumeJson(const json& j, const std::string& path, std::shared_ptr<const core::Volume>& out) {
+    const std::string kind = j.is_object() && j.contains("kind") && j["kind"].is_string() ? j["kind"].get<std::string>() : std::string("net");
+    for (const VolumeFormat& format : volumeFormats())
+        if (std::find(format.kinds.begin(), format.kinds.end(), kind) != format.kinds.end()) return format.read(j, path, out);
+    // Unknown kinds: the net parser names the known ones.
+    return volumeFormats().front().read(j, path, out);
+}
+
+json volumeJson(const core::Volume& volume) {
+    json out;
+    for (const VolumeFormat& format : volumeFormats())
+        if (format.write(volume, out)) return out;
+    throw std::invalid_argument("no JSON format is registered for lattice kind " + volume.kindName());
+}
 
 }  // namespace sculpt::io

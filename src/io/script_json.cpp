@@ -60,12 +60,10 @@ core::LatticeSettings parseLattice(const json& j, const std::string& path) {
         // A lattice of any shape (lattice_json.h), with the pin layers counted from its boundary faces.
         json shape = j;
         shape.erase("pin_layers");
-        core::LatticeNet net;
-        if (Status status = parseLatticeNetJson(shape, path, net); !status) {
+        if (Status status = parseVolumeJson(shape, path, s.volume); !status) {
             const size_t colon = status.message.find(": ");  // "field.path: what"
             fail(status.message.substr(0, colon), colon == std::string::npos ? status.message : status.message.substr(colon + 2));
         }
-        s.net = std::make_shared<const core::LatticeNet>(std::move(net));
         if (j.contains("pin_layers")) s.pinLayers = integer(j["pin_layers"], path + ".pin_layers");
         if (Status status = core::validateLatticeSettings(s); !status) fail(path, status.message);
         return s;
@@ -249,9 +247,17 @@ thread_local std::string gScriptFolder;
 
 // The lattice tool of an add_lattice / edit_lattice op: "lattice" (lattice_json.h) or "file" (a library file,
 // relative to the script's folder), then optionally "place" (the positioning command, Coquillart 1990, 3.2).
-core::LatticeTool parseTool(const json& j, const std::string& path, bool needName) {
+// An edit_lattice op (`edit`) may give neither (its "edits" then apply to the tool's current net: the tool's net
+// stays null) and gives no name unless it has "name" (the tool keeps its own).
+core::LatticeTool parseTool(const json& j, const std::string& path, bool edit) {
     core::LatticeTool tool;
     core::LatticeNet net;
+    if (edit && !j.contains("lattice") && !j.contains("file")) {
+        if (!j.contains("edits")) fail(path, "expected \"lattice\", \"file\" or \"edits\"");
+        if (j.contains("place")) fail(path + ".place", "places a \"lattice\" or \"file\"; an edit of the current net has neither");
+        if (j.contains("name")) tool.name = text(j["name"], path + ".name");
+        return tool;
+    }
     if (j.contains("lattice") == j.contains("file")) fail(path, "expected one of \"lattice\" and \"file\"");
     if (j.contains("file")) {
         std::filesystem::path file(text(j["file"], path + ".file"));
@@ -275,13 +281,84 @@ core::LatticeTool parseTool(const json& j, const std::string& path, bool needNam
             fail(path + ".place", s.message);
         net = std::move(placed);
     }
+    if (edit) tool.name.clear();  // note: an edit keeps the tool's name, whatever a library file calls its lattice
     if (j.contains("name")) tool.name = text(j["name"], path + ".name");
-    if (tool.name.empty()) {
-        if (needName) fail(path + ".name", "missing (a lattice tool needs a name)");
-        tool.name = net.kind;
-    }
+    if (tool.name.empty() && !edit) tool.name = net.kind;
     tool.net = std::make_shared<const core::LatticeNet>(std::move(net));
     return tool;
+}
+
+// Slot ids of an edit: integers >= 0 (whether they are in the lattice is known when the edit runs).
+std::vector<int> parseSlots(const json& j, const std::string& path, size_t least) {
+    if (!j.is_array() || j.size() < least)
+        fail(path, "expected an array of " + std::to_string(least) + " or more slot ids (i + count_u (j + count_v k))");
+    std::vector<int> slots;
+    for (size_t s = 0; s < j.size(); ++s) {
+        const std::string sp = path + "[" + std::to_string(s) + "]";
+        const int id = integer(j[s], sp);
+        if (id < 0) fail(sp, "expected a slot id >= 0");
+        slots.push_back(id);
+    }
+    return slots;
+}
+
+int parseEditAxis(const json& j, const std::string& path) {
+    const int axis = integer(required(j, "axis", path), path + ".axis");
+    if (axis < 0 || axis > 2) fail(path + ".axis", "expected 0 (u), 1 (v) or 2 (w)");
+    return axis;
+}
+
+// edit_lattice's "edits" (core/lattice_edit.h): {"move": {"points": [slot, ...], "offset": [x,y,z]}},
+// {"merge": [slot, slot, ...]}, {"refine": {"axis": a}}, {"remove": {"axis": a, "index": i}}.
+std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path) {
+    if (!j.is_array() || j.empty()) fail(path, "expected a non-empty array of edits");
+    std::vector<core::NetEdit> edits;
+    for (size_t e = 0; e < j.size(); ++e) {
+        const std::string ep = path + "[" + std::to_string(e) + "]";
+        const json& item = j[e];
+        if (!item.is_object() || item.size() != 1)
+            fail(ep, "expected an object with one of \"move\", \"merge\", \"refine\", \"remove\"");
+        const std::string key = item.begin().key();
+        const json& value = item.begin().value();
+        const std::string vp = ep + "." + key;
+        core::NetEdit edit;
+        if (key == "move") {
+            edit.kind = core::NetEdit::Kind::Move;
+            allowOnly(value, vp, {"points", "offset"});
+            edit.slots = parseSlots(required(value, "points", vp), vp + ".points", 1);
+            edit.offset = vector3(required(value, "offset", vp), vp + ".offset");
+        } else if (key == "merge") {
+            edit.kind = core::NetEdit::Kind::Merge;
+            edit.slots = parseSlots(value, vp, 2);
+        } else if (key == "refine") {
+            edit.kind = core::NetEdit::Kind::Refine;
+            allowOnly(value, vp, {"axis"});
+            edit.axis = parseEditAxis(value, vp);
+        } else if (key == "remove") {
+            edit.kind = core::NetEdit::Kind::Remove;
+            allowOnly(value, vp, {"axis", "index"});
+            edit.axis = parseEditAxis(value, vp);
+            edit.index = integer(required(value, "index", vp), vp + ".index");
+            if (edit.index < 0) fail(vp + ".index", "expected a slice index >= 0");
+        } else {
+            fail(vp, "unknown edit (known: move, merge, refine, remove)");
+        }
+        edits.push_back(std::move(edit));
+    }
+    return edits;
+}
+
+json editsJson(const std::vector<core::NetEdit>& edits) {
+    json out = json::array();
+    for (const core::NetEdit& edit : edits) switch (edit.kind) {
+            case core::NetEdit::Kind::Move:
+                out.push_back({{"move", {{"points", edit.slots}, {"offset", vectorJson(edit.offset)}}}});
+                break;
+            case core::NetEdit::Kind::Merge: out.push_back({{"merge", edit.slots}}); break;
+            case core::NetEdit::Kind::Refine: out.push_back({{"refine", {{"axis", edit.axis}}}}); break;
+            case core::NetEdit::Kind::Remove: out.push_back({{"remove", {{"axis", edit.axis}, {"index", edit.index}}}}); break;
+        }
+    return out;
 }
 
 core::ScriptOp parseOp(const json& j, const std::string& path) {
@@ -351,11 +428,14 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
             for (size_t c = 0; c < ids.size(); ++c) list.push_back(int3(ids[c], kp + "[" + std::to_string(c) + "]"));
         }
     } else if (name == "add_lattice" || name == "edit_lattice") {
-        allowOnly(j, path, {"op", "name", "lattice", "file", "place", "index"});
         op.kind = name == "add_lattice" ? core::ScriptOp::Kind::AddLattice : core::ScriptOp::Kind::EditLattice;
-        if (op.kind == core::ScriptOp::Kind::EditLattice) op.toolIndex = integer(required(j, "index", path), path + ".index");
+        const bool edit = op.kind == core::ScriptOp::Kind::EditLattice;
+        if (edit) allowOnly(j, path, {"op", "name", "lattice", "file", "place", "index", "edits"});
+        else allowOnly(j, path, {"op", "name", "lattice", "file", "place", "index"});
+        if (edit) op.toolIndex = integer(required(j, "index", path), path + ".index");
         else if (j.contains("index")) fail(path + ".index", "add_lattice appends to the list; it takes no index");
-        op.tool = parseTool(j, path, false);
+        if (edit && j.contains("edits")) op.netEdits = parseEdits(j["edits"], path + ".edits");
+        op.tool = parseTool(j, path, edit);
     } else if (name == "remove_lattice") {
         allowOnly(j, path, {"op", "index"});
         op.kind = core::ScriptOp::Kind::RemoveLattice;
@@ -495,8 +575,8 @@ json injectivityJson(const core::InjectivitySettings& s) {
 }
 
 json latticeJson(const core::LatticeSettings& s) {
-    if (s.net) {
-        json j = latticeNetJson(*s.net);
+    if (s.volume) {
+        json j = volumeJson(*s.volume);
         j["pin_layers"] = s.pinLayers;
         return j;
     }
@@ -613,8 +693,9 @@ std::string scriptToJson(const core::Script& script) {
             case core::ScriptOp::Kind::AddLattice:
             case core::ScriptOp::Kind::EditLattice:
                 if (op.kind == core::ScriptOp::Kind::EditLattice) j["index"] = op.toolIndex;
-                j["name"] = op.tool.name;
-                j["lattice"] = latticeNetJson(*op.tool.net);
+                if (!op.tool.name.empty()) j["name"] = op.tool.name;
+                if (op.tool.net) j["lattice"] = latticeNetJson(*op.tool.net);
+                if (!op.netEdits.empty()) j["edits"] = editsJson(op.netEdits);
                 break;
             case core::ScriptOp::Kind::RemoveLattice: j["index"] = op.toolIndex; break;
             case core::ScriptOp::Kind::Freeze:

@@ -48,7 +48,7 @@ void runEffdBenchmarks(const std::vector<std::string>& filters) {
         return;
     }
     LatticeSettings settings;
-    settings.net = std::make_shared<const LatticeNet>(cylinder);
+    settings.volume = std::make_shared<const LatticeNet>(cylinder);
     const int n = 1000000;
     const Positions points = pointsInCylinder(n);
     Lattice lattice;
@@ -92,7 +92,7 @@ void runEffdBenchmarks(const std::vector<std::string>& filters) {
         start.resolution = {4, 4, 4};
         session.setMesh(mesh, Triangles(0, 3), start);
         OpReport report;
-        session.addLatticeTool({"cylinder", settings.net}, report);
+        session.addLatticeTool({"cylinder", std::make_shared<const LatticeNet>(cylinder)}, report);
         session.freezeLattice(0, 0, report);
         const int vertex = 12345;
         const Eigen::Vector3d from = session.positions().row(vertex).transpose();

@@ -144,7 +144,7 @@ void runInjectivityBenchmarks(const std::vector<std::string>& filters) {
         LatticeNet net;
         makeCylinderNet(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0, 2.0, {2, 6, 2}, {2, 2}, net);
         LatticeSettings settings;
-        settings.net = std::make_shared<LatticeNet>(net);
+        settings.volume = std::make_shared<LatticeNet>(net);
         Lattice lattice;
         makeLatticeInBox(settings, {}, {}, lattice);
         denseDisplacement(lattice, 0.0);

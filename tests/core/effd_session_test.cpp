@@ -63,7 +63,7 @@ TEST_CASE("effd session: drags on a frozen cylinder meet their targets and undo 
         REQUIRE(session.freezeLattice(0, trial % 2, report));
         REQUIRE(report.status == OpStatus::Applied);
         REQUIRE(session.frozenTool() == 0);
-        REQUIRE(session.lattice().net);
+        REQUIRE(session.lattice().volume);
         REQUIRE(session.positions() == original);  // freezing moves nothing
         // Which vertices are inside the cylinder: only those may ever move.
         std::vector<bool> inside(original.rows());

@@ -29,7 +29,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 Lattice latticeOf(const LatticeNet& net) {
     LatticeSettings settings;
-    settings.net = std::make_shared<LatticeNet>(net);
+    settings.volume = std::make_shared<LatticeNet>(net);
     Lattice lattice;
     REQUIRE(makeLatticeInBox(settings, {}, {}, lattice));
     return lattice;
@@ -110,14 +110,14 @@ double spacing(const LatticeNet& net) {
 // Moves each weld group with probability `fraction` by up to `amplitude` spacings per axis.
 void displaceRandomly(std::mt19937& rng, Lattice& lattice, double amplitude, double fraction) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const double step = amplitude * spacing(*lattice.net);
+    const double step = amplitude * spacing(*lattice.tensorNet());
     for (int s = 0; s < lattice.controlPointCount(); ++s)
         if (lattice.representative(s) == s && unit(rng) < fraction)
             lattice.displacement.row(s) = step * test::randomVector(rng, -1.0, 1.0).transpose();
     weldDisplacements(lattice);
 }
 
-Positions movedPoints(const Lattice& lattice) { return lattice.net->rest + lattice.displacement; }
+Positions movedPoints(const Lattice& lattice) { return lattice.tensorNet()->rest + lattice.displacement; }
 
 // The least det(dQ/dt) over n^3 points strictly inside each chunk (never on a face, so a collapsed axis at
 // rest does not count), by evaluateNetVolume, and where it is.
@@ -135,7 +135,7 @@ double sampledMinimum(const Lattice& lattice, int n, Eigen::Vector3d* where = nu
                                                     (w + (k + 0.5) / n) / spans[2]);
                             Eigen::Vector3d q;
                             Eigen::Matrix3d d;
-                            evaluateNetVolume(*lattice.net, points, t, q, &d);
+                            evaluateNetVolume(*lattice.tensorNet(), points, t, q, &d);
                             if (d.determinant() < minimum) {
                                 minimum = d.determinant();
                                 if (where) *where = t;
@@ -214,7 +214,7 @@ TEST_CASE("injectivity net: the chunk determinant in Bernstein form is det4[Hu H
                 Eigen::Vector3d t, q;
                 for (int a = 0; a < 3; ++a) t[a] = (chunk[a] + x[a]) / lattice.axes[a].spans;
                 Eigen::Matrix3d d;
-                evaluateNetVolume(*lattice.net, points, t, q, &d);
+                evaluateNetVolume(*lattice.tensorNet(), points, t, q, &d);
                 const double w4 = std::pow(h[3], 4);
                 const double expected = info.rational ? m.determinant() : d.determinant();
                 const double value = bernsteinEvaluate(det, x) * dividedFactor(info, x);
@@ -239,7 +239,7 @@ TEST_CASE("injectivity net: verdicts agree with dense sampling of det(dQ/dt) on 
         displaceRandomly(rng, lattice, amplitude, 0.5);
         const InjectivityResult exact = checkInjectivityExact(lattice);
         const double sampled = sampledMinimum(lattice, 5);
-        INFO("trial " << trial << " kind " << lattice.net->kind << " verdict " << injectivityVerdictName(exact.verdict) << ": "
+        INFO("trial " << trial << " kind " << lattice.tensorNet()->kind << " verdict " << injectivityVerdictName(exact.verdict) << ": "
                       << exact.message << "; sampled min " << sampled);
         REQUIRE(exact.verdict != InjectivityVerdict::Unsupported);
         if (exact.certified) {
@@ -260,8 +260,8 @@ TEST_CASE("injectivity net: verdicts agree with dense sampling of det(dQ/dt) on 
                 t[a] = (exact.failingCellIjk[a] + std::clamp(exact.failingLocalParams[a], 1e-9, 1.0 - 1e-9)) / lattice.axes[a].spans;
             Eigen::Vector3d q;
             Eigen::Matrix3d d;
-            evaluateNetVolume(*lattice.net, movedPoints(lattice), t, q, &d);
-            REQUIRE(d.determinant() <= 1e-6 * std::pow(lattice.net->diagonal(), 3));
+            evaluateNetVolume(*lattice.tensorNet(), movedPoints(lattice), t, q, &d);
+            REQUIRE(d.determinant() <= 1e-6 * std::pow(lattice.tensorNet()->diagonal(), 3));
         }
         // The conic mode runs the exact test on nets.
         const InjectivityResult conic = checkInjectivityConic(lattice);
@@ -313,7 +313,7 @@ TEST_CASE("injectivity net: cylinders and spheres at rest and moved rigidly are 
     std::mt19937 rng(1004);
     for (int trial = 0; trial < 24; ++trial) {
         Lattice lattice = latticeOf(trial % 2 ? randomCylinder(rng) : randomSphere(rng));
-        INFO(lattice.net->kind << " trial " << trial);
+        INFO(lattice.tensorNet()->kind << " trial " << trial);
         // At rest nothing is deformed: certified without looking.
         REQUIRE(checkInjectivityExact(lattice).certified);
         // The rest chunks themselves: the face-divided determinant is positive on every closed chunk.
@@ -341,7 +341,7 @@ TEST_CASE("injectivity net: cylinders and spheres at rest and moved rigidly are 
         const Eigen::Vector3d shift = test::randomVector(rng, -1.0, 1.0);
         for (int s = 0; s < lattice.controlPointCount(); ++s)
             lattice.displacement.row(s) =
-                (rotation * lattice.net->rest.row(s).transpose() + shift - lattice.net->rest.row(s).transpose()).transpose();
+                (rotation * lattice.tensorNet()->rest.row(s).transpose() + shift - lattice.tensorNet()->rest.row(s).transpose()).transpose();
         const InjectivityResult moved = checkInjectivityExact(lattice);
         INFO(moved.message);
         REQUIRE(moved.certified);
@@ -401,7 +401,7 @@ TEST_CASE("injectivity net: det J per point is det(dQ/dt) / det(dQ0/dt) and matc
     for (int trial = 0; trial < 24; ++trial) {
         Lattice lattice = latticeOf(randomNet(rng, trial));
         displaceRandomly(rng, lattice, 0.2, 0.6);
-        const LatticeNet& net = *lattice.net;
+        const LatticeNet& net = *lattice.tensorNet();
         const Positions points = movedPoints(lattice);
         for (int sample = 0; sample < 20; ++sample) {
             const std::array<int, 3> chunk = randomChunk(rng, lattice);
@@ -441,7 +441,7 @@ TEST_CASE("injectivity net: vertex det J uses frozen parameters and is finite on
     std::mt19937 rng(1006);
     for (int trial = 0; trial < 12; ++trial) {
         Lattice lattice = latticeOf(trial % 2 ? randomCylinder(rng) : randomSphere(rng));
-        const LatticeNet& net = *lattice.net;
+        const LatticeNet& net = *lattice.tensorNet();
         // Vertices: random points of the volume, plus the collapsed ones (axis, centre, poles) and one outside.
         Positions rest(64, 3);
         for (int v = 0; v < 48; ++v) {
@@ -491,14 +491,14 @@ TEST_CASE("injectivity net: the tolerance bounds det J itself on a uniformly sca
     std::mt19937 rng(1008);
     for (int trial = 0; trial < 6; ++trial) {
         Lattice lattice = latticeOf(trial % 2 ? randomCylinder(rng) : randomSphere(rng));
-        const Eigen::Vector3d centre = lattice.net->bounds.center();
+        const Eigen::Vector3d centre = lattice.tensorNet()->bounds.center();
         const double scale = 0.9;  // det J = 0.729 everywhere, the axis and poles included
         for (int s = 0; s < lattice.controlPointCount(); ++s)
-            lattice.displacement.row(s) = (scale - 1.0) * (lattice.net->rest.row(s) - centre.transpose());
+            lattice.displacement.row(s) = (scale - 1.0) * (lattice.tensorNet()->rest.row(s) - centre.transpose());
         ExactOptions options;
         options.tolerance = 0.7;
         const InjectivityResult loose = checkInjectivityExact(lattice, options);
-        INFO(lattice.net->kind << ": " << loose.message);
+        INFO(lattice.tensorNet()->kind << ": " << loose.message);
         REQUIRE(loose.certified);
         REQUIRE(loose.determinantLowerBound == 0.7);
         REQUIRE(loose.minDeterminantFound == Approx(0.729).epsilon(1e-9));

@@ -176,7 +176,7 @@ TEST_CASE("net lattice: an undeformed net lattice is the identity on a mesh, and
     for (int trial = 0; trial < 12; ++trial) {
         const RandomNet r = randomNet(rng, trial % 4);
         LatticeSettings settings;
-        settings.net = std::make_shared<LatticeNet>(r.net);
+        settings.volume = std::make_shared<LatticeNet>(r.net);
         Lattice lattice;
         REQUIRE(makeLatticeInBox(settings, {}, {}, lattice));
         Positions rest(300, 3);
@@ -214,7 +214,7 @@ TEST_CASE("net lattice: welded points act as one control point and the solver me
     for (int trial = 0; trial < 20; ++trial) {
         const RandomNet r = randomNet(rng, 1 + trial % 2);  // cylinders and spheres: axis, seam and poles
         LatticeSettings settings;
-        settings.net = std::make_shared<LatticeNet>(r.net);
+        settings.volume = std::make_shared<LatticeNet>(r.net);
         Lattice lattice;
         REQUIRE(makeLatticeInBox(settings, {}, {}, lattice));
         // Sources on the axis and the seam, where welds matter.
@@ -258,7 +258,7 @@ TEST_CASE("net lattice: an oriented parallelepiped gives the box lattice's resul
     LatticeNet net;
     REQUIRE(makeParallelepipedNet(origin, rotation * lengths.asDiagonal(), {1, 1, 1}, {2, 1, 1}, net));
     LatticeSettings netSettings;
-    netSettings.net = std::make_shared<LatticeNet>(net);
+    netSettings.volume = std::make_shared<LatticeNet>(net);
     Lattice oriented;
     REQUIRE(makeLatticeInBox(netSettings, {}, {}, oriented));
     oriented.displacement.row(oriented.index(2, 0, 0)) = (rotation * lengths.cwiseProduct(move)).transpose();
@@ -295,7 +295,7 @@ TEST_CASE("net lattice: drawing shows merged points once and the chunks' edges a
         const int kind = trial % 4;
         const RandomNet r = randomNet(rng, kind);
         LatticeSettings settings;
-        settings.net = std::make_shared<LatticeNet>(r.net);
+        settings.volume = std::make_shared<LatticeNet>(r.net);
         Lattice lattice;
         REQUIRE(makeLattice(settings, Positions::Zero(1, 3), lattice));
         // Every edge joins two distinct representatives, once; every grid neighbour pair of distinct groups is there.

@@ -1,0 +1,182 @@
+// edit_lattice's "edits" (Coquillart 1990, 3.1.4; core/lattice_edit.h in scripts): edits apply in order to the
+// tool's current net and keep its name, bad edits are refused with the field path or the reason and change
+// nothing, and a session with edits, recorded and replayed through its JSON text, gives the same mesh and
+// lattice list bit for bit.
+#include <catch2/catch.hpp>
+
+#include <memory>
+
+#include "../core/mesh_fixtures.h"
+#include "core/lattice.h"
+#include "core/lattice_edit.h"
+#include "core/script.h"
+#include "core/session.h"
+#include "io/lattice_json.h"
+#include "io/script_json.h"
+#include "replay_support.h"
+
+using namespace sculpt;
+using namespace sculpt::core;
+
+namespace {
+
+struct Sphere {
+    Positions positions;
+    Triangles triangles;
+};
+
+Sphere sphereMesh() {
+    Sphere mesh;
+    test::icosphere(2, 1.0, Eigen::Vector3d::Zero(), mesh.positions, mesh.triangles);
+    return mesh;
+}
+
+// Runs `text` on a fresh session on the sphere; `ran` gets runScript's status.
+Session runText(const std::string& text, const Sphere& mesh, Status& ran) {
+    Script script;
+    const Status parsed = io::parseScript(text, "edits.json", script);
+    INFO(parsed.message);
+    REQUIRE(parsed);
+    Session session;
+    REQUIRE(session.setMesh(mesh.positions, mesh.triangles, script.lattice));
+    session.setInjectivity(script.injectivity);
+    ScriptReport report;
+    ran = runScript(session, script, report);
+    return session;
+}
+
+const char* kCylinder = R"({"kind": "cylinder", "base": [0, 0, -1.2], "axis": [0, 0, 1], "radius": 1.3, "height": 2.4, "chunks": [2, 6, 2], "degree": [2, 2]})";
+
+}  // namespace
+
+TEST_CASE("lattice edit script: edits apply to the current net keep the tool's name and replay bitwise", "[netedit][io][script]") {
+    const Sphere mesh = sphereMesh();
+    // Refined along w the cylinder has 4 x 13 x 6 slots; slot 0 is the axis of the bottom slice (one welded
+    // point), 3 + 4 * (1 + 13 * 5) and 3 + 4 * (2 + 13 * 5) are neighbouring points of the top ring.
+    const std::string edits =
+        R"([{"refine": {"axis": 2}}, {"move": {"points": [0], "offset": [0, 0, 0.05]}}, {"merge": [267, 271]}, {"remove": {"axis": 2, "index": 3}}])";
+    const std::string text = std::string(R"({"injectivity": {"mode": "exact"}, "ops": [
+        {"op": "add_lattice", "name": "pie", "lattice": )") + kCylinder + R"(},
+        {"op": "edit_lattice", "index": 0, "edits": )" + edits + R"(},
+        {"op": "freeze", "index": 0, "pin_layers": 0},
+        {"op": "move_control_point", "indices": [[0, 0, 2]], "by": [0.02, 0, 0.1]},
+        {"op": "unfreeze"},
+        {"op": "edit_lattice", "index": 0, "edits": [{"refine": {"axis": 0}}]}]})";
+    Status ran;
+    Session session = runText(text, mesh, ran);
+    INFO(ran.message);
+    REQUIRE(ran);
+    REQUIRE(session.latticeTools().size() == 1);
+    REQUIRE(session.latticeTools()[0].name == "pie");  // an edit without "name" keeps the tool's name
+
+    // The tool's net is the core edits applied to the cylinder, in order.
+    LatticeNet cylinder;
+    REQUIRE(io::parseLatticeNetJson(nlohmann::json::parse(kCylinder), "lattice", cylinder));
+    std::vector<NetEdit> list(5);
+    list[0].kind = NetEdit::Kind::Refine;
+    list[0].axis = 2;
+    list[1].kind = NetEdit::Kind::Move;
+    list[1].slots = {0};
+    list[1].offset = Eigen::Vector3d(0, 0, 0.05);
+    list[2].kind = NetEdit::Kind::Merge;
+    list[2].slots = {267, 271};
+    list[3].kind = NetEdit::Kind::Remove;
+    list[3].axis = 2;
+    list[3].index = 3;
+    list[4].kind = NetEdit::Kind::Refine;
+    list[4].axis = 0;
+    LatticeNet expected;
+    REQUIRE(applyNetEdits(cylinder, list, expected));
+    REQUIRE(sameLatticeNet(*session.latticeTools()[0].net, expected));
+    REQUIRE(session.positions() != mesh.positions);  // the frozen, edited lattice deformed the mesh
+
+    // Recorded and replayed through the JSON text: the same mesh and tool list, bit for bit.
+    const Script recording = recordSession(session);
+    Script parsed;
+    const Session replayed = test::replayThroughJson(recording, mesh.positions, mesh.triangles, parsed);
+    REQUIRE(replayed.positions() == session.positions());
+    REQUIRE(replayed.latticeTools().size() == session.latticeTools().size());
+    for (size_t t = 0; t < replayed.latticeTools().size(); ++t) {
+        REQUIRE(replayed.latticeTools()[t].name == session.latticeTools()[t].name);
+        REQUIRE(sameLatticeNet(*replayed.latticeTools()[t].net, *session.latticeTools()[t].net));
+    }
+    // The script with its edits also round-trips through scriptToJson as edits.
+    Script original, again;
+    REQUIRE(io::parseScript(text, "edits.json", original));
+    REQUIRE(io::parseScript(io::scriptToJson(original), "again.json", again));
+    REQUIRE(again.ops[1].netEdits.size() == 4);
+    REQUIRE_FALSE(again.ops[1].tool.net);
+    REQUIRE(again.ops[1].tool.name.empty());
+    REQUIRE(again.ops[1].netEdits[2].slots == std::vector<int>{267, 271});
+    // Undo takes the edits back one op at a time (each edit_lattice is one history entry).
+    Session undone = session;
+    OpReport report;
+    REQUIRE(undone.undo(report));
+    REQUIRE(undone.latticeTools()[0].net->count[0] == 4);
+}
+
+TEST_CASE("lattice edit script: an edit with a lattice and no name keeps the tool's name", "[netedit][io][script]") {
+    const Sphere mesh = sphereMesh();
+    const std::string text = std::string(R"({"ops": [{"op": "add_lattice", "name": "pie", "lattice": )") + kCylinder +
+                             R"(}, {"op": "edit_lattice", "index": 0, "lattice": )" + kCylinder +
+                             R"(, "edits": [{"refine": {"axis": 1}}]}, {"op": "edit_lattice", "index": 0, "name": "tart", "edits": [{"refine": {"axis": 0}}]}]})";
+    Status ran;
+    Session session = runText(text, mesh, ran);
+    INFO(ran.message);
+    REQUIRE(ran);
+    REQUIRE(session.latticeTools()[0].name == "tart");
+    REQUIRE(session.latticeTools()[0].net->count == std::array<int, 3>{6, 25, 4});
+    OpReport report;
+    REQUIRE(session.undo(report));
+    REQUIRE(session.latticeTools()[0].name == "pie");
+    REQUIRE(session.latticeTools()[0].net->count == std::array<int, 3>{4, 25, 4});
+}
+
+TEST_CASE("lattice edit script: bad edits name the field or the reason and change nothing", "[netedit][io][script]") {
+    const std::string head = std::string(R"({"ops": [{"op": "add_lattice", "name": "pie", "lattice": )") + kCylinder + "}, ";
+    // Parse errors: the field path.
+    const std::vector<std::pair<std::string, std::string>> parseCases = {
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"refine": {"axis": 0}}, {"merge": [1, 2, "x"]}]})", "ops[1].edits[1].merge[2]: expected an integer"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"merge": [1]}]})", "ops[1].edits[0].merge: expected an array of 2 or more slot ids"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"move": {"points": [], "offset": [0, 0, 1]}}]})", "ops[1].edits[0].move.points"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"move": {"points": [1], "offset": [0, 1]}}]})", "ops[1].edits[0].move.offset"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"move": {"points": [-4], "offset": [0, 0, 1]}}]})", "ops[1].edits[0].move.points[0]: expected a slot id >= 0"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"refine": {"axis": 3}}]})", "ops[1].edits[0].refine.axis: expected 0 (u), 1 (v) or 2 (w)"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"remove": {"axis": 1}}]})", "ops[1].edits[0].remove.index: missing"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"twist": {}}]})", "ops[1].edits[0].twist: unknown edit"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"refine": {"axis": 0}, "merge": [1, 2]}]})", "ops[1].edits[0]: expected an object with one of"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": []})", "ops[1].edits: expected a non-empty array"},
+        {R"({"op": "edit_lattice", "index": 0})", "ops[1]: expected \"lattice\", \"file\" or \"edits\""},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"refine": {"axis": 0}}], "place": {"point": [0,0,0], "normal": [0,0,1], "size": 1}})", "ops[1].place"},
+        {R"({"op": "add_lattice", "edits": [{"refine": {"axis": 0}}], "lattice": {"kind": "sphere", "centre": [0,0,0], "radius": 1, "chunks": [1,3,2]}})", "ops[1].edits: unknown field"},
+    };
+    for (const auto& [op, message] : parseCases) {
+        Script script;
+        const Status s = io::parseScript(head + op + "]}", "bad.json", script);
+        INFO(op << " / " << s.message);
+        REQUIRE_FALSE(s);
+        REQUIRE(s.message.find(message) != std::string::npos);
+    }
+    // Run-time errors (the lattice is known only then): the reason, and the session as it was before the op.
+    const Sphere mesh = sphereMesh();
+    const std::vector<std::pair<std::string, std::string>> runCases = {
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"refine": {"axis": 2}}, {"merge": [3, 999]}]})",
+         "op 1 (edit_lattice): edits[1]: slot 999 is out of range (the lattice has 312 points)"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"remove": {"axis": 1, "index": 0}}]})", "per knot span"},
+        {R"({"op": "edit_lattice", "index": 0, "edits": [{"remove": {"axis": 0, "index": 0}}]})", "collapsed face"},
+        {R"({"op": "edit_lattice", "index": 3, "edits": [{"refine": {"axis": 0}}]})", "there is no lattice 3"},
+        {R"({"op": "freeze", "index": 0}, {"op": "edit_lattice", "index": 0, "edits": [{"refine": {"axis": 0}}]})", "frozen"},
+    };
+    LatticeNet cylinder;
+    REQUIRE(io::parseLatticeNetJson(nlohmann::json::parse(kCylinder), "lattice", cylinder));
+    for (const auto& [op, message] : runCases) {
+        Status ran;
+        Session session = runText(head + op + "]}", mesh, ran);
+        INFO(op << " / " << ran.message);
+        REQUIRE_FALSE(ran);
+        REQUIRE(ran.message.find(message) != std::string::npos);
+        REQUIRE(session.latticeTools().size() == 1);
+        REQUIRE(session.latticeTools()[0].name == "pie");
+        REQUIRE(sameLatticeNet(*session.latticeTools()[0].net, cylinder));
+    }
+}
