@@ -22,7 +22,7 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
     scene.lattice.controlPoints = std::move(cage.points);  // the cage as shown: carried through the layers
     scene.lattice.pinned = lattice.pinned;
     scene.lattice.selected = request.selectedControlPoints;
-    if (lattice.net) {
+    if (lattice.volume) {
         scene.lattice.netEdges = std::move(cage.edges);
         scene.lattice.curves = std::move(cage.curves);
         scene.lattice.drawn = std::move(cage.representative);  // welded points once

@@ -26,7 +26,7 @@ CageView cageView(const Session& session, int samplesPerSpan) {
     view.points = session.cagePoints();
     const int count = lattice.controlPointCount();
     view.representative.assign(static_cast<size_t>(count), 1);
-    if (!lattice.net) return view;
+    if (!lattice.volume) return view;
     for (int id = 0; id < count; ++id) view.representative[static_cast<size_t>(id)] = lattice.representative(id) == id;
     view.edges = controlNetEdges(lattice);
     view.curves = chunkEdgeCurves(lattice, samplesPerSpan);
@@ -37,7 +37,7 @@ CageView cageView(const Session& session, int samplesPerSpan) {
 std::vector<Positions> restChunkEdges(const std::shared_ptr<const LatticeNet>& net, int samplesPerSpan) {
     if (!net) return {};
     LatticeSettings settings;
-    settings.net = net;  // shared, not copied: makeLatticeInBox only reads it (no freezing, no mesh)
+    settings.volume = net;  // shared, not copied: makeLatticeInBox only reads it (no freezing, no mesh)
     Lattice lattice;
     if (!makeLatticeInBox(settings, net->bounds.min(), net->bounds.max(), lattice)) return {};
     return chunkEdgeCurves(lattice, samplesPerSpan);

@@ -147,11 +147,11 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     ui.click("Freeze");
     INFO(state.status);
     REQUIRE(session.frozenTool() == 0);
-    REQUIRE(session.lattice().net != nullptr);
+    REQUIRE(session.lattice().volume != nullptr);
     CHECK(session.history().size() == history + 1);
     ui.undo();
     CHECK(session.frozenTool() == -1);
-    CHECK(session.lattice().net == nullptr);
+    CHECK(session.lattice().volume == nullptr);
     ui.redo();
     REQUIRE(session.frozenTool() == 0);
     ui.frame();

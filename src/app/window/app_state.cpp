@@ -139,14 +139,13 @@ std::vector<std::uint8_t> shownControlPoints(const AppState& state) {
     const core::Lattice& lattice = state.session.lattice();
     std::vector<std::uint8_t> shown(static_cast<size_t>(lattice.controlPointCount()), 0);
     if (!latticeShown(state)) return shown;
-    if (lattice.net) {
+    if (lattice.volume) {
         // A lattice of any shape: one marker per weld group, on its representative (a click on a welded axis
         // or seam picks the group: the engine moves every copy with it); "outer only" keeps the points on the
-        // net's boundary faces.
-        const std::vector<std::uint8_t>& boundary = lattice.net->boundarySlot;
+        // volume's outer surface.
         for (int id = 0; id < lattice.controlPointCount(); ++id)
             shown[static_cast<size_t>(id)] = lattice.representative(id) == id &&
-                                             (!state.overlays.latticeOuterOnly || boundary.empty() || boundary[static_cast<size_t>(id)]);
+                                             (!state.overlays.latticeOuterOnly || lattice.volume->onOuterSurface(id));
         for (int id : state.tools.lattice.points)
             if (id >= 0 && id < static_cast<int>(shown.size()) && lattice.representative(id) == id) shown[static_cast<size_t>(id)] = 1;
         return shown;

@@ -198,7 +198,7 @@ void SculptApp::syncGpu() {
             if (showLattice) lattice = std::move(scene.lattice);
             lattice.outerOnly = o.latticeOuterOnly;
             // A net lattice: exactly the points the lattice tool picks (one per weld group, outer only).
-            if (showLattice && session.lattice().net) lattice.drawn = shownControlPoints(state_);
+            if (showLattice && session.lattice().volume) lattice.drawn = shownControlPoints(state_);
             if (showLattice && !state_.lattices.showTools) lattice.toolCurves.clear();
             jacobian = std::move(scene.jacobianDet);
             affected = std::move(scene.affectedWeight);

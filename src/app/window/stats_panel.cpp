@@ -21,7 +21,7 @@ void drawStatsPanel(AppState& state) {
         row("Triangles", "%d", static_cast<int>(session.triangles().rows()));
         // note: a frozen lattice of any shape has its own degrees per axis (the settings' are the box's); its kind
         // is in the Lattices panel.
-        if (lattice.net)
+        if (lattice.volume)
             row("Lattice", "%d x %d x %d, degree %d/%d/%d", lattice.count[0], lattice.count[1], lattice.count[2],
                 lattice.degree[0], lattice.degree[1], lattice.degree[2]);
         else
