@@ -1,7 +1,9 @@
 #include "app/scene_builder.h"
 
 #include <algorithm>
+#include <utility>
 
+#include "core/cage_view.h"
 #include "core/injectivity.h"
 
 namespace sculpt::app {
@@ -16,9 +18,23 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
     scene.lattice.nu = lattice.count[0];
     scene.lattice.nv = lattice.count[1];
     scene.lattice.nw = lattice.count[2];
-    scene.lattice.controlPoints = session.cagePoints();  // the cage as shown: carried through the layers
+    core::CageView cage = core::cageView(session, request.curveSamplesPerSpan);
+    scene.lattice.controlPoints = std::move(cage.points);  // the cage as shown: carried through the layers
     scene.lattice.pinned = lattice.pinned;
     scene.lattice.selected = request.selectedControlPoints;
+    if (lattice.volume) {
+        scene.lattice.netEdges = std::move(cage.edges);
+        scene.lattice.curves = std::move(cage.curves);
+        scene.lattice.drawn = std::move(cage.representative);  // welded points once
+    }
+    if (request.latticeTools) {
+        const std::vector<core::LatticeTool>& tools = session.latticeTools();
+        for (size_t t = 0; t < tools.size(); ++t) {
+            if (static_cast<int>(t) == session.frozenTool()) continue;  // drawn as the cage
+            std::vector<Positions> curves = core::restChunkEdges(tools[t].net, request.curveSamplesPerSpan);
+            for (Positions& curve : curves) scene.lattice.toolCurves.push_back(std::move(curve));
+        }
+    }
 
     const core::Operation* last = session.historyCursor() > 0 ? &session.history()[session.historyCursor() - 1] : nullptr;
     if (request.lastDragConstraints && last && last->kind == core::OperationKind::Drag) {

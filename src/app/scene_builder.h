@@ -1,5 +1,7 @@
 // What the renderer draws for a session: the mesh, the lattice, the last drag's constraints and the
 // optional per-vertex fields (det J, affected region). Shared by the headless screenshots and the window.
+// A frozen lattice of any shape is drawn by its control net (each weld group once), its curved chunk edges
+// (core/cage_view.h), and the lattice tools not frozen by their rest chunk edges.
 #pragma once
 
 #include <vector>
@@ -16,6 +18,10 @@ struct SceneRequest {
     std::vector<int> affectedControlPoints;
     std::vector<std::uint8_t> selectedControlPoints;  // empty or one per control point
     bool lastDragConstraints = true;       // show the last applied drag's sources (red) and targets (blue)
+    // A lattice of any shape (EFFD): segments per knot span of its curved chunk edges, and of the rest
+    // chunk edges of the lattice tools that are not frozen (drawn dim with the lattice).
+    int curveSamplesPerSpan = 8;
+    bool latticeTools = true;
 };
 
 render::SceneData sceneFromSession(const core::Session& session, const SceneRequest& request);

@@ -42,6 +42,10 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
                              std::vector<float>& markersOut, Bounds& boundsOut) {
     std::vector<float> edges, points;
     Bounds bounds;
+    for (const std::vector<Positions>* polylines : {&lattice.curves, &lattice.toolCurves})
+        for (const Positions& curve : *polylines)
+            if (Status status = checkFinite(curve, polylines == &lattice.curves ? "lattice curve point" : "lattice tool curve point"); !status)
+                return status;
     if (lattice.nu != 0 || lattice.nv != 0 || lattice.nw != 0) {
         if (lattice.nu < 1 || lattice.nv < 1 || lattice.nw < 1)
             return Status::error("lattice size " + std::to_string(lattice.nu) + " x " + std::to_string(lattice.nv) +
@@ -57,45 +61,62 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
         if (!lattice.pinned.empty() && lattice.pinned.size() != size_t(count))
             return Status::error("lattice pin flags: " + std::to_string(lattice.pinned.size()) + " for " +
                                  std::to_string(count) + " control points");
+        if (!lattice.drawn.empty() && lattice.drawn.size() != size_t(count))
+            return Status::error("lattice drawn flags: " + std::to_string(lattice.drawn.size()) + " for " +
+                                 std::to_string(count) + " control points");
+        for (const std::array<int, 2>& edge : lattice.netEdges)
+            if (edge[0] < 0 || edge[1] < 0 || edge[0] >= count || edge[1] >= count)
+                return Status::error("lattice net edge " + std::to_string(edge[0]) + "-" + std::to_string(edge[1]) +
+                                     " names a control point outside 0.." + std::to_string(count - 1));
         if (Status status = checkFinite(lattice.controlPoints, "lattice control point"); !status) return status;
 
         const auto isSelected = [&](Eigen::Index p) { return !lattice.selected.empty() && lattice.selected[p]; };
         const auto isPinned = [&](Eigen::Index p) { return !lattice.pinned.empty() && lattice.pinned[p]; };
+        const auto isDrawn = [&](Eigen::Index p) { return lattice.drawn.empty() || lattice.drawn[size_t(p)]; };
         const auto edgeColor = [&](Eigen::Index p) {
             return isSelected(p) ? kSelectedEdgeColor : isPinned(p) ? kPinnedEdgeColor : kLatticeEdgeColor;
         };
         const auto index = [&](int i, int j, int k) { return Eigen::Index(i) + lattice.nu * (Eigen::Index(j) + Eigen::Index(lattice.nv) * k); };
         const int nu = lattice.nu, nv = lattice.nv, nw = lattice.nw;
+        // A net lattice (explicit edges or curves) is not a grid: outerOnly's face rule does not apply, the
+        // caller's `drawn` flags say what shows.
+        const bool grid = lattice.netEdges.empty() && lattice.curves.empty();
+        const bool outerOnly = lattice.outerOnly && grid;
         // note: an edge lies on an outer face when one of the two coordinates it does not run along is at the
         // face (its end points alone would also admit the interior edges from a face inwards).
         const auto onOuterFace = [&](int a, int na, int b, int nb) {
-            return !lattice.outerOnly || a == 0 || a == na - 1 || b == 0 || b == nb - 1;
+            return !outerOnly || a == 0 || a == na - 1 || b == 0 || b == nb - 1;
         };
         std::vector<std::uint8_t> shown(size_t(count), 1);
-        if (lattice.outerOnly)
+        if (outerOnly)
             for (int k = 0; k < nw; ++k)
                 for (int j = 0; j < nv; ++j)
                     for (int i = 0; i < nu; ++i)
                         shown[size_t(index(i, j, k))] = onLatticeBoundary(i, j, k, nu, nv, nw);
         const auto addEdge = [&](Eigen::Index a, Eigen::Index b) {
+            if (!isDrawn(a) || !isDrawn(b)) return;
             appendPoint(edges, frame, lattice.controlPoints, a);
             appendPoint(edges, frame, lattice.controlPoints, b);
             appendColor(edges, edgeColor(a));
             appendColor(edges, edgeColor(b));
         };
-        for (int k = 0; k < lattice.nw; ++k)
-            for (int j = 0; j < lattice.nv; ++j)
-                for (int i = 0; i < lattice.nu; ++i) {
-                    const Eigen::Index p = index(i, j, k);
-                    if (i + 1 < nu && onOuterFace(j, nv, k, nw)) addEdge(p, index(i + 1, j, k));
-                    if (j + 1 < nv && onOuterFace(i, nu, k, nw)) addEdge(p, index(i, j + 1, k));
-                    if (k + 1 < nw && onOuterFace(i, nu, j, nv)) addEdge(p, index(i, j, k + 1));
-                }
+        if (grid) {
+            for (int k = 0; k < lattice.nw; ++k)
+                for (int j = 0; j < lattice.nv; ++j)
+                    for (int i = 0; i < lattice.nu; ++i) {
+                        const Eigen::Index p = index(i, j, k);
+                        if (i + 1 < nu && onOuterFace(j, nv, k, nw)) addEdge(p, index(i + 1, j, k));
+                        if (j + 1 < nv && onOuterFace(i, nu, k, nw)) addEdge(p, index(i, j + 1, k));
+                        if (k + 1 < nw && onOuterFace(i, nu, j, nv)) addEdge(p, index(i, j, k + 1));
+                    }
+        } else {
+            for (const std::array<int, 2>& edge : lattice.netEdges) addEdge(edge[0], edge[1]);
+        }
         // Plain points first, then pinned, then selected, so the ones the user works with draw on top.
         for (int pass = 0; pass < 3; ++pass)
             for (Eigen::Index p = 0; p < count; ++p) {
                 const int kind = isSelected(p) ? 2 : isPinned(p) ? 1 : 0;
-                if (kind != pass || (kind != 2 && !shown[size_t(p)])) continue;
+                if (kind != pass || !isDrawn(p) || (kind != 2 && !shown[size_t(p)])) continue;
                 appendPoint(points, frame, lattice.controlPoints, p);
                 appendColor(points, kind == 2 ? kSelectedPointColor : kind == 1 ? kPinnedPointColor : kControlPointColor);
                 points.push_back(kind == 2 ? kSelectedPointSize : kind == 1 ? kPinnedPointSize : kControlPointSize);
@@ -104,6 +125,20 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
             }
         bounds = boundsOf(lattice.controlPoints);
     }
+    // Polylines: one segment per pair of consecutive samples.
+    const auto addPolylines = [&](const std::vector<Positions>& polylines, const Rgba& color) {
+        for (const Positions& curve : polylines) {
+            for (Eigen::Index r = 0; r + 1 < curve.rows(); ++r) {
+                appendPoint(edges, frame, curve, r);
+                appendPoint(edges, frame, curve, r + 1);
+                appendColor(edges, color);
+                appendColor(edges, color);
+            }
+            bounds.add(boundsOf(curve));
+        }
+    };
+    addPolylines(lattice.curves, kLatticeCurveColor);
+    addPolylines(lattice.toolCurves, kLatticeToolColor);
     edgesOut.swap(edges);
     markersOut.swap(points);
     boundsOut = bounds;

@@ -26,8 +26,11 @@ inline bool onLatticeBoundary(int i, int j, int k, int nu, int nv, int nw) {
 // Edges between neighbouring control points (i+1, j+1, k+1) and one marker per control point (plain points
 // first, then pinned, then selected, so the ones the user works with draw on top). With lattice.outerOnly,
 // only the edges and points on the outer faces, and every selected point. nu = nv = nw = 0 gives
-// empty arrays. bounds: of the control points, world units. Fails, leaving the outputs unchanged, on
-// inconsistent sizes or non-finite points.
+// empty arrays. A lattice of any shape (netEdges or curves given): the net edges instead of the grid's,
+// then the curves (kLatticeCurveColor); control points and edges whose `drawn` flag is 0 are left out. Then
+// the tool curves, dim (kLatticeToolColor), with or without control points. bounds: of the control points and
+// polylines, world units. Fails, leaving the outputs unchanged, on inconsistent sizes, a net edge outside the
+// control points or non-finite points.
 Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame, std::vector<float>& edges,
                              std::vector<float>& markers, Bounds& bounds);
 

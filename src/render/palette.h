@@ -25,6 +25,10 @@ inline constexpr Rgba kLatticeEdgeColor = {0.58f, 0.60f, 0.64f, 0.55f};
 inline constexpr Rgba kSelectedEdgeColor = {1.00f, 0.60f, 0.15f, 0.85f};
 inline constexpr Rgba kPinnedEdgeColor = {0.55f, 0.70f, 0.92f, 0.55f};
 inline constexpr float kLatticeEdgeWidth = 1.0f;
+// A lattice of any shape: the curved chunk edges of its volume (what the surface follows), teal so they read
+// apart from the straight grey control net; lattice tools that are not frozen, dim grey.
+inline constexpr Rgba kLatticeCurveColor = {0.16f, 0.62f, 0.70f, 0.85f};
+inline constexpr Rgba kLatticeToolColor = {0.50f, 0.52f, 0.58f, 0.45f};
 // Depth cue: edges and unselected points fade from full strength at the lattice's nearest point to this
 // at its farthest, so the front of the cage reads over the back.
 inline constexpr float kLatticeFarAlpha = 0.3f;

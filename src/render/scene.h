@@ -2,6 +2,7 @@
 // the app or CLI copies what it wants shown into these structs.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -20,8 +21,23 @@ struct LatticeView {
     std::vector<std::uint8_t> selected;
     std::vector<std::uint8_t> pinned;
     // Only the control points and edges on the lattice's outer faces (Blender's lattice "Outside"), plus every
-    // selected point: a fine lattice's interior hides the mesh.
+    // selected point: a fine lattice's interior hides the mesh. (Grid edges only; a net lattice says what is
+    // drawn through `drawn`.)
     bool outerOnly = false;
+
+    // A lattice of any shape (EFFD, Coquillart 1990). All empty for the box lattice, drawn as its grid.
+    // Non-empty: these pairs of control point ids (rows above) are the control net's edges, instead of the
+    // grid's lines (a welded axis or seam is one point, so the grid's lines would join copies of it).
+    std::vector<std::array<int, 2>> netEdges;
+    // Polylines (each #samples x 3, world units, finite) drawn as lines of their own colour: the curved chunk
+    // edges of the deformed volume (a cylinder's circles).
+    std::vector<Positions> curves;
+    // Empty (all drawn), or one flag per control point: 0 = never drawn, even when selected (a welded copy is
+    // drawn once, on its weld group's representative). Net edges to a point not drawn are left out.
+    std::vector<std::uint8_t> drawn;
+    // Polylines drawn dim, without points: lattice tools that are not frozen, at rest, so the user sees where
+    // they are. Drawn even with no control points (nu = 0).
+    std::vector<Positions> toolCurves;
 };
 
 // Direct-manipulation constraints (Hu et al. 2001, Fig. 1): each source point S is carried to its target T.

@@ -133,3 +133,41 @@ TEST_CASE("overlay geometry: the outer cage keeps the outer faces' points and ed
         }
     }
 }
+
+TEST_CASE("overlay geometry: a net lattice draws its net edges, its curves and only the points flagged drawn", "[gl]") {
+    // A 2 x 2 x 2 "net" whose points 1 and 3 are copies (welded onto 0 and 2) and one curve of 4 samples.
+    render::LatticeView lattice = test::makeBoxLattice({-1, -1, -1}, {1, 1, 1}, 2, 2, 2);
+    lattice.drawn = {1, 0, 1, 0, 1, 1, 1, 1};
+    lattice.netEdges = {{0, 2}, {0, 4}, {2, 6}, {4, 5}, {4, 6}, {5, 7}, {6, 7}, {1, 3}};  // the last joins copies
+    Positions curve(4, 3);
+    curve << 0, 0, 0, 1, 0, 0, 1, 1, 0, 2, 2, 2;
+    lattice.curves = {curve};
+    lattice.toolCurves = {curve};
+    lattice.selected.assign(8, 0);
+    lattice.selected[1] = 1;  // a selected copy is still not drawn
+    std::vector<float> edges, markers;
+    render::Bounds bounds;
+    REQUIRE(render::buildLatticeInstances(lattice, {}, edges, markers, bounds).ok);
+    CHECK(edges.size() == size_t(7 + 3 + 3) * render::kLineFloats);  // net edges between drawn points, 2 x 3 segments
+    CHECK(markers.size() == size_t(6) * render::kMarkerFloats);
+    CHECK(bounds.max == glm::dvec3(2, 2, 2));  // the curves count
+    // The curve segments come after the net edges, in the curve colour, then the dim tool curves.
+    CHECK(edges[7 * render::kLineFloats + 6] == Approx(render::kLatticeCurveColor.r));
+    CHECK(edges[10 * render::kLineFloats + 6] == Approx(render::kLatticeToolColor.r));
+    // Bad input fails and names it.
+    render::LatticeView bad = lattice;
+    bad.netEdges.push_back({0, 8});
+    CHECK_FALSE(render::buildLatticeInstances(bad, {}, edges, markers, bounds).ok);
+    bad = lattice;
+    bad.drawn.pop_back();
+    CHECK_FALSE(render::buildLatticeInstances(bad, {}, edges, markers, bounds).ok);
+    bad = lattice;
+    bad.curves[0](1, 1) = NAN;
+    CHECK_FALSE(render::buildLatticeInstances(bad, {}, edges, markers, bounds).ok);
+    // Tool curves alone (no control points) are drawn too.
+    render::LatticeView tools;
+    tools.toolCurves = {curve};
+    REQUIRE(render::buildLatticeInstances(tools, {}, edges, markers, bounds).ok);
+    CHECK(edges.size() == size_t(3) * render::kLineFloats);
+    CHECK(markers.empty());
+}

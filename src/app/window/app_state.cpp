@@ -130,10 +130,26 @@ const ToolOverlays& overlaysOfTool(const Overlays& overlays, ToolMode mode) {
 
 bool latticeShown(const AppState& state) { return overlaysOfTool(state.overlays, state.tools.mode).lattice; }
 
+bool latticeToolsShown(const AppState& state) {
+    const int tools = static_cast<int>(state.session.latticeTools().size());
+    return state.lattices.showTools && tools > (state.session.frozenTool() >= 0 ? 1 : 0);
+}
+
 std::vector<std::uint8_t> shownControlPoints(const AppState& state) {
     const core::Lattice& lattice = state.session.lattice();
     std::vector<std::uint8_t> shown(static_cast<size_t>(lattice.controlPointCount()), 0);
     if (!latticeShown(state)) return shown;
+    if (lattice.volume) {
+        // A lattice of any shape: one marker per weld group, on its representative (a click on a welded axis
+        // or seam picks the group: the engine moves every copy with it); "outer only" keeps the points on the
+        // volume's outer surface.
+        for (int id = 0; id < lattice.controlPointCount(); ++id)
+            shown[static_cast<size_t>(id)] = lattice.representative(id) == id &&
+                                             (!state.overlays.latticeOuterOnly || lattice.volume->onOuterSurface(id));
+        for (int id : state.tools.lattice.points)
+            if (id >= 0 && id < static_cast<int>(shown.size()) && lattice.representative(id) == id) shown[static_cast<size_t>(id)] = 1;
+        return shown;
+    }
     for (int k = 0, id = 0; k < lattice.count[2]; ++k)
         for (int j = 0; j < lattice.count[1]; ++j)
             for (int i = 0; i < lattice.count[0]; ++i, ++id)

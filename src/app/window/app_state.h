@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,35 @@ struct DragState {
 
 enum class Navigation { None, Orbit, Pan };
 
+// A lattice of the library (Coquillart 1990, 3.2: lattices are tools kept apart from any mesh): a shipped
+// assets/lattices/*.lattice.json or one the user opened.
+struct LatticeLibraryEntry {
+    std::string path;
+    std::string name;
+    std::shared_ptr<const core::LatticeNet> net;
+};
+
+// The Lattices panel's view state (lattices_panel.cpp); the lattice tools themselves live in the Session.
+struct LatticesPanelState {
+    std::vector<LatticeLibraryEntry> library;
+    bool libraryLoaded = false;   // the shipped folder was read (once, when the panel first shows)
+    int libraryChoice = 0;        // the entry "Add" and "Place" use
+    int selectedTool = -1;        // the row of the session's tool list that Freeze, Remove, Save, Move act on
+    double placeSizeFraction = 0.25;  // "Place": the tool's bounds diagonal, as a fraction of the mesh's
+    bool showTools = true;        // draw the tools that are not frozen (dim, at rest), even with the Lattice overlay off
+    int pinLayers = 0;            // Freeze: outer layers pinned, 0-2
+    // "Place at picked point" waiting for its click on the mesh: a library entry is added there, or the
+    // selected tool is moved there (edit_lattice).
+    enum class Placing { None, LibraryEntry, Tool } placing = Placing::None;
+    // Where the panel's header and buttons were drawn last frame (Dear ImGui pixels, by label), so tests
+    // click them as a user does.
+    struct ItemRect {
+        std::string label;
+        float x0 = 0.0f, y0 = 0.0f, x1 = 0.0f, y1 = 0.0f;
+    };
+    std::vector<ItemRect> items;
+};
+
 struct AppState {
     core::Session session;
     render::Camera camera;
@@ -98,6 +128,7 @@ struct AppState {
     DragState drag;
     ToolState tools;
     TransformState transform;
+    LatticesPanelState lattices;
     Navigation navigation = Navigation::None;
     bool orthographicByAxisView = false;  // a numpad view made the camera orthographic; orbiting undoes it
     double cursorX = 0.0, cursorY = 0.0;
@@ -128,8 +159,12 @@ ToolOverlays& overlaysOfTool(Overlays& overlays, ToolMode mode);
 const ToolOverlays& overlaysOfTool(const Overlays& overlays, ToolMode mode);
 // Whether the lattice is drawn now: the current tool's Lattice overlay, nothing else.
 bool latticeShown(const AppState& state);
+// Whether lattice tools that are not frozen are drawn (dim, at rest): the Lattices panel's "Show tools" and
+// at least one such tool.
+bool latticeToolsShown(const AppState& state);
 // One flag per control point of the session's lattice: drawn by the lattice overlay, and so pickable by the
 // lattice tool (none while the overlay is off; with latticeOuterOnly the outer ones and the selected ones).
+// A net lattice (EFFD): only the representative of each weld group, so welded points are one marker.
 std::vector<std::uint8_t> shownControlPoints(const AppState& state);
 // Points the camera at the current mesh so it fills the view (aspect of the current framebuffer).
 void frameMesh(AppState& state);

@@ -1,4 +1,5 @@
 #include "app/window/file_commands.h"
+#include "app/window/lattice_commands.h"
 #include "app/window/wording.h"
 
 #include <atomic>
@@ -52,6 +53,7 @@ namespace fs = std::filesystem;
 
 const std::vector<std::string> kMeshExtensions{".obj"};
 const std::vector<std::string> kSessionExtensions{".json"};
+const std::vector<std::string> kLatticeExtensions{".lattice.json"};
 const std::vector<std::string> kImageExtensions{".png"};
 
 bool sameFile(const std::string& a, const std::string& b) {
@@ -552,6 +554,13 @@ void FileCommands::openDialog(DialogPurpose purpose, const PendingAction& then) 
         case DialogPurpose::SaveScreenshot:
             dialog_.open(FileDialogMode::Save, "Save screenshot", kImageExtensions, folder, stem + ".png");
             break;
+        case DialogPurpose::OpenLattice:
+            dialog_.open(FileDialogMode::Open, "Open lattice", kLatticeExtensions, latticeLibraryFolder());
+            break;
+        case DialogPurpose::SaveLattice:
+            dialog_.open(FileDialogMode::Save, "Save lattice to library", kLatticeExtensions, latticeLibraryFolder(),
+                         latticeToSaveName_ + ".lattice.json");
+            break;
     }
 }
 
@@ -565,6 +574,8 @@ void FileCommands::dialogAccepted(AppState& state) {
         case DialogPurpose::SaveMeshAs: startSave(state, JobKind::SaveMesh, path, then); break;
         case DialogPurpose::SaveSession: startSave(state, JobKind::SaveSession, path, then); break;
         case DialogPurpose::SaveScreenshot: requestScreenshot(path); break;
+        case DialogPurpose::OpenLattice: app::openLatticeFile(state, path); break;
+        case DialogPurpose::SaveLattice: saveLatticeToolCommand(state, latticeToSave_, path); break;
     }
 }
 
@@ -632,6 +643,20 @@ void FileCommands::saveSession(AppState& state) {
 void FileCommands::saveScreenshot(AppState& state) {
     if (blocksInput() || !state.session.hasMesh()) return;
     openDialog(DialogPurpose::SaveScreenshot);
+}
+
+void FileCommands::openLatticeFile(AppState& /*state*/) {
+    if (busy() || dialog_.isOpen()) return;
+    openDialog(DialogPurpose::OpenLattice);
+}
+
+void FileCommands::saveLatticeFile(AppState& state, int tool) {
+    if (busy() || dialog_.isOpen()) return;
+    const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+    if (tool < 0 || tool >= static_cast<int>(tools.size())) return;
+    latticeToSave_ = tool;
+    latticeToSaveName_ = tools[static_cast<size_t>(tool)].name;
+    openDialog(DialogPurpose::SaveLattice);
 }
 
 void FileCommands::requestQuit(AppState& state) {

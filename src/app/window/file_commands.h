@@ -70,6 +70,10 @@ public:
     void saveMeshAs(AppState& state);                          // Save dialog
     void saveSession(AppState& state);                         // Save dialog (pre-filled with the last one)
     void saveScreenshot(AppState& state);                      // Save dialog; captured at the next frame
+    // Lattices panel (lattice_commands.h): Open dialog for a *.lattice.json to add to the library, and Save
+    // dialog for lattice tool `tool` (written at once, atomically).
+    void openLatticeFile(AppState& state);
+    void saveLatticeFile(AppState& state, int tool);
     void requestQuit(AppState& state);                         // prompt if modified, then quitApproved()
 
     // --- Without dialogs (what the dialogs call once a path is chosen; tests call them directly).
@@ -131,7 +135,7 @@ public:
 
 private:
     enum class JobKind { LoadMesh, OpenSession, SaveMesh, SaveSession, SaveScreenshot };
-    enum class DialogPurpose { OpenMesh, OpenSession, SaveMeshAs, SaveSession, SaveScreenshot };
+    enum class DialogPurpose { OpenMesh, OpenSession, SaveMeshAs, SaveSession, SaveScreenshot, OpenLattice, SaveLattice };
     struct Job;
     bool ask(AppState& state, const PendingAction& action);  // true: nothing to ask, go ahead
     void proceed(AppState& state, const PendingAction& action);
@@ -154,6 +158,8 @@ private:
     std::unique_ptr<Job> job_;
     PendingAction afterJob_;  // quit requested while a job ran
     std::string screenshotPath_;
+    int latticeToSave_ = -1;  // SaveLattice: the lattice tool's index, and its name (the file's default)
+    std::string latticeToSaveName_;
     std::unique_ptr<render::GlFunctions> gl_;
     bool quitApproved_ = false;
 };

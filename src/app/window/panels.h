@@ -10,6 +10,8 @@
 
 namespace sculpt::app {
 
+class FileCommands;
+
 // The fixed sidebar on the left of the viewport (ui_layout.cpp).
 void beginSidebar(AppState& state);
 void endSidebar();
@@ -20,11 +22,15 @@ void drawStatsPanel(AppState& state);        // stats_panel.cpp: mesh, lattice, 
 void drawOverlaysPanel(AppState& state);     // overlays_panel.cpp: wireframe, lattice, det J, affected region
 void drawInjectivityPanel(AppState& state);  // injectivity_panel.cpp: off / conic / exact, subdivision depth
 void drawHistoryPanel(AppState& state);      // history_panel.cpp: undo, redo, the list (click to jump)
+// lattices_panel.cpp: lattice tools of any shape (list, library, place, freeze / unfreeze, remove, save), the
+// last section of the Tools window; its file dialogs are the window's (FileCommands).
+void drawLatticesPanel(AppState& state, FileCommands& files);
 void drawStatusLine(AppState& state);        // status_line.cpp: the verdict of the last command, at the bottom
 
 // The tool window on the right (tools_panel.cpp): sculpt / lattice tool, handles and pins, control-point
-// selection and pins, lattice set-up; and the lattice tool's selection rectangle.
-void drawToolsWindow(AppState& state);
+// selection and pins, lattice set-up, and with `files` the Lattices panel; and the lattice tool's selection
+// rectangle.
+void drawToolsWindow(AppState& state, FileCommands* files = nullptr);
 float toolsWindowWidth();
 // A framebuffer pixel (input events, picking) in Dear ImGui's coordinates (they differ on HiDPI screens).
 ImVec2 framebufferToUi(const AppState& state, double x, double y);

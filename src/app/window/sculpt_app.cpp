@@ -9,6 +9,8 @@
 #include <imgui_impl_opengl3.h>
 
 #include "app/scene_builder.h"
+#include "core/cage_view.h"
+#include "app/window/lattice_commands.h"
 #include "app/window/panels.h"
 #include "app/window/picking.h"
 #include "app/window/tool_commands.h"
@@ -68,6 +70,7 @@ void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags captur
         state_.navigation = event.modifiers.shift ? Navigation::Pan : Navigation::Orbit;
     } else if (event.button == MouseButton::Left) {
         if (event.modifiers.alt) state_.navigation = event.modifiers.shift ? Navigation::Pan : Navigation::Orbit;
+        else if (placeLatticeAtPixel(state_, event.x, event.y)) return;  // the Lattices panel's "Place" waits for it
         else if (state_.tools.mode == ToolMode::Lattice) pressLattice(event);
         else pressSculpt(event);
     }
@@ -194,9 +197,19 @@ void SculptApp::syncGpu() {
             render::SceneData scene = sceneFromSession(session, request);
             if (showLattice) lattice = std::move(scene.lattice);
             lattice.outerOnly = o.latticeOuterOnly;
+            // A net lattice: exactly the points the lattice tool picks (one per weld group, outer only).
+            if (showLattice && session.lattice().volume) lattice.drawn = shownControlPoints(state_);
+            if (showLattice && !state_.lattices.showTools) lattice.toolCurves.clear();
             jacobian = std::move(scene.jacobianDet);
             affected = std::move(scene.affectedWeight);
         }
+        // With the Lattice overlay off, the lattice tools that are not frozen still show where they are (the
+        // Lattices panel's "Show tools"): only their rest chunk edges, no cage.
+        if (!showLattice && latticeToolsShown(state_))
+            for (size_t t = 0; t < session.latticeTools().size(); ++t)
+                if (static_cast<int>(t) != session.frozenTool())
+                    for (Positions& curve : core::restChunkEdges(session.latticeTools()[t].net, SceneRequest{}.curveSamplesPerSpan))
+                        lattice.toolCurves.push_back(std::move(curve));
         renderer_.setLattice(lattice);
         renderer_.setJacobianField(jacobian);
         renderer_.setAffectedWeights(affected);
@@ -222,7 +235,9 @@ Status SculptApp::renderFrame(int width, int height) {
     const auto start = std::chrono::steady_clock::now();
     render::DrawOptions options;
     options.wireframe = state_.overlays.wireframe;
-    options.lattice = latticeShown(state_);  // exactly what the Overlays panel's checkbox says
+    // Exactly what the Overlays panel's checkbox says, or only the lattice tools (then nothing else is in
+    // the lattice layer).
+    options.lattice = latticeShown(state_) || latticeToolsShown(state_);
     options.jacobian = state_.overlays.jacobian;
     options.affected = state_.overlays.affected;
     options.constraints = true;  // the drag's constraints, placed handles and pins (empty: nothing drawn)
@@ -254,7 +269,7 @@ void SculptApp::drawUi() {
     drawInjectivityPanel(state_);
     drawHistoryPanel(state_);
     endSidebar();
-    drawToolsWindow(state_);
+    drawToolsWindow(state_, &files_);
     ImGui::PopAllowKeyboardFocus();
     drawTransformOverlay(state_);
     drawStatusLine(state_);

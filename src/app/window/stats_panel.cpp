@@ -19,8 +19,14 @@ void drawStatsPanel(AppState& state) {
         };
         row("Vertices", "%d", static_cast<int>(session.positions().rows()));
         row("Triangles", "%d", static_cast<int>(session.triangles().rows()));
-        row("Lattice", "%d x %d x %d, degree %d", lattice.count[0], lattice.count[1], lattice.count[2],
-            settings.degree[0]);
+        // note: a frozen lattice of any shape has its own degrees per axis (the settings' are the box's); its kind
+        // is in the Lattices panel.
+        if (lattice.volume)
+            row("Lattice", "%d x %d x %d, degree %d/%d/%d", lattice.count[0], lattice.count[1], lattice.count[2],
+                lattice.degree[0], lattice.degree[1], lattice.degree[2]);
+        else
+            row("Lattice", "%d x %d x %d, degree %d", lattice.count[0], lattice.count[1], lattice.count[2],
+                settings.degree[0]);
         row("Lattice frames", "%d", session.frameDepth() + 1);
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("How many lattices the history has used: an edit that would fold the mesh in one\n"

@@ -5,6 +5,7 @@
 
 #include <glm/glm.hpp>
 
+#include "app/window/lattice_commands.h"
 #include "app/window/picking.h"
 #include "app/window/sculpt_app.h"
 #include "app/window/tool_commands.h"
@@ -83,8 +84,10 @@ void selectAllControlPoints(AppState& state, bool all) {
     std::vector<int>& points = state.tools.lattice.points;
     points.clear();
     if (all) {
-        points.resize(static_cast<size_t>(state.session.lattice().controlPointCount()));
-        for (size_t i = 0; i < points.size(); ++i) points[i] = static_cast<int>(i);
+        // note: of a net lattice only the weld groups' representatives (the points drawn), each group once.
+        const core::Lattice& lattice = state.session.lattice();
+        for (int id = 0; id < lattice.controlPointCount(); ++id)
+            if (lattice.representative(id) == id) points.push_back(id);
     }
     state.gpu.fields = true;
     describeLatticeSelection(state);
@@ -435,6 +438,10 @@ bool SculptApp::keyTool(const KeyEvent& event) {
     const bool shortcut = m.control || m.super;
     if (state_.drag.active && event.key == Key::Escape && event.action == KeyAction::Press) {
         cancelSculpt();
+        return true;
+    }
+    if (state_.lattices.placing != LatticesPanelState::Placing::None && event.key == Key::Escape && event.action == KeyAction::Press) {
+        cancelPlacingLattice(state_);  // the Lattices panel's "Place" waited for a click
         return true;
     }
     if (brushKey(event)) return true;  // F / Shift+F: brush radius and strength (sculpt tool)

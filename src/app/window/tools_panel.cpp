@@ -103,7 +103,10 @@ void drawSelectionSection(AppState& state) {
     const core::Lattice& lattice = state.session.lattice();
     size_t pinned = 0;
     for (int id : tools.lattice.points) pinned += lattice.pinned[static_cast<size_t>(id)] ? 1 : 0;
-    ImGui::Text("%zu of %d control points selected", tools.lattice.points.size(), lattice.controlPointCount());
+    // note: of a lattice of any shape, each weld group counts once (one marker, one pick).
+    int selectable = 0;
+    for (int id = 0; id < lattice.controlPointCount(); ++id) selectable += lattice.representative(id) == id;
+    ImGui::Text("%zu of %d control points selected", tools.lattice.points.size(), selectable);
     helpMarker("Click a control point to select it, Shift+click toggles it, drag a rectangle on\n"
                "empty space to select what it covers (Shift adds). Drag a selected point to move\n"
                "the selection: one undoable edit, tested for injectivity like any other.\n"
@@ -208,7 +211,7 @@ void drawSetupSection(AppState& state) {
 
 }  // namespace
 
-void drawToolsWindow(AppState& state) {
+void drawToolsWindow(AppState& state, FileCommands* files) {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
     const float margin = 0.6f * ImGui::GetFontSize();
     const float width = toolsWindowWidth();
@@ -238,6 +241,8 @@ void drawToolsWindow(AppState& state) {
     }
     if (ImGui::CollapsingHeader("Lattice set-up", state.tools.mode == ToolMode::Lattice ? ImGuiTreeNodeFlags_DefaultOpen : 0))
         drawSetupSection(state);
+    // Lattices of any shape: the tools beside the cage they can become.
+    if (files) drawLatticesPanel(state, *files);
     ImGui::End();
 
     // The selection rectangle of the lattice tool, over the 3D view.

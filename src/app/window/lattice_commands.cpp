@@ -1,0 +1,230 @@
+#include "app/window/lattice_commands.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <system_error>
+
+#include <Eigen/Geometry>
+
+#include "app/cli_options.h"
+#include "app/file_browser.h"
+#include "app/window/picking.h"
+#include "io/lattice_json.h"
+#include "render/camera.h"
+
+namespace sculpt::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The status line after a lattice command: the engine's own account where it gives one (freeze: "froze
+// 812 of 2562 vertices in lattice cylinder"), otherwise `done`.
+// show: turn the current tool's Lattice overlay on, so the user sees the lattice just frozen (tools that are
+// not frozen show without it: latticeToolsShown).
+void reportLatticeOperation(AppState& state, const core::OpReport& report, const Status& status, const std::string& done,
+                            bool show = false) {
+    if (status && report.status == core::OpStatus::Applied) {
+        noteSessionMoved(state);
+        if (show && !latticeShown(state)) {
+            Overlays overlays = state.overlays;
+            overlaysOfTool(overlays, state.tools.mode).lattice = true;
+            setOverlays(state, overlays);
+        }
+        state.hasReport = true;
+        state.lastReport = report;
+        state.stats.solveMs = report.wallMs;
+        setStatus(state, done + (report.reason.empty() ? std::string(".") : ": " + report.reason + "."), false);
+    } else {
+        reportOperation(state, report, status);
+    }
+    state.gpu.fields = true;
+}
+
+bool readEntry(const std::string& path, LatticeLibraryEntry& entry, std::string& error) {
+    io::LatticeFile file;
+    if (Status s = io::readLatticeFile(path, file); !s) {
+        error = s.message;
+        return false;
+    }
+    entry.path = path;
+    entry.name = file.name.empty() ? fs::path(path).stem().stem().string() : file.name;
+    entry.net = std::make_shared<const core::LatticeNet>(std::move(file.net));
+    return true;
+}
+
+}  // namespace
+
+std::string latticeLibraryFolder() { return (fs::path(defaultMeshPath(nullptr)).parent_path() / "lattices").string(); }
+
+void loadLatticeLibrary(AppState& state, const std::string& folder) {
+    LatticesPanelState& panel = state.lattices;
+    panel.libraryLoaded = true;
+    std::set<std::string> paths;
+    std::error_code ec;
+    for (const fs::directory_entry& item : fs::directory_iterator(folder, ec))
+        if (item.is_regular_file(ec) && hasExtension(item.path().filename().string(), {".lattice.json"}))
+            paths.insert(item.path().string());
+    std::vector<std::string> failed;
+    for (const std::string& path : paths) {
+        if (std::any_of(panel.library.begin(), panel.library.end(), [&](const LatticeLibraryEntry& e) { return e.path == path; }))
+            continue;
+        LatticeLibraryEntry entry;
+        std::string error;
+        if (readEntry(path, entry, error)) panel.library.push_back(std::move(entry));
+        else failed.push_back(error);
+    }
+    if (!failed.empty()) setStatus(state, "Lattice library: " + failed.front(), true);
+}
+
+bool openLatticeFile(AppState& state, const std::string& path) {
+    LatticeLibraryEntry entry;
+    std::string error;
+    if (!readEntry(path, entry, error)) {
+        setStatus(state, "Cannot open the lattice: " + error, true);
+        return false;
+    }
+    LatticesPanelState& panel = state.lattices;
+    const auto same = std::find_if(panel.library.begin(), panel.library.end(), [&](const LatticeLibraryEntry& e) { return e.path == path; });
+    const int at = static_cast<int>(same - panel.library.begin());  // note: before a push_back moves the entries
+    if (same != panel.library.end()) *same = entry;
+    else panel.library.push_back(entry);
+    panel.libraryChoice = at;
+    setStatus(state, "Lattice " + entry.name + " (" + describeLatticeNet(*entry.net) + ") is in the library: Add or Place it.", false);
+    return true;
+}
+
+void addLatticeFromLibrary(AppState& state, int entry) {
+    if (state.drag.active) return;
+    const std::vector<LatticeLibraryEntry>& library = state.lattices.library;
+    if (entry < 0 || entry >= static_cast<int>(library.size())) {
+        setStatus(state, "Choose a lattice of the library first.", true);
+        return;
+    }
+    core::OpReport report;
+    const Status s = state.session.addLatticeTool({library[static_cast<size_t>(entry)].name, library[static_cast<size_t>(entry)].net}, report);
+    if (s && report.status == core::OpStatus::Applied)
+        state.lattices.selectedTool = static_cast<int>(state.session.latticeTools().size()) - 1;
+    reportLatticeOperation(state, report, s, "Added lattice " + library[static_cast<size_t>(entry)].name);
+}
+
+void placeLatticeCommand(AppState& state, const core::LatticeNet& net, const std::string& name, int editIndex,
+                         const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size) {
+    if (state.drag.active) return;
+    core::LatticeNet placed;
+    if (Status s = core::placeLatticeNet(net, point, normal, size, placed); !s) {
+        setStatus(state, "Lattice not placed: " + s.message, true);
+        return;
+    }
+    core::LatticeTool tool{name, std::make_shared<const core::LatticeNet>(std::move(placed))};
+    core::OpReport report;
+    const Status s = editIndex < 0 ? state.session.addLatticeTool(tool, report) : state.session.editLatticeTool(editIndex, tool, report);
+    if (s && report.status == core::OpStatus::Applied)
+        state.lattices.selectedTool = editIndex < 0 ? static_cast<int>(state.session.latticeTools().size()) - 1 : editIndex;
+    reportLatticeOperation(state, report, s, (editIndex < 0 ? "Placed lattice " : "Moved lattice ") + name);
+}
+
+void freezeLatticeCommand(AppState& state, int index, int pinLayers) {
+    if (state.drag.active) return;
+    core::OpReport report;
+    const Status s = state.session.freezeLattice(index, std::clamp(pinLayers, 0, 2), report);
+    state.tools.lattice.points.clear();
+    reportLatticeOperation(state, report, s, "Froze the lattice", true);
+}
+
+void unfreezeLatticeCommand(AppState& state) {
+    if (state.drag.active) return;
+    core::OpReport report;
+    const Status s = state.session.unfreezeLattice(report);
+    state.tools.lattice.points.clear();
+    reportLatticeOperation(state, report, s, "Unfroze the lattice: the shape stays, the box lattice is back");
+}
+
+void removeLatticeToolCommand(AppState& state, int index) {
+    if (state.drag.active) return;
+    const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+    const std::string name = index >= 0 && index < static_cast<int>(tools.size()) ? tools[static_cast<size_t>(index)].name : std::string();
+    core::OpReport report;
+    const Status s = state.session.removeLatticeTool(index, report);
+    if (s && report.status == core::OpStatus::Applied)
+        state.lattices.selectedTool = std::min(state.lattices.selectedTool, static_cast<int>(state.session.latticeTools().size()) - 1);
+    reportLatticeOperation(state, report, s, "Removed lattice " + name);
+}
+
+Status saveLatticeToolCommand(AppState& state, int index, const std::string& path) {
+    const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+    if (index < 0 || index >= static_cast<int>(tools.size()) || !tools[static_cast<size_t>(index)].net) {
+        const Status error = Status::error("there is no lattice " + std::to_string(index));
+        setStatus(state, "Lattice not saved: " + error.message, true);
+        return error;
+    }
+    const core::LatticeTool& tool = tools[static_cast<size_t>(index)];
+    if (Status s = io::writeLatticeFile(path, {tool.name, *tool.net}); !s) {
+        setStatus(state, "Lattice not saved (the file on disk is as it was): " + s.message, true);
+        return s;
+    }
+    setStatus(state, "Saved lattice " + tool.name + " to " + path + ".", false);
+    return Status::success();
+}
+
+double placementSize(const AppState& state) {
+    const Positions& p = state.session.positions();
+    if (p.rows() == 0) return 1.0;
+    const double diagonal = (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm();
+    return std::max(state.lattices.placeSizeFraction, 1e-3) * (diagonal > 0.0 ? diagonal : 1.0);
+}
+
+void beginPlacingLattice(AppState& state, LatticesPanelState::Placing what) {
+    state.lattices.placing = what;
+    setStatus(state, "Click on the mesh to place the lattice there (aligned with the surface). Esc cancels.", false);
+}
+
+void cancelPlacingLattice(AppState& state) {
+    if (state.lattices.placing == LatticesPanelState::Placing::None) return;
+    state.lattices.placing = LatticesPanelState::Placing::None;
+    setStatus(state, "Placing cancelled.", false);
+}
+
+bool placeLatticeAtPixel(AppState& state, double x, double y) {
+    LatticesPanelState& panel = state.lattices;
+    if (panel.placing == LatticesPanelState::Placing::None || !state.session.hasMesh()) return false;
+    Ray ray;
+    if (!rayThroughPixel(state.camera, state.framebufferWidth, state.framebufferHeight, x, y, ray)) return true;
+    const Positions& positions = state.session.positions();
+    const Triangles& triangles = state.session.triangles();
+    const SurfaceHit hit = intersectMesh(ray, positions, triangles);
+    if (hit.triangle < 0) {
+        setStatus(state, "Click on the mesh to place the lattice (Esc cancels).", true);
+        return true;
+    }
+    const Eigen::Vector3d p0 = positions.row(triangles(hit.triangle, 0)).transpose();
+    Eigen::Vector3d normal = (positions.row(triangles(hit.triangle, 1)).transpose() - p0)
+                                 .cross(positions.row(triangles(hit.triangle, 2)).transpose() - p0);
+    // note: the side the user clicked on faces the camera, whatever the triangle's winding.
+    if (normal.dot(ray.direction) > 0.0) normal = -normal;
+    const LatticesPanelState::Placing what = panel.placing;
+    panel.placing = LatticesPanelState::Placing::None;
+    if (what == LatticesPanelState::Placing::LibraryEntry) {
+        if (panel.libraryChoice < 0 || panel.libraryChoice >= static_cast<int>(panel.library.size())) return true;
+        const LatticeLibraryEntry& entry = panel.library[static_cast<size_t>(panel.libraryChoice)];
+        placeLatticeCommand(state, *entry.net, entry.name, -1, hit.point, normal, placementSize(state));
+    } else {
+        const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+        if (panel.selectedTool < 0 || panel.selectedTool >= static_cast<int>(tools.size())) return true;
+        const core::LatticeTool tool = tools[static_cast<size_t>(panel.selectedTool)];
+        placeLatticeCommand(state, *tool.net, tool.name, panel.selectedTool, hit.point, normal, placementSize(state));
+    }
+    return true;
+}
+
+std::string describeLatticeNet(const core::LatticeNet& net) {
+    size_t distinct = static_cast<size_t>(net.slotCount());
+    for (const std::vector<int>& group : net.weldGroups) distinct -= group.size() - 1;
+    std::string text = net.kind + ", " + std::to_string(net.count[0]) + " x " + std::to_string(net.count[1]) + " x " +
+                       std::to_string(net.count[2]) + " points";
+    if (distinct != static_cast<size_t>(net.slotCount())) text += " (" + std::to_string(distinct) + " after welds)";
+    return text + ", degree " + std::to_string(net.degree[0]) + "/" + std::to_string(net.degree[1]) + "/" + std::to_string(net.degree[2]);
+}
+
+}  // namespace sculpt::app

@@ -1,0 +1,54 @@
+// Commands of the Lattices panel (lattices of any shape, Coquillart 1990 "EFFD", seed 004, 3.1-3.4). Each is
+// the session command a script's op issues (add_lattice with "place", edit_lattice, remove_lattice, freeze,
+// unfreeze: src/core/script.cpp), so every change is a history operation (undoable, recorded in sessions);
+// like the commands of app_state.h each keeps the status line and the pending GPU update in step.
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "app/window/app_state.h"
+#include "core/status.h"
+
+namespace sculpt::app {
+
+// Reads every *.lattice.json of `folder` (sorted by file name) into the panel's library, after the entries
+// the user opened. A file that cannot be read is left out and named on the status line.
+void loadLatticeLibrary(AppState& state, const std::string& folder);
+// The shipped library folder (assets/lattices beside the default mesh).
+std::string latticeLibraryFolder();
+// Adds a library file the user opened (the file dialog) to the library and chooses it; false, with the
+// reason on the status line, when it cannot be read.
+bool openLatticeFile(AppState& state, const std::string& path);
+
+// Session::addLatticeTool of library entry `entry` as it is (no placement).
+void addLatticeFromLibrary(AppState& state, int entry);
+// The positioning command (3.2, core::placeLatticeNet): the net's bounds centre to `point`, its z axis onto
+// `normal`, its bounds diagonal `size` (world units); then added as a new tool named `name` (editIndex < 0,
+// Session::addLatticeTool) or replacing tool editIndex's net (Session::editLatticeTool).
+void placeLatticeCommand(AppState& state, const core::LatticeNet& net, const std::string& name, int editIndex,
+                         const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size);
+// Session::freezeLattice / unfreezeLattice / removeLatticeTool. The control-point selection is cleared
+// (its ids belonged to the other lattice).
+void freezeLatticeCommand(AppState& state, int index, int pinLayers);
+void unfreezeLatticeCommand(AppState& state);
+void removeLatticeToolCommand(AppState& state, int index);
+// Writes tool `index` to `path` as a library file (io::writeLatticeFile: atomic, an existing file is never
+// damaged by a failed save). The error also goes to the status line.
+Status saveLatticeToolCommand(AppState& state, int index, const std::string& path);
+
+// "Place at picked point": the next left click on the mesh places (state.lattices.placing). Esc cancels.
+void beginPlacingLattice(AppState& state, LatticesPanelState::Placing what);
+void cancelPlacingLattice(AppState& state);
+// The pending placement at framebuffer pixel (x, y): the surface point under it and the normal of the hit
+// triangle (turned towards the camera), the size the panel sets (placementSize). True when the click was
+// taken (on the mesh or not: a click beside the mesh says so and keeps waiting).
+bool placeLatticeAtPixel(AppState& state, double x, double y);
+// The size "Place" gives: placeSizeFraction of the mesh's bounds diagonal.
+double placementSize(const AppState& state);
+
+// "cylinder, 3 x 12 x 3 points (37 after welds), degree 2/2/2": what the panel lists for a net.
+std::string describeLatticeNet(const core::LatticeNet& net);
+
+}  // namespace sculpt::app

@@ -1,0 +1,124 @@
+// The Lattices panel (lattices of any shape, Coquillart 1990, 3.1-3.4): the mesh's list of lattice tools, the
+// library they come from, placing one on the surface, freezing and unfreezing. Every button is a command of
+// lattice_commands.h, i.e. the session command the matching script op issues.
+#include <algorithm>
+#include <string>
+
+#include <imgui.h>
+
+#include "app/window/file_commands.h"
+#include "app/window/lattice_commands.h"
+#include "app/window/panels.h"
+
+namespace sculpt::app {
+namespace {
+
+void recordItem(LatticesPanelState& panel, const std::string& label) {
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    panel.items.push_back({label, a.x, a.y, b.x, b.y});
+}
+
+// A button that is recorded where it was drawn (LatticesPanelState::items) and disabled when `enabled` is false.
+bool panelButton(LatticesPanelState& panel, const char* label, bool enabled, float width = 0.0f) {
+    ImGui::BeginDisabled(!enabled);
+    const bool pressed = ImGui::Button(label, ImVec2(width, 0.0f));
+    ImGui::EndDisabled();
+    recordItem(panel, label);
+    return pressed && enabled;
+}
+
+}  // namespace
+
+void drawLatticesPanel(AppState& state, FileCommands& files) {
+    LatticesPanelState& panel = state.lattices;
+    panel.items.clear();
+    const bool open = ImGui::CollapsingHeader("Lattices");
+    recordItem(panel, "Lattices");
+    if (!open) return;
+    if (!panel.libraryLoaded) loadLatticeLibrary(state, latticeLibraryFolder());
+    const core::Session& session = state.session;
+    const std::vector<core::LatticeTool>& tools = session.latticeTools();
+    const int frozen = session.frozenTool();
+    const int count = static_cast<int>(tools.size());
+    if (panel.selectedTool >= count) panel.selectedTool = count - 1;
+    const bool idle = !state.drag.active && session.hasMesh();
+    const float half = 0.5f * (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x);
+
+    // The mesh's tools: name, shape, and which one is frozen (the cage).
+    const float rows = static_cast<float>(std::clamp(count, 1, 5));
+    if (ImGui::BeginListBox("##latticeTools", ImVec2(-1.0f, (rows + 0.4f) * ImGui::GetTextLineHeightWithSpacing()))) {
+        if (count == 0) ImGui::TextDisabled("None yet: add one below.");
+        for (int t = 0; t < count; ++t) {
+            const core::LatticeTool& tool = tools[static_cast<size_t>(t)];
+            const std::string label = tool.name + (t == frozen ? "  [frozen]" : "") + "##tool" + std::to_string(t);
+            if (ImGui::Selectable(label.c_str(), t == panel.selectedTool)) panel.selectedTool = t;
+            if (ImGui::IsItemHovered() && tool.net) ImGui::SetTooltip("%s", describeLatticeNet(*tool.net).c_str());
+            recordItem(panel, "tool " + std::to_string(t));
+        }
+        ImGui::EndListBox();
+    }
+    const bool chosen = panel.selectedTool >= 0 && panel.selectedTool < count;
+    if (chosen && tools[static_cast<size_t>(panel.selectedTool)].net)
+        ImGui::TextWrapped("%s", describeLatticeNet(*tools[static_cast<size_t>(panel.selectedTool)].net).c_str());
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped(frozen >= 0 ? "Frozen: drags and the lattice tool work in it." : "Edit mode: the box lattice is the cage.");
+    ImGui::PopStyleColor();
+
+    ImGui::SetNextItemWidth(half);
+    if (ImGui::InputInt("Pin layers", &panel.pinLayers)) panel.pinLayers = std::clamp(panel.pinLayers, 0, 2);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Outer layers of control points kept fixed when frozen (0-2), counted from the\n"
+                          "lattice's boundary faces; 2 gives a C1 seam where it crosses the surface.");
+    if (panelButton(panel, "Freeze", idle && chosen && panel.selectedTool != frozen, half))
+        freezeLatticeCommand(state, panel.selectedTool, panel.pinLayers);
+    ImGui::SameLine();
+    if (panelButton(panel, "Unfreeze", idle && frozen >= 0, half)) unfreezeLatticeCommand(state);
+    if (panelButton(panel, "Remove", idle && chosen && panel.selectedTool != frozen, half))
+        removeLatticeToolCommand(state, panel.selectedTool);
+    ImGui::SameLine();
+    if (panelButton(panel, "Move on mesh", idle && chosen && panel.selectedTool != frozen, half))
+        beginPlacingLattice(state, LatticesPanelState::Placing::Tool);
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("The next click on the mesh moves the selected lattice there, along the surface normal.");
+    if (panelButton(panel, "Save to library...", chosen, -1.0f)) files.saveLatticeFile(state, panel.selectedTool);
+
+    // The library: shipped lattices and those opened.
+    ImGui::Separator();
+    const std::vector<LatticeLibraryEntry>& library = panel.library;
+    panel.libraryChoice = std::clamp(panel.libraryChoice, 0, std::max(static_cast<int>(library.size()) - 1, 0));
+    const std::string preview = library.empty() ? std::string("(empty)") : library[static_cast<size_t>(panel.libraryChoice)].name;
+    ImGui::SetNextItemWidth(half);
+    if (ImGui::BeginCombo("##library", preview.c_str())) {
+        for (int e = 0; e < static_cast<int>(library.size()); ++e) {
+            const std::string label = library[static_cast<size_t>(e)].name + "##lib" + std::to_string(e);
+            if (ImGui::Selectable(label.c_str(), e == panel.libraryChoice)) panel.libraryChoice = e;
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\n%s", describeLatticeNet(*library[static_cast<size_t>(e)].net).c_str(),
+                                                          library[static_cast<size_t>(e)].path.c_str());
+        }
+        ImGui::EndCombo();
+    }
+    recordItem(panel, "library");
+    ImGui::SameLine();
+    if (panelButton(panel, "Open...", !files.busy(), half)) files.openLatticeFile(state);
+    if (panelButton(panel, "Add", idle && !library.empty(), half)) addLatticeFromLibrary(state, panel.libraryChoice);
+    ImGui::SameLine();
+    if (panelButton(panel, "Place on mesh", idle && !library.empty(), half))
+        beginPlacingLattice(state, LatticesPanelState::Placing::LibraryEntry);
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("The next click on the mesh adds the chosen lattice there: its centre on the surface,\n"
+                          "its z axis along the normal, its size \"Place size\" times the mesh's.");
+    float fraction = static_cast<float>(panel.placeSizeFraction);
+    ImGui::SetNextItemWidth(half);
+    if (ImGui::DragFloat("Place size", &fraction, 0.005f, 0.02f, 2.0f, "%.2f"))
+        panel.placeSizeFraction = std::clamp(static_cast<double>(fraction), 0.02, 2.0);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("The placed lattice's bounds diagonal, as a fraction of the mesh's (%.4g units now).", placementSize(state));
+    if (ImGui::Checkbox("Show tools", &panel.showTools)) state.gpu.fields = true;
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Draw the lattice tools that are not frozen (dim grey, at rest), even with the Lattice\n"
+                          "overlay off, so you see where they are.");
+    if (panel.placing != LatticesPanelState::Placing::None)
+        ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.3f, 1.0f), "Click on the mesh to place it (Esc cancels).");
+}
+
+}  // namespace sculpt::app

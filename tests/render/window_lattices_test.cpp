@@ -1,0 +1,329 @@
+// Lattices of any shape in the window (Coquillart 1990, EFFD, 3.1-3.4; issue point 10): the Lattices panel's
+// buttons, clicked with synthetic Dear ImGui input as a user clicks them, issue the session commands the
+// script ops issue (add_lattice with "place", freeze, unfreeze) and each is one undoable history entry; a
+// frozen cylinder is drawn with curved chunk edges on its circles and each welded point once; a welded point
+// picked with the lattice tool and dragged 5 px moves its whole weld group and the mesh.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <set>
+
+#include <imgui.h>
+
+#include "app/scene_builder.h"
+#include "app/window/lattice_commands.h"
+#include "app/window/picking.h"
+#include "app/window/sculpt_app.h"
+#include "app/window/tools.h"
+#include "core/lattice_net.h"
+#include "gl_test_support.h"
+#include "io/lattice_json.h"
+#include "offscreen_window.h"
+#include "render/overlay_geometry.h"
+#include "window_test_support.h"
+
+using namespace sculpt;
+
+namespace {
+
+constexpr int kWidth = 960, kHeight = 600;
+
+// A cylinder around the y axis through the default mesh, taller than it (its top circle, at y = 1, is above
+// the mesh), 3 chunks around (each arc 120 degrees: the control net's chords are far from the circle).
+constexpr double kRadius = 0.6;
+core::LatticeTool cylinderTool() {
+    core::LatticeNet net;
+    REQUIRE(core::makeCylinderNet(Eigen::Vector3d(0, -1.0, 0), Eigen::Vector3d::UnitY(), kRadius, 2.0, {2, 3, 2}, {2, 2}, net));
+    return {"pie", std::make_shared<const core::LatticeNet>(net)};
+}
+
+void addAndFreezeCylinder(core::Session& session) {
+    core::OpReport report;
+    REQUIRE(session.addLatticeTool(cylinderTool(), report));
+    REQUIRE(session.freezeLattice(static_cast<int>(session.latticeTools().size()) - 1, 0, report));
+    INFO(report.reason);
+    REQUIRE(report.status == core::OpStatus::Applied);
+}
+
+struct Ui {
+    app::SculptApp sculptApp;
+    test::OffscreenWindow window;
+    // Tall enough that the Tools window shows the whole Lattices section below the brush (a shorter window
+    // scrolls it).
+    static constexpr int kPanelHeight = 1000;
+    bool open() {
+        if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kPanelHeight)) return false;
+        frame();
+        frame();
+        return true;
+    }
+    void frame() { REQUIRE(window.frame().ok); }
+    void clickAt(float x, float y) {
+        ImGuiIO& io = ImGui::GetIO();
+        io.MousePos = ImVec2(x, y);
+        io.MouseDown[0] = true;
+        frame();
+        io.MouseDown[0] = false;
+        frame();
+        frame();  // auto-resize and the panel's recorded rectangles settle a frame later
+    }
+    // Clicks the Lattices panel's item `label` where it was drawn last frame.
+    void click(const std::string& label) {
+        const std::vector<app::LatticesPanelState::ItemRect>& items = sculptApp.state().lattices.items;
+        const auto item = std::find_if(items.begin(), items.end(), [&](const auto& r) { return r.label == label; });
+        INFO("Lattices panel item " << label);
+        REQUIRE(item != items.end());
+        clickAt(0.5f * (item->x0 + item->x1), 0.5f * (item->y0 + item->y1));
+    }
+    void appKey(app::Key key, app::Modifiers m = {}) { sculptApp.onKey({key, app::KeyAction::Press, m}, {}); }
+    void undo() { appKey(app::Key::Z, {false, true, false, false}); }
+    void redo() { appKey(app::Key::Z, {true, true, false, false}); }
+};
+
+}  // namespace
+
+TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes through undoable session commands", "[gl][effd]") {
+    Ui ui;
+    if (!ui.open()) return;
+    app::AppState& state = ui.sculptApp.state();
+    core::Session& session = state.session;
+    ui.click("Lattices");  // the header: the panel opens and reads the shipped library
+    REQUIRE(state.lattices.libraryLoaded);
+    const std::vector<app::LatticeLibraryEntry>& library = state.lattices.library;
+    const auto cylinder = std::find_if(library.begin(), library.end(), [](const auto& e) { return e.name == "cylinder"; });
+    REQUIRE(cylinder != library.end());
+    state.lattices.libraryChoice = static_cast<int>(cylinder - library.begin());
+    ui.frame();
+
+    // Add: add_lattice, one history entry; undo and redo.
+    size_t history = session.history().size();
+    ui.click("Add");
+    INFO(state.status);
+    REQUIRE(session.latticeTools().size() == 1);
+    CHECK(session.latticeTools()[0].name == "cylinder");
+    CHECK(session.history().size() == history + 1);
+    CHECK(app::latticeToolsShown(state));  // drawn (dim, at rest) though the sculpt tool's Lattice overlay is off
+    CHECK_FALSE(app::latticeShown(state));
+    ui.undo();
+    CHECK(session.latticeTools().empty());
+    ui.redo();
+    REQUIRE(session.latticeTools().size() == 1);
+
+    // Place at picked point: the next click on the mesh puts the library lattice there, aligned with the normal.
+    history = session.history().size();
+    ui.click("Place on mesh");
+    REQUIRE(state.lattices.placing == app::LatticesPanelState::Placing::LibraryEntry);
+    const double x = 0.5 * kWidth, y = 0.5 * Ui::kPanelHeight;
+    app::Ray ray;
+    REQUIRE(app::rayThroughPixel(state.camera, kWidth, Ui::kPanelHeight, x, y, ray));
+    const app::SurfaceHit hit = app::intersectMesh(ray, session.positions(), session.triangles());
+    REQUIRE(hit.triangle >= 0);
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, {});
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x, y, {}}, {});
+    REQUIRE(session.latticeTools().size() == 2);
+    CHECK(session.history().size() == history + 1);
+    CHECK(state.lattices.placing == app::LatticesPanelState::Placing::None);
+    CHECK(session.positions() == session.originalPositions());  // placing never touches the mesh
+    const core::LatticeNet& placed = *session.latticeTools()[1].net;
+    CHECK((placed.bounds.center() - hit.point).norm() < 1e-9 * test::boundsDiagonal(session.positions()) + 1e-12);
+    // Scaled so its own bounds' diagonal (before turning onto the normal) is the panel's size: distances
+    // between its points grow by size / the library net's diagonal.
+    const core::LatticeNet& original = *cylinder->net;
+    const int last = original.slotCount() - 1;
+    CHECK((placed.rest.row(last) - placed.rest.row(0)).norm() ==
+          Approx((original.rest.row(last) - original.rest.row(0)).norm() * app::placementSize(state) / original.diagonal()).epsilon(1e-9));
+    ui.undo();
+    CHECK(session.latticeTools().size() == 1);
+    ui.redo();
+    REQUIRE(session.latticeTools().size() == 2);
+    ui.frame();
+
+    // Freeze the first (selected in the list), undo, redo; Unfreeze, undo.
+    ui.click("tool 0");
+    REQUIRE(state.lattices.selectedTool == 0);
+    history = session.history().size();
+    ui.click("Freeze");
+    INFO(state.status);
+    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.lattice().volume != nullptr);
+    CHECK(session.history().size() == history + 1);
+    ui.undo();
+    CHECK(session.frozenTool() == -1);
+    CHECK(session.lattice().volume == nullptr);
+    ui.redo();
+    REQUIRE(session.frozenTool() == 0);
+    ui.frame();
+    ui.click("Unfreeze");
+    CHECK(session.frozenTool() == -1);
+    CHECK(session.history().size() == history + 2);
+    ui.undo();
+    CHECK(session.frozenTool() == 0);
+    // A frozen tool cannot be removed: the button is disabled (the engine would refuse it too).
+    ui.frame();
+    ui.click("Remove");
+    CHECK(session.latticeTools().size() == 2);
+
+    // Esc takes a waiting placement back; nothing is added.
+    history = session.history().size();
+    ui.click("Place on mesh");
+    REQUIRE(state.lattices.placing == app::LatticesPanelState::Placing::LibraryEntry);
+    ui.appKey(app::Key::Escape);
+    CHECK(state.lattices.placing == app::LatticesPanelState::Placing::None);
+    CHECK(session.history().size() == history);
+
+    // Save to library: the placed tool round-trips through its file; a save that cannot be written says so on
+    // the status line and leaves the file that is there as it was.
+    const std::string path = test::glTestOutputDir() + "/placed.lattice.json";
+    REQUIRE(app::saveLatticeToolCommand(state, 1, path).ok);
+    io::LatticeFile file;
+    REQUIRE(io::readLatticeFile(path, file).ok);
+    CHECK(file.name == "cylinder");
+    CHECK(file.net.rest == session.latticeTools()[1].net->rest);
+    CHECK_FALSE(app::saveLatticeToolCommand(state, 1, test::glTestOutputDir() + "/no such folder/x.lattice.json").ok);
+    CHECK(state.statusIsError);
+    REQUIRE(app::openLatticeFile(state, path));  // and it can be opened into the library again
+    CHECK(state.lattices.library[size_t(state.lattices.libraryChoice)].path == path);
+}
+
+TEST_CASE("window lattices: a frozen cylinder is drawn with curved edges on its circles and each welded point once", "[gl][effd]") {
+    core::Session session;
+    {
+        app::SculptApp loader;
+        test::loadDefaultMesh(loader, kWidth, kHeight);
+        session = std::move(loader.state().session);
+    }
+    addAndFreezeCylinder(session);
+    const core::Lattice& lattice = session.lattice();
+    const render::SceneData scene = app::sceneFromSession(session, app::SceneRequest{});
+
+    // One marker per weld group (its representative), control-net edges only between representatives.
+    std::set<int> groups;
+    for (int id = 0; id < lattice.controlPointCount(); ++id) groups.insert(lattice.representative(id));
+    std::vector<float> edges, markers;
+    render::Bounds bounds;
+    REQUIRE(render::buildLatticeInstances(scene.lattice, {}, edges, markers, bounds).ok);
+    CHECK(markers.size() == groups.size() * render::kMarkerFloats);
+    CHECK(groups.size() < size_t(lattice.controlPointCount()));
+
+    // Drawn from above: the top circle (y = 1, above the mesh) is teal along its whole length.
+    render::ScreenshotOptions options;
+    options.width = 480;
+    options.height = 480;
+    options.yawDeg = 20.0f;
+    options.pitchDeg = 65.0f;
+    options.overlays.lattice = true;
+    render::Rgba8Image image;
+    render::OffscreenRenderer& renderer = test::glTestRenderer();
+    REQUIRE(renderer.renderScene(scene, options, image).ok);
+    const render::Camera camera = render::screenshotCamera(renderer.renderer().meshBounds(), renderer.renderer().latticeBounds(), options);
+    const auto teal = [&](int px, int py) {
+        if (px < 0 || py < 0 || px >= image.width || py >= image.height) return false;
+        const std::uint8_t* p = &image.pixels[size_t(4 * (py * image.width + px))];
+        return int(p[1]) - int(p[0]) > 40 && int(p[2]) - int(p[0]) > 40;
+    };
+    const auto tealNear = [&](const Eigen::Vector3d& point, int reach) {
+        double px = 0, py = 0;
+        REQUIRE(app::projectToPixel(camera, image.width, image.height, point, px, py));
+        for (int dy = -reach; dy <= reach; ++dy)
+            for (int dx = -reach; dx <= reach; ++dx)
+                if (teal(int(std::lround(px)) + dx, int(std::lround(py)) + dy)) return true;
+        return false;
+    };
+    int onCircle = 0;
+    constexpr int kSamples = 72;
+    for (int s = 0; s < kSamples; ++s) {
+        const double angle = 2.0 * M_PI * s / kSamples;
+        onCircle += tealNear(Eigen::Vector3d(kRadius * std::cos(angle), 1.0, kRadius * std::sin(angle)), 2);
+    }
+    INFO(onCircle << " of " << kSamples << " points of the top circle have a teal pixel within 2 px");
+    CHECK(onCircle >= kSamples * 9 / 10);  // a few may sit under a control point's marker
+    // The control net's chords of the top ring (from an arc's end to its middle control point, 2 R out) are
+    // not curves: no teal at their midpoints.
+    const Positions cage = session.cagePoints();
+    int chords = 0;
+    for (int j = 0; j + 1 < lattice.count[1]; ++j) {
+        const int a = lattice.index(lattice.count[0] - 1, j, lattice.count[2] - 1), b = lattice.index(lattice.count[0] - 1, j + 1, lattice.count[2] - 1);
+        const Eigen::Vector3d middle = 0.5 * (cage.row(a) + cage.row(b)).transpose();
+        if (std::hypot(middle.x(), middle.z()) < kRadius * 1.2) continue;
+        ++chords;
+        CHECK_FALSE(tealNear(middle, 1));
+    }
+    CHECK(chords >= 3);
+}
+
+TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px moves its whole weld group and the mesh", "[gl][effd]") {
+    app::SculptApp sculptApp;
+    test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+    app::AppState& state = sculptApp.state();
+    core::Session& session = state.session;
+    core::OpReport added;
+    REQUIRE(session.addLatticeTool(cylinderTool(), added));
+    app::freezeLatticeCommand(state, 0, 0);  // the panel's Freeze
+    INFO(state.status);
+    REQUIRE(session.frozenTool() == 0);
+    sculptApp.onKey({app::Key::Tab, app::KeyAction::Press, {}}, {});
+    REQUIRE(state.tools.mode == app::ToolMode::Lattice);
+    const core::Lattice& lattice = session.lattice();
+    // The axis point of the second slice: one weld group of every angle's slot, not on a boundary face.
+    const int rep = lattice.representative(lattice.index(0, 1, 1));
+    std::vector<int> group;
+    for (int id = 0; id < lattice.controlPointCount(); ++id)
+        if (lattice.representative(id) == rep) group.push_back(id);
+    REQUIRE(group.size() == size_t(lattice.count[1]));
+    REQUIRE_FALSE(lattice.pinned[size_t(rep)]);
+    // What is picked is what is drawn: only representatives are shown.
+    const std::vector<std::uint8_t> shown = app::shownControlPoints(state);
+    for (int id : group) CHECK(bool(shown[size_t(id)]) == (id == rep));
+
+    const Positions before = session.positions();
+    const size_t history = session.history().size();
+    const Eigen::Vector2d start = test::pixelOf(state, session.cagePoints().row(rep).transpose());
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, start.x(), start.y(), {}}, {});
+    INFO(state.status);
+    REQUIRE(state.drag.active);
+    REQUIRE(state.tools.lattice.points == std::vector<int>{rep});
+    sculptApp.onMouseMove({start.x(), start.y() - 5.0, {}}, {});
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, start.x(), start.y() - 5.0, {}}, {});
+    CHECK(session.history().size() == history + 1);
+    // Every copy of the welded point moved by the same displacement, and the point is drawn where the cursor is.
+    const Eigen::RowVector3d moved = lattice.displacement.row(rep);
+    CHECK(moved.norm() > 0.0);
+    for (int id : group) CHECK(lattice.displacement.row(id) == moved);
+    const Eigen::Vector2d shownAt = test::pixelOf(state, session.cagePoints().row(rep).transpose());
+    CHECK((shownAt - Eigen::Vector2d(start.x(), start.y() - 5.0)).norm() < 0.05);
+    // The mesh followed.
+    CHECK((session.positions() - before).rowwise().norm().maxCoeff() > 1e-3);
+    sculptApp.onKey({app::Key::Z, app::KeyAction::Press, {false, true, false, false}}, {});
+    CHECK((session.positions() - before).cwiseAbs().maxCoeff() < 1e-9);
+}
+
+TEST_CASE("golden: a frozen cylinder lattice drawn with curved edges over the default mesh", "[gl][golden][effd]") {
+    core::Session session;
+    {
+        app::SculptApp loader;
+        test::loadDefaultMesh(loader, kWidth, kHeight);
+        session = std::move(loader.state().session);
+    }
+    addAndFreezeCylinder(session);
+    // The axis of the upper inner slice (y = 0.5) pushed up, as in the sandpie (Fig. 6), and one point of
+    // the inner ring out: the mesh's top rises and the chunk edges bend.
+    const core::Lattice& lattice = session.lattice();
+    core::OpReport report;
+    Eigen::MatrixX3d by(2, 3);
+    by << 0.0, 0.3, 0.0, 0.2, 0.0, 0.0;
+    REQUIRE(session.moveControlPoints({lattice.representative(lattice.index(0, 0, 2)), lattice.index(1, 1, 2)}, by, true, report));
+    INFO(report.reason);
+    REQUIRE(report.status == core::OpStatus::Applied);
+    render::ScreenshotOptions options;
+    options.width = 640;
+    options.height = 400;
+    options.yawDeg = 25.0f;
+    options.pitchDeg = 30.0f;
+    options.distance = 5.6;
+    options.overlays.lattice = true;
+    render::Rgba8Image image;
+    REQUIRE(test::glTestRenderer().renderScene(app::sceneFromSession(session, app::SceneRequest{}), options, image).ok);
+    test::checkGolden(image, "effd_cylinder_lattice");
+}
