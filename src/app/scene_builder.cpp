@@ -31,7 +31,7 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
         const std::vector<core::LatticeTool>& tools = session.latticeTools();
         for (size_t t = 0; t < tools.size(); ++t) {
             if (static_cast<int>(t) == session.frozenTool()) continue;  // drawn as the cage
-            std::vector<Positions> curves = core::restChunkEdges(tools[t].net, request.curveSamplesPerSpan);
+            std::vector<Positions> curves = core::restChunkEdges(tools[t].volume, request.curveSamplesPerSpan);
             for (Positions& curve : curves) scene.lattice.toolCurves.push_back(std::move(curve));
         }
     }

@@ -34,12 +34,12 @@ CageView cageView(const Session& session, int samplesPerSpan) {
     return view;
 }
 
-std::vector<Positions> restChunkEdges(const std::shared_ptr<const LatticeNet>& net, int samplesPerSpan) {
-    if (!net) return {};
+std::vector<Positions> restChunkEdges(const std::shared_ptr<const Volume>& volume, int samplesPerSpan) {
+    if (!volume) return {};
     LatticeSettings settings;
-    settings.volume = net;  // shared, not copied: makeLatticeInBox only reads it (no freezing, no mesh)
+    settings.volume = volume;  // shared, not copied: makeLatticeInBox only reads it (no freezing, no mesh)
     Lattice lattice;
-    if (!makeLatticeInBox(settings, net->bounds.min(), net->bounds.max(), lattice)) return {};
+    if (!makeLatticeInBox(settings, volume->restBounds().min(), volume->restBounds().max(), lattice)) return {};
     return chunkEdgeCurves(lattice, samplesPerSpan);
 }
 

@@ -36,6 +36,6 @@ Positions carryThroughLayers(const std::vector<Layer>& layers, const Positions& 
 
 // A lattice tool at rest, as drawn where it is not frozen: its chunk edges (chunkEdgeCurves of the
 // undeformed net), `samplesPerSpan` segments per knot span. Empty for a null net.
-std::vector<Positions> restChunkEdges(const std::shared_ptr<const LatticeNet>& net, int samplesPerSpan);
+std::vector<Positions> restChunkEdges(const std::shared_ptr<const Volume>& volume, int samplesPerSpan);
 
 }  // namespace sculpt::core

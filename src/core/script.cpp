@@ -106,11 +106,15 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
             const LatticeTool& current = tools[static_cast<size_t>(op.toolIndex)];
             LatticeTool tool = op.tool;
             if (tool.name.empty()) tool.name = current.name;  // an edit keeps the tool's name unless it gives one
-            if (!tool.net) tool.net = current.net;
+            if (!tool.volume) tool.volume = current.volume;
             if (!op.netEdits.empty()) {
+                const LatticeNet* net = tool.volume->tensorNet();
+                if (!net)
+                    return Status::error("edits move, merge, refine and remove the points of one net; lattice " + tool.name + " is a " +
+                                         tool.volume->kindName() + " (edit its parts before welding them)");
                 LatticeNet edited;
-                if (Status s = applyNetEdits(*tool.net, op.netEdits, edited); !s) return s;
-                tool.net = std::make_shared<const LatticeNet>(std::move(edited));
+                if (Status s = applyNetEdits(*net, op.netEdits, edited); !s) return s;
+                tool.volume = std::make_shared<const LatticeNet>(std::move(edited));
             }
             return session.editLatticeTool(op.toolIndex, tool, report);
         }
@@ -170,8 +174,8 @@ ScriptOp recordedOp(const Operation& operation) {
             // The list changes repeat as they were (they do not depend on the mesh).
             op.tool = operation.toolAfter;
             op.toolIndex = operation.toolIndex;
-            op.kind = !operation.toolBefore.net ? ScriptOp::Kind::AddLattice
-                                                : (!operation.toolAfter.net ? ScriptOp::Kind::RemoveLattice : ScriptOp::Kind::EditLattice);
+            op.kind = !operation.toolBefore.volume ? ScriptOp::Kind::AddLattice
+                                                : (!operation.toolAfter.volume ? ScriptOp::Kind::RemoveLattice : ScriptOp::Kind::EditLattice);
             return op;
     }
     op.hasApplied = true;

@@ -89,7 +89,7 @@ enum class OperationKind { Drag, ControlPointEdit, LatticeSetup, LatticeTools, R
 // a time): a named lattice of any shape, placed in world space. Editing it never touches the mesh.
 struct LatticeTool {
     std::string name;
-    std::shared_ptr<const LatticeNet> net;
+    std::shared_ptr<const Volume> volume;  // any kind (volume.h): a net, a composite, ...
 };
 
 // Why a step of an operation was not applied: what failed, in the engine's terms, and where on the mesh.

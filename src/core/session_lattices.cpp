@@ -10,7 +10,7 @@ namespace sculpt::core {
 namespace {
 
 Status checkTool(const LatticeTool& tool) {
-    if (!tool.net) return Status::error("the lattice tool has no lattice");
+    if (!tool.volume) return Status::error("the lattice tool has no lattice");
     if (tool.name.empty()) return Status::error("the lattice tool needs a name");
     return Status::success();
 }
@@ -50,8 +50,8 @@ void Session::applyToolChange(const Operation& operation, bool forward) {
     const LatticeTool& from = forward ? operation.toolBefore : operation.toolAfter;
     const LatticeTool& to = forward ? operation.toolAfter : operation.toolBefore;
     const auto at = tools_.begin() + operation.toolIndex;
-    if (!from.net) tools_.insert(at, to);       // added (forward) or a removal taken back
-    else if (!to.net) tools_.erase(at);         // removed (forward) or an addition taken back
+    if (!from.volume) tools_.insert(at, to);       // added (forward) or a removal taken back
+    else if (!to.volume) tools_.erase(at);         // removed (forward) or an addition taken back
     else tools_[static_cast<size_t>(operation.toolIndex)] = to;
 }
 
@@ -117,7 +117,7 @@ Status Session::freezeLattice(int index, int pinLayers, OpReport& report) {
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (index < 0 || index >= static_cast<int>(tools_.size())) return Status::error("there is no lattice " + std::to_string(index));
     LatticeSettings settings;
-    settings.volume = tools_[static_cast<size_t>(index)].net;
+    settings.volume = tools_[static_cast<size_t>(index)].volume;
     settings.pinLayers = pinLayers;
     if (Status s = validateLatticeSettings(settings); !s) return s;
     // Freezing a lattice that holds no vertex would do nothing but replace the cage: say so instead.

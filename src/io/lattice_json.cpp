@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "core/composite_volume.h"
 #include "io/atomic_file.h"
 #include "io/json_fields.h"
 #include "io/script_json.h"
@@ -205,7 +206,10 @@ Status parseLatticeFile(const std::string& content, const std::string& displayNa
         if (text(required(j, "format", ""), ".format") != "dmffd-lattice") fail(".format", "expected \"dmffd-lattice\"");
         if (integer(required(j, "version", ""), ".version") != 1) fail(".version", "expected 1");
         file.name = j.contains("name") ? json_fields::text(j["name"], ".name") : std::string("lattice");
-        file.net = parseNet(required(j, "lattice", ""), "lattice");
+        if (Status s = parseVolumeJson(required(j, "lattice", ""), "lattice", file.volume); !s) {
+            const size_t colon = s.message.find(": ");  // "field.path: what"
+            fail(s.message.substr(0, colon), colon == std::string::npos ? s.message : s.message.substr(colon + 2));
+        }
     } catch (const FieldError& e) {
         return Status::error(displayName + ": " + e.path + ": " + e.what);
     }
@@ -220,7 +224,7 @@ Status readLatticeFile(const std::string& path, LatticeFile& out) {
 }
 
 std::string latticeFileText(const LatticeFile& file) {
-    const json j = {{"format", "dmffd-lattice"}, {"version", 1}, {"name", file.name}, {"lattice", latticeNetJson(file.net)}};
+    const json j = {{"format", "dmffd-lattice"}, {"version", 1}, {"name", file.name}, {"lattice", volumeJson(*file.volume)}};
     return j.dump(1) + "\n";
 }
 
@@ -243,7 +247,35 @@ std::vector<VolumeFormat>& volumeFormats() {
             out = latticeNetJson(*volume.tensorNet());
             return true;
         };
-        return std::vector<VolumeFormat>{net};
+        // A composite (Coquillart 1990, 3.1.2): {"kind": "composite", "parts": [lattice, lattice, ...]}, its
+        // parts any of the net forms above, welded where their points meet.
+        VolumeFormat composite;
+        composite.kinds = {"composite"};
+        composite.read = [](const json& j, const std::string& path, std::shared_ptr<const core::Volume>& out) {
+            try {
+                allowOnly(j, path, {"kind", "parts"});
+                const json& parts = required(j, "parts", path);
+                if (!parts.is_array() || parts.size() < 2) fail(path + ".parts", "expected an array of two or more lattices to weld");
+                std::vector<std::shared_ptr<const core::LatticeNet>> blocks;
+                for (size_t p = 0; p < parts.size(); ++p)
+                    blocks.push_back(std::make_shared<const core::LatticeNet>(parseNet(parts[p], path + ".parts[" + std::to_string(p) + "]")));
+                std::shared_ptr<const core::CompositeVolume> made;
+                if (Status s = core::CompositeVolume::make(std::move(blocks), made); !s) fail(path + ".parts", s.message);
+                out = std::move(made);
+            } catch (const FieldError& e) {
+                return Status::error(e.path + ": " + e.what);
+            }
+            return Status::success();
+        };
+        composite.write = [](const core::Volume& volume, json& out) {
+            const auto* made = dynamic_cast<const core::CompositeVolume*>(&volume);
+            if (!made) return false;
+            json parts = json::array();
+            for (const auto& block : made->blocks()) parts.push_back(latticeNetJson(*block));
+            out = {{"kind", "composite"}, {"parts", parts}};
+            return true;
+        };
+        return std::vector<VolumeFormat>{net, composite};
     }();
     return formats;
 }

@@ -41,7 +41,7 @@ nlohmann::json latticeNetJson(const core::LatticeNet& net);
 // A library entry: a named lattice tool.
 struct LatticeFile {
     std::string name;
-    core::LatticeNet net;
+    std::shared_ptr<const core::Volume> volume;  // any registered kind
 };
 // Reads a library file; the error names the file, the field and what is wrong; `out` untouched on failure.
 Status readLatticeFile(const std::string& path, LatticeFile& out);

@@ -1,5 +1,7 @@
 #include "io/script_json.h"
 
+#include "core/volume_kinds.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -251,7 +253,7 @@ thread_local std::string gScriptFolder;
 // stays null) and gives no name unless it has "name" (the tool keeps its own).
 core::LatticeTool parseTool(const json& j, const std::string& path, bool edit) {
     core::LatticeTool tool;
-    core::LatticeNet net;
+    std::shared_ptr<const core::Volume> volume;
     if (edit && !j.contains("lattice") && !j.contains("file")) {
         if (!j.contains("edits")) fail(path, "expected \"lattice\", \"file\" or \"edits\"");
         if (j.contains("place")) fail(path + ".place", "places a \"lattice\" or \"file\"; an edit of the current net has neither");
@@ -264,27 +266,27 @@ core::LatticeTool parseTool(const json& j, const std::string& path, bool edit) {
         if (file.is_relative() && !gScriptFolder.empty()) file = std::filesystem::path(gScriptFolder) / file;
         LatticeFile library;
         if (Status s = readLatticeFile(file.string(), library); !s) fail(path + ".file", s.message);
-        net = std::move(library.net);
+        volume = std::move(library.volume);
         tool.name = library.name;
-    } else if (Status s = parseLatticeNetJson(j["lattice"], path + ".lattice", net); !s) {
+    } else if (Status s = parseVolumeJson(j["lattice"], path + ".lattice", volume); !s) {
         const size_t colon = s.message.find(": ");
         fail(s.message.substr(0, colon), colon == std::string::npos ? s.message : s.message.substr(colon + 2));
     }
     if (j.contains("place")) {
         const json& place = j["place"];
         allowOnly(place, path + ".place", {"point", "normal", "size"});
-        core::LatticeNet placed;
-        if (Status s = core::placeLatticeNet(net, vector3(required(place, "point", path + ".place"), path + ".place.point"),
+        std::shared_ptr<const core::Volume> placed;
+        if (Status s = core::placeVolume(*volume, vector3(required(place, "point", path + ".place"), path + ".place.point"),
                                              vector3(required(place, "normal", path + ".place"), path + ".place.normal"),
                                              number(required(place, "size", path + ".place"), path + ".place.size"), placed);
             !s)
             fail(path + ".place", s.message);
-        net = std::move(placed);
+        volume = std::move(placed);
     }
     if (edit) tool.name.clear();  // note: an edit keeps the tool's name, whatever a library file calls its lattice
     if (j.contains("name")) tool.name = text(j["name"], path + ".name");
-    if (tool.name.empty() && !edit) tool.name = net.kind;
-    tool.net = std::make_shared<const core::LatticeNet>(std::move(net));
+    if (tool.name.empty() && !edit) tool.name = volume->kindName();
+    tool.volume = std::move(volume);
     return tool;
 }
 
@@ -694,7 +696,7 @@ std::string scriptToJson(const core::Script& script) {
             case core::ScriptOp::Kind::EditLattice:
                 if (op.kind == core::ScriptOp::Kind::EditLattice) j["index"] = op.toolIndex;
                 if (!op.tool.name.empty()) j["name"] = op.tool.name;
-                if (op.tool.net) j["lattice"] = latticeNetJson(*op.tool.net);
+                if (op.tool.volume) j["lattice"] = volumeJson(*op.tool.volume);
                 if (!op.netEdits.empty()) j["edits"] = editsJson(op.netEdits);
                 break;
             case core::ScriptOp::Kind::RemoveLattice: j["index"] = op.toolIndex; break;

@@ -233,7 +233,7 @@ TEST_CASE("effd session: bad requests on lattices of any shape are errors that c
     }
 }
 
-TEST_CASE("effd session: two copies of one welded point move as the one control point they are", "[core][net][effd]") {
+TEST_CASE("effd session: copies of one welded point move once as the one control point they are", "[core][net][effd]") {
     Session session = sphereSession(3);
     OpReport report;
     LatticeNet net;
@@ -244,13 +244,26 @@ TEST_CASE("effd session: two copies of one welded point move as the one control 
     const Lattice& lattice = session.lattice();
     const int a = lattice.index(0, 0, 2), b = lattice.index(0, 3, 2);
     REQUIRE(lattice.representative(a) == lattice.representative(b));
+    // Different moves for two copies of one point: an error naming both, and nothing changes.
     Eigen::MatrixX3d by(2, 3);
     by << 0.0, 0.0, 0.05, 0.0, 0.02, 0.0;
+    const size_t journal = session.journal().size();
+    const Status conflicting = session.moveControlPoints({a, b}, by, true, report);
+    REQUIRE_FALSE(conflicting);
+    REQUIRE(conflicting.message.find(std::to_string(a) + " and " + std::to_string(b) + " are one welded point") != std::string::npos);
+    REQUIRE(session.journal().size() == journal);
+    REQUIRE(isUndeformed(session.lattice()));
+    // The same move for both (a whole ring listed, seam included): the point moves once, not twice.
+    by.row(1) = by.row(0);
     REQUIRE(session.moveControlPoints({a, b}, by, true, report));
     REQUIRE(report.status == OpStatus::Applied);
-    // Offsets to the same point add up, as when one id is listed twice; every copy moved alike.
     const Eigen::Vector3d moved = session.lattice().displacement.row(a).transpose();
-    REQUIRE((moved - Eigen::Vector3d(0.0, 0.02, 0.05)).norm() <= 1e-15);
+    REQUIRE((moved - Eigen::Vector3d(0.0, 0.0, 0.05)).norm() <= 1e-15);
+    // The same id listed twice still adds up.
+    Eigen::MatrixX3d twice(2, 3);
+    twice << 0.0, 0.01, 0.0, 0.0, 0.01, 0.0;
+    REQUIRE(session.moveControlPoints({b, b}, twice, true, report));
+    REQUIRE((session.lattice().displacement.row(a).transpose() - Eigen::Vector3d(0.0, 0.02, 0.05)).norm() <= 1e-15);
     for (int s = 0; s < session.lattice().controlPointCount(); ++s)
         if (session.lattice().representative(s) == session.lattice().representative(a))
             REQUIRE(session.lattice().displacement.row(s) == session.lattice().displacement.row(a));

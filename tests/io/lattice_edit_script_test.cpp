@@ -87,7 +87,7 @@ TEST_CASE("lattice edit script: edits apply to the current net keep the tool's n
     list[4].axis = 0;
     LatticeNet expected;
     REQUIRE(applyNetEdits(cylinder, list, expected));
-    REQUIRE(sameLatticeNet(*session.latticeTools()[0].net, expected));
+    REQUIRE(sameLatticeNet(*session.latticeTools()[0].volume->tensorNet(), expected));
     REQUIRE(session.positions() != mesh.positions);  // the frozen, edited lattice deformed the mesh
 
     // Recorded and replayed through the JSON text: the same mesh and tool list, bit for bit.
@@ -98,21 +98,21 @@ TEST_CASE("lattice edit script: edits apply to the current net keep the tool's n
     REQUIRE(replayed.latticeTools().size() == session.latticeTools().size());
     for (size_t t = 0; t < replayed.latticeTools().size(); ++t) {
         REQUIRE(replayed.latticeTools()[t].name == session.latticeTools()[t].name);
-        REQUIRE(sameLatticeNet(*replayed.latticeTools()[t].net, *session.latticeTools()[t].net));
+        REQUIRE(sameLatticeNet(*replayed.latticeTools()[t].volume->tensorNet(), *session.latticeTools()[t].volume->tensorNet()));
     }
     // The script with its edits also round-trips through scriptToJson as edits.
     Script original, again;
     REQUIRE(io::parseScript(text, "edits.json", original));
     REQUIRE(io::parseScript(io::scriptToJson(original), "again.json", again));
     REQUIRE(again.ops[1].netEdits.size() == 4);
-    REQUIRE_FALSE(again.ops[1].tool.net);
+    REQUIRE_FALSE(again.ops[1].tool.volume);
     REQUIRE(again.ops[1].tool.name.empty());
     REQUIRE(again.ops[1].netEdits[2].slots == std::vector<int>{267, 271});
     // Undo takes the edits back one op at a time (each edit_lattice is one history entry).
     Session undone = session;
     OpReport report;
     REQUIRE(undone.undo(report));
-    REQUIRE(undone.latticeTools()[0].net->count[0] == 4);
+    REQUIRE(undone.latticeTools()[0].volume->tensorNet()->count[0] == 4);
 }
 
 TEST_CASE("lattice edit script: an edit with a lattice and no name keeps the tool's name", "[netedit][io][script]") {
@@ -125,11 +125,11 @@ TEST_CASE("lattice edit script: an edit with a lattice and no name keeps the too
     INFO(ran.message);
     REQUIRE(ran);
     REQUIRE(session.latticeTools()[0].name == "tart");
-    REQUIRE(session.latticeTools()[0].net->count == std::array<int, 3>{6, 25, 4});
+    REQUIRE(session.latticeTools()[0].volume->tensorNet()->count == std::array<int, 3>{6, 25, 4});
     OpReport report;
     REQUIRE(session.undo(report));
     REQUIRE(session.latticeTools()[0].name == "pie");
-    REQUIRE(session.latticeTools()[0].net->count == std::array<int, 3>{4, 25, 4});
+    REQUIRE(session.latticeTools()[0].volume->tensorNet()->count == std::array<int, 3>{4, 25, 4});
 }
 
 TEST_CASE("lattice edit script: bad edits name the field or the reason and change nothing", "[netedit][io][script]") {
@@ -177,6 +177,6 @@ TEST_CASE("lattice edit script: bad edits name the field or the reason and chang
         REQUIRE(ran.message.find(message) != std::string::npos);
         REQUIRE(session.latticeTools().size() == 1);
         REQUIRE(session.latticeTools()[0].name == "pie");
-        REQUIRE(sameLatticeNet(*session.latticeTools()[0].net, cylinder));
+        REQUIRE(sameLatticeNet(*session.latticeTools()[0].volume->tensorNet(), cylinder));
     }
 }

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/lattice.h"
+#include "core/volume_kinds.h"
 #include "io/lattice_json.h"
 
 using namespace sculpt;
@@ -20,20 +21,20 @@ TEST_CASE("lattice files: the shipped library loads and round-trips bitwise", "[
         const Status read = io::readLatticeFile(entry.path().string(), file);
         INFO(entry.path() << ": " << read.message);
         REQUIRE(read);
-        REQUIRE(file.net.chunkCount() > 0);
+        REQUIRE(file.volume->chunkCount() > 0);
         io::LatticeFile back;
         REQUIRE(io::parseLatticeFile(io::latticeFileText(file), "round trip", back));
         REQUIRE(back.name == file.name);
-        REQUIRE(core::sameLatticeNet(back.net, file.net));
-        REQUIRE(back.net.weldGroups == file.net.weldGroups);
+        REQUIRE(core::sameVolume(*back.volume, *file.volume));
+        REQUIRE(back.volume->weldGroupList() == file.volume->weldGroupList());
         // The positioning command keeps it a valid lattice anywhere, at any size.
         std::mt19937 rng(60 + files);
         std::uniform_real_distribution<double> u(-1.0, 1.0);
         for (int k = 0; k < 5; ++k) {
-            core::LatticeNet placed;
+            std::shared_ptr<const core::Volume> placed;
             const Eigen::Vector3d normal(u(rng), u(rng), u(rng) + 1.5);
-            REQUIRE(core::placeLatticeNet(file.net, Eigen::Vector3d(u(rng), u(rng), u(rng)) * 100, normal, std::pow(10.0, 3 * u(rng)), placed));
-            REQUIRE(placed.weldGroups == file.net.weldGroups);
+            REQUIRE(core::placeVolume(*file.volume, Eigen::Vector3d(u(rng), u(rng), u(rng)) * 100, normal, std::pow(10.0, 3 * u(rng)), placed));
+            REQUIRE(placed->weldGroupList() == file.volume->weldGroupList());
         }
     }
     REQUIRE(files >= 4);
@@ -63,7 +64,7 @@ TEST_CASE("lattice files: the S loft loads as a valid loft and freezes its point
     const Status read = io::readLatticeFile(path, file);
     INFO(read.message);
     REQUIRE(read);
-    const core::LatticeNet& net = file.net;
+    const core::LatticeNet& net = *file.volume->tensorNet();
     REQUIRE(net.kind == "loft");
     REQUIRE(net.count == std::array<int, 3>{4, 2, 17});
     REQUIRE(net.degree == std::array<int, 3>{2, 1, 2});

@@ -126,11 +126,11 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     CHECK(session.history().size() == history + 1);
     CHECK(state.lattices.placing == app::LatticesPanelState::Placing::None);
     CHECK(session.positions() == session.originalPositions());  // placing never touches the mesh
-    const core::LatticeNet& placed = *session.latticeTools()[1].net;
+    const core::LatticeNet& placed = *session.latticeTools()[1].volume->tensorNet();
     CHECK((placed.bounds.center() - hit.point).norm() < 1e-9 * test::boundsDiagonal(session.positions()) + 1e-12);
     // Scaled so its own bounds' diagonal (before turning onto the normal) is the panel's size: distances
     // between its points grow by size / the library net's diagonal.
-    const core::LatticeNet& original = *cylinder->net;
+    const core::LatticeNet& original = *cylinder->volume->tensorNet();
     const int last = original.slotCount() - 1;
     CHECK((placed.rest.row(last) - placed.rest.row(0)).norm() ==
           Approx((original.rest.row(last) - original.rest.row(0)).norm() * app::placementSize(state) / original.diagonal()).epsilon(1e-9));
@@ -140,26 +140,36 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     REQUIRE(session.latticeTools().size() == 2);
     ui.frame();
 
-    // Freeze the first (selected in the list), undo, redo; Unfreeze, undo.
+    // Freezing the library cylinder as it came (inside the closed mesh, holding none of its vertices) is an error
+    // on the status line, and nothing changes.
     ui.click("tool 0");
     REQUIRE(state.lattices.selectedTool == 0);
     history = session.history().size();
     ui.click("Freeze");
+    CHECK(state.statusIsError);
+    CHECK(state.status.find("holds none of the mesh's vertices") != std::string::npos);
+    CHECK(session.frozenTool() == -1);
+    CHECK(session.history().size() == history);
+    // Freeze the placed one, undo, redo; Unfreeze, undo.
+    ui.frame();
+    ui.click("tool 1");
+    REQUIRE(state.lattices.selectedTool == 1);
+    ui.click("Freeze");
     INFO(state.status);
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.frozenTool() == 1);
     REQUIRE(session.lattice().volume != nullptr);
     CHECK(session.history().size() == history + 1);
     ui.undo();
     CHECK(session.frozenTool() == -1);
     CHECK(session.lattice().volume == nullptr);
     ui.redo();
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.frozenTool() == 1);
     ui.frame();
     ui.click("Unfreeze");
     CHECK(session.frozenTool() == -1);
     CHECK(session.history().size() == history + 2);
     ui.undo();
-    CHECK(session.frozenTool() == 0);
+    CHECK(session.frozenTool() == 1);
     // A frozen tool cannot be removed: the button is disabled (the engine would refuse it too).
     ui.frame();
     ui.click("Remove");
@@ -180,7 +190,7 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     io::LatticeFile file;
     REQUIRE(io::readLatticeFile(path, file).ok);
     CHECK(file.name == "cylinder");
-    CHECK(file.net.rest == session.latticeTools()[1].net->rest);
+    CHECK(file.volume->restControlPoints() == session.latticeTools()[1].volume->restControlPoints());
     CHECK_FALSE(app::saveLatticeToolCommand(state, 1, test::glTestOutputDir() + "/no such folder/x.lattice.json").ok);
     CHECK(state.statusIsError);
     REQUIRE(app::openLatticeFile(state, path));  // and it can be opened into the library again

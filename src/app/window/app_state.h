@@ -84,7 +84,7 @@ enum class Navigation { None, Orbit, Pan };
 struct LatticeLibraryEntry {
     std::string path;
     std::string name;
-    std::shared_ptr<const core::LatticeNet> net;
+    std::shared_ptr<const core::Volume> volume;  // any kind (core/volume.h)
 };
 
 // The Lattices panel's view state (lattices_panel.cpp); the lattice tools themselves live in the Session.

@@ -1,5 +1,7 @@
 #include "app/window/lattice_commands.h"
 
+#include "core/volume_kinds.h"
+
 #include <algorithm>
 #include <filesystem>
 #include <memory>
@@ -50,7 +52,7 @@ bool readEntry(const std::string& path, LatticeLibraryEntry& entry, std::string&
     }
     entry.path = path;
     entry.name = file.name.empty() ? fs::path(path).stem().stem().string() : file.name;
-    entry.net = std::make_shared<const core::LatticeNet>(std::move(file.net));
+    entry.volume = std::move(file.volume);
     return true;
 }
 
@@ -91,7 +93,7 @@ bool openLatticeFile(AppState& state, const std::string& path) {
     if (same != panel.library.end()) *same = entry;
     else panel.library.push_back(entry);
     panel.libraryChoice = at;
-    setStatus(state, "Lattice " + entry.name + " (" + describeLatticeNet(*entry.net) + ") is in the library: Add or Place it.", false);
+    setStatus(state, "Lattice " + entry.name + " (" + describeLattice(*entry.volume) + ") is in the library: Add or Place it.", false);
     return true;
 }
 
@@ -103,21 +105,21 @@ void addLatticeFromLibrary(AppState& state, int entry) {
         return;
     }
     core::OpReport report;
-    const Status s = state.session.addLatticeTool({library[static_cast<size_t>(entry)].name, library[static_cast<size_t>(entry)].net}, report);
+    const Status s = state.session.addLatticeTool({library[static_cast<size_t>(entry)].name, library[static_cast<size_t>(entry)].volume}, report);
     if (s && report.status == core::OpStatus::Applied)
         state.lattices.selectedTool = static_cast<int>(state.session.latticeTools().size()) - 1;
     reportLatticeOperation(state, report, s, "Added lattice " + library[static_cast<size_t>(entry)].name);
 }
 
-void placeLatticeCommand(AppState& state, const core::LatticeNet& net, const std::string& name, int editIndex,
+void placeLatticeCommand(AppState& state, const core::Volume& volume, const std::string& name, int editIndex,
                          const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size) {
     if (state.drag.active) return;
-    core::LatticeNet placed;
-    if (Status s = core::placeLatticeNet(net, point, normal, size, placed); !s) {
+    std::shared_ptr<const core::Volume> placed;
+    if (Status s = core::placeVolume(volume, point, normal, size, placed); !s) {
         setStatus(state, "Lattice not placed: " + s.message, true);
         return;
     }
-    core::LatticeTool tool{name, std::make_shared<const core::LatticeNet>(std::move(placed))};
+    core::LatticeTool tool{name, std::move(placed)};
     core::OpReport report;
     const Status s = editIndex < 0 ? state.session.addLatticeTool(tool, report) : state.session.editLatticeTool(editIndex, tool, report);
     if (s && report.status == core::OpStatus::Applied)
@@ -154,13 +156,13 @@ void removeLatticeToolCommand(AppState& state, int index) {
 
 Status saveLatticeToolCommand(AppState& state, int index, const std::string& path) {
     const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
-    if (index < 0 || index >= static_cast<int>(tools.size()) || !tools[static_cast<size_t>(index)].net) {
+    if (index < 0 || index >= static_cast<int>(tools.size()) || !tools[static_cast<size_t>(index)].volume) {
         const Status error = Status::error("there is no lattice " + std::to_string(index));
         setStatus(state, "Lattice not saved: " + error.message, true);
         return error;
     }
     const core::LatticeTool& tool = tools[static_cast<size_t>(index)];
-    if (Status s = io::writeLatticeFile(path, {tool.name, *tool.net}); !s) {
+    if (Status s = io::writeLatticeFile(path, {tool.name, tool.volume}); !s) {
         setStatus(state, "Lattice not saved (the file on disk is as it was): " + s.message, true);
         return s;
     }
@@ -208,17 +210,25 @@ bool placeLatticeAtPixel(AppState& state, double x, double y) {
     if (what == LatticesPanelState::Placing::LibraryEntry) {
         if (panel.libraryChoice < 0 || panel.libraryChoice >= static_cast<int>(panel.library.size())) return true;
         const LatticeLibraryEntry& entry = panel.library[static_cast<size_t>(panel.libraryChoice)];
-        placeLatticeCommand(state, *entry.net, entry.name, -1, hit.point, normal, placementSize(state));
+        placeLatticeCommand(state, *entry.volume, entry.name, -1, hit.point, normal, placementSize(state));
     } else {
         const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
         if (panel.selectedTool < 0 || panel.selectedTool >= static_cast<int>(tools.size())) return true;
         const core::LatticeTool tool = tools[static_cast<size_t>(panel.selectedTool)];
-        placeLatticeCommand(state, *tool.net, tool.name, panel.selectedTool, hit.point, normal, placementSize(state));
+        placeLatticeCommand(state, *tool.volume, tool.name, panel.selectedTool, hit.point, normal, placementSize(state));
     }
     return true;
 }
 
-std::string describeLatticeNet(const core::LatticeNet& net) {
+std::string describeLattice(const core::Volume& volume) {
+    const core::LatticeNet* tensor = volume.tensorNet();
+    if (!tensor) {
+        size_t distinct = static_cast<size_t>(volume.controlPointCount());
+        for (const std::vector<int>& group : volume.weldGroupList()) distinct -= group.size() - 1;
+        return volume.kindName() + ", " + std::to_string(volume.controlPointCount()) + " points (" + std::to_string(distinct) +
+               " after welds), " + std::to_string(volume.chunkCount()) + " chunks";
+    }
+    const core::LatticeNet& net = *tensor;
     size_t distinct = static_cast<size_t>(net.slotCount());
     for (const std::vector<int>& group : net.weldGroups) distinct -= group.size() - 1;
     std::string text = net.kind + ", " + std::to_string(net.count[0]) + " x " + std::to_string(net.count[1]) + " x " +

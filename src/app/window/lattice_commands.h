@@ -24,10 +24,10 @@ bool openLatticeFile(AppState& state, const std::string& path);
 
 // Session::addLatticeTool of library entry `entry` as it is (no placement).
 void addLatticeFromLibrary(AppState& state, int entry);
-// The positioning command (3.2, core::placeLatticeNet): the net's bounds centre to `point`, its z axis onto
+// The positioning command (3.2, core::placeVolume): the net's bounds centre to `point`, its z axis onto
 // `normal`, its bounds diagonal `size` (world units); then added as a new tool named `name` (editIndex < 0,
 // Session::addLatticeTool) or replacing tool editIndex's net (Session::editLatticeTool).
-void placeLatticeCommand(AppState& state, const core::LatticeNet& net, const std::string& name, int editIndex,
+void placeLatticeCommand(AppState& state, const core::Volume& volume, const std::string& name, int editIndex,
                          const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size);
 // Session::freezeLattice / unfreezeLattice / removeLatticeTool. The control-point selection is cleared
 // (its ids belonged to the other lattice).
@@ -49,6 +49,6 @@ bool placeLatticeAtPixel(AppState& state, double x, double y);
 double placementSize(const AppState& state);
 
 // "cylinder, 3 x 12 x 3 points (37 after welds), degree 2/2/2": what the panel lists for a net.
-std::string describeLatticeNet(const core::LatticeNet& net);
+std::string describeLattice(const core::Volume& volume);
 
 }  // namespace sculpt::app

@@ -52,14 +52,14 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
             const core::LatticeTool& tool = tools[static_cast<size_t>(t)];
             const std::string label = tool.name + (t == frozen ? "  [frozen]" : "") + "##tool" + std::to_string(t);
             if (ImGui::Selectable(label.c_str(), t == panel.selectedTool)) panel.selectedTool = t;
-            if (ImGui::IsItemHovered() && tool.net) ImGui::SetTooltip("%s", describeLatticeNet(*tool.net).c_str());
+            if (ImGui::IsItemHovered() && tool.volume) ImGui::SetTooltip("%s", describeLattice(*tool.volume).c_str());
             recordItem(panel, "tool " + std::to_string(t));
         }
         ImGui::EndListBox();
     }
     const bool chosen = panel.selectedTool >= 0 && panel.selectedTool < count;
-    if (chosen && tools[static_cast<size_t>(panel.selectedTool)].net)
-        ImGui::TextWrapped("%s", describeLatticeNet(*tools[static_cast<size_t>(panel.selectedTool)].net).c_str());
+    if (chosen && tools[static_cast<size_t>(panel.selectedTool)].volume)
+        ImGui::TextWrapped("%s", describeLattice(*tools[static_cast<size_t>(panel.selectedTool)].volume).c_str());
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
     ImGui::TextWrapped(frozen >= 0 ? "Frozen: drags and the lattice tool work in it." : "Edit mode: the box lattice is the cage.");
     ImGui::PopStyleColor();
@@ -92,7 +92,7 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
         for (int e = 0; e < static_cast<int>(library.size()); ++e) {
             const std::string label = library[static_cast<size_t>(e)].name + "##lib" + std::to_string(e);
             if (ImGui::Selectable(label.c_str(), e == panel.libraryChoice)) panel.libraryChoice = e;
-            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\n%s", describeLatticeNet(*library[static_cast<size_t>(e)].net).c_str(),
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\n%s", describeLattice(*library[static_cast<size_t>(e)].volume).c_str(),
                                                           library[static_cast<size_t>(e)].path.c_str());
         }
         ImGui::EndCombo();

@@ -208,7 +208,7 @@ void SculptApp::syncGpu() {
         if (!showLattice && latticeToolsShown(state_))
             for (size_t t = 0; t < session.latticeTools().size(); ++t)
                 if (static_cast<int>(t) != session.frozenTool())
-                    for (Positions& curve : core::restChunkEdges(session.latticeTools()[t].net, SceneRequest{}.curveSamplesPerSpan))
+                    for (Positions& curve : core::restChunkEdges(session.latticeTools()[t].volume, SceneRequest{}.curveSamplesPerSpan))
                         lattice.toolCurves.push_back(std::move(curve));
         renderer_.setLattice(lattice);
         renderer_.setJacobianField(jacobian);
