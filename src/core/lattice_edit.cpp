@@ -39,19 +39,6 @@ Status finishEdit(LatticeNet& net, const std::string& what, LatticeNet& out) {
     return Status::success();
 }
 
-// A copy of the raw fields of `net` (what finishLatticeNet reads), without its derived data.
-LatticeNet rawCopy(const LatticeNet& net) {
-    LatticeNet copy;
-    copy.kind = net.kind;
-    copy.count = net.count;
-    copy.degree = net.degree;
-    copy.multiplicity = net.multiplicity;
-    copy.rest = net.rest;
-    copy.weights = net.weights;
-    copy.weldedTo = net.weldedTo;
-    return copy;
-}
-
 std::string slotList(const std::vector<int>& slots) {
     std::string s;
     for (size_t i = 0; i < slots.size() && i < 8; ++i) s += (i ? ", " : "") + std::to_string(slots[i]);
@@ -103,7 +90,7 @@ Status moveNetPoints(const LatticeNet& net, const std::vector<int>& slots, const
     if (!offset.allFinite()) return Status::error("the offset of a move must be finite");
     std::vector<char> moved(net.slotCount(), 0);
     for (int s : slots) moved[net.weldedTo[s]] = 1;
-    LatticeNet edited = rawCopy(net);
+    LatticeNet edited = rawNetFields(net);
     // note: a weld group's slots are equal before the move and get the same offset, so they stay bitwise equal.
     for (int s = 0; s < net.slotCount(); ++s)
         if (moved[net.weldedTo[s]]) edited.rest.row(s) += offset.transpose();
@@ -125,7 +112,7 @@ Status mergeNetPoints(const LatticeNet& net, const std::vector<int>& slots, Latt
     mean /= static_cast<double>(groups.size());
     std::vector<char> merged(net.slotCount(), 0);
     for (int g : groups) merged[g] = 1;
-    LatticeNet edited = rawCopy(net);
+    LatticeNet edited = rawNetFields(net);
     // The merged group's representative is its smallest slot: the smallest of the groups' representatives.
     const int representative = groups.front();
     for (int s = 0; s < net.slotCount(); ++s)

@@ -211,6 +211,18 @@ void weldCoincidentSlots(LatticeNet& net, double tolerance) {
     }
 }
 
+LatticeNet rawNetFields(const LatticeNet& net) {
+    LatticeNet copy;
+    copy.kind = net.kind;
+    copy.count = net.count;
+    copy.degree = net.degree;
+    copy.multiplicity = net.multiplicity;
+    copy.rest = net.rest;
+    copy.weights = net.weights;
+    copy.weldedTo = net.weldedTo;
+    return copy;
+}
+
 Status finishLatticeNet(LatticeNet& net) {
     if (Status s = checkChunks({1, 1, 1}, net.degree, {1, 1, 1}); !s) return s;
     for (int a = 0; a < 3; ++a)
@@ -492,14 +504,7 @@ Status placeLatticeNet(const LatticeNet& tool, const Eigen::Vector3d& point, con
     const Eigen::Matrix3d rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal.normalized()).toRotationMatrix();
     const Eigen::Vector3d centre = tool.bounds.center();
     const double scale = size / tool.diagonal();
-    LatticeNet net;
-    net.kind = tool.kind;
-    net.count = tool.count;
-    net.degree = tool.degree;
-    net.multiplicity = tool.multiplicity;
-    net.weights = tool.weights;
-    net.weldedTo = tool.weldedTo;
-    net.rest.resize(tool.rest.rows(), 3);
+    LatticeNet net = rawNetFields(tool);
     for (Eigen::Index s = 0; s < tool.rest.rows(); ++s)
         net.rest.row(s) = (point + scale * (rotation * (tool.rest.row(s).transpose() - centre))).transpose();
     // note: welded points coincide before the similarity, so they coincide after it up to rounding; make them

@@ -117,6 +117,10 @@ struct LatticeNet final : Volume {
 // Fails with a message naming the field; `net` is then unspecified.
 Status finishLatticeNet(LatticeNet& net);
 
+// A copy of the raw fields of `net` (kind, counts, degrees, multiplicities, rest points, weights, welds: what
+// finishLatticeNet reads), without its derived data: the start of an edit.
+LatticeNet rawNetFields(const LatticeNet& net);
+
 // Welds every group of slots whose rest points coincide to `tolerance` * diagonal (the predefined lattices'
 // axis, poles, centre and seam). Call before finishLatticeNet.
 void weldCoincidentSlots(LatticeNet& net, double tolerance = 1e-12);

@@ -49,6 +49,16 @@ private:
     std::shared_ptr<const LatticeNet> net_;
 };
 
+// The same net as a lattice with the tensor fast path and as one without it.
+void tensorAndOpaque(const LatticeNet& net, Lattice& tensor, Lattice& opaque) {
+    const auto shared = std::make_shared<const LatticeNet>(net);
+    LatticeSettings tensorSettings, opaqueSettings;
+    tensorSettings.volume = shared;
+    opaqueSettings.volume = std::make_shared<const OpaqueVolume>(shared);
+    REQUIRE(makeLattice(tensorSettings, Positions::Zero(1, 3), tensor));
+    REQUIRE(makeLattice(opaqueSettings, Positions::Zero(1, 3), opaque));
+}
+
 double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
 int uniformInt(std::mt19937& rng, int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); }
 
@@ -67,13 +77,8 @@ TEST_CASE("volume interface: a volume without the tensor fast path deforms and s
             s = makeSphereNet(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 1, 0), size, {uniformInt(rng, 1, 3), uniformInt(rng, 3, 6), uniformInt(rng, 2, 4)},
                               uniformInt(rng, 1, 3), net);
         REQUIRE(s);
-        const auto shared = std::make_shared<const LatticeNet>(net);
-        LatticeSettings tensorSettings, opaqueSettings;
-        tensorSettings.volume = shared;
-        opaqueSettings.volume = std::make_shared<const OpaqueVolume>(shared);
         Lattice tensor, opaque;
-        REQUIRE(makeLattice(tensorSettings, Positions::Zero(1, 3), tensor));
-        REQUIRE(makeLattice(opaqueSettings, Positions::Zero(1, 3), opaque));
+        tensorAndOpaque(net, tensor, opaque);
         REQUIRE(opaque.tensorNet() == nullptr);
         REQUIRE(opaque.cellCount() == tensor.cellCount());
         // Random points in and around the volume.
@@ -127,13 +132,8 @@ TEST_CASE("volume interface: the exact injectivity test on a volume's Bezier chu
         LatticeNet net;
         REQUIRE(makeCylinderNet(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0, 2.0,
                                 {uniformInt(rng, 1, 2), uniformInt(rng, 3, 8), uniformInt(rng, 1, 2)}, {2, 2}, net));
-        const auto shared = std::make_shared<const LatticeNet>(net);
-        LatticeSettings tensorSettings, opaqueSettings;
-        tensorSettings.volume = shared;
-        opaqueSettings.volume = std::make_shared<const OpaqueVolume>(shared);
         Lattice tensor, opaque;
-        REQUIRE(makeLattice(tensorSettings, Positions::Zero(1, 3), tensor));
-        REQUIRE(makeLattice(opaqueSettings, Positions::Zero(1, 3), opaque));
+        tensorAndOpaque(net, tensor, opaque);
         // Move a few weld groups (the axis included) by amounts from gentle to folding.
         const double amplitude = 0.1 * (1 + trial % 8);
         ControlDelta delta;
