@@ -83,6 +83,20 @@ Status CompositeVolume::make(std::vector<std::shared_ptr<const LatticeNet>> bloc
         }
         v.groups_.push_back(std::move(group));
     }
+    // Joints: outer faces of a part whose every point is welded to another part.
+    v.jointFace_.resize(v.blocks_.size());
+    for (size_t b = 0; b < v.blocks_.size(); ++b) {
+        const LatticeNet& block = *v.blocks_[b];
+        for (int a = 0; a < 3; ++a)
+            for (int side = 0; side < 2; ++side) {
+                bool joint = block.boundaryFace[a][side];
+                for (int s = 0; s < block.slotCount() && joint; ++s) {
+                    const int c = a == 0 ? s % block.count[0] : (a == 1 ? (s / block.count[0]) % block.count[1] : s / (block.count[0] * block.count[1]));
+                    if (c == (side == 0 ? 0 : block.count[a] - 1)) joint = v.crossWelded_[static_cast<size_t>(v.offsets_[b] + s)] != 0;
+                }
+                v.jointFace_[b][a][side] = joint;
+            }
+    }
     if (v.crossWelds_ == 0) return Status::error("the composite's lattices share no point, so nothing welds them: place them so they touch");
     out = std::move(volume);
     return Status::success();
@@ -105,31 +119,26 @@ int CompositeVolume::blockOf(const Eigen::Vector3d& t, Eigen::Vector3d& blockT) 
     return b;
 }
 
-bool CompositeVolume::onOuterSurface(int id) const {
-    // A weld group is on the surface if any member is on its block's outer surface (the point where two
-    // discs of the "8" touch stays on the surface).
-    const int representative = representativeOf(id);
-    for (const auto& group : groups_)
-        if (group[0] == representative) {
-            for (int member : group) {
-                const int b = blockOfId(member);
-                if (blocks_[static_cast<size_t>(b)]->onOuterSurface(member - offset(b))) return true;
-            }
-            return false;
-        }
-    const int b = blockOfId(id);
-    return blocks_[static_cast<size_t>(b)]->onOuterSurface(id - offset(b));
-}
-
-bool CompositeVolume::inSurfaceLayers(int id, int layers) const {
+bool CompositeVolume::nearOpenFace(int id, int layers) const {
     const std::vector<int>* group = weldGroupOf(*this, id);
     const std::vector<int> single{id};
     for (int member : group ? *group : single) {
         const int b = blockOfId(member);
-        if (blocks_[static_cast<size_t>(b)]->inSurfaceLayers(member - offset(b), layers)) return true;
+        const LatticeNet& block = *blocks_[static_cast<size_t>(b)];
+        const int s = member - offset(b);
+        const std::array<int, 3> c{s % block.count[0], (s / block.count[0]) % block.count[1], s / (block.count[0] * block.count[1])};
+        for (int a = 0; a < 3; ++a)
+            for (int side = 0; side < 2; ++side) {
+                if (!block.boundaryFace[a][side] || jointFace_[static_cast<size_t>(b)][a][side]) continue;
+                if (side == 0 ? c[a] < layers : c[a] >= block.count[a] - layers) return true;
+            }
     }
     return false;
 }
+
+bool CompositeVolume::onOuterSurface(int id) const { return nearOpenFace(id, 1); }
+
+bool CompositeVolume::inSurfaceLayers(int id, int layers) const { return layers > 0 && nearOpenFace(id, layers); }
 
 std::vector<std::array<int, 2>> CompositeVolume::controlNetEdgeList() const {
     std::vector<std::array<int, 2>> edges;

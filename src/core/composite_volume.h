@@ -12,6 +12,7 @@
 // and chunk ids follow the blocks' (block b's chunk c is chunkOffset(b) + c).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,7 +48,9 @@ public:
     int representativeOf(int id) const override { return weldedTo_[static_cast<size_t>(id)]; }
     const std::vector<std::vector<int>>& weldGroupList() const override { return groups_; }
     Eigen::AlignedBox3d restBounds() const override { return bounds_; }
-    // A block's outer-surface point, unless it is welded to another block (then it lies on a seam inside).
+    // On the composite's outer surface: some copy lies on an outer face of its part that is not a joint (a face
+    // whose every point is welded to another part lies inside the composite: two boxes sharing a face). The
+    // point where two discs touch stays on the surface.
     bool onOuterSurface(int id) const override;
     bool inSurfaceLayers(int id, int layers) const override;
     std::vector<std::array<int, 2>> controlNetEdgeList() const override;
@@ -67,6 +70,8 @@ public:
 private:
     int blockOfChunk(int chunk) const;
     int blockOfId(int id) const;
+    // Some copy of `id` lies within `layers` layers of an outer face of its part that is not a joint.
+    bool nearOpenFace(int id, int layers) const;
 
     std::string kind_ = "composite";
     std::vector<std::shared_ptr<const LatticeNet>> blocks_;
@@ -77,6 +82,7 @@ private:
     std::vector<int> weldedTo_;
     std::vector<std::vector<int>> groups_;
     std::vector<std::uint8_t> crossWelded_;
+    std::vector<std::array<std::array<bool, 2>, 3>> jointFace_;  // per part: the face is wholly welded to other parts
     int crossWelds_ = 0;
     Eigen::AlignedBox3d bounds_;
 };

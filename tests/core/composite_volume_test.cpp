@@ -88,6 +88,10 @@ TEST_CASE("composite lattice: welded where the parts meet, a partition of unity,
                     const std::vector<int>* group = weldGroupOf(*composite, id);
                     REQUIRE(group);
                     REQUIRE(group->back() >= composite->offset(1));
+                    // The joint lies inside the composite: only its border is on the outer surface.
+                    const bool border = j == 0 || k == 0 || j == left.count[1] - 1 || k == left.count[2] - 1;
+                    REQUIRE(composite->onOuterSurface(id) == border);
+                    REQUIRE(composite->onOuterSurface(group->back()) == border);
                 }
         }
         const Lattice lattice = latticeOf(composite);
