@@ -325,18 +325,22 @@ Status finishLatticeNet(LatticeNet& net) {
     }
     net.restIndex = buildChunkIndex(net, net.rest);
     // A valid lattice is right-handed at rest: det dQ0/dt > 0 inside every chunk (zero is allowed only on a
-    // collapsed face). Sampled at each chunk's centre.
+    // collapsed face). Sampled at 27 points inside each chunk (local 0.1, 0.5, 0.9 per axis: off the faces,
+    // where a collapsed face has det 0), so an edit that folds a chunk (two far points merged) is refused.
     const std::array<int, 3> spans = net.spans();
+    static constexpr double kSamples[3] = {0.1, 0.5, 0.9};
     for (int w = 0; w < spans[2]; ++w)
         for (int v = 0; v < spans[1]; ++v)
-            for (int u = 0; u < spans[0]; ++u) {
-                const Eigen::Vector3d t((u + 0.5) / spans[0], (v + 0.5) / spans[1], (w + 0.5) / spans[2]);
-                const double det = restOrientationAt(net, t);
-                if (!(det > 0.0))
-                    return Status::error("lattice chunk [" + std::to_string(u) + "," + std::to_string(v) + "," + std::to_string(w) +
-                                         "] is " + (det < 0.0 ? "left-handed or folded" : "flat") +
-                                         " at rest (det dQ/dt = " + std::to_string(det) + "): reorder its axes or move its points");
-            }
+            for (int u = 0; u < spans[0]; ++u)
+                for (int sample = 0; sample < 27; ++sample) {
+                    const Eigen::Vector3d t((u + kSamples[sample % 3]) / spans[0], (v + kSamples[(sample / 3) % 3]) / spans[1],
+                                            (w + kSamples[sample / 9]) / spans[2]);
+                    const double det = restOrientationAt(net, t);
+                    if (!(det > 0.0))
+                        return Status::error("lattice chunk [" + std::to_string(u) + "," + std::to_string(v) + "," + std::to_string(w) +
+                                             "] is " + (det < 0.0 ? "left-handed or folded" : "flat") +
+                                             " at rest (det dQ/dt = " + std::to_string(det) + "): reorder its axes or move its points");
+                }
     return Status::success();
 }
 

@@ -475,3 +475,23 @@ TEST_CASE("lattice edit: a list of edits applies in order", "[netedit]") {
     REQUIRE(sameLatticeNet(out, step3));
     REQUIRE(out.count == std::array<int, 3>{4, 4, 5});
 }
+
+TEST_CASE("lattice edit: a merge that folds a chunk at rest is refused and changes nothing", "[netedit]") {
+    std::mt19937 rng(515);
+    for (int trial = 0; trial < 10; ++trial) {
+        LatticeNet box;
+        const std::array<int, 3> chunks{uniformInt(rng, 1, 3), uniformInt(rng, 1, 3), uniformInt(rng, 1, 3)};
+        REQUIRE(makeParallelepipedNet(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 1.5, 2.0).asDiagonal(), chunks,
+                                      {uniformInt(rng, 1, 3), uniformInt(rng, 1, 3), uniformInt(rng, 1, 3)}, box));
+        const LatticeNet before = box;
+        LatticeNet out;
+        out.kind = "sentinel";
+        // Opposite corners merged: the corner chunks turn inside out.
+        const Status merged = mergeNetPoints(box, {0, box.slotCount() - 1}, out);
+        INFO(merged.message);
+        REQUIRE_FALSE(merged);
+        REQUIRE(merged.message.find("leaves an invalid lattice") != std::string::npos);
+        REQUIRE(out.kind == "sentinel");
+        REQUIRE(sameLatticeNet(box, before));
+    }
+}
