@@ -265,6 +265,10 @@ Status finishLatticeNet(LatticeNet& net) {
     for (int s = 0; s < n; ++s) net.bounds.extend(net.rest.row(s).transpose());
     const double diagonal = net.bounds.diagonal().norm();
     if (!(diagonal > 0.0)) return Status::error("lattice control points all coincide");
+    // note: det dQ/dt is of the size of diagonal^3 (and the exact test's polynomials of its fourth power), so
+    // beyond 1e75 its arithmetic overflows; below 1e-75 it underflows.
+    if (!(diagonal < 1e75) || !(diagonal > 1e-75))
+        return Status::error("lattice size " + std::to_string(diagonal) + " (diagonal) is out of range: use sizes between 1e-75 and 1e75");
     // Weld groups; welded slots act as one control point, so they must be one point at rest.
     net.weldGroups.clear();
     {

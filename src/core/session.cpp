@@ -726,9 +726,15 @@ std::string Session::unreachableDragCause(const Manipulation& m) const {
         if (inOuterLayers(lattice_, idx, 1) && !lattice_.pinned[idx]) return "";
     for (size_t f = 0; f < m.targets.size(); ++f) {
         const Eigen::Vector3d& t = m.targets[f];
-        if ((t.array() < lattice_.boxMin.array()).any() || (t.array() > lattice_.boxMax.array()).any())
+        if ((t.array() < lattice_.boxMin.array()).any() || (t.array() > lattice_.boxMax.array()).any()) {
+            if (lattice_.volume && frozenTool_ >= 0)
+                return "the target " + vectorText(t) + " lies outside lattice " + tools_[static_cast<size_t>(frozenTool_)].name +
+                       ", whose boundary stays fixed (" +
+                       (lattice_.tensorNet() ? "it does not hold the whole mesh" : std::string("a ") + lattice_.volume->kindName() + " keeps its outer surface") +
+                       "), so nothing inside it can reach there: make the lattice larger (Move on mesh, or edit_lattice with \"place\"), or drag less far";
             return "the target " + vectorText(t) + " lies outside the lattice, whose outer layer is pinned, so nothing inside it can reach there: " +
                    "unpin the outer layer (pin layers 0), enlarge the region, or drag less far";
+        }
     }
     return "";
 }

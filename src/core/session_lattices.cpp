@@ -132,7 +132,7 @@ Status Session::freezeLattice(int index, int pinLayers, OpReport& report) {
         }
         if (!holds)
             return Status::error("lattice " + tools_[static_cast<size_t>(index)].name +
-                                 " holds none of the mesh's vertices: place it over the part to deform (add_lattice \"place\")");
+                                 " holds none of the mesh's vertices: place it over the part to deform (Place on mesh in the Lattices panel, \"place\" in scripts)");
     }
     const int before = frozenTool_;
     if (Status s = setupLattice(settings, report); !s) return s;
