@@ -413,6 +413,32 @@ bool chunkRingWinding(const Lattice& lattice, int chunkId, int axis, int side, d
     return std::isfinite(turns);
 }
 
+namespace {
+
+// det J near a collapsed face, where det(dQ0/dt) is too small for the plain ratio det / restDet: the ratio of
+// the face-divided determinant polynomials of the chunk (deformed over rest; both carry the same factors W^4
+// and face powers, so their ratio is det J's limit), else the plain ratio if finite, else 0.
+double collapsedFaceRatio(const Lattice& lattice, int chunkId, double weldTolerance, const Eigen::Vector3d& local, double det,
+                          double restDet) {
+    // note: one workspace per thread, so points on the axis of a big mesh cost two chunk polynomials each,
+    // without allocating.
+    thread_local NetChunkWorkspace work;
+    thread_local std::vector<double> restPolynomial(kMaxNetDeterminantCoefficients), polynomial(kMaxNetDeterminantCoefficients);
+    NetChunkDeterminantInfo restInfo, info;
+    chunkDeterminantBernstein(lattice, chunkId, weldTolerance, false, work, restPolynomial.data(), restInfo);
+    chunkDeterminantBernstein(lattice, chunkId, weldTolerance, true, work, polynomial.data(), info);
+    const Eigen::Vector3d x = local.cwiseMax(0.0).cwiseMin(1.0);
+    if (restInfo.weldsHold && info.weldsHold && restInfo.degree == info.degree) {
+        const double restValue = evaluateBernstein(restPolynomial.data(), restInfo.degree, x);
+        const double value = evaluateBernstein(polynomial.data(), info.degree, x);
+        if (restValue > 0.0 && std::isfinite(value / restValue)) return value / restValue;
+    }
+    const double ratio = det / restDet;
+    return std::isfinite(ratio) ? ratio : 0.0;
+}
+
+}  // namespace
+
 double netJacobianDeterminantInChunk(const Lattice& lattice, const std::array<int, 3>& chunk, const Eigen::Vector3d& local) {
     assert(lattice.tensorNet());
     if (cellIsUndeformed(lattice, chunk)) return 1.0;
@@ -425,23 +451,8 @@ double netJacobianDeterminantInChunk(const Lattice& lattice, const std::array<in
     // collapsed face and falls linearly (or quadratically) towards it; below 1e-8 of that the plain ratio of
     // two small determinants loses digits, and on the face it is 0 / 0.
     if (std::abs(restDet) > 1e-8 * diagonal * diagonal * diagonal) return det / restDet;
-    // note: one workspace per thread, so points on the axis of a big mesh cost two chunk polynomials each,
-    // without allocating.
-    thread_local NetChunkWorkspace work;
-    thread_local std::vector<double> restPolynomial(kMaxNetDeterminantCoefficients), polynomial(kMaxNetDeterminantCoefficients);
-    const NetChunkBasis basis = makeNetChunkBasis(lattice);
-    NetChunkDeterminantInfo restInfo, info;
-    netChunkDeterminantBernstein(lattice, basis, chunk, false, work, restPolynomial.data(), restInfo);
-    netChunkDeterminantBernstein(lattice, basis, chunk, true, work, polynomial.data(), info);
-    const Eigen::Vector3d x = local.cwiseMax(0.0).cwiseMin(1.0);
-    if (restInfo.weldsHold && info.weldsHold && restInfo.degree == info.degree) {
-        // Both carry the same factors (W^4 and the face powers), so their ratio is det J's limit.
-        const double restValue = evaluateBernstein(restPolynomial.data(), restInfo.degree, x);
-        const double value = evaluateBernstein(polynomial.data(), info.degree, x);
-        if (restValue > 0.0 && std::isfinite(value / restValue)) return value / restValue;
-    }
-    const double ratio = det / restDet;
-    return std::isfinite(ratio) ? ratio : 0.0;
+    const std::array<int, 3> spans = lattice.spans();
+    return collapsedFaceRatio(lattice, chunk[0] + spans[0] * (chunk[1] + spans[1] * chunk[2]), 1e-9 * diagonal, local, det, restDet);
 }
 
 double chunkJacobianDeterminant(const Lattice& lattice, int chunkId, const Eigen::Vector3d& local) {
@@ -461,20 +472,7 @@ double chunkJacobianDeterminant(const Lattice& lattice, int chunkId, const Eigen
     const double det = (rest + displacement).determinant();
     const double diagonal = volume.restBounds().diagonal().norm();
     if (std::abs(restDet) > 1e-8 * diagonal * diagonal * diagonal) return det / restDet;
-    // Near a collapsed face: the ratio of the face-divided determinant polynomials (as for a net's chunk).
-    thread_local NetChunkWorkspace work;
-    thread_local std::vector<double> restPolynomial(kMaxNetDeterminantCoefficients), polynomial(kMaxNetDeterminantCoefficients);
-    NetChunkDeterminantInfo restInfo, info;
-    const double tolerance = 1e-9 * diagonal;
-    chunkDeterminantBernstein(lattice, chunkId, tolerance, false, work, restPolynomial.data(), restInfo);
-    chunkDeterminantBernstein(lattice, chunkId, tolerance, true, work, polynomial.data(), info);
-    if (restInfo.weldsHold && info.weldsHold && restInfo.degree == info.degree) {
-        const double restValue = evaluateBernstein(restPolynomial.data(), restInfo.degree, x);
-        const double deformedValue = evaluateBernstein(polynomial.data(), info.degree, x);
-        if (restValue > 0.0 && std::isfinite(deformedValue / restValue)) return deformedValue / restValue;
-    }
-    const double ratio = det / restDet;
-    return std::isfinite(ratio) ? ratio : 0.0;
+    return collapsedFaceRatio(lattice, chunkId, 1e-9 * diagonal, local, det, restDet);
 }
 
 }  // namespace sculpt::core
