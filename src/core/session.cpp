@@ -804,11 +804,22 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
         }
         moves.emplace_back(idx, Eigen::Vector3d(cageTarget - lattice_.controlPoint(idx)));
     }
-    // A point listed more than once, or copies of one welded point (Coquillart 1990, 3.1.2: one control point;
-    // e.g. both sides of a seam when a whole ring is listed), moves once, and must be asked the same move.
+    // The same id listed twice: offsets add up for "by", the last position wins for "to".
+    std::stable_sort(moves.begin(), moves.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    {
+        std::vector<std::pair<int, Eigen::Vector3d>> merged;
+        for (const auto& [idx, offset] : moves) {
+            if (!merged.empty() && merged.back().first == idx)
+                merged.back().second = relative ? Eigen::Vector3d(merged.back().second + offset) : offset;
+            else
+                merged.emplace_back(idx, offset);
+        }
+        moves = std::move(merged);
+    }
+    // Copies of one welded point (Coquillart 1990, 3.1.2: one control point; e.g. both sides of a seam when a
+    // whole ring is listed) move once, and must be asked the same move.
     {
         const double tolerance = 1e-12 * std::max(lattice_.diagonal(), 1e-300);
-        std::stable_sort(moves.begin(), moves.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
         std::stable_sort(moves.begin(), moves.end(),
                          [&](const auto& a, const auto& b) { return lattice_.representative(a.first) < lattice_.representative(b.first); });
         std::vector<std::pair<int, Eigen::Vector3d>> merged;
@@ -824,8 +835,7 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
                     return "[" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + "]";
                 };
                 return Status::error("control points " + name(asked) + " and " + name(idx) +
-                                     (asked == idx ? " are the same point" : " are one welded point") +
-                                     " but are given different moves: give them one move, or list one of them");
+                                     " are one welded point but are given different moves: give them one move, or list one of them");
             }
         }
         moves = std::move(merged);
