@@ -73,13 +73,13 @@ Status CompositeVolume::make(std::vector<std::shared_ptr<const LatticeNet>> bloc
         v.weldedTo_[static_cast<size_t>(id)] = findRoot(parent, id);
         members[static_cast<size_t>(v.weldedTo_[static_cast<size_t>(id)])].push_back(id);
     }
-    v.crossWelded_.assign(static_cast<size_t>(n), 0);
+    std::vector<std::uint8_t> crossWelded(static_cast<size_t>(n), 0);  // welded to a point of another part
     for (auto& group : members) {
         if (group.size() < 2) continue;
         const bool cross = std::any_of(group.begin(), group.end(), [&](int id) { return blockOfId[static_cast<size_t>(id)] != blockOfId[static_cast<size_t>(group[0])]; });
         if (cross) {
             ++v.crossWelds_;
-            for (int id : group) v.crossWelded_[static_cast<size_t>(id)] = 1;
+            for (int id : group) crossWelded[static_cast<size_t>(id)] = 1;
         }
         v.groups_.push_back(std::move(group));
     }
@@ -91,8 +91,7 @@ Status CompositeVolume::make(std::vector<std::shared_ptr<const LatticeNet>> bloc
             for (int side = 0; side < 2; ++side) {
                 bool joint = block.boundaryFace[a][side];
                 for (int s = 0; s < block.slotCount() && joint; ++s) {
-                    const int c = a == 0 ? s % block.count[0] : (a == 1 ? (s / block.count[0]) % block.count[1] : s / (block.count[0] * block.count[1]));
-                    if (c == (side == 0 ? 0 : block.count[a] - 1)) joint = v.crossWelded_[static_cast<size_t>(v.offsets_[b] + s)] != 0;
+                    if (block.slotIjk(s)[a] == (side == 0 ? 0 : block.count[a] - 1)) joint = crossWelded[static_cast<size_t>(v.offsets_[b] + s)] != 0;
                 }
                 v.jointFace_[b][a][side] = joint;
             }
@@ -126,7 +125,7 @@ bool CompositeVolume::nearOpenFace(int id, int layers) const {
         const int b = blockOfId(member);
         const LatticeNet& block = *blocks_[static_cast<size_t>(b)];
         const int s = member - offset(b);
-        const std::array<int, 3> c{s % block.count[0], (s / block.count[0]) % block.count[1], s / (block.count[0] * block.count[1])};
+        const std::array<int, 3> c = block.slotIjk(s);
         for (int a = 0; a < 3; ++a)
             for (int side = 0; side < 2; ++side) {
                 if (!block.boundaryFace[a][side] || jointFace_[static_cast<size_t>(b)][a][side]) continue;

@@ -81,7 +81,6 @@ private:
     bool rational_ = false;
     std::vector<int> weldedTo_;
     std::vector<std::vector<int>> groups_;
-    std::vector<std::uint8_t> crossWelded_;
     std::vector<std::array<std::array<bool, 2>, 3>> jointFace_;  // per part: the face is wholly welded to other parts
     int crossWelds_ = 0;
     Eigen::AlignedBox3d bounds_;

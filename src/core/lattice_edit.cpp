@@ -26,11 +26,6 @@ Status checkAxis(int axis) {
     return Status::success();
 }
 
-// Grid indices of a slot.
-std::array<int, 3> slotIjk(const LatticeNet& net, int s) {
-    return {s % net.count[0], (s / net.count[0]) % net.count[1], s / (net.count[0] * net.count[1])};
-}
-
 // Finishes `net` (validates it, fills its derived data) and moves it to `out`; a failure says what the edit
 // was ("moving slots ...") before finishLatticeNet's reason.
 Status finishEdit(LatticeNet& net, const std::string& what, LatticeNet& out) {
@@ -236,7 +231,7 @@ Status removeNetSlice(const LatticeNet& net, int axis, int index, LatticeNet& ou
     reduced.weights.resize(n);
     std::vector<int> newId(net.slotCount(), -1);
     for (int s = 0; s < net.slotCount(); ++s) {
-        std::array<int, 3> ijk = slotIjk(net, s);
+        std::array<int, 3> ijk = net.slotIjk(s);
         if (ijk[axis] == index) continue;
         if (ijk[axis] > index) --ijk[axis];
         const int t = reduced.slot(ijk[0], ijk[1], ijk[2]);

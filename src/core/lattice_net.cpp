@@ -318,7 +318,7 @@ Status finishLatticeNet(LatticeNet& net) {
     }
     net.boundarySlot.assign(n, 0);
     for (int s = 0; s < n; ++s) {
-        const std::array<int, 3> ijk{s % net.count[0], (s / net.count[0]) % net.count[1], s / (net.count[0] * net.count[1])};
+        const std::array<int, 3> ijk = net.slotIjk(s);
         for (int a = 0; a < 3; ++a)
             if ((ijk[a] == 0 && net.boundaryFace[a][0]) || (ijk[a] == net.count[a] - 1 && net.boundaryFace[a][1])) net.boundarySlot[s] = 1;
     }
@@ -665,7 +665,7 @@ Status makeExtrusionNet(const PlanarNet& profile, const Eigen::Vector3d& origin,
 // ---- LatticeNet as a Volume ----------------------------------------------------------------------------------
 
 bool LatticeNet::inSurfaceLayers(int id, int layers) const {
-    const std::array<int, 3> c{id % count[0], (id / count[0]) % count[1], id / (count[0] * count[1])};
+    const std::array<int, 3> c = slotIjk(id);
     for (int a = 0; a < 3; ++a)
         if ((boundaryFace[a][0] && c[a] < layers) || (boundaryFace[a][1] && c[a] >= count[a] - layers)) return true;
     return false;

@@ -74,6 +74,8 @@ struct LatticeNet final : Volume {
 
     int slotCount() const { return count[0] * count[1] * count[2]; }
     int slot(int i, int j, int k) const { return i + count[0] * (j + count[1] * k); }
+    // slot's inverse: the grid indices (i, j, k) of slot id s.
+    std::array<int, 3> slotIjk(int s) const { return {s % count[0], (s / count[0]) % count[1], s / (count[0] * count[1])}; }
     std::array<int, 3> spans() const { return {axes[0].spans, axes[1].spans, axes[2].spans}; }
     double diagonal() const { return bounds.diagonal().norm(); }
     std::array<int, 3> chunkIjk(int chunk) const {
