@@ -117,7 +117,7 @@ Status latticeBox(const LatticeSettings& settings, const Positions& points, Eige
 }
 
 bool sameLatticeNet(const LatticeNet& a, const LatticeNet& b) {
-    return a.count == b.count && a.degree == b.degree && a.multiplicity == b.multiplicity && a.rest == b.rest &&
+    return a.count == b.count && a.degree == b.degree && a.multiplicity == b.multiplicity && a.knots == b.knots && a.rest == b.rest &&
            a.weights == b.weights && a.weldedTo == b.weldedTo;
 }
 

@@ -38,9 +38,7 @@ Status mergeNetPoints(const LatticeNet& net, const std::vector<int>& slots, Latt
 // Book, A5.1, applied to the homogeneous points (W P, W) so rational nets stay exact). The volume does not
 // change: Q'(t) = Q(t) for every t, to rounding. Spans along the axis double; the count becomes
 // splineAxisCount(2 spans, degree, multiplicity).
-// note: SplineAxis represents only uniform knot spans with one interior multiplicity, so a knot at an
-// arbitrary parameter (one chunk split alone) cannot be held; halving every span is the finest insertion that
-// keeps that structure.
+// An axis of general (non-uniform) knots gets each span's midpoint (in the knot parameter) once.
 // Welds are carried structurally: each new point is a combination of old weld groups (the Boehm coefficients
 // times the weights), and two new points are welded iff their combinations are the same, so the cylinder's
 // axis, the poles, the centre and a periodic seam stay welded while points that merely happen to coincide
@@ -48,11 +46,23 @@ Status mergeNetPoints(const LatticeNet& net, const std::vector<int>& slots, Latt
 // control points.
 Status refineNetAxis(const LatticeNet& net, int axis, LatticeNet& out);
 
+// Inserts points by splitting the lattice at one parameter (3.1.4: "inserting (by subdividing the lattice)"):
+// the knot at lattice parameter `at` along `axis` (in (0,1); the chunk floor(at * spans) is split at its local
+// coordinate, see bspline_basis.h for the lattice and knot parameters) is inserted `times` times by Boehm's
+// algorithm on the homogeneous points, so the volume does not change: Q'(t') = Q(t) for the same knot
+// parameter, to rounding. `at` on an existing knot raises its multiplicity. The axis gains `times` control
+// points and, unless `at` was a knot, one knot span; its knots become general (LatticeNet::knots) unless they
+// are uniform again. Welds are carried structurally, as by refineNetAxis. Fails, saying why, on an axis out
+// of range, `at` outside (0, 1) or not finite, `times` outside [1, degree], a knot whose multiplicity would
+// pass the degree, or more than 64 control points on the axis.
+Status insertNetKnot(const LatticeNet& net, int axis, double at, int times, LatticeNet& out);
+
 // Removes the slice `index` (0 <= index < count[axis]) of the grid along `axis` (a tensor-product lattice can
 // only lose a whole slice). Weld groups keep their remaining slots (the representative is their smallest new
 // id). Fails, saying why, when: the index or axis is out of range; the axis would have fewer than degree+1
 // points; the count no longer makes whole knot spans of the axis' multiplicity (splineAxisCountValid: an axis
-// with interior knots of multiplicity m > 1 can only change by m points per span); the slice is the seam of a
+// with interior knots of multiplicity m > 1 can only change by m points per span; an axis of general knots
+// instead loses the interior knot nearest the slice's Greville abscissa); the slice is the seam of a
 // periodic axis (removing it would open the closed lattice); the slice is a collapsed face (the cylinder's
 // axis, a ball's centre or pole: removing it would open a hole through the lattice); or the remaining rest
 // net is not valid.
@@ -60,11 +70,13 @@ Status removeNetSlice(const LatticeNet& net, int axis, int index, LatticeNet& ou
 
 // One edit of a list (the script op edit_lattice's "edits").
 struct NetEdit {
-    enum class Kind { Move, Merge, Refine, Remove };
+    enum class Kind { Move, Merge, Refine, Insert, Remove };
     Kind kind = Kind::Move;
     std::vector<int> slots;                             // Move, Merge
     Eigen::Vector3d offset = Eigen::Vector3d::Zero();   // Move
-    int axis = 0;                                       // Refine, Remove
+    int axis = 0;                                       // Refine, Insert, Remove
+    double at = 0.5;                                    // Insert: the lattice parameter along the axis
+    int times = 1;                                      // Insert: how often the knot is inserted
     int index = 0;                                      // Remove: the slice
 };
 

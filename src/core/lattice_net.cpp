@@ -217,6 +217,7 @@ LatticeNet rawNetFields(const LatticeNet& net) {
     copy.count = net.count;
     copy.degree = net.degree;
     copy.multiplicity = net.multiplicity;
+    copy.knots = net.knots;
     copy.rest = net.rest;
     copy.weights = net.weights;
     copy.weldedTo = net.weldedTo;
@@ -225,11 +226,21 @@ LatticeNet rawNetFields(const LatticeNet& net) {
 
 Status finishLatticeNet(LatticeNet& net) {
     if (Status s = checkChunks({1, 1, 1}, net.degree, {1, 1, 1}); !s) return s;
-    for (int a = 0; a < 3; ++a)
+    for (int a = 0; a < 3; ++a) {
+        if (!net.knots[a].empty()) {
+            if (const std::string problem = splineKnotsProblem(net.knots[a], net.count[a], net.degree[a]); !problem.empty())
+                return Status::error("lattice axis " + axisName(a) + " knots: " + problem);
+            // One volume, one form: knots that are the uniform ones of the axis' multiplicity are not stored.
+            if (splineAxisCountValid(net.count[a], net.degree[a], net.multiplicity[a]) &&
+                makeSplineAxis(net.count[a], net.degree[a], net.multiplicity[a]).knots == net.knots[a])
+                net.knots[a].clear();
+            continue;
+        }
         if (!splineAxisCountValid(net.count[a], net.degree[a], net.multiplicity[a]))
             return Status::error("lattice axis " + axisName(a) + ": " + std::to_string(net.count[a]) + " control points of degree " +
                                  std::to_string(net.degree[a]) + " with knot multiplicity " + std::to_string(net.multiplicity[a]) +
                                  " do not make whole knot spans (at most 64 per axis)");
+    }
     const int n = net.slotCount();
     if (net.rest.rows() != n || net.rest.cols() != 3)
         return Status::error("lattice has " + std::to_string(net.rest.rows()) + " control points; its counts need " + std::to_string(n));
@@ -247,7 +258,8 @@ Status finishLatticeNet(LatticeNet& net) {
         if (net.weldedTo[s] < 0 || net.weldedTo[s] >= n || net.weldedTo[net.weldedTo[s]] != net.weldedTo[s] || net.weldedTo[s] > s)
             return Status::error("lattice weld of control point " + std::to_string(s) + " does not name its group's smallest id");
     for (int a = 0; a < 3; ++a) {
-        net.axes[a] = makeSplineAxis(net.count[a], net.degree[a], net.multiplicity[a]);
+        net.axes[a] = net.knots[a].empty() ? makeSplineAxis(net.count[a], net.degree[a], net.multiplicity[a])
+                                           : makeSplineAxisFromKnots(net.knots[a], net.degree[a]);
         // Basis function (first(s) + i) on span s: monomial coefficients in the local x -> Bernstein (knot
         // insertion to Bezier form, per span).
         const SplineAxis& axis = net.axes[a];

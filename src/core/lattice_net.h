@@ -51,7 +51,11 @@ struct LatticeNet final : Volume {
     std::string kind = "net";        // "parallelepiped", "cylinder", "sphere", "prism", "loft", "net"
     std::array<int, 3> count{};      // grid slots per axis
     std::array<int, 3> degree{};
-    std::array<int, 3> multiplicity{1, 1, 1};  // interior knot multiplicity per axis (SplineAxis)
+    std::array<int, 3> multiplicity{1, 1, 1};  // interior knot multiplicity per axis of uniform knots (SplineAxis)
+    // Per axis: a general clamped knot vector (count + degree + 1 knot parameters, splineKnotsProblem), as exact
+    // knot insertion at any parameter makes (lattice_edit.h); empty: the uniform knots of count, degree and
+    // multiplicity. finishLatticeNet empties it when it equals those uniform knots, so one volume has one form.
+    std::array<std::vector<double>, 3> knots;
     std::array<SplineAxis, 3> axes;
     Positions rest;                  // #slots x 3, P0 per slot, slot id = i + count0 * (j + count1 * k)
     std::vector<double> weights;     // #slots, > 0 (NURBS weights W_s)
@@ -113,13 +117,13 @@ struct LatticeNet final : Volume {
     const LatticeNet* tensorNet() const override { return this; }
 };
 
-// Validates the raw fields (counts, degrees, multiplicities, rest #slots x 3 finite, weights > 0 finite,
-// weldedTo in range) and fills the derived ones: axes, rational, weld groups, boundary faces and slots,
+// Validates the raw fields (counts, degrees, multiplicities or knot vectors, rest #slots x 3 finite, weights > 0
+// finite, weldedTo in range) and fills the derived ones: axes, rational, weld groups, boundary faces and slots,
 // chunk bounds and the grid index. Welded slots must coincide at rest (to 1e-9 of the diagonal).
 // Fails with a message naming the field; `net` is then unspecified.
 Status finishLatticeNet(LatticeNet& net);
 
-// A copy of the raw fields of `net` (kind, counts, degrees, multiplicities, rest points, weights, welds: what
+// A copy of the raw fields of `net` (kind, counts, degrees, multiplicities, knots, rest points, weights, welds: what
 // finishLatticeNet reads), without its derived data: the start of an edit.
 LatticeNet rawNetFields(const LatticeNet& net);
 

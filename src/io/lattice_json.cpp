@@ -122,13 +122,28 @@ core::LatticeNet parseNet(const json& j, const std::string& path) {
             placed.push_back(parseSection(sections[k], path + ".sections[" + std::to_string(k) + "]", profile));
         check(core::makeLoftNet(profile, placed, j.contains("degree") ? integer(j["degree"], path + ".degree") : 2, net), path);
     } else if (kind == "net") {
-        allowOnly(j, path, {"kind", "shape", "count", "degree", "multiplicity", "points", "weights", "welds"});
+        allowOnly(j, path, {"kind", "shape", "count", "degree", "multiplicity", "knots", "points", "weights", "welds"});
         if (j.contains("shape")) net.kind = text(j["shape"], path + ".shape");
         net.count = int3(required(j, "count", path), path + ".count");
         net.degree = int3(required(j, "degree", path), path + ".degree");
         net.multiplicity = j.contains("multiplicity") ? int3(j["multiplicity"], path + ".multiplicity") : std::array<int, 3>{1, 1, 1};
+        if (j.contains("knots")) {
+            // Per axis a clamped knot vector, or [] for the uniform knots of count, degree and multiplicity.
+            const json& knots = j["knots"];
+            if (!knots.is_array() || knots.size() != 3) fail(path + ".knots", "expected 3 knot vectors ([] for uniform knots)");
+            for (int a = 0; a < 3; ++a) {
+                const std::string kp = path + ".knots[" + std::to_string(a) + "]";
+                if (!knots[static_cast<size_t>(a)].is_array()) fail(kp, "expected an array of knots");
+                for (size_t k = 0; k < knots[static_cast<size_t>(a)].size(); ++k)
+                    net.knots[static_cast<size_t>(a)].push_back(number(knots[static_cast<size_t>(a)][k], kp + "[" + std::to_string(k) + "]"));
+                if (net.knots[static_cast<size_t>(a)].empty()) continue;
+                if (const std::string problem = core::splineKnotsProblem(net.knots[static_cast<size_t>(a)], net.count[a], net.degree[a]);
+                    !problem.empty())
+                    fail(kp, problem);
+            }
+        }
         for (int a = 0; a < 3; ++a)
-            if (!core::splineAxisCountValid(net.count[a], net.degree[a], net.multiplicity[a]))
+            if (net.knots[static_cast<size_t>(a)].empty() && !core::splineAxisCountValid(net.count[a], net.degree[a], net.multiplicity[a]))
                 fail(path + ".count", "axis " + std::to_string(a) + ": " + std::to_string(net.count[a]) + " points of degree " +
                                           std::to_string(net.degree[a]) + " and knot multiplicity " + std::to_string(net.multiplicity[a]) +
                                           " do not make whole knot spans (degree 1-5, multiplicity 1-degree, at most 64 points)");
@@ -189,8 +204,12 @@ json latticeNetJson(const core::LatticeNet& net) {
     for (Eigen::Index p = 0; p < net.rest.rows(); ++p) points.push_back(vectorJson(net.rest.row(p).transpose()));
     json welds = json::array();
     for (const auto& group : net.weldGroups) welds.push_back(group);
-    return {{"kind", "net"},        {"shape", net.kind},  {"count", net.count}, {"degree", net.degree}, {"multiplicity", net.multiplicity},
-            {"points", points},     {"weights", net.weights}, {"welds", welds}};
+    json out = {{"kind", "net"},    {"shape", net.kind},      {"count", net.count}, {"degree", net.degree}, {"multiplicity", net.multiplicity},
+                {"points", points}, {"weights", net.weights}, {"welds", welds}};
+    // General knot vectors (knot insertion at a chosen parameter) only; uniform axes are [] there.
+    if (std::any_of(net.knots.begin(), net.knots.end(), [](const std::vector<double>& k) { return !k.empty(); }))
+        out["knots"] = net.knots;
+    return out;
 }
 
 Status parseLatticeFile(const std::string& content, const std::string& displayName, LatticeFile& out) {

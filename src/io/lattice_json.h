@@ -17,7 +17,11 @@
 //    sections must advance along u x v (a right-handed lattice).
 // or an explicit net, which is how every lattice is written (exact: doubles in shortest round-trip form):
 //   {"kind": "net", "shape": "cylinder", "count": [3], "degree": [3], "multiplicity": [3],
-//    "points": [[x,y,z], ...], "weights": [...], "welds": [[slot, slot, ...], ...]}
+//    "points": [[x,y,z], ...], "weights": [...], "welds": [[slot, slot, ...], ...],
+//    "knots": [[...], [], [...]]}: "knots" (optional) gives an axis a general clamped knot vector (count + degree
+//    + 1 non-decreasing values from degree+1 zeros to degree+1 ones, interior multiplicity <= degree), as knot
+//    insertion at a chosen parameter makes; [] or no "knots" means the uniform knots of count, degree and
+//    multiplicity. Written only when some axis is not uniform.
 // A library file wraps one lattice: {"format": "dmffd-lattice", "version": 1, "name": "...", "lattice": {...}}.
 #pragma once
 

@@ -311,7 +311,8 @@ int parseEditAxis(const json& j, const std::string& path) {
 }
 
 // edit_lattice's "edits" (core/lattice_edit.h): {"move": {"points": [slot, ...], "offset": [x,y,z]}},
-// {"merge": [slot, slot, ...]}, {"refine": {"axis": a}}, {"remove": {"axis": a, "index": i}}.
+// {"merge": [slot, slot, ...]}, {"refine": {"axis": a}}, {"insert": {"axis": a, "at": u, "times": m}},
+// {"remove": {"axis": a, "index": i}}.
 std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path) {
     if (!j.is_array() || j.empty()) fail(path, "expected a non-empty array of edits");
     std::vector<core::NetEdit> edits;
@@ -319,7 +320,7 @@ std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path) {
         const std::string ep = path + "[" + std::to_string(e) + "]";
         const json& item = j[e];
         if (!item.is_object() || item.size() != 1)
-            fail(ep, "expected an object with one of \"move\", \"merge\", \"refine\", \"remove\"");
+            fail(ep, "expected an object with one of \"move\", \"merge\", \"refine\", \"insert\", \"remove\"");
         const std::string key = item.begin().key();
         const json& value = item.begin().value();
         const std::string vp = ep + "." + key;
@@ -336,6 +337,14 @@ std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path) {
             edit.kind = core::NetEdit::Kind::Refine;
             allowOnly(value, vp, {"axis"});
             edit.axis = parseEditAxis(value, vp);
+        } else if (key == "insert") {
+            edit.kind = core::NetEdit::Kind::Insert;
+            allowOnly(value, vp, {"axis", "at", "times"});
+            edit.axis = parseEditAxis(value, vp);
+            edit.at = number(required(value, "at", vp), vp + ".at");
+            if (!(edit.at > 0.0 && edit.at < 1.0)) fail(vp + ".at", "expected a lattice parameter strictly inside (0, 1)");
+            edit.times = value.contains("times") ? integer(value["times"], vp + ".times") : 1;
+            if (edit.times < 1 || edit.times > core::kMaxDegree) fail(vp + ".times", "expected 1 to the axis' degree");
         } else if (key == "remove") {
             edit.kind = core::NetEdit::Kind::Remove;
             allowOnly(value, vp, {"axis", "index"});
@@ -343,7 +352,7 @@ std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path) {
             edit.index = integer(required(value, "index", vp), vp + ".index");
             if (edit.index < 0) fail(vp + ".index", "expected a slice index >= 0");
         } else {
-            fail(vp, "unknown edit (known: move, merge, refine, remove)");
+            fail(vp, "unknown edit (known: move, merge, refine, insert, remove)");
         }
         edits.push_back(std::move(edit));
     }
@@ -358,6 +367,9 @@ json editsJson(const std::vector<core::NetEdit>& edits) {
                 break;
             case core::NetEdit::Kind::Merge: out.push_back({{"merge", edit.slots}}); break;
             case core::NetEdit::Kind::Refine: out.push_back({{"refine", {{"axis", edit.axis}}}}); break;
+            case core::NetEdit::Kind::Insert:
+                out.push_back({{"insert", {{"axis", edit.axis}, {"at", edit.at}, {"times", edit.times}}}});
+                break;
             case core::NetEdit::Kind::Remove: out.push_back({{"remove", {{"axis", edit.axis}, {"index", edit.index}}}}); break;
         }
     return out;

@@ -3,6 +3,7 @@
 // over random nets of every predefined kind with fixed seeds, each against an independent computation.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -493,5 +494,176 @@ TEST_CASE("lattice edit: a merge that folds a chunk at rest is refused and chang
         REQUIRE(merged.message.find("leaves an invalid lattice") != std::string::npos);
         REQUIRE(out.kind == "sentinel");
         REQUIRE(sameLatticeNet(box, before));
+    }
+}
+
+namespace {
+
+// The parameter of `fine` (after knot insertion along `axis`) of the point with parameter t in `net`: the
+// same knot parameter along that axis (bspline_basis.h: lattice and knot parameters).
+Eigen::Vector3d sameKnotParameter(const LatticeNet& net, const LatticeNet& fine, int axis, Eigen::Vector3d t) {
+    t[axis] = fine.axes[axis].latticeParameter(net.axes[axis].knotParameter(t[axis]));
+    return t;
+}
+
+}  // namespace
+
+TEST_CASE("lattice edit: inserting a knot at any parameter splits one chunk and leaves the volume unchanged", "[netedit]") {
+    std::mt19937 rng(4111);
+    int inserted = 0, raised = 0;
+    for (int kind = 0; kind < 4; ++kind)
+        for (int trial = 0; trial < 5; ++trial) {
+            LatticeNet net = randomNet(rng, kind);
+            // Two insertions in a row per axis, so the second one splits a net whose knots are already general.
+            for (int round = 0; round < 2; ++round)
+                for (int axis = 0; axis < 3; ++axis) {
+                    const SplineAxis& old = net.axes[axis];
+                    // Half the time a point inside a chunk, else an existing interior chunk boundary (a knot whose
+                    // multiplicity goes up) where there is one.
+                    double at = uniform(rng, 0.01, 0.99);
+                    const bool onKnot = old.spans > 1 && uniformInt(rng, 0, 1) == 1;
+                    if (onKnot) at = static_cast<double>(uniformInt(rng, 1, old.spans - 1)) / old.spans;
+                    const double tau = old.knotParameter(at);
+                    const int present = static_cast<int>(std::count(old.knots.begin(), old.knots.end(), tau));
+                    const int times = uniformInt(rng, 1, old.degree);
+                    LatticeNet fine;
+                    const Status s = insertNetKnot(net, axis, at, times, fine);
+                    INFO("kind " << kind << " trial " << trial << " axis " << axis << " at " << at << " times " << times << ": " << s.message);
+                    if (present + times > old.degree || old.count + times > kMaxControlPointsPerAxis) {
+                        REQUIRE_FALSE(s);
+                        continue;
+                    }
+                    REQUIRE(s);
+                    ++inserted;
+                    raised += present > 0 ? 1 : 0;
+                    // One more knot span unless the knot was there already; `times` more points along the axis.
+                    REQUIRE(fine.axes[axis].spans == old.spans + (present > 0 ? 0 : 1));
+                    REQUIRE(fine.count[axis] == old.count + times);
+                    REQUIRE(std::count(fine.axes[axis].knots.begin(), fine.axes[axis].knots.end(), tau) == present + times);
+                    for (int b = 0; b < 3; ++b)
+                        if (b != axis) {
+                            REQUIRE(fine.count[b] == net.count[b]);
+                            REQUIRE(fine.axes[b].knots == net.axes[b].knots);
+                        }
+                    // The volume at 200 random parameters, compared at the same knot parameter: unchanged to rounding.
+                    const double tolerance = 1e-12 * net.diagonal();
+                    for (int sample = 0; sample < 200; ++sample) {
+                        const Eigen::Vector3d t = randomParameter(rng);
+                        REQUIRE((volumeAt(fine, fine.rest, sameKnotParameter(net, fine, axis, t)) - volumeAt(net, net.rest, t)).norm() <=
+                                tolerance);
+                    }
+                    // The split chunk's two halves meet at the inserted knot: the old chunk's boundary parameters map
+                    // onto the new chunk boundaries.
+                    if (present == 0) {
+                        const double u = fine.axes[axis].latticeParameter(tau) * fine.axes[axis].spans;
+                        REQUIRE(std::abs(u - std::round(u)) <= 1e-9);
+                    }
+                    // Freezing in the refined net finds the same point (away from seams and collapsed faces).
+                    for (int sample = 0; sample < 5; ++sample) {
+                        const Eigen::Vector3d t = Eigen::Vector3d::Constant(0.1) + 0.8 * randomParameter(rng);
+                        Eigen::Vector3d frozen;
+                        REQUIRE(freezePoint(fine, fine.rest, fine.restIndex, volumeAt(net, net.rest, t), frozen));
+                        REQUIRE((volumeAt(fine, fine.rest, frozen) - volumeAt(net, net.rest, t)).norm() <= 1e-10 * net.diagonal());
+                    }
+                    // Seams stay seams, collapsed faces stay collapsed.
+                    REQUIRE(fine.periodic == net.periodic);
+                    REQUIRE(fine.collapsedAlong == net.collapsedAlong);
+                    REQUIRE(fine.boundaryFace == net.boundaryFace);
+                    net = std::move(fine);
+                }
+        }
+    REQUIRE(inserted >= 60);  // of 120 tries; the others pass the degree's multiplicity and are refused (checked above)
+    REQUIRE(raised >= 5);
+}
+
+TEST_CASE("lattice edit: a knot inserted into a moved net gives the moved volume, welds by structure", "[netedit]") {
+    std::mt19937 rng(4112);
+    for (int kind = 1; kind < 3; ++kind)
+        for (int trial = 0; trial < 4; ++trial) {
+            const LatticeNet net = randomNet(rng, kind);
+            // A random move of 4 points that keeps the net valid (a move that folds a chunk is refused; draw again).
+            LatticeNet moved;
+            for (int attempt = 0; attempt < 20; ++attempt) {
+                std::vector<int> slots;
+                for (int m = 0; m < 4; ++m) slots.push_back(uniformInt(rng, 0, net.slotCount() - 1));
+                if (moveNetPoints(net, slots, 0.02 * net.diagonal() * Eigen::Vector3d(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)), moved))
+                    break;
+            }
+            REQUIRE(moved.slotCount() == net.slotCount());
+            for (int axis = 0; axis < 3; ++axis) {
+                const double at = uniform(rng, 0.05, 0.95);
+                LatticeNet fineRest, fineMoved;
+                REQUIRE(insertNetKnot(net, axis, at, 1, fineRest));
+                REQUIRE(insertNetKnot(moved, axis, at, 1, fineMoved));
+                INFO("kind " << kind << " axis " << axis);
+                REQUIRE(fineMoved.weldedTo == fineRest.weldedTo);
+                for (int sample = 0; sample < 50; ++sample) {
+                    const Eigen::Vector3d t = randomParameter(rng);
+                    REQUIRE((volumeAt(fineMoved, fineMoved.rest, sameKnotParameter(moved, fineMoved, axis, t)) - volumeAt(moved, moved.rest, t)).norm() <=
+                            1e-12 * net.diagonal());
+                }
+                for (int k = 0; k < fineRest.count[2]; ++k)
+                    for (int j = 0; j < fineRest.count[1]; ++j)
+                        REQUIRE(fineRest.weldedTo[fineRest.slot(0, j, k)] == fineRest.weldedTo[fineRest.slot(0, 0, k)]);
+                for (int k = 0; k < fineRest.count[2]; ++k)
+                    for (int i = 0; i < fineRest.count[0]; ++i)
+                        REQUIRE(fineRest.weldedTo[fineRest.slot(i, fineRest.count[1] - 1, k)] == fineRest.weldedTo[fineRest.slot(i, 0, k)]);
+            }
+        }
+}
+
+TEST_CASE("lattice edit: knot insertion refuses bad parameters and keeps the net", "[netedit]") {
+    LatticeNet box;
+    REQUIRE(makeParallelepipedNet(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), {2, 2, 2}, {2, 2, 2}, box));
+    const LatticeNet copy = box;
+    LatticeNet out = box;
+    auto refused = [&](int axis, double at, int times, const std::string& words) {
+        const Status s = insertNetKnot(box, axis, at, times, out);
+        INFO(s.message);
+        REQUIRE_FALSE(s);
+        REQUIRE(s.message.find(words) != std::string::npos);
+        REQUIRE(sameLatticeNet(box, copy));
+        REQUIRE(sameLatticeNet(out, copy));  // untouched on failure
+    };
+    refused(3, 0.5, 1, "axis 3");
+    refused(0, 0.0, 1, "strictly inside");
+    refused(0, 1.0, 1, "strictly inside");
+    refused(0, std::nan(""), 1, "strictly inside");
+    refused(0, 0.3, 0, "times");
+    refused(0, 0.3, 3, "times");
+    // 0.5 is a knot of multiplicity 1 of degree 2: once more is allowed, twice more is not.
+    refused(1, 0.5, 2, "multiplicity 1 already");
+    LatticeNet twice;
+    REQUIRE(insertNetKnot(box, 1, 0.5, 1, twice));
+    REQUIRE(twice.axes[1].spans == 2);
+    LatticeNet third;
+    const Status s = insertNetKnot(twice, 1, 0.5, 1, third);
+    REQUIRE_FALSE(s);
+    REQUIRE(s.message.find("multiplicity 2 already") != std::string::npos);
+    // 64 points per axis at most.
+    LatticeNet wide;
+    REQUIRE(makeParallelepipedNet(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), {63, 1, 1}, {1, 1, 1}, wide));
+    REQUIRE(wide.count[0] == 64);
+    const Status tooMany = insertNetKnot(wide, 0, 0.3, 1, out);
+    REQUIRE_FALSE(tooMany);
+    REQUIRE(tooMany.message.find("at most 64") != std::string::npos);
+}
+
+TEST_CASE("lattice edit: a slice of an axis with general knots can be removed", "[netedit]") {
+    std::mt19937 rng(4113);
+    for (int trial = 0; trial < 10; ++trial) {
+        LatticeNet net = randomNet(rng, 0);
+        const int axis = uniformInt(rng, 0, 2);
+        LatticeNet split;
+        REQUIRE(insertNetKnot(net, axis, uniform(rng, 0.1, 0.9), 1, split));
+        REQUIRE_FALSE(split.knots[axis].empty());
+        const int index = uniformInt(rng, 1, split.count[axis] - 2);
+        LatticeNet reduced;
+        const Status s = removeNetSlice(split, axis, index, reduced);
+        INFO(s.message);
+        REQUIRE(s);
+        REQUIRE(reduced.count[axis] == split.count[axis] - 1);
+        REQUIRE(reduced.axes[axis].knots.size() == split.axes[axis].knots.size() - 1);
+        REQUIRE(splineKnotsProblem(reduced.axes[axis].knots, reduced.count[axis], reduced.degree[axis]).empty());
     }
 }

@@ -48,6 +48,9 @@ TEST_CASE("lattice files: bad files are refused with the field named", "[io][net
         {R"({"format": "dmffd-lattice", "version": 2, "lattice": {}})", "version"},
         {R"({"format": "dmffd-lattice", "version": 1, "lattice": {"kind": "net", "count": [2,2,2], "degree": [1,1,1], "points": [[0,0,0]]}})", "points"},
         {R"({"format": "dmffd-lattice", "version": 1, "lattice": {"kind": "parallelepiped", "origin": [0,0,0], "edges": [[1,0,0],[0,1,0],[0,0,-1]], "chunks": [1,1,1]}})", "right-handed"},
+        {R"({"format": "dmffd-lattice", "version": 1, "lattice": {"kind": "net", "count": [3,2,2], "degree": [1,1,1], "knots": [[0,0,0.7,0.2,1],[],[]], "points": [[0,0,0],[1,0,0],[2,0,0],[0,1,0],[1,1,0],[2,1,0],[0,0,1],[1,0,1],[2,0,1],[0,1,1],[1,1,1],[2,1,1]]}})", "lattice.knots[0]: knot 3 is smaller"},
+        {R"({"format": "dmffd-lattice", "version": 1, "lattice": {"kind": "net", "count": [3,2,2], "degree": [1,1,1], "knots": [[0,0,0.5,1],[],[]], "points": [[0,0,0],[1,0,0],[2,0,0],[0,1,0],[1,1,0],[2,1,0],[0,0,1],[1,0,1],[2,0,1],[0,1,1],[1,1,1],[2,1,1]]}})", "lattice.knots[0]: 4 knots"},
+        {R"({"format": "dmffd-lattice", "version": 1, "lattice": {"kind": "net", "count": [3,2,2], "degree": [1,1,1], "knots": [[0,0,0.5,1,1]], "points": []}})", "lattice.knots: expected 3"},
     };
     for (const auto& [text, field] : cases) {
         io::LatticeFile file;
