@@ -14,6 +14,7 @@
 #include "core/bernstein.h"
 #include "core/direct_manipulation.h"
 #include "core/embedding.h"
+#include "core/injectivity.h"
 #include "core/lattice.h"
 #include "core/lattice_net.h"
 #include "core/session.h"
@@ -473,6 +474,42 @@ TEST_CASE("tspline: octree lattices subdivide the non-empty cells to the depth a
     REQUIRE(buildTSplineBasis(lattice, basis));
 }
 
+TEST_CASE("tspline: the exact injectivity test on the Bezier elements certifies only deformations whose sampled det J is positive", "[tspline]") {
+    std::mt19937 rng(1208);
+    int certified = 0, folds = 0;
+    for (int trial = 0; trial < 10; ++trial) {
+        const TLattice lattice = randomLattice(rng, 1, true);
+        double size = 1.0;
+        const auto volume = randomVolume(rng, lattice, 0.0, trial % 2 ? 1.0 : 4.0, size);
+        Lattice deformed = latticeOf(volume);
+        ControlDelta delta;
+        for (int id = 0; id < volume->controlPointCount() && delta.indices.size() < 3; ++id)
+            if (!volume->onOuterSurface(id) && uniform(rng, 0, 1) < 0.2) delta.indices.push_back(id);
+        if (delta.indices.empty()) continue;
+        delta.deltas = Eigen::MatrixX3d::Random(static_cast<Eigen::Index>(delta.indices.size()), 3) * size * 0.3 * (1 + trial % 5);
+        applyControlDelta(deformed, delta, 1.0);
+        const InjectivityResult verdict = checkInjectivityExact(deformed);
+        INFO("trial " << trial << ": " << verdict.message);
+        double least = 1e300;
+        for (int sample = 0; sample < 400; ++sample) {
+            Eigen::Vector3d d;
+            Eigen::Matrix3d jacobian;
+            deformationJacobian(deformed, randomParameters(rng), d, jacobian);
+            least = std::min(least, jacobian.determinant());
+        }
+        if (verdict.certified) {
+            ++certified;
+            REQUIRE(least > 0.0);
+        }
+        if (least < 0.0) {
+            ++folds;
+            REQUIRE(verdict.verdict == InjectivityVerdict::Fold);
+        }
+    }
+    REQUIRE(certified > 0);
+    REQUIRE(folds > 0);
+}
+
 TEST_CASE("tspline: a session freezes a T-spline volume on a mesh, drags meet their targets, and JSON round-trips bitwise", "[tspline]") {
     Positions positions;
     Triangles triangles;
@@ -489,6 +526,30 @@ TEST_CASE("tspline: a session freezes a T-spline volume on a mesh, drags meet th
     REQUIRE(io::parseVolumeJson(nlohmann::json::parse(j.dump()), "lattice", back));
     REQUIRE(io::volumeJson(*back).dump() == j.dump());
     REQUIRE(sameVolume(*back, *volume));
+    // Non-uniform root knots survive too; placement keeps the T-lattice and the weights.
+    TLattice skewed;
+    skewed.rootCount = {3, 1, 2};
+    skewed.rootKnots[0] = {0.0, 0.2, 0.7, 1.0};
+    skewed.rootKnots[2] = {0.0, 0.35, 1.0};
+    for (int z = 0; z < 2; ++z)
+        for (int x = 0; x < 3; ++x) skewed.cells.push_back(TLatticeCell{0, {x, 0, z}});
+    REQUIRE(finishTLattice(skewed));
+    TLattice skewedFiner;
+    REQUIRE(subdivideTLatticeCells(skewed, {1}, true, skewedFiner));
+    std::shared_ptr<const TSplineVolume> uneven;
+    REQUIRE(makeTSplineVolumeInBox(skewedFiner, Eigen::AlignedBox3d(Eigen::Vector3d(-1, 0, 2), Eigen::Vector3d(2, 1, 3)), {}, uneven));
+    const nlohmann::json ju = io::volumeJson(*uneven);
+    REQUIRE(io::parseVolumeJson(nlohmann::json::parse(ju.dump()), "lattice", back));
+    REQUIRE(io::volumeJson(*back).dump() == ju.dump());
+    REQUIRE(dynamic_cast<const TSplineVolume&>(*back).lattice().knotValue == uneven->lattice().knotValue);
+    std::shared_ptr<const Volume> placed;
+    REQUIRE(placeVolume(*uneven, Eigen::Vector3d(3, -2, 1), Eigen::Vector3d(0.3, 0.2, 1), 1.7, placed));
+    REQUIRE(placed->kindName() == "tspline");
+    REQUIRE(placed->controlWeights() == uneven->controlWeights());
+    const int last = uneven->controlPointCount() - 1;
+    const double scale = 1.7 / uneven->restBounds().diagonal().norm();  // a similarity
+    REQUIRE(std::abs((placed->restControlPoints().row(last) - placed->restControlPoints().row(0)).norm() -
+                     scale * (uneven->restControlPoints().row(last) - uneven->restControlPoints().row(0)).norm()) <= 1e-12);
     // Through the explicit solution (Hu et al. 2001, eq. 12) on the generic path: targets met.
     Lattice lattice = latticeOf(volume);
     REQUIRE(lattice.tensorNet() == nullptr);
