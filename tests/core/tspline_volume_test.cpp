@@ -454,6 +454,15 @@ TEST_CASE("tspline: octree lattices subdivide the non-empty cells to the depth a
             const int axis = sample % 3;
             REQUIRE(std::abs(q[axis] - (t[axis] == 0.0 ? box.min()[axis] : box.max()[axis])) <= 1e-12 * box.diagonal().norm());
         }
+        // Freezing undoes the non-linear rest map of the 100:1 weights (sec. 5, eq. 8).
+        std::mt19937 rng(1209 + depth);
+        for (int sample = 0; sample < 100; ++sample) {
+            const Eigen::Vector3d t = randomParameters(rng);
+            Eigen::Vector3d x, back;
+            volume->evaluate(volume->restControlPoints(), t, x);
+            REQUIRE(volume->freeze(x, back));
+            REQUIRE((back - t).norm() <= 1e-12);
+        }
         // Local subdivision (Fig. 11): the chosen cells split, the result balanced and still a valid basis.
         TLattice finer;
         REQUIRE(subdivideTLatticeCells(lattice, {0, static_cast<int>(lattice.cells.size()) - 1}, true, finer));
