@@ -11,7 +11,8 @@
 //   - the box lattice (lattice.h; null volume: the engine's fast path, O(1) parameters, vectorised kernels),
 //   - LatticeNet (lattice_net.h): one tensor-product NURBS net placed anywhere, the predefined lattices of
 //     seed 004 (parallelepiped, cylinder, sphere, prisms) and the nets the user edits,
-//   - next: weighted T-spline volumes (Song & Yang 2005), whose chunks are their Bezier-extracted cells.
+//   - TSplineVolume (tspline_volume.h): weighted T-spline volumes (Song & Yang 2005) on an octree T-lattice,
+//     whose chunks are their Bezier-extracted elements.
 //
 // Control points are identified by ids 0..controlPointCount()-1. Welded ids (Coquillart 1990, 3.1.2: points
 // merged into one control point, whose basis function is the sum of theirs) always carry equal displacements

@@ -6,6 +6,7 @@
 
 #include "core/composite_volume.h"
 #include "core/lattice_net.h"
+#include "core/tspline_volume.h"
 
 namespace sculpt::core {
 
@@ -35,6 +36,21 @@ Status placeVolume(const Volume& tool, const Eigen::Vector3d& point, const Eigen
         }
         std::shared_ptr<const CompositeVolume> placed;
         if (Status s = CompositeVolume::make(std::move(parts), placed); !s) return s;
+        out = std::move(placed);
+        return Status::success();
+    }
+    if (const auto* tspline = dynamic_cast<const TSplineVolume*>(&tool)) {
+        // The similarity applied to every control point; the T-lattice (parameter space) and weights are kept.
+        if (!point.allFinite() || !normal.allFinite() || !(normal.norm() > 0.0))
+            return Status::error("placing a lattice needs a finite point and a non-zero normal");
+        if (!(size > 0.0) || !std::isfinite(size)) return Status::error("placing a lattice needs a size that is finite and > 0");
+        const Eigen::Matrix3d rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal.normalized()).toRotationMatrix();
+        const Eigen::Vector3d centre = tspline->restBounds().center();
+        const double scale = size / tspline->restBounds().diagonal().norm();
+        Positions points = tspline->restControlPoints();
+        for (Eigen::Index s = 0; s < points.rows(); ++s) points.row(s) = (point + scale * (rotation * (points.row(s).transpose() - centre))).transpose();
+        std::shared_ptr<const TSplineVolume> placed;
+        if (Status s = TSplineVolume::make(tspline->sharedBasis(), std::move(points), tspline->controlWeights(), placed); !s) return s;
         out = std::move(placed);
         return Status::success();
     }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/composite_volume.h"
+#include "core/tspline_volume.h"
 #include "io/atomic_file.h"
 #include "io/json_fields.h"
 #include "io/script_json.h"
@@ -251,6 +252,75 @@ Status writeLatticeFile(const std::string& path, const LatticeFile& file) { retu
 
 namespace {
 
+// A weighted T-spline volume (Song & Yang 2005; core/tspline_volume.h): {"kind": "tspline", "root": [Ru, Rv, Rw],
+// "root_knots": [[0, .., 1] x 3] (optional; absent or [] = uniform along that axis), "cells": [[level, i, j, k], ...] (the T-lattice's
+// octree leaves), "points": [[x,y,z], ...] and "weights": [...] (one per anchor, in the volume's id order)}.
+VolumeFormat tsplineVolumeFormat() {
+    VolumeFormat format;
+    format.kinds = {"tspline"};
+    format.read = [](const json& j, const std::string& path, std::shared_ptr<const core::Volume>& out) {
+        try {
+            allowOnly(j, path, {"kind", "root", "root_knots", "cells", "points", "weights"});
+            core::TLattice lattice;
+            lattice.rootCount = int3(required(j, "root", path), path + ".root");
+            if (j.contains("root_knots")) {
+                const json& knots = j["root_knots"];
+                if (!knots.is_array() || knots.size() != 3) fail(path + ".root_knots", "expected 3 arrays of knot values");
+                for (size_t a = 0; a < 3; ++a) {
+                    const std::string kp = path + ".root_knots[" + std::to_string(a) + "]";
+                    if (!knots[a].is_array()) fail(kp, "expected an array of knot values");
+                    for (size_t i = 0; i < knots[a].size(); ++i) lattice.rootKnots[a].push_back(number(knots[a][i], kp + "[" + std::to_string(i) + "]"));
+                }
+            }
+            const json& cells = required(j, "cells", path);
+            if (!cells.is_array() || cells.empty()) fail(path + ".cells", "expected an array of cells [level, i, j, k]");
+            for (size_t c = 0; c < cells.size(); ++c) {
+                const std::array<int, 4> cell = intArray<4>(cells[c], path + ".cells[" + std::to_string(c) + "]");
+                lattice.cells.push_back(core::TLatticeCell{cell[0], {cell[1], cell[2], cell[3]}});
+            }
+            std::shared_ptr<const core::TSplineBasis> basis;
+            if (Status s = core::buildTSplineBasis(lattice, basis); !s) fail(path + ".cells", s.message);
+            const size_t n = static_cast<size_t>(basis->anchorCount());
+            const json& points = required(j, "points", path);
+            if (!points.is_array() || points.size() != n) fail(path + ".points", "expected " + std::to_string(n) + " [x,y,z] points (one per anchor)");
+            Positions rest(static_cast<Eigen::Index>(n), 3);
+            for (size_t p = 0; p < n; ++p) rest.row(static_cast<Eigen::Index>(p)) = vector3(points[p], path + ".points[" + std::to_string(p) + "]").transpose();
+            std::vector<double> weights(n, 1.0);
+            if (j.contains("weights")) {
+                const json& w = j["weights"];
+                if (!w.is_array() || w.size() != n) fail(path + ".weights", "expected " + std::to_string(n) + " weights");
+                for (size_t p = 0; p < n; ++p) {
+                    weights[p] = number(w[p], path + ".weights[" + std::to_string(p) + "]");
+                    if (!(weights[p] > 0.0)) fail(path + ".weights[" + std::to_string(p) + "]", "expected a weight > 0");
+                }
+            }
+            std::shared_ptr<const core::TSplineVolume> made;
+            if (Status s = core::TSplineVolume::make(std::move(basis), std::move(rest), std::move(weights), made); !s) fail(path, s.message);
+            out = std::move(made);
+        } catch (const FieldError& e) {
+            return Status::error(e.path + ": " + e.what);
+        }
+        return Status::success();
+    };
+    format.write = [](const core::Volume& volume, json& out) {
+        const auto* made = dynamic_cast<const core::TSplineVolume*>(&volume);
+        if (!made) return false;
+        const core::TLattice& lattice = made->lattice();
+        json cells = json::array();
+        for (const auto& cell : lattice.cells) cells.push_back({cell.level, cell.index[0], cell.index[1], cell.index[2]});
+        json points = json::array();
+        for (Eigen::Index p = 0; p < made->restControlPoints().rows(); ++p) points.push_back(vectorJson(made->restControlPoints().row(p).transpose()));
+        out = {{"kind", "tspline"}, {"root", lattice.rootCount}, {"cells", cells}, {"points", points}, {"weights", made->controlWeights()}};
+        if (!lattice.rootKnots[0].empty() || !lattice.rootKnots[1].empty() || !lattice.rootKnots[2].empty()) {
+            json knots = json::array();
+            for (int a = 0; a < 3; ++a) knots.push_back(lattice.rootKnots[static_cast<size_t>(a)]);  // [] = uniform
+            out["root_knots"] = knots;
+        }
+        return true;
+    };
+    return format;
+}
+
 std::vector<VolumeFormat>& volumeFormats() {
     static std::vector<VolumeFormat> formats = [] {
         VolumeFormat net;
@@ -294,7 +364,7 @@ std::vector<VolumeFormat>& volumeFormats() {
             out = {{"kind", "composite"}, {"parts", parts}};
             return true;
         };
-        return std::vector<VolumeFormat>{net, composite};
+        return std::vector<VolumeFormat>{net, composite, tsplineVolumeFormat()};
     }();
     return formats;
 }

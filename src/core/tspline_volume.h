@@ -1,0 +1,199 @@
+// Weighted T-spline volumes (Song & Yang 2005, "Free-form deformation with weighted T-spline", seed 002): a
+// Volume kind (volume.h) whose control points hang on a T-lattice (tspline_lattice.h), so the lattice can be
+// fine near the model and coarse elsewhere (Fig. 9-11).
+//
+//   Q(t) = sum_s W_s P_s B_s(t) / sum_r W_r B_r(t)                      (eq. 5, 8)
+//   B_s(u, v, w) = N[u_s](u) N[v_s](v) N[w_s](w)                         (eq. 6)
+// N[k] the cubic B-spline on the 5 local knots k = [k0 .. k4] (eq. 7), inferred from the T-lattice by the knot
+// rule of 3.2.2: the anchor (a vertex) is k2; k3, k4 are the first two knot planes (cell faces) a ray from the
+// anchor crosses in +t_a, k1, k0 those in -t_a; where the ray leaves the domain the boundary repeats.
+//
+// Boundary (a choice of ours, stated): a vertex on the domain boundary t_a = 0 gets the local knots
+// [0 0 0 k3 k4], whose B-spline vanishes on t_a = 0 (a triple knot is C0). With the vertices alone sum W B would
+// be 0 on the whole boundary, Q undefined there, and a lattice without T-junctions would not be the clamped
+// tensor NURBS volume the paper says it reduces to (3.2.2). So each vertex on a boundary face also anchors a
+// *boundary copy* per boundary axis, with local knots [0 0 0 0 k3] along that axis (the knot of multiplicity 4
+// of a clamped B-spline; at t_a = 1: [k1 1 1 1 1]): the zero-width layer of cells that clamped T-splines add
+// at an open boundary. A vertex on an edge of the domain has 4 anchors, a corner 8. With them a T-lattice of
+// n_u x n_v x n_w equal cells is exactly the clamped uniform cubic NURBS net of n + 3 points per axis (the
+// engine's makeSplineAxis), and the boundary faces of Q are the T-spline surfaces of the copies.
+//
+// Bezier elements (the chunks): each cell split at every local knot of the blending functions over it, so each
+// B_s is one polynomial on each element (Bezier extraction); Bernstein coefficients by blossoming.
+// Parameters t are in [0,1]^3 (the T-lattice's domain).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/lattice_net.h"
+#include "core/mesh_types.h"
+#include "core/status.h"
+#include "core/tspline_lattice.h"
+#include "core/volume.h"
+
+namespace sculpt::core {
+
+// A blending function's anchor: a T-lattice vertex, or one of its boundary copies.
+struct TSplineAnchor {
+    int vertex = 0;                 // into TLattice::vertices
+    std::uint8_t boundaryCopy = 0;  // bit a: the copy across the boundary face t_a = 0 or 1 (the vertex is on it)
+    std::array<std::array<int, 5>, 3> knots{};  // local knot vectors per axis, fine coordinates (eq. 7)
+};
+
+// The parameter-space half of a T-spline volume, independent of control point positions and weights: the
+// anchors (control point id = anchor index), their local knot vectors, the Bezier elements and the anchors
+// whose blending function is non-zero on each (shared between volumes on the same T-lattice).
+struct TSplineBasis {
+    TLattice lattice;                       // finished
+    std::vector<TSplineAnchor> anchors;     // ordered by vertex (TLattice::vertices order), then boundaryCopy
+    std::vector<std::array<int, 8>> anchorOfVertex;  // per vertex and boundaryCopy mask: the anchor, or -1
+    std::vector<std::array<std::array<double, 5>, 3>> knotValues;  // per anchor and axis, the local knots as parameters
+    // Per anchor, axis and knot span j (0..3): the span's cubic piece in powers of x = t_a - k_j (from its
+    // blossoms; zero on an empty span), for fast evaluation.
+    std::vector<std::array<std::array<std::array<double, 4>, 4>, 3>> piecePowers;
+    bool partitionOfUnity = false;          // no T-junction: sum B = 1 (the tensor B-spline case)
+    // Elements: per cell an n0 x n1 x n2 grid between the cell's splits (fine coordinates, both ends included).
+    std::vector<int> cellElementStart;      // #cells + 1
+    std::vector<std::array<int, 3>> cellSplitStart;  // per cell, per axis: offset into `splits`
+    std::vector<std::array<int, 3>> cellSplitCount;  // per cell, per axis: number of splits (elements + 1)
+    std::vector<int> splits;
+    std::vector<int> elementCell;                    // #elements
+    std::vector<std::array<int, 3>> elementLo, elementHi;  // fine coordinates
+    std::vector<int> supportStart, supportIds;       // CSR: anchors non-zero on element e, ascending
+    int maxSupport = 0;
+    // T-lattice edges between adjacent vertices (cell edges split at T-junctions), each once: {vertex, vertex}.
+    std::vector<std::array<int, 2>> latticeEdges;
+
+    int elementCount() const { return static_cast<int>(elementCell.size()); }
+    int anchorCount() const { return static_cast<int>(anchors.size()); }
+    // The element holding t (each axis: the fine voxel, then the split interval; a point on a shared face goes to
+    // the element above it, t_a = 1 to the last) and t's local coordinates in it. -1 for t outside [0,1]^3 or
+    // not finite.
+    int elementOf(const Eigen::Vector3d& t, Eigen::Vector3d& local) const;
+    Eigen::Vector3d elementMin(int e) const;
+    Eigen::Vector3d elementMax(int e) const;
+    // Greville parameters of an anchor: per axis (k1 + k2 + k3) / 3 (the rest map is the identity where the
+    // lattice has no T-junction and the weights are equal; Greville abscissae of the cubic B-splines).
+    Eigen::Vector3d grevilleParameters(int anchor) const;
+    // B_s (eq. 6) of the anchors supported on element e at t (in or on the element; the element's polynomial is
+    // used, so on a face it is the one-sided value), in supportIds order; gradient (d/dt) if not null.
+    void blendingValues(int e, const Eigen::Vector3d& t, double* values, Eigen::Vector3d* gradients) const;
+};
+
+// Builds the basis of `lattice` (finished by finishTLattice, or finished here). Fails on an invalid lattice
+// (finishTLattice's errors), or when more than 216 blending functions overlap an element (SupportWeights'
+// capacity; a 2:1-balanced octree stays below it: the message names the cell and says so).
+Status buildTSplineBasis(const TLattice& lattice, std::shared_ptr<const TSplineBasis>& out);
+
+// The cubic B-spline on local knots k (5 values, non-decreasing) restricted to its knot span j (k[j] < k[j+1]):
+// its blossom at (x1, x2, x3) (de Boor's algorithm with one argument per level). The Bernstein coefficients
+// of the piece over [a, b] within the span are blossom(a,a,a), (a,a,b), (a,b,b), (b,b,b); the value at u is
+// blossom(u,u,u).
+double cubicBlossom(const double* knots, int span, double x1, double x2, double x3);
+// The piece's value at u and derivative d/du (u may lie outside the span: the polynomial is extended).
+void cubicPiece(const double* knots, int span, double u, double& value, double& derivative);
+
+class TSplineVolume final : public Volume {
+public:
+    // The volume with control points `points` (#anchors x 3, world, finite) and weights (#anchors, > 0 finite).
+    // Fails with a message naming what is wrong, and when det dQ/dt <= 0 at an element's centre (the control
+    // points fold or mirror the volume).
+    static Status make(std::shared_ptr<const TSplineBasis> basis, Positions points, std::vector<double> weights,
+                       std::shared_ptr<const TSplineVolume>& out);
+
+    const TSplineBasis& basis() const { return *basis_; }
+    const std::shared_ptr<const TSplineBasis>& sharedBasis() const { return basis_; }
+    const TLattice& lattice() const { return basis_->lattice; }
+
+    // ---- Volume ----
+    const std::string& kindName() const override { return kind_; }
+    int controlPointCount() const override { return static_cast<int>(rest_.rows()); }
+    const Positions& restControlPoints() const override { return rest_; }
+    const std::vector<double>& controlWeights() const override { return weights_; }
+    // Weights differ, or the T-lattice has T-junctions (then sum B is not 1 and R is a quotient of eq. 5 even
+    // with equal weights).
+    bool isRational() const override { return rational_; }
+    int representativeOf(int id) const override { return id; }
+    const std::vector<std::vector<int>>& weldGroupList() const override { return noWelds_; }
+    Eigen::AlignedBox3d restBounds() const override { return bounds_; }
+    // The boundary copies: the outer faces of Q are made of their blending functions only.
+    bool onOuterSurface(int id) const override { return layer_[static_cast<size_t>(id)] == 0; }
+    // Layers counted over the control net's edges from the boundary copies.
+    bool inSurfaceLayers(int id, int layers) const override { return layers > 0 && layer_[static_cast<size_t>(id)] < layers; }
+    // The T-lattice's edges between adjacent vertices, repeated on each boundary copy layer, plus each boundary
+    // copy joined to the anchor it copies (the tensor net's edges where there is no T-junction).
+    std::vector<std::array<int, 2>> controlNetEdgeList() const override { return netEdges_; }
+    // R_s = W_s B_s / sum W B (eq. 5) of the anchors supported on t's element (at most basis().maxSupport).
+    void basisAt(const Eigen::Vector3d& t, SupportWeights& out) const override;
+    // Eq. 5 and its derivative by the quotient rule; t clamped into [0,1]^3.
+    void evaluate(const Positions& points, const Eigen::Vector3d& t, Eigen::Vector3d& value,
+                  Eigen::Matrix3d* derivative = nullptr) const override;
+    // Sec. 5 (eq. 8), by Newton's method instead of the paper's conjugate gradients: candidate elements from a
+    // grid index over their control points' bounds (convex hull), Newton from each candidate's centre over the
+    // whole domain, then from the centres of its 8 and 64 sub-boxes; pseudo-inverse steps where dQ/dt is
+    // nearly singular, backtracking where a step does not reduce |Q - x|. The first candidate (lowest element
+    // id) that converges (|Q(t) - x| at rounding level, 4e-15 of the diagonal, or stalled below 1e-13 of it)
+    // gives t: deterministic. False outside the volume or for a non-finite x.
+    bool freeze(const Eigen::Vector3d& x, Eigen::Vector3d& t) const override;
+    std::unique_ptr<Locator> locatorFor(const Positions& points) const override;
+    int chunkCount() const override { return basis_->elementCount(); }
+    int chunkOf(const Eigen::Vector3d& t, Eigen::Vector3d& local) const override { return basis_->elementOf(t, local); }
+    Eigen::Vector3d chunkParameters(int chunk, const Eigen::Vector3d& local) const override;
+    void chunkSupport(int chunk, std::vector<int>& ids) const override;
+    // Bezier extraction: the element's homogeneous Bernstein points sum_s W_s P_s b_s and weights sum_s W_s b_s,
+    // b_s = B_s's tensor Bernstein coefficients on the element (by blossoming). Polynomial (points divided
+    // through, w = 1) when the weights are equal and sum W b is constant on the element (to 1e-13).
+    void bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const override;
+    // Just the chunk itself (no periodic axis, no collapsed face).
+    void chunksAlong(int chunk, int axis, std::vector<int>& row, bool& closed) const override;
+    // The T-lattice's cell edges (split at T-junctions) in parameters, each once.
+    std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const override;
+
+    // The same freezing with other control points and their element index (freeze, locatorFor).
+    bool freezeWith(const Positions& points, const ChunkIndex& index, const Eigen::Vector3d& x, Eigen::Vector3d& t) const;
+    // The element index of control points `points` (#anchors x 3): each element's control-point bounds.
+    ChunkIndex buildElementIndex(const Positions& points) const;
+
+private:
+    std::string kind_ = "tspline";
+    std::shared_ptr<const TSplineBasis> basis_;
+    Positions rest_;
+    std::vector<double> weights_;
+    bool rational_ = false, equalWeights_ = true;
+    Eigen::AlignedBox3d bounds_;
+    std::vector<int> layer_;
+    std::vector<std::array<int, 2>> netEdges_;
+    std::vector<std::vector<int>> noWelds_;
+    ChunkIndex restIndex_;
+};
+
+// ---- making T-spline volumes --------------------------------------------------------------------------------
+
+// The T-spline volume of `lattice` over the world box `box`: control points at the anchors' Greville
+// parameters mapped affinely onto the box, weights `weights` (#anchors; empty: all 1). With equal weights and
+// no T-junction the rest volume is the identity map of the box; otherwise it maps [0,1]^3 onto the box (its
+// boundary faces lie on the box's faces) but not linearly, and freezing finds each point's parameters.
+Status makeTSplineVolumeInBox(const TLattice& lattice, const Eigen::AlignedBox3d& box, const std::vector<double>& weights,
+                              std::shared_ptr<const TSplineVolume>& out);
+
+struct TSplineOctreeSettings {
+    TLatticeOctreeSettings octree;   // root grid, depth, balance
+    double weightRatio = 100.0;      // sec. 4: weight of control points of non-empty cells : the others' (1); > 0
+    double padding = 0.05;           // the box: the points' bounds grown by this fraction of their diagonal per side
+};
+
+// Sec. 4 / Fig. 9-10: the octree T-lattice of `points` (#P x 3, mesh vertices) in their padded bounds, and its
+// volume (makeTSplineVolumeInBox) with weight weightRatio on every control point anchored at a vertex of a
+// non-empty cell (a corner or a T-junction on its boundary; boundary copies alike) and 1 elsewhere. `box`
+// (if not null) gets the box used. Fails on no finite point, or settings out of range.
+Status makeOctreeTSplineVolume(const Positions& points, const TSplineOctreeSettings& settings, std::shared_ptr<const TSplineVolume>& out,
+                               Eigen::AlignedBox3d* box = nullptr);
+
+}  // namespace sculpt::core
