@@ -8,6 +8,7 @@
 #include "core/tspline_volume.h"
 #include "io/atomic_file.h"
 #include "io/json_fields.h"
+#include "io/json_text.h"
 #include "io/script_json.h"
 
 namespace sculpt::io {
@@ -215,11 +216,7 @@ json latticeNetJson(const core::LatticeNet& net) {
 
 Status parseLatticeFile(const std::string& content, const std::string& displayName, LatticeFile& out) {
     json j;
-    try {
-        j = json::parse(content);
-    } catch (const json::parse_error& e) {
-        return Status::error(displayName + ": not valid JSON (" + e.what() + ")");
-    }
+    if (Status s = parseJsonText(content, displayName, j); !s) return s;
     LatticeFile file;
     try {
         allowOnly(j, "", {"format", "version", "name", "lattice"});

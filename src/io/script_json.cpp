@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/json_fields.h"
+#include "io/json_text.h"
 #include "io/lattice_json.h"
 
 namespace sculpt::io {
@@ -509,11 +510,6 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
 }
 
 
-int lineOfByte(const std::string& text, size_t byte) {
-    int line = 1;
-    for (size_t i = 0; i < byte && i < text.size(); ++i) line += text[i] == '\n';
-    return line;
-}
 
 }  // namespace
 
@@ -529,13 +525,7 @@ Status readTextFile(const std::string& path, std::string& out) {
 
 Status parseScript(const std::string& text, const std::string& displayName, core::Script& out) {
     json root;
-    try {
-        root = json::parse(text);
-    } catch (const json::parse_error& e) {
-        return Status::error(displayName + ":" + std::to_string(lineOfByte(text, e.byte)) + ": invalid JSON (" + e.what() + ")");
-    } catch (const json::exception& e) {  // e.g. a number too large for a double (1e999)
-        return Status::error(displayName + ": invalid JSON (" + e.what() + ")");
-    }
+    if (Status s = parseJsonText(text, displayName, root); !s) return s;
     try {
         core::Script script;
         allowOnly(root, "", {"mesh", "mesh_fingerprint", "lattice", "ops", "injectivity"});
