@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <set>
@@ -294,8 +295,15 @@ TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px mov
     INFO(state.status);
     REQUIRE(state.drag.active);
     REQUIRE(state.tools.lattice.points == std::vector<int>{rep});
+    // Pressed: selected, not moving yet (the status line once said "Moving 1 control point..." here, and
+    // kept it after a mere click).
+    const std::array<int, 3> ijk = lattice.ijk(rep);
+    CHECK(state.status == "Selected control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
+                              std::to_string(ijk[2]) + "] - drag to move it, G to grab.");
     sculptApp.onMouseMove({start.x(), start.y() - 5.0, {}}, {});
+    CHECK(state.status.rfind("Moving 1 control point: ", 0) == 0);
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, start.x(), start.y() - 5.0, {}}, {});
+    CHECK(state.status.rfind("Drag recorded as one undo step", 0) == 0);
     CHECK(session.history().size() == history + 1);
     // Every copy of the welded point moved by the same displacement, and the point is drawn where the cursor is.
     const Eigen::RowVector3d moved = lattice.displacement.row(rep);
