@@ -70,13 +70,28 @@ struct Ui {
         frame();
         frame();  // auto-resize and the panel's recorded rectangles settle a frame later
     }
-    // Clicks the Lattices panel's item `label` where it was drawn last frame.
-    void click(const std::string& label) {
+    // Where the Lattices panel's item `label` was drawn last frame.
+    app::LatticesPanelState::ItemRect rect(const std::string& label) {
         const std::vector<app::LatticesPanelState::ItemRect>& items = sculptApp.state().lattices.items;
         const auto item = std::find_if(items.begin(), items.end(), [&](const auto& r) { return r.label == label; });
         INFO("Lattices panel item " << label);
         REQUIRE(item != items.end());
-        clickAt(0.5f * (item->x0 + item->x1), 0.5f * (item->y0 + item->y1));
+        return *item;
+    }
+    // Clicks the Lattices panel's item `label` where it was drawn last frame.
+    void click(const std::string& label) {
+        const app::LatticesPanelState::ItemRect item = rect(label);
+        clickAt(0.5f * (item.x0 + item.x1), 0.5f * (item.y0 + item.y1));
+    }
+    // Opens the panel (its header) and chooses the shipped cylinder in the library combo.
+    void openPanelWithCylinder() {
+        click("Lattices");
+        REQUIRE(sculptApp.state().lattices.libraryLoaded);
+        const std::vector<app::LatticeLibraryEntry>& library = sculptApp.state().lattices.library;
+        const auto cylinder = std::find_if(library.begin(), library.end(), [](const auto& e) { return e.name == "cylinder"; });
+        REQUIRE(cylinder != library.end());
+        sculptApp.state().lattices.libraryChoice = static_cast<int>(cylinder - library.begin());
+        frame();
     }
     void appKey(app::Key key, app::Modifiers m = {}) { sculptApp.onKey({key, app::KeyAction::Press, m}, {}); }
     void undo() { appKey(app::Key::Z, {false, true, false, false}); }
@@ -315,6 +330,83 @@ TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px mov
     CHECK((session.positions() - before).rowwise().norm().maxCoeff() > 1e-3);
     sculptApp.onKey({app::Key::Z, app::KeyAction::Press, {false, true, false, false}}, {});
     CHECK((session.positions() - before).cwiseAbs().maxCoeff() < 1e-9);
+}
+
+// Issue: a press that came in the same frame as the move carrying the cursor off the panel (just after
+// clicking "Move on mesh") onto the mesh was lost: Dear ImGui's io.WantCaptureMouse is computed at NewFrame for
+// where the cursor was then (over the button), and the window passed that flag with the press. It now asks
+// SculptApp::uiCaptureAt for the press's own point (glfw_main.cpp does the same).
+TEST_CASE("window lattices: a press in the same frame as the move off the panel onto the mesh is a press", "[gl][effd]") {
+    Ui ui;
+    if (!ui.open()) return;
+    app::AppState& state = ui.sculptApp.state();
+    core::Session& session = state.session;
+    ui.openPanelWithCylinder();
+    ui.click("Add");
+    REQUIRE(session.latticeTools().size() == 1);
+    REQUIRE(state.lattices.selectedTool == 0);
+    ui.click("Move on mesh");
+    REQUIRE(state.lattices.placing == app::LatticesPanelState::Placing::Tool);
+    // The cursor is still over the button as far as ImGui knows: its flag (what the window used to pass)
+    // says the UI has the mouse.
+    CHECK(ImGui::GetIO().WantCaptureMouse);
+    CHECK(app::SculptApp::uiCapture().mouse);
+    // The move to the mesh's middle and the press there, between two frames.
+    const double x = 0.5 * kWidth, y = 0.5 * Ui::kPanelHeight;
+    CHECK_FALSE(app::SculptApp::uiCaptureAt(x, y).mouse);
+    app::Ray ray;
+    REQUIRE(app::rayThroughPixel(state.camera, kWidth, Ui::kPanelHeight, x, y, ray));
+    const app::SurfaceHit hit = app::intersectMesh(ray, session.positions(), session.triangles());
+    REQUIRE(hit.triangle >= 0);
+    const size_t history = session.history().size();
+    ui.sculptApp.onMouseMove({x, y, {}}, app::SculptApp::uiCapture());
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, app::SculptApp::uiCaptureAt(x, y));
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x, y, {}}, app::SculptApp::uiCaptureAt(x, y));
+    INFO(state.status);
+    CHECK(state.lattices.placing == app::LatticesPanelState::Placing::None);
+    REQUIRE(session.history().size() == history + 1);
+    const core::LatticeNet& moved = *session.latticeTools()[0].volume->tensorNet();
+    CHECK((moved.bounds.center() - hit.point).norm() < 1e-9 * test::boundsDiagonal(session.positions()) + 1e-12);
+
+    // The other way round: the cursor was over the mesh at the last frame, and the press comes on the panel's
+    // "Add" button together with the move there. It is the panel's click, not a sculpt drag.
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = ImVec2(static_cast<float>(x), static_cast<float>(y));
+    ui.frame();
+    REQUIRE_FALSE(io.WantCaptureMouse);
+    const app::LatticesPanelState::ItemRect add = ui.rect("Add");
+    const double ax = 0.5 * (add.x0 + add.x1), ay = 0.5 * (add.y0 + add.y1);
+    CHECK(app::SculptApp::uiCaptureAt(ax, ay).mouse);
+    const Positions before = session.positions();
+    ui.sculptApp.onMouseMove({ax, ay, {}}, app::SculptApp::uiCapture());
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, ax, ay, {}}, app::SculptApp::uiCaptureAt(ax, ay));
+    CHECK_FALSE(state.drag.active);
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, ax, ay, {}}, app::SculptApp::uiCaptureAt(ax, ay));
+    CHECK(session.positions() == before);
+    CHECK(session.history().size() == history + 1);
+
+    // Lattice point editing alike: the frozen cylinder's axis point, pressed right after the cursor left the panel.
+    core::OpReport added;
+    REQUIRE(session.addLatticeTool(cylinderTool(), added));
+    app::freezeLatticeCommand(state, 1, 0);
+    REQUIRE(session.frozenTool() == 1);
+    ui.appKey(app::Key::Tab);
+    REQUIRE(state.tools.mode == app::ToolMode::Lattice);
+    ui.frame();
+    const app::LatticesPanelState::ItemRect freeze = ui.rect("Freeze");
+    io.MousePos = ImVec2(0.5f * (freeze.x0 + freeze.x1), 0.5f * (freeze.y0 + freeze.y1));
+    ui.frame();
+    REQUIRE(io.WantCaptureMouse);
+    const core::Lattice& lattice = session.lattice();
+    const int rep = lattice.representative(lattice.index(0, 1, 1));
+    const Eigen::Vector2d point = test::pixelOf(state, session.cagePoints().row(rep).transpose());
+    ui.sculptApp.onMouseMove({point.x(), point.y(), {}}, app::SculptApp::uiCapture());
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, point.x(), point.y(), {}},
+                               app::SculptApp::uiCaptureAt(point.x(), point.y()));
+    CHECK(state.drag.active);
+    CHECK(state.tools.lattice.points == std::vector<int>{rep});
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, point.x(), point.y(), {}},
+                               app::SculptApp::uiCaptureAt(point.x(), point.y()));
 }
 
 TEST_CASE("golden: a frozen cylinder lattice drawn with curved edges over the default mesh", "[gl][golden][effd]") {
