@@ -21,6 +21,7 @@
 #include "core/lattice_net.h"
 #include "gl_test_support.h"
 #include "io/lattice_json.h"
+#include "io/png_image.h"
 #include "offscreen_window.h"
 #include "render/overlay_geometry.h"
 #include "window_test_support.h"
@@ -330,6 +331,57 @@ TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px mov
     CHECK((session.positions() - before).rowwise().norm().maxCoeff() > 1e-3);
     sculptApp.onKey({app::Key::Z, app::KeyAction::Press, {false, true, false, false}}, {});
     CHECK((session.positions() - before).cwiseAbs().maxCoeff() < 1e-9);
+}
+
+// Issue: the list box and the lines under it changed height with the state (number of tools, the selected
+// tool's description, the mode line, the placing prompt), so the buttons jumped as the user clicked. Every
+// state below draws them at the same pixels.
+TEST_CASE("window lattices: the panel's buttons stay where they are whatever the list and the lines under it say", "[gl][effd]") {
+    Ui ui;
+    if (!ui.open()) return;
+    app::AppState& state = ui.sculptApp.state();
+    core::Session& session = state.session;
+    ui.openPanelWithCylinder();
+    const std::vector<std::string> labels = {"Freeze", "Unfreeze", "Remove", "Move on mesh", "Save to library...",
+                                             "library", "Open...", "Add", "Place on mesh"};
+    const auto layout = [&](const char* name) {
+        ui.frame();
+        ui.frame();  // the Tools window's auto-resize settles a frame later
+        render::Rgba8Image image;
+        REQUIRE(ui.window.frame(&image).ok);
+        CHECK(io::writePng(test::glTestOutputDir() + "/lattices_panel_" + name + ".png", image.width, image.height,
+                           image.pixels.data()).ok);
+        std::vector<std::array<float, 4>> rects;
+        for (const std::string& label : labels) {
+            const app::LatticesPanelState::ItemRect r = ui.rect(label);
+            rects.push_back({r.x0, r.y0, r.x1, r.y1});
+        }
+        return rects;
+    };
+    const auto reference = layout("empty");  // no tools: "None yet" in the list, the edit-mode line
+    ui.click("Add");
+    REQUIRE(session.latticeTools().size() == 1);
+    CHECK(layout("one") == reference);  // one tool, selected: its description under the list
+    state.lattices.selectedTool = -1;
+    CHECK(layout("unselected") == reference);
+    // A ball's description is longer than a cylinder's.
+    const std::vector<app::LatticeLibraryEntry>& library = state.lattices.library;
+    const auto ball = std::find_if(library.begin(), library.end(), [](const auto& e) { return e.name == "ball"; });
+    REQUIRE(ball != library.end());
+    for (int t = 0; t < 6; ++t) app::addLatticeFromLibrary(state, static_cast<int>(ball - library.begin()));
+    REQUIRE(session.latticeTools().size() == 7);  // more than the list's rows: it scrolls
+    CHECK(layout("seven") == reference);
+    // Frozen (a cylinder around the mesh's middle holds vertices): the mode line names it.
+    core::OpReport added;
+    REQUIRE(session.addLatticeTool(cylinderTool(), added));
+    app::freezeLatticeCommand(state, 7, 0);
+    INFO(state.status);
+    REQUIRE(session.frozenTool() == 7);
+    state.lattices.selectedTool = 7;
+    CHECK(layout("frozen") == reference);
+    ui.click("tool 0");
+    app::beginPlacingLattice(state, app::LatticesPanelState::Placing::LibraryEntry);  // the orange prompt
+    CHECK(layout("placing") == reference);
 }
 
 // Issue: a press that came in the same frame as the move carrying the cursor off the panel (just after
