@@ -792,9 +792,11 @@ void FileCommands::drawModals(AppState& state) {
         ImGui::EndPopup();
     }
 
-    if (!wantProgress && !wantPrompt && !wantReplace && dialog_.isOpen()) {
+    if (!wantProgress && !wantPrompt && !wantReplace) {
+        // note: drawn closed too, so that a dialog closed outside its draw() (close(), submit()) closes its modal.
+        const bool wasOpen = dialog_.isOpen();
         if (dialog_.draw()) dialogAccepted(state);
-        if (!dialog_.isOpen() && dialog_.acceptedPath().empty()) dialogThen_ = {};  // cancelled
+        if (wasOpen && !dialog_.isOpen() && dialog_.acceptedPath().empty()) dialogThen_ = {};  // cancelled
     }
 
     const bool wantMessage = !wantProgress && !wantPrompt && !wantReplace && !dialog_.isOpen() && !message_.empty();
