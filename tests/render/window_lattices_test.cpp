@@ -8,6 +8,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <set>
 
@@ -459,6 +463,112 @@ TEST_CASE("window lattices: a press in the same frame as the move off the panel 
     CHECK(state.tools.lattice.points == std::vector<int>{rep});
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, point.x(), point.y(), {}},
                                app::SculptApp::uiCaptureAt(point.x(), point.y()));
+}
+
+namespace {
+
+// Sets an environment variable for one scope (the user's data folder of the Save-to-library test).
+class ScopedEnvironment {
+public:
+    ScopedEnvironment(const char* name, const std::string& value) : name_(name) {
+        const char* old = std::getenv(name);
+        had_ = old != nullptr;
+        if (had_) old_ = old;
+        setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnvironment() {
+        if (had_) setenv(name_, old_.c_str(), 1);
+        else unsetenv(name_);
+    }
+    ScopedEnvironment(const ScopedEnvironment&) = delete;
+    ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+
+private:
+    const char* name_;
+    bool had_ = false;
+    std::string old_;
+};
+
+std::string fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+// Issue: "Save to library" opened in the shipped assets/lattices with a shipped file's name ("cylinder"),
+// inviting the user to replace a shipped tool. It opens in the user's library folder (XDG_DATA_HOME, made on
+// demand) with a fresh name; the library lists the shipped and the user's lattices; the shipped folder is
+// never written.
+TEST_CASE("window lattices: Save to library writes a fresh name to the user's folder and never over a shipped tool", "[gl][effd]") {
+    namespace fs = std::filesystem;
+    const std::string data = test::glTestOutputDir() + "/xdg-data";
+    fs::remove_all(data);
+    const ScopedEnvironment xdg("XDG_DATA_HOME", data);
+    const std::string userFolder = data + "/dmffd-sculpt/lattices";
+    REQUIRE(app::userLatticeFolder() == userFolder);
+    REQUIRE_FALSE(fs::exists(userFolder));  // made by the first save, not before
+    const std::string shippedCylinder = app::latticeLibraryFolder() + "/cylinder.lattice.json";
+    const std::string shippedBytes = fileBytes(shippedCylinder);
+    REQUIRE_FALSE(shippedBytes.empty());
+
+    Ui ui;
+    if (!ui.open()) return;
+    app::AppState& state = ui.sculptApp.state();
+    app::FileCommands& files = ui.sculptApp.files();
+    ui.openPanelWithCylinder();
+    ui.click("Add");
+    REQUIRE(state.session.latticeTools().size() == 1);
+    REQUIRE(state.session.latticeTools()[0].name == "cylinder");
+
+    ui.click("Save to library...");
+    REQUIRE(files.dialog().isOpen());
+    CHECK(files.dialog().mode() == app::FileDialogMode::Save);
+    CHECK(fs::is_directory(userFolder));  // made on demand
+    CHECK(fs::equivalent(files.dialog().folder(), userFolder));
+    CHECK(files.dialog().typedName() == "cylinder 2.lattice.json");  // "cylinder" is the shipped one's name
+    REQUIRE(files.dialog().submit(files.dialog().typedName()));
+    files.dialogAccepted(state);
+    INFO(state.status);
+    CHECK_FALSE(state.statusIsError);
+    const std::string saved = userFolder + "/cylinder 2.lattice.json";
+    io::LatticeFile file;
+    REQUIRE(io::readLatticeFile(saved, file).ok);
+    CHECK(file.name == "cylinder 2");  // the library's name is the file's
+    CHECK(file.volume->restControlPoints() == state.session.latticeTools()[0].volume->restControlPoints());
+    const std::vector<app::LatticeLibraryEntry>& library = state.lattices.library;
+    const auto listed = std::find_if(library.begin(), library.end(), [&](const auto& e) { return fs::path(e.path) == fs::path(saved); });
+    REQUIRE(listed != library.end());
+    CHECK(listed->name == "cylinder 2");
+    // The next save proposes the next name.
+    ui.frame();  // the dialog's modal closes
+    ui.click("Save to library...");
+    REQUIRE(files.dialog().isOpen());
+    CHECK(files.dialog().typedName() == "cylinder 3.lattice.json");
+    // Typed over a shipped file, "Replace?" answered yes: refused, the shipped file as it was.
+    CHECK_FALSE(files.dialog().submit(shippedCylinder));
+    CHECK(files.dialog().confirmReplace(true));
+    files.dialogAccepted(state);
+    CHECK(state.statusIsError);
+    CHECK(state.status.find("shipped") != std::string::npos);
+    CHECK(fileBytes(shippedCylinder) == shippedBytes);
+    CHECK_FALSE(app::saveLatticeToolCommand(state, 0, shippedCylinder).ok);
+    CHECK(fileBytes(shippedCylinder) == shippedBytes);
+
+    // A fresh start lists the shipped lattices and the user's (one more written meanwhile by hand).
+    app::AppState fresh;
+    REQUIRE(io::writeLatticeFile(userFolder + "/my ring.lattice.json", {"my ring", cylinderTool().volume}).ok);
+    app::loadLatticeLibraries(fresh);
+    std::set<std::string> names;
+    for (const app::LatticeLibraryEntry& e : fresh.lattices.library) names.insert(e.name);
+    CHECK(names.count("cylinder") == 1);
+    CHECK(names.count("ball") == 1);
+    CHECK(names.count("cylinder 2") == 1);
+    CHECK(names.count("my ring") == 1);
+    CHECK(app::freshLatticeName(fresh, "my ring", userFolder) == "my ring 2");
+    CHECK(app::freshLatticeName(fresh, "cylinder 2", userFolder) == "cylinder 3");
+    CHECK(app::freshLatticeName(fresh, "pie", userFolder) == "pie");
+    CHECK(app::freshLatticeName(fresh, "a/b", userFolder) == "a-b");
 }
 
 TEST_CASE("golden: a frozen cylinder lattice drawn with curved edges over the default mesh", "[gl][golden][effd]") {

@@ -73,7 +73,7 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     const bool open = ImGui::CollapsingHeader("Lattices");
     recordItem(panel, "Lattices");
     if (!open) return;
-    if (!panel.libraryLoaded) loadLatticeLibrary(state, latticeLibraryFolder());
+    if (!panel.libraryLoaded) loadLatticeLibraries(state);
     const core::Session& session = state.session;
     const std::vector<core::LatticeTool>& tools = session.latticeTools();
     const int frozen = session.frozenTool();
