@@ -28,6 +28,7 @@
 #include "io/png_image.h"
 #include "offscreen_window.h"
 #include "render/overlay_geometry.h"
+#include "render/palette.h"
 #include "window_test_support.h"
 
 using namespace sculpt;
@@ -463,6 +464,52 @@ TEST_CASE("window lattices: a press in the same frame as the move off the panel 
     CHECK(state.tools.lattice.points == std::vector<int>{rep});
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, point.x(), point.y(), {}},
                                app::SculptApp::uiCaptureAt(point.x(), point.y()));
+}
+
+// Issue: a small frozen lattice (a library ball placed at a quarter of the mesh's size) drew a dense cloud of
+// control-point markers that hid the mesh. Markers that crowd on screen shrink (render::crowdedMarkerScale,
+// the same in screenshots); the box lattice at its usual framing keeps its markers as they were.
+TEST_CASE("window lattices: the markers of a small frozen lattice shrink so the mesh shows between them", "[gl][effd]") {
+    Ui ui;
+    if (!ui.open()) return;
+    app::AppState& state = ui.sculptApp.state();
+    core::Session& session = state.session;
+    ui.appKey(app::Key::Tab);  // the lattice tool: the box lattice drawn
+    REQUIRE(app::latticeShown(state));
+    ui.frame();
+    CHECK(ui.sculptApp.renderer().lastMarkerCrowding() == 1.0f);
+    ui.appKey(app::Key::Tab);
+
+    ui.openPanelWithCylinder();
+    const std::vector<app::LatticeLibraryEntry>& library = state.lattices.library;
+    const auto ball = std::find_if(library.begin(), library.end(), [](const auto& e) { return e.name == "ball"; });
+    REQUIRE(ball != library.end());
+    state.lattices.libraryChoice = static_cast<int>(ball - library.begin());
+    ui.frame();
+    ui.click("Place on mesh");
+    const double x = 0.5 * kWidth, y = 0.45 * Ui::kPanelHeight;  // between the panels
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, app::SculptApp::uiCaptureAt(x, y));
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x, y, {}}, app::SculptApp::uiCaptureAt(x, y));
+    REQUIRE(session.latticeTools().size() == 1);
+    app::freezeLatticeCommand(state, 0, 0);  // the panel's Freeze; turns the Lattice overlay on
+    INFO(state.status);
+    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(app::latticeShown(state));
+    ui.frame();
+    render::Rgba8Image image;
+    REQUIRE(ui.window.frame(&image).ok);
+    CHECK(io::writePng(test::glTestOutputDir() + "/window_small_frozen_ball.png", image.width, image.height, image.pixels.data()).ok);
+    const float crowd = ui.sculptApp.renderer().lastMarkerCrowding();
+    INFO("marker scale " << crowd);
+    CHECK(crowd < 0.8f);
+    CHECK(crowd >= render::kMinCrowdedMarkerScale);
+    // Selecting every point keeps them at full size (the selection is what the user works with), and the
+    // crowding is measured on the unselected ones only.
+    ui.appKey(app::Key::Tab);
+    ui.appKey(app::Key::A);
+    REQUIRE_FALSE(state.tools.lattice.points.empty());
+    ui.frame();
+    CHECK(ui.sculptApp.renderer().lastMarkerCrowding() == 1.0f);
 }
 
 namespace {
