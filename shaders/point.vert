@@ -10,6 +10,7 @@ layout(location = ATTRIB_MARKER_STYLE) in vec3 aStyle;
 uniform mat4 uViewProjection;
 uniform vec2 uViewport;     // pixels
 uniform float uSizeScale;   // multiplies every diameter (HiDPI, pass emphasis)
+uniform float uCrowdScale;  // multiplies the depth-faded (unselected) markers' diameters where they crowd
 uniform vec3 uDepthFade;    // as in line.vert
 
 out vec4 vColor;
@@ -19,7 +20,7 @@ flat out float vShape;
 
 void main() {
     vec2 corner = vec2((gl_VertexID & 1) == 0 ? -1.0 : 1.0, gl_VertexID >= 2 ? 1.0 : -1.0);
-    vRadius = 0.5 * aStyle.x * uSizeScale;
+    vRadius = 0.5 * aStyle.x * uSizeScale * (aStyle.z > 0.5 ? uCrowdScale : 1.0);
     float extent = vRadius + 1.0;  // one pixel of fringe for antialiasing
     vec4 clip = uViewProjection * vec4(aCenter, 1.0);
     vPixels = corner * extent;

@@ -1,5 +1,7 @@
 #include "render/overlay_geometry.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -143,6 +145,45 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
     markersOut.swap(points);
     boundsOut = bounds;
     return Status::success();
+}
+
+float crowdedMarkerScale(const std::vector<glm::vec2>& pixels, float diameter) {
+    if (pixels.size() < 2 || !(diameter > 0.0f)) return 1.0f;
+    glm::vec2 lo = pixels.front(), hi = lo;
+    for (const glm::vec2& p : pixels) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    // Cells one marker wide over the region the markers span; a cell holds a marker or not. note: distinct
+    // cells, not a count of markers, so markers drawn over each other (a grid seen along an axis) crowd nothing.
+    const int columns = static_cast<int>(std::ceil((hi.x - lo.x) / diameter)) + 1;
+    const int rows = static_cast<int>(std::ceil((hi.y - lo.y) / diameter)) + 1;
+    std::vector<std::uint8_t> occupied(static_cast<size_t>(columns) * static_cast<size_t>(rows), 0);
+    const auto cellOf = [&](const glm::vec2& p) {
+        return glm::ivec2(std::min(columns - 1, static_cast<int>((p.x - lo.x) / diameter + 0.5f)),
+                          std::min(rows - 1, static_cast<int>((p.y - lo.y) / diameter + 0.5f)));
+    };
+    const auto at = [&](int column, int row) -> std::uint8_t& {
+        return occupied[static_cast<size_t>(row) * static_cast<size_t>(columns) + static_cast<size_t>(column)];
+    };
+    for (const glm::vec2& p : pixels) at(cellOf(p).x, cellOf(p).y) = 1;
+    // Around each marker, the share of the 24 cells within two diameters (a 5 x 5 block less its own) that
+    // hold another; the mean over the markers is how crowded they are where they are (a dense core counts by
+    // its many markers, however much empty box surrounds it).
+    constexpr int kReach = 2;
+    constexpr double kNeighbourCells = (2 * kReach + 1) * (2 * kReach + 1) - 1;
+    double sum = 0.0;
+    for (const glm::vec2& p : pixels) {
+        const glm::ivec2 cell = cellOf(p);
+        int neighbours = 0;
+        for (int row = std::max(0, cell.y - kReach); row <= std::min(rows - 1, cell.y + kReach); ++row)
+            for (int column = std::max(0, cell.x - kReach); column <= std::min(columns - 1, cell.x + kReach); ++column)
+                neighbours += at(column, row);
+        sum += (neighbours - 1) / kNeighbourCells;  // less its own cell
+    }
+    const double crowding = sum / static_cast<double>(pixels.size());
+    if (crowding <= kCrowdedMarkerShare) return 1.0f;
+    return std::max(kMinCrowdedMarkerScale, static_cast<float>(std::sqrt(kCrowdedMarkerShare / crowding)));
 }
 
 Status buildConstraintInstances(const ConstraintView& constraints, const LocalFrame& frame,

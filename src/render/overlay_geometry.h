@@ -40,6 +40,16 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
 Status buildConstraintInstances(const ConstraintView& constraints, const LocalFrame& frame,
                                 std::vector<float>& segments, std::vector<float>& markers);
 
+// How much the plain (unselected) control-point markers shrink where they crowd on screen, so that a small or
+// fine lattice never buries the mesh under a cloud of dots. Crowding: the mean over the markers of the share
+// of the cells around each (one marker wide, within two diameters) that hold another marker. Up to
+// kCrowdedMarkerShare (palette.h) the markers keep their size; beyond it they shrink with the square root of
+// the excess (their area falls back to that share), never below kMinCrowdedMarkerScale. Markers drawn at the
+// same place crowd nothing.
+// pixels: the centres of the markers on screen, pixels; diameter: a plain marker's, pixels (> 0).
+// Returns a factor in [kMinCrowdedMarkerScale, 1]; 1 for fewer than two markers.
+float crowdedMarkerScale(const std::vector<glm::vec2>& pixels, float diameter);
+
 // Error naming the first non-finite row of points ("<what> row 7 is not finite ..."), or success.
 Status checkFinite(const Positions& points, const char* what);
 

@@ -18,6 +18,12 @@ inline constexpr Rgba kPinnedPointColor = {0.55f, 0.72f, 0.95f, 1.0f};
 inline constexpr float kControlPointSize = 4.5f;
 inline constexpr float kSelectedPointSize = 8.0f;
 inline constexpr float kPinnedPointSize = 6.0f;
+// Crowded markers (crowdedMarkerScale, overlay_geometry.h): where, on average, more than this share of the
+// cells within two marker diameters of a marker hold another one, the unselected markers shrink (a small
+// frozen lattice seen from afar, a fine grid), down to this factor (2 px dots; the selected ones keep their
+// size). A square grid 2 diameters apart fills 1/3 of them; 3 apart, none.
+inline constexpr float kCrowdedMarkerShare = 0.15f;
+inline constexpr float kMinCrowdedMarkerScale = 0.45f;
 
 // Lattice edges: one pixel, translucent mid grey (readable over the light clay and the dark background
 // alike), orange toward selected points, blue toward pinned ones.

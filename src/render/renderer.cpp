@@ -43,7 +43,7 @@ struct LineUniforms {
     GLint viewProjection = -1, viewport = -1, width = -1, tint = -1, alphaScale = -1, depthFade = -1;
 };
 struct PointUniforms {
-    GLint viewProjection = -1, viewport = -1, sizeScale = -1, alphaScale = -1, depthFade = -1;
+    GLint viewProjection = -1, viewport = -1, sizeScale = -1, alphaScale = -1, depthFade = -1, crowdScale = -1;
 };
 
 constexpr Rgba kNoTint = {0, 0, 0, 0};  // lines keep their per-vertex colours
@@ -94,6 +94,13 @@ struct Renderer::State {
 
     InstanceBatch latticeEdges, latticePoints, handleLines, handlePoints;
     Bounds latticeBounds;
+    // The unselected control-point markers' centres (local frame), for their crowding on screen
+    // (crowdedMarkerScale), and the factor of the last draw with the view it was computed for.
+    std::vector<glm::vec3> plainMarkerCentres;
+    mutable float crowdScale = 1.0f;
+    mutable glm::mat4 crowdViewProjection{0.0f};
+    mutable glm::ivec2 crowdViewport{0};
+    mutable bool crowdStale = true;
     // The frame the GPU coordinates are in (camera.h): the mesh's centre and radius when it was set (the
     // lattice's while there is no mesh). The overlays are kept in world units too, so that a new frame can
     // re-express them.
@@ -115,7 +122,11 @@ struct Renderer::State {
     void drawLines(const InstanceBatch& batch, const glm::mat4& viewProjection, int width, int height,
                    float lineWidth, const Rgba& tint, float alphaScale, const glm::vec3& depthFade = kNoDepthFade) const;
     void drawPoints(const InstanceBatch& batch, const glm::mat4& viewProjection, int width, int height,
-                    float alphaScale, const glm::vec3& depthFade = kNoDepthFade) const;
+                    float alphaScale, const glm::vec3& depthFade = kNoDepthFade, float crowd = 1.0f) const;
+    // Keeps the lattice markers' batch and their centres for crowdedMarkerScale.
+    void uploadLatticeMarkers(const std::vector<float>& markers);
+    // crowdedMarkerScale of the plain markers in this view (cached while the view and the lattice stay).
+    float markerCrowding(const glm::mat4& viewProjection, int width, int height) const;
     // The det J legend in the bottom-right corner (legend.h), over everything.
     void drawJacobianLegend(const DrawOptions& options, int width, int height) const;
     // The lattice overlay: edges and control points, the parts behind the mesh fainter, faded with depth.
@@ -171,7 +182,7 @@ Status Renderer::State::buildPrograms() {
                     uniform(lineProgram, "uAlphaScale"), uniform(lineProgram, "uDepthFade")};
     pointUniforms = {uniform(pointProgram, "uViewProjection"), uniform(pointProgram, "uViewport"),
                      uniform(pointProgram, "uSizeScale"), uniform(pointProgram, "uAlphaScale"),
-                     uniform(pointProgram, "uDepthFade")};
+                     uniform(pointProgram, "uDepthFade"), uniform(pointProgram, "uCrowdScale")};
     return Status::success();
 }
 
@@ -478,7 +489,7 @@ void Renderer::State::uploadOverlays() {
     Bounds bounds;
     if (buildLatticeInstances(lattice, frame, lines, markers, bounds)) {
         uploadBatch(latticeEdges, lines, kLineFloats);
-        uploadBatch(latticePoints, markers, kMarkerFloats);
+        uploadLatticeMarkers(markers);
     }
     if (buildConstraintInstances(constraints, frame, lines, markers)) {
         uploadBatch(handleLines, lines, kLineFloats);
@@ -503,8 +514,35 @@ Status Renderer::setLattice(const LatticeView& lattice) {
         return Status::success();
     }
     s.uploadBatch(s.latticeEdges, edges, kLineFloats);
-    s.uploadBatch(s.latticePoints, markers, kMarkerFloats);
+    s.uploadLatticeMarkers(markers);
     return Status::success();
+}
+
+void Renderer::State::uploadLatticeMarkers(const std::vector<float>& markers) {
+    uploadBatch(latticePoints, markers, kMarkerFloats);
+    plainMarkerCentres.clear();
+    // note: the depth-faded markers are the unselected ones (buildLatticeInstances); the selection keeps its size.
+    for (size_t m = 0; m + kMarkerFloats <= markers.size(); m += kMarkerFloats)
+        if (markers[m + 9] > 0.5f) plainMarkerCentres.emplace_back(markers[m], markers[m + 1], markers[m + 2]);
+    crowdStale = true;
+}
+
+float Renderer::State::markerCrowding(const glm::mat4& viewProjection, int width, int height) const {
+    if (!crowdStale && viewProjection == crowdViewProjection && crowdViewport == glm::ivec2(width, height)) return crowdScale;
+    std::vector<glm::vec2> pixels;
+    pixels.reserve(plainMarkerCentres.size());
+    for (const glm::vec3& centre : plainMarkerCentres) {
+        const glm::vec4 clip = viewProjection * glm::vec4(centre, 1.0f);
+        if (!(clip.w > 0.0f)) continue;
+        const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+        if (std::abs(ndc.x) > 1.0f || std::abs(ndc.y) > 1.0f) continue;  // off screen: crowds nothing
+        pixels.emplace_back((ndc.x + 1.0f) * 0.5f * float(width), (1.0f - ndc.y) * 0.5f * float(height));
+    }
+    crowdScale = crowdedMarkerScale(pixels, kControlPointSize * pixelScale);
+    crowdViewProjection = viewProjection;
+    crowdViewport = glm::ivec2(width, height);
+    crowdStale = false;
+    return crowdScale;
 }
 
 Status Renderer::setConstraints(const ConstraintView& constraints) {
@@ -544,12 +582,13 @@ void Renderer::State::drawLines(const InstanceBatch& batch, const glm::mat4& vie
 }
 
 void Renderer::State::drawPoints(const InstanceBatch& batch, const glm::mat4& viewProjection, int width,
-                                 int height, float alphaScale, const glm::vec3& depthFade) const {
+                                 int height, float alphaScale, const glm::vec3& depthFade, float crowd) const {
     if (batch.count == 0) return;
     gl.UseProgram(pointProgram);
     gl.UniformMatrix4fv(pointUniforms.viewProjection, 1, GL_FALSE, glm::value_ptr(viewProjection));
     gl.Uniform2f(pointUniforms.viewport, float(width), float(height));
     gl.Uniform1f(pointUniforms.sizeScale, pixelScale);
+    gl.Uniform1f(pointUniforms.crowdScale, crowd);
     gl.Uniform1f(pointUniforms.alphaScale, alphaScale);
     gl.Uniform3f(pointUniforms.depthFade, depthFade.x, depthFade.y, depthFade.z);
     gl.BindVertexArray(batch.vao);
@@ -567,13 +606,15 @@ void Renderer::State::drawLattice(const glm::mat4& view, const glm::mat4& projec
     };
     const glm::vec3 fade(deviceDepth(std::min(center.z + radius, 0.0f)), deviceDepth(center.z - radius), kLatticeFarAlpha);
     const glm::mat4 viewProjection = projection * view;
+    // Markers that crowd on screen shrink, so the mesh shows between them.
+    const float crowd = markerCrowding(viewProjection, width, height);
     // Two passes: the parts behind the mesh faint, the visible parts at full (still translucent) strength.
     gl.DepthFunc(GL_GREATER);
     drawLines(latticeEdges, viewProjection, width, height, kLatticeEdgeWidth, kNoTint, kOccludedAlpha, fade);
-    drawPoints(latticePoints, viewProjection, width, height, kOccludedAlpha, fade);
+    drawPoints(latticePoints, viewProjection, width, height, kOccludedAlpha, fade, crowd);
     gl.DepthFunc(GL_LEQUAL);
     drawLines(latticeEdges, viewProjection, width, height, kLatticeEdgeWidth, kNoTint, 1.0f, fade);
-    drawPoints(latticePoints, viewProjection, width, height, 1.0f, fade);
+    drawPoints(latticePoints, viewProjection, width, height, 1.0f, fade, crowd);
 }
 
 void Renderer::State::drawJacobianLegend(const DrawOptions& options, int width, int height) const {
@@ -694,8 +735,12 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
 }
 
 void Renderer::setMeshProxyOptions(const MeshProxyOptions& options) { state_->proxyOptions = options; }
-void Renderer::setPixelScale(float scale) { state_->pixelScale = scale > 0.0f ? scale : 1.0f; }
+void Renderer::setPixelScale(float scale) {
+    state_->pixelScale = scale > 0.0f ? scale : 1.0f;
+    state_->crowdStale = true;
+}
 float Renderer::pixelScale() const { return state_->pixelScale; }
+float Renderer::lastMarkerCrowding() const { return state_->crowdScale; }
 int Renderer::vertexCount() const { return int(state_->positions.rows()); }
 int Renderer::triangleCount() const { return int(state_->triangles.rows()); }
 int Renderer::proxyTriangleCount() const { return int(state_->proxyIndexCount / 3); }

@@ -87,6 +87,9 @@ public:
     // Screen-space sizes (line widths, marker diameters) are multiplied by this; 2 for a HiDPI window.
     void setPixelScale(float scale);
     float pixelScale() const;
+    // The factor the last draw() that drew the lattice shrank its unselected control-point markers by, where
+    // they crowd on screen (crowdedMarkerScale, overlay_geometry.h): 1 when they do not.
+    float lastMarkerCrowding() const;
 
     int vertexCount() const;
     int triangleCount() const;

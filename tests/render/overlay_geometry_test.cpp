@@ -171,3 +171,43 @@ TEST_CASE("overlay geometry: a net lattice draws its net edges, its curves and o
     CHECK(edges.size() == size_t(3) * render::kLineFloats);
     CHECK(markers.empty());
 }
+
+TEST_CASE("overlay geometry: markers shrink only where they crowd on screen", "[gl]") {
+    constexpr float d = render::kControlPointSize;
+    // A square grid of n x n markers `spacing` diameters apart, each drawn `copies` times at the same pixel.
+    const auto grid = [&](int n, float spacing, int copies) {
+        std::vector<glm::vec2> pixels;
+        for (int c = 0; c < copies; ++c)
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) pixels.emplace_back(100.0f + i * spacing * d, 50.0f + j * spacing * d);
+        return pixels;
+    };
+    // Three diameters apart or more: no other marker within two diameters of any.
+    CHECK(render::crowdedMarkerScale(grid(8, 5.0f, 1), d) == 1.0f);
+    CHECK(render::crowdedMarkerScale(grid(8, 3.0f, 1), d) == 1.0f);
+    // Two apart: an inner marker has 8 of the 24 cells around it filled, one on the border 5, a corner 3; for
+    // 12 x 12 the mean is (a^2 - 1) / 24 with a = 34/12 neighbours per axis (itself included). Shrunk so their
+    // area falls back to the limit's share.
+    const double a = 34.0 / 12.0, crowding = (a * a - 1.0) / 24.0;
+    const float spaced = render::crowdedMarkerScale(grid(12, 2.0f, 1), d);
+    CHECK(spaced == Approx(std::sqrt(render::kCrowdedMarkerShare / crowding)));
+    CHECK(spaced > render::kMinCrowdedMarkerScale);
+    // Packed edge to edge: as small as they get, never smaller.
+    CHECK(render::crowdedMarkerScale(grid(20, 1.0f, 1), d) == render::kMinCrowdedMarkerScale);
+    const float heap = render::crowdedMarkerScale(grid(20, 0.2f, 1), d);
+    CHECK(heap < 1.0f);
+    CHECK(heap >= render::kMinCrowdedMarkerScale);
+    // Markers drawn over each other (a grid seen along an axis) crowd no more than one of them.
+    CHECK(render::crowdedMarkerScale(grid(8, 5.0f, 6), d) == 1.0f);
+    // A dense core inside a sparse ring (a ball's poles and axis seen from afar): crowded where most markers
+    // are, however much empty space the ring spans.
+    std::vector<glm::vec2> ball = grid(6, 1.0f, 1);
+    for (int k = 0; k < 40; ++k) {
+        const float angle = 2.0f * 3.14159265f * static_cast<float>(k) / 40.0f;
+        ball.emplace_back(110.0f + 100.0f * std::cos(angle), 60.0f + 100.0f * std::sin(angle));
+    }
+    CHECK(render::crowdedMarkerScale(ball, d) < 0.8f);
+    // Nothing to crowd.
+    CHECK(render::crowdedMarkerScale({}, d) == 1.0f);
+    CHECK(render::crowdedMarkerScale({glm::vec2(3.0f, 4.0f)}, d) == 1.0f);
+}

@@ -6,7 +6,12 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <set>
 
@@ -20,8 +25,10 @@
 #include "core/lattice_net.h"
 #include "gl_test_support.h"
 #include "io/lattice_json.h"
+#include "io/png_image.h"
 #include "offscreen_window.h"
 #include "render/overlay_geometry.h"
+#include "render/palette.h"
 #include "window_test_support.h"
 
 using namespace sculpt;
@@ -69,13 +76,28 @@ struct Ui {
         frame();
         frame();  // auto-resize and the panel's recorded rectangles settle a frame later
     }
-    // Clicks the Lattices panel's item `label` where it was drawn last frame.
-    void click(const std::string& label) {
+    // Where the Lattices panel's item `label` was drawn last frame.
+    app::LatticesPanelState::ItemRect rect(const std::string& label) {
         const std::vector<app::LatticesPanelState::ItemRect>& items = sculptApp.state().lattices.items;
         const auto item = std::find_if(items.begin(), items.end(), [&](const auto& r) { return r.label == label; });
         INFO("Lattices panel item " << label);
         REQUIRE(item != items.end());
-        clickAt(0.5f * (item->x0 + item->x1), 0.5f * (item->y0 + item->y1));
+        return *item;
+    }
+    // Clicks the Lattices panel's item `label` where it was drawn last frame.
+    void click(const std::string& label) {
+        const app::LatticesPanelState::ItemRect item = rect(label);
+        clickAt(0.5f * (item.x0 + item.x1), 0.5f * (item.y0 + item.y1));
+    }
+    // Opens the panel (its header) and chooses the shipped cylinder in the library combo.
+    void openPanelWithCylinder() {
+        click("Lattices");
+        REQUIRE(sculptApp.state().lattices.libraryLoaded);
+        const std::vector<app::LatticeLibraryEntry>& library = sculptApp.state().lattices.library;
+        const auto cylinder = std::find_if(library.begin(), library.end(), [](const auto& e) { return e.name == "cylinder"; });
+        REQUIRE(cylinder != library.end());
+        sculptApp.state().lattices.libraryChoice = static_cast<int>(cylinder - library.begin());
+        frame();
     }
     void appKey(app::Key key, app::Modifiers m = {}) { sculptApp.onKey({key, app::KeyAction::Press, m}, {}); }
     void undo() { appKey(app::Key::Z, {false, true, false, false}); }
@@ -294,8 +316,15 @@ TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px mov
     INFO(state.status);
     REQUIRE(state.drag.active);
     REQUIRE(state.tools.lattice.points == std::vector<int>{rep});
+    // Pressed: selected, not moving yet (the status line once said "Moving 1 control point..." here, and
+    // kept it after a mere click).
+    const std::array<int, 3> ijk = lattice.ijk(rep);
+    CHECK(state.status == "Selected control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
+                              std::to_string(ijk[2]) + "] - drag to move it, G to grab.");
     sculptApp.onMouseMove({start.x(), start.y() - 5.0, {}}, {});
+    CHECK(state.status.rfind("Moving 1 control point: ", 0) == 0);
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, start.x(), start.y() - 5.0, {}}, {});
+    CHECK(state.status.rfind("Drag recorded as one undo step", 0) == 0);
     CHECK(session.history().size() == history + 1);
     // Every copy of the welded point moved by the same displacement, and the point is drawn where the cursor is.
     const Eigen::RowVector3d moved = lattice.displacement.row(rep);
@@ -307,6 +336,286 @@ TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px mov
     CHECK((session.positions() - before).rowwise().norm().maxCoeff() > 1e-3);
     sculptApp.onKey({app::Key::Z, app::KeyAction::Press, {false, true, false, false}}, {});
     CHECK((session.positions() - before).cwiseAbs().maxCoeff() < 1e-9);
+}
+
+// Issue: the list box and the lines under it changed height with the state (number of tools, the selected
+// tool's description, the mode line, the placing prompt), so the buttons jumped as the user clicked. Every
+// state below draws them at the same pixels.
+TEST_CASE("window lattices: the panel's buttons stay where they are whatever the list and the lines under it say", "[gl][effd]") {
+    Ui ui;
+    if (!ui.open()) return;
+    app::AppState& state = ui.sculptApp.state();
+    core::Session& session = state.session;
+    ui.openPanelWithCylinder();
+    const std::vector<std::string> labels = {"Freeze", "Unfreeze", "Remove", "Move on mesh", "Save to library...",
+                                             "library", "Open...", "Add", "Place on mesh"};
+    const auto layout = [&](const char* name) {
+        ui.frame();
+        ui.frame();  // the Tools window's auto-resize settles a frame later
+        render::Rgba8Image image;
+        REQUIRE(ui.window.frame(&image).ok);
+        CHECK(io::writePng(test::glTestOutputDir() + "/lattices_panel_" + name + ".png", image.width, image.height,
+                           image.pixels.data()).ok);
+        std::vector<std::array<float, 4>> rects;
+        for (const std::string& label : labels) {
+            const app::LatticesPanelState::ItemRect r = ui.rect(label);
+            rects.push_back({r.x0, r.y0, r.x1, r.y1});
+        }
+        return rects;
+    };
+    const auto reference = layout("empty");  // no tools: "None yet" in the list, the edit-mode line
+    ui.click("Add");
+    REQUIRE(session.latticeTools().size() == 1);
+    CHECK(layout("one") == reference);  // one tool, selected: its description under the list
+    state.lattices.selectedTool = -1;
+    CHECK(layout("unselected") == reference);
+    // A ball's description is longer than a cylinder's.
+    const std::vector<app::LatticeLibraryEntry>& library = state.lattices.library;
+    const auto ball = std::find_if(library.begin(), library.end(), [](const auto& e) { return e.name == "ball"; });
+    REQUIRE(ball != library.end());
+    for (int t = 0; t < 6; ++t) app::addLatticeFromLibrary(state, static_cast<int>(ball - library.begin()));
+    REQUIRE(session.latticeTools().size() == 7);  // more than the list's rows: it scrolls
+    CHECK(layout("seven") == reference);
+    // Frozen (a cylinder around the mesh's middle holds vertices): the mode line names it.
+    core::OpReport added;
+    REQUIRE(session.addLatticeTool(cylinderTool(), added));
+    app::freezeLatticeCommand(state, 7, 0);
+    INFO(state.status);
+    REQUIRE(session.frozenTool() == 7);
+    state.lattices.selectedTool = 7;
+    CHECK(layout("frozen") == reference);
+    ui.click("tool 0");
+    app::beginPlacingLattice(state, app::LatticesPanelState::Placing::LibraryEntry);  // the orange prompt
+    CHECK(layout("placing") == reference);
+}
+
+// Issue: a press that came in the same frame as the move carrying the cursor off the panel (just after
+// clicking "Move on mesh") onto the mesh was lost: Dear ImGui's io.WantCaptureMouse is computed at NewFrame for
+// where the cursor was then (over the button), and the window passed that flag with the press. It now asks
+// SculptApp::uiCaptureAt for the press's own point (glfw_main.cpp does the same).
+TEST_CASE("window lattices: a press in the same frame as the move off the panel onto the mesh is a press", "[gl][effd]") {
+    Ui ui;
+    if (!ui.open()) return;
+    app::AppState& state = ui.sculptApp.state();
+    core::Session& session = state.session;
+    ui.openPanelWithCylinder();
+    ui.click("Add");
+    REQUIRE(session.latticeTools().size() == 1);
+    REQUIRE(state.lattices.selectedTool == 0);
+    ui.click("Move on mesh");
+    REQUIRE(state.lattices.placing == app::LatticesPanelState::Placing::Tool);
+    // The cursor is still over the button as far as ImGui knows: its flag (what the window used to pass)
+    // says the UI has the mouse.
+    CHECK(ImGui::GetIO().WantCaptureMouse);
+    CHECK(app::SculptApp::uiCapture().mouse);
+    // The move to the mesh's middle and the press there, between two frames.
+    const double x = 0.5 * kWidth, y = 0.5 * Ui::kPanelHeight;
+    CHECK_FALSE(app::SculptApp::uiCaptureAt(x, y).mouse);
+    app::Ray ray;
+    REQUIRE(app::rayThroughPixel(state.camera, kWidth, Ui::kPanelHeight, x, y, ray));
+    const app::SurfaceHit hit = app::intersectMesh(ray, session.positions(), session.triangles());
+    REQUIRE(hit.triangle >= 0);
+    const size_t history = session.history().size();
+    ui.sculptApp.onMouseMove({x, y, {}}, app::SculptApp::uiCapture());
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, app::SculptApp::uiCaptureAt(x, y));
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x, y, {}}, app::SculptApp::uiCaptureAt(x, y));
+    INFO(state.status);
+    CHECK(state.lattices.placing == app::LatticesPanelState::Placing::None);
+    REQUIRE(session.history().size() == history + 1);
+    const core::LatticeNet& moved = *session.latticeTools()[0].volume->tensorNet();
+    CHECK((moved.bounds.center() - hit.point).norm() < 1e-9 * test::boundsDiagonal(session.positions()) + 1e-12);
+
+    // The other way round: the cursor was over the mesh at the last frame, and the press comes on the panel's
+    // "Add" button together with the move there. It is the panel's click, not a sculpt drag.
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = ImVec2(static_cast<float>(x), static_cast<float>(y));
+    ui.frame();
+    REQUIRE_FALSE(io.WantCaptureMouse);
+    const app::LatticesPanelState::ItemRect add = ui.rect("Add");
+    const double ax = 0.5 * (add.x0 + add.x1), ay = 0.5 * (add.y0 + add.y1);
+    CHECK(app::SculptApp::uiCaptureAt(ax, ay).mouse);
+    const Positions before = session.positions();
+    ui.sculptApp.onMouseMove({ax, ay, {}}, app::SculptApp::uiCapture());
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, ax, ay, {}}, app::SculptApp::uiCaptureAt(ax, ay));
+    CHECK_FALSE(state.drag.active);
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, ax, ay, {}}, app::SculptApp::uiCaptureAt(ax, ay));
+    CHECK(session.positions() == before);
+    CHECK(session.history().size() == history + 1);
+
+    // Lattice point editing alike: the frozen cylinder's axis point, pressed right after the cursor left the panel.
+    core::OpReport added;
+    REQUIRE(session.addLatticeTool(cylinderTool(), added));
+    app::freezeLatticeCommand(state, 1, 0);
+    REQUIRE(session.frozenTool() == 1);
+    ui.appKey(app::Key::Tab);
+    REQUIRE(state.tools.mode == app::ToolMode::Lattice);
+    ui.frame();
+    const app::LatticesPanelState::ItemRect freeze = ui.rect("Freeze");
+    io.MousePos = ImVec2(0.5f * (freeze.x0 + freeze.x1), 0.5f * (freeze.y0 + freeze.y1));
+    ui.frame();
+    REQUIRE(io.WantCaptureMouse);
+    const core::Lattice& lattice = session.lattice();
+    const int rep = lattice.representative(lattice.index(0, 1, 1));
+    const Eigen::Vector2d point = test::pixelOf(state, session.cagePoints().row(rep).transpose());
+    ui.sculptApp.onMouseMove({point.x(), point.y(), {}}, app::SculptApp::uiCapture());
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, point.x(), point.y(), {}},
+                               app::SculptApp::uiCaptureAt(point.x(), point.y()));
+    CHECK(state.drag.active);
+    CHECK(state.tools.lattice.points == std::vector<int>{rep});
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, point.x(), point.y(), {}},
+                               app::SculptApp::uiCaptureAt(point.x(), point.y()));
+}
+
+// Issue: a small frozen lattice (a library ball placed at a quarter of the mesh's size) drew a dense cloud of
+// control-point markers that hid the mesh. Markers that crowd on screen shrink (render::crowdedMarkerScale,
+// the same in screenshots); the box lattice at its usual framing keeps its markers as they were.
+TEST_CASE("window lattices: the markers of a small frozen lattice shrink so the mesh shows between them", "[gl][effd]") {
+    Ui ui;
+    if (!ui.open()) return;
+    app::AppState& state = ui.sculptApp.state();
+    core::Session& session = state.session;
+    ui.appKey(app::Key::Tab);  // the lattice tool: the box lattice drawn
+    REQUIRE(app::latticeShown(state));
+    ui.frame();
+    CHECK(ui.sculptApp.renderer().lastMarkerCrowding() == 1.0f);
+    ui.appKey(app::Key::Tab);
+
+    ui.openPanelWithCylinder();
+    const std::vector<app::LatticeLibraryEntry>& library = state.lattices.library;
+    const auto ball = std::find_if(library.begin(), library.end(), [](const auto& e) { return e.name == "ball"; });
+    REQUIRE(ball != library.end());
+    state.lattices.libraryChoice = static_cast<int>(ball - library.begin());
+    ui.frame();
+    ui.click("Place on mesh");
+    const double x = 0.5 * kWidth, y = 0.45 * Ui::kPanelHeight;  // between the panels
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, app::SculptApp::uiCaptureAt(x, y));
+    ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x, y, {}}, app::SculptApp::uiCaptureAt(x, y));
+    REQUIRE(session.latticeTools().size() == 1);
+    app::freezeLatticeCommand(state, 0, 0);  // the panel's Freeze; turns the Lattice overlay on
+    INFO(state.status);
+    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(app::latticeShown(state));
+    ui.frame();
+    render::Rgba8Image image;
+    REQUIRE(ui.window.frame(&image).ok);
+    CHECK(io::writePng(test::glTestOutputDir() + "/window_small_frozen_ball.png", image.width, image.height, image.pixels.data()).ok);
+    const float crowd = ui.sculptApp.renderer().lastMarkerCrowding();
+    INFO("marker scale " << crowd);
+    CHECK(crowd < 0.8f);
+    CHECK(crowd >= render::kMinCrowdedMarkerScale);
+    // Selecting every point keeps them at full size (the selection is what the user works with), and the
+    // crowding is measured on the unselected ones only.
+    ui.appKey(app::Key::Tab);
+    ui.appKey(app::Key::A);
+    REQUIRE_FALSE(state.tools.lattice.points.empty());
+    ui.frame();
+    CHECK(ui.sculptApp.renderer().lastMarkerCrowding() == 1.0f);
+}
+
+namespace {
+
+// Sets an environment variable for one scope (the user's data folder of the Save-to-library test).
+class ScopedEnvironment {
+public:
+    ScopedEnvironment(const char* name, const std::string& value) : name_(name) {
+        const char* old = std::getenv(name);
+        had_ = old != nullptr;
+        if (had_) old_ = old;
+        setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnvironment() {
+        if (had_) setenv(name_, old_.c_str(), 1);
+        else unsetenv(name_);
+    }
+    ScopedEnvironment(const ScopedEnvironment&) = delete;
+    ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+
+private:
+    const char* name_;
+    bool had_ = false;
+    std::string old_;
+};
+
+std::string fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+// Issue: "Save to library" opened in the shipped assets/lattices with a shipped file's name ("cylinder"),
+// inviting the user to replace a shipped tool. It opens in the user's library folder (XDG_DATA_HOME, made on
+// demand) with a fresh name; the library lists the shipped and the user's lattices; the shipped folder is
+// never written.
+TEST_CASE("window lattices: Save to library writes a fresh name to the user's folder and never over a shipped tool", "[gl][effd]") {
+    namespace fs = std::filesystem;
+    const std::string data = test::glTestOutputDir() + "/xdg-data";
+    fs::remove_all(data);
+    const ScopedEnvironment xdg("XDG_DATA_HOME", data);
+    const std::string userFolder = data + "/dmffd-sculpt/lattices";
+    REQUIRE(app::userLatticeFolder() == userFolder);
+    REQUIRE_FALSE(fs::exists(userFolder));  // made by the first save, not before
+    const std::string shippedCylinder = app::latticeLibraryFolder() + "/cylinder.lattice.json";
+    const std::string shippedBytes = fileBytes(shippedCylinder);
+    REQUIRE_FALSE(shippedBytes.empty());
+
+    Ui ui;
+    if (!ui.open()) return;
+    app::AppState& state = ui.sculptApp.state();
+    app::FileCommands& files = ui.sculptApp.files();
+    ui.openPanelWithCylinder();
+    ui.click("Add");
+    REQUIRE(state.session.latticeTools().size() == 1);
+    REQUIRE(state.session.latticeTools()[0].name == "cylinder");
+
+    ui.click("Save to library...");
+    REQUIRE(files.dialog().isOpen());
+    CHECK(files.dialog().mode() == app::FileDialogMode::Save);
+    CHECK(fs::is_directory(userFolder));  // made on demand
+    CHECK(fs::equivalent(files.dialog().folder(), userFolder));
+    CHECK(files.dialog().typedName() == "cylinder 2.lattice.json");  // "cylinder" is the shipped one's name
+    REQUIRE(files.dialog().submit(files.dialog().typedName()));
+    files.dialogAccepted(state);
+    INFO(state.status);
+    CHECK_FALSE(state.statusIsError);
+    const std::string saved = userFolder + "/cylinder 2.lattice.json";
+    io::LatticeFile file;
+    REQUIRE(io::readLatticeFile(saved, file).ok);
+    CHECK(file.name == "cylinder 2");  // the library's name is the file's
+    CHECK(file.volume->restControlPoints() == state.session.latticeTools()[0].volume->restControlPoints());
+    const std::vector<app::LatticeLibraryEntry>& library = state.lattices.library;
+    const auto listed = std::find_if(library.begin(), library.end(), [&](const auto& e) { return fs::path(e.path) == fs::path(saved); });
+    REQUIRE(listed != library.end());
+    CHECK(listed->name == "cylinder 2");
+    // The next save proposes the next name.
+    ui.frame();  // the dialog's modal closes
+    ui.click("Save to library...");
+    REQUIRE(files.dialog().isOpen());
+    CHECK(files.dialog().typedName() == "cylinder 3.lattice.json");
+    // Typed over a shipped file, "Replace?" answered yes: refused, the shipped file as it was.
+    CHECK_FALSE(files.dialog().submit(shippedCylinder));
+    CHECK(files.dialog().confirmReplace(true));
+    files.dialogAccepted(state);
+    CHECK(state.statusIsError);
+    CHECK(state.status.find("shipped") != std::string::npos);
+    CHECK(fileBytes(shippedCylinder) == shippedBytes);
+    CHECK_FALSE(app::saveLatticeToolCommand(state, 0, shippedCylinder).ok);
+    CHECK(fileBytes(shippedCylinder) == shippedBytes);
+
+    // A fresh start lists the shipped lattices and the user's (one more written meanwhile by hand).
+    app::AppState fresh;
+    REQUIRE(io::writeLatticeFile(userFolder + "/my ring.lattice.json", {"my ring", cylinderTool().volume}).ok);
+    app::loadLatticeLibraries(fresh);
+    std::set<std::string> names;
+    for (const app::LatticeLibraryEntry& e : fresh.lattices.library) names.insert(e.name);
+    CHECK(names.count("cylinder") == 1);
+    CHECK(names.count("ball") == 1);
+    CHECK(names.count("cylinder 2") == 1);
+    CHECK(names.count("my ring") == 1);
+    CHECK(app::freshLatticeName(fresh, "my ring", userFolder) == "my ring 2");
+    CHECK(app::freshLatticeName(fresh, "cylinder 2", userFolder) == "cylinder 3");
+    CHECK(app::freshLatticeName(fresh, "pie", userFolder) == "pie");
+    CHECK(app::freshLatticeName(fresh, "a/b", userFolder) == "a-b");
 }
 
 TEST_CASE("golden: a frozen cylinder lattice drawn with curved edges over the default mesh", "[gl][golden][effd]") {

@@ -187,6 +187,10 @@ TEST_CASE("window tools: the lattice tool picks the control point under the curs
         REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, points.row(picked).transpose(), px, py));
         CHECK(std::hypot(px - x, py - y) <= 1.0 + 1e-9);
         CHECK(state.session.history().empty());  // a click without a move changes nothing
+        // and says so: the point is selected, nothing is "Moving" (it said so once, after a mere click).
+        INFO(state.status);
+        CHECK(state.status.rfind("Selected control point [", 0) == 0);
+        CHECK(state.status.find("Moving") == std::string::npos);
     }
     for (int trial = 0; trial < 20; ++trial) {
         std::uniform_real_distribution<double> ux(0, kWidth), uy(0, kHeight);
@@ -258,7 +262,12 @@ TEST_CASE("window tools: dragging selected control points is one undoable edit; 
         if (!state.drag.active) continue;  // the marker under the cursor was a pinned or unselected one
         REQUIRE(state.drag.kind == app::DragKind::Control);
         const std::vector<int> selection = state.tools.lattice.points;
-        for (int m = 1; m <= 4; ++m) sculptApp.onMouseMove({x + 6.0 * m, y - 8.0 * m, {}}, {});
+        CHECK(state.status.find("Moving") == std::string::npos);  // pressed, not moved yet
+        for (int m = 1; m <= 4; ++m) {
+            sculptApp.onMouseMove({x + 6.0 * m, y - 8.0 * m, {}}, {});
+            INFO(state.status);
+            CHECK(state.status.rfind("Moving ", 0) == 0);  // while it moves
+        }
         sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x + 24, y - 32, {}}, {});
         if (state.session.history().empty()) continue;  // refused as folding
         REQUIRE(state.session.history().size() == 1);

@@ -55,16 +55,17 @@ void setStatus(AppState& state, const std::string& text, bool isError) {
     state.statusIsError = isError;
 }
 
-void reportOperation(AppState& state, const core::OpReport& report, const Status& status) {
+void reportOperation(AppState& state, const core::OpReport& report, const Status& status, const std::string& named) {
     state.hasReport = true;
     state.lastReport = report;
     state.stats.solveMs = report.wallMs;
     if (!status) {
-        setStatus(state, report.op + " failed: " + status.message, true);
+        setStatus(state, (named.empty() ? report.op : named) + " failed: " + status.message, true);
         return;
     }
     // In the user's words: what was done, then what happened.
-    const std::string what = report.op == "move_control_point" ? "Control point move" : report.op == "drag" ? "Drag" : report.op;
+    const std::string what = !named.empty() ? named
+                           : report.op == "move_control_point" ? "Control point move" : report.op == "drag" ? "Drag" : report.op;
     std::string text;
     if (report.status == core::OpStatus::Rejected) {
         text = what + ": " + (report.reason.empty() ? report.injectivity : report.reason);

@@ -71,6 +71,7 @@ struct DragState {
     std::vector<Eigen::Vector3d> starts;   // Surface: each constraint's source at the press
     std::vector<Eigen::Vector3d> targets;  // Surface: each constraint's current target
     std::vector<int> moving;               // Surface: constraints that follow the cursor (the rest are held)
+    std::vector<int> controlPoints;        // Control: the control points that move (the selection less its pins)
     std::vector<int> constraintHandles;    // Surface: per constraint, its handle (ToolState::handles) or -1
     int moves = 0, refused = 0;                             // updates, and how many were rejected
     double brushRadius = 0.0;  // Surface: the brush radius of this drag in world units (0: the whole cage)
@@ -144,8 +145,9 @@ void installSession(AppState& state, core::Session&& session, const std::string&
 
 // Records what the last session command moved into state.gpu (sparse when the session says so).
 void noteSessionMoved(AppState& state);
-// Puts a command's report on the status line ("what: verdict (why)").
-void reportOperation(AppState& state, const core::OpReport& report, const Status& status);
+// Puts a command's report on the status line ("what: verdict (why)"). what: the user's words for the operation
+// ("Moving 2 control points"); empty: named after report.op ("Control point move").
+void reportOperation(AppState& state, const core::OpReport& report, const Status& status, const std::string& what = {});
 void setStatus(AppState& state, const std::string& text, bool isError);
 
 void undoCommand(AppState& state);

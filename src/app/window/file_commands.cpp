@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <system_error>
 #include <utility>
 
 #include <imgui.h>
@@ -554,11 +555,18 @@ void FileCommands::openDialog(DialogPurpose purpose, const PendingAction& then) 
         case DialogPurpose::SaveScreenshot:
             dialog_.open(FileDialogMode::Save, "Save screenshot", kImageExtensions, folder, stem + ".png");
             break;
-        case DialogPurpose::OpenLattice:
-            dialog_.open(FileDialogMode::Open, "Open lattice", kLatticeExtensions, latticeLibraryFolder());
+        case DialogPurpose::OpenLattice: {
+            // The user's own lattices (the shipped ones are listed in the panel already).
+            const std::string user = userLatticeFolder();
+            std::error_code ec;
+            dialog_.open(FileDialogMode::Open, "Open lattice", kLatticeExtensions,
+                         !user.empty() && fs::is_directory(user, ec) ? user : latticeLibraryFolder());
             break;
+        }
         case DialogPurpose::SaveLattice:
-            dialog_.open(FileDialogMode::Save, "Save lattice to library", kLatticeExtensions, latticeLibraryFolder(),
+            // note: the user's folder with a name no library entry has, never the shipped folder with a shipped
+            // tool's name (that invited replacing it; saveLatticeToolCommand refuses the shipped folder anyway).
+            dialog_.open(FileDialogMode::Save, "Save lattice to library", kLatticeExtensions, latticeSaveFolder_,
                          latticeToSaveName_ + ".lattice.json");
             break;
     }
@@ -575,7 +583,7 @@ void FileCommands::dialogAccepted(AppState& state) {
         case DialogPurpose::SaveSession: startSave(state, JobKind::SaveSession, path, then); break;
         case DialogPurpose::SaveScreenshot: requestScreenshot(path); break;
         case DialogPurpose::OpenLattice: app::openLatticeFile(state, path); break;
-        case DialogPurpose::SaveLattice: saveLatticeToolCommand(state, latticeToSave_, path); break;
+        case DialogPurpose::SaveLattice: saveLatticeToolCommand(state, latticeToSave_, path, latticeNameOfPath(path)); break;
     }
 }
 
@@ -655,7 +663,18 @@ void FileCommands::saveLatticeFile(AppState& state, int tool) {
     const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
     if (tool < 0 || tool >= static_cast<int>(tools.size())) return;
     latticeToSave_ = tool;
-    latticeToSaveName_ = tools[static_cast<size_t>(tool)].name;
+    // The user's library folder, made on demand; where it cannot be made, the working folder (and the status
+    // line says why).
+    latticeSaveFolder_ = userLatticeFolder();
+    std::error_code ec;
+    if (latticeSaveFolder_.empty() || (fs::create_directories(latticeSaveFolder_, ec), ec)) {
+        setStatus(state, latticeSaveFolder_.empty()
+                             ? std::string("No home folder (HOME) for your lattice library: choose where to save.")
+                             : "Cannot make your lattice library folder " + latticeSaveFolder_ + ": " + ec.message(),
+                  true);
+        latticeSaveFolder_ = fs::current_path(ec).string();
+    }
+    latticeToSaveName_ = freshLatticeName(state, tools[static_cast<size_t>(tool)].name, latticeSaveFolder_);
     openDialog(DialogPurpose::SaveLattice);
 }
 
@@ -792,9 +811,11 @@ void FileCommands::drawModals(AppState& state) {
         ImGui::EndPopup();
     }
 
-    if (!wantProgress && !wantPrompt && !wantReplace && dialog_.isOpen()) {
+    if (!wantProgress && !wantPrompt && !wantReplace) {
+        // note: drawn closed too, so that a dialog closed outside its draw() (close(), submit()) closes its modal.
+        const bool wasOpen = dialog_.isOpen();
         if (dialog_.draw()) dialogAccepted(state);
-        if (!dialog_.isOpen() && dialog_.acceptedPath().empty()) dialogThen_ = {};  // cancelled
+        if (wasOpen && !dialog_.isOpen() && dialog_.acceptedPath().empty()) dialogThen_ = {};  // cancelled
     }
 
     const bool wantMessage = !wantProgress && !wantPrompt && !wantReplace && !dialog_.isOpen() && !message_.empty();

@@ -158,8 +158,9 @@ private:
     std::unique_ptr<Job> job_;
     PendingAction afterJob_;  // quit requested while a job ran
     std::string screenshotPath_;
-    int latticeToSave_ = -1;  // SaveLattice: the lattice tool's index, and its name (the file's default)
-    std::string latticeToSaveName_;
+    int latticeToSave_ = -1;  // SaveLattice: the lattice tool's index, the fresh name the file gets by
+    std::string latticeToSaveName_;  // default (freshLatticeName) and the folder the dialog opens in (the
+    std::string latticeSaveFolder_;  // user's library, userLatticeFolder)
     std::unique_ptr<render::GlFunctions> gl_;
     bool quitApproved_ = false;
 };

@@ -113,8 +113,16 @@ bool FileDialog::confirmReplace(bool yes) {
 }
 
 bool FileDialog::draw() {
-    if (!open_) return false;
     const std::string popupId = title_ + "###file_dialog";
+    if (!open_) {
+        // Closed outside draw() (close() on quit, submit() from a test): ImGui's modal is still open and would
+        // take every click. note: BeginPopupModal returns false at once when it is not open.
+        if (ImGui::BeginPopupModal(popupId.c_str(), nullptr, ImGuiWindowFlags_NoSavedSettings)) {
+            ImGui::CloseCurrentPopup();
+            ImGui::EndPopup();
+        }
+        return false;
+    }
     if (!ImGui::IsPopupOpen("###file_dialog")) ImGui::OpenPopup(popupId.c_str());
     const float em = ImGui::GetFontSize();
     const ImGuiViewport* viewport = ImGui::GetMainViewport();

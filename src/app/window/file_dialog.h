@@ -43,6 +43,7 @@ public:
     const std::string& error() const { return error_; }
     const std::string& replaceCandidate() const { return replacePath_; }  // non-empty while asking "Replace?"
     const std::string& acceptedPath() const { return accepted_; }
+    const std::string& typedName() const { return nameBuffer_; }  // the path field: the name a save proposes
 
 private:
     void refresh();

@@ -72,8 +72,10 @@ void onGlfwError(int code, const char* description) {
     std::cerr << "sculpt: GLFW error " << code << ": " << description << "\n";
 }
 
-// note: these are installed before ImGui_ImplGlfw_InitForOpenGL(window, true), which chains to them, so
-// ImGui sees every event first and its WantCapture flags are current when ours run.
+// note: these are installed before ImGui_ImplGlfw_InitForOpenGL(window, true), which chains to them. ImGui's
+// backend (1.86) only notes the events; its WantCapture flags are computed at the next NewFrame, for where the
+// cursor was at the last one. So mouse events ask SculptApp::uiCaptureAt for their own point: a press whose
+// move (off the panel whose button was just clicked, onto the mesh) came in the same frame is still a press.
 void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
     MouseButtonEvent event;
     if (button == GLFW_MOUSE_BUTTON_LEFT) event.button = MouseButton::Left;
@@ -82,9 +84,10 @@ void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
     else return;
     event.action = action == GLFW_PRESS ? ButtonAction::Press : ButtonAction::Release;
     glfwGetCursorPos(window, &event.x, &event.y);
+    const CaptureFlags capture = SculptApp::uiCaptureAt(event.x, event.y);  // window pixels, as ImGui's
     toFramebuffer(window, event.x, event.y);
     event.modifiers = modifiersOf(mods);
-    appOf(window).onMouseButton(event, captureFlags());
+    appOf(window).onMouseButton(event, capture);
 }
 
 void onCursorPos(GLFWwindow* window, double x, double y) {
@@ -96,7 +99,11 @@ void onCursorPos(GLFWwindow* window, double x, double y) {
     appOf(window).onMouseMove(event, captureFlags());
 }
 
-void onScroll(GLFWwindow* window, double dx, double dy) { appOf(window).onScroll({dx, dy}, captureFlags()); }
+void onScroll(GLFWwindow* window, double dx, double dy) {
+    double x = 0.0, y = 0.0;
+    glfwGetCursorPos(window, &x, &y);
+    appOf(window).onScroll({dx, dy}, SculptApp::uiCaptureAt(x, y));
+}
 
 void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) {
     KeyEvent event;

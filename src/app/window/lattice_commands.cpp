@@ -3,6 +3,7 @@
 #include "core/volume_kinds.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <set>
@@ -59,6 +60,67 @@ bool readEntry(const std::string& path, LatticeLibraryEntry& entry, std::string&
 }  // namespace
 
 std::string latticeLibraryFolder() { return (fs::path(defaultMeshPath(nullptr)).parent_path() / "lattices").string(); }
+
+std::string userLatticeFolder() {
+    const char* data = std::getenv("XDG_DATA_HOME");
+    fs::path base;
+    // note: the XDG spec says a relative XDG_DATA_HOME is invalid and to be ignored.
+    if (data && *data && fs::path(data).is_absolute()) {
+        base = data;
+    } else {
+        const char* home = std::getenv("HOME");
+        if (!home || !*home) return {};
+        base = fs::path(home) / ".local" / "share";
+    }
+    return (base / "dmffd-sculpt" / "lattices").lexically_normal().string();
+}
+
+bool inShippedLatticeLibrary(const std::string& path) {
+    std::error_code ec;
+    const fs::path shipped = fs::weakly_canonical(latticeLibraryFolder(), ec);
+    if (ec) return false;
+    const fs::path folder = fs::weakly_canonical(fs::absolute(path, ec).parent_path(), ec);
+    return !ec && folder == shipped;
+}
+
+std::string latticeNameOfPath(const std::string& path) {
+    std::string name = fileNameOfPath(path);
+    const std::string extension = ".lattice.json";
+    if (hasExtension(name, {extension})) name.resize(name.size() - extension.size());
+    return name;
+}
+
+std::string freshLatticeName(const AppState& state, const std::string& toolName, const std::string& folder) {
+    std::string wanted = toolName.empty() ? std::string("lattice") : toolName;
+    std::replace(wanted.begin(), wanted.end(), '/', '-');
+    std::replace(wanted.begin(), wanted.end(), '\\', '-');
+    const std::vector<LatticeLibraryEntry>& library = state.lattices.library;
+    const auto taken = [&](const std::string& name) {
+        std::error_code ec;
+        return std::any_of(library.begin(), library.end(), [&](const LatticeLibraryEntry& e) { return e.name == name; }) ||
+               fs::exists(fs::path(folder) / (name + ".lattice.json"), ec);
+    };
+    if (!taken(wanted)) return wanted;
+    // "cylinder 2" counts on from 2; "cylinder" starts at 2.
+    std::string base = wanted;
+    int number = 1;
+    const size_t space = wanted.find_last_of(' ');
+    if (space != std::string::npos && space + 1 < wanted.size() && space + 10 > wanted.size() &&
+        std::all_of(wanted.begin() + static_cast<std::ptrdiff_t>(space) + 1, wanted.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+        base = wanted.substr(0, space);
+        number = std::stoi(wanted.substr(space + 1));
+    }
+    for (int n = number + 1;; ++n) {
+        const std::string candidate = base + " " + std::to_string(n);
+        if (!taken(candidate)) return candidate;
+    }
+}
+
+void loadLatticeLibraries(AppState& state) {
+    loadLatticeLibrary(state, latticeLibraryFolder());
+    const std::string user = userLatticeFolder();
+    if (!user.empty()) loadLatticeLibrary(state, user);
+}
 
 void loadLatticeLibrary(AppState& state, const std::string& folder) {
     LatticesPanelState& panel = state.lattices;
@@ -154,19 +216,33 @@ void removeLatticeToolCommand(AppState& state, int index) {
     reportLatticeOperation(state, report, s, "Removed lattice " + name);
 }
 
-Status saveLatticeToolCommand(AppState& state, int index, const std::string& path) {
+Status saveLatticeToolCommand(AppState& state, int index, const std::string& path, const std::string& name) {
     const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
     if (index < 0 || index >= static_cast<int>(tools.size()) || !tools[static_cast<size_t>(index)].volume) {
         const Status error = Status::error("there is no lattice " + std::to_string(index));
         setStatus(state, "Lattice not saved: " + error.message, true);
         return error;
     }
+    if (inShippedLatticeLibrary(path)) {
+        const std::string user = userLatticeFolder();
+        const Status error = Status::error("the shipped lattices are never replaced; save yours in " +
+                                           (user.empty() ? std::string("another folder") : user));
+        setStatus(state, "Lattice not saved: " + error.message + ".", true);
+        return error;
+    }
     const core::LatticeTool& tool = tools[static_cast<size_t>(index)];
-    if (Status s = io::writeLatticeFile(path, {tool.name, tool.volume}); !s) {
+    const std::string saved = name.empty() ? tool.name : name;
+    if (Status s = io::writeLatticeFile(path, {saved, tool.volume}); !s) {
         setStatus(state, "Lattice not saved (the file on disk is as it was): " + s.message, true);
         return s;
     }
-    setStatus(state, "Saved lattice " + tool.name + " to " + path + ".", false);
+    // In the library at once, as the file now is (a file replaced through "Replace?" keeps its one entry).
+    std::vector<LatticeLibraryEntry>& library = state.lattices.library;
+    LatticeLibraryEntry entry{path, saved, tool.volume};
+    const auto same = std::find_if(library.begin(), library.end(), [&](const LatticeLibraryEntry& e) { return e.path == path; });
+    if (same != library.end()) *same = std::move(entry);
+    else library.push_back(std::move(entry));
+    setStatus(state, "Saved lattice " + saved + " to " + path + "; it is in the library.", false);
     return Status::success();
 }
 

@@ -14,10 +14,26 @@
 namespace sculpt::app {
 
 // Reads every *.lattice.json of `folder` (sorted by file name) into the panel's library, after the entries
-// the user opened. A file that cannot be read is left out and named on the status line.
+// already there. A file that cannot be read is left out and named on the status line; a missing folder is
+// no error (the user's is made by the first save).
 void loadLatticeLibrary(AppState& state, const std::string& folder);
-// The shipped library folder (assets/lattices beside the default mesh).
+// The library the panel lists: the shipped folder, then the user's (userLatticeFolder).
+void loadLatticeLibraries(AppState& state);
+// The shipped library folder (assets/lattices beside the default mesh). Read-only to the app: a save there
+// is refused (saveLatticeToolCommand).
 std::string latticeLibraryFolder();
+// The user's own library folder, where "Save to library" writes: $XDG_DATA_HOME/dmffd-sculpt/lattices, or
+// ~/.local/share/dmffd-sculpt/lattices when XDG_DATA_HOME is unset or relative (XDG Base Directory spec).
+// Empty when neither is known. Not created here.
+std::string userLatticeFolder();
+// Whether `path` lies in the shipped library folder (compared after resolving links and "..").
+bool inShippedLatticeLibrary(const std::string& path);
+// A name for tool `toolName` saved into `folder` that no library entry and no file there has yet: the tool's
+// own name when it is free, else the next of "cylinder 2", "cylinder 3", ... (a name that ends in a number
+// counts on from it: "cylinder 2" -> "cylinder 3"). Path separators in it become '-', so it is a file name.
+std::string freshLatticeName(const AppState& state, const std::string& toolName, const std::string& folder);
+// The library name of a lattice file: its file name without ".lattice.json" ("cylinder 2.lattice.json" -> "cylinder 2").
+std::string latticeNameOfPath(const std::string& path);
 // Adds a library file the user opened (the file dialog) to the library and chooses it; false, with the
 // reason on the status line, when it cannot be read.
 bool openLatticeFile(AppState& state, const std::string& path);
@@ -34,9 +50,11 @@ void placeLatticeCommand(AppState& state, const core::Volume& volume, const std:
 void freezeLatticeCommand(AppState& state, int index, int pinLayers);
 void unfreezeLatticeCommand(AppState& state);
 void removeLatticeToolCommand(AppState& state, int index);
-// Writes tool `index` to `path` as a library file (io::writeLatticeFile: atomic, an existing file is never
-// damaged by a failed save). The error also goes to the status line.
-Status saveLatticeToolCommand(AppState& state, int index, const std::string& path);
+// Writes tool `index` to `path` as a library file named `name` (empty: the tool's name) with
+// io::writeLatticeFile (atomic: an existing file is never damaged by a failed save), and lists it in the
+// library (replacing the entry of the same path). A path in the shipped library (inShippedLatticeLibrary) is
+// refused: shipped tools are never overwritten. The error also goes to the status line.
+Status saveLatticeToolCommand(AppState& state, int index, const std::string& path, const std::string& name = {});
 
 // "Place at picked point": the next left click on the mesh places (state.lattices.placing). Esc cancels.
 void beginPlacingLattice(AppState& state, LatticesPanelState::Placing what);

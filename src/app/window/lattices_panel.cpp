@@ -27,6 +27,44 @@ bool panelButton(LatticesPanelState& panel, const char* label, bool enabled, flo
     return pressed && enabled;
 }
 
+// The list's height in rows, whatever it holds: more tools scroll, fewer leave it blank, so the buttons under
+// it stay where they are as tools come and go.
+constexpr int kListRows = 5;
+
+// Draws `text` wrapped to the available width in exactly `lines` lines: a shorter text leaves the rest blank,
+// a longer one is cut with "..." (all of it shows on hover). Every state of the panel takes the same height,
+// so the buttons below never jump as the selection or the mode changes.
+void fixedLines(const std::string& text, int lines, const ImVec4& colour) {
+    ImFont* font = ImGui::GetFont();
+    const float scale = ImGui::GetFontSize() / font->FontSize;
+    const float width = std::max(ImGui::GetContentRegionAvail().x, 1.0f);
+    const char* p = text.c_str();
+    const char* const end = p + text.size();
+    bool cut = false;
+    ImGui::BeginGroup();
+    for (int line = 0; line < lines; ++line) {
+        if (p >= end) {
+            ImGui::TextUnformatted("");  // a blank line of the same height
+            continue;
+        }
+        const char* wrap = font->CalcWordWrapPositionA(scale, p, end, width);
+        if (wrap <= p) wrap = p + 1;  // a word wider than the panel: a character per line, never stuck
+        std::string piece(p, wrap);
+        if (!piece.empty() && piece.back() == '\n') piece.pop_back();
+        p = wrap;
+        while (p < end && (*p == ' ' || *p == '\n')) ++p;
+        if (line == lines - 1 && p < end) {
+            cut = true;
+            while (!piece.empty() && ImGui::CalcTextSize((piece + "...").c_str()).x > width) piece.pop_back();
+            while (!piece.empty() && piece.back() == ' ') piece.pop_back();
+            piece += "...";
+        }
+        ImGui::TextColored(colour, "%s", piece.c_str());
+    }
+    ImGui::EndGroup();
+    if (cut && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text.c_str());
+}
+
 }  // namespace
 
 void drawLatticesPanel(AppState& state, FileCommands& files) {
@@ -35,7 +73,7 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     const bool open = ImGui::CollapsingHeader("Lattices");
     recordItem(panel, "Lattices");
     if (!open) return;
-    if (!panel.libraryLoaded) loadLatticeLibrary(state, latticeLibraryFolder());
+    if (!panel.libraryLoaded) loadLatticeLibraries(state);
     const core::Session& session = state.session;
     const std::vector<core::LatticeTool>& tools = session.latticeTools();
     const int frozen = session.frozenTool();
@@ -45,7 +83,7 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     const float half = 0.5f * (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x);
 
     // The mesh's tools: name, shape, and which one is frozen (the cage).
-    const float rows = static_cast<float>(std::clamp(count, 1, 5));
+    const float rows = static_cast<float>(kListRows);
     if (ImGui::BeginListBox("##latticeTools", ImVec2(-1.0f, (rows + 0.4f) * ImGui::GetTextLineHeightWithSpacing()))) {
         if (count == 0) ImGui::TextDisabled("None yet: add one below.");
         for (int t = 0; t < count; ++t) {
@@ -58,11 +96,17 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
         ImGui::EndListBox();
     }
     const bool chosen = panel.selectedTool >= 0 && panel.selectedTool < count;
+    // Under the list, always two lines each: the selected tool, and which lattice is the cage.
+    const ImVec4 text = ImGui::GetStyleColorVec4(ImGuiCol_Text), dim = ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled);
     if (chosen && tools[static_cast<size_t>(panel.selectedTool)].volume)
-        ImGui::TextWrapped("%s", describeLattice(*tools[static_cast<size_t>(panel.selectedTool)].volume).c_str());
-    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-    ImGui::TextWrapped(frozen >= 0 ? "Frozen: drags and the lattice tool work in it." : "Edit mode: the box lattice is the cage.");
-    ImGui::PopStyleColor();
+        fixedLines(describeLattice(*tools[static_cast<size_t>(panel.selectedTool)].volume), 2, text);
+    else
+        fixedLines(count == 0 ? "Once frozen, a lattice tool deforms the part of the mesh inside it."
+                              : "Click a lattice in the list to select it.",
+                   2, dim);
+    fixedLines(frozen >= 0 ? "Frozen: " + tools[static_cast<size_t>(frozen)].name + " is the cage; drags and the lattice tool work in it."
+                           : std::string("Edit mode: the box lattice is the cage."),
+               2, dim);
 
     ImGui::SetNextItemWidth(half);
     if (ImGui::InputInt("Pin layers", &panel.pinLayers)) panel.pinLayers = std::clamp(panel.pinLayers, 0, 2);
@@ -117,8 +161,9 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("Draw the lattice tools that are not frozen (dim grey, at rest), even with the Lattice\n"
                           "overlay off, so you see where they are.");
-    if (panel.placing != LatticesPanelState::Placing::None)
-        ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.3f, 1.0f), "Click on the mesh to place it (Esc cancels).");
+    // Always one line, blank unless a placement waits, so the window's height does not change with it.
+    fixedLines(panel.placing != LatticesPanelState::Placing::None ? "Click on the mesh (Esc cancels)." : "", 1,
+               ImVec4(1.0f, 0.7f, 0.3f, 1.0f));
 }
 
 }  // namespace sculpt::app

@@ -7,6 +7,7 @@
 
 #include <imgui.h>
 #include <imgui_impl_opengl3.h>
+#include <imgui_internal.h>
 
 #include "app/scene_builder.h"
 #include "core/cage_view.h"
@@ -33,6 +34,30 @@ CaptureFlags SculptApp::uiCapture() {
     if (!ImGui::GetCurrentContext()) return {};
     const ImGuiIO& io = ImGui::GetIO();
     return {io.WantCaptureMouse, io.WantCaptureKeyboard || io.WantTextInput || ImGui::IsAnyItemActive()};
+}
+
+CaptureFlags SculptApp::uiCaptureAt(double x, double y) {
+    CaptureFlags capture = uiCapture();
+    if (!ImGui::GetCurrentContext()) return capture;
+    const ImGuiContext& g = *ImGui::GetCurrentContext();
+    const ImGuiIO& io = g.IO;
+    // As ImGui's NewFrame decides io.WantCaptureMouse (imgui.cpp 1.86, UpdateHoveredWindowAndCaptureFlags),
+    // but at the event's point: an open popup takes every click (one outside closes it), a button ImGui owns
+    // keeps the mouse ImGui's, and otherwise the windows of the last frame (what the user sees) decide.
+    bool claimed = g.OpenPopupStack.Size > 0;
+    for (int b = 0; b < IM_ARRAYSIZE(io.MouseDown); ++b) claimed = claimed || (io.MouseDown[b] && io.MouseDownOwned[b]);
+    const ImVec2 point(static_cast<float>(x), static_cast<float>(y));
+    for (int i = g.Windows.Size - 1; i >= 0 && !claimed; --i) {
+        const ImGuiWindow* window = g.Windows[i];
+        if (!window->Active || window->Hidden || (window->Flags & ImGuiWindowFlags_NoMouseInputs)) continue;
+        ImRect bounds = window->OuterRectClipped;
+        const bool resizable = !(window->Flags & (ImGuiWindowFlags_ChildWindow | ImGuiWindowFlags_NoResize |
+                                                  ImGuiWindowFlags_AlwaysAutoResize));
+        bounds.Expand(resizable ? g.WindowsHoverPadding : g.Style.TouchExtraPadding);  // ImGui's own hover margins
+        claimed = bounds.Contains(point);
+    }
+    capture.mouse = claimed;
+    return capture;
 }
 
 Status SculptApp::loadMesh(const std::string& path) { return files_.loadMeshNow(state_, path); }

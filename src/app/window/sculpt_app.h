@@ -58,6 +58,12 @@ public:
     // active or wants text, since io.WantCaptureKeyboard is computed at NewFrame from the frame before and
     // events arrive between frames: the keys typed right after a click into a field go to the field.
     static CaptureFlags uiCapture();
+    // The same for a mouse button or wheel event at (x, y) (Dear ImGui's coordinates: window pixels). Mouse:
+    // whether a UI window drawn last frame lies under (x, y), an ImGui popup is open, or a button ImGui took
+    // is still down. note: not io.WantCaptureMouse, which NewFrame computed for where the cursor was then: a
+    // press that arrives in the same frame as the move that carried the cursor off a panel (its button just
+    // clicked) onto the mesh was taken for the panel's and lost, and one from the mesh onto a panel sculpted.
+    static CaptureFlags uiCaptureAt(double x, double y);
 
     AppState& state() { return state_; }
     const AppState& state() const { return state_; }

@@ -278,7 +278,8 @@ void SculptApp::updateSculpt(double x, double y) {
     ++drag.moves;
     if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state_);
     if (!s || report.status == core::OpStatus::Rejected) ++drag.refused;
-    reportOperation(state_, report, s);
+    reportOperation(state_, report, s,
+                    drag.kind == DragKind::Control ? "Moving " + countOf(drag.controlPoints.size(), "control point") : std::string());
     state_.gpu.fields = true;
 }
 
@@ -357,12 +358,21 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
     drag.planePoint = points.row(hit).transpose();
     drag.planeNormal = towardsEye(state_.camera);
     drag.target = drag.planePoint;
+    drag.controlPoints = movable;
     state_.drag = drag;
     state_.gpu.fields = true;
+    // note: nothing has moved yet (a click only selects): "Moving" is said by updateSculpt, once it moves.
     const size_t pinned = selection.points.size() - movable.size();
-    setStatus(state_, "Moving " + countOf(movable.size(), "control point") +
-                          (pinned > 0 ? " (" + countOf(pinned, "pinned point") + " stay)" : std::string()) + "...",
-              false);
+    std::string text;
+    if (selection.points.size() == 1) {
+        const std::array<int, 3> ijk = session.lattice().ijk(selection.points.front());
+        text = "Selected control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
+               std::to_string(ijk[2]) + "] - drag to move it, G to grab.";
+    } else {
+        text = "Selected " + countOf(selection.points.size(), "control point") + " - drag one to move them, G to grab" +
+               (pinned > 0 ? " (" + countOf(pinned, "pinned point") + (pinned == 1 ? " stays)." : " stay).") : std::string("."));
+    }
+    setStatus(state_, text, false);
 }
 
 void SculptApp::finishBoxSelection() {
