@@ -185,6 +185,8 @@ ScriptOp recordedOp(const Operation& operation) {
 
 }  // namespace
 
+Status runScriptOp(Session& session, const ScriptOp& op, OpReport& report) { return runOp(session, op, report, {}, false); }
+
 Status runScript(Session& session, const Script& script, ScriptReport& report, const ScreenshotHook& screenshot,
                  const ScriptProgress& progress) {
     report.ops.clear();

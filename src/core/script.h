@@ -81,6 +81,10 @@ using ScreenshotHook = std::function<Status(const Session& session, const Script
 // script there (a long replay in the window can be cancelled).
 using ScriptProgress = std::function<bool(size_t done, size_t total)>;
 
+// Runs one op on the session as runScript does (deciding it again; a recorded op's "applied" steps are not
+// replayed): the window's commands go through this, so they are the script ops themselves.
+Status runScriptOp(Session& session, const ScriptOp& op, OpReport& report);
+
 // Runs the ops in order on a session whose mesh and lattice are already set up. Stops at the first op with
 // bad input and returns its error prefixed with "op N (kind): "; the report then holds the ops before it.
 // Stopped by `progress`: returns an error saying so.

@@ -347,8 +347,8 @@ TEST_CASE("window lattices: the panel's buttons stay where they are whatever the
     app::AppState& state = ui.sculptApp.state();
     core::Session& session = state.session;
     ui.openPanelWithCylinder();
-    const std::vector<std::string> labels = {"Freeze", "Unfreeze", "Remove", "Move on mesh", "Save to library...",
-                                             "library", "Open...", "Add", "Place on mesh"};
+    const std::vector<std::string> labels = {"Freeze", "Unfreeze", "Remove", "Move on mesh", "Save to library...", "edit axis",
+                                             "Insert knot", "Refine axis", "library", "Open...", "Add", "Place on mesh"};
     const auto layout = [&](const char* name) {
         ui.frame();
         ui.frame();  // the Tools window's auto-resize settles a frame later
@@ -387,6 +387,61 @@ TEST_CASE("window lattices: the panel's buttons stay where they are whatever the
     ui.click("tool 0");
     app::beginPlacingLattice(state, app::LatticesPanelState::Placing::LibraryEntry);  // the orange prompt
     CHECK(layout("placing") == reference);
+}
+
+TEST_CASE("window lattices: Insert knot and Refine axis add points to the selected tool without changing its shape", "[gl][effd]") {
+    Ui ui;
+    if (!ui.open()) return;
+    app::AppState& state = ui.sculptApp.state();
+    core::Session& session = state.session;
+    ui.openPanelWithCylinder();
+    ui.click("Add");
+    REQUIRE(session.latticeTools().size() == 1);
+    REQUIRE(state.lattices.selectedTool == 0);
+    const std::shared_ptr<const core::Volume> before = session.latticeTools()[0].volume;
+    const core::LatticeNet& old = *before->tensorNet();
+    // Split the axial chunk holding w = 0.3 (the slider's value), as the user sets it.
+    state.lattices.editAxis = 2;
+    state.lattices.insertAt = 0.3;
+    const size_t history = session.history().size();
+    ui.frame();
+    ui.click("Insert knot");
+    INFO(state.status);
+    REQUIRE(session.history().size() == history + 1);
+    CHECK(state.status.find("Inserted a knot at w = 0.300 in cylinder") != std::string::npos);
+    const core::LatticeNet& split = *session.latticeTools()[0].volume->tensorNet();
+    CHECK(split.count[2] == old.count[2] + 1);
+    CHECK(split.axes[2].spans == old.axes[2].spans + 1);
+    CHECK(session.positions() == session.originalPositions());  // editing a tool never touches the mesh
+    // The same shape: every point of the old volume is a point of the new one at the same knot parameter.
+    for (int sample = 0; sample < 50; ++sample) {
+        Eigen::Vector3d t(0.02 * sample, 1.0 - 0.019 * sample, std::fmod(0.37 * sample, 1.0));
+        Eigen::Vector3d a, b;
+        core::evaluateNetVolume(old, old.rest, t, a);
+        t[2] = split.axes[2].latticeParameter(old.axes[2].knotParameter(t[2]));
+        core::evaluateNetVolume(split, split.rest, t, b);
+        CHECK((a - b).norm() <= 1e-12 * old.diagonal());
+    }
+    // Refine axis halves every chunk of the axis chosen in the combo.
+    state.lattices.editAxis = 0;
+    ui.frame();
+    ui.click("Refine axis");
+    CHECK(session.history().size() == history + 2);
+    CHECK(session.latticeTools()[0].volume->tensorNet()->axes[0].spans == 2 * old.axes[0].spans);
+    // Undo takes both back, one at a time, to the very volume added.
+    ui.undo();
+    ui.undo();
+    CHECK(session.latticeTools()[0].volume == before);
+    // A frozen tool is not edited: the buttons are disabled, a click does nothing.
+    core::OpReport added;
+    REQUIRE(session.addLatticeTool(cylinderTool(), added));
+    app::freezeLatticeCommand(state, 1, 0);
+    REQUIRE(session.frozenTool() == 1);
+    state.lattices.selectedTool = 1;
+    ui.frame();
+    const size_t frozenHistory = session.history().size();
+    ui.click("Insert knot");
+    CHECK(session.history().size() == frozenHistory);
 }
 
 // Issue: a press that came in the same frame as the move carrying the cursor off the panel (just after

@@ -97,6 +97,8 @@ struct LatticesPanelState {
     double placeSizeFraction = 0.25;  // "Place": the tool's bounds diagonal, as a fraction of the mesh's
     bool showTools = true;        // draw the tools that are not frozen (dim, at rest), even with the Lattice overlay off
     int pinLayers = 0;            // Freeze: outer layers pinned, 0-2
+    int editAxis = 0;             // "Insert knot" / "Refine axis": 0 u, 1 v, 2 w
+    double insertAt = 0.5;        // "Insert knot": the lattice parameter along editAxis, in (0, 1)
     // "Place at picked point" waiting for its click on the mesh: a library entry is added there, or the
     // selected tool is moved there (edit_lattice).
     enum class Placing { None, LibraryEntry, Tool } placing = Placing::None;

@@ -14,6 +14,7 @@
 #include "app/cli_options.h"
 #include "app/file_browser.h"
 #include "app/window/picking.h"
+#include "core/script.h"
 #include "io/lattice_json.h"
 #include "render/camera.h"
 
@@ -214,6 +215,17 @@ void removeLatticeToolCommand(AppState& state, int index) {
     if (s && report.status == core::OpStatus::Applied)
         state.lattices.selectedTool = std::min(state.lattices.selectedTool, static_cast<int>(state.session.latticeTools().size()) - 1);
     reportLatticeOperation(state, report, s, "Removed lattice " + name);
+}
+
+void editLatticeNetCommand(AppState& state, int index, const std::vector<core::NetEdit>& edits, const std::string& what) {
+    if (state.drag.active) return;
+    core::ScriptOp op;
+    op.kind = core::ScriptOp::Kind::EditLattice;
+    op.toolIndex = index;
+    op.netEdits = edits;
+    core::OpReport report;
+    const Status s = core::runScriptOp(state.session, op, report);
+    reportLatticeOperation(state, report, s, what);
 }
 
 Status saveLatticeToolCommand(AppState& state, int index, const std::string& path, const std::string& name) {

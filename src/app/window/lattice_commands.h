@@ -8,7 +8,10 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 #include "app/window/app_state.h"
+#include "core/lattice_edit.h"
 #include "core/status.h"
 
 namespace sculpt::app {
@@ -50,6 +53,10 @@ void placeLatticeCommand(AppState& state, const core::Volume& volume, const std:
 void freezeLatticeCommand(AppState& state, int index, int pinLayers);
 void unfreezeLatticeCommand(AppState& state);
 void removeLatticeToolCommand(AppState& state, int index);
+// edit_lattice with "edits" (core/lattice_edit.h) on tool `index`, which must not be frozen: the script op
+// itself (core::runScriptOp), one history operation. `what` names it on the status line ("Inserted a knot
+// at u = 0.3 in cylinder"); a refusal gives its reason there.
+void editLatticeNetCommand(AppState& state, int index, const std::vector<core::NetEdit>& edits, const std::string& what);
 // Writes tool `index` to `path` as a library file named `name` (empty: the tool's name) with
 // io::writeLatticeFile (atomic: an existing file is never damaged by a failed save), and lists it in the
 // library (replacing the entry of the same path). A path in the shipped library (inShippedLatticeLibrary) is

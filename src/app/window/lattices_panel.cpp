@@ -2,6 +2,7 @@
 // library they come from, placing one on the surface, freezing and unfreezing. Every button is a command of
 // lattice_commands.h, i.e. the session command the matching script op issues.
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include <imgui.h>
@@ -125,6 +126,47 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
         ImGui::SetTooltip("The next click on the mesh moves the selected lattice there, along the surface normal.");
     if (panelButton(panel, "Save to library...", chosen, -1.0f)) files.saveLatticeFile(state, panel.selectedTool);
+
+    // Editing the selected tool while it is not frozen (3.1.4): exact knot insertion, which adds points
+    // without changing the lattice's shape, at one parameter or halving every chunk of an axis.
+    const bool editable = idle && chosen && panel.selectedTool != frozen && tools[static_cast<size_t>(panel.selectedTool)].volume &&
+                          tools[static_cast<size_t>(panel.selectedTool)].volume->tensorNet();
+    static const char* const kAxes[] = {"u", "v", "w"};
+    ImGui::BeginDisabled(!editable);
+    ImGui::SetNextItemWidth(0.35f * half);
+    ImGui::Combo("##editAxis", &panel.editAxis, kAxes, 3);
+    recordItem(panel, "edit axis");
+    ImGui::SameLine();
+    float at = static_cast<float>(panel.insertAt);
+    ImGui::SetNextItemWidth(half - 0.35f * half - ImGui::GetStyle().ItemSpacing.x);
+    if (ImGui::SliderFloat("##insertAt", &at, 0.01f, 0.99f, "at %.3f")) panel.insertAt = std::clamp(static_cast<double>(at), 0.01, 0.99);
+    recordItem(panel, "insert at");
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("Where the knot goes along the axis, as a lattice parameter: chunk s of n covers [s/n, (s+1)/n].\n"
+                          "A value on a chunk boundary raises that knot's multiplicity instead.");
+    ImGui::SameLine();
+    const std::string toolName = chosen ? tools[static_cast<size_t>(panel.selectedTool)].name : std::string();
+    if (panelButton(panel, "Insert knot", editable, -1.0f)) {
+        core::NetEdit edit;
+        edit.kind = core::NetEdit::Kind::Insert;
+        edit.axis = panel.editAxis;
+        edit.at = panel.insertAt;
+        char where[64];
+        std::snprintf(where, sizeof where, "%s = %.3f", kAxes[panel.editAxis], panel.insertAt);
+        editLatticeNetCommand(state, panel.selectedTool, {edit}, "Inserted a knot at " + std::string(where) + " in " + toolName);
+    }
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("Splits one chunk of the selected lattice by exact knot insertion: more control points,\n"
+                          "the same shape. Only a lattice that is not frozen can be edited.");
+    if (panelButton(panel, "Refine axis", editable, -1.0f)) {
+        core::NetEdit edit;
+        edit.kind = core::NetEdit::Kind::Refine;
+        edit.axis = panel.editAxis;
+        editLatticeNetCommand(state, panel.selectedTool, {edit}, "Refined " + std::string(kAxes[panel.editAxis]) + " of " + toolName);
+    }
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("Halves every chunk along the axis (exact knot insertion: the shape does not change).");
 
     // The library: shipped lattices and those opened.
     ImGui::Separator();
