@@ -88,6 +88,7 @@ Status Session::setupTSpline(const TSplineSetup& setup, OpReport& report) {
 
 Status Session::subdivideTSplineCells(int index, const std::vector<int>& cells, const std::vector<Eigen::Vector3d>& at, bool balance,
                                       OpReport& report) {
+    const auto start = detail::Clock::now();
     report = OpReport{};
     report.op = "subdivide_cells";
     if (dragActive_) return Status::error("an interactive drag is in progress");
@@ -131,6 +132,7 @@ Status Session::subdivideTSplineCells(int index, const std::vector<int>& cells, 
     journal_.back().operation.label = operation.label;
     report.reason = "lattice " + name + ": " + std::to_string(before) + " -> " + std::to_string(finer->lattice().cells.size()) + " cells, " +
                     std::to_string(pointsBefore) + " -> " + std::to_string(finer->controlPointCount()) + " control points";
+    report.wallMs = detail::millisecondsSince(start);
     return Status::success();
 }
 
