@@ -25,6 +25,8 @@ const char* scriptOpName(ScriptOp::Kind kind) {
         case ScriptOp::Kind::Unfreeze: return "unfreeze";
         case ScriptOp::Kind::Refine: return "refine";
         case ScriptOp::Kind::SetRefinement: return "set_refinement";
+        case ScriptOp::Kind::SetupTSpline: return "setup_tspline";
+        case ScriptOp::Kind::SubdivideCells: return "subdivide_cells";
     }
     return "?";
 }
@@ -121,6 +123,8 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
         case ScriptOp::Kind::RemoveLattice: return session.removeLatticeTool(op.toolIndex, report);
         case ScriptOp::Kind::Freeze: return session.freezeLattice(op.toolIndex, op.pinLayers, report);
         case ScriptOp::Kind::Unfreeze: return session.unfreezeLattice(report);
+        case ScriptOp::Kind::SetupTSpline: return session.setupTSpline(op.tspline, report);
+        case ScriptOp::Kind::SubdivideCells: return session.subdivideTSplineCells(op.toolIndex, op.cells, op.cellPoints, op.balance, report);
         case ScriptOp::Kind::Screenshot: {
             const auto start = std::chrono::steady_clock::now();
             report = OpReport{};

@@ -20,7 +20,7 @@ namespace sculpt::core {
 struct ScriptOp {
     enum class Kind {
         Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins, BeginGroup, EndGroup, Group,
-        AddLattice, EditLattice, RemoveLattice, Freeze, Unfreeze, Refine, SetRefinement
+        AddLattice, EditLattice, RemoveLattice, Freeze, Unfreeze, Refine, SetRefinement, SetupTSpline, SubdivideCells
     };
     Kind kind = Kind::Undo;
     std::vector<PointConstraint> constraints;      // Drag
@@ -40,10 +40,14 @@ struct ScriptOp {
                                                    //   EditLattice: a null net = the tool's current net, an
                                                    //   empty name = the tool's current name
     std::vector<NetEdit> netEdits;                 // EditLattice: edits applied in order to that net (3.1.4)
-    int toolIndex = -1;                            // EditLattice, RemoveLattice, Freeze: which tool of the list
+    int toolIndex = -1;                            // EditLattice, RemoveLattice, Freeze, SubdivideCells: which tool
     int pinLayers = 0;                             // Freeze: outer layers kept fixed (from its boundary faces)
     double tolerance = 0.0;                        // Refine: fraction of the diagonal (0: the session's setting)
     RefinementSettings refinement;                 // SetRefinement: Session::setRefinement
+    TSplineSetup tspline;                          // SetupTSpline: Session::setupTSpline
+    std::vector<int> cells;                        // SubdivideCells: T-lattice cell ids of tool toolIndex,
+    std::vector<Eigen::Vector3d> cellPoints;       //   and world points whose leaf cells are subdivided ("at")
+    bool balance = true;                           //   then the 2:1 balance
     // Recordings: what the operation was applied as (its steps: fresh frames and control displacements). A
     // replay on the mesh it was recorded on applies these exactly instead of deciding again.
     bool hasApplied = false;

@@ -41,6 +41,7 @@
 #include "core/refinement.h"
 #include "core/self_intersection.h"
 #include "core/status.h"
+#include "core/tspline_volume.h"
 
 namespace sculpt::core {
 
@@ -90,6 +91,22 @@ enum class OperationKind { Drag, ControlPointEdit, LatticeSetup, LatticeTools, R
 struct LatticeTool {
     std::string name;
     std::shared_ptr<const Volume> volume;  // any kind (volume.h): a net, a composite, ...
+};
+
+// Session::setupTSpline's settings (Song & Yang 2005, sec. 4 and sec. 6 steps 1-3).
+constexpr int kMaxTSplineSetupDepth = 6;
+constexpr int kMaxTSplineSetupRootCells = 16;
+struct TSplineSetup {
+    // octree.depth: levels of subdivision of the cells holding a vertex, 1 to kMaxTSplineSetupDepth;
+    // octree.rootCount: the initial lattice, 1 to kMaxTSplineSetupRootCells cells per axis (default 1 x 1 x 1);
+    // weightRatio (100): heavy : light weights (sec. 4); padding (0.05): the default region's margin.
+    TSplineOctreeSettings octree;
+    // The initial region (sec. 4: "the region may cover the whole model or just some parts of it"). false: the
+    // mesh's bounds grown by octree.padding x their diagonal on every side, so no vertex lies on its boundary.
+    bool hasRegion = false;
+    Eigen::Vector3d regionMin = Eigen::Vector3d::Zero(), regionMax = Eigen::Vector3d::Zero();
+    std::string name;     // the tool's name; empty: "tspline"
+    bool freeze = true;   // freeze the new tool (no pin layers) after adding it
 };
 
 // Why a step of an operation was not applied: what failed, in the engine's terms, and where on the mesh.
@@ -209,6 +226,24 @@ public:
     // Unfreezing: the deformation stays and a box lattice with the session's first settings is put around
     // the mesh again. NoOp when no tool is frozen.
     Status unfreezeLattice(OpReport& report);
+
+    // ---- weighted T-spline tools (Song & Yang 2005, seed 002; session_tspline.cpp) ----
+    // Sec. 4 / sec. 6 steps 1-3: the octree T-spline volume of the current mesh's vertices inside the region
+    // (makeOctreeTSplineVolumeInBox: cells holding a vertex subdivided down to the depth, 2:1-balanced, weights
+    // ratio : 1), added as a lattice tool (addLatticeTool) and, with setup.freeze, frozen (freezeLattice, no pin
+    // layers): two history operations, each undone on its own; recordings write the tool explicitly. Errors
+    // (depth or root out of range, weight ratio not finite and > 0, an empty or non-finite region, a region
+    // holding no vertex, a drag in progress) use the script's field names and change nothing.
+    Status setupTSpline(const TSplineSetup& setup, OpReport& report);
+    // Sec. 6 step 2 / Fig. 11: local octree subdivision of T-spline tool `index` (not frozen) as an edit of the
+    // tool (editLatticeTool: a history operation, recorded with the resulting tool). The cells: the ids in
+    // `cells` plus the leaf cells holding the world points `at` (the rest volume's parameters of each point,
+    // as picking gives them); then the 2:1 balance if `balance`. The control points are placed again at the
+    // Greville points of the finer lattice and the weights are set again from the mesh as in setupTSpline
+    // (subdivideTSplineVolume). Refused, changing nothing: a frozen tool, a tool that is not a T-spline, a cell
+    // id out of range, a point outside the tool, no cell at all, points moved one by one.
+    Status subdivideTSplineCells(int index, const std::vector<int>& cells, const std::vector<Eigen::Vector3d>& at, bool balance,
+                                 OpReport& report);
 
     void setInjectivity(const InjectivitySettings& settings) { injectivity_ = settings; }
     const InjectivitySettings& injectivity() const { return injectivity_; }

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include <Eigen/LU>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 
 namespace sculpt::core {
@@ -690,34 +691,16 @@ Status makeTSplineVolumeInBox(const TLattice& lattice, const Eigen::AlignedBox3d
     return TSplineVolume::make(std::move(basis), std::move(points), std::move(w), out);
 }
 
-Status makeOctreeTSplineVolume(const Positions& points, const TSplineOctreeSettings& settings, std::shared_ptr<const TSplineVolume>& out,
-                               Eigen::AlignedBox3d* boxOut) {
-    if (!(settings.weightRatio > 0.0) || !std::isfinite(settings.weightRatio)) return Status::error("the weight ratio must be finite and > 0");
-    if (!(settings.padding >= 0.0) || !std::isfinite(settings.padding)) return Status::error("the padding must be finite and >= 0");
-    Eigen::AlignedBox3d box;
-    box.setEmpty();
-    for (Eigen::Index p = 0; p < points.rows(); ++p)
-        if (points.row(p).allFinite()) box.extend(points.row(p).transpose());
-    if (box.isEmpty()) return Status::error("an octree T-spline volume needs at least one finite point");
-    const double pad = settings.padding * box.diagonal().norm() + (box.diagonal().norm() > 0.0 ? 0.0 : 1.0);
-    box.min().array() -= pad;
-    box.max().array() += pad;
-    for (int a = 0; a < 3; ++a)  // a flat point set still gets a box with volume
-        if (!(box.sizes()[a] > 0.0)) {
-            box.min()[a] -= 0.5 * box.diagonal().norm();
-            box.max()[a] += 0.5 * box.diagonal().norm();
-        }
-    TLattice lattice;
-    std::vector<std::uint8_t> nonEmpty;
-    if (Status s = makeOctreeTLattice(points, box, settings.octree, lattice, &nonEmpty); !s) return s;
-    std::shared_ptr<const TSplineBasis> basis;
-    if (Status s = buildTSplineBasis(lattice, basis); !s) return s;
-    // Sec. 4: weights 100:1 for the control points of non-empty cells (a vertex on a non-empty cell's closed box).
-    const int n = basis->anchorCount();
-    std::vector<double> weights(static_cast<size_t>(n), 1.0);
-    const TLattice& l = basis->lattice;
+namespace {
+
+// Sec. 4: weight `heavy` for the control points of non-empty cells (anchored at a vertex of the closed box of a
+// cell that holds a point: a corner or a T-junction on its boundary; boundary copies alike), `light` elsewhere.
+std::vector<double> nonEmptyCellWeights(const TSplineBasis& basis, const std::vector<std::uint8_t>& nonEmpty, double heavy, double light) {
+    const int n = basis.anchorCount();
+    std::vector<double> weights(static_cast<size_t>(n), light);
+    const TLattice& l = basis.lattice;
     for (int s = 0; s < n; ++s) {
-        const auto& p = l.vertices[static_cast<size_t>(basis->anchors[static_cast<size_t>(s)].vertex)];
+        const auto& p = l.vertices[static_cast<size_t>(basis.anchors[static_cast<size_t>(s)].vertex)];
         for (int corner = 0; corner < 8; ++corner) {
             std::array<int, 3> doubled{};
             bool inside = true;
@@ -726,15 +709,100 @@ Status makeOctreeTSplineVolume(const Positions& points, const TSplineOctreeSetti
                 inside = inside && doubled[a] > 0 && doubled[a] < 2 * l.fineCount[a];
             }
             if (inside && nonEmpty[static_cast<size_t>(l.cellAtDoubled(doubled))]) {
-                weights[static_cast<size_t>(s)] = settings.weightRatio;
+                weights[static_cast<size_t>(s)] = heavy;
                 break;
             }
         }
     }
+    return weights;
+}
+
+}  // namespace
+
+Status makeOctreeTSplineVolumeInBox(const Positions& points, const Eigen::AlignedBox3d& box, const TSplineOctreeSettings& settings,
+                                    std::shared_ptr<const TSplineVolume>& out) {
+    if (!(settings.weightRatio > 0.0) || !std::isfinite(settings.weightRatio)) return Status::error("the weight ratio must be finite and > 0");
+    TLattice lattice;
+    std::vector<std::uint8_t> nonEmpty;
+    if (Status s = makeOctreeTLattice(points, box, settings.octree, lattice, &nonEmpty); !s) return s;
+    std::shared_ptr<const TSplineBasis> basis;
+    if (Status s = buildTSplineBasis(lattice, basis); !s) return s;
+    std::vector<double> weights = nonEmptyCellWeights(*basis, nonEmpty, settings.weightRatio, 1.0);
+    const int n = basis->anchorCount();
     Positions control(n, 3);
     for (int s = 0; s < n; ++s) control.row(s) = (box.min() + basis->grevilleParameters(s).cwiseProduct(box.sizes())).transpose();
-    if (boxOut) *boxOut = box;
     return TSplineVolume::make(std::move(basis), std::move(control), std::move(weights), out);
+}
+
+Status makeOctreeTSplineVolume(const Positions& points, const TSplineOctreeSettings& settings, std::shared_ptr<const TSplineVolume>& out,
+                               Eigen::AlignedBox3d* boxOut) {
+    if (!(settings.padding >= 0.0) || !std::isfinite(settings.padding)) return Status::error("the padding must be finite and >= 0");
+    Eigen::AlignedBox3d box;
+    if (Status s = paddedPointBounds(points, settings.padding, box); !s) return s;
+    if (boxOut) *boxOut = box;
+    return makeOctreeTSplineVolumeInBox(points, box, settings, out);
+}
+
+Status paddedPointBounds(const Positions& points, double padding, Eigen::AlignedBox3d& out) {
+    Eigen::AlignedBox3d box;
+    box.setEmpty();
+    for (Eigen::Index p = 0; p < points.rows(); ++p)
+        if (points.row(p).allFinite()) box.extend(points.row(p).transpose());
+    if (box.isEmpty()) return Status::error("an octree T-spline volume needs at least one finite point");
+    const double pad = padding * box.diagonal().norm() + (box.diagonal().norm() > 0.0 ? 0.0 : 1.0);
+    box.min().array() -= pad;
+    box.max().array() += pad;
+    for (int a = 0; a < 3; ++a)  // a flat point set still gets a box with volume
+        if (!(box.sizes()[a] > 0.0)) {
+            box.min()[a] -= 0.5 * box.diagonal().norm();
+            box.max()[a] += 0.5 * box.diagonal().norm();
+        }
+    out = box;
+    return Status::success();
+}
+
+Status subdivideTSplineVolume(const TSplineVolume& volume, const std::vector<int>& cells, bool balance, const Positions& points,
+                              std::shared_ptr<const TSplineVolume>& out) {
+    const TSplineBasis& basis = volume.basis();
+    const Positions& rest = volume.restControlPoints();
+    const int n = basis.anchorCount();
+    // The affine map the control points are an image of the Greville parameters by: P_s = A g_s + b (least
+    // squares over every point; exact for a generated volume, placed or not).
+    Eigen::MatrixXd greville(n, 4);
+    for (int s = 0; s < n; ++s) greville.row(s) << basis.grevilleParameters(s).transpose(), 1.0;
+    const Eigen::MatrixXd map = greville.colPivHouseholderQr().solve(Eigen::MatrixXd(rest));  // 4 x 3: rows A^T, b^T
+    const double diagonal = volume.restBounds().diagonal().norm();
+    const double misfit = (greville * map - rest).rowwise().norm().maxCoeff();
+    if (!(misfit <= 1e-9 * diagonal))
+        return Status::error("its control points are not in their rest layout (an affine image of the Greville points), so "
+                             "subdividing would lose their shape: subdivide the lattice before moving its points one by one");
+    const Eigen::Matrix3d linear = map.topRows<3>().transpose();
+    const Eigen::Vector3d offset = map.row(3).transpose();
+    TLattice finer;
+    if (Status s = subdivideTLatticeCells(basis.lattice, cells, balance, finer); !s) return s;
+    std::shared_ptr<const TSplineBasis> finerBasis;
+    if (Status s = buildTSplineBasis(finer, finerBasis); !s) return s;
+    const TLattice& l = finerBasis->lattice;
+    // Sec. 4 on the finer lattice (Fig. 11b): the cells holding a point (its parameters under the inverse of the
+    // affine map, as makeOctreeTLattice classifies them) get the heavy weight.
+    const Eigen::Matrix3d inverse = linear.inverse();
+    std::vector<std::uint8_t> nonEmpty(l.cells.size(), 0);
+    for (Eigen::Index p = 0; p < points.rows(); ++p) {
+        const Eigen::Vector3d t = inverse * (points.row(p).transpose() - offset);
+        if (!t.allFinite() || (t.array() < 0.0).any() || (t.array() > 1.0).any()) continue;
+        std::array<int, 3> doubled{};
+        for (int a = 0; a < 3; ++a) doubled[a] = 2 * l.fineVoxel(a, t[a]) + 1;
+        nonEmpty[static_cast<size_t>(l.cellAtDoubled(doubled))] = 1;
+    }
+    const auto [lightest, heaviest] = std::minmax_element(volume.controlWeights().begin(), volume.controlWeights().end());
+    std::vector<double> weights = nonEmptyCellWeights(*finerBasis, nonEmpty, *heaviest, *lightest);
+    const int m = finerBasis->anchorCount();
+    Positions control(m, 3);
+    for (int s = 0; s < m; ++s) control.row(s) = (linear * finerBasis->grevilleParameters(s) + offset).transpose();
+    std::shared_ptr<const TSplineVolume> made;
+    if (Status s = TSplineVolume::make(std::move(finerBasis), std::move(control), std::move(weights), made); !s) return s;
+    out = std::move(made);
+    return Status::success();
 }
 
 }  // namespace sculpt::core

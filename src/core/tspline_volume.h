@@ -196,4 +196,26 @@ struct TSplineOctreeSettings {
 Status makeOctreeTSplineVolume(const Positions& points, const TSplineOctreeSettings& settings, std::shared_ptr<const TSplineVolume>& out,
                                Eigen::AlignedBox3d* box = nullptr);
 
+// The same in a given world box (sec. 4 and 6, step 1: "the initial region of the model to be deformed"): the
+// points inside `box` (closed) shape the octree, the others are ignored; settings.padding is not used. Fails
+// on a bad box or settings out of range (makeOctreeTLattice's errors), or a weight ratio not finite and > 0.
+Status makeOctreeTSplineVolumeInBox(const Positions& points, const Eigen::AlignedBox3d& box, const TSplineOctreeSettings& settings,
+                                    std::shared_ptr<const TSplineVolume>& out);
+
+// The finite points' bounds grown by padding x their diagonal per side (a flat or single point set still gets a
+// box with volume): the box makeOctreeTSplineVolume uses. Fails when no point is finite.
+Status paddedPointBounds(const Positions& points, double padding, Eigen::AlignedBox3d& out);
+
+// Sec. 6 step 2 / Fig. 11: `volume` with the chosen cells (ids of its T-lattice) subdivided by the octree, then
+// 2:1-balanced if `balance` (subdivideTLatticeCells). The control points are placed again, at the Greville
+// parameters of the finer lattice under the affine map that takes the old Greville parameters onto the old
+// control points (so the volume keeps its box and placement); the weights are again sec. 4's two levels: the
+// volume's largest weight on the control points of cells holding one of `points` (#P x 3, world: the mesh; cells
+// found through the inverse of that map, as makeOctreeTLattice finds them), its smallest elsewhere.
+// Fails (out unchanged) on bad cell ids, a cell at kMaxTLatticeLevel, a lattice whose blending functions would
+// overlap too much (buildTSplineBasis), or control points that are not an affine image of the Greville
+// parameters to 1e-9 of the diagonal (points moved one by one: placing them again would lose that shape).
+Status subdivideTSplineVolume(const TSplineVolume& volume, const std::vector<int>& cells, bool balance, const Positions& points,
+                              std::shared_ptr<const TSplineVolume>& out);
+
 }  // namespace sculpt::core

@@ -466,6 +466,58 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
         allowOnly(j, path, {"op", "applied"});
         op.kind = core::ScriptOp::Kind::Unfreeze;
         parseRecorded(j, path, op);
+    } else if (name == "setup_tspline") {
+        // Song & Yang 2005, sec. 4 / sec. 6 steps 1-3 (core::Session::setupTSpline).
+        allowOnly(j, path, {"op", "depth", "weight_ratio", "region", "root", "name", "freeze"});
+        op.kind = core::ScriptOp::Kind::SetupTSpline;
+        core::TSplineSetup& setup = op.tspline;
+        setup.octree.octree.depth = integer(required(j, "depth", path), path + ".depth");
+        if (setup.octree.octree.depth < 1 || setup.octree.octree.depth > core::kMaxTSplineSetupDepth)
+            fail(path + ".depth", "expected 1 to " + std::to_string(core::kMaxTSplineSetupDepth) + " levels of octree subdivision");
+        if (j.contains("weight_ratio")) {
+            setup.octree.weightRatio = number(j["weight_ratio"], path + ".weight_ratio");
+            if (!(setup.octree.weightRatio > 0.0)) fail(path + ".weight_ratio", "expected a number > 0 (heavy : light weights)");
+        }
+        if (j.contains("root")) {
+            setup.octree.octree.rootCount = int3(j["root"], path + ".root");
+            for (int a = 0; a < 3; ++a)
+                if (setup.octree.octree.rootCount[a] < 1 || setup.octree.octree.rootCount[a] > core::kMaxTSplineSetupRootCells)
+                    fail(path + ".root[" + std::to_string(a) + "]", "expected 1 to " + std::to_string(core::kMaxTSplineSetupRootCells) + " root cells");
+        }
+        if (j.contains("region") && !j["region"].is_null()) {
+            const json& r = j["region"];
+            const std::string rp = path + ".region";
+            allowOnly(r, rp, {"min", "max"});
+            setup.hasRegion = true;
+            setup.regionMin = vector3(required(r, "min", rp), rp + ".min");
+            setup.regionMax = vector3(required(r, "max", rp), rp + ".max");
+            if (!(setup.regionMin.array() < setup.regionMax.array()).all()) fail(rp, "\"min\" must be below \"max\" on every axis");
+        }
+        if (j.contains("name")) setup.name = text(j["name"], path + ".name");
+        if (j.contains("freeze")) {
+            if (!j["freeze"].is_boolean()) fail(path + ".freeze", "expected true or false");
+            setup.freeze = j["freeze"].get<bool>();
+        }
+    } else if (name == "subdivide_cells") {
+        // Song & Yang 2005, sec. 6 step 2 / Fig. 11 (core::Session::subdivideTSplineCells).
+        allowOnly(j, path, {"op", "index", "cells", "at", "balance"});
+        op.kind = core::ScriptOp::Kind::SubdivideCells;
+        op.toolIndex = integer(required(j, "index", path), path + ".index");
+        if (!j.contains("cells") && !j.contains("at")) fail(path, "needs \"cells\" (cell ids) or \"at\" (points whose cells are subdivided)");
+        if (j.contains("cells")) {
+            op.cells = intList(j["cells"], path + ".cells");
+            for (size_t c = 0; c < op.cells.size(); ++c)
+                if (op.cells[c] < 0) fail(path + ".cells[" + std::to_string(c) + "]", "expected a cell id >= 0");
+        }
+        if (j.contains("at")) {
+            const Eigen::MatrixX3d points = vectorRows(j["at"], path + ".at");
+            for (Eigen::Index p = 0; p < points.rows(); ++p) op.cellPoints.push_back(points.row(p).transpose());
+        }
+        if (op.cells.empty() && op.cellPoints.empty()) fail(path, "\"cells\" and \"at\" name no cell");
+        if (j.contains("balance")) {
+            if (!j["balance"].is_boolean()) fail(path + ".balance", "expected true or false");
+            op.balance = j["balance"].get<bool>();
+        }
     } else if (name == "begin_group") {
         allowOnly(j, path, {"op", "label"});
         op.kind = core::ScriptOp::Kind::BeginGroup;
@@ -504,7 +556,7 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
         op.path = p.get<std::string>();
     } else {
         fail(path + ".op", "unknown op \"" + name +
-                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, add_lattice, edit_lattice, remove_lattice, freeze, unfreeze, begin_group, end_group, group, refine, set_refinement, undo, redo, screenshot)");
+                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, add_lattice, edit_lattice, remove_lattice, freeze, unfreeze, setup_tspline, subdivide_cells, begin_group, end_group, group, refine, set_refinement, undo, redo, screenshot)");
     }
     return op;
 }
@@ -707,6 +759,27 @@ std::string scriptToJson(const core::Script& script) {
                 j["pin_layers"] = op.pinLayers;
                 break;
             case core::ScriptOp::Kind::Unfreeze: break;
+            case core::ScriptOp::Kind::SetupTSpline: {
+                const core::TSplineSetup& setup = op.tspline;
+                j["depth"] = setup.octree.octree.depth;
+                j["weight_ratio"] = setup.octree.weightRatio;
+                j["root"] = setup.octree.octree.rootCount;
+                if (setup.hasRegion) j["region"] = {{"min", vectorJson(setup.regionMin)}, {"max", vectorJson(setup.regionMax)}};
+                if (!setup.name.empty()) j["name"] = setup.name;
+                j["freeze"] = setup.freeze;
+                break;
+            }
+            case core::ScriptOp::Kind::SubdivideCells: {
+                j["index"] = op.toolIndex;
+                if (!op.cells.empty()) j["cells"] = op.cells;
+                if (!op.cellPoints.empty()) {
+                    json points = json::array();
+                    for (const Eigen::Vector3d& p : op.cellPoints) points.push_back(vectorJson(p));
+                    j["at"] = points;
+                }
+                j["balance"] = op.balance;
+                break;
+            }
             case core::ScriptOp::Kind::Refine:
                 if (op.tolerance > 0.0) j["tolerance"] = op.tolerance;
                 break;
