@@ -14,6 +14,7 @@
 
 #include "bench_support.h"
 #include "effd_bench.h"
+#include "tspline_bench.h"
 #include "injectivity_bench.h"
 #include "core/injectivity.h"
 #include "core/direct_manipulation.h"
@@ -341,6 +342,7 @@ int main(int argc, char** argv) {
     benchParameters(points);
     sculpt::bench::runInjectivityBenchmarks(gFilters);
     sculpt::bench::runEffdBenchmarks(gFilters);
+    sculpt::bench::runTSplineBenchmarks(gFilters);
     benchSubdivision();
     benchTriangleCheck();
 #ifdef SCULPT_BENCH_RENDER

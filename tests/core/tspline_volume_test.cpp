@@ -585,38 +585,3 @@ TEST_CASE("tspline: a session freezes a T-spline volume on a mesh, drags meet th
     REQUIRE(session.undo(report));
     REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-12);
 }
-
-TEST_CASE("tspline: timings of freezing and evaluation", "[.][tspline_timing]") {
-    Positions positions;
-    Triangles triangles;
-    test::icosphere(6, 1.0, Eigen::Vector3d::Zero(), positions, triangles);
-    using clock = std::chrono::steady_clock;
-    for (int depth = 3; depth <= 5; ++depth) {
-        TSplineOctreeSettings settings;
-        settings.octree.depth = depth;
-        std::shared_ptr<const TSplineVolume> volume;
-        auto start = clock::now();
-        REQUIRE(makeOctreeTSplineVolume(positions, settings, volume));
-        const double build = std::chrono::duration<double>(clock::now() - start).count();
-        const int n = std::min<int>(15000, static_cast<int>(positions.rows()));
-        start = clock::now();
-        int frozen = 0;
-        for (int v = 0; v < n; ++v) {
-            Eigen::Vector3d t;
-            frozen += volume->freeze(positions.row(v).transpose(), t);
-        }
-        const double freeze = std::chrono::duration<double>(clock::now() - start).count();
-        std::mt19937 rng(5);
-        start = clock::now();
-        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-        for (int i = 0; i < 100000; ++i) {
-            Eigen::Vector3d q;
-            volume->evaluate(volume->restControlPoints(), randomParameters(rng), q);
-            sum += q;
-        }
-        const double evaluate = std::chrono::duration<double>(clock::now() - start).count();
-        std::cout << "depth " << depth << ": " << volume->lattice().cells.size() << " cells, " << volume->controlPointCount() << " control points, "
-                  << volume->chunkCount() << " elements, max support " << volume->basis().maxSupport << "; build " << build << " s, freeze " << frozen
-                  << "/" << n << " points " << freeze << " s, 100k evaluations " << evaluate << " s (" << sum.norm() << ")\n";
-    }
-}

@@ -1,0 +1,170 @@
+// Weighted T-spline benchmarks (tspline_bench.h).
+#include "tspline_bench.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <random>
+
+#include "bench_support.h"
+#include "core/embedding.h"
+#include "core/lattice.h"
+#include "core/session.h"
+#include "core/tspline_volume.h"
+#include "io/obj_mesh.h"
+
+namespace sculpt::bench {
+
+using namespace sculpt::core;
+
+namespace {
+
+// A case (or a group: every case whose name starts with `name`) is wanted when a filter is a substring of its name
+// or names one case of the group.
+bool wanted(const std::vector<std::string>& filters, const std::string& name) {
+    if (filters.empty()) return true;
+    for (const std::string& f : filters)
+        if (name.find(f) != std::string::npos || f.rfind(name, 0) == 0) return true;
+    return false;
+}
+
+// n points on a wavy unit sphere (rings of points, as the paper's scanned surfaces: every point on the surface).
+Positions wavySphere(int n) {
+    Positions p(n, 3);
+    const int rings = static_cast<int>(std::sqrt(n / 2.0)) + 1;
+    const int perRing = (n + rings - 1) / rings;
+    for (int v = 0; v < n; ++v) {
+        const double theta = M_PI * ((v / perRing) + 0.5) / rings;
+        const double phi = 2.0 * M_PI * (v % perRing) / perRing;
+        const double r = 1.0 + 0.05 * std::sin(5 * theta) * std::cos(3 * phi);
+        p.row(v) << r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi), r * std::cos(theta);
+    }
+    return p;
+}
+
+Status octreeVolume(const Positions& points, int depth, std::shared_ptr<const TSplineVolume>& out) {
+    TSplineOctreeSettings settings;
+    settings.octree.depth = depth;
+    return makeOctreeTSplineVolume(points, settings, out);
+}
+
+// A frozen lattice of `volume` (the engine's own embedding path: Volume::freeze per vertex, both cores).
+Lattice latticeOf(const std::shared_ptr<const TSplineVolume>& volume) {
+    LatticeSettings settings;
+    settings.volume = volume;
+    Lattice lattice;
+    makeLatticeInBox(settings, {}, {}, lattice);
+    return lattice;
+}
+
+void counts(const std::vector<std::string>& filters, const std::string& meshName, const Positions& points) {
+    for (int depth = 3; depth <= 5; ++depth) {
+        const std::string name = "tspline_counts_" + meshName + "_d" + std::to_string(depth);
+        if (!wanted(filters, name)) continue;
+        std::shared_ptr<const TSplineVolume> volume;
+        Status built;
+        const double ms = medianMs(1, [&] { built = octreeVolume(points, depth, volume); });
+        if (!built) {
+            printError(std::cout, name.c_str(), built.message);
+            continue;
+        }
+        // The regular lattice of the same finest cells: 2^depth cells per axis, cubic, so 2^depth + 3 points.
+        const long long regular = static_cast<long long>(std::pow((1 << depth) + 3, 3));
+        char extra[200];
+        std::snprintf(extra, sizeof extra, "\"octree_control_points\": %d, \"regular_control_points\": %lld, \"ratio\": %.3f, \"elements\": %d",
+                      volume->controlPointCount(), regular, volume->controlPointCount() / static_cast<double>(regular), volume->chunkCount());
+        printCase(name, points.rows(), ms, extra);
+    }
+}
+
+void parametrization(const std::string& name, const Positions& points, int depth, std::shared_ptr<const TSplineVolume>& volume,
+                     Lattice& lattice, Embedding& embedding) {
+    if (Status s = octreeVolume(points, depth, volume); !s) {
+        printError(std::cout, name.c_str(), s.message);
+        return;
+    }
+    lattice = latticeOf(volume);
+    const double ms = medianMs(1, [&] { embedVertices(lattice, points, embedding); });
+    char extra[160];
+    std::snprintf(extra, sizeof extra, "\"inside\": %d, \"control_points\": %d, \"elements\": %d, \"depth\": %d", embedding.insideCount(),
+                  volume->controlPointCount(), volume->chunkCount(), depth);
+    printCase(name, points.rows(), ms, extra);
+}
+
+}  // namespace
+
+void runTSplineBenchmarks(const std::vector<std::string>& filters) {
+    if (!wanted(filters, "tspline")) return;
+    if (wanted(filters, "tspline_counts")) {
+        io::ObjMesh mesh;
+        const std::string path = std::string(SCULPT_SOURCE_DIR) + "/assets/default.obj";
+        if (Status s = io::loadObj(path, mesh); s)
+            counts(filters, "default", mesh.positions);
+        else
+            printError(std::cout, "tspline_counts_default", s.message);
+        counts(filters, "1m", wavySphere(1000000));
+    }
+    if (wanted(filters, "tspline_param_15k_d5")) {
+        std::shared_ptr<const TSplineVolume> volume;
+        Lattice lattice;
+        Embedding embedding;
+        parametrization("tspline_param_15k_d5", wavySphere(15000), 5, volume, lattice, embedding);
+    }
+    if (wanted(filters, "tspline_param_1m_d4") || wanted(filters, "tspline_eval_1m")) {
+        const Positions points = wavySphere(1000000);
+        std::shared_ptr<const TSplineVolume> volume;
+        Lattice lattice;
+        Embedding embedding;
+        parametrization("tspline_param_1m_d4", points, 4, volume, lattice, embedding);
+        if (volume && wanted(filters, "tspline_eval_1m")) {
+            std::mt19937 rng(7);
+            std::uniform_real_distribution<double> d(-0.02, 0.02);
+            Lattice moved = lattice;
+            for (int c = 0; c < moved.controlPointCount(); ++c) moved.displacement.row(c) << d(rng), d(rng), d(rng);
+            Positions positions = points;
+            const double ms = medianMs(5, [&] { evaluateAll(moved, embedding, positions); });
+            char extra[120];
+            std::snprintf(extra, sizeof extra, "\"control_points\": %d, \"elements\": %d", volume->controlPointCount(), volume->chunkCount());
+            printCase("tspline_eval_1m", points.rows(), ms, extra);
+        }
+    }
+    if (wanted(filters, "tspline_drag_step")) {
+        // A 100k-point wavy sphere as a mesh without triangles, in a depth-4 octree volume; one mouse move, with
+        // the conic test (the window's default) and with the exact test.
+        const Positions points = wavySphere(100000);
+        for (const InjectivityMode mode : {InjectivityMode::Conic, InjectivityMode::Exact}) {
+            const std::string name = std::string("tspline_drag_step") + (mode == InjectivityMode::Exact ? "_exact" : "");
+            if (!wanted(filters, name)) continue;
+            Session session;
+            LatticeSettings start;
+            start.resolution = {4, 4, 4};
+            session.setMesh(points, Triangles(0, 3), start);
+            InjectivitySettings injectivity;
+            injectivity.mode = mode;
+            session.setInjectivity(injectivity);
+            TSplineSetup setup;
+            setup.octree.octree.depth = 4;
+            OpReport report;
+            if (Status s = session.setupTSpline(setup, report); !s) {
+                printError(std::cout, name.c_str(), s.message);
+                return;
+            }
+            const int vertex = 12345;
+            const Eigen::Vector3d from = session.positions().row(vertex).transpose();
+            session.beginDragAt({from}, {false}, BrushSettings{});
+            int step = 0;
+            const double ms = medianMs(15, [&] {
+                ++step;
+                session.updateDrag({from + Eigen::Vector3d(0.001 * step, 0.0005 * step, 0.0)}, report);
+            });
+            session.endDrag();
+            char extra[400];
+            std::snprintf(extra, sizeof extra, "\"vertices_moved\": %d, \"injectivity_ms\": %.3f, \"status\": \"%s\", \"reason\": \"%s\"",
+                          report.verticesMoved, report.injectivityMs, opStatusName(report.status), jsonText(report.reason).c_str());
+            printCase(name, points.rows(), ms, extra);
+        }
+    }
+}
+
+}  // namespace sculpt::bench
