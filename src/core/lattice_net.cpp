@@ -440,15 +440,7 @@ bool newtonInChunk(const LatticeNet& net, const Positions& points, const Eigen::
         if (r <= tight) break;
         // Full-rank steps by LU; near-singular Jacobians (a collapsed axis or pole) by the pseudo-inverse, which
         // moves only along the directions the volume can move in (3.3: degenerate chunks).
-        Eigen::Vector3d step;
-        const double scale = d.colwise().norm().prod();
-        if (scale > 0.0 && std::abs(d.determinant()) > 1e-9 * scale) {
-            step = d.partialPivLu().solve(residual);
-        } else {
-            Eigen::JacobiSVD<Eigen::Matrix3d> svd(d, Eigen::ComputeFullU | Eigen::ComputeFullV);
-            svd.setThreshold(1e-9);
-            step = svd.solve(residual);
-        }
+        Eigen::Vector3d step = freezingNewtonStep(d, residual);
         if (!step.allFinite()) break;
         // Damped: at most half the chunk per axis per iteration, and stay in the chunk.
         for (int a = 0; a < 3; ++a) step[a] = std::clamp(step[a], -0.5 * width[a], 0.5 * width[a]);

@@ -582,15 +582,7 @@ bool newtonSolve(const TSplineVolume& volume, const Positions& points, const Eig
     double r = residual.norm();
     int slow = 0;
     for (int iteration = 0; iteration < 40 && r > tight && slow < 4; ++iteration) {
-        Eigen::Vector3d step;
-        const double scale = d.colwise().norm().prod();
-        if (scale > 0.0 && std::abs(d.determinant()) > 1e-9 * scale) {
-            step = d.partialPivLu().solve(residual);
-        } else {
-            Eigen::JacobiSVD<Eigen::Matrix3d> svd(d, Eigen::ComputeFullU | Eigen::ComputeFullV);
-            svd.setThreshold(1e-9);
-            step = svd.solve(residual);
-        }
+        const Eigen::Vector3d step = freezingNewtonStep(d, residual);
         if (!step.allFinite()) break;
         bool accepted = false;
         for (int halving = 0; halving <= 6 && !accepted; ++halving) {

@@ -31,6 +31,7 @@
 
 using namespace sculpt;
 using namespace sculpt::core;
+using sculpt::bench::bumpySphere;
 
 namespace {
 
@@ -41,21 +42,6 @@ bool wanted(const std::string& name) {
     for (const std::string& f : gFilters)
         if (name.find(f) != std::string::npos) return true;
     return false;
-}
-
-// n points on a slightly bumpy sphere in latitude-longitude order (the vertex order of a typical mesh: rows
-// of neighbouring vertices, not cell order).
-Positions sphereCloud(int n) {
-    Positions p(n, 3);
-    const int rings = static_cast<int>(std::sqrt(n / 2.0)) + 1;
-    const int perRing = (n + rings - 1) / rings;
-    for (int v = 0; v < n; ++v) {
-        const double theta = M_PI * ((v / perRing) + 0.5) / rings;
-        const double phi = 2.0 * M_PI * (v % perRing) / perRing;
-        const double r = 1.0 + 0.05 * std::sin(5 * theta) * std::cos(3 * phi);
-        p.row(v) << r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi), r * std::cos(theta);
-    }
-    return p;
 }
 
 Lattice cubicLattice(int resolution, const Positions& points) {
@@ -200,7 +186,7 @@ void benchSubdivision() {
     }();
     Triangles none(0, 3);
     if (wanted("subdivided_drag_100k")) {
-        const Positions points = sphereCloud(100000);
+        const Positions points = bumpySphere(100000);
         Session session;
         session.setMesh(points, none, settings);
         const int v = 100000 / 3;
@@ -218,7 +204,7 @@ void benchSubdivision() {
         bench::printCase("subdivided_drag_100k", 100000, ms, extra);
     }
     if (wanted("undo_composed_1m")) {
-        const Positions points = sphereCloud(1000000);
+        const Positions points = bumpySphere(1000000);
         Session session;
         session.setMesh(points, none, settings);
         session.setInjectivity({InjectivityMode::Conic, 4});  // at most 16 steps
@@ -236,7 +222,7 @@ void benchSubdivision() {
         bench::printCase("undo_composed_1m", 1000000, ms, extra);
     }
     if (wanted("history_bytes_1m_100ops")) {
-        const Positions points = sphereCloud(1000000);
+        const Positions points = bumpySphere(1000000);
         Session session;
         session.setMesh(points, none, settings);
         std::mt19937 rng(5);
@@ -335,7 +321,7 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) gFilters.emplace_back(argv[i]);
     std::fprintf(stderr, "sculpt_bench: %d OpenMP threads, evaluation kernel %s\n", omp_get_max_threads(),
                  evaluationKernelName());
-    const Positions points = sphereCloud(1000000);
+    const Positions points = bumpySphere(1000000);
     benchEvaluation(points);
     benchSparseUpdate(points);
     benchSolves();

@@ -3,13 +3,40 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "core/mesh_types.h"
+
 namespace sculpt::bench {
+
+// n points on a slightly bumpy unit sphere in latitude-longitude order (the vertex order of a typical mesh: rows
+// of neighbouring vertices, not cell order; every point on the surface, as a scan's).
+inline Positions bumpySphere(int n) {
+    Positions p(n, 3);
+    const int rings = static_cast<int>(std::sqrt(n / 2.0)) + 1;
+    const int perRing = (n + rings - 1) / rings;
+    for (int v = 0; v < n; ++v) {
+        const double theta = M_PI * ((v / perRing) + 0.5) / rings;
+        const double phi = 2.0 * M_PI * (v % perRing) / perRing;
+        const double r = 1.0 + 0.05 * std::sin(5 * theta) * std::cos(3 * phi);
+        p.row(v) << r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi), r * std::cos(theta);
+    }
+    return p;
+}
+
+// A case is wanted when no filter is given or a filter is a substring of its name; a group (every case whose
+// name starts with `name`) also when a filter names one of its cases.
+inline bool wantedCase(const std::vector<std::string>& filters, const std::string& name) {
+    if (filters.empty()) return true;
+    for (const std::string& f : filters)
+        if (name.find(f) != std::string::npos || f.rfind(name, 0) == 0) return true;
+    return false;
+}
 
 // Runs `work` `runs` times (after one warm-up) and returns the median wall time in milliseconds.
 inline double medianMs(int runs, const std::function<void()>& work, const std::function<void()>& before = {}) {

@@ -19,12 +19,7 @@ using namespace sculpt::core;
 
 namespace {
 
-bool wanted(const std::vector<std::string>& filters, const std::string& name) {
-    if (filters.empty()) return true;
-    for (const std::string& f : filters)
-        if (name.find(f) != std::string::npos) return true;
-    return false;
-}
+bool wanted(const std::vector<std::string>& filters, const std::string& name) { return wantedCase(filters, name); }
 
 // n points uniformly in the cylinder of radius 1 and height 2 around the z axis (fixed seed).
 Positions pointsInCylinder(int n) {

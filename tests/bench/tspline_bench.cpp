@@ -20,28 +20,7 @@ using namespace sculpt::core;
 
 namespace {
 
-// A case (or a group: every case whose name starts with `name`) is wanted when a filter is a substring of its name
-// or names one case of the group.
-bool wanted(const std::vector<std::string>& filters, const std::string& name) {
-    if (filters.empty()) return true;
-    for (const std::string& f : filters)
-        if (name.find(f) != std::string::npos || f.rfind(name, 0) == 0) return true;
-    return false;
-}
-
-// n points on a wavy unit sphere (rings of points, as the paper's scanned surfaces: every point on the surface).
-Positions wavySphere(int n) {
-    Positions p(n, 3);
-    const int rings = static_cast<int>(std::sqrt(n / 2.0)) + 1;
-    const int perRing = (n + rings - 1) / rings;
-    for (int v = 0; v < n; ++v) {
-        const double theta = M_PI * ((v / perRing) + 0.5) / rings;
-        const double phi = 2.0 * M_PI * (v % perRing) / perRing;
-        const double r = 1.0 + 0.05 * std::sin(5 * theta) * std::cos(3 * phi);
-        p.row(v) << r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi), r * std::cos(theta);
-    }
-    return p;
-}
+bool wanted(const std::vector<std::string>& filters, const std::string& name) { return wantedCase(filters, name); }
 
 Status octreeVolume(const Positions& points, int depth, std::shared_ptr<const TSplineVolume>& out) {
     TSplineOctreeSettings settings;
@@ -103,16 +82,16 @@ void runTSplineBenchmarks(const std::vector<std::string>& filters) {
             counts(filters, "default", mesh.positions);
         else
             printError(std::cout, "tspline_counts_default", s.message);
-        counts(filters, "1m", wavySphere(1000000));
+        counts(filters, "1m", bumpySphere(1000000));
     }
     if (wanted(filters, "tspline_param_15k_d5")) {
         std::shared_ptr<const TSplineVolume> volume;
         Lattice lattice;
         Embedding embedding;
-        parametrization("tspline_param_15k_d5", wavySphere(15000), 5, volume, lattice, embedding);
+        parametrization("tspline_param_15k_d5", bumpySphere(15000), 5, volume, lattice, embedding);
     }
     if (wanted(filters, "tspline_param_1m_d4") || wanted(filters, "tspline_eval_1m")) {
-        const Positions points = wavySphere(1000000);
+        const Positions points = bumpySphere(1000000);
         std::shared_ptr<const TSplineVolume> volume;
         Lattice lattice;
         Embedding embedding;
@@ -130,9 +109,9 @@ void runTSplineBenchmarks(const std::vector<std::string>& filters) {
         }
     }
     if (wanted(filters, "tspline_drag_step")) {
-        // A 100k-point wavy sphere as a mesh without triangles, in a depth-4 octree volume; one mouse move, with
+        // A 100k-point bumpy sphere as a mesh without triangles, in a depth-4 octree volume; one mouse move, with
         // the conic test (the window's default) and with the exact test.
-        const Positions points = wavySphere(100000);
+        const Positions points = bumpySphere(100000);
         for (const InjectivityMode mode : {InjectivityMode::Conic, InjectivityMode::Exact}) {
             const std::string name = std::string("tspline_drag_step") + (mode == InjectivityMode::Exact ? "_exact" : "");
             if (!wanted(filters, name)) continue;

@@ -82,6 +82,15 @@ Positions displaced(const LatticeNet& net, const std::vector<int>& slots, const 
     return p;
 }
 
+// A cylinder's or ball's net after an edit: every slot with r index 0 in a slice is one point (the axis, the
+// centre), and the periodic seam (the last angle slice) is welded to the first.
+void requireAxisAndSeamWelded(const LatticeNet& net) {
+    for (int k = 0; k < net.count[2]; ++k)
+        for (int j = 0; j < net.count[1]; ++j) REQUIRE(net.weldedTo[net.slot(0, j, k)] == net.weldedTo[net.slot(0, 0, k)]);
+    for (int k = 0; k < net.count[2]; ++k)
+        for (int i = 0; i < net.count[0]; ++i) REQUIRE(net.weldedTo[net.slot(i, net.count[1] - 1, k)] == net.weldedTo[net.slot(i, 0, k)]);
+}
+
 // A ring of degree-1 chunks (a hollow polygonal cylinder: radii 0.5 and 1, `sides` sides) whose angle axis is
 // periodic with multiplicity 1, so a slice of it can be removed; the seam is welded, nothing else.
 LatticeNet polygonRing(int sides) {
@@ -172,14 +181,7 @@ TEST_CASE("lattice edit: refinement welds by structure so every old deformation 
                     const Eigen::Vector3d t = randomParameter(rng);
                     REQUIRE((volumeAt(fineMoved, fineMoved.rest, t) - volumeAt(moved, moved.rest, t)).norm() <= 1e-12 * net.diagonal());
                 }
-                // Every slot with r index 0 in a slice is one point (the cylinder's axis, the ball's centre).
-                for (int k = 0; k < fineRest.count[2]; ++k)
-                    for (int j = 0; j < fineRest.count[1]; ++j)
-                        REQUIRE(fineRest.weldedTo[fineRest.slot(0, j, k)] == fineRest.weldedTo[fineRest.slot(0, 0, k)]);
-                // The periodic seam: the last angle slice is welded to the first.
-                for (int k = 0; k < fineRest.count[2]; ++k)
-                    for (int i = 0; i < fineRest.count[0]; ++i)
-                        REQUIRE(fineRest.weldedTo[fineRest.slot(i, fineRest.count[1] - 1, k)] == fineRest.weldedTo[fineRest.slot(i, 0, k)]);
+                requireAxisAndSeamWelded(fineRest);
             }
         }
 }
@@ -602,12 +604,7 @@ TEST_CASE("lattice edit: a knot inserted into a moved net gives the moved volume
                     REQUIRE((volumeAt(fineMoved, fineMoved.rest, sameKnotParameter(moved, fineMoved, axis, t)) - volumeAt(moved, moved.rest, t)).norm() <=
                             1e-12 * net.diagonal());
                 }
-                for (int k = 0; k < fineRest.count[2]; ++k)
-                    for (int j = 0; j < fineRest.count[1]; ++j)
-                        REQUIRE(fineRest.weldedTo[fineRest.slot(0, j, k)] == fineRest.weldedTo[fineRest.slot(0, 0, k)]);
-                for (int k = 0; k < fineRest.count[2]; ++k)
-                    for (int i = 0; i < fineRest.count[0]; ++i)
-                        REQUIRE(fineRest.weldedTo[fineRest.slot(i, fineRest.count[1] - 1, k)] == fineRest.weldedTo[fineRest.slot(i, 0, k)]);
+                requireAxisAndSeamWelded(fineRest);
             }
         }
 }

@@ -2,6 +2,7 @@
 // library they come from, placing one on the surface, freezing and unfreezing. Every button is a command of
 // lattice_commands.h, i.e. the session command the matching script op issues.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -137,9 +138,11 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     ImGui::Combo("##editAxis", &panel.editAxis, kAxes, 3);
     recordItem(panel, "edit axis");
     ImGui::SameLine();
-    float at = static_cast<float>(panel.insertAt);
+    // note: a double slider, so the knot the script records is the value shown (0.168, not 0.1679999977).
+    static const double kAtMin = 0.01, kAtMax = 0.99;
     ImGui::SetNextItemWidth(half - 0.35f * half - ImGui::GetStyle().ItemSpacing.x);
-    if (ImGui::SliderFloat("##insertAt", &at, 0.01f, 0.99f, "at %.3f")) panel.insertAt = std::clamp(static_cast<double>(at), 0.01, 0.99);
+    if (ImGui::SliderScalar("##insertAt", ImGuiDataType_Double, &panel.insertAt, &kAtMin, &kAtMax, "at %.3f"))
+        panel.insertAt = std::clamp(std::round(panel.insertAt * 1000.0) / 1000.0, kAtMin, kAtMax);
     recordItem(panel, "insert at");
     ImGui::EndDisabled();
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
