@@ -27,6 +27,9 @@ const char* scriptOpName(ScriptOp::Kind kind) {
         case ScriptOp::Kind::SetRefinement: return "set_refinement";
         case ScriptOp::Kind::SetupTSpline: return "setup_tspline";
         case ScriptOp::Kind::SubdivideCells: return "subdivide_cells";
+        case ScriptOp::Kind::SetWeights: return "set_weights";
+        case ScriptOp::Kind::Hammer: return "hammer";
+        case ScriptOp::Kind::Crimp: return "crimp";
     }
     return "?";
 }
@@ -125,6 +128,15 @@ Status runOp(Session& session, const ScriptOp& op, OpReport& report, const Scree
         case ScriptOp::Kind::Unfreeze: return session.unfreezeLattice(report);
         case ScriptOp::Kind::SetupTSpline: return session.setupTSpline(op.tspline, report);
         case ScriptOp::Kind::SubdivideCells: return session.subdivideTSplineCells(op.toolIndex, op.cells, op.cellPoints, op.balance, report);
+        case ScriptOp::Kind::SetWeights:
+        case ScriptOp::Kind::Hammer:
+        case ScriptOp::Kind::Crimp: {
+            WeightToolSettings settings = op.weightTool;
+            settings.tool = op.kind == ScriptOp::Kind::SetWeights ? WeightToolSettings::Tool::SetWeights
+                            : op.kind == ScriptOp::Kind::Hammer   ? WeightToolSettings::Tool::Hammer
+                                                                  : WeightToolSettings::Tool::Crimp;
+            return session.sculptWeights(settings, report);
+        }
         case ScriptOp::Kind::Screenshot: {
             const auto start = std::chrono::steady_clock::now();
             report = OpReport{};
@@ -173,6 +185,12 @@ ScriptOp recordedOp(const Operation& operation) {
         case OperationKind::Refine:
             op.kind = ScriptOp::Kind::Refine;
             op.tolerance = operation.refinement.tolerance;
+            break;
+        case OperationKind::WeightEdit:
+            op.weightTool = operation.weightTool;
+            op.kind = operation.weightTool.tool == WeightToolSettings::Tool::SetWeights ? ScriptOp::Kind::SetWeights
+                      : operation.weightTool.tool == WeightToolSettings::Tool::Hammer   ? ScriptOp::Kind::Hammer
+                                                                                        : ScriptOp::Kind::Crimp;
             break;
         case OperationKind::LatticeTools:
             // The list changes repeat as they were (they do not depend on the mesh).

@@ -20,7 +20,8 @@ namespace sculpt::core {
 struct ScriptOp {
     enum class Kind {
         Drag, DragVertex, MoveControlPoint, Undo, Redo, Screenshot, SetupLattice, SetPins, BeginGroup, EndGroup, Group,
-        AddLattice, EditLattice, RemoveLattice, Freeze, Unfreeze, Refine, SetRefinement, SetupTSpline, SubdivideCells
+        AddLattice, EditLattice, RemoveLattice, Freeze, Unfreeze, Refine, SetRefinement, SetupTSpline, SubdivideCells,
+        SetWeights, Hammer, Crimp
     };
     Kind kind = Kind::Undo;
     std::vector<PointConstraint> constraints;      // Drag
@@ -48,6 +49,8 @@ struct ScriptOp {
     std::vector<int> cells;                        // SubdivideCells: T-lattice cell ids of tool toolIndex,
     std::vector<Eigen::Vector3d> cellPoints;       //   and world points whose leaf cells are subdivided ("at")
     bool balance = true;                           //   then the 2:1 balance
+    WeightToolSettings weightTool;                 // SetWeights, Hammer, Crimp: Session::sculptWeights (its tool
+                                                   //   field is set from the kind)
     // Recordings: what the operation was applied as (its steps: fresh frames and control displacements). A
     // replay on the mesh it was recorded on applies these exactly instead of deciding again.
     bool hasApplied = false;

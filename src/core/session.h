@@ -84,7 +84,7 @@ struct OpReport {
     double deviation = 0.0;
 };
 
-enum class OperationKind { Drag, ControlPointEdit, LatticeSetup, LatticeTools, Refine };
+enum class OperationKind { Drag, ControlPointEdit, LatticeSetup, LatticeTools, Refine, WeightEdit };
 
 // A lattice tool associated with the mesh (Coquillart 1990, 3.2: a list of lattices per surface, one frozen at
 // a time): a named lattice of any shape, placed in world space. Editing it never touches the mesh.
@@ -122,6 +122,48 @@ std::string stepFailureWords(const StepFailure& failure, bool drag);
 // What the user can do about it, e.g. "try a smaller move, a finer lattice, or a finer mesh there".
 std::string stepFailureAdvice(StepFailure::Cause cause);
 
+// A change of the frozen weighted T-spline's weights (Song & Yang 2005, eq. 5: Q(t) = sum W P B / sum W B,
+// sec. 6 step 4: "modify the control points or weights"), applied before the step's control displacement.
+struct WeightChange {
+    std::vector<int> ids;               // control points (T-spline anchors), ascending, each once
+    std::vector<double> before, after;  // their weights (finite, > 0)
+    bool empty() const { return ids.empty(); }
+};
+// What applying a weight change overwrote, to undo it bitwise. Made again by redo and replay; never recorded.
+struct WeightUndo {
+    std::vector<int> vertices;                   // the vertices in the changed control points' support
+    Positions rest, output, positions;           // their rows before (output: the cage's output under layers)
+    std::vector<double> jacobian;                // frozenJacobian_ before (when tracking det J)
+    ControlDelta displacement;                   // the displaced control points' displacements before
+    std::shared_ptr<const Volume> volume;        // the frozen volume before
+};
+
+// The sculpting-by-weights tools (Song & Yang 2005 sec. 1 and 6, after Noble & Gordon 1999) as the user asked
+// for them (what a recording writes and a replay on another mesh decides again). Exact definitions:
+// Session::sculptWeights and README "Sculpting by weights".
+struct WeightToolSettings {
+    enum class Tool { SetWeights, Hammer, Crimp };
+    Tool tool = Tool::SetWeights;
+    // SetWeights: control point ids (anchors of the frozen T-spline) and their new weights (finite, > 0).
+    std::vector<int> ids;
+    std::vector<double> weights;
+    // Hammer, Crimp: the picked mesh vertex, and the control points that make the bump: `controlPoint` if >= 0,
+    // else every visible control point (of a non-empty cell) whose blending function is non-zero at the vertex
+    // and which lies within `radius` (world units) of it, or with radius 0 the one whose R_s is largest there.
+    int vertex = -1;
+    int controlPoint = -1;
+    double radius = 0.0;
+    // Hammer: the vertex's height after (world units along the bump direction) if hasHeight, else the bump
+    // scaled by `scale` (finite; 0 flattens it, negative turns it over).
+    bool hasHeight = false;
+    double height = 0.0;
+    double scale = 1.0;
+    // Crimp: the bump's width at half height is multiplied by widthFactor (finite, > 0), its height kept.
+    double widthFactor = 1.0;
+};
+
+struct WeightBump;  // session_weights.cpp
+
 // One injective deformation: a control displacement in the cage, or in a layer the step made.
 struct Step {
     bool freshFrame = false;   // a new layer (subdivision or brush region) was put after the cage and its
@@ -138,6 +180,8 @@ struct Step {
     std::vector<int> regionFree;
     ControlDelta delta;        // the change of the control points (cage, or the layer this step made)
     std::vector<PointConstraint> constraints;  // drags: where the sources were before and after the step
+    WeightChange weights;      // a weight change of the frozen T-spline, applied before `delta` (in the cage)
+    mutable std::shared_ptr<WeightUndo> weightUndo;  // set when `weights` is applied; what undo puts back
 };
 
 // One history entry: the manipulation as the user gave it (to record and replay it) and the injective
@@ -161,6 +205,7 @@ struct Operation {
     LatticeTool toolBefore, toolAfter;
     int frozenBefore = -1, frozenAfter = -1;
     RefinementRecord refinement;  // edges split after the steps: a Refine, or an edit refined automatically
+    WeightToolSettings weightTool;  // WeightEdit: the tool as asked
 };
 
 // One command as the session carried it out, in order: what a recording writes so that a replay on the same
@@ -244,6 +289,37 @@ public:
     // id out of range, a point outside the tool, no cell at all, points moved one by one.
     Status subdivideTSplineCells(int index, const std::vector<int>& cells, const std::vector<Eigen::Vector3d>& at, bool balance,
                                  OpReport& report);
+
+    // ---- sculpting by weights (Song & Yang 2005 sec. 1 and 6; session_weights.cpp, weight_sculpt.h) ----
+    // One history operation on the frozen weighted T-spline; the mesh is Q(P; W)(t) at its frozen parameters
+    // (eq. 5), so a weight change moves it. Heights are measured along the bump direction n from the rest
+    // surface under the current weights (restPositions()), i.e. H_v = n . (x_v - X0_v) = n . sum R_s(t_v) delta_s.
+    //  * SetWeights: the weights of `ids` become `weights`.
+    //  * Hammer: the bump of the control points S (WeightToolSettings) at the picked vertex p is
+    //    b(t) = sum_{s in S} R_s(t) delta_s and n = b(t_p) / |b(t_p)|. The displacements of S are scaled by one
+    //    factor so that H_p becomes `height` (or H_p + (scale - 1) n.b(t_p)): b's shape is kept exactly. With
+    //    no bump yet (b(t_p) = 0), n is the vertex normal and every point of S moves by the same mu n.
+    //  * Crimp: the weights of S are multiplied by one factor beta and their displacements scaled by lambda(beta)
+    //    so that H_p stays; beta is found (bisection on log beta) so that the equivalent diameter 2 sqrt(A / pi)
+    //    of the rest surface where H >= H_p / 2 (linear within triangles) is widthFactor times what it was.
+    // Checked like a control-point move (injectivity of the cells reached, the rest volume under the new
+    // weights, no new triangle crossing); a change that fails is Rejected and changes nothing. Errors (change
+    // nothing): no frozen T-spline, ids, vertex or control point out of range, a hidden control point, a
+    // weight or factor not finite and > 0, a crimp without a bump, a width that no weight reaches.
+    Status sculptWeights(const WeightToolSettings& settings, OpReport& report);
+    // The control points a sculpting tool acts on, its bump direction n and the heights H_v of the vertices in
+    // their support (as sculptWeights computes them), for the window and tests. Errors as sculptWeights.
+    struct Bump {
+        std::vector<int> controlPoints;
+        Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+        std::vector<int> vertices;
+        std::vector<double> heights;
+        double width = 0.0;  // the equivalent diameter at half the picked vertex's height (0 without a bump)
+    };
+    Status bumpAt(const WeightToolSettings& settings, Bump& out) const;
+    // Control points of the frozen T-spline's non-empty cells (cells holding a vertex's parameters): the ones
+    // shown and picked (Song & Yang 2005, Fig. 10); empty when the frozen lattice is not a T-spline.
+    std::vector<int> visibleTSplinePoints() const;
 
     void setInjectivity(const InjectivitySettings& settings) { injectivity_ = settings; }
     const InjectivitySettings& injectivity() const { return injectivity_; }
@@ -457,6 +533,15 @@ private:
     // `placed` gets its placement. recorded: place it as that step recorded (redo, replay).
     void enterNewCage(const LatticeSettings& settings, Step* placed, const Step* recorded = nullptr);
     void leaveCage();
+    // Applies a step's weight change and control displacement to the frozen T-spline, the rest mesh (rebased so
+    // it stays Q0(t) under the new weights) and the output, recording in step.weightUndo what it overwrote.
+    Status applyWeightStep(const Step& step, std::vector<int>* moved);
+    void revertWeightStep(const Step& step, std::vector<int>* moved);
+    // A recorded weight change fits the frozen lattice: a T-spline, ids in range, `before` its weights bitwise.
+    Status checkRecordedWeights(const WeightChange& change) const;
+    // The bump of sculptWeights' tools (session_weights.cpp): the control points, direction, sums and heights.
+    Status weightBump(const WeightToolSettings& settings, WeightBump& out) const;
+    Status applyWeightTool(const WeightToolSettings& settings, Step step, const std::string& label, OpReport& report);
     void restoreSnapshot(Snapshot& snapshot);
     Status runManipulation(Manipulation m, Operation operation, OpReport& report, const BrushSettings* brush = nullptr,
                            const std::vector<Eigen::Vector3d>& regionCentres = {});

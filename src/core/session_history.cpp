@@ -49,6 +49,11 @@ size_t Session::historyBytes() const {
 }
 
 void Session::undoStep(const Step& step) {
+    if (!step.weights.empty()) {  // a weight change (and the displacement with it) in the cage
+        layerActive_ = false;
+        revertWeightStep(step, &lastMoved_);
+        return;
+    }
     if (step.freshFrame) {
         popLayer(&lastMoved_);  // the layer and everything it did go; the layers below give the positions
         return;
@@ -69,6 +74,11 @@ int Session::movedCount() const {
 }
 
 void Session::redoStep(const Step& step) {
+    if (!step.weights.empty()) {
+        layerActive_ = false;
+        applyWeightStep(step, &lastMoved_);
+        return;
+    }
     if (step.newCage) enterNewCage(step.settings, nullptr, &step);
     else if (step.freshFrame) enterLayer(nullptr, nullptr, &step);
     else layerActive_ = false;  // a step without a lattice of its own is in the cage
@@ -98,6 +108,7 @@ Status Session::groupOperations(int first, const std::string& label) {
         merged.controlPoints = firstEdit->controlPoints;
         merged.offsets = firstEdit->offsets;
         merged.constraints = firstEdit->constraints;
+        merged.weightTool = firstEdit->weightTool;
         // From where the first edit took its sources to where the last one put them.
         if (lastEdit->constraints.size() == merged.constraints.size())
             for (size_t c = 0; c < merged.constraints.size(); ++c) merged.constraints[c].target = lastEdit->constraints[c].target;
@@ -118,7 +129,7 @@ Status Session::groupOperations(int first, const std::string& label) {
             // A fresh frame that moved nothing followed by a step in it is one step, as the interactive
             // operation that was recorded had it (same undo: the delta, then leaving the frame).
             if (!merged.steps.empty() && merged.steps.back().newCage && merged.steps.back().delta.indices.empty() &&
-                !step.freshFrame && !step.newCage) {
+                !step.freshFrame && !step.newCage && step.weights.empty()) {
                 Step& combined = merged.steps.back();
                 combined.delta = std::move(step.delta);
                 combined.constraints = std::move(step.constraints);
@@ -256,6 +267,8 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
         for (int idx : step.delta.indices)
             if (idx < 0 || idx >= count) return Status::error("step " + std::to_string(k) + ": control point id " + std::to_string(idx) + " is outside the lattice");
         if (!step.delta.deltas.allFinite()) return Status::error("step " + std::to_string(k) + ": non-finite displacement");
+        if (!step.weights.empty())
+            if (Status s = checkRecordedWeights(step.weights); !s) return Status::error("step " + std::to_string(k) + ": " + s.message);
     }
     lastMoved_.clear();
     lastMovedAll_ = false;

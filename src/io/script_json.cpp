@@ -107,6 +107,13 @@ std::vector<int> intList(const json& list, const std::string& path) {
     return out;
 }
 
+std::vector<double> numberList(const json& list, const std::string& path) {
+    if (!list.is_array()) fail(path, "expected an array of numbers");
+    std::vector<double> out;
+    for (size_t i = 0; i < list.size(); ++i) out.push_back(number(list[i], path + "[" + std::to_string(i) + "]"));
+    return out;
+}
+
 Eigen::MatrixX3d vectorRows(const json& list, const std::string& path) {
     if (!list.is_array()) fail(path, "expected an array of [x,y,z]");
     Eigen::MatrixX3d out(static_cast<Eigen::Index>(list.size()), 3);
@@ -161,7 +168,8 @@ core::Operation parseApplied(const json& j, const std::string& path) {
     else if (name == "control_point_edit") operation.kind = core::OperationKind::ControlPointEdit;
     else if (name == "lattice_setup") operation.kind = core::OperationKind::LatticeSetup;
     else if (name == "refine") operation.kind = core::OperationKind::Refine;
-    else fail(path + ".kind", "expected \"drag\", \"control_point_edit\", \"lattice_setup\" or \"refine\"");
+    else if (name == "weight_edit") operation.kind = core::OperationKind::WeightEdit;
+    else fail(path + ".kind", "expected \"drag\", \"control_point_edit\", \"lattice_setup\", \"refine\" or \"weight_edit\"");
     if (j.contains("label")) {
         if (!j["label"].is_string()) fail(path + ".label", "expected a string");
         operation.label = j["label"].get<std::string>();
@@ -193,7 +201,7 @@ core::Operation parseApplied(const json& j, const std::string& path) {
     if (!steps.is_array() || (steps.empty() && operation.kind != core::OperationKind::Refine)) fail(path + ".steps", "expected a non-empty array");
     for (size_t k = 0; k < steps.size(); ++k) {
         const std::string sp = path + ".steps[" + std::to_string(k) + "]";
-        allowOnly(steps[k], sp, {"new_layer", "new_cage", "fresh_frame", "frame", "region_free", "lattice", "indices", "deltas", "constraints"});
+        allowOnly(steps[k], sp, {"new_layer", "new_cage", "fresh_frame", "frame", "region_free", "lattice", "indices", "deltas", "constraints", "weights"});
         core::Step step;
         const auto flag = [&](const char* key) {
             if (!steps[k].contains(key)) return false;
@@ -227,6 +235,17 @@ core::Operation parseApplied(const json& j, const std::string& path) {
         if (step.delta.deltas.rows() != static_cast<Eigen::Index>(step.delta.indices.size()))
             fail(sp + ".deltas", "expected one [x,y,z] per index");
         if (steps[k].contains("constraints")) step.constraints = parseConstraints(steps[k]["constraints"], sp + ".constraints", true);
+        if (steps[k].contains("weights")) {  // a weight change of the frozen T-spline (core::WeightChange)
+            const json& w = steps[k]["weights"];
+            const std::string wp = sp + ".weights";
+            allowOnly(w, wp, {"ids", "before", "after"});
+            step.weights.ids = intList(required(w, "ids", wp), wp + ".ids");
+            step.weights.before = numberList(required(w, "before", wp), wp + ".before");
+            step.weights.after = numberList(required(w, "after", wp), wp + ".after");
+            if (step.weights.before.size() != step.weights.ids.size() || step.weights.after.size() != step.weights.ids.size())
+                fail(wp, "expected one weight before and after per id");
+            if (step.freshFrame || step.newCage) fail(wp, "a weight change is in the frozen lattice, not in a new layer or cage");
+        }
         operation.steps.push_back(std::move(step));
     }
     return operation;
@@ -518,6 +537,41 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
             if (!j["balance"].is_boolean()) fail(path + ".balance", "expected true or false");
             op.balance = j["balance"].get<bool>();
         }
+    } else if (name == "set_weights" || name == "hammer" || name == "crimp") {
+        // Sculpting by weights (Song & Yang 2005 sec. 1 and 6; core::Session::sculptWeights).
+        core::WeightToolSettings& tool = op.weightTool;
+        if (name == "set_weights") {
+            allowOnly(j, path, {"op", "ids", "weights", "applied"});
+            op.kind = core::ScriptOp::Kind::SetWeights;
+            tool.tool = core::WeightToolSettings::Tool::SetWeights;
+            tool.ids = intList(required(j, "ids", path), path + ".ids");
+            tool.weights = numberList(required(j, "weights", path), path + ".weights");
+            if (tool.ids.size() != tool.weights.size()) fail(path + ".weights", "expected one weight per id");
+            for (size_t c = 0; c < tool.weights.size(); ++c)
+                if (!(tool.weights[c] > 0.0)) fail(path + ".weights[" + std::to_string(c) + "]", "expected a weight > 0");
+        } else {
+            const bool hammer = name == "hammer";
+            if (hammer) allowOnly(j, path, {"op", "vertex", "control_point", "radius", "height", "scale", "applied"});
+            else allowOnly(j, path, {"op", "vertex", "control_point", "radius", "width_factor", "applied"});
+            op.kind = hammer ? core::ScriptOp::Kind::Hammer : core::ScriptOp::Kind::Crimp;
+            tool.tool = hammer ? core::WeightToolSettings::Tool::Hammer : core::WeightToolSettings::Tool::Crimp;
+            tool.vertex = integer(required(j, "vertex", path), path + ".vertex");
+            if (j.contains("control_point")) tool.controlPoint = integer(j["control_point"], path + ".control_point");
+            if (j.contains("radius")) {
+                tool.radius = number(j["radius"], path + ".radius");
+                if (tool.radius < 0.0) fail(path + ".radius", "expected a distance >= 0");
+            }
+            if (hammer) {
+                if (j.contains("height") == j.contains("scale")) fail(path, "needs one of \"height\" (the vertex's height after) or \"scale\" (of the bump)");
+                tool.hasHeight = j.contains("height");
+                if (tool.hasHeight) tool.height = number(j["height"], path + ".height");
+                else tool.scale = number(j["scale"], path + ".scale");
+            } else {
+                tool.widthFactor = number(required(j, "width_factor", path), path + ".width_factor");
+                if (!(tool.widthFactor > 0.0)) fail(path + ".width_factor", "expected a factor > 0");
+            }
+        }
+        parseRecorded(j, path, op);
     } else if (name == "begin_group") {
         allowOnly(j, path, {"op", "label"});
         op.kind = core::ScriptOp::Kind::BeginGroup;
@@ -556,7 +610,7 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
         op.path = p.get<std::string>();
     } else {
         fail(path + ".op", "unknown op \"" + name +
-                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, add_lattice, edit_lattice, remove_lattice, freeze, unfreeze, setup_tspline, subdivide_cells, begin_group, end_group, group, refine, set_refinement, undo, redo, screenshot)");
+                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, add_lattice, edit_lattice, remove_lattice, freeze, unfreeze, setup_tspline, subdivide_cells, set_weights, hammer, crimp, begin_group, end_group, group, refine, set_refinement, undo, redo, screenshot)");
     }
     return op;
 }
@@ -662,6 +716,7 @@ json appliedJson(const core::Operation& operation) {
         case core::OperationKind::LatticeSetup: j["kind"] = "lattice_setup"; break;
         case core::OperationKind::LatticeTools: j["kind"] = "lattice_tools"; break;  // never recorded as applied
         case core::OperationKind::Refine: j["kind"] = "refine"; break;
+        case core::OperationKind::WeightEdit: j["kind"] = "weight_edit"; break;
     }
     j["label"] = operation.label;
     j["interactive"] = operation.interactive;
@@ -687,6 +742,7 @@ json appliedJson(const core::Operation& operation) {
         if (step.freshFrame || step.newCage)
             k["frame"] = {{"min", vectorJson(step.frameMin)}, {"max", vectorJson(step.frameMax)}, {"pins_kept", step.framePinsKept}};
         if (!step.constraints.empty()) k["constraints"] = constraintsJson(step.constraints);
+        if (!step.weights.empty()) k["weights"] = {{"ids", step.weights.ids}, {"before", step.weights.before}, {"after", step.weights.after}};
         steps.push_back(k);
     }
     j["steps"] = steps;
@@ -780,6 +836,19 @@ std::string scriptToJson(const core::Script& script) {
                 j["balance"] = op.balance;
                 break;
             }
+            case core::ScriptOp::Kind::SetWeights:
+                j["ids"] = op.weightTool.ids;
+                j["weights"] = op.weightTool.weights;
+                break;
+            case core::ScriptOp::Kind::Hammer:
+            case core::ScriptOp::Kind::Crimp:
+                j["vertex"] = op.weightTool.vertex;
+                if (op.weightTool.controlPoint >= 0) j["control_point"] = op.weightTool.controlPoint;
+                if (op.weightTool.radius > 0.0) j["radius"] = op.weightTool.radius;
+                if (op.kind == core::ScriptOp::Kind::Crimp) j["width_factor"] = op.weightTool.widthFactor;
+                else if (op.weightTool.hasHeight) j["height"] = op.weightTool.height;
+                else j["scale"] = op.weightTool.scale;
+                break;
             case core::ScriptOp::Kind::Refine:
                 if (op.tolerance > 0.0) j["tolerance"] = op.tolerance;
                 break;
