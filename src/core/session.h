@@ -132,6 +132,7 @@ struct WeightChange {
 // What applying a weight change overwrote, to undo it bitwise. Made again by redo and replay; never recorded.
 struct WeightUndo {
     std::vector<int> vertices;                   // the vertices in the changed control points' support
+    std::vector<int> entries;                    // their entries in the embedding (which keeps rest rows too)
     Positions rest, output, positions;           // their rows before (output: the cage's output under layers)
     std::vector<double> jacobian;                // frozenJacobian_ before (when tracking det J)
     ControlDelta displacement;                   // the displaced control points' displacements before
@@ -149,7 +150,8 @@ struct WeightToolSettings {
     std::vector<double> weights;
     // Hammer, Crimp: the picked mesh vertex, and the control points that make the bump: `controlPoint` if >= 0,
     // else every visible control point (of a non-empty cell) whose blending function is non-zero at the vertex
-    // and which lies within `radius` (world units) of it, or with radius 0 the one whose R_s is largest there.
+    // and which lies within `radius` (world units) of it, plus always the strongest there: the one whose
+    // displacement moves the vertex most (R_s |delta_s|), or with no displacement yet the largest R_s.
     int vertex = -1;
     int controlPoint = -1;
     double radius = 0.0;

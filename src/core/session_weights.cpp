@@ -129,8 +129,10 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
             return Status::error("control_point: " + std::to_string(settings.controlPoint) + " has no influence at vertex " + std::to_string(settings.vertex));
         out.controlPoints = {settings.controlPoint};
     } else {
-        int strongest = -1;
-        double strongestValue = 0.0;
+        // The strongest: the control point whose displacement moves the vertex most (the one that made the
+        // bump there), or with no bump yet the one whose R_s is largest there.
+        int strongest = -1, strongestPull = -1;
+        double strongestValue = 0.0, strongestPullValue = 0.0;
         for (int c = 0; c < supportCount; ++c) {
             const int s = support[c];
             const double r = weights[static_cast<size_t>(s)] * blending[static_cast<size_t>(c)];
@@ -140,10 +142,16 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
                 strongestValue = r;
                 strongest = s;
             }
+            const double pull = r * lattice_.displacement.row(s).norm();
+            if (pull > strongestPullValue) {
+                strongestPullValue = pull;
+                strongestPull = s;
+            }
             if (settings.radius > 0.0 && (lattice_.controlPoint(s) - picked).norm() <= settings.radius)
                 out.controlPoints.push_back(s);
         }
         if (strongest < 0) return Status::error("vertex: no visible control point influences vertex " + std::to_string(settings.vertex));
+        if (strongestPull >= 0) strongest = strongestPull;
         if (std::find(out.controlPoints.begin(), out.controlPoints.end(), strongest) == out.controlPoints.end()) out.controlPoints.push_back(strongest);
         std::sort(out.controlPoints.begin(), out.controlPoints.end());
     }
@@ -450,8 +458,10 @@ Status Session::applyWeightStep(const Step& step, std::vector<int>* moved) {
     std::vector<int> ids = step.weights.ids;
     ids.insert(ids.end(), step.delta.indices.begin(), step.delta.indices.end());
     for (int e : cellsInfluencedBy(lattice_, ids))
-        for (int s = embedding_.cellStart[static_cast<size_t>(e)]; s < embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s)
+        for (int s = embedding_.cellStart[static_cast<size_t>(e)]; s < embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
             undo->vertices.push_back(embedding_.order[static_cast<size_t>(s)]);
+            undo->entries.push_back(s);
+        }
     const bool layered = cageUnderLayers();
     Positions& output = activeOutput();
     const Eigen::Index count = static_cast<Eigen::Index>(undo->vertices.size());
@@ -491,6 +501,9 @@ Status Session::applyWeightStep(const Step& step, std::vector<int>* moved) {
             old->evaluate(old->restControlPoints(), t, restBefore, trackJacobian_ ? &derivativeBefore : nullptr);
             fresh->evaluate(fresh->restControlPoints(), t, restAfter, trackJacobian_ ? &derivativeAfter : nullptr);
             rest_.row(v) += (restAfter - restBefore).transpose();
+            embedding_.restX[static_cast<size_t>(s)] = rest_(v, 0);  // the evaluation kernels read the rest rows here
+            embedding_.restY[static_cast<size_t>(s)] = rest_(v, 1);
+            embedding_.restZ[static_cast<size_t>(s)] = rest_(v, 2);
             output.row(v) = rest_.row(v) + displacementAt(lattice_, t).transpose();
             if (trackJacobian_) frozenJacobian_[static_cast<size_t>(v)] *= derivativeAfter.determinant() / derivativeBefore.determinant();
         }
@@ -517,6 +530,10 @@ void Session::revertWeightStep(const Step& step, std::vector<int>* moved) {
         const int v = undo->vertices[c];
         const Eigen::Index row = static_cast<Eigen::Index>(c);
         rest_.row(v) = undo->rest.row(row);
+        const size_t entry = static_cast<size_t>(undo->entries[c]);
+        embedding_.restX[entry] = rest_(v, 0);
+        embedding_.restY[entry] = rest_(v, 1);
+        embedding_.restZ[entry] = rest_(v, 2);
         positions_.row(v) = undo->positions.row(row);
         if (layered) cageOut_.row(v) = undo->output.row(row);
         if (!undo->jacobian.empty()) frozenJacobian_[static_cast<size_t>(v)] = undo->jacobian[c];

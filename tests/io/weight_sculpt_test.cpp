@@ -258,6 +258,10 @@ TEST_CASE("weights: the crimp keeps the peak height and scales the width at half
         const double widthAfter = sampledWidth(session, restBefore, bump.vertices, h, 0.5 * height);
         INFO("width " << widthBefore << " -> " << widthAfter);
         REQUIRE(std::abs(widthAfter / widthBefore / factor - 1.0) <= 0.02);
+        // A hammer after the weights changed still lands exactly (the evaluation reads the rebased rest rows).
+        REQUIRE(applyTool(session, hammer(peak, 0.5 * height)).status == OpStatus::Applied);
+        h = heightsAlong(session, bump.direction);
+        REQUIRE(std::abs(h[static_cast<size_t>(peak)] - 0.5 * height) <= 1e-9 * diagonal);
         // Undone bitwise; the recording replays bitwise on a fresh session.
         const Positions after = session.positions();
         Script parsed;

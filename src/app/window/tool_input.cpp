@@ -173,6 +173,13 @@ void SculptApp::pressSculpt(const MouseButtonEvent& event) {
     if (!rayThroughPixel(state_.camera, width, height, event.x, event.y, ray)) return;
     const SurfaceHit hit = intersectMesh(ray, session.positions(), session.triangles());
     if (hit.triangle < 0) return;  // a click on the background does nothing
+    if (tools.brush.kind != BrushTool::Kind::Drag) {
+        // The hammer or crimp at the clicked triangle's corner nearest the hit.
+        int corner = 0;
+        hit.barycentric.maxCoeff(&corner);
+        weightToolCommand(state_, session.triangles()(hit.triangle, corner), brushForDrag(hit.point).radius, control);
+        return;
+    }
     if (shift || control) {
         SurfaceHandle placed;
         placed.triangle = hit.triangle;

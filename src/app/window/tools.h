@@ -53,6 +53,14 @@ struct BrushTool {
     bool hover = false;
     Eigen::Vector3d hoverPoint = Eigen::Vector3d::Zero(), hoverNormal = Eigen::Vector3d::UnitZ();
     double hoverRadius = 0.0;
+    // Sculpting by weights on a frozen weighted T-spline (Session::sculptWeights, Song & Yang 2005 sec. 1 and 6):
+    // what a click on the mesh does instead of a drag. The hammer raises the clicked vertex by hammerStep of the
+    // mesh diagonal (Ctrl+click lowers it); the crimp multiplies the bump's width at half height by crimpFactor
+    // (Ctrl+click divides). Both act on the visible control points within the brush radius (the strongest one
+    // alone when the radius is off).
+    enum class Kind { Drag, Hammer, Crimp } kind = Kind::Drag;
+    double hammerStep = 0.01;   // in [0.001, 0.05]
+    double crimpFactor = 1.25;  // in [1.02, 2]
 };
 constexpr double kMinBrushPixels = 5.0, kMaxBrushPixels = 1000.0;
 constexpr double kStrengthPixels = 200.0;  // Shift+F: the cursor this far from the centre is strength 1

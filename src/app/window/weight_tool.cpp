@@ -1,0 +1,57 @@
+// The window's hammer and crimp (sculpting by weights on a frozen weighted T-spline, Song & Yang 2005 sec. 1 and 6;
+// Session::sculptWeights): a click becomes the script op a user would write, run through core::runScriptOp so the
+// window and scripts share one command and one undo step.
+#include <cmath>
+#include <cstdio>
+
+#include "app/window/tool_commands.h"
+#include "core/script.h"
+
+namespace sculpt::app {
+
+void weightToolCommand(AppState& state, int vertex, double radius, bool invert) {
+    if (state.drag.active) return;
+    const BrushTool& brush = state.tools.brush;
+    core::ScriptOp op;
+    core::WeightToolSettings& tool = op.weightTool;
+    tool.vertex = vertex;
+    tool.radius = std::isfinite(radius) && radius > 0.0 ? radius : 0.0;
+    std::string what;
+    if (brush.kind == BrushTool::Kind::Hammer) {
+        op.kind = core::ScriptOp::Kind::Hammer;
+        // The clicked vertex's height now (0 where nothing is raised), raised or lowered by one step.
+        core::Session::Bump bump;
+        tool.tool = core::WeightToolSettings::Tool::Hammer;
+        double height = 0.0;
+        if (state.session.bumpAt(tool, bump))
+            for (size_t c = 0; c < bump.vertices.size(); ++c)
+                if (bump.vertices[c] == vertex) height = bump.heights[c];
+        const Eigen::Vector3d size = state.session.positions().colwise().maxCoeff() - state.session.positions().colwise().minCoeff();
+        tool.hasHeight = true;
+        tool.height = height + (invert ? -1.0 : 1.0) * brush.hammerStep * size.norm();
+        char text[96];
+        std::snprintf(text, sizeof text, "Hammer at vertex %d: height %.4g -> %.4g", vertex, height, tool.height);
+        what = text;
+    } else {
+        op.kind = core::ScriptOp::Kind::Crimp;
+        tool.tool = core::WeightToolSettings::Tool::Crimp;
+        tool.widthFactor = invert ? 1.0 / brush.crimpFactor : brush.crimpFactor;
+        char text[96];
+        std::snprintf(text, sizeof text, "Crimp at vertex %d: width x%.3g, height kept", vertex, tool.widthFactor);
+        what = text;
+    }
+    core::OpReport report;
+    const Status s = core::runScriptOp(state.session, op, report);
+    if (s && report.status == core::OpStatus::Applied) {
+        noteSessionMoved(state);
+        state.hasReport = true;
+        state.lastReport = report;
+        state.stats.solveMs = report.wallMs;
+        setStatus(state, what + " (" + report.reason + ").", false);
+    } else {
+        reportOperation(state, report, s, brush.kind == BrushTool::Kind::Hammer ? "hammer" : "crimp");
+    }
+    state.gpu.fields = true;
+}
+
+}  // namespace sculpt::app
