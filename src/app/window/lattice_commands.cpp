@@ -23,12 +23,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The status line after a lattice command: the engine's own account where it gives one (freeze: "froze
-// 812 of 2562 vertices in lattice cylinder"), otherwise `done`.
-// show: turn the current tool's Lattice overlay on, so the user sees the lattice just frozen (tools that are
-// not frozen show without it: latticeToolsShown).
+bool readEntry(const std::string& path, LatticeLibraryEntry& entry, std::string& error) {
+    io::LatticeFile file;
+    if (Status s = io::readLatticeFile(path, file); !s) {
+        error = s.message;
+        return false;
+    }
+    entry.path = path;
+    entry.name = file.name.empty() ? fs::path(path).stem().stem().string() : file.name;
+    entry.volume = std::move(file.volume);
+    return true;
+}
+
+}  // namespace
+
 void reportLatticeOperation(AppState& state, const core::OpReport& report, const Status& status, const std::string& done,
-                            bool show = false) {
+                            bool show) {
     if (status && report.status == core::OpStatus::Applied) {
         noteSessionMoved(state);
         if (show && !latticeShown(state)) {
@@ -45,20 +55,6 @@ void reportLatticeOperation(AppState& state, const core::OpReport& report, const
     }
     state.gpu.fields = true;
 }
-
-bool readEntry(const std::string& path, LatticeLibraryEntry& entry, std::string& error) {
-    io::LatticeFile file;
-    if (Status s = io::readLatticeFile(path, file); !s) {
-        error = s.message;
-        return false;
-    }
-    entry.path = path;
-    entry.name = file.name.empty() ? fs::path(path).stem().stem().string() : file.name;
-    entry.volume = std::move(file.volume);
-    return true;
-}
-
-}  // namespace
 
 std::string latticeLibraryFolder() { return (fs::path(defaultMeshPath(nullptr)).parent_path() / "lattices").string(); }
 
