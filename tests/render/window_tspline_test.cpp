@@ -320,6 +320,16 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     CHECK(toolVolume(session, 0).lattice().cells.size() == cellsBefore);
     app::subdivideChosenCellsCommand(state);
     CHECK(state.statusIsError);
+    // A refusal of the engine (here a cell it does not have) takes the unfreeze back: nothing changes.
+    const int cursor = session.historyCursor();
+    state.tspline.chosenCells = {100000};
+    app::subdivideChosenCellsCommand(state);
+    CHECK(state.statusIsError);
+    CHECK(state.status.find("does not exist") != std::string::npos);
+    CHECK(session.frozenTool() == 0);
+    CHECK(session.historyCursor() == cursor);
+    CHECK(session.latticeTools()[0].volume == coarse);
+    state.tspline.chosenCells.clear();
 
     ui.click("Choose cells");
     REQUIRE(state.tspline.picking);
@@ -332,7 +342,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     REQUIRE(hit.triangle >= 0);
     Eigen::Vector3d params;
     REQUIRE(session.parametersOfCurrentPoint(hit.point, params).ok);
-    const size_t history = session.history().size();
+    const int history = session.historyCursor();
     ui.clickView(x, y);
     INFO(state.status);
     REQUIRE(state.tspline.chosenCells.size() == 1);
@@ -342,7 +352,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
         CHECK(lattice.knotValue[a][lattice.cellLo(cell)[a]] <= params[a] + 1e-9);
         CHECK(params[a] <= lattice.knotValue[a][lattice.cellHi(cell)[a]] + 1e-9);
     }
-    CHECK(session.history().size() == history);  // choosing changes nothing
+    CHECK(session.historyCursor() == history);  // choosing changes nothing
     // Drawn: the cell's 12 edges in the selection colour.
     render::LatticeView overlay;
     app::addTSplineOverlays(state, overlay);
@@ -363,7 +373,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     REQUIRE(session.frozenTool() == 0);
     const size_t cellsAfter = toolVolume(session, 0).lattice().cells.size();
     CHECK(cellsAfter >= cellsBefore + 7);  // the cell became 8, more with the balance
-    CHECK(session.history().size() == history + 3);
+    CHECK(session.historyCursor() == history + 3);
     CHECK((session.positions() - before).cwiseAbs().maxCoeff() == 0.0);
     CHECK(state.tspline.chosenCells.empty());
     CHECK_FALSE(state.tspline.picking);
@@ -392,10 +402,10 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     ui.clickView(x, y);
     REQUIRE(state.tspline.chosenCells.size() == 1);
     CHECK(state.tspline.chosenCells[0] == core::cellAtRestPoint(toolVolume(session, 0), hit.point));
-    const size_t unfrozenHistory = session.history().size();
+    const int unfrozenHistory = session.historyCursor();
     ui.click("Subdivide");
     INFO(state.status);
-    CHECK(session.history().size() == unfrozenHistory + 1);
+    CHECK(session.historyCursor() == unfrozenHistory + 1);
     CHECK(session.frozenTool() == -1);
     const core::TSplineVolume& atRest = toolVolume(session, 0);
     CHECK(atRest.lattice().cells.size() > cellsBefore);

@@ -3,6 +3,7 @@
 #include "core/volume_kinds.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -15,6 +16,7 @@
 #include "app/file_browser.h"
 #include "app/window/picking.h"
 #include "core/script.h"
+#include "core/tspline_view.h"
 #include "io/lattice_json.h"
 #include "render/camera.h"
 
@@ -305,6 +307,19 @@ bool placeLatticeAtPixel(AppState& state, double x, double y) {
 }
 
 std::string describeLattice(const core::Volume& volume) {
+    if (const core::TSplineVolume* tspline = core::asTSpline(&volume)) {
+        // Song & Yang 2005: cells and their octree levels, and the two weights of sec. 4.
+        const std::vector<core::TLatticeCell>& cells = tspline->lattice().cells;
+        const auto [low, high] = std::minmax_element(cells.begin(), cells.end(), [](const auto& a, const auto& b) { return a.level < b.level; });
+        const auto [light, heavy] = std::minmax_element(volume.controlWeights().begin(), volume.controlWeights().end());
+        char weights[64];
+        if (*light == *heavy) std::snprintf(weights, sizeof weights, "all weights %g", *light);
+        else std::snprintf(weights, sizeof weights, "weights %g to %g", *light, *heavy);
+        const std::string levels = low->level == high->level ? "level " + std::to_string(low->level)
+                                                             : "levels " + std::to_string(low->level) + "-" + std::to_string(high->level);
+        return "weighted T-spline, " + std::to_string(cells.size()) + " cells (" + levels + "), " +
+               std::to_string(volume.controlPointCount()) + " control points, " + weights;
+    }
     const core::LatticeNet* tensor = volume.tensorNet();
     if (!tensor) {
         size_t distinct = static_cast<size_t>(volume.controlPointCount());
