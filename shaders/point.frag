@@ -1,4 +1,4 @@
-// Marker: a disc or square with an outline (1.5 pixels, thinner on small markers) that contrasts with its fill (dark around light fills,
+// Marker: a disc, square or diamond with an outline (1.5 pixels, thinner on small markers) that contrasts with its fill (dark around light fills,
 // light around dark ones), antialiased over one pixel.
 uniform float uAlphaScale;  // multiplies alpha (fainter pass for occluded markers)
 
@@ -9,7 +9,8 @@ flat in float vShape;
 out vec4 fragColor;
 
 void main() {
-    float dist = vShape > 0.5 ? max(abs(vPixels.x), abs(vPixels.y)) : length(vPixels);
+    // shape 0: disc, 1: square, 2: diamond (a T-junction)
+    float dist = vShape > 1.5 ? abs(vPixels.x) + abs(vPixels.y) : vShape > 0.5 ? max(abs(vPixels.x), abs(vPixels.y)) : length(vPixels);
     float coverage = clamp(vRadius - dist + 0.5, 0.0, 1.0);
     if (coverage <= 0.0) discard;
     float luminance = dot(vColor.rgb, vec3(0.2126, 0.7152, 0.0722));

@@ -4,7 +4,8 @@
 
 layout(location = ATTRIB_MARKER_CENTER) in vec3 aCenter;
 layout(location = ATTRIB_MARKER_COLOR) in vec4 aColor;
-// (diameter in pixels, shape: 0 disc 1 square, depth fade: 0 none 1 by uDepthFade as the lattice edges)
+// (diameter in pixels, shape: 0 disc 1 square 2 diamond, depth fade: 0 none 1 by uDepthFade as the lattice edges;
+// 1 and 2 shrink by uCrowdScale, 2 without the fade)
 layout(location = ATTRIB_MARKER_STYLE) in vec3 aStyle;
 
 uniform mat4 uViewProjection;
@@ -29,6 +30,6 @@ void main() {
     if (clip.w <= 0.0) clip = vec4(2.0, 2.0, 2.0, 1.0);
     gl_Position = clip;
     vColor = aColor;
-    if (aStyle.z > 0.5) vColor.a *= depthFade(clip.z / clip.w, uDepthFade);
+    if (aStyle.z > 0.5 && aStyle.z < 1.5) vColor.a *= depthFade(clip.z / clip.w, uDepthFade);
     vShape = aStyle.y;
 }

@@ -5,6 +5,7 @@
 
 #include "core/cage_view.h"
 #include "core/injectivity.h"
+#include "core/tspline_view.h"
 
 namespace sculpt::app {
 
@@ -18,7 +19,10 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
     scene.lattice.nu = lattice.count[0];
     scene.lattice.nv = lattice.count[1];
     scene.lattice.nw = lattice.count[2];
-    core::CageView cage = core::cageView(session, request.curveSamplesPerSpan);
+    const core::TSplineVolume* tspline = core::asTSpline(lattice.volume.get());
+    // A T-spline is drawn by its T-lattice at its control points (Fig. 9-10), not by curves: at depth 4 the
+    // curved cell edges of a pot were a cloud that hid it.
+    core::CageView cage = tspline ? core::CageView{session.cagePoints(), {}, {}, {}} : core::cageView(session, request.curveSamplesPerSpan);
     scene.lattice.controlPoints = std::move(cage.points);  // the cage as shown: carried through the layers
     scene.lattice.pinned = lattice.pinned;
     scene.lattice.selected = request.selectedControlPoints;
@@ -27,11 +31,23 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
         scene.lattice.curves = std::move(cage.curves);
         scene.lattice.drawn = std::move(cage.representative);  // welded points once
     }
+    if (tspline) {
+        const core::TSplineBasis& basis = tspline->basis();
+        // Fig. 10: the light control points serve the parametrization only and stay hidden; the T-lattice shows.
+        scene.lattice.drawn = request.drawnControlPoints.empty() ? core::tsplineCageView(session).controlPoints : request.drawnControlPoints;
+        scene.lattice.netEdges = core::tlatticeNetEdges(basis);
+        scene.lattice.edgesOfHiddenPoints = true;
+        const std::vector<int> junctions = core::tJunctionVertices(basis.lattice);
+        scene.lattice.tJunctions.resize(static_cast<Eigen::Index>(junctions.size()), 3);
+        for (size_t j = 0; j < junctions.size(); ++j)
+            scene.lattice.tJunctions.row(static_cast<Eigen::Index>(j)) = scene.lattice.controlPoints.row(core::vertexAnchor(basis, junctions[j]));
+    }
+    if (lattice.volume && request.drawnControlPoints.size() == scene.lattice.drawn.size()) scene.lattice.drawn = request.drawnControlPoints;
     if (request.latticeTools) {
         const std::vector<core::LatticeTool>& tools = session.latticeTools();
         for (size_t t = 0; t < tools.size(); ++t) {
             if (static_cast<int>(t) == session.frozenTool()) continue;  // drawn as the cage
-            std::vector<Positions> curves = core::restChunkEdges(tools[t].volume, request.curveSamplesPerSpan);
+            std::vector<Positions> curves = restToolLines(tools[t].volume, request.curveSamplesPerSpan);
             for (Positions& curve : curves) scene.lattice.toolCurves.push_back(std::move(curve));
         }
     }
@@ -65,6 +81,20 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
         }
     }
     return scene;
+}
+
+std::vector<Positions> restToolLines(const std::shared_ptr<const core::Volume>& volume, int samplesPerSpan) {
+    const core::TSplineVolume* tspline = core::asTSpline(volume.get());
+    if (!tspline) return core::restChunkEdges(volume, samplesPerSpan);
+    std::vector<Positions> lines;
+    const Positions& rest = tspline->restControlPoints();
+    for (const std::array<int, 2>& edge : core::tlatticeNetEdges(tspline->basis())) {
+        Positions segment(2, 3);
+        segment.row(0) = rest.row(edge[0]);
+        segment.row(1) = rest.row(edge[1]);
+        lines.push_back(std::move(segment));
+    }
+    return lines;
 }
 
 }  // namespace sculpt::app

@@ -44,10 +44,22 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
                              std::vector<float>& markersOut, Bounds& boundsOut) {
     std::vector<float> edges, points;
     Bounds bounds;
-    for (const std::vector<Positions>* polylines : {&lattice.curves, &lattice.toolCurves})
+    for (const std::vector<Positions>* polylines : {&lattice.curves, &lattice.toolCurves, &lattice.chosenCells})
         for (const Positions& curve : *polylines)
-            if (Status status = checkFinite(curve, polylines == &lattice.curves ? "lattice curve point" : "lattice tool curve point"); !status)
+            if (Status status = checkFinite(curve, polylines == &lattice.curves      ? "lattice curve point"
+                                                   : polylines == &lattice.toolCurves ? "lattice tool curve point"
+                                                                                      : "chosen cell edge point");
+                !status)
                 return status;
+    if (Status status = checkFinite(lattice.tJunctions, "T-junction"); !status) return status;
+    // T-junctions first: the control points the user works with draw over them.
+    for (Eigen::Index j = 0; j < lattice.tJunctions.rows(); ++j) {
+        appendPoint(points, frame, lattice.tJunctions, j);
+        appendColor(points, kTJunctionColor);
+        // A diamond at full strength at any depth (style 2: not faded, the back of a lattice is where its
+        // T-junctions often are), shrinking where markers crowd like the plain control points.
+        points.insert(points.end(), {kTJunctionSize, 2.0f, 2.0f});
+    }
     if (lattice.nu != 0 || lattice.nv != 0 || lattice.nw != 0) {
         if (lattice.nu < 1 || lattice.nv < 1 || lattice.nw < 1)
             return Status::error("lattice size " + std::to_string(lattice.nu) + " x " + std::to_string(lattice.nv) +
@@ -96,7 +108,7 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
                     for (int i = 0; i < nu; ++i)
                         shown[size_t(index(i, j, k))] = onLatticeBoundary(i, j, k, nu, nv, nw);
         const auto addEdge = [&](Eigen::Index a, Eigen::Index b) {
-            if (!isDrawn(a) || !isDrawn(b)) return;
+            if (!lattice.edgesOfHiddenPoints && (!isDrawn(a) || !isDrawn(b))) return;
             appendPoint(edges, frame, lattice.controlPoints, a);
             appendPoint(edges, frame, lattice.controlPoints, b);
             appendColor(edges, edgeColor(a));
@@ -127,6 +139,7 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
             }
         bounds = boundsOf(lattice.controlPoints);
     }
+    if (lattice.tJunctions.rows() > 0) bounds.add(boundsOf(lattice.tJunctions));
     // Polylines: one segment per pair of consecutive samples.
     const auto addPolylines = [&](const std::vector<Positions>& polylines, const Rgba& color) {
         for (const Positions& curve : polylines) {
@@ -141,6 +154,7 @@ Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame
     };
     addPolylines(lattice.curves, kLatticeCurveColor);
     addPolylines(lattice.toolCurves, kLatticeToolColor);
+    addPolylines(lattice.chosenCells, kChosenCellColor);
     edgesOut.swap(edges);
     markersOut.swap(points);
     boundsOut = bounds;

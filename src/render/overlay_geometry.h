@@ -11,8 +11,9 @@
 namespace sculpt::render {
 
 inline constexpr int kLineFloats = 14;   // per segment: start xyz, end xyz, colour at start rgba, at end rgba
-// per marker: centre xyz, colour rgba, diameter (pixels), shape (0 disc, 1 square), depth fade (0 none, 1 fainter
-// further from the eye, like the lattice edges: the renderer's kLatticeFarAlpha)
+// per marker: centre xyz, colour rgba, diameter (pixels), shape (0 disc, 1 square, 2 diamond), depth fade (0 none, 1 fainter
+// further from the eye, like the lattice edges: the renderer's kLatticeFarAlpha; 1 and 2 shrink where markers
+// crowd, 2 without the fade)
 inline constexpr int kMarkerFloats = 10;
 
 // Positions in the arrays are in `frame`'s local coordinates (camera.h: world minus origin, over scale,
@@ -27,10 +28,12 @@ inline bool onLatticeBoundary(int i, int j, int k, int nu, int nv, int nw) {
 // first, then pinned, then selected, so the ones the user works with draw on top). With lattice.outerOnly,
 // only the edges and points on the outer faces, and every selected point. nu = nv = nw = 0 gives
 // empty arrays. A lattice of any shape (netEdges or curves given): the net edges instead of the grid's,
-// then the curves (kLatticeCurveColor); control points and edges whose `drawn` flag is 0 are left out. Then
-// the tool curves, dim (kLatticeToolColor), with or without control points. bounds: of the control points and
-// polylines, world units. Fails, leaving the outputs unchanged, on inconsistent sizes, a net edge outside the
-// control points or non-finite points.
+// then the curves (kLatticeCurveColor); control points whose `drawn` flag is 0 are left out, and the edges
+// to them unless edgesOfHiddenPoints. Then the tool curves, dim (kLatticeToolColor), with or without control
+// points, then the chosen cells' edges (kChosenCellColor). A T-spline's T-junctions are diamond markers
+// (kTJunctionColor) before every control point, so the points draw over them. bounds: of the control points,
+// T-junctions and polylines, world units. Fails, leaving the outputs unchanged, on inconsistent sizes, a net
+// edge outside the control points or non-finite points.
 Status buildLatticeInstances(const LatticeView& lattice, const LocalFrame& frame, std::vector<float>& edges,
                              std::vector<float>& markers, Bounds& bounds);
 

@@ -35,6 +35,11 @@ inline constexpr float kLatticeEdgeWidth = 1.0f;
 // apart from the straight grey control net; lattice tools that are not frozen, dim grey.
 inline constexpr Rgba kLatticeCurveColor = {0.16f, 0.62f, 0.70f, 0.85f};
 inline constexpr Rgba kLatticeToolColor = {0.50f, 0.52f, 0.58f, 0.45f};
+// Weighted T-splines: T-junctions of the T-lattice as small yellow diamonds (a dark outline keeps them
+// readable over the light clay), and the edges of cells chosen for subdivision in the selection's orange.
+inline constexpr Rgba kTJunctionColor = {0.98f, 0.84f, 0.22f, 0.95f};
+inline constexpr float kTJunctionSize = 8.0f;
+inline constexpr Rgba kChosenCellColor = {1.00f, 0.55f, 0.08f, 0.95f};
 // Depth cue: edges and unselected points fade from full strength at the lattice's nearest point to this
 // at its farthest, so the front of the cage reads over the back.
 inline constexpr float kLatticeFarAlpha = 0.3f;

@@ -521,7 +521,8 @@ Status Renderer::setLattice(const LatticeView& lattice) {
 void Renderer::State::uploadLatticeMarkers(const std::vector<float>& markers) {
     uploadBatch(latticePoints, markers, kMarkerFloats);
     plainMarkerCentres.clear();
-    // note: the depth-faded markers are the unselected ones (buildLatticeInstances); the selection keeps its size.
+    // note: the markers that shrink where they crowd are the unselected ones and the T-junctions (style 1 or 2,
+    // buildLatticeInstances); the selection keeps its size.
     for (size_t m = 0; m + kMarkerFloats <= markers.size(); m += kMarkerFloats)
         if (markers[m + 9] > 0.5f) plainMarkerCentres.emplace_back(markers[m], markers[m + 1], markers[m + 2]);
     crowdStale = true;

@@ -35,9 +35,19 @@ struct LatticeView {
     // Empty (all drawn), or one flag per control point: 0 = never drawn, even when selected (a welded copy is
     // drawn once, on its weld group's representative). Net edges to a point not drawn are left out.
     std::vector<std::uint8_t> drawn;
+    // Net edges are drawn between points that are not drawn too: a weighted T-spline hides its light control
+    // points (Song & Yang 2005, Fig. 10) but not the T-lattice they hang on.
+    bool edgesOfHiddenPoints = false;
     // Polylines drawn dim, without points: lattice tools that are not frozen, at rest, so the user sees where
     // they are. Drawn even with no control points (nu = 0).
     std::vector<Positions> toolCurves;
+    // Weighted T-splines (Song & Yang 2005, Fig. 9-10): the T-junctions of the T-lattice (where a line of it
+    // ends), #J x 3 world points drawn as diamonds (kTJunctionColor) under the control points, so the user
+    // reads where the lattice is finer. Drawn even with no control points (nu = 0).
+    Positions tJunctions;
+    // Polylines drawn in the selection colour over everything else of the lattice: the edges of the cells
+    // chosen for subdivision (Fig. 11).
+    std::vector<Positions> chosenCells;
 };
 
 // Direct-manipulation constraints (Hu et al. 2001, Fig. 1): each source point S is carried to its target T.

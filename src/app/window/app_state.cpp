@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <utility>
 
+#include "app/window/tspline_commands.h"
 #include "app/window/wording.h"
+#include "core/tspline_view.h"
 #include "render/overlay_geometry.h"
 
 namespace sculpt::app {
@@ -143,12 +145,19 @@ std::vector<std::uint8_t> shownControlPoints(const AppState& state) {
     if (lattice.volume) {
         // A lattice of any shape: one marker per weld group, on its representative (a click on a welded axis
         // or seam picks the group: the engine moves every copy with it); "outer only" keeps the points on the
-        // volume's outer surface.
+        // volume's outer surface. A weighted T-spline: only the control points of non-empty cells (Song & Yang
+        // 2005, Fig. 10: the light ones are hidden from the user, selected or not); "outer only" keeps those on
+        // the T-lattice's outer faces.
+        const std::vector<std::uint8_t>& heavy = tsplineShownControlPoints(state);
+        const core::TSplineVolume* tspline = heavy.empty() ? nullptr : core::asTSpline(lattice.volume.get());
+        const auto pickable = [&](int id) { return lattice.representative(id) == id && (heavy.empty() || heavy[static_cast<size_t>(id)]); };
+        const auto outer = [&](int id) {
+            return tspline ? core::anchorOnDomainBoundary(tspline->basis(), id) : lattice.volume->onOuterSurface(id);
+        };
         for (int id = 0; id < lattice.controlPointCount(); ++id)
-            shown[static_cast<size_t>(id)] = lattice.representative(id) == id &&
-                                             (!state.overlays.latticeOuterOnly || lattice.volume->onOuterSurface(id));
+            shown[static_cast<size_t>(id)] = pickable(id) && (!state.overlays.latticeOuterOnly || outer(id));
         for (int id : state.tools.lattice.points)
-            if (id >= 0 && id < static_cast<int>(shown.size()) && lattice.representative(id) == id) shown[static_cast<size_t>(id)] = 1;
+            if (id >= 0 && id < static_cast<int>(shown.size()) && pickable(id)) shown[static_cast<size_t>(id)] = 1;
         return shown;
     }
     for (int k = 0, id = 0; k < lattice.count[2]; ++k)

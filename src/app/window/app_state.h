@@ -111,6 +111,33 @@ struct LatticesPanelState {
     std::vector<ItemRect> items;
 };
 
+// The Lattices panel's T-spline section (Song & Yang 2005, seed 002; tspline_panel.cpp, tspline_commands.h):
+// the set-up fields (sec. 4, sec. 6 steps 1-3) and the cells chosen for local subdivision (sec. 6, Fig. 11).
+struct TSplinePanelState {
+    int depth = 3;               // levels of octree subdivision of the cells holding the mesh, 1 .. 6
+    double weightRatio = 100.0;  // heavy : light weights (sec. 4: "the ratio of them is 100:1")
+    // The initial region (sec. 4): false, the mesh's bounds padded (the engine's default); true, the box below.
+    bool customRegion = false;
+    Eigen::Vector3d regionMin = Eigen::Vector3d::Zero(), regionMax = Eigen::Vector3d::Zero();
+    bool regionFilled = false;   // min / max hold a box (the mesh's, padded, the first time a box is asked for)
+    // With the mesh bounds, min / max show them: the session's journal length and mesh they were read at.
+    size_t regionJournal = 0;
+    std::string regionMesh;
+    bool balance = true;         // subdividing: then the 2:1 balance (subdivide_cells "balance")
+    bool picking = false;        // "Choose cells": a left click on the mesh adds or drops the cell under it
+    std::vector<int> chosenCells;                     // cell ids of cellsVolume's T-lattice, sorted
+    std::shared_ptr<const core::Volume> cellsVolume;  // the T-spline they belong to (a change of it drops them)
+};
+
+// The frozen T-spline's control points the window draws and picks (core::tsplineCageView), kept while the
+// cage, the history and the mesh stay: the lattice tool asks on every mouse move.
+struct TSplineShownCache {
+    std::shared_ptr<const core::Volume> volume;  // held, so no other volume can take its address
+    size_t journal = 0;
+    std::string fingerprint;
+    std::vector<std::uint8_t> controlPoints;
+};
+
 struct AppState {
     core::Session session;
     render::Camera camera;
@@ -132,6 +159,8 @@ struct AppState {
     ToolState tools;
     TransformState transform;
     LatticesPanelState lattices;
+    TSplinePanelState tspline;
+    mutable TSplineShownCache tsplineShown;  // a cache only: never state of the shape (house style 9)
     Navigation navigation = Navigation::None;
     bool orthographicByAxisView = false;  // a numpad view made the camera orthographic; orbiting undoes it
     double cursorX = 0.0, cursorY = 0.0;

@@ -3,6 +3,7 @@
 #include "core/volume_kinds.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -15,6 +16,7 @@
 #include "app/file_browser.h"
 #include "app/window/picking.h"
 #include "core/script.h"
+#include "core/tspline_view.h"
 #include "io/lattice_json.h"
 #include "render/camera.h"
 
@@ -23,12 +25,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The status line after a lattice command: the engine's own account where it gives one (freeze: "froze
-// 812 of 2562 vertices in lattice cylinder"), otherwise `done`.
-// show: turn the current tool's Lattice overlay on, so the user sees the lattice just frozen (tools that are
-// not frozen show without it: latticeToolsShown).
+bool readEntry(const std::string& path, LatticeLibraryEntry& entry, std::string& error) {
+    io::LatticeFile file;
+    if (Status s = io::readLatticeFile(path, file); !s) {
+        error = s.message;
+        return false;
+    }
+    entry.path = path;
+    entry.name = file.name.empty() ? fs::path(path).stem().stem().string() : file.name;
+    entry.volume = std::move(file.volume);
+    return true;
+}
+
+}  // namespace
+
 void reportLatticeOperation(AppState& state, const core::OpReport& report, const Status& status, const std::string& done,
-                            bool show = false) {
+                            bool show) {
     if (status && report.status == core::OpStatus::Applied) {
         noteSessionMoved(state);
         if (show && !latticeShown(state)) {
@@ -45,20 +57,6 @@ void reportLatticeOperation(AppState& state, const core::OpReport& report, const
     }
     state.gpu.fields = true;
 }
-
-bool readEntry(const std::string& path, LatticeLibraryEntry& entry, std::string& error) {
-    io::LatticeFile file;
-    if (Status s = io::readLatticeFile(path, file); !s) {
-        error = s.message;
-        return false;
-    }
-    entry.path = path;
-    entry.name = file.name.empty() ? fs::path(path).stem().stem().string() : file.name;
-    entry.volume = std::move(file.volume);
-    return true;
-}
-
-}  // namespace
 
 std::string latticeLibraryFolder() { return (fs::path(defaultMeshPath(nullptr)).parent_path() / "lattices").string(); }
 
@@ -309,6 +307,19 @@ bool placeLatticeAtPixel(AppState& state, double x, double y) {
 }
 
 std::string describeLattice(const core::Volume& volume) {
+    if (const core::TSplineVolume* tspline = core::asTSpline(&volume)) {
+        // Song & Yang 2005: cells and their octree levels, and the two weights of sec. 4.
+        const std::vector<core::TLatticeCell>& cells = tspline->lattice().cells;
+        const auto [low, high] = std::minmax_element(cells.begin(), cells.end(), [](const auto& a, const auto& b) { return a.level < b.level; });
+        const auto [light, heavy] = std::minmax_element(volume.controlWeights().begin(), volume.controlWeights().end());
+        char weights[64];
+        if (*light == *heavy) std::snprintf(weights, sizeof weights, "all weights %g", *light);
+        else std::snprintf(weights, sizeof weights, "weights %g to %g", *light, *heavy);
+        const std::string levels = low->level == high->level ? "level " + std::to_string(low->level)
+                                                             : "levels " + std::to_string(low->level) + "-" + std::to_string(high->level);
+        return "weighted T-spline, " + std::to_string(cells.size()) + " cells (" + levels + "), " +
+               std::to_string(volume.controlPointCount()) + " control points, " + weights;
+    }
     const core::LatticeNet* tensor = volume.tensorNet();
     if (!tensor) {
         size_t distinct = static_cast<size_t>(volume.controlPointCount());

@@ -73,6 +73,13 @@ bool placeLatticeAtPixel(AppState& state, double x, double y);
 // The size "Place" gives: placeSizeFraction of the mesh's bounds diagonal.
 double placementSize(const AppState& state);
 
+// The status line after a lattice command: the engine's own account where it gives one (freeze: "froze
+// 812 of 2562 vertices in lattice cylinder"), after `done`; a refusal or error by reportOperation. Applied:
+// the session's moves noted for the GPU. show: turn the current tool's Lattice overlay on, so the user sees
+// the lattice just frozen (tools that are not frozen show without it: latticeToolsShown).
+void reportLatticeOperation(AppState& state, const core::OpReport& report, const Status& status, const std::string& done,
+                            bool show = false);
+
 // "cylinder, 3 x 12 x 3 points (37 after welds), degree 2/2/2": what the panel lists for a net.
 std::string describeLattice(const core::Volume& volume);
 

@@ -10,24 +10,11 @@
 
 #include "app/window/file_commands.h"
 #include "app/window/lattice_commands.h"
+#include "app/window/panel_items.h"
 #include "app/window/panels.h"
 
 namespace sculpt::app {
 namespace {
-
-void recordItem(LatticesPanelState& panel, const std::string& label) {
-    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
-    panel.items.push_back({label, a.x, a.y, b.x, b.y});
-}
-
-// A button that is recorded where it was drawn (LatticesPanelState::items) and disabled when `enabled` is false.
-bool panelButton(LatticesPanelState& panel, const char* label, bool enabled, float width = 0.0f) {
-    ImGui::BeginDisabled(!enabled);
-    const bool pressed = ImGui::Button(label, ImVec2(width, 0.0f));
-    ImGui::EndDisabled();
-    recordItem(panel, label);
-    return pressed && enabled;
-}
 
 // The list's height in rows, whatever it holds: more tools scroll, fewer leave it blank, so the buttons under
 // it stay where they are as tools come and go.
@@ -209,6 +196,9 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     // Always one line, blank unless a placement waits, so the window's height does not change with it.
     fixedLines(panel.placing != LatticesPanelState::Placing::None ? "Click on the mesh (Esc cancels)." : "", 1,
                ImVec4(1.0f, 0.7f, 0.3f, 1.0f));
+
+    // Weighted T-splines (Song & Yang 2005): set-up and local subdivision, last, so nothing above moves with it.
+    drawTSplineSection(state);
 }
 
 }  // namespace sculpt::app

@@ -25,6 +25,9 @@ void drawHistoryPanel(AppState& state);      // history_panel.cpp: undo, redo, t
 // lattices_panel.cpp: lattice tools of any shape (list, library, place, freeze / unfreeze, remove, save), the
 // last section of the Tools window; its file dialogs are the window's (FileCommands).
 void drawLatticesPanel(AppState& state, FileCommands& files);
+// tspline_panel.cpp: the Lattices panel's "T-spline" section (weighted T-spline FFD, Song & Yang 2005): set-up
+// (depth, region, weight ratio) and the cells chosen on the mesh for local subdivision.
+void drawTSplineSection(AppState& state);
 void drawStatusLine(AppState& state);        // status_line.cpp: the verdict of the last command, at the bottom
 
 // The tool window on the right (tools_panel.cpp): sculpt / lattice tool, handles and pins, control-point

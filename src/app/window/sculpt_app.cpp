@@ -15,6 +15,7 @@
 #include "app/window/panels.h"
 #include "app/window/picking.h"
 #include "app/window/tool_commands.h"
+#include "app/window/tspline_commands.h"
 #include "app/window/view_navigation.h"
 #include "app/file_browser.h"
 
@@ -96,6 +97,7 @@ void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags captur
     } else if (event.button == MouseButton::Left) {
         if (event.modifiers.alt) state_.navigation = event.modifiers.shift ? Navigation::Pan : Navigation::Orbit;
         else if (placeLatticeAtPixel(state_, event.x, event.y)) return;  // the Lattices panel's "Place" waits for it
+        else if (chooseCellAtPixel(state_, event.x, event.y)) return;   // the T-spline section's "Choose cells"
         else if (state_.tools.mode == ToolMode::Lattice) pressLattice(event);
         else pressSculpt(event);
     }
@@ -208,6 +210,9 @@ void SculptApp::syncGpu() {
         request.lastDragConstraints = false;
         request.mesh = false;  // the GPU has the mesh; only the overlays are wanted here
         const bool showLattice = latticeShown(state_);
+        // A net lattice: exactly the points the lattice tool picks (one per weld group, outer only; a T-spline's
+        // of non-empty cells, cached, so they are not found again for every frame of a drag).
+        if (session.lattice().volume) request.drawnControlPoints = shownControlPoints(state_);
         if (showLattice) {
             clampLatticeSelection(state_);
             request.selectedControlPoints.assign(static_cast<size_t>(session.lattice().controlPointCount()), 0);
@@ -222,8 +227,6 @@ void SculptApp::syncGpu() {
             render::SceneData scene = sceneFromSession(session, request);
             if (showLattice) lattice = std::move(scene.lattice);
             lattice.outerOnly = o.latticeOuterOnly;
-            // A net lattice: exactly the points the lattice tool picks (one per weld group, outer only).
-            if (showLattice && session.lattice().volume) lattice.drawn = shownControlPoints(state_);
             if (showLattice && !state_.lattices.showTools) lattice.toolCurves.clear();
             jacobian = std::move(scene.jacobianDet);
             affected = std::move(scene.affectedWeight);
@@ -233,8 +236,10 @@ void SculptApp::syncGpu() {
         if (!showLattice && latticeToolsShown(state_))
             for (size_t t = 0; t < session.latticeTools().size(); ++t)
                 if (static_cast<int>(t) != session.frozenTool())
-                    for (Positions& curve : core::restChunkEdges(session.latticeTools()[t].volume, SceneRequest{}.curveSamplesPerSpan))
+                    for (Positions& curve : restToolLines(session.latticeTools()[t].volume, SceneRequest{}.curveSamplesPerSpan))
                         lattice.toolCurves.push_back(std::move(curve));
+        // Weighted T-splines: the cells chosen for subdivision, and a tool's T-junctions while choosing.
+        if (showLattice || tsplineOverlaysShown(state_)) addTSplineOverlays(state_, lattice);
         renderer_.setLattice(lattice);
         renderer_.setJacobianField(jacobian);
         renderer_.setAffectedWeights(affected);
@@ -262,7 +267,7 @@ Status SculptApp::renderFrame(int width, int height) {
     options.wireframe = state_.overlays.wireframe;
     // Exactly what the Overlays panel's checkbox says, or only the lattice tools (then nothing else is in
     // the lattice layer).
-    options.lattice = latticeShown(state_) || latticeToolsShown(state_);
+    options.lattice = latticeShown(state_) || latticeToolsShown(state_) || tsplineOverlaysShown(state_);
     options.jacobian = state_.overlays.jacobian;
     options.affected = state_.overlays.affected;
     options.constraints = true;  // the drag's constraints, placed handles and pins (empty: nothing drawn)

@@ -1,6 +1,7 @@
 #include <imgui.h>
 
 #include "app/window/panels.h"
+#include "core/tspline_view.h"
 
 namespace sculpt::app {
 
@@ -21,7 +22,12 @@ void drawStatsPanel(AppState& state) {
         row("Triangles", "%d", static_cast<int>(session.triangles().rows()));
         // note: a frozen lattice of any shape has its own degrees per axis (the settings' are the box's); its kind
         // is in the Lattices panel.
-        if (lattice.volume)
+        const core::TSplineVolume* tspline = core::asTSpline(lattice.volume.get());
+        if (tspline)  // no grid: its cells (a count of #P x 1 x 1 said nothing)
+            row("Lattice", "T-spline, %d cells", static_cast<int>(tspline->lattice().cells.size()));
+        else if (lattice.volume && !lattice.tensorNet())
+            row("Lattice", "%s, %d points", lattice.volume->kindName().c_str(), lattice.controlPointCount());
+        else if (lattice.volume)
             row("Lattice", "%d x %d x %d, degree %d/%d/%d", lattice.count[0], lattice.count[1], lattice.count[2],
                 lattice.degree[0], lattice.degree[1], lattice.degree[2]);
         else

@@ -9,6 +9,7 @@
 #include "app/window/picking.h"
 #include "app/window/sculpt_app.h"
 #include "app/window/tool_commands.h"
+#include "app/window/tspline_commands.h"
 #include "app/window/wording.h"
 
 namespace sculpt::app {
@@ -84,10 +85,12 @@ void selectAllControlPoints(AppState& state, bool all) {
     std::vector<int>& points = state.tools.lattice.points;
     points.clear();
     if (all) {
-        // note: of a net lattice only the weld groups' representatives (the points drawn), each group once.
+        // note: of a net lattice only the weld groups' representatives (the points drawn), each group once; of a
+        // weighted T-spline only the control points of non-empty cells (the others are never shown).
         const core::Lattice& lattice = state.session.lattice();
+        const std::vector<std::uint8_t>& heavy = tsplineShownControlPoints(state);
         for (int id = 0; id < lattice.controlPointCount(); ++id)
-            if (lattice.representative(id) == id) points.push_back(id);
+            if (lattice.representative(id) == id && (heavy.empty() || heavy[static_cast<size_t>(id)])) points.push_back(id);
     }
     state.gpu.fields = true;
     describeLatticeSelection(state);
@@ -459,6 +462,10 @@ bool SculptApp::keyTool(const KeyEvent& event) {
     }
     if (state_.lattices.placing != LatticesPanelState::Placing::None && event.key == Key::Escape && event.action == KeyAction::Press) {
         cancelPlacingLattice(state_);  // the Lattices panel's "Place" waited for a click
+        return true;
+    }
+    if (state_.tspline.picking && event.key == Key::Escape && event.action == KeyAction::Press) {
+        endChoosingCells(state_);  // the T-spline section's "Choose cells" took the clicks
         return true;
     }
     if (brushKey(event)) return true;  // F / Shift+F: brush radius and strength (sculpt tool)
