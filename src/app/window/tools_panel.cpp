@@ -12,7 +12,6 @@
 #include "app/window/panels.h"
 #include "app/window/tool_commands.h"
 #include "app/window/wording.h"
-#include "core/tspline_volume.h"
 #include "render/camera.h"
 
 namespace sculpt::app {
@@ -55,26 +54,6 @@ void drawBrushSection(AppState& state) {
     BrushTool& brush = state.tools.brush;
     // Narrow fields, so the labels beside them fit the panel.
     ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.5f);
-    // Sculpting by weights needs a frozen weighted T-spline (Lattices panel, T-spline).
-    const bool tspline = state.session.frozenTool() >= 0 && dynamic_cast<const core::TSplineVolume*>(state.session.lattice().volume.get());
-    if (!tspline) brush.kind = BrushTool::Kind::Drag;
-    int kind = static_cast<int>(brush.kind);
-    ImGui::BeginDisabled(!tspline);
-    if (ImGui::Combo("Brush", &kind, "Drag\0Hammer (weights)\0Crimp (weights)\0")) brush.kind = static_cast<BrushTool::Kind>(kind);
-    ImGui::EndDisabled();
-    helpMarker("Drag: grab the surface and pull (any lattice).\n"
-               "Hammer and Crimp sculpt by weights on a frozen weighted T-spline (Song & Yang 2005):\n"
-               "a click on the mesh raises the bump there by the height step (Ctrl+click lowers it), or\n"
-               "makes it broader by the width factor (Ctrl+click: sharper) with its height kept.\n"
-               "Both act on the visible control points within the radius (the strongest one if the radius is off).");
-    ImGui::BeginDisabled(brush.kind != BrushTool::Kind::Hammer);
-    float step = static_cast<float>(100.0 * brush.hammerStep);
-    if (ImGui::SliderFloat("Height step", &step, 0.1f, 5.0f, "%.1f %% of size")) brush.hammerStep = std::clamp(step / 100.0, 0.001, 0.05);
-    ImGui::EndDisabled();
-    ImGui::BeginDisabled(brush.kind != BrushTool::Kind::Crimp);
-    float factor = static_cast<float>(brush.crimpFactor);
-    if (ImGui::SliderFloat("Width factor", &factor, 1.02f, 2.0f, "x%.2f")) brush.crimpFactor = std::clamp(static_cast<double>(factor), 1.02, 2.0);
-    ImGui::EndDisabled();
     bool changed = ImGui::Checkbox("Limit to radius", &brush.limited);
     helpMarker("On: a drag moves only the surface within the brush radius of the grabbed point, through a\n"
                "small lattice of its own around it whose outer part is pinned, so the edit blends in smoothly.\n"

@@ -10,6 +10,7 @@
 #include "app/window/panel_items.h"
 #include "app/window/panels.h"
 #include "app/window/tspline_commands.h"
+#include "core/tspline_volume.h"
 
 namespace sculpt::app {
 
@@ -110,8 +111,37 @@ void drawTSplineSection(AppState& state) {
         panel.chosenCells.clear();
         state.gpu.fields = true;
     }
-    // Weight tools (sec. 6: the hammer and crimp tools of Noble & Gordon, acting on the weights of the shown
-    // control points; script ops "hammer" and "crimp") belong here, under the subdivision.
+    // ---- sculpting by weights (sec. 1 and 6: the hammer and crimp of Noble & Gordon; script ops "hammer" and
+    // "crimp"): what a click on the mesh does in the sculpt tool ----
+    BrushTool& brush = state.tools.brush;
+    const bool frozen = state.session.frozenTool() >= 0 && dynamic_cast<const core::TSplineVolume*>(state.session.lattice().volume.get());
+    if (!frozen) brush.kind = BrushTool::Kind::Drag;
+    int kind = static_cast<int>(brush.kind);
+    ImGui::BeginDisabled(!frozen);
+    ImGui::SetNextItemWidth(half);
+    if (ImGui::Combo("Click", &kind, "Drags\0Hammers\0Crimps\0")) brush.kind = static_cast<BrushTool::Kind>(kind);
+    recordItem(items, "tspline click");
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("What a click on the mesh does in the sculpt tool, on a frozen T-spline:\n"
+                          "Hammers: raises the clicked point by the step (Ctrl+click lowers it), keeping the bump's shape.\n"
+                          "Crimps: makes the bump there broader by the factor (Ctrl+click: sharper), keeping its height.\n"
+                          "Both act on the shown control points within the brush radius (the strongest one if the\n"
+                          "radius is off). Drags: the usual direct manipulation.");
+    const float third = (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x) * 0.5f;
+    ImGui::SetNextItemWidth(third);
+    float step = static_cast<float>(100.0 * brush.hammerStep);
+    ImGui::BeginDisabled(brush.kind != BrushTool::Kind::Hammer);
+    if (ImGui::SliderFloat("##step", &step, 0.1f, 5.0f, "step %.1f %%")) brush.hammerStep = std::clamp(step / 100.0, 0.001, 0.05);
+    ImGui::EndDisabled();
+    recordItem(items, "tspline step");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(-1.0f);
+    float factor = static_cast<float>(brush.crimpFactor);
+    ImGui::BeginDisabled(brush.kind != BrushTool::Kind::Crimp);
+    if (ImGui::SliderFloat("##factor", &factor, 1.02f, 2.0f, "width x%.2f")) brush.crimpFactor = std::clamp(static_cast<double>(factor), 1.02, 2.0);
+    ImGui::EndDisabled();
+    recordItem(items, "tspline factor");
+    ImGui::EndDisabled();
 }
 
 }  // namespace sculpt::app
