@@ -401,7 +401,7 @@ Status TSplineVolume::make(std::shared_ptr<const TSplineBasis> basis, Positions 
     // A valid volume is right-handed at rest, proven on every element (tspline_rest.cpp), so freezing has one
     // answer and det J = det dQ/dt / det dQ0/dt has the sign of det dQ/dt; a folded or mirrored placement is refused.
     if (Status s = checkTSplineRestVolume(v); !s) return s;
-    v.restIndex_ = v.buildElementIndex(v.rest_);
+    v.restIndex_ = v.buildFreezeIndex(v.rest_);
     out = std::move(volume);
     return Status::success();
 }
@@ -629,14 +629,47 @@ bool newtonSolve(const TSplineVolume& volume, const Positions& points, const Eig
 
 }  // namespace
 
-bool TSplineVolume::freezeWith(const Positions& points, const ChunkIndex& index, const Eigen::Vector3d& x, Eigen::Vector3d& t) const {
+TSplineVolume::FreezeIndex TSplineVolume::buildFreezeIndex(const Positions& points) const {
+    FreezeIndex index;
+    index.elements = buildElementIndex(points);
+    // P_s ~ A g_s + b by least squares (normal equations of the 4 x 4 system [g 1]).
+    const int n = basis_->anchorCount();
+    Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+    Eigen::Matrix<double, 4, 3> right = Eigen::Matrix<double, 4, 3>::Zero();
+    for (int s = 0; s < n; ++s) {
+        Eigen::Vector4d g;
+        g << basis_->grevilleParameters(s), 1.0;
+        normal += g * g.transpose();
+        right += g * points.row(s);
+    }
+    const Eigen::Matrix<double, 4, 3> map = normal.ldlt().solve(right);  // rows: A^T, then b^T
+    const Eigen::Matrix3d linear = map.topRows<3>().transpose();
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(linear);
+    if (map.allFinite() && lu.isInvertible()) {
+        index.inverse = lu.inverse();
+        index.offset = map.row(3).transpose();
+        index.affine = index.inverse.allFinite();
+    }
+    return index;
+}
+
+bool TSplineVolume::freezeWith(const Positions& points, const FreezeIndex& index, const Eigen::Vector3d& x, Eigen::Vector3d& t) const {
     if (!x.allFinite()) return false;
-    thread_local std::vector<int> candidates;
-    index.candidates(x, candidates);
-    if (candidates.empty()) return false;
-    const double diagonal = std::max(index.bounds.diagonal().norm(), 1e-300);
+    const double diagonal = std::max(index.elements.bounds.diagonal().norm(), 1e-300);
     const double tight = 4e-15 * diagonal + 8.0 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
     const double loose = 1e-13 * diagonal + 64.0 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
+    // Pass 0: from the affine preimage (the usual case: the point's own neighbourhood, 2-3 steps).
+    if (index.affine) {
+        const Eigen::Vector3d start = (index.inverse * (x - index.offset)).cwiseMax(0.0).cwiseMin(1.0);
+        Eigen::Vector3d end;
+        if (start.allFinite() && newtonSolve(*this, points, x, start, tight, loose, end)) {
+            t = end;
+            return true;
+        }
+    }
+    thread_local std::vector<int> candidates;
+    index.elements.candidates(x, candidates);
+    if (candidates.empty()) return false;
     // Pass 1: from each candidate element's centre, lowest id first (deterministic on shared faces).
     bool allStoppedOnBoundary = true;
     for (int e : candidates) {
@@ -674,7 +707,7 @@ namespace {
 
 class TSplineLocator final : public Volume::Locator {
 public:
-    TSplineLocator(const TSplineVolume& volume, const Positions& points) : volume_(volume), points_(points), index_(volume.buildElementIndex(points)) {}
+    TSplineLocator(const TSplineVolume& volume, const Positions& points) : volume_(volume), points_(points), index_(volume.buildFreezeIndex(points)) {}
     bool freeze(const Eigen::Vector3d& x, Eigen::Vector3d& t) const override {
         Eigen::Vector3d found;
         if (!volume_.freezeWith(points_, index_, x, found)) return false;
@@ -685,7 +718,7 @@ public:
 private:
     const TSplineVolume& volume_;
     Positions points_;
-    ChunkIndex index_;
+    TSplineVolume::FreezeIndex index_;
 };
 
 }  // namespace

@@ -139,12 +139,15 @@ public:
     // Eq. 5 and its derivative by the quotient rule; t clamped into [0,1]^3.
     void evaluate(const Positions& points, const Eigen::Vector3d& t, Eigen::Vector3d& value,
                   Eigen::Matrix3d* derivative = nullptr) const override;
-    // Sec. 5 (eq. 8), by Newton's method instead of the paper's conjugate gradients: candidate elements from a
-    // grid index over their control points' bounds (convex hull), Newton from each candidate's centre over the
-    // whole domain, then from the centres of its 8 and 64 sub-boxes; pseudo-inverse steps where dQ/dt is
-    // nearly singular, backtracking where a step does not reduce |Q - x|. The first candidate (lowest element
-    // id) that converges (|Q(t) - x| at rounding level, 4e-15 of the diagonal, or stalled below 1e-13 of it)
-    // gives t: deterministic. False outside the volume or for a non-finite x.
+    // Sec. 5 (eq. 8), by Newton's method instead of the paper's conjugate gradients, from the point's parameters
+    // under the affine map that fits the control points to their Greville parameters best (the rest map itself
+    // where there are no T-junctions and equal weights; within ~0.1 of it otherwise: 2-3 Newton steps). A start
+    // that does not converge falls back on the candidates: elements from a grid index over their control points'
+    // bounds (convex hull), Newton from each candidate's centre over the whole domain, then from the centres of
+    // its 8 and 64 sub-boxes, the first candidate (lowest element id) that converges giving t. Pseudo-inverse steps
+    // where dQ/dt is nearly singular, backtracking where a step does not reduce |Q - x|; converged: |Q(t) - x| at
+    // rounding level (4e-15 of the diagonal, or stalled below 1e-13 of it). Deterministic; the rest volume is
+    // proven not to fold (make), so a converged t is the only one. False outside the volume or for a non-finite x.
     bool freeze(const Eigen::Vector3d& x, Eigen::Vector3d& t) const override;
     std::unique_ptr<Locator> locatorFor(const Positions& points) const override;
     int chunkCount() const override { return basis_->elementCount(); }
@@ -160,9 +163,19 @@ public:
     // The T-lattice's cell edges (split at T-junctions) in parameters, each once.
     std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const override;
 
-    // The same freezing with other control points and their element index (freeze, locatorFor).
-    bool freezeWith(const Positions& points, const ChunkIndex& index, const Eigen::Vector3d& x, Eigen::Vector3d& t) const;
-    // The element index of control points `points` (#anchors x 3): each element's control-point bounds.
+    // What freezing needs to know of a set of control points (#anchors x 3).
+    struct FreezeIndex {
+        ChunkIndex elements;                                       // each element's control-point bounds
+        Eigen::Matrix3d inverse = Eigen::Matrix3d::Identity();     // Newton's first start: inverse (x - offset)
+        Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+        bool affine = false;                                       // false: no usable affine fit, candidates only
+    };
+    // The same freezing with other control points and their index (freeze, locatorFor).
+    bool freezeWith(const Positions& points, const FreezeIndex& index, const Eigen::Vector3d& x, Eigen::Vector3d& t) const;
+    // The index of control points `points`: the element index and the least-squares affine map P_s ~ A g_s + b
+    // of the anchors' Greville parameters g_s (inverted).
+    FreezeIndex buildFreezeIndex(const Positions& points) const;
+    // The element index alone: each element's control-point bounds.
     ChunkIndex buildElementIndex(const Positions& points) const;
 
 private:
@@ -175,7 +188,7 @@ private:
     std::vector<int> layer_;
     std::vector<std::array<int, 2>> netEdges_;
     std::vector<std::vector<int>> noWelds_;
-    ChunkIndex restIndex_;
+    FreezeIndex restIndex_;
 };
 
 // ---- making T-spline volumes --------------------------------------------------------------------------------
