@@ -43,10 +43,11 @@
 //     element does not spoil it, and dividing each column by its diagonal entry removes the compression (the
 //     rest map squeezes 10-100x across the heavy band), which an enclosure of dQ0/dt itself does not survive
 //     (measured: 43% of the elements decided that way, 88-97% this way).
-//  3. Otherwise the element's homogeneous Bezier points are split into octants by de Casteljau (an exact change
-//     of parameters; Gain & Dodgson's section 6 subdivision) and each box gets steps 1-2, until every box is
-//     proven, a box centre has det <= 0 (a fold, confirmed by evaluate()), or 8 levels / 1024 boxes leave
-//     some undecided (refused as such).
+//  3. Otherwise the element's homogeneous Bezier points are halved by de Casteljau (an exact change of
+//     parameters; Gain & Dodgson's section 6 subdivision, one axis at a time: the one along which W varies
+//     most, which took a third of the boxes octants did) and each box gets steps 1-2, until every box is
+//     proven, a box centre has det <= 0 (a fold, confirmed by evaluate()), or boxes of 2^-8 of the element /
+//     1024 boxes leave some undecided (refused as such).
 // Why not det's own Bernstein coefficients (chunkDeterminantBernstein, W^4 det dQ0/dt of degree 11, as the
 // exact injectivity test does)? They decide ~98.5% of the elements at once but cost ~0.3 ms each (7 s for the
 // default mesh at depth 5), and their rounding guard is relative to the largest terms over the element, which
@@ -537,33 +538,54 @@ double restDeterminantAt(const TSplineVolume& volume, int element, const Eigen::
 }
 
 struct SearchBox {
-    double lo[3];
-    int depth;
+    double lo[3], size[3];  // in the element's coordinates
+    int splits;
 };
 
-// Step 3 of the header: the element's homogeneous Bezier points split into octants by de Casteljau (an exact
-// change of parameters) and each box given the hull test, until every box is proven, a box's centre is a fold
-// (confirmed by evaluating dQ0/dt there), or the depth / box limits leave boxes undecided.
+// The axis along which the weight W varies most over the box (the largest relative spread of its Bezier
+// coefficients along a line): where the columns of dQ0/dt turn, so where halving helps the hull test most.
+int splitAxis(const double* w) {
+    int best = 0;
+    double bestSpread = -1.0;
+    for (int a = 0; a < 3; ++a) {
+        const int stride = a == 0 ? 1 : a == 1 ? 4 : 16;
+        double spread = 0.0;
+        for (int line = 0; line < 16; ++line) {
+            const int first = a == 0 ? 4 * line : a == 1 ? line % 4 + 16 * (line / 4) : line;
+            double lo = w[first], hi = w[first];
+            for (int i = 1; i < 4; ++i) {
+                lo = std::min(lo, w[first + i * stride]);
+                hi = std::max(hi, w[first + i * stride]);
+            }
+            spread = std::max(spread, (hi - lo) / lo);
+        }
+        if (spread > bestSpread) bestSpread = spread, best = a;
+    }
+    return best;
+}
+
+// Step 3 of the header: the element's homogeneous Bezier points halved by de Casteljau (an exact change of
+// parameters) along the axis splitAxis picks, each half given the hull test, until every box is proven, a box's
+// centre is a fold (confirmed by evaluating dQ0/dt there), or boxes of 2^-8 of the element on an axis / the box
+// limit leave some undecided.
 void subdivisionSearch(const TSplineVolume& volume, int element, const BezierChunk& chunk, std::vector<double>& pool, ElementOutcome& outcome) {
     constexpr int n = 64, block = 4 * n;
     const BernsteinDegree cubic{3, 3, 3};
+    const double finest = std::ldexp(1.0, -kMaxRestSubdivisionDepth);
     outcome.kind = ElementOutcome::Proven;
     outcome.value = std::numeric_limits<double>::infinity();
     bool undecided = false;
     pool.assign(chunk.points.begin(), chunk.points.begin() + block);
-    std::vector<SearchBox> stack{SearchBox{{0.0, 0.0, 0.0}, 0}};
-    double halves[2 * block], quarters[4 * block];
+    std::vector<SearchBox> stack{SearchBox{{0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}, 0}};
     while (!stack.empty()) {
         const SearchBox box = stack.back();
         stack.pop_back();
         const size_t at = stack.size() * block;  // the box's points: the pool is a stack of blocks like `stack`
-        const double size = std::ldexp(1.0, -box.depth);
-        const double extent[3] = {chunk.parameterScale[0] * size, chunk.parameterScale[1] * size, chunk.parameterScale[2] * size};
-        const Eigen::Vector3d centre(box.lo[0] + 0.5 * size, box.lo[1] + 0.5 * size, box.lo[2] + 0.5 * size);
+        const double extent[3] = {chunk.parameterScale[0] * box.size[0], chunk.parameterScale[1] * box.size[1], chunk.parameterScale[2] * box.size[2]};
+        const Eigen::Vector3d centre(box.lo[0] + 0.5 * box.size[0], box.lo[1] + 0.5 * box.size[1], box.lo[2] + 0.5 * box.size[2]);
         ++outcome.boxes;
         double centreDet = 0.0;
-        const HullVerdict verdict = jacobianHullTest(pool.data() + at, extent, chunk.polynomial, centreDet);
-        if (verdict == HullVerdict::Proven) continue;
+        if (jacobianHullTest(pool.data() + at, extent, chunk.polynomial, centreDet) == HullVerdict::Proven) continue;
         const double det = restDeterminantAt(volume, element, centre);
         if (!(det > 0.0)) {
             outcome.kind = std::isfinite(det) ? ElementOutcome::Fold : ElementOutcome::NonFinite;
@@ -571,25 +593,24 @@ void subdivisionSearch(const TSplineVolume& volume, int element, const BezierChu
             outcome.value = det;
             return;
         }
-        if (box.depth >= kMaxRestSubdivisionDepth || outcome.boxes >= kMaxRestBoxesPerElement) {
+        const int axis = splitAxis(pool.data() + at + 3 * n);
+        if (box.size[axis] <= finest || outcome.boxes >= kMaxRestBoxesPerElement) {
             undecided = true;
             if (det < outcome.value) outcome.value = det, outcome.local = centre;
             continue;
         }
-        // Octants: halves along t_0, then t_1, then t_2; child 4h + 2g + e, pushed over the parent's block.
-        const double* source = pool.data() + at;
-        for (int c = 0; c < 4; ++c) splitBernstein(source + c * n, cubic, 0, 0.5, halves + c * n, halves + block + c * n);
-        for (int h = 0; h < 2; ++h)
-            for (int c = 0; c < 4; ++c)
-                splitBernstein(halves + h * block + c * n, cubic, 1, 0.5, quarters + 2 * h * block + c * n, quarters + (2 * h + 1) * block + c * n);
-        pool.resize(at + 8 * block);
-        for (int q = 0; q < 4; ++q)
-            for (int c = 0; c < 4; ++c)
-                splitBernstein(quarters + q * block + c * n, cubic, 2, 0.5, pool.data() + at + 2 * q * block + c * n,
-                               pool.data() + at + (2 * q + 1) * block + c * n);
-        const double half = 0.5 * size;
-        for (int child = 0; child < 8; ++child)
-            stack.push_back(SearchBox{{box.lo[0] + (child >> 2) * half, box.lo[1] + ((child >> 1) & 1) * half, box.lo[2] + (child & 1) * half}, box.depth + 1});
+        // Halves along `axis`, pushed over the parent's block.
+        double halves[2 * block];
+        for (int c = 0; c < 4; ++c) splitBernstein(pool.data() + at + c * n, cubic, axis, 0.5, halves + c * n, halves + block + c * n);
+        pool.resize(at + 2 * block);
+        std::copy(halves, halves + 2 * block, pool.begin() + static_cast<std::ptrdiff_t>(at));
+        for (int half = 0; half < 2; ++half) {
+            SearchBox child = box;
+            child.size[axis] *= 0.5;
+            child.lo[axis] += half * child.size[axis];
+            ++child.splits;
+            stack.push_back(child);
+        }
     }
     if (undecided) outcome.kind = ElementOutcome::Undecided;
 }
@@ -667,9 +688,9 @@ Status checkTSplineRestVolume(const TSplineVolume& volume, const std::vector<int
         case ElementOutcome::NonFinite:
             return Status::error("the T-spline rest volume is not finite in element " + std::to_string(e) + " (T-lattice cell " + std::to_string(cell) + ")");
         default:
-            return Status::error("the T-spline rest volume cannot be proven free of folds: det dQ0/dt stays undecided after " +
-                                 std::to_string(kMaxRestSubdivisionDepth) + " levels of subdivision in " + where + " (least sampled det " +
-                                 formatNumber(o.value) + ")");
+            return Status::error("the T-spline rest volume cannot be proven free of folds: det dQ0/dt stays undecided after subdivision to 2^-" +
+                                 std::to_string(kMaxRestSubdivisionDepth) + " of the element or " + std::to_string(kMaxRestBoxesPerElement) +
+                                 " boxes in " + where + " (least sampled det " + formatNumber(o.value) + ")");
     }
 }
 
