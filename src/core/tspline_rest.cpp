@@ -122,7 +122,7 @@ Status makeWithValidRatio(const std::shared_ptr<const TSplineBasis>& basis, cons
     result.weightRatio = ratio;
     const Status first = attempt(ratio, out);
     if (!first) {
-        // note: log-ratio 0 (equal weights) is the end of the bisection that must hold; t in (0, 1] scales it.
+        // Bisection on s in [0, 1] for the ratio ratio^s: s = 1 failed, s = 0 (equal weights) must hold.
         std::shared_ptr<const TSplineVolume> valid;
         if (Status s = attempt(1.0, valid); !s) return Status::error(s.message + " (even with equal weights)");
         double lo = 0.0, hi = 1.0;

@@ -155,8 +155,9 @@ public:
     Eigen::Vector3d chunkParameters(int chunk, const Eigen::Vector3d& local) const override;
     void chunkSupport(int chunk, std::vector<int>& ids) const override;
     // Bezier extraction: the element's homogeneous Bernstein points sum_s W_s P_s b_s and weights sum_s W_s b_s,
-    // b_s = B_s's tensor Bernstein coefficients on the element (by blossoming). Polynomial (points divided
-    // through, w = 1) when the weights are equal and sum W b is constant on the element (to 1e-13).
+    // b_s = B_s's tensor Bernstein coefficients on the element (from its spans' pieces, equal to the blossoms to
+    // rounding). Polynomial (points divided through, w = 1) when the weights are equal and sum W b is constant on
+    // the element (to 1e-13). note: ~2-3 us for the ~70 blending functions over an element of an octree volume.
     void bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const override;
     // Just the chunk itself (no periodic axis, no collapsed face).
     void chunksAlong(int chunk, int axis, std::vector<int>& row, bool& closed) const override;
