@@ -1,6 +1,6 @@
 // Weighted T-spline volumes (Song & Yang 2005, seed 002): eq. 5-7 blending functions on local knot vectors
-// inferred from a T-lattice (3.2.2), Bezier extraction of their elements, freezing (sec. 5, eq. 8) and the
-// octree lattices of sec. 4 (Fig. 9-10).
+// inferred from a T-lattice (3.2.2), Bezier extraction of their elements and freezing (sec. 5, eq. 8). Making
+// volumes (sec. 4, 6) and the proof that a rest volume does not fold: tspline_rest.cpp.
 #include "core/tspline_volume.h"
 
 #include <algorithm>
@@ -10,7 +10,6 @@
 #include <tuple>
 
 #include <Eigen/LU>
-#include <Eigen/QR>
 #include <Eigen/SVD>
 
 namespace sculpt::core {
@@ -59,6 +58,31 @@ inline int spanAt(const std::array<int, 5>& knots, int lo) {
     int j = 0;
     while (j < 3 && knots[static_cast<size_t>(j) + 1] <= lo) ++j;
     return j;
+}
+
+// Bezier extraction's sum: points (4 blocks of 64: x, y, z, w) += the tensor products of the pieces' Bernstein
+// coefficients times the homogeneous control points (W P, W). note: the AVX2 clone does the 4 contiguous terms
+// at once (chosen at run time; no FMA contraction, so both clones give the same bits).
+// Four doubles as one value (GCC vector extension; an AVX2 register in the AVX2 clones, two SSE2 ones otherwise),
+// loaded and stored unaligned.
+typedef double Double4 __attribute__((vector_size(32), aligned(8), may_alias));
+
+__attribute__((target_clones("avx2", "default"))) void accumulateTensorPieces(int count, const double (*__restrict bernstein)[3][4],
+                                                                              const double (*__restrict homogeneous)[4], double* __restrict points) {
+    Double4* out = reinterpret_cast<Double4*>(points);  // 4 blocks of 16 rows of 4
+    for (int i = 0; i < count; ++i) {
+        const Double4 bu = *reinterpret_cast<const Double4*>(bernstein[i][0]);
+        const double* hp = homogeneous[i];
+        for (int o = 0; o < 4; ++o)
+            for (int m = 0; m < 4; ++m) {
+                const Double4 b = (bernstein[i][1][m] * bernstein[i][2][o]) * bu;
+                const int row = m + 4 * o;
+                out[row] += b * hp[0];
+                out[16 + row] += b * hp[1];
+                out[32 + row] += b * hp[2];
+                out[48 + row] += b * hp[3];
+            }
+    }
 }
 
 // Cells whose open box meets the open box (lo, hi) (fine coordinates), by descent from the roots.
@@ -307,6 +331,31 @@ void TSplineBasis::blendingValues(int e, const Eigen::Vector3d& t, double* value
     }
 }
 
+std::vector<std::array<int, 2>> TSplineBasis::controlNetEdges() const {
+    // T-lattice edges on every boundary-copy layer, and each copy joined to what it copies.
+    std::vector<std::array<int, 2>> edges;
+    for (const auto& edge : latticeEdges) {
+        const auto& p = lattice.vertices[static_cast<size_t>(edge[0])];
+        const auto& q = lattice.vertices[static_cast<size_t>(edge[1])];
+        const int axis = p[0] != q[0] ? 0 : p[1] != q[1] ? 1 : 2;
+        for (int mask = 0; mask < 8; ++mask) {
+            if ((mask >> axis) & 1) continue;
+            const int s = anchorOfVertex[static_cast<size_t>(edge[0])][static_cast<size_t>(mask)];
+            const int r = anchorOfVertex[static_cast<size_t>(edge[1])][static_cast<size_t>(mask)];
+            if (s >= 0 && r >= 0) edges.push_back({s, r});
+        }
+    }
+    for (int s = 0; s < anchorCount(); ++s) {
+        const TSplineAnchor& anchor = anchors[static_cast<size_t>(s)];
+        for (int a = 0; a < 3; ++a) {
+            if ((anchor.boundaryCopy >> a) & 1) continue;
+            const int copy = anchorOfVertex[static_cast<size_t>(anchor.vertex)][static_cast<size_t>(anchor.boundaryCopy | (1 << a))];
+            if (copy >= 0) edges.push_back({s, copy});
+        }
+    }
+    return edges;
+}
+
 // ---- the volume --------------------------------------------------------------------------------------------
 
 Status TSplineVolume::make(std::shared_ptr<const TSplineBasis> basis, Positions points, std::vector<double> weights,
@@ -328,27 +377,8 @@ Status TSplineVolume::make(std::shared_ptr<const TSplineBasis> basis, Positions 
     v.rational_ = !v.equalWeights_ || !v.basis_->partitionOfUnity;
     v.bounds_.setEmpty();
     for (int s = 0; s < n; ++s) v.bounds_.extend(v.rest_.row(s).transpose());
-    // The control net: T-lattice edges on every boundary-copy layer, and each copy joined to what it copies.
     const TSplineBasis& b = *v.basis_;
-    for (const auto& edge : b.latticeEdges) {
-        const auto& p = b.lattice.vertices[static_cast<size_t>(edge[0])];
-        const auto& q = b.lattice.vertices[static_cast<size_t>(edge[1])];
-        const int axis = p[0] != q[0] ? 0 : p[1] != q[1] ? 1 : 2;
-        for (int mask = 0; mask < 8; ++mask) {
-            if ((mask >> axis) & 1) continue;
-            const int s = b.anchorOfVertex[static_cast<size_t>(edge[0])][static_cast<size_t>(mask)];
-            const int r = b.anchorOfVertex[static_cast<size_t>(edge[1])][static_cast<size_t>(mask)];
-            if (s >= 0 && r >= 0) v.netEdges_.push_back({s, r});
-        }
-    }
-    for (int s = 0; s < n; ++s) {
-        const TSplineAnchor& anchor = b.anchors[static_cast<size_t>(s)];
-        for (int a = 0; a < 3; ++a) {
-            if ((anchor.boundaryCopy >> a) & 1) continue;
-            const int copy = b.anchorOfVertex[static_cast<size_t>(anchor.vertex)][static_cast<size_t>(anchor.boundaryCopy | (1 << a))];
-            if (copy >= 0) v.netEdges_.push_back({s, copy});
-        }
-    }
+    v.netEdges_ = b.controlNetEdges();
     // Layers: breadth-first over the net from the boundary copies (the outer surface).
     std::vector<std::vector<int>> neighbours(static_cast<size_t>(n));
     for (const auto& e : v.netEdges_) {
@@ -368,17 +398,10 @@ Status TSplineVolume::make(std::shared_ptr<const TSplineBasis> basis, Positions 
                 v.layer_[static_cast<size_t>(r)] = v.layer_[static_cast<size_t>(queue[head])] + 1;
                 queue.push_back(r);
             }
-    // A valid volume is right-handed at rest (as a net lattice): det dQ0/dt > 0 at every element's centre, so
-    // freezing has one answer; a folded or mirrored placement is refused.
-    for (int e = 0; e < b.elementCount(); ++e) {
-        Eigen::Vector3d q;
-        Eigen::Matrix3d d;
-        v.evaluate(v.rest_, 0.5 * (b.elementMin(e) + b.elementMax(e)), q, &d);
-        if (!(d.determinant() > 0.0))
-            return Status::error("the T-spline control points fold the volume or mirror it: det dQ/dt <= 0 in element " + std::to_string(e) +
-                                 " (T-lattice cell " + std::to_string(b.elementCell[static_cast<size_t>(e)]) + ")");
-    }
-    v.restIndex_ = v.buildElementIndex(v.rest_);
+    // A valid volume is right-handed at rest, proven on every element (tspline_rest.cpp), so freezing has one
+    // answer and det J = det dQ/dt / det dQ0/dt has the sign of det dQ/dt; a folded or mirrored placement is refused.
+    if (Status s = checkTSplineRestVolume(v); !s) return s;
+    v.restIndex_ = v.buildFreezeIndex(v.rest_);
     out = std::move(volume);
     return Status::success();
 }
@@ -454,34 +477,35 @@ void TSplineVolume::bezierChunk(int chunk, const Positions* displacement, Bezier
     const Eigen::Vector3d lo = b.elementMin(chunk), hi = b.elementMax(chunk);
     for (int a = 0; a < 3; ++a) out.parameterScale[static_cast<size_t>(a)] = hi[a] - lo[a];
     const std::array<int, 3>& fineLo = b.elementLo[static_cast<size_t>(chunk)];
-    for (int c = b.supportStart[static_cast<size_t>(chunk)]; c < b.supportStart[static_cast<size_t>(chunk) + 1]; ++c) {
-        const int s = b.supportIds[static_cast<size_t>(c)];
-        // The Bernstein coefficients of B_s on the element, per axis: blossoms at (lo^(3-l), hi^l).
-        double bernstein[3][4];
+    const int start = b.supportStart[static_cast<size_t>(chunk)];
+    const int count = b.supportStart[static_cast<size_t>(chunk) + 1] - start;
+    double bernstein[216][3][4], homogeneous[216][4];
+    for (int i = 0; i < count; ++i) {
+        const int s = b.supportIds[static_cast<size_t>(start + i)];
+        // The Bernstein coefficients of B_s on the element, per axis: the span's piece (powers of x = t - k_j)
+        // re-expanded at the element's start in powers of h s (Taylor), then Bernstein from powers.
+        // note: the blossoms at (lo^(3-l), hi^l) give the same values at ~3x the cost (divisions per level).
         for (int a = 0; a < 3; ++a) {
-            const double* knots = b.knotValues[static_cast<size_t>(s)][static_cast<size_t>(a)].data();
             const int span = spanAt(b.anchors[static_cast<size_t>(s)].knots[static_cast<size_t>(a)], fineLo[a]);
-            bernstein[a][0] = cubicBlossom(knots, span, lo[a], lo[a], lo[a]);
-            bernstein[a][1] = cubicBlossom(knots, span, lo[a], lo[a], hi[a]);
-            bernstein[a][2] = cubicBlossom(knots, span, lo[a], hi[a], hi[a]);
-            bernstein[a][3] = cubicBlossom(knots, span, hi[a], hi[a], hi[a]);
+            const auto& power = b.piecePowers[static_cast<size_t>(s)][static_cast<size_t>(a)][static_cast<size_t>(span)];
+            const double x = lo[a] - b.knotValues[static_cast<size_t>(s)][static_cast<size_t>(a)][static_cast<size_t>(span)];
+            const double h = hi[a] - lo[a];
+            constexpr double third = 1.0 / 3.0;
+            const double p0 = ((power[3] * x + power[2]) * x + power[1]) * x + power[0];
+            const double p1 = ((3.0 * power[3] * x + 2.0 * power[2]) * x + power[1]) * h;
+            const double p2 = (3.0 * power[3] * x + power[2]) * h * h;
+            const double p3 = power[3] * h * h * h;
+            bernstein[i][a][0] = p0;
+            bernstein[i][a][1] = p0 + p1 * third;
+            bernstein[i][a][2] = p0 + (2.0 * p1 + p2) * third;
+            bernstein[i][a][3] = p0 + p1 + p2 + p3;
         }
         const double w = weights_[static_cast<size_t>(s)];
         Eigen::Vector3d p = rest_.row(s).transpose();
         if (displacement) p += displacement->row(s).transpose();
-        for (int o = 0; o < 4; ++o)
-            for (int m = 0; m < 4; ++m) {
-                const double vw = w * bernstein[1][m] * bernstein[2][o];
-                for (int l = 0; l < 4; ++l) {
-                    const int e = l + 4 * (m + 4 * o);
-                    const double wb = vw * bernstein[0][l];
-                    control[e] += wb * p.x();
-                    control[n + e] += wb * p.y();
-                    control[2 * n + e] += wb * p.z();
-                    control[3 * n + e] += wb;
-                }
-            }
+        homogeneous[i][0] = w * p.x(), homogeneous[i][1] = w * p.y(), homogeneous[i][2] = w * p.z(), homogeneous[i][3] = w;
     }
+    accumulateTensorPieces(count, bernstein, homogeneous, control);
     // Polynomial when the denominator sum W b is one constant on the element.
     bool polynomial = equalWeights_;
     for (int e = 1; e < n && polynomial; ++e) polynomial = std::abs(control[3 * n + e] - control[3 * n]) <= 1e-13 * control[3 * n];
@@ -605,14 +629,47 @@ bool newtonSolve(const TSplineVolume& volume, const Positions& points, const Eig
 
 }  // namespace
 
-bool TSplineVolume::freezeWith(const Positions& points, const ChunkIndex& index, const Eigen::Vector3d& x, Eigen::Vector3d& t) const {
+TSplineVolume::FreezeIndex TSplineVolume::buildFreezeIndex(const Positions& points) const {
+    FreezeIndex index;
+    index.elements = buildElementIndex(points);
+    // P_s ~ A g_s + b by least squares (normal equations of the 4 x 4 system [g 1]).
+    const int n = basis_->anchorCount();
+    Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+    Eigen::Matrix<double, 4, 3> right = Eigen::Matrix<double, 4, 3>::Zero();
+    for (int s = 0; s < n; ++s) {
+        Eigen::Vector4d g;
+        g << basis_->grevilleParameters(s), 1.0;
+        normal += g * g.transpose();
+        right += g * points.row(s);
+    }
+    const Eigen::Matrix<double, 4, 3> map = normal.ldlt().solve(right);  // rows: A^T, then b^T
+    const Eigen::Matrix3d linear = map.topRows<3>().transpose();
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(linear);
+    if (map.allFinite() && lu.isInvertible()) {
+        index.inverse = lu.inverse();
+        index.offset = map.row(3).transpose();
+        index.affine = index.inverse.allFinite();
+    }
+    return index;
+}
+
+bool TSplineVolume::freezeWith(const Positions& points, const FreezeIndex& index, const Eigen::Vector3d& x, Eigen::Vector3d& t) const {
     if (!x.allFinite()) return false;
-    thread_local std::vector<int> candidates;
-    index.candidates(x, candidates);
-    if (candidates.empty()) return false;
-    const double diagonal = std::max(index.bounds.diagonal().norm(), 1e-300);
+    const double diagonal = std::max(index.elements.bounds.diagonal().norm(), 1e-300);
     const double tight = 4e-15 * diagonal + 8.0 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
     const double loose = 1e-13 * diagonal + 64.0 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
+    // Pass 0: from the affine preimage (the usual case: the point's own neighbourhood, 2-3 steps).
+    if (index.affine) {
+        const Eigen::Vector3d start = (index.inverse * (x - index.offset)).cwiseMax(0.0).cwiseMin(1.0);
+        Eigen::Vector3d end;
+        if (start.allFinite() && newtonSolve(*this, points, x, start, tight, loose, end)) {
+            t = end;
+            return true;
+        }
+    }
+    thread_local std::vector<int> candidates;
+    index.elements.candidates(x, candidates);
+    if (candidates.empty()) return false;
     // Pass 1: from each candidate element's centre, lowest id first (deterministic on shared faces).
     bool allStoppedOnBoundary = true;
     for (int e : candidates) {
@@ -650,7 +707,7 @@ namespace {
 
 class TSplineLocator final : public Volume::Locator {
 public:
-    TSplineLocator(const TSplineVolume& volume, const Positions& points) : volume_(volume), points_(points), index_(volume.buildElementIndex(points)) {}
+    TSplineLocator(const TSplineVolume& volume, const Positions& points) : volume_(volume), points_(points), index_(volume.buildFreezeIndex(points)) {}
     bool freeze(const Eigen::Vector3d& x, Eigen::Vector3d& t) const override {
         Eigen::Vector3d found;
         if (!volume_.freezeWith(points_, index_, x, found)) return false;
@@ -661,140 +718,11 @@ public:
 private:
     const TSplineVolume& volume_;
     Positions points_;
-    ChunkIndex index_;
+    TSplineVolume::FreezeIndex index_;
 };
 
 }  // namespace
 
 std::unique_ptr<Volume::Locator> TSplineVolume::locatorFor(const Positions& points) const { return std::make_unique<TSplineLocator>(*this, points); }
-
-// ---- making volumes ----------------------------------------------------------------------------------------
-
-Status makeTSplineVolumeInBox(const TLattice& lattice, const Eigen::AlignedBox3d& box, const std::vector<double>& weights,
-                              std::shared_ptr<const TSplineVolume>& out) {
-    if (box.isEmpty() || !box.min().allFinite() || !box.max().allFinite() || !(box.sizes().array() > 0.0).all())
-        return Status::error("a T-spline volume needs a finite box with min < max on every axis");
-    std::shared_ptr<const TSplineBasis> basis;
-    if (Status s = buildTSplineBasis(lattice, basis); !s) return s;
-    const int n = basis->anchorCount();
-    Positions points(n, 3);
-    for (int s = 0; s < n; ++s) points.row(s) = (box.min() + basis->grevilleParameters(s).cwiseProduct(box.sizes())).transpose();
-    std::vector<double> w = weights.empty() ? std::vector<double>(static_cast<size_t>(n), 1.0) : weights;
-    return TSplineVolume::make(std::move(basis), std::move(points), std::move(w), out);
-}
-
-namespace {
-
-// Sec. 4: weight `heavy` for the control points of non-empty cells (anchored at a vertex of the closed box of a
-// cell that holds a point: a corner or a T-junction on its boundary; boundary copies alike), `light` elsewhere.
-std::vector<double> nonEmptyCellWeights(const TSplineBasis& basis, const std::vector<std::uint8_t>& nonEmpty, double heavy, double light) {
-    const int n = basis.anchorCount();
-    std::vector<double> weights(static_cast<size_t>(n), light);
-    const TLattice& l = basis.lattice;
-    for (int s = 0; s < n; ++s) {
-        const auto& p = l.vertices[static_cast<size_t>(basis.anchors[static_cast<size_t>(s)].vertex)];
-        for (int corner = 0; corner < 8; ++corner) {
-            std::array<int, 3> doubled{};
-            bool inside = true;
-            for (int a = 0; a < 3; ++a) {
-                doubled[a] = 2 * p[a] + (((corner >> a) & 1) ? 1 : -1);
-                inside = inside && doubled[a] > 0 && doubled[a] < 2 * l.fineCount[a];
-            }
-            if (inside && nonEmpty[static_cast<size_t>(l.cellAtDoubled(doubled))]) {
-                weights[static_cast<size_t>(s)] = heavy;
-                break;
-            }
-        }
-    }
-    return weights;
-}
-
-}  // namespace
-
-Status makeOctreeTSplineVolumeInBox(const Positions& points, const Eigen::AlignedBox3d& box, const TSplineOctreeSettings& settings,
-                                    std::shared_ptr<const TSplineVolume>& out) {
-    if (!(settings.weightRatio > 0.0) || !std::isfinite(settings.weightRatio)) return Status::error("the weight ratio must be finite and > 0");
-    TLattice lattice;
-    std::vector<std::uint8_t> nonEmpty;
-    if (Status s = makeOctreeTLattice(points, box, settings.octree, lattice, &nonEmpty); !s) return s;
-    std::shared_ptr<const TSplineBasis> basis;
-    if (Status s = buildTSplineBasis(lattice, basis); !s) return s;
-    std::vector<double> weights = nonEmptyCellWeights(*basis, nonEmpty, settings.weightRatio, 1.0);
-    const int n = basis->anchorCount();
-    Positions control(n, 3);
-    for (int s = 0; s < n; ++s) control.row(s) = (box.min() + basis->grevilleParameters(s).cwiseProduct(box.sizes())).transpose();
-    return TSplineVolume::make(std::move(basis), std::move(control), std::move(weights), out);
-}
-
-Status makeOctreeTSplineVolume(const Positions& points, const TSplineOctreeSettings& settings, std::shared_ptr<const TSplineVolume>& out,
-                               Eigen::AlignedBox3d* boxOut) {
-    if (!(settings.padding >= 0.0) || !std::isfinite(settings.padding)) return Status::error("the padding must be finite and >= 0");
-    Eigen::AlignedBox3d box;
-    if (Status s = paddedPointBounds(points, settings.padding, box); !s) return s;
-    if (boxOut) *boxOut = box;
-    return makeOctreeTSplineVolumeInBox(points, box, settings, out);
-}
-
-Status paddedPointBounds(const Positions& points, double padding, Eigen::AlignedBox3d& out) {
-    Eigen::AlignedBox3d box;
-    box.setEmpty();
-    for (Eigen::Index p = 0; p < points.rows(); ++p)
-        if (points.row(p).allFinite()) box.extend(points.row(p).transpose());
-    if (box.isEmpty()) return Status::error("an octree T-spline volume needs at least one finite point");
-    const double pad = padding * box.diagonal().norm() + (box.diagonal().norm() > 0.0 ? 0.0 : 1.0);
-    box.min().array() -= pad;
-    box.max().array() += pad;
-    for (int a = 0; a < 3; ++a)  // a flat point set still gets a box with volume
-        if (!(box.sizes()[a] > 0.0)) {
-            box.min()[a] -= 0.5 * box.diagonal().norm();
-            box.max()[a] += 0.5 * box.diagonal().norm();
-        }
-    out = box;
-    return Status::success();
-}
-
-Status subdivideTSplineVolume(const TSplineVolume& volume, const std::vector<int>& cells, bool balance, const Positions& points,
-                              std::shared_ptr<const TSplineVolume>& out) {
-    const TSplineBasis& basis = volume.basis();
-    const Positions& rest = volume.restControlPoints();
-    const int n = basis.anchorCount();
-    // The affine map the control points are an image of the Greville parameters by: P_s = A g_s + b (least
-    // squares over every point; exact for a generated volume, placed or not).
-    Eigen::MatrixXd greville(n, 4);
-    for (int s = 0; s < n; ++s) greville.row(s) << basis.grevilleParameters(s).transpose(), 1.0;
-    const Eigen::MatrixXd map = greville.colPivHouseholderQr().solve(Eigen::MatrixXd(rest));  // 4 x 3: rows A^T, b^T
-    const double diagonal = volume.restBounds().diagonal().norm();
-    const double misfit = (greville * map - rest).rowwise().norm().maxCoeff();
-    if (!(misfit <= 1e-9 * diagonal))
-        return Status::error("its control points are not in their rest layout (an affine image of the Greville points), so "
-                             "subdividing would lose their shape: subdivide the lattice before moving its points one by one");
-    const Eigen::Matrix3d linear = map.topRows<3>().transpose();
-    const Eigen::Vector3d offset = map.row(3).transpose();
-    TLattice finer;
-    if (Status s = subdivideTLatticeCells(basis.lattice, cells, balance, finer); !s) return s;
-    std::shared_ptr<const TSplineBasis> finerBasis;
-    if (Status s = buildTSplineBasis(finer, finerBasis); !s) return s;
-    const TLattice& l = finerBasis->lattice;
-    // Sec. 4 on the finer lattice (Fig. 11b): the cells holding a point (its parameters under the inverse of the
-    // affine map, as makeOctreeTLattice classifies them) get the heavy weight.
-    const Eigen::Matrix3d inverse = linear.inverse();
-    std::vector<std::uint8_t> nonEmpty(l.cells.size(), 0);
-    for (Eigen::Index p = 0; p < points.rows(); ++p) {
-        const Eigen::Vector3d t = inverse * (points.row(p).transpose() - offset);
-        if (!t.allFinite() || (t.array() < 0.0).any() || (t.array() > 1.0).any()) continue;
-        std::array<int, 3> doubled{};
-        for (int a = 0; a < 3; ++a) doubled[a] = 2 * l.fineVoxel(a, t[a]) + 1;
-        nonEmpty[static_cast<size_t>(l.cellAtDoubled(doubled))] = 1;
-    }
-    const auto [lightest, heaviest] = std::minmax_element(volume.controlWeights().begin(), volume.controlWeights().end());
-    std::vector<double> weights = nonEmptyCellWeights(*finerBasis, nonEmpty, *heaviest, *lightest);
-    const int m = finerBasis->anchorCount();
-    Positions control(m, 3);
-    for (int s = 0; s < m; ++s) control.row(s) = (linear * finerBasis->grevilleParameters(s) + offset).transpose();
-    std::shared_ptr<const TSplineVolume> made;
-    if (Status s = TSplineVolume::make(std::move(finerBasis), std::move(control), std::move(weights), made); !s) return s;
-    out = std::move(made);
-    return Status::success();
-}
 
 }  // namespace sculpt::core

@@ -70,6 +70,9 @@ struct TSplineBasis {
     int maxSupport = 0;
     // T-lattice edges between adjacent vertices (cell edges split at T-junctions), each once: {vertex, vertex}.
     std::vector<std::array<int, 2>> latticeEdges;
+    // The control net's edges between anchors (TSplineVolume::controlNetEdgeList): the lattice edges repeated on
+    // every boundary-copy layer, plus each boundary copy joined to the anchor it copies.
+    std::vector<std::array<int, 2>> controlNetEdges() const;
 
     int elementCount() const { return static_cast<int>(elementCell.size()); }
     int anchorCount() const { return static_cast<int>(anchors.size()); }
@@ -103,8 +106,9 @@ void cubicPiece(const double* knots, int span, double u, double& value, double& 
 class TSplineVolume final : public Volume {
 public:
     // The volume with control points `points` (#anchors x 3, world, finite) and weights (#anchors, > 0 finite).
-    // Fails with a message naming what is wrong, and when det dQ/dt <= 0 at an element's centre (the control
-    // points fold or mirror the volume).
+    // Fails with a message naming what is wrong, and when det dQ/dt > 0 is not proven on every element
+    // (checkTSplineRestVolume: the control points fold or mirror the volume somewhere, or the proof is
+    // undecided), so a volume that exists is a valid rest volume: freezing has one answer everywhere.
     static Status make(std::shared_ptr<const TSplineBasis> basis, Positions points, std::vector<double> weights,
                        std::shared_ptr<const TSplineVolume>& out);
 
@@ -135,12 +139,15 @@ public:
     // Eq. 5 and its derivative by the quotient rule; t clamped into [0,1]^3.
     void evaluate(const Positions& points, const Eigen::Vector3d& t, Eigen::Vector3d& value,
                   Eigen::Matrix3d* derivative = nullptr) const override;
-    // Sec. 5 (eq. 8), by Newton's method instead of the paper's conjugate gradients: candidate elements from a
-    // grid index over their control points' bounds (convex hull), Newton from each candidate's centre over the
-    // whole domain, then from the centres of its 8 and 64 sub-boxes; pseudo-inverse steps where dQ/dt is
-    // nearly singular, backtracking where a step does not reduce |Q - x|. The first candidate (lowest element
-    // id) that converges (|Q(t) - x| at rounding level, 4e-15 of the diagonal, or stalled below 1e-13 of it)
-    // gives t: deterministic. False outside the volume or for a non-finite x.
+    // Sec. 5 (eq. 8), by Newton's method instead of the paper's conjugate gradients, from the point's parameters
+    // under the affine map that fits the control points to their Greville parameters best (the rest map itself
+    // where there are no T-junctions and equal weights; within ~0.1 of it otherwise: 2-3 Newton steps). A start
+    // that does not converge falls back on the candidates: elements from a grid index over their control points'
+    // bounds (convex hull), Newton from each candidate's centre over the whole domain, then from the centres of
+    // its 8 and 64 sub-boxes, the first candidate (lowest element id) that converges giving t. Pseudo-inverse steps
+    // where dQ/dt is nearly singular, backtracking where a step does not reduce |Q - x|; converged: |Q(t) - x| at
+    // rounding level (4e-15 of the diagonal, or stalled below 1e-13 of it). Deterministic; the rest volume is
+    // proven not to fold (make), so a converged t is the only one. False outside the volume or for a non-finite x.
     bool freeze(const Eigen::Vector3d& x, Eigen::Vector3d& t) const override;
     std::unique_ptr<Locator> locatorFor(const Positions& points) const override;
     int chunkCount() const override { return basis_->elementCount(); }
@@ -148,17 +155,28 @@ public:
     Eigen::Vector3d chunkParameters(int chunk, const Eigen::Vector3d& local) const override;
     void chunkSupport(int chunk, std::vector<int>& ids) const override;
     // Bezier extraction: the element's homogeneous Bernstein points sum_s W_s P_s b_s and weights sum_s W_s b_s,
-    // b_s = B_s's tensor Bernstein coefficients on the element (by blossoming). Polynomial (points divided
-    // through, w = 1) when the weights are equal and sum W b is constant on the element (to 1e-13).
+    // b_s = B_s's tensor Bernstein coefficients on the element (from its spans' pieces, equal to the blossoms to
+    // rounding). Polynomial (points divided through, w = 1) when the weights are equal and sum W b is constant on
+    // the element (to 1e-13). note: ~2-3 us for the ~70 blending functions over an element of an octree volume.
     void bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const override;
     // Just the chunk itself (no periodic axis, no collapsed face).
     void chunksAlong(int chunk, int axis, std::vector<int>& row, bool& closed) const override;
     // The T-lattice's cell edges (split at T-junctions) in parameters, each once.
     std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const override;
 
-    // The same freezing with other control points and their element index (freeze, locatorFor).
-    bool freezeWith(const Positions& points, const ChunkIndex& index, const Eigen::Vector3d& x, Eigen::Vector3d& t) const;
-    // The element index of control points `points` (#anchors x 3): each element's control-point bounds.
+    // What freezing needs to know of a set of control points (#anchors x 3).
+    struct FreezeIndex {
+        ChunkIndex elements;                                       // each element's control-point bounds
+        Eigen::Matrix3d inverse = Eigen::Matrix3d::Identity();     // Newton's first start: inverse (x - offset)
+        Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+        bool affine = false;                                       // false: no usable affine fit, candidates only
+    };
+    // The same freezing with other control points and their index (freeze, locatorFor).
+    bool freezeWith(const Positions& points, const FreezeIndex& index, const Eigen::Vector3d& x, Eigen::Vector3d& t) const;
+    // The index of control points `points`: the element index and the least-squares affine map P_s ~ A g_s + b
+    // of the anchors' Greville parameters g_s (inverted).
+    FreezeIndex buildFreezeIndex(const Positions& points) const;
+    // The element index alone: each element's control-point bounds.
     ChunkIndex buildElementIndex(const Positions& points) const;
 
 private:
@@ -171,7 +189,7 @@ private:
     std::vector<int> layer_;
     std::vector<std::array<int, 2>> netEdges_;
     std::vector<std::vector<int>> noWelds_;
-    ChunkIndex restIndex_;
+    FreezeIndex restIndex_;
 };
 
 // ---- making T-spline volumes --------------------------------------------------------------------------------
@@ -185,22 +203,38 @@ Status makeTSplineVolumeInBox(const TLattice& lattice, const Eigen::AlignedBox3d
 
 struct TSplineOctreeSettings {
     TLatticeOctreeSettings octree;   // root grid, depth, balance
-    double weightRatio = 100.0;      // sec. 4: weight of control points of non-empty cells : the others' (1); > 0
+    double weightRatio = 100.0;      // sec. 4: weight of control points of non-empty cells : the far ones' (1); > 0
+    // Weight balance (tspline_rest.cpp explains it): control points joined by an edge of the control net differ
+    // in weight by at most this factor, so the heavy weight falls off ring by ring away from the non-empty cells
+    // (100:1 with step 10: 100, 10, 1) instead of jumping 100:1 across one knot interval, which folds the rest
+    // volume at T-junctions. > 1; a step >= the ratio is the paper's two levels.
+    double weightStep = 10.0;
     double padding = 0.05;           // the box: the points' bounds grown by this fraction of their diagonal per side
+};
+
+// What an octree set-up (or a subdivision) did about the weights.
+struct TSplineWeightOutcome {
+    double weightRatio = 1.0;    // the heavy : light ratio the volume has (the requested one unless reduced)
+    bool ratioReduced = false;   // the requested ratio folded the rest volume even with the weight balance
+    std::string message;         // empty, or says which ratio was asked for, why it was reduced and to what
 };
 
 // Sec. 4 / Fig. 9-10: the octree T-lattice of `points` (#P x 3, mesh vertices) in their padded bounds, and its
 // volume (makeTSplineVolumeInBox) with weight weightRatio on every control point anchored at a vertex of a
-// non-empty cell (a corner or a T-junction on its boundary; boundary copies alike) and 1 elsewhere. `box`
-// (if not null) gets the box used. Fails on no finite point, or settings out of range.
+// non-empty cell (a corner or a T-junction on its boundary; boundary copies alike), falling off by weightStep
+// per ring of the control net to 1 (balancedTSplineWeights). If that rest volume is not proven free of folds
+// (checkTSplineRestVolume) the ratio is reduced, by bisection on its logarithm, to the largest tried that is
+// (within a factor 1.05), and `outcome` says so. `box` (if not null) gets the box used. Fails on no finite
+// point, settings out of range, or a lattice whose volume folds even with equal weights.
 Status makeOctreeTSplineVolume(const Positions& points, const TSplineOctreeSettings& settings, std::shared_ptr<const TSplineVolume>& out,
-                               Eigen::AlignedBox3d* box = nullptr);
+                               Eigen::AlignedBox3d* box = nullptr, TSplineWeightOutcome* outcome = nullptr);
 
 // The same in a given world box (sec. 4 and 6, step 1: "the initial region of the model to be deformed"): the
 // points inside `box` (closed) shape the octree, the others are ignored; settings.padding is not used. Fails
-// on a bad box or settings out of range (makeOctreeTLattice's errors), or a weight ratio not finite and > 0.
+// on a bad box or settings out of range (makeOctreeTLattice's errors), a weight ratio not finite and > 0, or a
+// weight step not finite and > 1.
 Status makeOctreeTSplineVolumeInBox(const Positions& points, const Eigen::AlignedBox3d& box, const TSplineOctreeSettings& settings,
-                                    std::shared_ptr<const TSplineVolume>& out);
+                                    std::shared_ptr<const TSplineVolume>& out, TSplineWeightOutcome* outcome = nullptr);
 
 // The finite points' bounds grown by padding x their diagonal per side (a flat or single point set still gets a
 // box with volume): the box makeOctreeTSplineVolume uses. Fails when no point is finite.
@@ -209,13 +243,44 @@ Status paddedPointBounds(const Positions& points, double padding, Eigen::Aligned
 // Sec. 6 step 2 / Fig. 11: `volume` with the chosen cells (ids of its T-lattice) subdivided by the octree, then
 // 2:1-balanced if `balance` (subdivideTLatticeCells). The control points are placed again, at the Greville
 // parameters of the finer lattice under the affine map that takes the old Greville parameters onto the old
-// control points (so the volume keeps its box and placement); the weights are again sec. 4's two levels: the
+// control points (so the volume keeps its box and placement); the weights are again sec. 4's, balanced: the
 // volume's largest weight on the control points of cells holding one of `points` (#P x 3, world: the mesh; cells
-// found through the inverse of that map, as makeOctreeTLattice finds them), its smallest elsewhere.
+// found through the inverse of that map, as makeOctreeTLattice finds them), falling off by `weightStep` per ring
+// to its smallest (balancedTSplineWeights), the ratio reduced as makeOctreeTSplineVolume does if that folds.
 // Fails (out unchanged) on bad cell ids, a cell at kMaxTLatticeLevel, a lattice whose blending functions would
 // overlap too much (buildTSplineBasis), or control points that are not an affine image of the Greville
 // parameters to 1e-9 of the diagonal (points moved one by one: placing them again would lose that shape).
 Status subdivideTSplineVolume(const TSplineVolume& volume, const std::vector<int>& cells, bool balance, const Positions& points,
-                              std::shared_ptr<const TSplineVolume>& out);
+                              std::shared_ptr<const TSplineVolume>& out, TSplineWeightOutcome* outcome = nullptr,
+                              double weightStep = 10.0);
+
+// ---- the rest volume must not fold (tspline_rest.cpp) --------------------------------------------------------
+
+// Sec. 4's weights with the weight balance: `heavy` on the anchors flagged in `heavyAnchors` (#anchors), and on
+// the others heavy / step^d (d: their distance in edges of the control net from a flagged anchor), but never
+// past `light` (so far ones get `light`); heavy < light falls the other way. step > 1 (asserted); no flagged
+// anchor: all `light`.
+std::vector<double> balancedTSplineWeights(const TSplineBasis& basis, const std::vector<std::uint8_t>& heavyAnchors, double heavy, double light,
+                                           double step);
+
+// What checkTSplineRestVolume did.
+struct TSplineRestCheckStats {
+    int elementsChecked = 0;
+    int elementsByJacobianHull = 0;   // proven by the enclosure of dQ0/dt's column directions on the whole element
+    int elementsBySubdivision = 0;    // proven by the same on the boxes of its de Casteljau subdivision
+    long long subdivisionBoxes = 0;   // boxes those looked at
+    double milliseconds = 0.0;
+};
+
+// Proves det dQ0/dt > 0 on every chosen element (ids; empty: all) of `volume`'s rest volume, on the closed
+// element, exactly up to a rounding guard (never proven without a proof; tspline_rest.cpp): by an enclosure of
+// the directions of dQ0/dt's columns (their numerators W^2 dQ0/dt_a in Bernstein form) on the whole element, or
+// where that does not decide, on the boxes of its de Casteljau subdivision (halved along one axis at a time, to
+// 2^-8 of the element per axis and 1024 boxes per element). Fails, naming the lowest such element, its T-lattice cell and level, the
+// parameters and the value, when a point with det dQ0/dt <= 0 is found (the volume folds or is mirrored there),
+// or when the proof stays undecided at the limits (saying so, with the least det sampled). Deterministic;
+// parallel over elements (OpenMP). Call it again after changing weights or control points by hand (make() does).
+// note: ~10 us per element on one core (the default mesh at depth 5: 22.7k elements, ~0.1-0.15 s on 2 cores).
+Status checkTSplineRestVolume(const TSplineVolume& volume, const std::vector<int>& elements = {}, TSplineRestCheckStats* stats = nullptr);
 
 }  // namespace sculpt::core

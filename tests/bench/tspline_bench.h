@@ -10,6 +10,8 @@ namespace sculpt::bench {
 //   tspline_counts_*       control points of the octree T-lattice against the regular lattice of the same
 //                          finest cells (Table 1's comparison) at depths 3, 4, 5, on the default mesh and on
 //                          1M points of a bumpy sphere (time: building the volume)
+//   tspline_rest_check_d4, _d5   the proof that the rest volume does not fold (checkTSplineRestVolume, run by
+//                          every TSplineVolume::make) on the default mesh's depth-4 and depth-5 octree volumes
 //   tspline_param_15k_d5   parametrization (freezing) of 15k surface points in their depth-5 octree volume
 //   tspline_param_1m_d4    the same for 1M points at depth 4
 //   tspline_eval_1m        evaluating the 1M points after a displacement of every control point
