@@ -319,8 +319,9 @@ public:
         double width = 0.0;  // the equivalent diameter at half the picked vertex's height (0 without a bump)
     };
     Status bumpAt(const WeightToolSettings& settings, Bump& out) const;
-    // Control points of the frozen T-spline's non-empty cells (cells holding a vertex's parameters): the ones
-    // shown and picked (Song & Yang 2005, Fig. 10); empty when the frozen lattice is not a T-spline.
+    // Control points of the frozen T-spline's non-empty cells (nonEmptyTSplineCells of restPositions(), less the
+    // boundary copies): the ones shown and picked (Song & Yang 2005, Fig. 10; tspline_view.h); empty when the
+    // frozen lattice is not a T-spline.
     std::vector<int> visibleTSplinePoints() const;
 
     void setInjectivity(const InjectivitySettings& settings) { injectivity_ = settings; }

@@ -16,6 +16,7 @@
 #include "core/injectivity.h"
 #include "core/session.h"
 #include "core/session_internal.h"
+#include "core/tspline_view.h"
 #include "core/vertex_normals.h"
 #include "core/weight_sculpt.h"
 
@@ -46,28 +47,13 @@ std::string numberText(double value) {
     return text;
 }
 
-// The anchors (control points) at a vertex of a cell that holds a frozen vertex (a corner or a T-junction on the
-// cell's closed box; boundary copies alike): Song & Yang 2005 sec. 4 / Fig. 10, the points users manipulate.
-std::vector<std::uint8_t> nonEmptyCellAnchors(const TSplineBasis& basis, const Embedding& embedding) {
-    const TLattice& l = basis.lattice;
-    std::vector<std::uint8_t> nonEmpty(l.cells.size(), 0);
-    for (int e = 0; e < basis.elementCount(); ++e)
-        if (embedding.cellStart[static_cast<size_t>(e) + 1] > embedding.cellStart[static_cast<size_t>(e)])
-            nonEmpty[static_cast<size_t>(basis.elementCell[static_cast<size_t>(e)])] = 1;
-    std::vector<std::uint8_t> anchors(static_cast<size_t>(basis.anchorCount()), 0);
-    for (int s = 0; s < basis.anchorCount(); ++s) {
-        const auto& p = l.vertices[static_cast<size_t>(basis.anchors[static_cast<size_t>(s)].vertex)];
-        for (int corner = 0; corner < 8 && !anchors[static_cast<size_t>(s)]; ++corner) {
-            std::array<int, 3> doubled{};
-            bool inside = true;
-            for (int a = 0; a < 3; ++a) {
-                doubled[a] = 2 * p[a] + (((corner >> a) & 1) ? 1 : -1);
-                inside = inside && doubled[a] > 0 && doubled[a] < 2 * l.fineCount[a];
-            }
-            if (inside && nonEmpty[static_cast<size_t>(l.cellAtDoubled(doubled))]) anchors[static_cast<size_t>(s)] = 1;
-        }
-    }
-    return anchors;
+// The control points shown and picked (Song & Yang 2005 sec. 4, Fig. 10; tspline_view.h): those of the cells
+// holding the mesh, classified as the weights were set, less the boundary copies (which carry the outer faces).
+std::vector<std::uint8_t> shownControlPoints(const TSplineVolume& volume, const Positions& rest) {
+    std::vector<std::uint8_t> shown = controlPointsOfCells(volume.basis(), nonEmptyTSplineCells(volume, rest));
+    for (size_t s = 0; s < shown.size(); ++s)
+        if (volume.onOuterSurface(static_cast<int>(s))) shown[s] = 0;
+    return shown;
 }
 
 }  // namespace
@@ -76,7 +62,7 @@ std::vector<int> Session::visibleTSplinePoints() const {
     std::vector<int> ids;
     const TSplineVolume* volume = frozenTool_ >= 0 ? asTSpline(lattice_) : nullptr;
     if (!volume) return ids;
-    const std::vector<std::uint8_t> visible = nonEmptyCellAnchors(volume->basis(), embedding_);
+    const std::vector<std::uint8_t> visible = shownControlPoints(*volume, rest_);
     for (size_t s = 0; s < visible.size(); ++s)
         if (visible[s]) ids.push_back(static_cast<int>(s));
     return ids;
@@ -114,7 +100,7 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
     const int supportCount = basis.supportStart[static_cast<size_t>(pickedElement) + 1] - basis.supportStart[static_cast<size_t>(pickedElement)];
 
     // S: the control points of the bump.
-    const std::vector<std::uint8_t> visible = nonEmptyCellAnchors(basis, embedding_);
+    const std::vector<std::uint8_t> visible = shownControlPoints(*volume, rest_);
     const Eigen::Vector3d picked = positions_.row(settings.vertex).transpose();
     if (settings.controlPoint >= 0) {
         if (settings.controlPoint >= volume->controlPointCount())
@@ -122,7 +108,7 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
                                  std::to_string(volume->controlPointCount() - 1) + ")");
         if (!visible[static_cast<size_t>(settings.controlPoint)])
             return Status::error("control_point: " + std::to_string(settings.controlPoint) +
-                                 " belongs to no non-empty cell (a hidden point that serves the parametrization only)");
+                                 " is a hidden control point (of no non-empty cell, or on the outer faces): it serves the parametrization only");
         bool reaches = false;
         for (int c = 0; c < supportCount; ++c) reaches = reaches || (support[c] == settings.controlPoint && blending[static_cast<size_t>(c)] > 0.0);
         if (!reaches)
