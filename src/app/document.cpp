@@ -57,37 +57,41 @@ private:
     std::uint64_t hash_ = 0xcbf29ce484222325ULL;
 };
 
+// What identifies an operation of the history (its label, kind, user input and step count).
+void addOperation(Fingerprint& f, const core::Operation& op) {
+    f.add(static_cast<int>(op.kind));
+    f.add(op.label);
+    f.add(op.interactive);
+    f.add(op.constraints);
+    f.add(static_cast<std::uint64_t>(op.controlPoints.size()));
+    for (int id : op.controlPoints) f.add(id);
+    for (Eigen::Index r = 0; r < op.offsets.rows(); ++r) f.add(Eigen::Vector3d(op.offsets.row(r).transpose()));
+    f.add(op.settings);
+    f.add(static_cast<std::uint64_t>(op.steps.size()));
+    f.add(static_cast<std::uint64_t>(op.refinement.splits.size()));
+    for (const core::Step& step : op.steps) {
+        f.add(step.freshFrame);
+        f.add(step.constraints);
+        f.add(static_cast<std::uint64_t>(step.delta.indices.size()));
+        // note: a control-point edit's deltas are its user input (few points); a drag's follow from its
+        // constraints, and hashing them would cost per frame what the drag's size costs.
+        if (op.kind == core::OperationKind::ControlPointEdit) {
+            for (int id : step.delta.indices) f.add(id);
+            for (Eigen::Index r = 0; r < step.delta.deltas.rows(); ++r)
+                f.add(Eigen::Vector3d(step.delta.deltas.row(r).transpose()));
+        }
+    }
+    f.add(static_cast<std::uint64_t>(op.parts.size()));
+    for (const core::Operation& part : op.parts) addOperation(f, part);  // a group kept whole
+}
+
 }  // namespace
 
 HistoryMark markHistory(const core::Session& session) {
     HistoryMark mark;
     mark.cursor = session.historyCursor();
     Fingerprint f;
-    for (int i = 0; i < mark.cursor; ++i) {
-        const core::Operation& op = session.history()[static_cast<size_t>(i)];
-        f.add(static_cast<int>(op.kind));
-        f.add(op.label);
-        f.add(op.interactive);
-        f.add(op.constraints);
-        f.add(static_cast<std::uint64_t>(op.controlPoints.size()));
-        for (int id : op.controlPoints) f.add(id);
-        for (Eigen::Index r = 0; r < op.offsets.rows(); ++r) f.add(Eigen::Vector3d(op.offsets.row(r).transpose()));
-        f.add(op.settings);
-        f.add(static_cast<std::uint64_t>(op.steps.size()));
-        f.add(static_cast<std::uint64_t>(op.refinement.splits.size()));
-        for (const core::Step& step : op.steps) {
-            f.add(step.freshFrame);
-            f.add(step.constraints);
-            f.add(static_cast<std::uint64_t>(step.delta.indices.size()));
-            // note: a control-point edit's deltas are its user input (few points); a drag's follow from its
-            // constraints, and hashing them would cost per frame what the drag's size costs.
-            if (op.kind == core::OperationKind::ControlPointEdit) {
-                for (int id : step.delta.indices) f.add(id);
-                for (Eigen::Index r = 0; r < step.delta.deltas.rows(); ++r)
-                    f.add(Eigen::Vector3d(step.delta.deltas.row(r).transpose()));
-            }
-        }
-    }
+    for (int i = 0; i < mark.cursor; ++i) addOperation(f, session.history()[static_cast<size_t>(i)]);
     mark.fingerprint = f.value();
     return mark;
 }

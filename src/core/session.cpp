@@ -269,6 +269,35 @@ void Session::positionsChanged(const std::vector<int>* vertices) {
 
 // ---- InjectSubdiv ---------------------------------------------------------------------------------------
 
+bool Session::certifyCells(const Lattice& lattice, const std::vector<int>& cells, StepFailure& failure, double& injectivityMs) const {
+    if (injectivity_.mode == InjectivityMode::Off || cells.empty()) return true;  // note: an empty list would mean "all cells"
+    const InjectivityResult verdict = checkInjectivity(lattice, injectivity_.mode, cells);
+    injectivityMs += verdict.milliseconds;
+    if (verdict.certified) return true;
+    const auto& ijk = verdict.failingCellIjk;
+    failure.cause = StepFailure::Cause::Lattice;
+    failure.technical = std::string(injectivityModeName(injectivity_.mode)) + " test fails in " +
+                        (lattice.volume && !lattice.tensorNet() ? "chunk " + std::to_string(ijk[0])
+                                                                : "cell [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
+                                                                      std::to_string(ijk[2]) + "]");
+    if (!verdict.message.empty()) failure.technical += " (" + verdict.message + ")";
+    if (verdict.failingParams.allFinite()) failure.where = currentImage(verdict.failingParams);
+    return false;
+}
+
+bool Session::noNewCrossing(const std::vector<int>& changed, StepFailure& failure, double& injectivityMs, double& triangleMs) {
+    const SelfIntersectionIndex::Result crossing = meshIndex_.findNewIntersection(positions_, triangles_, changed, before_);
+    injectivityMs += crossing.milliseconds;  // all checks, the triangle check included
+    triangleMs += crossing.milliseconds;
+    if (!crossing.found) return true;
+    failure.cause = StepFailure::Cause::Triangles;
+    failure.technical = "triangles " + std::to_string(crossing.pair.first) + " and " + std::to_string(crossing.pair.second) + " would cross";
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) centroid += before_.row(triangles_(crossing.pair.first, k)).transpose();  // where it is now
+    failure.where = centroid / 3.0;
+    return false;
+}
+
 bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure, double& injectivityMs,
                        double& triangleMs, bool keep) {
     const bool checking = injectivity_.mode != InjectivityMode::Off;
@@ -288,16 +317,8 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
         // note: an empty change (every control point that could move is pinned) reaches no cell; an empty cell
         // list would mean "all cells" to the checker.
         // Gain & Dodgson 2001: det J > 0 in the cells the change reaches (the rest were tested before).
-        const InjectivityResult verdict = checkInjectivity(lattice, injectivity_.mode, cells);
-        injectivityMs += verdict.milliseconds;
-        if (!verdict.certified) {
+        if (!certifyCells(lattice, cells, failure, injectivityMs)) {
             restoreLattice();
-            const auto& ijk = verdict.failingCellIjk;
-            failure.cause = StepFailure::Cause::Lattice;
-            failure.technical = std::string(injectivityModeName(injectivity_.mode)) + " test fails in cell [" + std::to_string(ijk[0]) +
-                                "," + std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "]";
-            if (!verdict.message.empty()) failure.technical += " (" + verdict.message + ")";
-            if (verdict.failingParams.allFinite()) failure.where = currentImage(verdict.failingParams);
             return false;
         }
         // A free boundary: det J > 0 is local only. The deformed box boundary must not overlap itself
@@ -359,21 +380,7 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
     bool refused = false;
     if (checkTriangles) {
         // The triangles the step moved must not cross any triangle they did not cross before.
-        const SelfIntersectionIndex::Result crossing = meshIndex_.findNewIntersection(positions_, triangles_, changed, before_);
-        injectivityMs += crossing.milliseconds;  // all checks, the triangle check included
-        triangleMs += crossing.milliseconds;
-        if (crossing.found) {
-            refused = true;
-            failure.cause = StepFailure::Cause::Triangles;
-            failure.technical = "triangles " + std::to_string(crossing.pair.first) + " and " + std::to_string(crossing.pair.second) +
-                                " would cross";
-            Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-            for (int k = 0; k < 3; ++k) {
-                const int v = triangles_(crossing.pair.first, k);
-                centroid += before_.row(v).transpose();  // where it is now, before the refused step
-            }
-            failure.where = centroid / 3.0;
-        }
+        refused = !noNewCrossing(changed, failure, injectivityMs, triangleMs);
     } else {
         positionsChanged(&changed);
     }

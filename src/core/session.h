@@ -208,6 +208,10 @@ struct Operation {
     int frozenBefore = -1, frozenAfter = -1;
     RefinementRecord refinement;  // edges split after the steps: a Refine, or an edit refined automatically
     WeightToolSettings weightTool;  // WeightEdit: the tool as asked
+    // A group of operations that change the lattice tools or the frozen one (e.g. setup_tspline: add the tool,
+    // freeze it): the operations themselves, undone in reverse and redone in order as one history entry. Their
+    // refinements are this operation's `refinement`; `steps` is empty.
+    std::vector<Operation> parts;
 };
 
 // One command as the session carried it out, in order: what a recording writes so that a replay on the same
@@ -345,7 +349,8 @@ public:
     Status moveControlPoints(const std::vector<int>& indices, const Eigen::MatrixX3d& values, bool relative,
                              OpReport& report);
     // Makes the operations history()[first, historyCursor()) one history entry (an interactive operation made
-    // of their steps, undone and redone as one), e.g. a replayed interactive drag. The cursor must be at the
+    // of their steps, undone and redone as one), e.g. a replayed interactive drag; operations that change the
+    // lattice tools or freeze / unfreeze one are kept whole as the entry's `parts`. The cursor must be at the
     // end of the history. label empty: the first operation's.
     Status groupOperations(int first, const std::string& label);
     // Applies a recorded operation exactly as it was applied when recorded: its steps (fresh frames and
@@ -486,6 +491,14 @@ private:
         bool movedAll = false;
     };
 
+    // The injectivity test (Gain & Dodgson 2001) of `cells` of `lattice` in the session's mode: true when
+    // certified, the checks are off, or `cells` is empty; else `failure` names the cell (a tensor net's [i,j,k],
+    // another volume's chunk) and where it is. The test's time is added to injectivityMs.
+    bool certifyCells(const Lattice& lattice, const std::vector<int>& cells, StepFailure& failure, double& injectivityMs) const;
+    // No triangle among the vertices `changed` crosses one it did not cross at the rows of before_ (the
+    // positions before the step at those vertices): true, or `failure` names the pair and where it was.
+    // The time is added to injectivityMs and triangleMs.
+    bool noNewCrossing(const std::vector<int>& changed, StepFailure& failure, double& injectivityMs, double& triangleMs);
     // Applies delta to the lattice and the mesh if every check passes: the injectivity test of the cells it
     // reaches (Gain & Dodgson 2001), the free boundary's self-overlap, and no new crossing of triangles;
     // otherwise leaves lattice and positions bitwise as they were and says why. Moved vertices are appended
@@ -565,6 +578,10 @@ private:
     void undoStep(const Step& step);
     // Undoes the steps last to first (their inverse manipulations); lastMoved_ says what moved.
     void revertSteps(const std::vector<Step>& steps);
+    // An operation's steps and its tool / frozen-tool change, forwards (redo) or backwards (undo); a group's
+    // parts in order (reverse order backwards). Refinements are not touched.
+    void undoOperationBody(const Operation& operation);
+    void redoOperationBody(const Operation& operation);
     // How many vertices the last command moved (all of them when a frame was entered or left).
     int movedCount() const;
     void redoStep(const Step& step);

@@ -85,12 +85,59 @@ void Session::redoStep(const Step& step) {
     applyDelta(step.delta, 1.0, &lastMoved_);
 }
 
+void Session::undoOperationBody(const Operation& operation) {
+    if (!operation.parts.empty()) {
+        for (auto part = operation.parts.rbegin(); part != operation.parts.rend(); ++part) undoOperationBody(*part);
+        return;
+    }
+    layerActive_ = false;
+    for (auto step = operation.steps.rbegin(); step != operation.steps.rend(); ++step) undoStep(*step);
+    if (operation.kind == OperationKind::LatticeTools) applyToolChange(operation, false);
+    if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) frozenTool_ = operation.frozenBefore;
+}
+
+void Session::redoOperationBody(const Operation& operation) {
+    for (const Operation& part : operation.parts) redoOperationBody(part);
+    for (const Step& step : operation.steps) redoStep(step);
+    if (operation.parts.empty() && operation.kind == OperationKind::LatticeTools) applyToolChange(operation, true);
+    if (operation.parts.empty() && (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup))
+        frozenTool_ = operation.frozenAfter;
+    layerActive_ = false;
+}
+
 Status Session::groupOperations(int first, const std::string& label) {
     if (dragActive_) return Status::error("an interactive drag is in progress");
     if (cursor_ != static_cast<int>(history_.size())) return Status::error("a group must end at the last operation");
     if (first < 0 || first > cursor_) return Status::error("the group's first operation is outside the history");
     if (cursor_ == first) return Status::success();  // an empty group
     if (Status s = checkGroupRefinement(first); !s) return s;
+    bool keepWhole = false;  // tools added, removed or edited, or the frozen one changed: see Operation::parts
+    for (int i = first; i < cursor_; ++i) {
+        const Operation& op = history_[static_cast<size_t>(i)];
+        keepWhole = keepWhole || op.kind == OperationKind::LatticeTools || !op.parts.empty() ||
+                    (op.kind == OperationKind::LatticeSetup && op.frozenBefore != op.frozenAfter);
+    }
+    if (keepWhole) {
+        Operation merged;
+        merged.kind = OperationKind::LatticeTools;
+        merged.frozenBefore = history_[static_cast<size_t>(first)].frozenBefore;
+        merged.frozenAfter = frozenTool_;
+        merged.label = label.empty() ? history_[static_cast<size_t>(first)].label : label;
+        for (int i = first; i < cursor_; ++i) {
+            Operation& op = history_[static_cast<size_t>(i)];
+            merged.depthReached = std::max(merged.depthReached, op.depthReached);
+            for (const EdgeSplit& split : op.refinement.splits) merged.refinement.splits.push_back(split);
+            for (const TriangleHalving& halving : op.refinement.halvings) merged.refinement.halvings.push_back(halving);
+            if (!op.refinement.empty()) merged.refinement.tolerance = op.refinement.tolerance;
+            op.refinement = RefinementRecord{};
+            merged.parts.push_back(std::move(op));
+        }
+        history_.resize(static_cast<size_t>(first));
+        history_.push_back(std::move(merged));
+        cursor_ = static_cast<int>(history_.size());
+        journal_.push_back(JournalEntry{JournalEntry::Kind::Group, {}, first, history_.back().label, {}, {}});
+        return Status::success();
+    }
     Operation merged;
     merged.kind = OperationKind::LatticeSetup;
     const Operation* firstEdit = nullptr;
@@ -156,10 +203,9 @@ Status Session::undo(OpReport& report) {
         return Status::success();
     }
     const Operation& operation = history_[--cursor_];
-    layerActive_ = false;
-    revertSteps(operation.steps);
-    if (operation.kind == OperationKind::LatticeTools) applyToolChange(operation, false);
-    if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) frozenTool_ = operation.frozenBefore;
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    undoOperationBody(operation);
     removeRefinement(operation.refinement);
     journal_.push_back(JournalEntry{JournalEntry::Kind::Undo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
@@ -185,10 +231,7 @@ Status Session::redo(OpReport& report) {
     const Operation& operation = history_[cursor_++];
     lastMoved_.clear();
     lastMovedAll_ = false;
-    for (const Step& step : operation.steps) redoStep(step);
-    if (operation.kind == OperationKind::LatticeTools) applyToolChange(operation, true);
-    if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) frozenTool_ = operation.frozenAfter;
-    layerActive_ = false;
+    redoOperationBody(operation);
     reapplyRefinement(history_[static_cast<size_t>(cursor_ - 1)]);
     journal_.push_back(JournalEntry{JournalEntry::Kind::Redo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;

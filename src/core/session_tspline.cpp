@@ -52,18 +52,25 @@ Status Session::setupTSpline(const TSplineSetup& setup, OpReport& report) {
         return Status::error("region: holds none of the mesh's " + std::to_string(positions_.rows()) + " vertices (" +
                              detail::vectorText(region.min()) + " to " + detail::vectorText(region.max()) + ")");
     std::shared_ptr<const TSplineVolume> volume;
-    if (Status s = makeOctreeTSplineVolumeInBox(positions_, region, octree, volume); !s) return s;
+    TSplineWeightOutcome weights;
+    if (Status s = makeOctreeTSplineVolumeInBox(positions_, region, octree, volume, &weights); !s) return s;
     const std::string name = setup.name.empty() ? std::string("tspline") : setup.name;
     const int index = static_cast<int>(tools_.size());
+    const int firstOperation = cursor_;
     OpReport added;
     if (Status s = addLatticeTool({name, volume}, added); !s) return s;
+    // The heavy points are those at the largest weight (sec. 4's non-empty cells); the weights fall off from
+    // them by the weight step per ring of the control net (balancedTSplineWeights).
+    const std::vector<double>& w = volume->controlWeights();
+    const double heaviest = w.empty() ? 1.0 : *std::max_element(w.begin(), w.end());
     int heavy = 0;
-    for (double w : volume->controlWeights()) heavy += w != 1.0;
+    for (double x : w) heavy += x == heaviest && heaviest != 1.0;
     char ratio[32];
-    std::snprintf(ratio, sizeof ratio, "%g", octree.weightRatio);
-    const std::string summary = "T-spline " + name + ": " + std::to_string(volume->lattice().cells.size()) + " cells at depth " +
-                                std::to_string(octree.octree.depth) + ", " + std::to_string(volume->controlPointCount()) + " control points (" +
-                                std::to_string(heavy) + " of them weighted " + ratio + ":1)";
+    std::snprintf(ratio, sizeof ratio, "%g", weights.weightRatio);
+    std::string summary = "T-spline " + name + ": " + std::to_string(volume->lattice().cells.size()) + " cells at depth " +
+                          std::to_string(octree.octree.depth) + ", " + std::to_string(volume->controlPointCount()) + " control points (" +
+                          std::to_string(heavy) + " of them weighted " + ratio + ":1)";
+    if (weights.ratioReduced) summary += " [" + weights.message + "]";
     if (!setup.freeze) {
         report = added;
         report.op = "setup_tspline";
@@ -80,6 +87,8 @@ Status Session::setupTSpline(const TSplineSetup& setup, OpReport& report) {
         report.op = "setup_tspline";
         return Status::success();
     }
+    // One history entry, as the user asked for one thing: undo takes back the freeze and the tool together.
+    if (Status s = groupOperations(firstOperation, "set up T-spline " + name); !s) return s;
     report.op = "setup_tspline";
     report.reason = summary + "; " + report.reason;
     report.wallMs = detail::millisecondsSince(start);
@@ -120,7 +129,8 @@ Status Session::subdivideTSplineCells(int index, const std::vector<int>& cells, 
     std::sort(chosen.begin(), chosen.end());
     chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
     std::shared_ptr<const TSplineVolume> finer;
-    if (Status s = subdivideTSplineVolume(*tspline, chosen, balance, positions_, finer); !s)
+    TSplineWeightOutcome weights;
+    if (Status s = subdivideTSplineVolume(*tspline, chosen, balance, positions_, finer, &weights); !s)
         return Status::error("lattice " + tool.name + ": " + s.message);
     const std::string name = tool.name;
     const size_t before = basis.lattice.cells.size();
@@ -132,6 +142,7 @@ Status Session::subdivideTSplineCells(int index, const std::vector<int>& cells, 
     journal_.back().operation.label = operation.label;
     report.reason = "lattice " + name + ": " + std::to_string(before) + " -> " + std::to_string(finer->lattice().cells.size()) + " cells, " +
                     std::to_string(pointsBefore) + " -> " + std::to_string(finer->controlPointCount()) + " control points";
+    if (weights.ratioReduced) report.reason += " [" + weights.message + "]";
     report.wallMs = detail::millisecondsSince(start);
     return Status::success();
 }

@@ -354,34 +354,15 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
         }
         applied = true;
         const WeightUndo& undo = *step.weightUndo;  // its rows are the positions before (moved lists its vertices)
-        const bool checking = injectivity_.mode != InjectivityMode::Off;
+        // The same checks as a control displacement's (tryDelta): the cells the weights and displacements reach,
+        // then no new triangle crossing among the vertices moved.
         std::vector<int> ids = step.weights.ids;
         ids.insert(ids.end(), step.delta.indices.begin(), step.delta.indices.end());
-        const std::vector<int> cells = cellsInfluencedBy(lattice_, ids);
-        if (checking && !cells.empty()) {
-            const InjectivityResult verdict = checkInjectivity(lattice_, injectivity_.mode, cells);
-            report.injectivityMs += verdict.milliseconds;
-            if (!verdict.certified) {
-                applied = false;
-                failure.cause = StepFailure::Cause::Lattice;
-                failure.technical = std::string(injectivityModeName(injectivity_.mode)) + " test fails in element " +
-                                    std::to_string(verdict.failingCellIjk[0]);
-                if (!verdict.message.empty()) failure.technical += " (" + verdict.message + ")";
-                if (verdict.failingParams.allFinite()) failure.where = currentImage(verdict.failingParams);
-            }
-        }
-        if (applied && checking && injectivity_.checkTriangles && triangles_.rows() > 0) {
+        applied = certifyCells(lattice_, cellsInfluencedBy(lattice_, ids), failure, report.injectivityMs);
+        if (applied && injectivity_.mode != InjectivityMode::Off && injectivity_.checkTriangles && triangles_.rows() > 0) {
             if (before_.rows() != positions_.rows()) before_.resize(positions_.rows(), 3);
             for (size_t c = 0; c < undo.vertices.size(); ++c) before_.row(undo.vertices[c]) = undo.positions.row(static_cast<Eigen::Index>(c));
-            const SelfIntersectionIndex::Result crossing = meshIndex_.findNewIntersection(positions_, triangles_, moved, before_);
-            report.injectivityMs += crossing.milliseconds;
-            report.triangleCheckMs += crossing.milliseconds;
-            if (crossing.found) {
-                applied = false;
-                failure.cause = StepFailure::Cause::Triangles;
-                failure.technical = "triangles " + std::to_string(crossing.pair.first) + " and " + std::to_string(crossing.pair.second) + " would cross";
-                failure.where = before_.row(triangles_(crossing.pair.first, 0)).transpose();
-            }
+            applied = noNewCrossing(moved, failure, report.injectivityMs, report.triangleCheckMs);
         }
         if (!applied) revertWeightStep(step, nullptr);
     }

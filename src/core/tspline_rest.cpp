@@ -215,25 +215,37 @@ Status subdivideTSplineVolume(const TSplineVolume& volume, const std::vector<int
     if (Status s = subdivideTLatticeCells(basis.lattice, cells, balance, finer); !s) return s;
     std::shared_ptr<const TSplineBasis> finerBasis;
     if (Status s = buildTSplineBasis(finer, finerBasis); !s) return s;
-    const TLattice& l = finerBasis->lattice;
     // Sec. 4 on the finer lattice (Fig. 11b): the cells holding a point (its parameters under the inverse of the
     // affine map, as makeOctreeTLattice classifies them) get the heavy weight.
     const Eigen::Matrix3d inverse = linear.inverse();
-    std::vector<std::uint8_t> nonEmpty(l.cells.size(), 0);
-    for (Eigen::Index p = 0; p < points.rows(); ++p) {
-        const Eigen::Vector3d t = inverse * (points.row(p).transpose() - offset);
-        if (!t.allFinite() || (t.array() < 0.0).any() || (t.array() > 1.0).any()) continue;
-        std::array<int, 3> doubled{};
-        for (int a = 0; a < 3; ++a) doubled[a] = 2 * l.fineVoxel(a, t[a]) + 1;
-        nonEmpty[static_cast<size_t>(l.cellAtDoubled(doubled))] = 1;
-    }
-    const auto [lightest, heaviest] = std::minmax_element(volume.controlWeights().begin(), volume.controlWeights().end());
+    auto nonEmptyCells = [&](const TLattice& l) {
+        std::vector<std::uint8_t> nonEmpty(l.cells.size(), 0);
+        for (Eigen::Index p = 0; p < points.rows(); ++p) {
+            const Eigen::Vector3d t = inverse * (points.row(p).transpose() - offset);
+            if (!t.allFinite() || (t.array() < 0.0).any() || (t.array() > 1.0).any()) continue;
+            std::array<int, 3> doubled{};
+            for (int a = 0; a < 3; ++a) doubled[a] = 2 * l.fineVoxel(a, t[a]) + 1;
+            nonEmpty[static_cast<size_t>(l.cellAtDoubled(doubled))] = 1;
+        }
+        return nonEmpty;
+    };
+    // The heavy weight is the one the old volume has on its own non-empty cells' points, and the light one the
+    // other extreme: with a ratio below 1 the non-empty cells' points are the lightest, and stay so.
+    const std::vector<double>& oldWeights = volume.controlWeights();
+    const auto [lightest, heaviest] = std::minmax_element(oldWeights.begin(), oldWeights.end());
+    double heavyWeight = *heaviest, lightWeight = *lightest;
+    const std::vector<std::uint8_t> oldHeavy = nonEmptyCellAnchors(basis, nonEmptyCells(basis.lattice));
+    for (int s = 0; s < n; ++s)
+        if (oldHeavy[static_cast<size_t>(s)]) {
+            if (oldWeights[static_cast<size_t>(s)] == *lightest && *lightest != *heaviest) std::swap(heavyWeight, lightWeight);
+            break;
+        }
     const int m = finerBasis->anchorCount();
     Positions control(m, 3);
     for (int s = 0; s < m; ++s) control.row(s) = (linear * finerBasis->grevilleParameters(s) + offset).transpose();
     std::shared_ptr<const TSplineVolume> made;
-    const std::vector<std::uint8_t> heavy = nonEmptyCellAnchors(*finerBasis, nonEmpty);
-    if (Status s = makeWithValidRatio(finerBasis, control, heavy, *lightest, *heaviest / *lightest, weightStep, made, outcome); !s) return s;
+    const std::vector<std::uint8_t> heavy = nonEmptyCellAnchors(*finerBasis, nonEmptyCells(finerBasis->lattice));
+    if (Status s = makeWithValidRatio(finerBasis, control, heavy, lightWeight, heavyWeight / lightWeight, weightStep, made, outcome); !s) return s;
     out = std::move(made);
     return Status::success();
 }

@@ -215,3 +215,51 @@ TEST_CASE("tspline: the paper's two weight levels fold at 1000:1, and the ratio 
     REQUIRE_FALSE(outcome.ratioReduced);
     REQUIRE(outcome.weightRatio == 1000.0);
 }
+
+TEST_CASE("tspline: subdividing cells keeps which side is heavy, for weight ratios above and below 1", "[tspline]") {
+    std::mt19937 rng(1317);
+    for (int trial = 0; trial < 6; ++trial) {
+        Positions positions;
+        Triangles triangles;
+        const double radius = uniform(rng, 0.5, 2.0);
+        const Eigen::Vector3d centre(uniform(rng, -2, 2), uniform(rng, -2, 2), uniform(rng, -2, 2));
+        test::icosphere(2, radius, centre, positions, triangles);
+        TSplineOctreeSettings settings;
+        settings.octree.depth = 2 + trial % 2;
+        settings.weightRatio = (trial % 3 == 0) ? 0.1 : (trial % 3 == 1 ? 0.5 : 20.0);
+        std::shared_ptr<const TSplineVolume> volume;
+        REQUIRE(makeOctreeTSplineVolume(positions, settings, volume));
+        const std::vector<double>& before = volume->controlWeights();
+        const auto [lo, hi] = std::minmax_element(before.begin(), before.end());
+        REQUIRE(*hi / *lo == Approx(std::max(settings.weightRatio, 1.0 / settings.weightRatio)));
+        // A random handful of cells, then the finer volume's weight at a mesh vertex's nearest anchor must be
+        // the non-empty side's (the heavy one when the ratio is above 1, the light one below).
+        std::vector<int> cells;
+        for (int k = 0; k < 3; ++k)
+            cells.push_back(std::uniform_int_distribution<int>(0, static_cast<int>(volume->lattice().cells.size()) - 1)(rng));
+        std::sort(cells.begin(), cells.end());
+        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+        std::shared_ptr<const TSplineVolume> finer;
+        TSplineWeightOutcome outcome;
+        INFO("trial " << trial << ", ratio " << settings.weightRatio);
+        REQUIRE(subdivideTSplineVolume(*volume, cells, true, positions, finer, &outcome));
+        REQUIRE(finer->lattice().cells.size() > volume->lattice().cells.size());
+        const std::vector<double>& after = finer->controlWeights();
+        // Light weight 1, so the non-empty cells' points weigh the ratio (or the reduced one): on a sphere they
+        // lie near its surface, and the points of the other extreme weight (the far ones) lie away from it.
+        const double nonEmptySide = outcome.ratioReduced ? outcome.weightRatio : settings.weightRatio;
+        double nearSum = 0.0, farSum = 0.0;
+        int nearCount = 0, farCount = 0;
+        for (int s = 0; s < finer->controlPointCount(); ++s) {
+            const double offSurface = std::abs((finer->restControlPoints().row(s).transpose() - centre).norm() - radius);
+            if (after[static_cast<size_t>(s)] == Approx(nonEmptySide)) nearSum += offSurface, ++nearCount;
+            if (after[static_cast<size_t>(s)] == Approx(1.0)) farSum += offSurface, ++farCount;
+        }
+        REQUIRE(nearCount > 0);
+        REQUIRE(farCount > 0);
+        REQUIRE(nearSum / nearCount < 0.5 * (farSum / farCount));
+        const auto [flo, fhi] = std::minmax_element(after.begin(), after.end());
+        REQUIRE(*flo == Approx(std::min(1.0, nonEmptySide)));
+        REQUIRE(*fhi == Approx(std::max(1.0, nonEmptySide)));
+    }
+}

@@ -4,6 +4,7 @@
 // lattice list bit for bit.
 #include <catch2/catch.hpp>
 
+#include <cstdio>
 #include <memory>
 #include <random>
 
@@ -228,5 +229,85 @@ TEST_CASE("lattice edit script: a knot inserted at a chosen parameter is one edi
         for (int a = 0; a < 3; ++a) tau[a] = net.axes[a].latticeParameter(cylinder.axes[a].knotParameter(t[a]));
         evaluateNetVolume(net, net.rest, tau, after);
         REQUIRE((after - before).norm() <= 1e-12 * cylinder.diagonal());
+    }
+}
+
+TEST_CASE("lattice edit script: groups holding tool changes and freezes are one history entry, undone, redone and replayed bitwise",
+          "[netedit][io][script][session]") {
+    const Sphere mesh = sphereMesh();
+    std::mt19937 rng(2711);
+    for (int trial = 0; trial < 4; ++trial) {
+        // A random run of ops over two tools; begin_group / end_group around random stretches of it.
+        std::vector<std::string> ops = {R"({"op": "add_lattice", "name": "pie", "lattice": )" + std::string(kCylinder) + "}"};
+        bool frozen = false;
+        for (int k = 0; k < 7; ++k) {
+            const int pick = std::uniform_int_distribution<int>(0, 3)(rng);
+            if (!frozen && pick <= 1) {
+                ops.push_back(R"({"op": "freeze", "index": 0})");
+                frozen = true;
+            } else if (frozen && pick == 0) {
+                ops.push_back(R"({"op": "unfreeze"})");
+                frozen = false;
+            } else if (frozen) {
+                const int vertex = std::uniform_int_distribution<int>(0, static_cast<int>(mesh.positions.rows()) - 1)(rng);
+                const Eigen::Vector3d target = mesh.positions.row(vertex).transpose() * std::uniform_real_distribution<double>(0.9, 1.1)(rng);
+                char text[200];
+                std::snprintf(text, sizeof text, R"({"op": "drag_vertex", "vertex": %d, "target": [%.17g, %.17g, %.17g]})", vertex, target[0],
+                              target[1], target[2]);
+                ops.push_back(text);
+            } else {
+                ops.push_back(R"({"op": "edit_lattice", "index": 0, "edits": [{"move": {"points": [5], "offset": [0, 0, 0.01]}}]})");
+            }
+        }
+        // Reference: every op on its own; then the same with groups.
+        std::string plain = R"({"injectivity": {"mode": "exact"}, "ops": [)";
+        std::string grouped = plain;
+        const int groupStart = std::uniform_int_distribution<int>(0, 3)(rng);
+        const int groupEnd = std::uniform_int_distribution<int>(groupStart + 2, static_cast<int>(ops.size()))(rng);
+        for (size_t k = 0; k < ops.size(); ++k) {
+            const std::string comma = k ? ", " : "";
+            plain += comma + ops[k];
+            grouped += comma + (static_cast<int>(k) == groupStart ? R"({"op": "begin_group", "label": "several"}, )" : "") + ops[k];
+            if (static_cast<int>(k) + 1 == groupEnd) grouped += R"(, {"op": "end_group"})";
+        }
+        plain += "]}";
+        grouped += "]}";
+        INFO("trial " << trial << ": " << grouped);
+        Status ran;
+        Session reference = runText(plain, mesh, ran);
+        REQUIRE(ran);
+        Session session = runText(grouped, mesh, ran);
+        REQUIRE(ran);
+        const int members = groupEnd - groupStart;
+        REQUIRE(session.history().size() + static_cast<size_t>(members - 1) == reference.history().size());
+        REQUIRE(session.positions() == reference.positions());
+        REQUIRE(session.frozenTool() == reference.frozenTool());
+        // Undo everything after the group, then the group: the state the reference has before its members.
+        OpReport undone;
+        const Positions end = session.positions();
+        const int after = static_cast<int>(session.history().size()) - groupStart - 1;
+        for (int k = 0; k < after; ++k) REQUIRE(session.undo(undone));
+        for (int k = 0; k < after; ++k) REQUIRE(reference.undo(undone));
+        REQUIRE(session.positions() == reference.positions());
+        REQUIRE(session.undo(undone));  // the group: one entry
+        for (int k = 0; k < members; ++k) REQUIRE(reference.undo(undone));
+        REQUIRE(session.historyCursor() == groupStart);
+        REQUIRE(session.positions() == reference.positions());
+        REQUIRE(session.frozenTool() == reference.frozenTool());
+        REQUIRE(session.latticeTools().size() == reference.latticeTools().size());
+        for (size_t t = 0; t < session.latticeTools().size(); ++t)
+            REQUIRE(io::volumeJson(*session.latticeTools()[t].volume).dump() == io::volumeJson(*reference.latticeTools()[t].volume).dump());
+        // Redo to the end, bitwise; then the recording replays to the same mesh, tools and history.
+        // Redo to the end: as the ops one by one redo, bitwise (a frame's redo rebuilds it, so the end is met
+        // to rounding, not bitwise).
+        while (reference.historyCursor() < static_cast<int>(reference.history().size())) REQUIRE(reference.redo(undone));
+        while (session.historyCursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(undone));
+        REQUIRE(session.positions() == reference.positions());
+        REQUIRE((session.positions() - end).cwiseAbs().maxCoeff() <= 1e-13);
+        Script parsed;
+        const Session replayed = test::replayThroughJson(recordSession(session), mesh.positions, mesh.triangles, parsed);
+        REQUIRE(replayed.positions() == session.positions());
+        REQUIRE(replayed.history().size() == session.history().size());
+        REQUIRE(replayed.frozenTool() == session.frozenTool());
     }
 }

@@ -75,8 +75,9 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
     REQUIRE(ran);
     INFO(report.ops[0].reason);
     REQUIRE(report.ops[0].status == OpStatus::Applied);
-    // Two history operations: the tool added, then frozen (each undone on its own).
-    REQUIRE(session.history().size() == 2);
+    // One history entry: the tool added and frozen, undone together (Operation::parts).
+    REQUIRE(session.history().size() == 1);
+    REQUIRE(session.history()[0].parts.size() == 2);
     REQUIRE(session.latticeTools().size() == 1);
     REQUIRE(session.latticeTools()[0].name == "tspline");
     REQUIRE(session.frozenTool() == 0);
@@ -135,12 +136,13 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
     REQUIRE(session.undo(undone));
     REQUIRE(session.undo(undone));
     REQUIRE((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
-    REQUIRE(session.undo(undone));
+    REQUIRE(session.undo(undone));  // the set-up: the freeze and the tool at once
     REQUIRE(session.frozenTool() == -1);
-    REQUIRE(session.undo(undone));
     REQUIRE(session.latticeTools().empty());
+    REQUIRE(session.historyCursor() == 0);
     REQUIRE((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
-    for (int k = 0; k < 4; ++k) REQUIRE(session.redo(undone));
+    for (int k = 0; k < 3; ++k) REQUIRE(session.redo(undone));
+    REQUIRE(session.frozenTool() == 0);
     REQUIRE(session.positions() == sculpted);
 
     // The recording writes the tool explicitly (add_lattice with the "tspline" JSON, then freeze) and replays
@@ -148,10 +150,12 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
     const Script recorded = recordSession(session);
     REQUIRE(recorded.ops[0].kind == ScriptOp::Kind::AddLattice);
     REQUIRE(recorded.ops[1].kind == ScriptOp::Kind::Freeze);
+    REQUIRE(recorded.ops[2].kind == ScriptOp::Kind::Group);
     Script parsed;
     const Session replayed = test::replayThroughJson(recorded, mesh.positions, mesh.triangles, parsed);
     REQUIRE(replayed.positions() == sculpted);
     REQUIRE(replayed.frozenTool() == 0);
+    REQUIRE(replayed.history().size() == session.history().size());
     REQUIRE(io::volumeJson(*replayed.latticeTools()[0].volume).dump() == io::volumeJson(volume).dump());
 }
 

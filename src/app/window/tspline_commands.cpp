@@ -87,7 +87,7 @@ void setupTSplineCommand(AppState& state) {
     if (s && report.status == core::OpStatus::Applied) {
         state.tools.lattice.points.clear();  // their ids belonged to the lattice before
         state.lattices.selectedTool = static_cast<int>(state.session.latticeTools().size()) - 1;
-        report.reason += " (undo: the freeze, then the tool)";
+
     }
     reportLatticeOperation(state, report, s, "Set up a weighted T-spline", true);
 }
@@ -192,6 +192,7 @@ void subdivideChosenCellsCommand(AppState& state) {
     const int pinLayers = session.latticeSettings().pinLayers;
     // note: the engine subdivides only a tool that is not frozen (the vertices' parameters change), so a frozen
     // one is unfrozen around it. The unfreeze keeps the shape; a refused subdivision takes it back.
+    const int firstOperation = session.historyCursor();
     if (frozen) {
         core::ScriptOp unfreeze;
         unfreeze.kind = core::ScriptOp::Kind::Unfreeze;
@@ -241,7 +242,17 @@ void subdivideChosenCellsCommand(AppState& state) {
         state.gpu.fields = true;
         return;
     }
-    refrozen.reason = subdivided.reason + "; frozen again, at rest around the mesh (undo: freeze, subdivide, unfreeze)";
+    // The unfreeze, the subdivision and the freeze are one history entry: one Ctrl+Z takes them back.
+    core::ScriptOp group;
+    group.kind = core::ScriptOp::Kind::Group;
+    group.groupFirst = firstOperation;
+    group.label = "subdivide " + cellsText(count) + " of lattice " + name;
+    core::OpReport grouped;
+    if (const Status g = core::runScriptOp(session, group, grouped); !g) {
+        reportOperation(state, grouped, g, "Subdivided " + cellsText(count) + " of " + name + ", but grouping the history");
+        return;
+    }
+    refrozen.reason = subdivided.reason + "; frozen again, at rest around the mesh";
     reportLatticeOperation(state, refrozen, f, "Subdivided " + cellsText(count));
 }
 
