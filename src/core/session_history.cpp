@@ -117,54 +117,40 @@ Status Session::groupOperations(int first, const std::string& label) {
         keepWhole = keepWhole || op.kind == OperationKind::LatticeTools || !op.parts.empty() ||
                     (op.kind == OperationKind::LatticeSetup && op.frozenBefore != op.frozenAfter);
     }
+    Operation merged;
     if (keepWhole) {
-        Operation merged;
         merged.kind = OperationKind::LatticeTools;
         merged.frozenBefore = history_[static_cast<size_t>(first)].frozenBefore;
         merged.frozenAfter = frozenTool_;
         merged.label = label.empty() ? history_[static_cast<size_t>(first)].label : label;
-        for (int i = first; i < cursor_; ++i) {
-            Operation& op = history_[static_cast<size_t>(i)];
-            merged.depthReached = std::max(merged.depthReached, op.depthReached);
-            for (const EdgeSplit& split : op.refinement.splits) merged.refinement.splits.push_back(split);
-            for (const TriangleHalving& halving : op.refinement.halvings) merged.refinement.halvings.push_back(halving);
-            if (!op.refinement.empty()) merged.refinement.tolerance = op.refinement.tolerance;
-            op.refinement = RefinementRecord{};
-            merged.parts.push_back(std::move(op));
-        }
-        history_.resize(static_cast<size_t>(first));
-        history_.push_back(std::move(merged));
-        cursor_ = static_cast<int>(history_.size());
-        journal_.push_back(JournalEntry{JournalEntry::Kind::Group, {}, first, history_.back().label, {}, {}});
-        return Status::success();
-    }
-    Operation merged;
-    merged.kind = OperationKind::LatticeSetup;
-    const Operation* firstEdit = nullptr;
-    const Operation* lastEdit = nullptr;
-    for (int i = first; i < cursor_; ++i) {
-        const Operation& op = history_[static_cast<size_t>(i)];
-        if (op.kind == OperationKind::LatticeSetup || op.kind == OperationKind::Refine) continue;
-        if (firstEdit && op.kind != firstEdit->kind) return Status::error("a group mixes drags and control-point edits");
-        if (!firstEdit) firstEdit = &op;
-        lastEdit = &op;
-    }
-    if (firstEdit) {
-        merged.kind = firstEdit->kind;
-        merged.pinToggles = firstEdit->pinToggles;
-        merged.controlPoints = firstEdit->controlPoints;
-        merged.offsets = firstEdit->offsets;
-        merged.constraints = firstEdit->constraints;
-        merged.weightTool = firstEdit->weightTool;
-        // From where the first edit took its sources to where the last one put them.
-        if (lastEdit->constraints.size() == merged.constraints.size())
-            for (size_t c = 0; c < merged.constraints.size(); ++c) merged.constraints[c].target = lastEdit->constraints[c].target;
     } else {
-        merged.settings = history_[static_cast<size_t>(cursor_ - 1)].settings;
-        if (history_[static_cast<size_t>(cursor_ - 1)].kind == OperationKind::Refine) merged.kind = OperationKind::Refine;
+        merged.kind = OperationKind::LatticeSetup;
+        const Operation* firstEdit = nullptr;
+        const Operation* lastEdit = nullptr;
+        for (int i = first; i < cursor_; ++i) {
+            const Operation& op = history_[static_cast<size_t>(i)];
+            if (op.kind == OperationKind::LatticeSetup || op.kind == OperationKind::Refine) continue;
+            if (firstEdit && op.kind != firstEdit->kind) return Status::error("a group mixes drags and control-point edits");
+            if (!firstEdit) firstEdit = &op;
+            lastEdit = &op;
+        }
+        if (firstEdit) {
+            merged.kind = firstEdit->kind;
+            merged.pinToggles = firstEdit->pinToggles;
+            merged.controlPoints = firstEdit->controlPoints;
+            merged.offsets = firstEdit->offsets;
+            merged.constraints = firstEdit->constraints;
+            merged.weightTool = firstEdit->weightTool;
+            // From where the first edit took its sources to where the last one put them.
+            if (lastEdit->constraints.size() == merged.constraints.size())
+                for (size_t c = 0; c < merged.constraints.size(); ++c) merged.constraints[c].target = lastEdit->constraints[c].target;
+        } else {
+            merged.settings = history_[static_cast<size_t>(cursor_ - 1)].settings;
+            if (history_[static_cast<size_t>(cursor_ - 1)].kind == OperationKind::Refine) merged.kind = OperationKind::Refine;
+        }
+        merged.interactive = true;
+        merged.label = label.empty() ? (firstEdit ? firstEdit->label : history_[static_cast<size_t>(first)].label) : label;
     }
-    merged.interactive = true;
-    merged.label = label.empty() ? (firstEdit ? firstEdit->label : history_[static_cast<size_t>(first)].label) : label;
     for (int i = first; i < cursor_; ++i) {
         Operation& op = history_[static_cast<size_t>(i)];
         merged.depthReached = std::max(merged.depthReached, op.depthReached);
@@ -172,6 +158,11 @@ Status Session::groupOperations(int first, const std::string& label) {
         for (const EdgeSplit& split : op.refinement.splits) merged.refinement.splits.push_back(split);
         for (const TriangleHalving& halving : op.refinement.halvings) merged.refinement.halvings.push_back(halving);
         if (!op.refinement.empty()) merged.refinement.tolerance = op.refinement.tolerance;
+        if (keepWhole) {
+            op.refinement = RefinementRecord{};
+            merged.parts.push_back(std::move(op));
+            continue;
+        }
         for (Step& step : op.steps) {
             // A fresh frame that moved nothing followed by a step in it is one step, as the interactive
             // operation that was recorded had it (same undo: the delta, then leaving the frame).
