@@ -493,9 +493,9 @@ TEST_CASE("tspline: octree lattices subdivide the non-empty cells to the depth a
     REQUIRE(buildTSplineBasis(lattice, basis));
 }
 
-TEST_CASE("tspline: the exact injectivity test on the Bezier elements certifies only deformations whose sampled det J is positive", "[tspline]") {
+TEST_CASE("tspline: the exact and conic injectivity tests on the Bezier elements certify only deformations whose sampled det J is positive", "[tspline]") {
     std::mt19937 rng(1208);
-    int certified = 0, folds = 0;
+    int certified = 0, folds = 0, conicCertified = 0, rational = 0;
     for (int trial = 0; trial < 10; ++trial) {
         const TLattice lattice = randomLattice(rng, 1, true);
         double size = 1.0;
@@ -524,9 +524,20 @@ TEST_CASE("tspline: the exact injectivity test on the Bezier elements certifies 
             ++folds;
             REQUIRE(verdict.verdict == InjectivityVerdict::Fold);
         }
+        // The conic test (Gain & Dodgson 2001, Appendix) on the same rational Bezier elements: sufficient only,
+        // so it may refuse what the exact test certifies, but never certify a fold.
+        const InjectivityResult conic = checkInjectivityConic(deformed);
+        rational += volume->isRational();
+        if (conic.certified) {
+            ++conicCertified;
+            REQUIRE(least > 0.0);
+            REQUIRE(verdict.certified);
+        }
     }
     REQUIRE(certified > 0);
     REQUIRE(folds > 0);
+    REQUIRE(conicCertified > 0);
+    REQUIRE(rational > 0);
 }
 
 TEST_CASE("tspline: a session freezes a T-spline volume on a mesh, drags meet their targets, and JSON round-trips bitwise", "[tspline]") {
