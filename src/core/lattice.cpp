@@ -42,6 +42,12 @@ std::array<int, 3> gridIjk(const std::array<int, 3>& count, int idx) {
 
 std::array<int, 3> Lattice::ijk(int idx) const { return gridIjk(count, idx); }
 
+std::string Lattice::controlPointName(int idx) const {
+    if (volume && !volume->tensorNet()) return std::to_string(idx);
+    const std::array<int, 3> c = ijk(idx);
+    return "[" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + "]";
+}
+
 Eigen::Vector3d Lattice::restControlPoint(int idx) const {
     if (volume) return volume->restControlPoints().row(idx).transpose();
     const std::array<int, 3> c = ijk(idx);

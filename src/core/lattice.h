@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <string>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -73,6 +74,9 @@ struct Lattice {
     int controlPointCount() const { return count[0] * count[1] * count[2]; }
     int index(int i, int j, int k) const { return i + count[0] * (j + count[1] * k); }
     std::array<int, 3> ijk(int index) const;
+    // How a user names control point `index`: "[i,j,k]" in a tensor lattice (the box, or a tensor net), its id
+    // otherwise (a T-spline's anchor, a composite's point), where [i,0,0] would only confuse.
+    std::string controlPointName(int index) const;
     std::array<int, 3> spans() const { return {axes[0].spans, axes[1].spans, axes[2].spans}; }
     // Cells: knot-span triples of a tensor lattice, a volume's chunks otherwise.
     int cellCount() const { return volume && !volume->tensorNet() ? volume->chunkCount() : axes[0].spans * axes[1].spans * axes[2].spans; }

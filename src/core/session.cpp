@@ -19,12 +19,19 @@ namespace sculpt::core {
 using detail::Clock;
 using detail::mergeDelta;
 using detail::millisecondsSince;
+using detail::percentText;
 using detail::vectorText;
 
 namespace detail {
 
 double millisecondsSince(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+std::string percentText(double fraction) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.1f%%", 100.0 * fraction);
+    return buffer;
 }
 
 std::string vectorText(const Eigen::Vector3d& v) {
@@ -63,12 +70,6 @@ namespace {
 std::string shortVectorText(const Eigen::Vector3d& v) {
     char buffer[128];
     std::snprintf(buffer, sizeof buffer, "(%.3g, %.3g, %.3g)", v.x(), v.y(), v.z());
-    return buffer;
-}
-
-std::string percentText(double fraction) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.1f%%", 100.0 * fraction);
     return buffer;
 }
 
@@ -768,9 +769,7 @@ Status Session::checkMovable(int idx) const {
         return Status::error("control point id " + std::to_string(idx) + " is outside the lattice (" + std::to_string(n) +
                              " control points)");
     if (lattice_.pinned[idx]) {
-        const std::array<int, 3> ijk = lattice_.ijk(idx);
-        return Status::error("control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
-                             std::to_string(ijk[2]) + "] is pinned");
+        return Status::error("control point " + lattice_.controlPointName(idx) + " is pinned");
     }
     return Status::success();
 }
@@ -802,10 +801,8 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
         Eigen::Vector3d cageTarget;
         if (!pullThroughLayers(relative ? Eigen::Vector3d(shown + value) : value, cageTarget, layers_.size())) {
             // A valid request the sculpted shape cannot give: refused, not an error.
-            const std::array<int, 3> ijk = lattice_.ijk(idx);
             report.status = OpStatus::Rejected;
-            report.reason = "refused: control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) +
-                            "] cannot go there: the later sculpting steps' lattices map no point onto it; nothing was changed";
+            report.reason = "refused: control point " + lattice_.controlPointName(idx) + " cannot go there: the later sculpting steps' lattices map no point onto it; nothing was changed";
             report.wallMs = millisecondsSince(start);
             return Status::success();
         }
@@ -904,9 +901,9 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     report.verticesMoved = movedCount();
     if (fraction < 1.0) {
         report.refusedBy = stepFailureCauseName(failure.cause);
-        const std::array<int, 3> ijk = lattice_.ijk(delta.indices.front());
-        report.reason = "stopped where the lattice would fold: moved " + percentText(fraction) + " of the way (beyond it " + stepFailureWords(failure, false) + "); control point [" + std::to_string(ijk[0]) + "," +
-                        std::to_string(ijk[1]) + "," + std::to_string(ijk[2]) + "] ended at " + vectorText(lattice_.controlPoint(delta.indices.front()));
+        report.reason = "stopped where the lattice would fold: moved " + percentText(fraction) + " of the way (beyond it " + stepFailureWords(failure, false) +
+                        "); control point " + lattice_.controlPointName(delta.indices.front()) + " ended at " +
+                        vectorText(lattice_.controlPoint(delta.indices.front()));
     }
     refineAfterEdit(operation, &report);
     pushOperation(std::move(operation));

@@ -150,7 +150,8 @@ struct WeightToolSettings {
     std::vector<double> weights;
     // Hammer, Crimp: the picked mesh vertex, and the control points that make the bump: `controlPoint` if >= 0,
     // else every visible control point (of a non-empty cell) whose blending function is non-zero at the vertex
-    // and which lies within `radius` (world units) of it, plus always the strongest there: the one whose
+    // and whose rest position lies within `radius` (world units) of the vertex's rest position (the same points
+    // however far the bump has grown), plus always the strongest there: the one whose
     // displacement moves the vertex most (R_s |delta_s|), or with no displacement yet the largest R_s.
     int vertex = -1;
     int controlPoint = -1;

@@ -24,6 +24,7 @@ namespace sculpt::core {
 
 using detail::Clock;
 using detail::millisecondsSince;
+using detail::percentText;
 
 // What the hammer and crimp act on (Session::weightBump).
 struct WeightBump {
@@ -49,6 +50,14 @@ std::string numberText(double value) {
 
 // The control points shown and picked (Song & Yang 2005 sec. 4, Fig. 10; tspline_view.h): those of the cells
 // holding the mesh, classified as the weights were set, less the boundary copies (which carry the outer faces).
+// What to try instead when the hammer or the crimp would fold the lattice or cross triangles. A hammer moves a
+// few control points along the normal: the fold comes from moving them far against their neighbours.
+std::string weightToolAdvice(StepFailure::Cause cause, bool hammer) {
+    if (hammer && cause == StepFailure::Cause::Lattice)
+        return "a larger radius spreads the raise over more control points, or subdivide the cells there";
+    return stepFailureAdvice(cause);
+}
+
 std::vector<std::uint8_t> shownControlPoints(const TSplineVolume& volume, const Positions& rest) {
     std::vector<std::uint8_t> shown = controlPointsOfCells(volume.basis(), nonEmptyTSplineCells(volume, rest));
     for (size_t s = 0; s < shown.size(); ++s)
@@ -101,7 +110,7 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
 
     // S: the control points of the bump.
     const std::vector<std::uint8_t> visible = shownControlPoints(*volume, rest_);
-    const Eigen::Vector3d picked = positions_.row(settings.vertex).transpose();
+    const Eigen::Vector3d pickedRest = rest_.row(settings.vertex).transpose();
     if (settings.controlPoint >= 0) {
         if (settings.controlPoint >= volume->controlPointCount())
             return Status::error("control_point: " + std::to_string(settings.controlPoint) + " is not a control point of the T-spline (0 to " +
@@ -133,7 +142,9 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
                 strongestPullValue = pull;
                 strongestPull = s;
             }
-            if (settings.radius > 0.0 && (lattice_.controlPoint(s) - picked).norm() <= settings.radius)
+            // At rest (the control point's rest position, the vertex's rest position): the same points are
+            // chosen however far the bump has grown.
+            if (settings.radius > 0.0 && (lattice_.restControlPoint(s) - pickedRest).norm() <= settings.radius)
                 out.controlPoints.push_back(s);
         }
         if (strongest < 0) return Status::error("vertex: no visible control point influences vertex " + std::to_string(settings.vertex));
@@ -341,9 +352,14 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
     std::vector<int> moved;
     StepFailure failure;
     bool applied = false;
+    double fraction = 1.0;
     if (step.weights.empty()) {
-        // The hammer: a control displacement only, checked as any (no part of it: the height is the request).
-        applied = tryDelta(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs);
+        // The hammer: a control displacement of the bump's points, all scaled by one factor, so any part of it is
+        // the same bump at a smaller height. Where the whole raise would fold the lattice, the bump stops at the
+        // largest injective part (as a control-point edit does) and the report says how far it got.
+        fraction = applyLargestInjectiveFraction(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs);
+        applied = fraction > 0.0;
+        step.delta.deltas *= fraction;
     } else {
         if (Status s = applyWeightStep(step, &moved); !s) {
             report.status = OpStatus::Rejected;
@@ -369,8 +385,8 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
     if (!applied) {
         report.status = OpStatus::Rejected;
         report.refusedBy = stepFailureCauseName(failure.cause);
-        report.reason = "refused: this " + label + ", " + stepFailureWords(failure, false) + "; nothing was changed (" +
-                        stepFailureAdvice(failure.cause) + ")";
+        report.reason = "refused: " + std::string(step.weights.empty() ? "even a small part of " : "") + "this " + label + ", " +
+                        stepFailureWords(failure, false) + "; nothing was changed (" + weightToolAdvice(failure.cause, step.weights.empty()) + ")";
         report.injectivity = "rejected: " + failure.technical;
         return Status::success();
     }
@@ -389,6 +405,12 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
     report.subSteps = 1;
     report.verticesMoved = movedCount();
     report.reason = label + ": " + std::to_string(report.verticesMoved) + " vertices moved";
+    report.fractionApplied = fraction;
+    if (fraction < 1.0) {
+        report.refusedBy = stepFailureCauseName(failure.cause);
+        report.reason += "; stopped at " + percentText(fraction) + " of the change asked (beyond it " + stepFailureWords(failure, false) + "; " +
+                         weightToolAdvice(failure.cause, true) + ")";
+    }
     return Status::success();
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "../core/mesh_fixtures.h"
+#include "core/injectivity.h"
 #include "core/script.h"
 #include "core/session.h"
 #include "core/tspline_volume.h"
@@ -204,7 +205,7 @@ TEST_CASE("weights: the hammer sets the picked vertex's height exactly and keeps
             double change = 0.0;
             for (int v : bump.vertices)
                 change = std::max(change, std::abs(h[static_cast<size_t>(v)] / second - profile[static_cast<size_t>(v)] / first));
-            REQUIRE(change < 0.01);
+            REQUIRE(change < 1e-9);  // the issue asks < 1%; S chosen at rest makes it exact
             WeightToolSettings scaled = hammer(vertex, 0.0, radius);
             scaled.hasHeight = false;
             scaled.scale = 0.5;
@@ -217,6 +218,53 @@ TEST_CASE("weights: the hammer sets the picked vertex's height exactly and keeps
             REQUIRE(session.positions() == mesh.positions);
         }
     }
+}
+
+TEST_CASE("weights: a raise the lattice cannot carry stops at its largest injective part, the same bump lower", "[weights][tspline][session]") {
+    const Mesh mesh = sphereMesh(3);
+    const double diagonal = diagonalOf(mesh.positions);
+    std::mt19937 rng(29);
+    int stopped = 0;
+    for (int trial = 0; trial < 4; ++trial) {
+        Session session;
+        setUp(session, mesh, 3);
+        const int vertex = static_cast<int>(rng() % mesh.positions.rows());
+        const double radius = trial % 2 == 0 ? 0.0 : 0.3;
+        REQUIRE(applyTool(session, hammer(vertex, 0.01, radius)).status == OpStatus::Applied);
+        Session::Bump bump;
+        REQUIRE(session.bumpAt(hammer(vertex, 0.0, radius), bump));
+        const std::vector<double> profile = heightsAlong(session, bump.direction);
+        const Positions before = session.positions();
+        // Half the sphere's diameter: far more than a depth-3 lattice carries on a few control points.
+        const double asked = 0.5 * diagonal;
+        const OpReport report = applyTool(session, hammer(vertex, asked, radius));
+        if (report.status == OpStatus::Rejected) {
+            REQUIRE(session.positions() == before);  // nothing at all was possible: nothing changed
+            continue;
+        }
+        REQUIRE(report.status == OpStatus::Applied);
+        REQUIRE(report.fractionApplied > 0.0);
+        REQUIRE(report.fractionApplied < 1.0);
+        REQUIRE(report.reason.find("stopped at") != std::string::npos);
+        REQUIRE_FALSE(report.refusedBy.empty());
+        ++stopped;
+        // The height is linear in the part applied, and the bump keeps its normalised profile exactly.
+        const std::vector<double> h = heightsAlong(session, bump.direction);
+        const double reached = 0.01 + report.fractionApplied * (asked - 0.01);
+        REQUIRE(std::abs(h[static_cast<size_t>(vertex)] - reached) <= 1e-9 * diagonal);
+        // (Exactly: S is chosen at rest, so the second raise scales the very points the first one moved.)
+        for (int v : bump.vertices) {
+            INFO("vertex " << v << ": height " << h[static_cast<size_t>(v)] << ", " << profile[static_cast<size_t>(v)] << " before");
+            REQUIRE(std::abs(h[static_cast<size_t>(v)] / reached - profile[static_cast<size_t>(v)] / 0.01) <= 1e-9);
+        }
+        // Still injective where it stopped: the exact test on the frozen T-spline, and no triangle pair crosses.
+        REQUIRE(checkInjectivityExact(session.lattice()).certified);
+        REQUIRE(test::selfIntersectingPairs(session.positions(), session.triangles()) == 0);
+        OpReport undone;
+        REQUIRE(session.undo(undone));
+        REQUIRE((session.positions() - before).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+    }
+    REQUIRE(stopped >= 2);
 }
 
 TEST_CASE("weights: the crimp keeps the peak height and scales the width at half height", "[weights][tspline][session]") {

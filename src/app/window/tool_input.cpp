@@ -307,9 +307,11 @@ void SculptApp::endSculpt() {
                                 : "Drag changed nothing (" + countOf(static_cast<size_t>(finished.moves), "move");
     if (finished.refused > 0) text += ", " + std::to_string(finished.refused) + " refused as not injective";
     text += ").";
-    if (finished.refused > 0 && state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected)
-        text += " Last move refused: " + (state_.lastReport.reason.empty() ? state_.lastReport.injectivity
-                                                                           : state_.lastReport.reason);
+    if (finished.refused > 0 && state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected) {
+        std::string why = state_.lastReport.reason.empty() ? state_.lastReport.injectivity : state_.lastReport.reason;
+        if (why.rfind("refused: ", 0) == 0) why.erase(0, 9);  // "Last move refused: refused: ..." said it twice
+        text += " Last move refused: " + why;
+    }
     setStatus(state_, text, finished.refused > 0 && !recorded);
 }
 
@@ -375,9 +377,7 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
     const size_t pinned = selection.points.size() - movable.size();
     std::string text;
     if (selection.points.size() == 1) {
-        const std::array<int, 3> ijk = session.lattice().ijk(selection.points.front());
-        text = "Selected control point [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
-               std::to_string(ijk[2]) + "] - drag to move it, G to grab.";
+        text = "Selected control point " + session.lattice().controlPointName(selection.points.front()) + " - drag to move it, G to grab.";
     } else {
         text = "Selected " + countOf(selection.points.size(), "control point") + " - drag one to move them, G to grab" +
                (pinned > 0 ? " (" + countOf(pinned, "pinned point") + (pinned == 1 ? " stays)." : " stay).") : std::string("."));
@@ -437,6 +437,12 @@ void SculptApp::updateHint(double x, double y) {
         else if (handle >= 0)
             tools.hint = std::string("Handle: drag to move ") + (tools.moveHandlesTogether ? "all handles" : "it") +
                          " (G). Ctrl+click: make it a pin. Shift+click: remove.";
+        else if (state_.tspline.picking)
+            tools.hint = "Click: choose the cell there (again: drop it). Esc: done choosing.";
+        else if (tools.brush.kind == BrushTool::Kind::Hammer)
+            tools.hint = "Click: raise the surface there by the step. Ctrl+click: lower it. Tab: lattice tool.";
+        else if (tools.brush.kind == BrushTool::Kind::Crimp)
+            tools.hint = "Click: broaden the bump there, height kept. Ctrl+click: sharpen it. Tab: lattice tool.";
         else
             tools.hint = "Drag: sculpt. Shift+click: add handle. Ctrl+click: add pin. Tab: lattice tool.";
     } else {

@@ -66,14 +66,21 @@ void drawBrushSection(AppState& state) {
         changed = true;
     }
     ImGui::EndDisabled();
+    // A click of the hammer or the crimp has its own amount (the step, the width factor: T-spline section of the
+    // Lattices panel); strength and falloff shape a drag only, so they are greyed out then.
+    const bool dragBrush = brush.kind == BrushTool::Kind::Drag;
     float strength = static_cast<float>(brush.settings.strength);
+    ImGui::BeginDisabled(!dragBrush);
     if (ImGui::SliderFloat("Strength", &strength, 0.01f, 1.0f, "%.2f")) {
         brush.settings.strength = std::clamp(static_cast<double>(strength), 0.01, 1.0);
         changed = true;
     }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("How far the grabbed point follows the cursor: 1 = all the way. Shift+F and a mouse move sets it.");
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip(dragBrush ? "How far the grabbed point follows the cursor: 1 = all the way. Shift+F and a mouse move sets it."
+                                    : "Clicks hammer or crimp: their step and width factor are in the T-spline section of the Lattices panel.");
     int falloff = static_cast<int>(brush.settings.falloff);
-    ImGui::BeginDisabled(!brush.limited);
+    ImGui::BeginDisabled(!brush.limited || !dragBrush);
     if (ImGui::Combo("Falloff", &falloff, "Smooth\0Medium\0Sharp\0")) {
         brush.settings.falloff = static_cast<core::BrushFalloff>(falloff);
         changed = true;

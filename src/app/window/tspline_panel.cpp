@@ -79,7 +79,7 @@ void drawTSplineSection(AppState& state) {
     if (panelButton(items, "Set up T-spline", idle, -1.0f)) setupTSplineCommand(state);
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
         ImGui::SetTooltip("Builds the octree lattice around the mesh in the region and freezes it: drags and the\n"
-                          "lattice tool then work in it. The shape does not change. Undo takes the freeze, then the tool.");
+                          "lattice tool then work in it. The shape does not change. One undo step takes it back.");
 
     // ---- local subdivision (sec. 6 step 2, Fig. 11) ----
     validateChosenCells(state);
@@ -101,7 +101,7 @@ void drawTSplineSection(AppState& state) {
     if (panelButton(items, "Subdivide", idle && target >= 0 && !panel.chosenCells.empty(), half)) subdivideChosenCellsCommand(state);
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
         ImGui::SetTooltip("Splits the chosen cells in 8 (octree). A frozen lattice is unfrozen and frozen again around\n"
-                          "it: the shape stays, the finer lattice starts at rest. Undo: 3 steps then.");
+                          "it: the shape stays, the finer lattice starts at rest. One undo step takes it back.");
     ImGui::Checkbox("2:1 balance", &panel.balance);
     recordItem(items, "tspline balance");
     if (ImGui::IsItemHovered())

@@ -17,6 +17,7 @@ void weightToolCommand(AppState& state, int vertex, double radius, bool invert) 
     tool.vertex = vertex;
     tool.radius = std::isfinite(radius) && radius > 0.0 ? radius : 0.0;
     std::string what;
+    double hammerFrom = 0.0;
     if (brush.kind == BrushTool::Kind::Hammer) {
         op.kind = core::ScriptOp::Kind::Hammer;
         // The clicked vertex's height now (0 where nothing is raised), raised or lowered by one step.
@@ -27,11 +28,11 @@ void weightToolCommand(AppState& state, int vertex, double radius, bool invert) 
             for (size_t c = 0; c < bump.vertices.size(); ++c)
                 if (bump.vertices[c] == vertex) height = bump.heights[c];
         const Eigen::Vector3d size = state.session.positions().colwise().maxCoeff() - state.session.positions().colwise().minCoeff();
+        // note: a height below 1e-9 of the mesh's size is rounding (1e-21 on an untouched surface): shown as 0.
+        if (std::abs(height) <= 1e-9 * size.norm()) height = 0.0;
         tool.hasHeight = true;
         tool.height = height + (invert ? -1.0 : 1.0) * brush.hammerStep * size.norm();
-        char text[96];
-        std::snprintf(text, sizeof text, "Hammer at vertex %d: height %.4g -> %.4g", vertex, height, tool.height);
-        what = text;
+        hammerFrom = height;
     } else {
         op.kind = core::ScriptOp::Kind::Crimp;
         tool.tool = core::WeightToolSettings::Tool::Crimp;
@@ -42,6 +43,13 @@ void weightToolCommand(AppState& state, int vertex, double radius, bool invert) 
     }
     core::OpReport report;
     const Status s = core::runScriptOp(state.session, op, report);
+    if (brush.kind == BrushTool::Kind::Hammer) {
+        // The height reached: the bump scales linearly with the part of the raise applied (a fold stops it short).
+        const double reached = hammerFrom + report.fractionApplied * (tool.height - hammerFrom);
+        char text[128];
+        std::snprintf(text, sizeof text, "Hammer at vertex %d: height %.4g -> %.4g", vertex, hammerFrom, reached);
+        what = text;
+    }
     if (s && report.status == core::OpStatus::Applied) {
         noteSessionMoved(state);
         state.hasReport = true;
