@@ -309,10 +309,12 @@ constexpr double kHalfDerivative[4] = {-0.75, -0.75, 0.75, 0.75};
 // (chosen at run time; no FMA contraction, so both clones give the same bits).
 typedef double Double4 __attribute__((vector_size(32), aligned(8), may_alias));  // as in tspline_volume.cpp
 
+// note: clang does not multiversion function templates, so the template is inlined into one cloned function per
+// axis (jacobianNumerators0/1/2); each clone compiles its inlined copy for its own target.
 template <int A>
-__attribute__((target_clones("avx2", "default"))) void jacobianNumerators(const double* __restrict na, const double* __restrict wa,
-                                                                          const double* __restrict n, const double* __restrict w,
-                                                                          double* __restrict out) {
+__attribute__((always_inline)) inline void jacobianNumeratorsOf(const double* __restrict na, const double* __restrict wa,
+                                                                const double* __restrict n, const double* __restrict w,
+                                                                double* __restrict out) {
     constexpr int d0 = A == 0 ? 3 : 4, d1 = A == 1 ? 3 : 4, d2 = A == 2 ? 3 : 4;
     constexpr int o0 = d0 + 3, o1 = d1 + 3;
     std::fill(out, out + 3 * 294, 0.0);
@@ -334,6 +336,22 @@ __attribute__((target_clones("avx2", "default"))) void jacobianNumerators(const 
                         *out2 += a2 * wq - *reinterpret_cast<const Double4*>(n + 128 + q) * b;
                     }
             }
+}
+
+__attribute__((target_clones("avx2", "default"))) void jacobianNumerators0(const double* __restrict na, const double* __restrict wa,
+                                                                           const double* __restrict n, const double* __restrict w,
+                                                                           double* __restrict out) {
+    jacobianNumeratorsOf<0>(na, wa, n, w, out);
+}
+__attribute__((target_clones("avx2", "default"))) void jacobianNumerators1(const double* __restrict na, const double* __restrict wa,
+                                                                           const double* __restrict n, const double* __restrict w,
+                                                                           double* __restrict out) {
+    jacobianNumeratorsOf<1>(na, wa, n, w, out);
+}
+__attribute__((target_clones("avx2", "default"))) void jacobianNumerators2(const double* __restrict na, const double* __restrict wa,
+                                                                           const double* __restrict n, const double* __restrict w,
+                                                                           double* __restrict out) {
+    jacobianNumeratorsOf<2>(na, wa, n, w, out);
 }
 
 // Per axis A, the binomial products C(d0, i) C(d1, j) C(d2, k) of the degree (5 along A, 6 elsewhere) layout: a
@@ -506,9 +524,9 @@ HullVerdict jacobianHullTest(const double* p, const double extent[3], bool polyn
             count = 48;
         } else {
             double product[3 * 294];
-            if (a == 0) jacobianNumerators<0>(nas[0], was, ns[0], ws, product);
-            if (a == 1) jacobianNumerators<1>(nas[0], was, ns[0], ws, product);
-            if (a == 2) jacobianNumerators<2>(nas[0], was, ns[0], ws, product);
+            if (a == 0) jacobianNumerators0(nas[0], was, ns[0], ws, product);
+            if (a == 1) jacobianNumerators1(nas[0], was, ns[0], ws, product);
+            if (a == 2) jacobianNumerators2(nas[0], was, ns[0], ws, product);
             for (int c = 0; c < 3; ++c) {
                 std::copy(product + c * 294, product + (c + 1) * 294, m[c]);
                 m[c][294] = m[c][295] = m[c][0];
