@@ -270,6 +270,17 @@ void Session::positionsChanged(const std::vector<int>* vertices) {
 
 // ---- InjectSubdiv ---------------------------------------------------------------------------------------
 
+void Session::reportSingleStep(std::vector<int> moved, OpReport& report) {
+    std::sort(moved.begin(), moved.end());
+    moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
+    lastMoved_ = std::move(moved);
+    lastMovedAll_ = false;
+    report.status = OpStatus::Applied;
+    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    report.subSteps = 1;
+    report.verticesMoved = movedCount();
+}
+
 bool Session::certifyCells(const Lattice& lattice, const std::vector<int>& cells, StepFailure& failure, double& injectivityMs) const {
     if (injectivity_.mode == InjectivityMode::Off || cells.empty()) return true;  // note: an empty list would mean "all cells"
     const InjectivityResult verdict = checkInjectivity(lattice, injectivity_.mode, cells);
@@ -891,14 +902,8 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     step.delta = delta;
     step.delta.deltas *= fraction;
     operation.steps.push_back(std::move(step));
-    std::sort(moved.begin(), moved.end());
-    moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
-    lastMoved_ = std::move(moved);
-    report.status = OpStatus::Applied;
-    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
-    report.subSteps = 1;
+    reportSingleStep(std::move(moved), report);
     report.controlPointsChanged = static_cast<int>(delta.indices.size());
-    report.verticesMoved = movedCount();
     if (fraction < 1.0) {
         report.refusedBy = stepFailureCauseName(failure.cause);
         report.reason = "stopped where the lattice would fold: moved " + percentText(fraction) + " of the way (beyond it " + stepFailureWords(failure, false) +

@@ -492,6 +492,9 @@ private:
         bool movedAll = false;
     };
 
+    // Reports an operation applied in one step that moved the vertices `moved` (in any order, repeats allowed):
+    // they become lastMoved_, and the report says applied, injective (or not checked), 1 step, their count.
+    void reportSingleStep(std::vector<int> moved, OpReport& report);
     // The injectivity test (Gain & Dodgson 2001) of `cells` of `lattice` in the session's mode: true when
     // certified, the checks are off, or `cells` is empty; else `failure` names the cell (a tensor net's [i,j,k],
     // another volume's chunk) and where it is. The test's time is added to injectivityMs.

@@ -397,13 +397,7 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
     report.controlPointsChanged = static_cast<int>(std::max(step.weights.ids.size(), step.delta.indices.size()));
     operation.steps.push_back(std::move(step));
     pushOperation(std::move(operation));
-    std::sort(moved.begin(), moved.end());
-    moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
-    lastMoved_ = std::move(moved);
-    report.status = OpStatus::Applied;
-    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
-    report.subSteps = 1;
-    report.verticesMoved = movedCount();
+    reportSingleStep(std::move(moved), report);
     report.reason = label + ": " + std::to_string(report.verticesMoved) + " vertices moved";
     report.fractionApplied = fraction;
     if (fraction < 1.0) {
