@@ -8,8 +8,7 @@
 #include "core/script.h"
 #include "core/session.h"
 #include "io/atomic_file.h"
-#include "io/obj_mesh.h"
-#include "io/obj_refine.h"
+#include "io/mesh_file.h"
 #include "io/script_json.h"
 
 namespace sculpt::app {
@@ -26,7 +25,13 @@ int runHeadless(const CliOptions& options, const char* argv0) {
     io::ObjMesh mesh;
     std::vector<std::string> warnings;
     const auto loadStart = std::chrono::steady_clock::now();
-    if (Status s = io::loadObj(input, mesh, &warnings); !s) {
+    // The output's format comes from its name: refuse an unknown one before any work is done.
+    if (io::MeshEncoding encoding; Status s = io::meshEncodingForPath(options.output, encoding)) {
+    } else {
+        std::cerr << "sculpt: --output " << s.message << "\n";
+        return kExitBadInput;
+    }
+    if (Status s = io::loadMesh(input, mesh, &warnings); !s) {
         std::cerr << "sculpt: " << s.message << "\n";
         return kExitBadInput;
     }
@@ -69,10 +74,13 @@ int runHeadless(const CliOptions& options, const char* argv0) {
     }
 
     // A refined session writes the refined mesh, texture coordinates interpolated at the splits.
-    if (Status s = io::saveRefinedObj(options.output, mesh, session.appliedSplits(), session.positions()); !s) {
+    std::vector<std::string> saveWarnings;
+    if (Status s = io::saveRefinedMesh(options.output, mesh, session.appliedSplits(), session.positions(), &saveWarnings);
+        !s) {
         std::cerr << "sculpt: " << s.message << "\n";
         return kExitWriteFailed;
     }
+    for (const std::string& w : saveWarnings) std::cerr << "sculpt: warning: " << w << "\n";
     std::printf("wrote %s\n", options.output.c_str());
     if (!options.report.empty()) {
         io::ReportContext context{input, options.script, options.output, static_cast<int>(mesh.positions.rows()),

@@ -24,11 +24,16 @@
 
 #include "core/mesh_types.h"
 #include "core/status.h"
+#include "io/mesh_format.h"
 
 namespace sculpt::io {
 
 // #VT x 2 or #VT x 3 texture coordinates, one row per `vt` line.
 using Texcoords = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+// #V x 4 RGBA in [0, 1], one row per vertex (PLY and glTF store colours per vertex).
+using VertexColors = Eigen::Matrix<float, Eigen::Dynamic, 4, Eigen::RowMajor>;
+// #V x 3 normals as the file stored them, one row per vertex.
+using VertexNormals = Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
 // The text a mesh was loaded from, with where the numbers a save may replace are (byte offsets into text).
 // Costs about the file's size in memory (plus 16 bytes per `v` and `vn` line) for as long as the mesh lives.
@@ -38,8 +43,9 @@ struct ObjSource {
     std::vector<size_t> normalSpans;    // 2 per `vn` line in file order: [begin of x, end of z)
 };
 
-// An OBJ surface as the engine uses it (welded positions + triangles) plus the polygon data needed
-// to write it back. Invariants (checkObjMesh verifies them):
+// A surface as the engine uses it (welded positions + triangles) plus the polygon data needed to write it
+// back. Every format mesh_file.h reads loads into one (the name is from the first format; OBJ's model of
+// polygons, groups and corner attributes holds what PLY, STL and glTF store). Invariants (checkObjMesh verifies them):
 //   - faceStart has #F + 1 entries, faceStart[0] = 0, strictly increasing by >= 3 per face,
 //     faceStart[#F] = #C (the corner count); cornerVertex/cornerTexcoord/cornerNormal have #C entries.
 //   - triangles triangulate the faces in face order (triangulateObjFaces: triangulatePolygon, or the fan
@@ -65,6 +71,13 @@ struct ObjMesh {
     std::vector<int> faceMaterial;        // #F indices into materialNames, -1 = no `usemtl` yet
     std::vector<std::string> materialNames;
     std::vector<std::string> materialLibraries;  // `mtllib` arguments as written, first use order
+
+    // Per-vertex attributes of the formats that keep them per vertex (PLY, glTF: mesh_file.h); 0 rows when the
+    // file had none (an OBJ keeps its colours and normals in its source text instead). A PLY or glTF file's
+    // texture coordinates are per vertex too: texcoords then has one row per vertex and cornerTexcoord = cornerVertex.
+    VertexColors vertexColors;    // 0 or #V rows
+    VertexNormals vertexNormals;  // 0 or #V rows; a save recomputes those of vertices next to a moved one
+    MeshEncoding loadedAs;        // the format and encoding the file was read in (OBJ for a mesh built in code)
 
     // The loaded file (null for a mesh built in code). When set, serializeObj writes this text back with
     // only the changed numbers replaced, so the arrays above must still describe it: code that changes the

@@ -194,6 +194,11 @@ Status checkObjMesh(const ObjMesh& mesh) {
         if (!isSingleToken(name)) return bad("material name '" + name + "' must be one word");
     for (const std::string& name : mesh.materialLibraries)
         if (name.empty() || hasLineBreak(name)) return bad("empty material library name or one with a line break");
+    if (mesh.vertexColors.rows() != 0 && mesh.vertexColors.rows() != vertexCount)
+        return bad("vertexColors must have 0 or one row per vertex");
+    if (mesh.vertexNormals.rows() != 0 && mesh.vertexNormals.rows() != vertexCount)
+        return bad("vertexNormals must have 0 or one row per vertex");
+    if (!mesh.vertexColors.allFinite() || !mesh.vertexNormals.allFinite()) return bad("non-finite vertex colour or normal");
     if (mesh.source) {
         const ObjSource& source = *mesh.source;
         if (source.positionSpans.size() != 2 * static_cast<size_t>(vertexCount))
@@ -241,6 +246,11 @@ Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std
             for (int k = 0; k < 3; ++k) {
                 out += ' ';
                 appendNumber(out, deformedPositions(v, k));
+            }
+            // Vertex colours (from a PLY or glTF file) as the common `v x y z r g b` extension (0..1).
+            for (Eigen::Index k = 0; k < 3 && mesh.vertexColors.rows() > 0; ++k) {
+                out += ' ';
+                appendNumber(out, static_cast<double>(mesh.vertexColors(v, k)));
             }
             out += '\n';
         }

@@ -14,6 +14,7 @@
 
 #include "bench_support.h"
 #include "effd_bench.h"
+#include "io_bench.h"
 #include "tspline_bench.h"
 #include "injectivity_bench.h"
 #include "core/injectivity.h"
@@ -329,6 +330,7 @@ int main(int argc, char** argv) {
     sculpt::bench::runInjectivityBenchmarks(gFilters);
     sculpt::bench::runEffdBenchmarks(gFilters);
     sculpt::bench::runTSplineBenchmarks(gFilters);
+    sculpt::bench::runIoBenchmarks(gFilters);
     benchSubdivision();
     benchTriangleCheck();
 #ifdef SCULPT_BENCH_RENDER

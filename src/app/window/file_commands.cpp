@@ -12,7 +12,7 @@
 
 #include "core/script.h"
 #include "io/atomic_file.h"
-#include "io/obj_refine.h"
+#include "io/mesh_file.h"
 #include "io/png_image.h"
 #include "io/script_json.h"
 #include "render/framebuffer_readback.h"
@@ -52,7 +52,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kMeshExtensions{".obj"};
+const std::vector<std::string> kMeshExtensions{".obj", ".ply", ".stl", ".gltf", ".glb"};  // io::meshEncodingForPath
 const std::vector<std::string> kSessionExtensions{".json"};
 const std::vector<std::string> kLatticeExtensions{".lattice.json"};
 const std::vector<std::string> kImageExtensions{".png"};
@@ -89,7 +89,7 @@ JobResult loadMeshWork(const std::string& path, const core::LatticeSettings& set
                        const core::InjectivitySettings& injectivity, bool trackJacobian, JobProgress& progress) {
     JobResult result;
     io::ObjMesh mesh;
-    result.status = io::loadObj(path, mesh, &result.warnings, &progress.obj);
+    result.status = io::loadMesh(path, mesh, &result.warnings, &progress.obj);
     if (!result.status) return result;
     if (progress.cancelled()) {
         result.status = cancelledStatus(path);
@@ -125,7 +125,7 @@ JobResult openSessionWork(const std::string& path, const std::string& fallbackMe
         return result;
     }
     io::ObjMesh mesh;
-    if (Status s = io::loadObj(meshPath, mesh, &result.warnings, &progress.obj); !s) {
+    if (Status s = io::loadMesh(meshPath, mesh, &result.warnings, &progress.obj); !s) {
         result.status = Status::error(path + ": its mesh: " + s.message);
         return result;
     }
@@ -273,7 +273,7 @@ bool FileCommands::startSave(AppState& state, JobKind kind, const std::string& p
         startJob(state, kind, path, [path, mesh, positions = std::move(positions), splits = std::move(splits)](JobProgress& progress) {
             progress.phase = static_cast<int>(JobPhase::Writing);
             JobResult result;
-            result.status = io::saveRefinedObj(path, *mesh, splits, positions);
+            result.status = io::saveRefinedMesh(path, *mesh, splits, positions, &result.warnings);
             return result;
         });
     } else {
@@ -473,7 +473,10 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             state.meshName = fileNameOfPath(job.path);  // the document is now that file: title, sidebar, prompts
             document_.saved = job.markAtStart;
             setStatus(state, "Saved " + name + " (" + countOf(static_cast<size_t>(state.session.positions().rows()), "vertex", "vertices") + ") in " +
-                                 took + ".", false);
+                                 took + "." +
+                                 (result.warnings.empty() ? std::string()
+                                                          : " " + countOf(result.warnings.size(), "warning") + ", first: " + result.warnings.front()),
+                      false);
             break;
         case JobKind::SaveSession:
             document_.sessionPath = job.path;
@@ -604,7 +607,7 @@ void FileCommands::openPath(AppState& state, const std::string& path) {
         return;
     }
     if (!hasExtension(path, kMeshExtensions) && !hasExtension(path, kSessionExtensions)) {
-        setStatus(state, "Cannot open " + fileNameOfPath(path) + ": only .obj meshes and .json sessions.", true);
+        setStatus(state, "Cannot open " + fileNameOfPath(path) + ": only meshes (" + io::meshExtensionList() + ") and .json sessions.", true);
         return;
     }
     const PendingAction action{PendingAction::Kind::OpenPath, path};

@@ -209,8 +209,9 @@ int runWindow(const std::string& meshPath) {
     glfwSetErrorCallback(onGlfwError);
     if (!glfwInit()) {
         std::cerr << "sculpt: cannot open a window (no display?). To run without one use\n"
-                     "  sculpt --headless [--input MESH.obj] --script OPS.json --output OUT.obj [--screenshot OUT.png]\n"
-                     "or start the window under a virtual display: xvfb-run -a sculpt [MESH.obj]\n";
+                     "  sculpt --headless [--input MESH] --script OPS.json --output OUT [--screenshot OUT.png]\n"
+                     "  (meshes: .obj .ply .stl .gltf .glb, the format from the extension)\n"
+                     "or start the window under a virtual display: xvfb-run -a sculpt [MESH]\n";
         return kExitNoDisplay;
     }
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);

@@ -18,6 +18,7 @@
 #include "app/window/tspline_commands.h"
 #include "app/window/view_navigation.h"
 #include "app/file_browser.h"
+#include "io/mesh_format.h"
 
 namespace sculpt::app {
 namespace {
@@ -65,8 +66,8 @@ Status SculptApp::loadMesh(const std::string& path) { return files_.loadMeshNow(
 
 void SculptApp::onDropFiles(const std::vector<std::string>& paths) {
     for (const std::string& path : paths)
-        if (hasExtension(path, {".obj", ".json"})) return files_.openPath(state_, path);
-    if (!paths.empty()) setStatus(state_, "Drop an .obj mesh or a .json session to open it.", true);
+        if (io::isMeshPath(path) || hasExtension(path, {".json"})) return files_.openPath(state_, path);
+    if (!paths.empty()) setStatus(state_, std::string("Drop a mesh (") + io::meshExtensionList() + ") or a .json session to open it.", true);
 }
 
 void SculptApp::onFramebufferSize(const FramebufferSizeEvent& event) {

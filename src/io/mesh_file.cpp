@@ -1,0 +1,873 @@
+// PLY, STL and glTF through assimp, and the format dispatch of loadMesh/saveMesh (mesh_file.h).
+//
+// Why assimp (Debian's libassimp 5.2): one maintained library reads and writes all three formats (PLY in both
+// byte orders, ASCII and binary STL, glTF 2.0 and GLB), keeps PLY's vertex order and polygons, and reads
+// vertex colours, normals and texture coordinates. tinygltf (also in Debian) covers glTF alone. What assimp
+// does not do is done here: the checks that give a message naming what is wrong, welding STL facets, flattening
+// glTF node transforms, warnings for what is not kept, atomic saves (every writer writes into memory first) and
+// two writers: PLY (writePly: assimp 5.2's binary one is broken) and glTF (writeGltf, through tinygltf:
+// assimp's merges vertices). assimp writes STL.
+#include "io/mesh_file.h"
+
+#include <assimp/DefaultLogger.hpp>
+#include <assimp/Exporter.hpp>
+#include <assimp/LogStream.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/ProgressHandler.hpp>
+#include <assimp/scene.h>
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <sstream>
+#include <unordered_map>
+
+#include <Eigen/Geometry>
+
+#include "core/vertex_normals.h"
+#include "io/atomic_file.h"
+#include "io/obj_refine.h"
+#include "io/script_json.h"
+
+namespace sculpt::io {
+
+namespace {
+
+// --- Reading -------------------------------------------------------------------------------------------------
+
+// Forwards assimp's progress to an ObjLoadProgress and stops the import once cancel is set.
+class ProgressForwarder : public Assimp::ProgressHandler {
+public:
+    explicit ProgressForwarder(ObjLoadProgress* progress) : progress_(progress) {}
+    bool Update(float percentage) override {
+        if (!progress_) return true;
+        if (percentage >= 0.0f) {
+            const float f = std::min(0.9f, 0.9f * percentage);
+            if (f > progress_->fraction.load()) progress_->fraction = f;
+        }
+        return !progress_->cancel.load();
+    }
+
+private:
+    ObjLoadProgress* progress_;
+};
+
+// assimp's warnings and errors during one import (it skips bad indices, unknown chunks... and only logs it),
+// collected so the load can pass them on: nothing is dropped without a word. assimp's logger is one global
+// object, so imports take turns (kLoggerMutex).
+std::mutex kLoggerMutex;
+
+class CollectedLog : public Assimp::LogStream {
+public:
+    void write(const char* message) override {
+        std::string line(message);
+        // "Warn,  T0: text\n" -> "text"
+        if (const size_t colon = line.find(": "); colon != std::string::npos && colon < 16) line.erase(0, colon + 2);
+        while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+        if (line.empty()) return;
+        if (std::find(lines.begin(), lines.end(), line) == lines.end()) lines.push_back(line);
+    }
+    std::vector<std::string> lines;
+};
+
+// What a PLY header says, for the encoding and for warnings about what assimp does not read.
+struct PlyHeader {
+    MeshEncoding encoding{MeshFormat::Ply, false, false};
+    std::vector<std::string> notes;  // not kept / changed, without the file name
+};
+
+// The vertex properties assimp's PLY reader uses (positions, normals, colours, texture coordinates).
+bool plyVertexPropertyKept(const std::string& name) {
+    static const char* const kept[] = {"x", "y", "z", "nx", "ny", "nz", "red", "green", "blue", "alpha",
+                                       "r", "g", "b", "a", "diffuse_red", "diffuse_green", "diffuse_blue",
+                                       "diffuse_alpha", "s", "t", "u", "v", "texture_s", "texture_t",
+                                       "texture_u", "texture_v", "tx", "ty"};
+    for (const char* k : kept)
+        if (name == k) return true;
+    return false;
+}
+
+Status parsePlyHeader(const std::string& bytes, const std::string& name, PlyHeader& header) {
+    if (bytes.compare(0, 3, "ply") != 0 || bytes.size() < 4 || (bytes[3] != '\n' && bytes[3] != '\r'))
+        return Status::error(name + ": not a PLY file (it does not start with \"ply\")");
+    const size_t end = bytes.find("end_header");
+    if (end == std::string::npos) return Status::error(name + ": the PLY header has no end_header line");
+    std::istringstream lines(bytes.substr(0, end));
+    std::string line, element;
+    bool haveFormat = false;
+    while (std::getline(lines, line)) {
+        std::istringstream words(line);
+        std::string keyword;
+        words >> keyword;
+        if (keyword == "format") {
+            std::string kind;
+            words >> kind;
+            if (kind == "ascii") {
+                header.encoding.binary = false;
+            } else if (kind == "binary_little_endian") {
+                header.encoding.binary = true;
+            } else if (kind == "binary_big_endian") {
+                header.encoding.binary = true;
+                header.encoding.bigEndian = true;
+            } else {
+                return Status::error(name + ": unknown PLY format '" + kind +
+                                     "' (expected ascii, binary_little_endian or binary_big_endian)");
+            }
+            haveFormat = true;
+        } else if (keyword == "element") {
+            long long count = 0;
+            words >> element >> count;
+            if (element != "vertex" && element != "face" && count > 0)
+                header.notes.push_back("PLY element '" + element + "' (" + std::to_string(count) +
+                                       ") is not kept: only vertices and faces are read");
+        } else if (keyword == "property") {
+            std::string type, propertyName;
+            words >> type;
+            if (type == "list") {
+                std::string countType, itemType;
+                words >> countType >> itemType >> propertyName;
+                if (element == "face" && propertyName != "vertex_indices" && propertyName != "vertex_index")
+                    header.notes.push_back("face property '" + propertyName + "' is not kept");
+                if (element == "vertex") header.notes.push_back("vertex list property '" + propertyName + "' is not kept");
+            } else {
+                words >> propertyName;
+                if (element == "vertex" && !plyVertexPropertyKept(propertyName))
+                    header.notes.push_back("vertex property '" + propertyName + "' is not kept");
+                if (element == "vertex" && (propertyName == "x" || propertyName == "y" || propertyName == "z") &&
+                    (type == "double" || type == "float64"))
+                    header.notes.push_back("positions are stored as double and read in single precision");
+                if (element == "face") header.notes.push_back("face property '" + propertyName + "' is not kept");
+            }
+        }
+    }
+    if (!haveFormat) return Status::error(name + ": the PLY header has no format line");
+    std::sort(header.notes.begin(), header.notes.end());
+    header.notes.erase(std::unique(header.notes.begin(), header.notes.end()), header.notes.end());
+    return Status::success();
+}
+
+// A binary STL is an 80-byte header, a 32-bit facet count and 50 bytes per facet; anything else is read as ASCII.
+bool isBinaryStl(const std::string& bytes) {
+    if (bytes.size() < 84) return false;
+    uint32_t count = 0;
+    std::memcpy(&count, bytes.data() + 80, 4);
+    return bytes.size() == 84 + 50ull * count;
+}
+
+Status checkStl(const std::string& bytes, const std::string& name, MeshEncoding& encoding) {
+    encoding = {MeshFormat::Stl, isBinaryStl(bytes), false};
+    if (encoding.binary) return Status::success();
+    size_t start = 0;
+    while (start < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[start]))) ++start;
+    if (bytes.compare(start, 5, "solid") != 0)
+        return Status::error(name + ": not an STL file (neither \"solid\" text nor a binary file of 84 + 50 x " +
+                             "facets bytes)");
+    return Status::success();
+}
+
+Status checkGltf(const std::string& bytes, const std::string& name, bool binary) {
+    if (binary) {
+        if (bytes.compare(0, 4, "glTF") != 0) return Status::error(name + ": not a GLB file (it does not start with \"glTF\")");
+        return Status::success();
+    }
+    size_t start = 0;
+    while (start < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[start]))) ++start;
+    if (start >= bytes.size() || bytes[start] != '{')
+        return Status::error(name + ": not a glTF file (a .gltf is a JSON object)");
+    return Status::success();
+}
+
+std::string vectorText(double x, double y, double z) {
+    std::ostringstream s;
+    s << "(" << x << ", " << y << ", " << z << ")";
+    return s.str();
+}
+
+// One mesh of the scene placed by a node: its vertices go through transform.
+struct Placement {
+    const aiMesh* mesh = nullptr;
+    aiMatrix4x4 transform;
+    std::string name;
+};
+
+Status collectPlacements(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, int depth,
+                         std::vector<Placement>& out, const std::string& name) {
+    if (depth > 256) return Status::error(name + ": the node hierarchy is deeper than 256 levels (a cycle?)");
+    const aiMatrix4x4 transform = parent * node.mTransformation;
+    for (unsigned i = 0; i < node.mNumMeshes; ++i) {
+        if (node.mMeshes[i] >= scene.mNumMeshes)
+            return Status::error(name + ": node '" + node.mName.C_Str() + "' names a mesh that does not exist");
+        const aiMesh* mesh = scene.mMeshes[node.mMeshes[i]];
+        std::string meshName = mesh->mName.length > 0 ? mesh->mName.C_Str() : node.mName.C_Str();
+        if (meshName.empty()) meshName = "mesh " + std::to_string(node.mMeshes[i]);
+        out.push_back({mesh, transform, meshName});
+    }
+    for (unsigned c = 0; c < node.mNumChildren; ++c)
+        if (node.mChildren[c])
+            if (Status s = collectPlacements(scene, *node.mChildren[c], transform, depth + 1, out, name); !s) return s;
+    return Status::success();
+}
+
+bool isIdentity(const aiMatrix4x4& m) { return m.IsIdentity(); }
+
+// Welds vertices at bit-identical positions (STL stores every facet's corners apart): first use keeps its number.
+void weldIdenticalPositions(ObjMesh& mesh) {
+    struct Key {
+        double x, y, z;
+        bool operator==(const Key& o) const { return std::memcmp(this, &o, sizeof(Key)) == 0; }
+    };
+    struct KeyHash {
+        size_t operator()(const Key& k) const {
+            uint64_t h = 1469598103934665603ull;
+            const unsigned char* p = reinterpret_cast<const unsigned char*>(&k);
+            for (size_t i = 0; i < sizeof(Key); ++i) h = (h ^ p[i]) * 1099511628211ull;
+            return static_cast<size_t>(h);
+        }
+    };
+    const Eigen::Index n = mesh.positions.rows();
+    std::unordered_map<Key, int, KeyHash> index;
+    index.reserve(static_cast<size_t>(n));
+    std::vector<int> remap(static_cast<size_t>(n));
+    Positions welded(n, 3);
+    int count = 0;
+    for (Eigen::Index v = 0; v < n; ++v) {
+        // note: +0.0 and -0.0 differ in bits; STL writers never produce -0.0 for a shared corner only on one side.
+        const Key key{mesh.positions(v, 0), mesh.positions(v, 1), mesh.positions(v, 2)};
+        const auto [it, inserted] = index.emplace(key, count);
+        if (inserted) welded.row(count++) = mesh.positions.row(v);
+        remap[static_cast<size_t>(v)] = it->second;
+    }
+    mesh.positions = welded.topRows(count);
+    for (int& c : mesh.cornerVertex) c = remap[static_cast<size_t>(c)];
+    mesh.vertexNormals.resize(0, 3);
+    mesh.vertexColors.resize(0, 4);
+}
+
+// The scene assimp read, as an ObjMesh (see mesh_file.h for what is kept).
+Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std::string& name, ObjMesh& out,
+                   std::vector<std::string>& notes) {
+    if (!scene.mRootNode) return Status::error(name + ": the file has no scene to place its meshes");
+    std::vector<Placement> placements;
+    if (Status s = collectPlacements(scene, *scene.mRootNode, aiMatrix4x4(), 0, placements, name); !s) return s;
+    std::vector<int> uses(scene.mNumMeshes, 0);
+    for (const Placement& p : placements)
+        for (unsigned m = 0; m < scene.mNumMeshes; ++m)
+            if (scene.mMeshes[m] == p.mesh) ++uses[m];
+    const long long unplaced = std::count(uses.begin(), uses.end(), 0);
+    if (unplaced > 0)
+        notes.push_back(std::to_string(unplaced) + " mesh(es) no node of the scene places are not kept");
+    if (std::any_of(uses.begin(), uses.end(), [](int u) { return u > 1; }))
+        notes.push_back("meshes placed by several nodes are copied once per node");
+    const bool gltf = encoding.format == MeshFormat::Gltf;
+    if (gltf && std::any_of(placements.begin(), placements.end(), [](const Placement& p) { return !isIdentity(p.transform); }))
+        notes.push_back("node transforms are applied to the vertices (the node hierarchy is flattened)");
+    if (gltf && scene.mNumAnimations > 0) notes.push_back(std::to_string(scene.mNumAnimations) + " animation(s) are not kept");
+    if (gltf && scene.mNumMaterials > 0)
+        notes.push_back(std::to_string(scene.mNumMaterials) + " material(s) and their textures are not kept");
+
+    size_t vertexTotal = 0;
+    for (const Placement& p : placements) vertexTotal += p.mesh->mNumVertices;
+    if (vertexTotal > static_cast<size_t>(INT32_MAX / 4))
+        return Status::error(name + ": " + std::to_string(vertexTotal) + " vertices are more than this program handles");
+
+    ObjMesh mesh;
+    mesh.faceStart = {0};
+    mesh.groupNames = {std::string()};
+    mesh.positions.resize(static_cast<Eigen::Index>(vertexTotal), 3);
+    bool anyColors = false, anyNormals = false, anyTexcoords = false;
+    int texcoordColumns = 2;
+    for (const Placement& p : placements) {
+        anyColors |= p.mesh->HasVertexColors(0);
+        anyNormals |= p.mesh->HasNormals();
+        if (p.mesh->HasTextureCoords(0)) {
+            anyTexcoords = true;
+            texcoordColumns = std::max(texcoordColumns, static_cast<int>(std::min(3u, std::max(2u, p.mesh->mNumUVComponents[0]))));
+        }
+    }
+    const bool stl = encoding.format == MeshFormat::Stl;
+    if (anyColors && !stl) mesh.vertexColors = VertexColors::Ones(static_cast<Eigen::Index>(vertexTotal), 4);
+    if (anyNormals && !stl) mesh.vertexNormals = VertexNormals::Zero(static_cast<Eigen::Index>(vertexTotal), 3);
+    if (anyTexcoords) mesh.texcoords = Texcoords::Zero(static_cast<Eigen::Index>(vertexTotal), texcoordColumns);
+
+    long long skippedPrimitives = 0, extraSets = 0, bones = 0, morphs = 0;
+    int base = 0;
+    for (size_t pi = 0; pi < placements.size(); ++pi) {
+        const Placement& p = placements[pi];
+        const aiMesh& m = *p.mesh;
+        aiMatrix3x3 normalTransform(p.transform);
+        if (!(std::abs(normalTransform.Determinant()) > 0.0f) || !std::isfinite(normalTransform.Determinant()))
+            return Status::error(name + ": the node transform of " + p.name + " is singular or not finite");
+        normalTransform.Inverse().Transpose();
+        for (unsigned v = 0; v < m.mNumVertices; ++v) {
+            const aiVector3D position = p.transform * m.mVertices[v];
+            const Eigen::Index row = base + static_cast<Eigen::Index>(v);
+            mesh.positions.row(row) << position.x, position.y, position.z;
+            if (!mesh.positions.row(row).allFinite())
+                return Status::error(name + ": vertex " + std::to_string(row) + " of " +
+                                     (stl ? std::string("facet ") + std::to_string(row / 3) : p.name) +
+                                     " has a non-finite coordinate " +
+                                     vectorText(position.x, position.y, position.z));
+            if (mesh.vertexColors.rows() > 0 && m.HasVertexColors(0)) {
+                const aiColor4D c = m.mColors[0][v];
+                mesh.vertexColors.row(row) << c.r, c.g, c.b, c.a;
+            }
+            if (mesh.vertexNormals.rows() > 0 && m.HasNormals()) {
+                aiVector3D n = normalTransform * m.mNormals[v];
+                if (!isIdentity(p.transform) && n.Length() > 0.0f) n.Normalize();
+                mesh.vertexNormals.row(row) << n.x, n.y, n.z;
+            }
+            if (m.HasTextureCoords(0))
+                for (int k = 0; k < texcoordColumns; ++k)
+                    mesh.texcoords(row, k) = k < static_cast<int>(m.mNumUVComponents[0]) ? m.mTextureCoords[0][v][static_cast<unsigned>(k)] : 0.0;
+        }
+        for (unsigned s = 1; s < AI_MAX_NUMBER_OF_COLOR_SETS; ++s) extraSets += m.HasVertexColors(s);
+        for (unsigned s = 1; s < AI_MAX_NUMBER_OF_TEXTURECOORDS; ++s) extraSets += m.HasTextureCoords(s);
+        bones += m.mNumBones;
+        morphs += m.mNumAnimMeshes;
+        int group = 0;
+        if (placements.size() > 1 || stl) {
+            mesh.groupNames.push_back(p.name);
+            group = static_cast<int>(mesh.groupNames.size()) - 1;
+        }
+        for (unsigned f = 0; f < m.mNumFaces; ++f) {
+            const aiFace& face = m.mFaces[f];
+            if (face.mNumIndices < 3) {
+                ++skippedPrimitives;
+                continue;
+            }
+            for (unsigned c = 0; c < face.mNumIndices; ++c) {
+                if (face.mIndices[c] >= m.mNumVertices)
+                    return Status::error(name + ": face " + std::to_string(f) + " of " + p.name + " uses vertex " +
+                                         std::to_string(face.mIndices[c]) + " of " + std::to_string(m.mNumVertices));
+                const int vertex = base + static_cast<int>(face.mIndices[c]);
+                mesh.cornerVertex.push_back(vertex);
+                mesh.cornerTexcoord.push_back(m.HasTextureCoords(0) ? vertex : -1);
+                mesh.cornerNormal.push_back(-1);
+            }
+            mesh.faceStart.push_back(static_cast<int>(mesh.cornerVertex.size()));
+            mesh.faceGroup.push_back(group);
+            mesh.faceMaterial.push_back(-1);
+        }
+        base += static_cast<int>(m.mNumVertices);
+    }
+    if (skippedPrimitives > 0)
+        notes.push_back(std::to_string(skippedPrimitives) + " point or line element(s) are not kept (not a surface)");
+    if (extraSets > 0) notes.push_back("only the first colour and texture coordinate sets are kept");
+    if (bones > 0) notes.push_back("the skin (" + std::to_string(bones) + " bone(s)) is not kept");
+    if (morphs > 0) notes.push_back(std::to_string(morphs) + " morph target(s) are not kept");
+    if (mesh.faceCount() == 0)
+        return Status::error(name + ": the file has no faces" +
+                             (vertexTotal > 0 ? " (" + std::to_string(vertexTotal) + " points: a point cloud is not a surface)"
+                                              : std::string()));
+
+    if (stl) weldIdenticalPositions(mesh);
+    std::vector<char> used(static_cast<size_t>(mesh.positions.rows()), 0);
+    for (int c : mesh.cornerVertex) used[static_cast<size_t>(c)] = 1;
+    const long long unused = std::count(used.begin(), used.end(), 0);
+    if (unused > 0) notes.push_back(std::to_string(unused) + " vertices are used by no face (kept, not deformed by edits of faces)");
+
+    const ObjTriangulationReport triangulation = triangulateObjFaces(mesh);
+    if (triangulation.fannedFaces > 0)
+        notes.push_back(std::to_string(triangulation.fannedFaces) + " face(s) could not be triangulated exactly (" +
+                        triangulation.firstReason + ", face " + std::to_string(triangulation.firstFannedFace) +
+                        "): drawn as a fan");
+    mesh.loadedAs = encoding;
+    if (Status s = checkObjMesh(mesh); !s) return Status::error(name + ": " + s.message);
+    out = std::move(mesh);
+    return Status::success();
+}
+
+// Reads bytes (or, for a .gltf with separate buffers, the file at path) through assimp.
+Status importWithAssimp(const std::string& bytes, const std::string* path, MeshFormat format, const std::string& name,
+                        ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress) {
+    MeshEncoding encoding{format, false, false};
+    std::vector<std::string> notes;
+    const char* hint = "";
+    switch (format) {
+        case MeshFormat::Ply: {
+            PlyHeader header;
+            if (Status s = parsePlyHeader(bytes, name, header); !s) return s;
+            encoding = header.encoding;
+            notes = header.notes;
+            hint = "ply";
+            break;
+        }
+        case MeshFormat::Stl:
+            if (Status s = checkStl(bytes, name, encoding); !s) return s;
+            hint = "stl";
+            break;
+        case MeshFormat::Gltf:
+            encoding.binary = bytes.compare(0, 4, "glTF") == 0;
+            if (Status s = checkGltf(bytes, name, encoding.binary); !s) return s;
+            hint = encoding.binary ? "glb" : "gltf";
+            break;
+        case MeshFormat::Obj: return Status::error(name + ": OBJ is read by loadObj");
+    }
+    std::lock_guard<std::mutex> lock(kLoggerMutex);
+    CollectedLog log;
+    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+    Assimp::DefaultLogger::get()->attachStream(&log, Assimp::Logger::Warn | Assimp::Logger::Err);
+    struct LoggerReset {
+        CollectedLog& log;
+        ~LoggerReset() {
+            Assimp::DefaultLogger::get()->detachStream(&log, Assimp::Logger::Warn | Assimp::Logger::Err);
+            Assimp::DefaultLogger::kill();
+        }
+    } reset{log};
+    Assimp::Importer importer;
+    ProgressForwarder forward(progress);
+    importer.SetProgressHandler(&forward);
+    // Empty PLY/STL files and other degenerate input make some assimp readers throw; ReadFile catches its own.
+    const aiScene* scene = path != nullptr ? importer.ReadFile(*path, 0)
+                                           : importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint);
+    importer.SetProgressHandler(nullptr);
+    const size_t kShown = 5;
+    for (size_t i = 0; i < log.lines.size() && i < kShown; ++i) notes.push_back("assimp: " + log.lines[i]);
+    if (log.lines.size() > kShown) notes.push_back("assimp: " + std::to_string(log.lines.size() - kShown) + " more notes");
+    if (progress && progress->cancel.load()) return Status::error(name + ": loading cancelled");
+    if (!scene) {
+        std::string why = importer.GetErrorString();
+        if (why.empty()) why = "assimp could not read it";
+        return Status::error(name + ": not a readable " + std::string(meshFormatName(format)) + " file: " + why);
+    }
+    if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) {
+        return Status::error(name + ": the " + std::string(meshFormatName(format)) + " file holds no complete mesh");
+    }
+    ObjMesh mesh;
+    if (Status s = sceneToMesh(*scene, encoding, name, mesh, notes); !s) return s;
+    if (progress && progress->cancel.load()) return Status::error(name + ": loading cancelled");
+    out = std::move(mesh);
+    if (warnings)
+        for (const std::string& note : notes) warnings->push_back(name + ": " + note);
+    if (progress) progress->fraction = 1.0f;
+    return Status::success();
+}
+
+// --- Writing -------------------------------------------------------------------------------------------------
+
+// Texture coordinates per vertex (PLY, glTF), when every corner of each vertex has the same one (or none).
+bool perVertexTexcoords(const ObjMesh& mesh, Texcoords& out) {
+    if (mesh.texcoords.rows() == 0) return false;
+    const Eigen::Index columns = mesh.texcoords.cols();
+    out = Texcoords::Zero(mesh.positions.rows(), columns);
+    std::vector<int> first(static_cast<size_t>(mesh.positions.rows()), -1);
+    bool any = false;
+    for (size_t c = 0; c < mesh.cornerVertex.size(); ++c) {
+        const int t = mesh.cornerTexcoord[c], v = mesh.cornerVertex[c];
+        if (t < 0) continue;
+        any = true;
+        int& seen = first[static_cast<size_t>(v)];
+        if (seen < 0) {
+            seen = t;
+            out.row(v) = mesh.texcoords.row(t);
+        } else if (seen != t && mesh.texcoords.row(seen) != mesh.texcoords.row(t)) {
+            return false;
+        }
+    }
+    return any;
+}
+
+// Vertex normals for a save: the file's where no adjacent vertex moved, recomputed (area-weighted) elsewhere
+// or everywhere when the file had none.
+VertexNormals saveNormals(const ObjMesh& mesh, const Positions& deformed) {
+    Positions computed;
+    core::computeVertexNormals(deformed, mesh.triangles, computed);
+    VertexNormals normals = computed.cast<float>();
+    if (mesh.vertexNormals.rows() != mesh.positions.rows()) return normals;
+    std::vector<char> stale(static_cast<size_t>(mesh.positions.rows()), 0);
+    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+        bool moved = false;
+        for (int k = 0; k < 3; ++k) {
+            const int v = mesh.triangles(t, k);
+            moved |= deformed.row(v) != mesh.positions.row(v);
+        }
+        if (moved)
+            for (int k = 0; k < 3; ++k) stale[static_cast<size_t>(mesh.triangles(t, k))] = 1;
+    }
+    for (Eigen::Index v = 0; v < normals.rows(); ++v)
+        if (!stale[static_cast<size_t>(v)]) normals.row(v) = mesh.vertexNormals.row(v);
+    return normals;
+}
+
+// The vertices of each group when no vertex is shared between groups, else one list of all (glTF primitives).
+std::vector<std::vector<int>> primitiveGroups(const ObjMesh& mesh) {
+    std::vector<int> groupOf(static_cast<size_t>(mesh.positions.rows()), -1);
+    bool shared = false;
+    for (int f = 0; f < mesh.faceCount() && !shared; ++f)
+        for (int c = mesh.faceStart[f]; c < mesh.faceStart[f + 1]; ++c) {
+            int& g = groupOf[static_cast<size_t>(mesh.cornerVertex[c])];
+            if (g >= 0 && g != mesh.faceGroup[f]) shared = true;
+            g = mesh.faceGroup[f];
+        }
+    std::vector<std::vector<int>> groups(shared ? 1 : mesh.groupNames.size());
+    for (int v = 0; v < mesh.positions.rows(); ++v)
+        groups[shared || groupOf[static_cast<size_t>(v)] < 0 ? 0 : static_cast<size_t>(groupOf[static_cast<size_t>(v)])].push_back(v);
+    groups.erase(std::remove_if(groups.begin(), groups.end(), [](const std::vector<int>& g) { return g.empty(); }), groups.end());
+    return groups;
+}
+
+// Checks deformed fits the format (single precision) and names in notes what the format cannot hold.
+// texcoords: filled with per-vertex texture coordinates when the mesh has them that way (writeTexcoords).
+Status prepareSave(const ObjMesh& mesh, const Positions& deformed, const MeshEncoding& encoding, Texcoords& texcoords,
+                   bool& writeTexcoords, std::vector<std::string>& notes) {
+    for (Eigen::Index v = 0; v < deformed.rows(); ++v)
+        for (int k = 0; k < 3; ++k)
+            if (std::abs(deformed(v, k)) > static_cast<double>(FLT_MAX))
+                return Status::error("vertex " + std::to_string(v) + " is outside single precision's range, which " +
+                                     meshFormatName(encoding.format) + " stores");
+    const bool ply = encoding.format == MeshFormat::Ply, stl = encoding.format == MeshFormat::Stl;
+    const bool gltf = encoding.format == MeshFormat::Gltf;
+    writeTexcoords = !stl && perVertexTexcoords(mesh, texcoords);
+    const bool anyTexcoords = std::any_of(mesh.cornerTexcoord.begin(), mesh.cornerTexcoord.end(), [](int t) { return t >= 0; });
+    if (!stl && !writeTexcoords && mesh.texcoords.rows() > 0 && anyTexcoords)
+        notes.push_back("texture coordinates are not written: they differ between the corners of a vertex, and " +
+                        std::string(meshFormatName(encoding.format)) + " stores one per vertex");
+    if (stl && anyTexcoords) notes.push_back("texture coordinates are not written: STL has none");
+    if (stl && mesh.vertexColors.rows() > 0) notes.push_back("vertex colours are not written: STL has none");
+    const long long namedGroups = std::count_if(mesh.faceGroup.begin(), mesh.faceGroup.end(), [](int g) { return g > 0; });
+    if (ply && namedGroups > 0) notes.push_back("groups are not written: PLY has none");
+    if (!ply) {
+        int polygons = 0;
+        for (int f = 0; f < mesh.faceCount(); ++f) polygons += mesh.faceStart[f + 1] - mesh.faceStart[f] > 3;
+        if (polygons > 0)
+            notes.push_back(std::to_string(polygons) + " polygon(s) of more than 3 corners are written as their triangles");
+    }
+    (void)gltf;
+    if (!mesh.materialNames.empty()) notes.push_back("materials are not written");
+    return Status::success();
+}
+
+// PLY is written here, not by assimp: assimp 5.2's binary PLY writer puts the texture coordinates and colours of
+// the body in another order than its header declares (the file reads back as garbage), and writes no big-endian.
+// Layout: float x y z [nx ny nz] [uchar red green blue alpha] [float s t], then faces as `list uchar int`
+// (`list int int` when a face has more than 255 corners), the names MeshLab and Blender read.
+std::string writePly(const ObjMesh& mesh, const Positions& deformed, const MeshEncoding& encoding,
+                     const Texcoords& texcoords, bool writeTexcoords) {
+    const bool normals = mesh.vertexNormals.rows() > 0, colours = mesh.vertexColors.rows() > 0;
+    const VertexNormals n = normals ? saveNormals(mesh, deformed) : VertexNormals();
+    int largest = 0;
+    for (int f = 0; f < mesh.faceCount(); ++f) largest = std::max(largest, mesh.faceStart[f + 1] - mesh.faceStart[f]);
+    const bool wideCount = largest > 255;
+    std::string out = "ply\nformat ";
+    out += !encoding.binary ? "ascii" : encoding.bigEndian ? "binary_big_endian" : "binary_little_endian";
+    out += " 1.0\ncomment DMFFD Sculpt\nelement vertex " + std::to_string(deformed.rows()) +
+           "\nproperty float x\nproperty float y\nproperty float z\n";
+    if (normals) out += "property float nx\nproperty float ny\nproperty float nz\n";
+    if (colours) out += "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";
+    if (writeTexcoords) out += "property float s\nproperty float t\n";
+    out += "element face " + std::to_string(mesh.faceCount()) + "\nproperty list " + (wideCount ? "int" : "uchar") +
+           " int vertex_indices\nend_header\n";
+    const bool swap = encoding.binary && encoding.bigEndian;
+    const auto putBinary = [&out, swap](const void* value, size_t size) {
+        char bytes[4];
+        std::memcpy(bytes, value, size);
+        if (swap) std::reverse(bytes, bytes + size);
+        out.append(bytes, size);
+    };
+    const auto putFloat = [&](float value) {
+        if (encoding.binary) return putBinary(&value, 4);
+        char buffer[32];
+        out.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+    };
+    const auto putInt = [&](long long value, size_t size) {
+        if (encoding.binary) {
+            if (size == 1) {
+                const unsigned char b = static_cast<unsigned char>(value);
+                return putBinary(&b, 1);
+            }
+            const int32_t i = static_cast<int32_t>(value);
+            return putBinary(&i, 4);
+        }
+        char buffer[24];
+        out.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+    };
+    const auto separator = [&](bool last) {
+        if (!encoding.binary) out += last ? '\n' : ' ';
+    };
+    out.reserve(out.size() + static_cast<size_t>(deformed.rows()) * (encoding.binary ? 36 : 120) +
+                mesh.cornerVertex.size() * (encoding.binary ? 4 : 9) + static_cast<size_t>(mesh.faceCount()) * 4);
+    for (Eigen::Index v = 0; v < deformed.rows(); ++v) {
+        std::vector<float> values;
+        for (int k = 0; k < 3; ++k) {
+            putFloat(static_cast<float>(deformed(v, k)));
+            separator(k == 2 && !normals && !colours && !writeTexcoords);
+        }
+        for (int k = 0; k < 3 && normals; ++k) {
+            putFloat(n(v, k));
+            separator(k == 2 && !colours && !writeTexcoords);
+        }
+        for (int k = 0; k < 4 && colours; ++k) {
+            putInt(std::lround(std::clamp(mesh.vertexColors(v, k), 0.0f, 1.0f) * 255.0f), 1);
+            separator(k == 3 && !writeTexcoords);
+        }
+        for (int k = 0; k < 2 && writeTexcoords; ++k) {
+            putFloat(static_cast<float>(texcoords(v, k)));
+            separator(k == 1);
+        }
+    }
+    for (int f = 0; f < mesh.faceCount(); ++f) {
+        const int first = mesh.faceStart[f], end = mesh.faceStart[f + 1];
+        putInt(end - first, wideCount ? 4 : 1);
+        separator(false);
+        for (int c = first; c < end; ++c) {
+            putInt(mesh.cornerVertex[c], 4);
+            separator(c + 1 == end);
+        }
+    }
+    return out;
+}
+
+// The scene assimp's STL writer writes: one mesh of separate facets, each corner carrying its facet's normal
+// (the writer averages the corners' normals into the facet normal).
+void buildStlScene(const ObjMesh& mesh, const Positions& deformed, aiScene& scene) {
+    scene.mRootNode = new aiNode("root");
+    scene.mMaterials = new aiMaterial*[1]{new aiMaterial()};
+    scene.mNumMaterials = 1;
+    scene.mMeshes = new aiMesh*[1]{new aiMesh()};
+    scene.mNumMeshes = 1;
+    scene.mRootNode->mMeshes = new unsigned[1]{0};
+    scene.mRootNode->mNumMeshes = 1;
+    aiMesh& out = *scene.mMeshes[0];
+    out.mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+    const size_t triangles = static_cast<size_t>(mesh.triangles.rows());
+    out.mNumVertices = static_cast<unsigned>(3 * triangles);
+    out.mVertices = new aiVector3D[3 * triangles];
+    out.mNormals = new aiVector3D[3 * triangles];
+    out.mNumFaces = static_cast<unsigned>(triangles);
+    out.mFaces = new aiFace[triangles];
+    for (size_t t = 0; t < triangles; ++t) {
+        const Eigen::Index row = static_cast<Eigen::Index>(t);
+        const Eigen::Vector3d a = deformed.row(mesh.triangles(row, 0)), b = deformed.row(mesh.triangles(row, 1)),
+                              c = deformed.row(mesh.triangles(row, 2));
+        Eigen::Vector3d n = (b - a).cross(c - a);
+        n = n.norm() > 0.0 ? n.normalized() : Eigen::Vector3d::Zero();
+        const unsigned at = static_cast<unsigned>(3 * t);
+        for (unsigned k = 0; k < 3; ++k) {
+            const Eigen::Index v = mesh.triangles(row, static_cast<Eigen::Index>(k));
+            out.mVertices[at + k] = aiVector3D(static_cast<float>(deformed(v, 0)), static_cast<float>(deformed(v, 1)),
+                                               static_cast<float>(deformed(v, 2)));
+            out.mNormals[at + k] = aiVector3D(static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z()));
+        }
+        out.mFaces[t].mNumIndices = 3;
+        out.mFaces[t].mIndices = new unsigned[3]{at, at + 1, at + 2};
+    }
+}
+
+// glTF is written with tinygltf (Debian's libtinygltf), not assimp: assimp's glTF writer always merges vertices
+// that are identical in every attribute (its JoinIdenticalVertices step cannot be turned off), which changes the
+// vertex count and order. One mesh with one triangle primitive per group (primitiveGroups), each placed by its
+// own node; POSITION (with its bounds, as the format requires), NORMAL, COLOR_0 (float RGBA), TEXCOORD_0 (v
+// flipped: glTF's runs down the image, OBJ's and PLY's up), uint32 indices. A .gltf holds its buffer as a
+// base64 data URI, so a save is one file, written atomically.
+std::string writeGltf(const ObjMesh& mesh, const Positions& deformed, const MeshEncoding& encoding,
+                      const Texcoords& texcoords, bool writeTexcoords) {
+    tinygltf::Model model;
+    model.asset.version = "2.0";
+    model.asset.generator = "DMFFD Sculpt";
+    model.buffers.emplace_back();
+    std::vector<unsigned char>& data = model.buffers[0].data;
+    // Appends count elements of `components` floats or uint32 each, as a buffer view and an accessor.
+    const auto addAccessor = [&](const std::vector<float>* floats, const std::vector<uint32_t>* indices, int components,
+                                 int type, int target) {
+        const size_t offset = data.size();
+        const size_t bytes = floats ? floats->size() * 4 : indices->size() * 4;
+        data.resize(offset + bytes);
+        std::memcpy(data.data() + offset, floats ? static_cast<const void*>(floats->data()) : indices->data(), bytes);
+        tinygltf::BufferView view;
+        view.buffer = 0;
+        view.byteOffset = offset;
+        view.byteLength = bytes;
+        view.target = target;
+        model.bufferViews.push_back(view);
+        tinygltf::Accessor accessor;
+        accessor.bufferView = static_cast<int>(model.bufferViews.size()) - 1;
+        accessor.componentType = floats ? TINYGLTF_COMPONENT_TYPE_FLOAT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+        accessor.count = (floats ? floats->size() : indices->size()) / static_cast<size_t>(components);
+        accessor.type = type;
+        model.accessors.push_back(accessor);
+        return static_cast<int>(model.accessors.size()) - 1;
+    };
+    const VertexNormals normals = saveNormals(mesh, deformed);
+    const bool colours = mesh.vertexColors.rows() > 0;
+    const std::vector<std::vector<int>> groups = primitiveGroups(mesh);
+    std::vector<int> local(static_cast<size_t>(mesh.positions.rows()), -1);
+    tinygltf::Scene scene;
+    for (const std::vector<int>& vertices : groups) {
+        for (size_t i = 0; i < vertices.size(); ++i) local[static_cast<size_t>(vertices[i])] = static_cast<int>(i);
+        std::vector<float> position, normal, colour, uv;
+        std::vector<double> low(3, std::numeric_limits<double>::infinity()), high(3, -std::numeric_limits<double>::infinity());
+        for (int v : vertices) {
+            for (int k = 0; k < 3; ++k) {
+                const float x = static_cast<float>(deformed(v, k));
+                position.push_back(x);
+                low[static_cast<size_t>(k)] = std::min(low[static_cast<size_t>(k)], static_cast<double>(x));
+                high[static_cast<size_t>(k)] = std::max(high[static_cast<size_t>(k)], static_cast<double>(x));
+                normal.push_back(normals(v, k));
+            }
+            for (int k = 0; k < 4 && colours; ++k) colour.push_back(mesh.vertexColors(v, k));
+            if (writeTexcoords) {
+                uv.push_back(static_cast<float>(texcoords(v, 0)));
+                uv.push_back(static_cast<float>(1.0 - texcoords(v, 1)));
+            }
+        }
+        std::vector<uint32_t> indices;
+        int group = 0;
+        for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+            if (local[static_cast<size_t>(mesh.triangles(t, 0))] < 0) continue;  // another primitive's triangle
+            if (indices.empty()) group = mesh.faceGroup[static_cast<size_t>(mesh.triangleFace[static_cast<size_t>(t)])];
+            for (int k = 0; k < 3; ++k) indices.push_back(static_cast<uint32_t>(local[static_cast<size_t>(mesh.triangles(t, k))]));
+        }
+        tinygltf::Primitive primitive;
+        primitive.mode = TINYGLTF_MODE_TRIANGLES;
+        primitive.attributes["POSITION"] = addAccessor(&position, nullptr, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
+        model.accessors.back().minValues = low;
+        model.accessors.back().maxValues = high;
+        primitive.attributes["NORMAL"] = addAccessor(&normal, nullptr, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
+        if (colours) primitive.attributes["COLOR_0"] = addAccessor(&colour, nullptr, 4, TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
+        if (writeTexcoords)
+            primitive.attributes["TEXCOORD_0"] = addAccessor(&uv, nullptr, 2, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
+        primitive.indices = addAccessor(nullptr, &indices, 1, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+        tinygltf::Mesh gltfMesh;
+        gltfMesh.name = groups.size() > 1 ? mesh.groupNames[static_cast<size_t>(group)] : std::string("mesh");
+        gltfMesh.primitives.push_back(primitive);
+        model.meshes.push_back(gltfMesh);
+        tinygltf::Node node;
+        node.mesh = static_cast<int>(model.meshes.size()) - 1;
+        node.name = gltfMesh.name;
+        model.nodes.push_back(node);
+        scene.nodes.push_back(static_cast<int>(model.nodes.size()) - 1);
+        for (int v : vertices) local[static_cast<size_t>(v)] = -1;
+    }
+    model.scenes.push_back(scene);
+    model.defaultScene = 0;
+    std::ostringstream out;
+    tinygltf::TinyGLTF writer;
+    writer.WriteGltfSceneToStream(&model, out, !encoding.binary, encoding.binary);
+    return out.str();
+}
+
+}  // namespace
+
+Status loadMesh(const std::string& path, ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress) {
+    try {
+        MeshEncoding encoding;
+        if (Status s = meshEncodingForPath(path, encoding); !s) return s;
+        if (encoding.format == MeshFormat::Obj) {
+            ObjMesh mesh;
+            if (Status s = loadObj(path, mesh, warnings, progress); !s) return s;
+            mesh.loadedAs = encoding;
+            out = std::move(mesh);
+            return Status::success();
+        }
+        std::error_code ec;
+        if (std::filesystem::is_directory(path, ec)) return Status::error(path + ": is a folder, not a mesh file");
+        std::string bytes;
+        if (Status s = readTextFile(path, bytes); !s) return s;
+        if (progress && progress->cancel.load()) return Status::error(path + ": loading cancelled");
+        // A glTF may name its buffers as files beside it: assimp opens those through its own file system.
+        const bool fromFile = encoding.format == MeshFormat::Gltf;
+        return importWithAssimp(bytes, fromFile ? &path : nullptr, encoding.format, path, out, warnings, progress);
+    } catch (const std::bad_alloc&) {
+        return Status::error(path + ": not enough memory to load it");
+    } catch (const std::exception& e) {
+        return Status::error(path + ": " + e.what());
+    }
+}
+
+Status loadMeshFromMemory(const std::string& bytes, MeshFormat format, const std::string& displayName, ObjMesh& out,
+                          std::vector<std::string>* warnings) {
+    try {
+        if (format == MeshFormat::Obj) {
+            ObjMesh mesh;
+            if (Status s = loadObjFromText(bytes, displayName, "", mesh, warnings); !s) return s;
+            mesh.loadedAs = MeshEncoding{};
+            out = std::move(mesh);
+            return Status::success();
+        }
+        return importWithAssimp(bytes, nullptr, format, displayName, out, warnings, nullptr);
+    } catch (const std::bad_alloc&) {
+        return Status::error(displayName + ": not enough memory to load it");
+    } catch (const std::exception& e) {
+        return Status::error(displayName + ": " + e.what());
+    }
+}
+
+Status saveEncodingFor(const std::string& path, const ObjMesh& mesh, MeshEncoding& out) {
+    MeshEncoding encoding;
+    if (Status s = meshEncodingForPath(path, encoding); !s) return s;
+    // .gltf and .glb are one format with two encodings: the extension decides between them.
+    if (encoding.format == mesh.loadedAs.format && encoding.format != MeshFormat::Gltf) encoding = mesh.loadedAs;
+    out = encoding;
+    return Status::success();
+}
+
+Status serializeMesh(const std::string& path, const ObjMesh& mesh, const Positions& deformedPositions,
+                     const MeshEncoding& encoding, std::string& bytes, std::vector<std::string>* warnings) {
+    try {
+        if (encoding.format == MeshFormat::Obj) {
+            std::string text;
+            if (Status s = serializeObj(mesh, deformedPositions, text); !s) return Status::error(path + ": " + s.message);
+            bytes.swap(text);
+            return Status::success();
+        }
+        if (Status s = checkObjMesh(mesh); !s) return Status::error(path + ": " + s.message);
+        if (deformedPositions.rows() != mesh.positions.rows() || !deformedPositions.allFinite())
+            return Status::error(path + ": cannot write " + std::string(meshFormatName(encoding.format)) +
+                                 ": the positions do not match the mesh or are not finite");
+        std::vector<std::string> notes;
+        Texcoords texcoords;
+        bool writeTexcoords = false;
+        if (Status s = prepareSave(mesh, deformedPositions, encoding, texcoords, writeTexcoords, notes); !s)
+            return Status::error(path + ": " + s.message);
+        std::string out;
+        if (encoding.format == MeshFormat::Ply) {
+            out = writePly(mesh, deformedPositions, encoding, texcoords, writeTexcoords);
+        } else if (encoding.format == MeshFormat::Gltf) {
+            out = writeGltf(mesh, deformedPositions, encoding, texcoords, writeTexcoords);
+        } else {
+            aiScene scene;
+            buildStlScene(mesh, deformedPositions, scene);
+            Assimp::Exporter exporter;
+            const aiExportDataBlob* blob = exporter.ExportToBlob(&scene, encoding.binary ? "stlb" : "stl", 0);
+            if (!blob) return Status::error(path + ": the STL writer failed: " + exporter.GetErrorString());
+            out.assign(static_cast<const char*>(blob->data), blob->size);
+        }
+        if (out.empty()) return Status::error(path + ": the " + std::string(meshFormatName(encoding.format)) + " writer wrote nothing");
+        bytes.swap(out);
+        if (warnings)
+            for (const std::string& note : notes) warnings->push_back(path + ": " + note);
+        return Status::success();
+    } catch (const std::bad_alloc&) {
+        return Status::error(path + ": not enough memory to save");
+    } catch (const std::exception& e) {
+        return Status::error(path + ": " + e.what());
+    }
+}
+
+Status saveMesh(const std::string& path, const ObjMesh& mesh, const Positions& deformedPositions,
+                std::vector<std::string>* warnings) {
+    MeshEncoding encoding;
+    if (Status s = saveEncodingFor(path, mesh, encoding); !s) return s;
+    std::string bytes;
+    if (Status s = serializeMesh(path, mesh, deformedPositions, encoding, bytes, warnings); !s) return s;
+    return writeFileAtomically(path, bytes);
+}
+
+Status saveRefinedMesh(const std::string& path, const ObjMesh& mesh, const std::vector<core::EdgeSplit>& splits,
+                       const Positions& deformedPositions, std::vector<std::string>* warnings) {
+    if (splits.empty()) return saveMesh(path, mesh, deformedPositions, warnings);
+    ObjMesh refined;
+    if (Status s = refineObjMesh(mesh, splits, refined); !s) return Status::error(path + ": " + s.message);
+    return saveMesh(path, refined, deformedPositions, warnings);
+}
+
+}  // namespace sculpt::io

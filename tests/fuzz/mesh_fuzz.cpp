@@ -1,0 +1,72 @@
+// Fuzz target for the PLY, STL and glTF readers (io/mesh_file.h, through assimp) and the writers behind them.
+// The format is picked from the bytes the way a misnamed file would meet it: "ply" -> PLY, "glTF" or "{" ->
+// glTF, anything else -> STL (whose reader takes any bytes that are not another format). Any input either
+// loads into a consistent mesh or fails with a message naming the file, leaving the output untouched; what
+// loads must save in every encoding and load back with the same vertices (PLY and GLB: the same count and
+// the positions rounded to float; STL: the same triangles).
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "io/mesh_file.h"
+
+namespace {
+
+[[noreturn]] void fail(const char* what, const std::string& detail) {
+    std::fprintf(stderr, "mesh_fuzz invariant broken: %s\n%s\n", what, detail.c_str());
+    std::abort();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    using namespace sculpt::io;
+    const std::string bytes(reinterpret_cast<const char*>(data), size);
+    MeshFormat format = MeshFormat::Stl;
+    std::string name = "fuzz.stl";
+    if (bytes.compare(0, 3, "ply") == 0) {
+        format = MeshFormat::Ply;
+        name = "fuzz.ply";
+    } else if (bytes.compare(0, 4, "glTF") == 0 || bytes.compare(0, 1, "{") == 0) {
+        format = MeshFormat::Gltf;
+        name = "fuzz.gltf";
+    }
+    ObjMesh mesh;
+    std::vector<std::string> warnings;
+    const sculpt::Status loaded = loadMeshFromMemory(bytes, format, name, mesh, &warnings);
+    if (!loaded) {
+        if (loaded.message.rfind(name + ": ", 0) != 0) fail("error message does not name the file", loaded.message);
+        if (mesh.positions.size() != 0 || mesh.faceStart.size() != 0) fail("out was modified on failure", loaded.message);
+        return 0;
+    }
+    if (sculpt::Status s = checkObjMesh(mesh); !s) fail("loaded mesh is inconsistent", s.message);
+    if (!mesh.positions.allFinite()) fail("non-finite position loaded", name);
+    for (const std::string& w : warnings)
+        if (w.rfind(name + ": ", 0) != 0) fail("warning does not name the file", w);
+
+    const MeshEncoding encodings[] = {{MeshFormat::Ply, false, false}, {MeshFormat::Ply, true, false},
+                                      {MeshFormat::Ply, true, true},   {MeshFormat::Stl, false, false},
+                                      {MeshFormat::Stl, true, false},  {MeshFormat::Gltf, true, false}};
+    for (const MeshEncoding& encoding : encodings) {
+        const std::string path = encoding.format == MeshFormat::Ply ? "out.ply" : encoding.format == MeshFormat::Stl ? "out.stl" : "out.glb";
+        std::string written;
+        const sculpt::Status saved = serializeMesh(path, mesh, mesh.positions, encoding, written);
+        if (!saved) {
+            // Positions outside float's range are the one refusal a loaded (float) mesh cannot meet.
+            fail("a loaded mesh could not be saved", saved.message);
+        }
+        ObjMesh back;
+        const sculpt::Status reread = loadMeshFromMemory(written, encoding.format, path, back);
+        if (!reread) fail("a saved mesh did not load back", meshEncodingText(encoding) + ": " + reread.message);
+        if (encoding.format == MeshFormat::Stl) {
+            if (back.triangles.rows() != mesh.triangles.rows()) fail("STL round trip changed the triangle count", name);
+            continue;
+        }
+        if (back.positions.rows() != mesh.positions.rows()) fail("round trip changed the vertex count", meshEncodingText(encoding));
+        if (encoding.format == MeshFormat::Ply && back.positions != mesh.positions.cast<float>().cast<double>())
+            fail("PLY round trip changed positions or their order", meshEncodingText(encoding));
+    }
+    return 0;
+}
