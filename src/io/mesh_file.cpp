@@ -26,7 +26,6 @@
 #include <limits>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <new>
 #include <sstream>
 #include <unordered_map>
@@ -35,6 +34,7 @@
 
 #include "core/vertex_normals.h"
 #include "io/atomic_file.h"
+#include "io/isolated_call.h"
 #include "io/obj_refine.h"
 #include "io/script_json.h"
 
@@ -44,28 +44,25 @@ namespace {
 
 // --- Reading -------------------------------------------------------------------------------------------------
 
-// Forwards assimp's progress to an ObjLoadProgress and stops the import once cancel is set.
+// Forwards assimp's progress (0..1) to the caller's process, at most every 1%.
 class ProgressForwarder : public Assimp::ProgressHandler {
 public:
-    explicit ProgressForwarder(ObjLoadProgress* progress) : progress_(progress) {}
+    explicit ProgressForwarder(IsolatedChannel& channel) : channel_(channel) {}
     bool Update(float percentage) override {
-        if (!progress_) return true;
-        if (percentage >= 0.0f) {
-            const float f = std::min(0.9f, 0.9f * percentage);
-            if (f > progress_->fraction.load()) progress_->fraction = f;
+        if (percentage >= last_ + 0.01f) {
+            last_ = percentage;
+            channel_.progress(std::min(0.9f, 0.9f * percentage));
         }
-        return !progress_->cancel.load();
+        return true;
     }
 
 private:
-    ObjLoadProgress* progress_;
+    IsolatedChannel& channel_;
+    float last_ = 0.0f;
 };
 
 // assimp's warnings and errors during one import (it skips bad indices, unknown chunks... and only logs it),
-// collected so the load can pass them on: nothing is dropped without a word. assimp's logger is one global
-// object, so imports take turns (kLoggerMutex).
-std::mutex kLoggerMutex;
-
+// collected so the load can pass them on: nothing is dropped without a word.
 class CollectedLog : public Assimp::LogStream {
 public:
     void write(const char* message) override {
@@ -369,24 +366,176 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
                              (vertexTotal > 0 ? " (" + std::to_string(vertexTotal) + " points: a point cloud is not a surface)"
                                               : std::string()));
 
-    if (stl) weldIdenticalPositions(mesh);
+    out = std::move(mesh);
+    return Status::success();
+}
+
+// The part of a load that runs in the caller's process, on what sceneToMesh made (faces, no triangles yet):
+// STL welding, the unused-vertex note, triangulation and the final consistency check.
+Status finishMesh(ObjMesh& mesh, const MeshEncoding& encoding, const std::string& name, std::vector<std::string>& notes) {
+    if (encoding.format == MeshFormat::Stl) weldIdenticalPositions(mesh);
     std::vector<char> used(static_cast<size_t>(mesh.positions.rows()), 0);
-    for (int c : mesh.cornerVertex) used[static_cast<size_t>(c)] = 1;
+    for (int c : mesh.cornerVertex)
+        if (c >= 0 && c < mesh.positions.rows()) used[static_cast<size_t>(c)] = 1;
     const long long unused = std::count(used.begin(), used.end(), 0);
     if (unused > 0) notes.push_back(std::to_string(unused) + " vertices are used by no face (kept, not deformed by edits of faces)");
-
+    mesh.triangles.resize(0, 3);
+    mesh.triangleFace.clear();
+    mesh.loadedAs = encoding;
+    // Checked before triangulating (which trusts the faces), then again with the triangles.
+    if (Status s = checkObjMesh(mesh); !s) return Status::error(name + ": " + s.message);
     const ObjTriangulationReport triangulation = triangulateObjFaces(mesh);
     if (triangulation.fannedFaces > 0)
         notes.push_back(std::to_string(triangulation.fannedFaces) + " face(s) could not be triangulated exactly (" +
                         triangulation.firstReason + ", face " + std::to_string(triangulation.firstFannedFace) +
                         "): drawn as a fan");
-    mesh.loadedAs = encoding;
     if (Status s = checkObjMesh(mesh); !s) return Status::error(name + ": " + s.message);
-    out = std::move(mesh);
     return Status::success();
 }
 
-// Reads bytes (or, for a .gltf with separate buffers, the file at path) through assimp.
+// What the reader process sends back: its verdict, its notes and the mesh without triangles. Plain bytes in
+// this program's own layout (both ends run the same binary).
+class PayloadWriter {
+public:
+    template <typename T>
+    void pod(const T& value) {
+        bytes.append(reinterpret_cast<const char*>(&value), sizeof value);
+    }
+    template <typename T>
+    void array(const T* data, size_t count) {
+        pod(static_cast<uint64_t>(count));
+        if (count > 0) bytes.append(reinterpret_cast<const char*>(data), count * sizeof(T));
+    }
+    void text(const std::string& s) { array(s.data(), s.size()); }
+    void texts(const std::vector<std::string>& list) {
+        pod(static_cast<uint64_t>(list.size()));
+        for (const std::string& s : list) text(s);
+    }
+    template <typename T>
+    void ints(const std::vector<T>& v) { array(v.data(), v.size()); }
+    template <typename Matrix>
+    void matrix(const Matrix& m) {
+        pod(static_cast<int64_t>(m.rows()));
+        pod(static_cast<int64_t>(m.cols()));
+        array(m.data(), static_cast<size_t>(m.size()));
+    }
+    std::string bytes;
+};
+
+class PayloadReader {
+public:
+    explicit PayloadReader(const std::string& bytes) : bytes_(bytes) {}
+    template <typename T>
+    bool pod(T& value) {
+        if (bytes_.size() - at_ < sizeof value) return false;
+        std::memcpy(&value, bytes_.data() + at_, sizeof value);
+        at_ += sizeof value;
+        return true;
+    }
+    template <typename T>
+    bool array(std::vector<T>& out) {
+        uint64_t count = 0;
+        if (!pod(count) || count > (bytes_.size() - at_) / sizeof(T)) return false;
+        out.resize(count);
+        if (count > 0) std::memcpy(out.data(), bytes_.data() + at_, count * sizeof(T));
+        at_ += count * sizeof(T);
+        return true;
+    }
+    bool text(std::string& s) {
+        std::vector<char> chars;
+        if (!array(chars)) return false;
+        s.assign(chars.begin(), chars.end());
+        return true;
+    }
+    bool texts(std::vector<std::string>& list) {
+        uint64_t count = 0;
+        if (!pod(count) || count > bytes_.size() - at_) return false;
+        list.resize(count);
+        for (std::string& s : list)
+            if (!text(s)) return false;
+        return true;
+    }
+    template <typename Matrix>
+    bool matrix(Matrix& m) {
+        int64_t rows = 0, cols = 0;
+        std::vector<typename Matrix::Scalar> values;
+        if (!pod(rows) || !pod(cols) || !array(values) || rows < 0 || cols < 0 ||
+            static_cast<uint64_t>(rows) * static_cast<uint64_t>(cols) != values.size())
+            return false;
+        constexpr int64_t fixedCols = Matrix::ColsAtCompileTime;  // Eigen::Dynamic (-1) when not fixed
+        if (fixedCols != Eigen::Dynamic && cols != fixedCols && rows > 0) return false;
+        m.resize(rows, fixedCols != Eigen::Dynamic ? fixedCols : cols);
+        if (!values.empty()) std::memcpy(m.data(), values.data(), values.size() * sizeof(typename Matrix::Scalar));
+        return true;
+    }
+    bool done() const { return at_ == bytes_.size(); }
+
+private:
+    const std::string& bytes_;
+    size_t at_ = 0;
+};
+
+std::string encodePayload(const Status& status, const std::vector<std::string>& notes, const ObjMesh& mesh) {
+    PayloadWriter w;
+    w.pod(static_cast<uint8_t>(status.ok));
+    w.text(status.message);
+    w.texts(notes);
+    w.matrix(mesh.positions);
+    w.ints(mesh.faceStart);
+    w.ints(mesh.cornerVertex);
+    w.ints(mesh.cornerTexcoord);
+    w.ints(mesh.cornerNormal);
+    w.matrix(mesh.texcoords);
+    w.ints(mesh.faceGroup);
+    w.texts(mesh.groupNames);
+    w.ints(mesh.faceMaterial);
+    w.texts(mesh.materialNames);
+    w.matrix(mesh.vertexColors);
+    w.matrix(mesh.vertexNormals);
+    return std::move(w.bytes);
+}
+
+bool decodePayload(const std::string& bytes, Status& status, std::vector<std::string>& notes, ObjMesh& mesh) {
+    PayloadReader r(bytes);
+    uint8_t ok = 0;
+    const bool read = r.pod(ok) && r.text(status.message) && r.texts(notes) && r.matrix(mesh.positions) &&
+                      r.array(mesh.faceStart) && r.array(mesh.cornerVertex) && r.array(mesh.cornerTexcoord) &&
+                      r.array(mesh.cornerNormal) && r.matrix(mesh.texcoords) && r.array(mesh.faceGroup) &&
+                      r.texts(mesh.groupNames) && r.array(mesh.faceMaterial) && r.texts(mesh.materialNames) &&
+                      r.matrix(mesh.vertexColors) && r.matrix(mesh.vertexNormals) && r.done();
+    status.ok = ok != 0;
+    return read;
+}
+
+// The assimp part of a load, run in the reader process: the scene as a mesh without triangles (sceneToMesh), with
+// assimp's own warnings and errors in notes. assimp's logger is one global object: fine, this process does one
+// import and exits.
+Status readInThisProcess(const std::string& bytes, const std::string* path, const char* hint, MeshFormat format,
+                         const MeshEncoding& encoding, const std::string& name, IsolatedChannel& channel, ObjMesh& mesh,
+                         std::vector<std::string>& notes) {
+    CollectedLog log;
+    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+    Assimp::DefaultLogger::get()->attachStream(&log, Assimp::Logger::Warn | Assimp::Logger::Err);
+    Assimp::Importer importer;
+    ProgressForwarder forward(channel);
+    importer.SetProgressHandler(&forward);
+    const aiScene* scene = path != nullptr ? importer.ReadFile(*path, 0)
+                                           : importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint);
+    importer.SetProgressHandler(nullptr);
+    const size_t kShown = 5;
+    for (size_t i = 0; i < log.lines.size() && i < kShown; ++i) notes.push_back("assimp: " + log.lines[i]);
+    if (log.lines.size() > kShown) notes.push_back("assimp: " + std::to_string(log.lines.size() - kShown) + " more notes");
+    if (!scene) {
+        std::string why = importer.GetErrorString();
+        if (why.empty()) why = "assimp could not read it";
+        return Status::error(name + ": not a readable " + std::string(meshFormatName(format)) + " file: " + why);
+    }
+    if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
+        return Status::error(name + ": the " + std::string(meshFormatName(format)) + " file holds no complete mesh");
+    return sceneToMesh(*scene, encoding, name, mesh, notes);
+}
+
+// Reads bytes (or, for a glTF whose buffers may be files beside it, the file at path) through assimp.
 Status importWithAssimp(const std::string& bytes, const std::string* path, MeshFormat format, const std::string& name,
                         ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress) {
     MeshEncoding encoding{format, false, false};
@@ -412,38 +561,31 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
             break;
         case MeshFormat::Obj: return Status::error(name + ": OBJ is read by loadObj");
     }
-    std::lock_guard<std::mutex> lock(kLoggerMutex);
-    CollectedLog log;
-    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
-    Assimp::DefaultLogger::get()->attachStream(&log, Assimp::Logger::Warn | Assimp::Logger::Err);
-    struct LoggerReset {
-        CollectedLog& log;
-        ~LoggerReset() {
-            Assimp::DefaultLogger::get()->detachStream(&log, Assimp::Logger::Warn | Assimp::Logger::Err);
-            Assimp::DefaultLogger::kill();
-        }
-    } reset{log};
-    Assimp::Importer importer;
-    ProgressForwarder forward(progress);
-    importer.SetProgressHandler(&forward);
-    // Empty PLY/STL files and other degenerate input make some assimp readers throw; ReadFile catches its own.
-    const aiScene* scene = path != nullptr ? importer.ReadFile(*path, 0)
-                                           : importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint);
-    importer.SetProgressHandler(nullptr);
-    const size_t kShown = 5;
-    for (size_t i = 0; i < log.lines.size() && i < kShown; ++i) notes.push_back("assimp: " + log.lines[i]);
-    if (log.lines.size() > kShown) notes.push_back("assimp: " + std::to_string(log.lines.size() - kShown) + " more notes");
-    if (progress && progress->cancel.load()) return Status::error(name + ": loading cancelled");
-    if (!scene) {
-        std::string why = importer.GetErrorString();
-        if (why.empty()) why = "assimp could not read it";
-        return Status::error(name + ": not a readable " + std::string(meshFormatName(format)) + " file: " + why);
-    }
-    if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) {
-        return Status::error(name + ": the " + std::string(meshFormatName(format)) + " file holds no complete mesh");
-    }
+    // assimp crashes on some malformed files (a null dereference in its PLY header handling, found by
+    // tests/fuzz/mesh_fuzz) and may loop on others: it runs in a child process (isolated_call.h), which sends the
+    // mesh back; a crash or a hang costs an error message, not the program. The timeout allows 3 s plus 1 s per
+    // MB: 43 s for a 1M-vertex binary PLY of 40 MB, which reads in 0.7 s.
+    const std::string reader = "the " + std::string(meshFormatName(format)) + " reader (assimp)";
+    std::string payload;
+    const double timeoutSeconds = 3.0 + static_cast<double>(bytes.size()) / 1e6;
+    const Status isolated = runIsolated(
+        reader,
+        [&](IsolatedChannel& channel) {
+            std::vector<std::string> childNotes;
+            ObjMesh mesh;
+            const Status status = readInThisProcess(bytes, path, hint, format, encoding, name, channel, mesh, childNotes);
+            channel.result(encodePayload(status, childNotes, mesh));
+        },
+        timeoutSeconds, progress, payload);
+    if (!isolated) return Status::error(name + ": " + isolated.message);
+    Status status;
+    std::vector<std::string> childNotes;
     ObjMesh mesh;
-    if (Status s = sceneToMesh(*scene, encoding, name, mesh, notes); !s) return s;
+    if (!decodePayload(payload, status, childNotes, mesh))
+        return Status::error(name + ": " + reader + " sent back a damaged result");
+    notes.insert(notes.end(), childNotes.begin(), childNotes.end());
+    if (!status) return status;
+    if (Status s = finishMesh(mesh, encoding, name, notes); !s) return s;
     if (progress && progress->cancel.load()) return Status::error(name + ": loading cancelled");
     out = std::move(mesh);
     if (warnings)

@@ -15,6 +15,9 @@ build="$root/build-fuzz"
 CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build" -DSCULPT_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" --target obj_fuzz mesh_fuzz -j2
 
+# Leaks inside third-party libraries (assimp's, on malformed files) are suppressed, as in CI's sanitizer run.
+export LSAN_OPTIONS="suppressions=$root/.ci/lsan.supp:print_suppressions=0"
+
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
