@@ -37,8 +37,7 @@
 #include "app/screenshot_hook.h"
 #include "core/script.h"
 #include "core/session.h"
-#include "io/obj_mesh.h"
-#include "io/obj_refine.h"
+#include "io/mesh_file.h"
 #include "io/script_json.h"
 
 namespace py = pybind11;
@@ -53,17 +52,20 @@ struct SculptError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-// ---- mesh files: one place each, so other formats (io/mesh_file.h) can take over ----
+// ---- mesh files: the command line's reader and writer (io/mesh_file.h), any format by its extension ----
 
-// Reads the mesh file at path (OBJ). Errors name the file and line; warnings name what is kept but not used.
+// Reads the mesh file at path (.obj .ply .stl .gltf .glb). Errors name the file and what is wrong; warnings name
+// what is kept but not used, or not kept.
 Status loadMeshFile(const std::string& path, io::ObjMesh& mesh, std::vector<std::string>& warnings) {
-    return io::loadObj(path, mesh, &warnings);
+    return io::loadMesh(path, mesh, &warnings);
 }
 
-// Writes `mesh` with the session's current positions (#V x 3, the rows after any refinement) to path,
-// atomically: the refined triangles where the engine split edges, the file's own text otherwise.
-Status saveMeshFile(const std::string& path, const io::ObjMesh& mesh, const core::Session& session) {
-    return io::saveRefinedObj(path, mesh, session.appliedSplits(), session.positions());
+// Writes `mesh` with the session's current positions (#V x 3, the rows after any refinement) to path in the
+// format of its extension, atomically: the refined triangles where the engine split edges; an OBJ loaded from
+// a file keeps its own text. warnings: what the format cannot hold.
+Status saveMeshFile(const std::string& path, const io::ObjMesh& mesh, const core::Session& session,
+                    std::vector<std::string>& warnings) {
+    return io::saveRefinedMesh(path, mesh, session.appliedSplits(), session.positions(), &warnings);
 }
 
 // ---- Python values to script JSON ----
@@ -513,12 +515,16 @@ or {"op": "refine", "tolerance": 0.002}. Returns its report. A "screenshot" op u
         .def(
             "save",
             [](const PySession& s, const std::string& path) {
-                if (sculpt::Status st = sp::saveMeshFile(path, s.mesh, s.session); !st) throw SculptError("save: " + st.message);
+                std::vector<std::string> warnings;
+                if (sculpt::Status st = sp::saveMeshFile(path, s.mesh, s.session, warnings); !st) throw SculptError("save: " + st.message);
+                return warnings;
             },
             py::arg("path"),
-            R"doc(Writes the current shape to path (OBJ) as the command line's --output does: a loaded file keeps
-its text with only moved vertices and changed normals rewritten; arrays are written from the arrays.
-Atomic: on failure (sculpt.Error) the file is left as it was.)doc")
+            R"doc(Writes the current shape to path as the command line's --output does, in the format of the
+extension (.obj .ply .stl .gltf .glb). A loaded OBJ keeps its text with only moved vertices and changed
+normals rewritten; PLY, STL and glTF store single precision. Returns the warnings (a list of str) naming
+what the format cannot hold (groups in PLY, colours in STL...). Atomic: on failure (sculpt.Error) the file
+is left as it was.)doc")
         .def(
             "screenshot",
             [](const PySession& s, const std::string& path, py::handle size, py::handle camera, py::handle overlays,
@@ -547,7 +553,8 @@ file cannot be written.)doc");
         },
         py::arg("path"), py::kw_only(), py::arg("lattice") = py::none(), py::arg("injectivity") = py::none(),
         py::arg("track_jacobian") = false,
-        R"doc(A session on the mesh file at path (OBJ), as the command line's --input.
+        R"doc(A session on the mesh file at path (.obj .ply .stl .gltf .glb, the format from the extension), as the
+command line's --input.
 
 lattice, injectivity, track_jacobian: as Session(V, F, ...). Raises sculpt.Error with the file and line of
 what is wrong in the file; warnings go to Session.warnings.)doc");
