@@ -13,6 +13,7 @@
 #include "io/script_json.h"
 #include "mesh_fixtures.h"
 #include "test_support.h"
+#include "../test_scale.h"
 
 using namespace sculpt;
 using namespace sculpt::core;
@@ -55,7 +56,8 @@ LatticeTool sphereTool() {
 
 TEST_CASE("effd session: drags on a frozen cylinder meet their targets and undo restores the mesh", "[core][net][effd]") {
     std::mt19937 rng(50);
-    for (int trial = 0; trial < 6; ++trial) {
+    const int trials = test::scaledCount(6, 2);
+    for (int trial = 0; trial < trials; ++trial) {
         Session session = sphereSession(3);
         const Positions original = session.positions();
         OpReport report;

@@ -14,6 +14,7 @@
 #include "core/triangle_pair.h"
 #include "mesh_fixtures.h"
 #include "test_support.h"
+#include "../test_scale.h"
 
 using namespace sculpt;
 using namespace sculpt::core;
@@ -101,7 +102,8 @@ TEST_CASE("self_intersection: new pairs after a move match the brute force, over
     index.build(positions, triangles);
     std::set<std::pair<int, int>> current;
     int newCount = 0;
-    for (int move = 0; move < 150; ++move) {
+    const int moves = test::scaledCount(150, 60);
+    for (int move = 0; move < moves; ++move) {
         const Positions before = positions;
         std::vector<int> moved;
         const int count = test::randomInt(rng, 1, 6);

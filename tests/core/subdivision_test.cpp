@@ -8,6 +8,7 @@
 #include "core/session.h"
 #include "mesh_fixtures.h"
 #include "test_support.h"
+#include "../test_scale.h"
 
 using namespace sculpt;
 using namespace sculpt::core;
@@ -161,7 +162,8 @@ TEST_CASE("subdivision: 1000 random operations undo to the original and redo to 
     std::vector<int> inside;
     for (Eigen::Index v = 0; v < positions.rows(); ++v)
         if (positions(v, 2) > 0.05) inside.push_back(static_cast<int>(v));
-    for (int op = 0; op < 1000; ++op) {
+    const int operations = test::scaledCount(1000, 200);
+    for (int op = 0; op < operations; ++op) {
         OpReport report;
         const int kind = test::randomInt(rng, 0, 9);
         const double size = kind == 9 ? 0.8 : 0.08;  // some large moves that must be subdivided or rejected
