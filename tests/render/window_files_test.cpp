@@ -27,6 +27,7 @@
 #include "core/script.h"
 #include "gl_test_support.h"
 #include "offscreen_window.h"
+#include "io/mesh_file.h"
 #include "io/obj_mesh.h"
 #include "io/png_image.h"
 #include "io/script_json.h"
@@ -291,6 +292,47 @@ TEST_CASE("window files: save, reload, overwrite only after Replace, failures ke
     app::redoCommand(state);
     files.poll(state);
     CHECK(state.modified);
+}
+
+TEST_CASE("window files: a PLY is dropped, sculpted and saved as STL and GLB like an OBJ; other files are refused by name",
+          "[gl]") {
+    TempFolder folder;
+    io::ObjMesh obj;
+    REQUIRE(io::loadObj(defaultMesh(), obj).ok);
+    const std::string ply = folder.file("scan.ply");
+    REQUIRE(io::saveMesh(ply, obj, obj.positions).ok);
+    app::SculptApp sculptApp;
+    app::AppState& state = sculptApp.state();
+    app::FileCommands& files = sculptApp.files();
+    sculptApp.onDropFiles({folder.file("scene.fbx")});
+    CHECK(state.statusIsError);
+    CHECK(state.status.find(".obj .ply .stl .gltf .glb") != std::string::npos);
+    sculptApp.onDropFiles({ply});
+    files.finishJob(state);
+    INFO(state.status);
+    REQUIRE(state.session.hasMesh());
+    CHECK(state.session.positions() == obj.positions.cast<float>().cast<double>());  // PLY holds floats
+    CHECK(sculptApp.windowTitle() == "DMFFD Sculpt - scan.ply");
+    sculptApp.onFramebufferSize({kWidth, kHeight});
+    app::frameMesh(state);
+    dragUp(sculptApp);
+    files.poll(state);
+    REQUIRE(state.modified);
+    for (const char* name : {"sculpted.stl", "sculpted.glb"}) {
+        sculptApp.onKey(ctrlKey(app::Key::S, true), {});
+        REQUIRE(files.dialog().isOpen());
+        REQUIRE(files.dialog().submit(name));
+        files.dialogAccepted(state);
+        files.finishJob(state);
+        INFO(state.status);
+        CHECK_FALSE(state.statusIsError);
+        CHECK_FALSE(state.modified);
+        io::ObjMesh back;
+        REQUIRE(io::loadMesh(folder.file(name), back).ok);
+        CHECK(back.triangles.rows() == state.session.triangles().rows());
+        if (std::string(name) == "sculpted.glb") CHECK(back.positions == state.session.positions().cast<float>().cast<double>());
+        CHECK(sculptApp.windowTitle() == std::string("DMFFD Sculpt - ") + name);
+    }
 }
 
 TEST_CASE("window files: after Save as the title, the sidebar header and the save prompt name the new file", "[gl]") {
