@@ -216,7 +216,8 @@ Status collectPlacements(const aiScene& scene, const aiNode& node, const aiMatri
 
 bool isIdentity(const aiMatrix4x4& m) { return m.IsIdentity(); }
 
-// Welds vertices at bit-identical positions (STL stores every facet's corners apart): first use keeps its number.
+// Welds vertices at identical positions (STL stores every facet's corners apart; -0 and 0 are one position): the
+// first use keeps its number.
 void weldIdenticalPositions(ObjMesh& mesh) {
     struct Key {
         double x, y, z;
@@ -237,8 +238,8 @@ void weldIdenticalPositions(ObjMesh& mesh) {
     Positions welded(n, 3);
     int count = 0;
     for (Eigen::Index v = 0; v < n; ++v) {
-        // note: +0.0 and -0.0 differ in bits; STL writers never produce -0.0 for a shared corner only on one side.
-        const Key key{mesh.positions(v, 0), mesh.positions(v, 1), mesh.positions(v, 2)};
+        // + 0.0 turns -0.0 into +0.0: a writer may print a shared corner as "-0" in one facet and "0" in another.
+        const Key key{mesh.positions(v, 0) + 0.0, mesh.positions(v, 1) + 0.0, mesh.positions(v, 2) + 0.0};
         const auto [it, inserted] = index.emplace(key, count);
         if (inserted) welded.row(count++) = mesh.positions.row(v);
         remap[static_cast<size_t>(v)] = it->second;
@@ -394,30 +395,32 @@ Status finishMesh(ObjMesh& mesh, const MeshEncoding& encoding, const std::string
 }
 
 // What the reader process sends back: its verdict, its notes and the mesh without triangles. Plain bytes in
-// this program's own layout (both ends run the same binary).
+// this program's own layout (both ends run the same binary). The writer and the reader share one list of the
+// fields (payloadFields), so the two directions cannot drift apart.
 class PayloadWriter {
 public:
     template <typename T>
-    void pod(const T& value) {
+    bool pod(const T& value) {
         bytes.append(reinterpret_cast<const char*>(&value), sizeof value);
+        return true;
     }
     template <typename T>
-    void array(const T* data, size_t count) {
-        pod(static_cast<uint64_t>(count));
-        if (count > 0) bytes.append(reinterpret_cast<const char*>(data), count * sizeof(T));
+    bool array(const std::vector<T>& v) {
+        pod(static_cast<uint64_t>(v.size()));
+        if (!v.empty()) bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+        return true;
     }
-    void text(const std::string& s) { array(s.data(), s.size()); }
-    void texts(const std::vector<std::string>& list) {
+    bool text(const std::string& s) { return array(std::vector<char>(s.begin(), s.end())); }
+    bool texts(const std::vector<std::string>& list) {
         pod(static_cast<uint64_t>(list.size()));
         for (const std::string& s : list) text(s);
+        return true;
     }
-    template <typename T>
-    void ints(const std::vector<T>& v) { array(v.data(), v.size()); }
     template <typename Matrix>
-    void matrix(const Matrix& m) {
+    bool matrix(const Matrix& m) {
         pod(static_cast<int64_t>(m.rows()));
         pod(static_cast<int64_t>(m.cols()));
-        array(m.data(), static_cast<size_t>(m.size()));
+        return array(std::vector<typename Matrix::Scalar>(m.data(), m.data() + m.size()));
     }
     std::string bytes;
 };
@@ -475,34 +478,28 @@ private:
     size_t at_ = 0;
 };
 
+// The payload after the verdict and notes, in order (Mesh: ObjMesh to read into, const ObjMesh to write).
+template <typename Channel, typename Mesh>
+bool payloadFields(Channel& c, Mesh& mesh) {
+    return c.matrix(mesh.positions) && c.array(mesh.faceStart) && c.array(mesh.cornerVertex) &&
+           c.array(mesh.cornerTexcoord) && c.array(mesh.cornerNormal) && c.matrix(mesh.texcoords) &&
+           c.array(mesh.faceGroup) && c.texts(mesh.groupNames) && c.array(mesh.faceMaterial) &&
+           c.texts(mesh.materialNames) && c.matrix(mesh.vertexColors) && c.matrix(mesh.vertexNormals);
+}
+
 std::string encodePayload(const Status& status, const std::vector<std::string>& notes, const ObjMesh& mesh) {
     PayloadWriter w;
     w.pod(static_cast<uint8_t>(status.ok));
     w.text(status.message);
     w.texts(notes);
-    w.matrix(mesh.positions);
-    w.ints(mesh.faceStart);
-    w.ints(mesh.cornerVertex);
-    w.ints(mesh.cornerTexcoord);
-    w.ints(mesh.cornerNormal);
-    w.matrix(mesh.texcoords);
-    w.ints(mesh.faceGroup);
-    w.texts(mesh.groupNames);
-    w.ints(mesh.faceMaterial);
-    w.texts(mesh.materialNames);
-    w.matrix(mesh.vertexColors);
-    w.matrix(mesh.vertexNormals);
+    payloadFields(w, mesh);
     return std::move(w.bytes);
 }
 
 bool decodePayload(const std::string& bytes, Status& status, std::vector<std::string>& notes, ObjMesh& mesh) {
     PayloadReader r(bytes);
     uint8_t ok = 0;
-    const bool read = r.pod(ok) && r.text(status.message) && r.texts(notes) && r.matrix(mesh.positions) &&
-                      r.array(mesh.faceStart) && r.array(mesh.cornerVertex) && r.array(mesh.cornerTexcoord) &&
-                      r.array(mesh.cornerNormal) && r.matrix(mesh.texcoords) && r.array(mesh.faceGroup) &&
-                      r.texts(mesh.groupNames) && r.array(mesh.faceMaterial) && r.texts(mesh.materialNames) &&
-                      r.matrix(mesh.vertexColors) && r.matrix(mesh.vertexNormals) && r.done();
+    const bool read = r.pod(ok) && r.text(status.message) && r.texts(notes) && payloadFields(r, mesh) && r.done();
     status.ok = ok != 0;
     return read;
 }

@@ -10,7 +10,7 @@
 //     normals and texture coordinates. Vertex properties and elements assimp does not read (quality,
 //     confidence, edges...) are named in a warning; a file storing positions as double is read in single
 //     precision (assimp's), with a warning.
-//   - STL, ASCII or binary: facets welded on load (corners at bit-identical positions become one vertex,
+//   - STL, ASCII or binary: facets welded on load (corners at identical positions, -0 = 0, become one vertex,
 //     numbered in order of first use) so the surface is one connected mesh; each `solid` becomes a group.
 //   - glTF 2.0 (.gltf with its buffers in files or data URIs, or .glb): every triangle primitive of every mesh placed by a node of the
 //     scene, node transforms applied (the hierarchy is flattened, which the load warns about), one group per

@@ -230,6 +230,21 @@ TEST_CASE("mesh formats: STL is welded on load into the mesh that was written, f
     }
 }
 
+TEST_CASE("mesh formats: STL corners written as -0 in one facet and 0 in another are one vertex", "[io][formats]") {
+    const std::string stl =
+        "solid two\n"
+        " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\n"
+        " facet normal 0 0 1\n  outer loop\n   vertex 1 0 0\n   vertex 1 1 -0\n   vertex -0 1 0\n  endloop\n endfacet\n"
+        "endsolid two\n";
+    ObjMesh mesh;
+    const Status s = loadMeshFromMemory(stl, MeshFormat::Stl, "zero.stl", mesh);
+    INFO(s.message);
+    REQUIRE(s.ok);
+    CHECK(mesh.vertexCount() == 4);
+    CHECK(mesh.triangles(1, 0) == 1);
+    CHECK(mesh.triangles(1, 2) == 2);
+}
+
 TEST_CASE("mesh formats: glTF and GLB keep vertices, triangles, colours, normals, texture coordinates and groups",
           "[io][formats]") {
     TempFolder folder("gltf_test");
