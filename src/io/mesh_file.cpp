@@ -272,8 +272,16 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
     if (gltf && scene.mNumMaterials > 0)
         notes.push_back(std::to_string(scene.mNumMaterials) + " material(s) and their textures are not kept");
 
-    size_t vertexTotal = 0;
-    for (const Placement& p : placements) vertexTotal += p.mesh->mNumVertices;
+    size_t vertexTotal = 0, surfaceFaces = 0;
+    for (const Placement& p : placements) {
+        vertexTotal += p.mesh->mNumVertices;
+        for (unsigned f = 0; f < p.mesh->mNumFaces; ++f) surfaceFaces += p.mesh->mFaces[f].mNumIndices >= 3;
+    }
+    // Said first: a point cloud's points are not checked (assimp misreads some, such as CGAL's oni.ply).
+    if (surfaceFaces == 0)
+        return Status::error(name + ": the file has no faces" +
+                             (vertexTotal > 0 ? " (" + std::to_string(vertexTotal) + " points: a point cloud is not a surface)"
+                                              : std::string()));
     if (vertexTotal > static_cast<size_t>(INT32_MAX / 4))
         return Status::error(name + ": " + std::to_string(vertexTotal) + " vertices are more than this program handles");
 
@@ -362,11 +370,6 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
     if (extraSets > 0) notes.push_back("only the first colour and texture coordinate sets are kept");
     if (bones > 0) notes.push_back("the skin (" + std::to_string(bones) + " bone(s)) is not kept");
     if (morphs > 0) notes.push_back(std::to_string(morphs) + " morph target(s) are not kept");
-    if (mesh.faceCount() == 0)
-        return Status::error(name + ": the file has no faces" +
-                             (vertexTotal > 0 ? " (" + std::to_string(vertexTotal) + " points: a point cloud is not a surface)"
-                                              : std::string()));
-
     out = std::move(mesh);
     return Status::success();
 }

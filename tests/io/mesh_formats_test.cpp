@@ -506,6 +506,78 @@ TEST_CASE("mesh formats: the PLY, STL and glTF files of assimp-testmodels", "[io
 
 namespace sculpt::io {
 
+// CGAL's data (Debian's libcgal-demo ships it as data.tar.gz): meshes and point clouds written by CGAL, with
+// double-precision PLY properties, face colours, edges, and a binary STL of a scanned pig.
+TEST_CASE("mesh formats: the meshes and point clouds of CGAL's data", "[io][formats]") {
+    const std::string archive = "/usr/share/doc/libcgal-dev/data.tar.gz";
+    if (!std::filesystem::exists(archive)) FAIL("libcgal-demo is not installed (.ci/install-deps installs it)");
+    TempFolder folder("formats_cgal");
+    REQUIRE(std::system(("tar -xzf " + archive + " -C '" + folder.path + "' data/meshes data/points_3").c_str()) == 0);
+    const std::string meshes = folder.file("data/meshes/");
+    struct Expect {
+        std::string file;
+        int vertices, triangles;  // -1: refused
+    };
+    for (const Expect& e : std::vector<Expect>{{"sphere.ply", 162, 320}, {"sphere.stl", 162, 320}, {"pig.stl", 8642, 16848},
+                                               {"colored_tetra.ply", 4, 4}, {"b9.ply", -1, -1}}) {
+        INFO(e.file);
+        ObjMesh mesh;
+        std::vector<std::string> warnings;
+        const Status s = loadMesh(meshes + e.file, mesh, &warnings);
+        INFO(s.message);
+        if (e.vertices < 0) {
+            CHECK_FALSE(s.ok);
+            CHECK(s.message.find("a point cloud is not a surface") != std::string::npos);
+            continue;
+        }
+        REQUIRE(s.ok);
+        CHECK(mesh.vertexCount() == e.vertices);
+        CHECK(mesh.triangles.rows() == e.triangles);
+        for (const char* out : {"r.ply", "r.stl", "r.glb"}) {
+            REQUIRE(saveMesh(folder.file(out), mesh, mesh.positions).ok);
+            ObjMesh back;
+            REQUIRE(loadMesh(folder.file(out), back).ok);
+            CHECK(back.triangles.rows() == mesh.triangles.rows());
+            if (std::string(out) != "r.stl") CHECK(back.positions == asFloat(mesh.positions));
+        }
+    }
+    // What CGAL stores beyond positions and faces is named, not dropped in silence.
+    ObjMesh tetra;
+    std::vector<std::string> warnings;
+    REQUIRE(loadMesh(meshes + "colored_tetra.ply", tetra, &warnings).ok);
+    CHECK(tetra.vertexColors.rows() == 4);
+    CHECK(tetra.vertexNormals.rows() == 4);
+    const auto said = [&warnings](const std::string& what) {
+        return std::any_of(warnings.begin(), warnings.end(), [&](const std::string& w) { return w.find(what) != std::string::npos; });
+    };
+    CHECK(said("PLY element 'edge' (6) is not kept"));
+    CHECK(said("vertex property 'id' is not kept"));
+    CHECK(said("face property 'label' is not kept"));
+    CHECK(said("positions are stored as double and read in single precision"));
+    // The same sphere in PLY and STL: the same surface (STL welded in the order of first use).
+    ObjMesh ply, stl;
+    REQUIRE(loadMesh(meshes + "sphere.ply", ply).ok);
+    REQUIRE(loadMesh(meshes + "sphere.stl", stl).ok);
+    std::set<std::array<double, 3>> a, b;
+    for (Eigen::Index v = 0; v < ply.positions.rows(); ++v) a.insert({ply.positions(v, 0), ply.positions(v, 1), ply.positions(v, 2)});
+    for (Eigen::Index v = 0; v < stl.positions.rows(); ++v) b.insert({stl.positions(v, 0), stl.positions(v, 1), stl.positions(v, 2)});
+    CHECK(a.size() == 162);
+    CHECK(b.size() == 162);
+    CHECK(a == b);
+    // Point clouds (no faces) are refused as such, whatever their properties.
+    int clouds = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(folder.file("data/points_3"))) {
+        if (entry.path().extension() != ".ply") continue;
+        ObjMesh cloud;
+        const Status s = loadMesh(entry.path().string(), cloud);
+        INFO(entry.path() << ": " << s.message);
+        CHECK_FALSE(s.ok);
+        CHECK(s.message.find("point cloud is not a surface") != std::string::npos);
+        ++clouds;
+    }
+    CHECK(clouds >= 5);
+}
+
 // The fuzz seed corpus (tests/fuzz/corpus_mesh) and what the fuzzer found (tests/io/data/fuzz_regressions_mesh,
 // filled by tests/fuzz/run_fuzz.sh): each loads into a consistent mesh or fails with a message naming the file.
 TEST_CASE("mesh formats: fuzz corpus and regressions load cleanly or fail with a message", "[io][formats]") {
