@@ -12,6 +12,7 @@
 
 #include "app/cli_options.h"
 #include "app/headless.h"
+#include "io/mesh_file.h"
 #include "io/obj_mesh.h"
 
 namespace fs = std::filesystem;
@@ -176,4 +177,30 @@ TEST_CASE("headless: --save-session writes a script that replays to the same mes
     REQUIRE(session["ops"].size() == 6);  // every command, the undone drag and the undo included
     REQUIRE(session["ops"][3]["op"] == "undo");
     REQUIRE(session["ops"][0].contains("applied"));
+}
+
+TEST_CASE("headless: PLY in, glTF out, and a session that names the PLY replays to the same vertices", "[app]") {
+    TempDir dir;
+    writeText(dir.file("cube.obj"), cubeObj());
+    writeText(dir.file("empty.json"), R"({"ops": []})");
+    // The cube as a PLY (through the command line itself), then sculpted from the PLY into a GLB.
+    REQUIRE(run({"--headless", "--input", dir.file("cube.obj"), "--script", dir.file("empty.json"), "--output",
+                 dir.file("cube.ply")}) == app::kExitOk);
+    writeText(dir.file("ops.json"), R"({"lattice": {"resolution": [5,5,5], "padding": 0.2},
+      "ops": [ {"op": "drag_vertex", "vertex": 6, "target": [1.6, 1.4, 1.3]} ] })");
+    REQUIRE(run({"--headless", "--input", dir.file("cube.ply"), "--script", dir.file("ops.json"), "--output",
+                 dir.file("out.glb"), "--save-session", dir.file("session.json")}) == app::kExitOk);
+    const auto session = nlohmann::json::parse(readText(dir.file("session.json")));
+    REQUIRE(session["mesh"] == "cube.ply");
+    // Without --input the session's own mesh is loaded: the PLY.
+    REQUIRE(run({"--headless", "--script", dir.file("session.json"), "--output", dir.file("replayed.glb")}) == app::kExitOk);
+    CHECK(readText(dir.file("replayed.glb")) == readText(dir.file("out.glb")));
+    io::ObjMesh out;
+    REQUIRE(io::loadMesh(dir.file("out.glb"), out).ok);
+    CHECK(out.vertexCount() == 8);
+    CHECK((out.positions.row(6) - Eigen::RowVector3d(1.6, 1.4, 1.3)).norm() < 1e-6);  // the target, in float
+    // An output extension no format has is refused before any work, and nothing is written.
+    CHECK(run({"--headless", "--input", dir.file("cube.ply"), "--script", dir.file("ops.json"), "--output",
+               dir.file("out.fbx")}) == app::kExitBadInput);
+    CHECK_FALSE(fs::exists(dir.file("out.fbx")));
 }
