@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -35,6 +36,7 @@
 #include "core/vertex_normals.h"
 #include "io/atomic_file.h"
 #include "io/isolated_call.h"
+#include "io/obj_scan.h"
 #include "io/obj_refine.h"
 #include "io/script_json.h"
 
@@ -76,11 +78,100 @@ public:
     std::vector<std::string> lines;
 };
 
-// What a PLY header says, for the encoding and for warnings about what assimp does not read.
+// What a PLY header says, for the encoding, for warnings about what assimp does not read, and to check that the
+// body holds every element it declares (assimp fills a short ASCII body with copies of the last face read).
+struct PlyProperty {
+    int size = 0;       // bytes of a scalar, or of a list's items
+    int countSize = 0;  // bytes of a list's count; 0 for a scalar
+};
+struct PlyElement {
+    std::string name;
+    long long count = 0;
+    std::vector<PlyProperty> properties;
+};
 struct PlyHeader {
     MeshEncoding encoding{MeshFormat::Ply, false, false};
     std::vector<std::string> notes;  // not kept / changed, without the file name
+    std::vector<PlyElement> elements;
+    size_t bodyStart = 0;            // offset of the first byte after the end_header line
 };
+
+// Bytes of a PLY scalar type, 0 for an unknown name.
+int plyTypeSize(const std::string& type) {
+    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+    if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" || type == "float32") return 4;
+    if (type == "double" || type == "float64") return 8;
+    return 0;
+}
+
+// The body holds every element the header declares: in ASCII one line per element item, in binary the sizes
+// the properties give (walking the lists). Names the element the file ends in.
+Status checkPlyBody(const std::string& bytes, const std::string& name, const PlyHeader& header) {
+    const auto ended = [&](const PlyElement& e, long long item) {
+        return Status::error(name + ": the file ends early: its header declares " + std::to_string(e.count) + " " + e.name +
+                             " element(s), and it ends at " + e.name + " " + std::to_string(item) + " (truncated?)");
+    };
+    size_t at = header.bodyStart;
+    if (!header.encoding.binary) {
+        // One line per item, with a value per scalar and a count plus that many values per list.
+        const auto isBlank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+        for (const PlyElement& e : header.elements)
+            for (long long item = 0; item < e.count; ++item) {
+                while (at < bytes.size() && (bytes[at] == '\n' || isBlank(bytes[at]))) ++at;
+                if (at >= bytes.size()) return ended(e, item);
+                size_t lineEnd = bytes.find('\n', at);
+                if (lineEnd == std::string::npos) lineEnd = bytes.size();
+                std::vector<std::string> values;
+                for (size_t i = at; i < lineEnd;) {
+                    while (i < lineEnd && isBlank(bytes[i])) ++i;
+                    const size_t start = i;
+                    while (i < lineEnd && !isBlank(bytes[i])) ++i;
+                    if (i > start) values.emplace_back(bytes, start, i - start);
+                }
+                size_t used = 0;
+                bool complete = true;
+                for (const PlyProperty& p : e.properties) {
+                    if (p.countSize == 0) {
+                        complete = used < values.size();
+                        ++used;
+                    } else {
+                        long long count = -1;
+                        if (used < values.size()) count = std::atoll(values[used].c_str());
+                        complete = count >= 0 && values.size() - used - 1 >= static_cast<size_t>(count);
+                        used += 1 + (complete ? static_cast<size_t>(count) : 0);
+                    }
+                    if (!complete) break;
+                }
+                if (!complete) {
+                    if (lineEnd >= bytes.size()) return ended(e, item);
+                    return Status::error(name + ": " + e.name + " " + std::to_string(item) + " has fewer values than the PLY header declares");
+                }
+                at = lineEnd;
+            }
+        return Status::success();
+    }
+    for (const PlyElement& e : header.elements)
+        for (long long item = 0; item < e.count; ++item)
+            for (const PlyProperty& p : e.properties) {
+                if (p.countSize == 0) {
+                    if (bytes.size() - at < static_cast<size_t>(p.size)) return ended(e, item);
+                    at += static_cast<size_t>(p.size);
+                    continue;
+                }
+                if (bytes.size() - at < static_cast<size_t>(p.countSize)) return ended(e, item);
+                unsigned char raw[8] = {0};
+                std::memcpy(raw, bytes.data() + at, static_cast<size_t>(p.countSize));
+                if (header.encoding.bigEndian) std::reverse(raw, raw + p.countSize);
+                uint64_t count = 0;
+                for (int k = p.countSize - 1; k >= 0; --k) count = (count << 8) | raw[k];
+                if (p.countSize == 4 && (count & 0x80000000u)) count = 0;  // a negative int count: assimp's to judge
+                at += static_cast<size_t>(p.countSize);
+                if ((bytes.size() - at) / static_cast<size_t>(p.size) < count) return ended(e, item);
+                at += count * static_cast<size_t>(p.size);
+            }
+    return Status::success();
+}
 
 // The vertex properties assimp's PLY reader uses (positions, normals, colours, texture coordinates).
 bool plyVertexPropertyKept(const std::string& name) {
@@ -121,22 +212,35 @@ Status parsePlyHeader(const std::string& bytes, const std::string& name, PlyHead
             }
             haveFormat = true;
         } else if (keyword == "element") {
-            long long count = 0;
+            long long count = -1;
             words >> element >> count;
+            if (element.empty() || count < 0)
+                return Status::error(name + ": the PLY header line '" + line + "' does not name an element and its count");
+            header.elements.push_back({element, count, {}});
             if (element != "vertex" && element != "face" && count > 0)
                 header.notes.push_back("PLY element '" + element + "' (" + std::to_string(count) +
                                        ") is not kept: only vertices and faces are read");
         } else if (keyword == "property") {
             std::string type, propertyName;
             words >> type;
+            if (header.elements.empty())
+                return Status::error(name + ": the PLY header has a property before any element");
+            PlyProperty property;
             if (type == "list") {
                 std::string countType, itemType;
                 words >> countType >> itemType >> propertyName;
+                property.countSize = plyTypeSize(countType);
+                property.size = plyTypeSize(itemType);
+                if (property.countSize == 0 || property.size == 0 || property.countSize == 8)
+                    return Status::error(name + ": the PLY header line '" + line + "' has no valid list types");
                 if (element == "face" && propertyName != "vertex_indices" && propertyName != "vertex_index")
                     header.notes.push_back("face property '" + propertyName + "' is not kept");
                 if (element == "vertex") header.notes.push_back("vertex list property '" + propertyName + "' is not kept");
             } else {
                 words >> propertyName;
+                property.size = plyTypeSize(type);
+                if (property.size == 0)
+                    return Status::error(name + ": the PLY header line '" + line + "' has an unknown type '" + type + "'");
                 if (element == "vertex" && !plyVertexPropertyKept(propertyName))
                     header.notes.push_back("vertex property '" + propertyName + "' is not kept");
                 if (element == "vertex" && (propertyName == "x" || propertyName == "y" || propertyName == "z") &&
@@ -144,9 +248,13 @@ Status parsePlyHeader(const std::string& bytes, const std::string& name, PlyHead
                     header.notes.push_back("positions are stored as double and read in single precision");
                 if (element == "face") header.notes.push_back("face property '" + propertyName + "' is not kept");
             }
+            if (propertyName.empty()) return Status::error(name + ": the PLY header line '" + line + "' names no property");
+            header.elements.back().properties.push_back(property);
         }
     }
     if (!haveFormat) return Status::error(name + ": the PLY header has no format line");
+    const size_t lineEnd = bytes.find('\n', end);
+    header.bodyStart = lineEnd == std::string::npos ? bytes.size() : lineEnd + 1;
     std::sort(header.notes.begin(), header.notes.end());
     header.notes.erase(std::unique(header.notes.begin(), header.notes.end()), header.notes.end());
     return Status::success();
@@ -165,21 +273,35 @@ Status checkStl(const std::string& bytes, const std::string& name, MeshEncoding&
     if (encoding.binary) return Status::success();
     size_t start = 0;
     while (start < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[start]))) ++start;
-    if (bytes.compare(start, 5, "solid") != 0)
+    if (bytes.compare(start, 5, "solid") != 0) {
+        if (bytes.size() >= 84) {
+            uint32_t count = 0;
+            std::memcpy(&count, bytes.data() + 80, 4);
+            if (84 + 50ull * count > bytes.size())
+                return Status::error(name + ": the file ends early: a binary STL whose header declares " + std::to_string(count) +
+                                     " facets has " + std::to_string(84 + 50ull * count) + " bytes, this one " +
+                                     std::to_string(bytes.size()) + " (truncated?)");
+        }
         return Status::error(name + ": not an STL file (neither \"solid\" text nor a binary file of 84 + 50 x " +
                              "facets bytes)");
+    }
     return Status::success();
 }
 
+// A glTF file is binary (GLB: "glTF", a version and its length) or a JSON object, whatever its extension says.
 Status checkGltf(const std::string& bytes, const std::string& name, bool binary) {
     if (binary) {
-        if (bytes.compare(0, 4, "glTF") != 0) return Status::error(name + ": not a GLB file (it does not start with \"glTF\")");
+        uint32_t length = 0;
+        if (bytes.size() >= 12) std::memcpy(&length, bytes.data() + 8, 4);
+        if (bytes.size() < 12 || length > bytes.size())
+            return Status::error(name + ": the file ends early: its GLB header declares " + std::to_string(length) +
+                                 " bytes, the file has " + std::to_string(bytes.size()) + " (truncated?)");
         return Status::success();
     }
     size_t start = 0;
     while (start < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[start]))) ++start;
     if (start >= bytes.size() || bytes[start] != '{')
-        return Status::error(name + ": not a glTF file (a .gltf is a JSON object)");
+        return Status::error(name + ": not a glTF file (neither a binary GLB, which starts with \"glTF\", nor JSON)");
     return Status::success();
 }
 
@@ -269,8 +391,11 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
     if (gltf && std::any_of(placements.begin(), placements.end(), [](const Placement& p) { return !isIdentity(p.transform); }))
         notes.push_back("node transforms are applied to the vertices (the node hierarchy is flattened)");
     if (gltf && scene.mNumAnimations > 0) notes.push_back(std::to_string(scene.mNumAnimations) + " animation(s) are not kept");
-    if (gltf && scene.mNumMaterials > 0)
-        notes.push_back(std::to_string(scene.mNumMaterials) + " material(s) and their textures are not kept");
+    // assimp adds a default material to every scene; only the file's own count.
+    unsigned materials = 0;
+    for (unsigned m = 0; m < scene.mNumMaterials; ++m)
+        materials += scene.mMaterials[m] && std::string(scene.mMaterials[m]->GetName().C_Str()) != AI_DEFAULT_MATERIAL_NAME;
+    if (gltf && materials > 0) notes.push_back(std::to_string(materials) + " material(s) and their textures are not kept");
 
     size_t vertexTotal = 0, surfaceFaces = 0;
     for (const Placement& p : placements) {
@@ -278,10 +403,15 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
         for (unsigned f = 0; f < p.mesh->mNumFaces; ++f) surfaceFaces += p.mesh->mFaces[f].mNumIndices >= 3;
     }
     // Said first: a point cloud's points are not checked (assimp misreads some, such as CGAL's oni.ply).
-    if (surfaceFaces == 0)
+    if (surfaceFaces == 0) {
+        size_t lines = 0;
+        for (const Placement& p : placements)
+            for (unsigned f = 0; f < p.mesh->mNumFaces; ++f) lines += p.mesh->mFaces[f].mNumIndices == 2;
         return Status::error(name + ": the file has no faces" +
-                             (vertexTotal > 0 ? " (" + std::to_string(vertexTotal) + " points: a point cloud is not a surface)"
-                                              : std::string()));
+                             (lines > 0 ? " (only lines and points: not a surface)"
+                              : vertexTotal > 0 ? " (" + std::to_string(vertexTotal) + " points: a point cloud is not a surface)"
+                                                : std::string()));
+    }
     if (vertexTotal > static_cast<size_t>(INT32_MAX / 4))
         return Status::error(name + ": " + std::to_string(vertexTotal) + " vertices are more than this program handles");
 
@@ -545,6 +675,7 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
         case MeshFormat::Ply: {
             PlyHeader header;
             if (Status s = parsePlyHeader(bytes, name, header); !s) return s;
+            if (Status s = checkPlyBody(bytes, name, header); !s) return s;
             encoding = header.encoding;
             notes = header.notes;
             hint = "ply";
@@ -657,33 +788,71 @@ std::vector<std::vector<int>> primitiveGroups(const ObjMesh& mesh) {
     return groups;
 }
 
-// Checks deformed fits the format (single precision) and names in notes what the format cannot hold.
-// texcoords: filled with per-vertex texture coordinates when the mesh has them that way (writeTexcoords).
-Status prepareSave(const ObjMesh& mesh, const Positions& deformed, const MeshEncoding& encoding, Texcoords& texcoords,
-                   bool& writeTexcoords, std::vector<std::string>& notes) {
+// The per-vertex attributes a PLY or glTF save writes besides positions and normals.
+struct SaveAttributes {
+    Texcoords texcoords;          // #V rows when writeTexcoords
+    bool writeTexcoords = false;
+    VertexColors colours;         // 0 or #V rows (RGBA in [0, 1])
+};
+
+// The colours of an OBJ's `v x y z r g b` lines (the common extension), read from the source text after each
+// vertex's z: #V x 4 (alpha 1; white where a line has none), or 0 rows when no line has three more numbers.
+VertexColors objVertexColours(const ObjMesh& mesh) {
+    if (!mesh.source) return {};
+    const ObjSource& source = *mesh.source;
+    const Eigen::Index n = mesh.positions.rows();
+    VertexColors colours;
+    for (Eigen::Index v = 0; v < n; ++v) {
+        const char* at = source.text.data() + source.positionSpans[2 * static_cast<size_t>(v) + 1];
+        const char* end = source.text.data() + source.text.size();
+        double rgb[3];
+        int count = 0;
+        while (count < 3) {
+            while (at < end && (*at == ' ' || *at == '\t')) ++at;
+            if (at >= end || *at == '\n' || *at == '\r' || *at == '#') break;
+            const char* token = at;
+            while (at < end && !std::isspace(static_cast<unsigned char>(*at))) ++at;
+            if (!parseObjNumber(token, at, rgb[count])) break;
+            ++count;
+        }
+        if (count != 3) continue;
+        if (colours.rows() == 0) colours = VertexColors::Ones(n, 4);
+        colours.row(v) << static_cast<float>(rgb[0]), static_cast<float>(rgb[1]), static_cast<float>(rgb[2]), 1.0f;
+    }
+    return colours;
+}
+
+// Checks deformed fits the format (single precision), gathers what a PLY or glTF writes per vertex (texture
+// coordinates where each vertex has one, colours from the mesh or its OBJ text) and names in notes what the
+// format cannot hold.
+Status prepareSave(const ObjMesh& mesh, const Positions& deformed, const MeshEncoding& encoding,
+                   SaveAttributes& attributes, std::vector<std::string>& notes) {
     for (Eigen::Index v = 0; v < deformed.rows(); ++v)
         for (int k = 0; k < 3; ++k)
             if (std::abs(deformed(v, k)) > static_cast<double>(FLT_MAX))
                 return Status::error("vertex " + std::to_string(v) + " is outside single precision's range, which " +
                                      meshFormatName(encoding.format) + " stores");
     const bool ply = encoding.format == MeshFormat::Ply, stl = encoding.format == MeshFormat::Stl;
-    const bool gltf = encoding.format == MeshFormat::Gltf;
-    writeTexcoords = !stl && perVertexTexcoords(mesh, texcoords);
+    attributes.writeTexcoords = !stl && perVertexTexcoords(mesh, attributes.texcoords);
+    const bool writeTexcoords = attributes.writeTexcoords;
+    attributes.colours = mesh.vertexColors.rows() > 0 ? mesh.vertexColors : objVertexColours(mesh);
     const bool anyTexcoords = std::any_of(mesh.cornerTexcoord.begin(), mesh.cornerTexcoord.end(), [](int t) { return t >= 0; });
     if (!stl && !writeTexcoords && mesh.texcoords.rows() > 0 && anyTexcoords)
         notes.push_back("texture coordinates are not written: they differ between the corners of a vertex, and " +
                         std::string(meshFormatName(encoding.format)) + " stores one per vertex");
     if (stl && anyTexcoords) notes.push_back("texture coordinates are not written: STL has none");
-    if (stl && mesh.vertexColors.rows() > 0) notes.push_back("vertex colours are not written: STL has none");
-    const long long namedGroups = std::count_if(mesh.faceGroup.begin(), mesh.faceGroup.end(), [](int g) { return g > 0; });
-    if (ply && namedGroups > 0) notes.push_back("groups are not written: PLY has none");
+    if (stl && attributes.colours.rows() > 0) notes.push_back("vertex colours are not written: STL has none");
+    if (stl) attributes.colours.resize(0, 4);
+    // One group holding every face loses nothing but its name; several lose the split.
+    const bool severalGroups = std::adjacent_find(mesh.faceGroup.begin(), mesh.faceGroup.end(), std::not_equal_to<int>()) !=
+                               mesh.faceGroup.end();
+    if (ply && severalGroups) notes.push_back("groups are not written: PLY has none");
     if (!ply) {
         int polygons = 0;
         for (int f = 0; f < mesh.faceCount(); ++f) polygons += mesh.faceStart[f + 1] - mesh.faceStart[f] > 3;
         if (polygons > 0)
             notes.push_back(std::to_string(polygons) + " polygon(s) of more than 3 corners are written as their triangles");
     }
-    (void)gltf;
     if (!mesh.materialNames.empty()) notes.push_back("materials are not written");
     return Status::success();
 }
@@ -693,8 +862,10 @@ Status prepareSave(const ObjMesh& mesh, const Positions& deformed, const MeshEnc
 // Layout: float x y z [nx ny nz] [uchar red green blue alpha] [float s t], then faces as `list uchar int`
 // (`list int int` when a face has more than 255 corners), the names MeshLab and Blender read.
 std::string writePly(const ObjMesh& mesh, const Positions& deformed, const MeshEncoding& encoding,
-                     const Texcoords& texcoords, bool writeTexcoords) {
-    const bool normals = mesh.vertexNormals.rows() > 0, colours = mesh.vertexColors.rows() > 0;
+                     const SaveAttributes& attributes) {
+    const Texcoords& texcoords = attributes.texcoords;
+    const bool writeTexcoords = attributes.writeTexcoords;
+    const bool normals = mesh.vertexNormals.rows() > 0, colours = attributes.colours.rows() > 0;
     const VertexNormals n = normals ? saveNormals(mesh, deformed) : VertexNormals();
     int largest = 0;
     for (int f = 0; f < mesh.faceCount(); ++f) largest = std::max(largest, mesh.faceStart[f + 1] - mesh.faceStart[f]);
@@ -748,7 +919,7 @@ std::string writePly(const ObjMesh& mesh, const Positions& deformed, const MeshE
             separator(k == 2 && !colours && !writeTexcoords);
         }
         for (int k = 0; k < 4 && colours; ++k) {
-            putInt(std::lround(std::clamp(mesh.vertexColors(v, k), 0.0f, 1.0f) * 255.0f), 1);
+            putInt(std::lround(std::clamp(attributes.colours(v, k), 0.0f, 1.0f) * 255.0f), 1);
             separator(k == 3 && !writeTexcoords);
         }
         for (int k = 0; k < 2 && writeTexcoords; ++k) {
@@ -811,7 +982,9 @@ void buildStlScene(const ObjMesh& mesh, const Positions& deformed, aiScene& scen
 // flipped: glTF's runs down the image, OBJ's and PLY's up), uint32 indices. A .gltf holds its buffer as a
 // base64 data URI, so a save is one file, written atomically.
 std::string writeGltf(const ObjMesh& mesh, const Positions& deformed, const MeshEncoding& encoding,
-                      const Texcoords& texcoords, bool writeTexcoords) {
+                      const SaveAttributes& attributes) {
+    const Texcoords& texcoords = attributes.texcoords;
+    const bool writeTexcoords = attributes.writeTexcoords;
     tinygltf::Model model;
     model.asset.version = "2.0";
     model.asset.generator = "DMFFD Sculpt";
@@ -839,7 +1012,7 @@ std::string writeGltf(const ObjMesh& mesh, const Positions& deformed, const Mesh
         return static_cast<int>(model.accessors.size()) - 1;
     };
     const VertexNormals normals = saveNormals(mesh, deformed);
-    const bool colours = mesh.vertexColors.rows() > 0;
+    const bool colours = attributes.colours.rows() > 0;
     const std::vector<std::vector<int>> groups = primitiveGroups(mesh);
     std::vector<int> local(static_cast<size_t>(mesh.positions.rows()), -1);
     tinygltf::Scene scene;
@@ -855,7 +1028,7 @@ std::string writeGltf(const ObjMesh& mesh, const Positions& deformed, const Mesh
                 high[static_cast<size_t>(k)] = std::max(high[static_cast<size_t>(k)], static_cast<double>(x));
                 normal.push_back(normals(v, k));
             }
-            for (int k = 0; k < 4 && colours; ++k) colour.push_back(mesh.vertexColors(v, k));
+            for (int k = 0; k < 4 && colours; ++k) colour.push_back(attributes.colours(v, k));
             if (writeTexcoords) {
                 uv.push_back(static_cast<float>(texcoords(v, 0)));
                 uv.push_back(static_cast<float>(1.0 - texcoords(v, 1)));
@@ -915,8 +1088,11 @@ Status loadMesh(const std::string& path, ObjMesh& out, std::vector<std::string>*
         std::string bytes;
         if (Status s = readTextFile(path, bytes); !s) return s;
         if (progress && progress->cancel.load()) return Status::error(path + ": loading cancelled");
-        // A glTF may name its buffers as files beside it: assimp opens those through its own file system.
-        const bool fromFile = encoding.format == MeshFormat::Gltf;
+        // A JSON glTF may name its buffers as files beside it: assimp opens those through its own file system,
+        // from the file (a .gltf; a JSON file misnamed .glb is read from memory). A GLB is read from memory
+        // whatever its extension.
+        const bool fromFile = encoding.format == MeshFormat::Gltf && encoding.binary == false &&
+                              bytes.compare(0, 4, "glTF") != 0;
         return importWithAssimp(bytes, fromFile ? &path : nullptr, encoding.format, path, out, warnings, progress);
     } catch (const std::bad_alloc&) {
         return Status::error(path + ": not enough memory to load it");
@@ -966,15 +1142,14 @@ Status serializeMesh(const std::string& path, const ObjMesh& mesh, const Positio
             return Status::error(path + ": cannot write " + std::string(meshFormatName(encoding.format)) +
                                  ": the positions do not match the mesh or are not finite");
         std::vector<std::string> notes;
-        Texcoords texcoords;
-        bool writeTexcoords = false;
-        if (Status s = prepareSave(mesh, deformedPositions, encoding, texcoords, writeTexcoords, notes); !s)
+        SaveAttributes attributes;
+        if (Status s = prepareSave(mesh, deformedPositions, encoding, attributes, notes); !s)
             return Status::error(path + ": " + s.message);
         std::string out;
         if (encoding.format == MeshFormat::Ply) {
-            out = writePly(mesh, deformedPositions, encoding, texcoords, writeTexcoords);
+            out = writePly(mesh, deformedPositions, encoding, attributes);
         } else if (encoding.format == MeshFormat::Gltf) {
-            out = writeGltf(mesh, deformedPositions, encoding, texcoords, writeTexcoords);
+            out = writeGltf(mesh, deformedPositions, encoding, attributes);
         } else {
             aiScene scene;
             buildStlScene(mesh, deformedPositions, scene);

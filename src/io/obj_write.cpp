@@ -250,7 +250,8 @@ Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std
             // Vertex colours (from a PLY or glTF file) as the common `v x y z r g b` extension (0..1).
             for (Eigen::Index k = 0; k < 3 && mesh.vertexColors.rows() > 0; ++k) {
                 out += ' ';
-                appendNumber(out, static_cast<double>(mesh.vertexColors(v, k)));
+                char buffer[32];  // the float's own shortest text ("0.08235294", not its double's 17 digits)
+                out.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, mesh.vertexColors(v, k)).ptr);
             }
             out += '\n';
         }

@@ -318,6 +318,15 @@ TEST_CASE("window files: a PLY is dropped, sculpted and saved as STL and GLB lik
     dragUp(sculptApp);
     files.poll(state);
     REQUIRE(state.modified);
+    // A name typed without an extension keeps the document's format.
+    sculptApp.onKey(ctrlKey(app::Key::S, true), {});
+    REQUIRE(files.dialog().isOpen());
+    REQUIRE(files.dialog().submit("kept"));
+    files.dialogAccepted(state);
+    files.finishJob(state);
+    CHECK(std::filesystem::exists(folder.file("kept.ply")));
+    dragUp(sculptApp, 20.0);
+    files.poll(state);
     for (const char* name : {"sculpted.stl", "sculpted.glb"}) {
         sculptApp.onKey(ctrlKey(app::Key::S, true), {});
         REQUIRE(files.dialog().isOpen());

@@ -2,7 +2,9 @@
 #include "app/window/lattice_commands.h"
 #include "app/window/wording.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <system_error>
@@ -549,7 +551,16 @@ void FileCommands::openDialog(DialogPurpose purpose, const PendingAction& then) 
             dialog_.open(FileDialogMode::Open, "Open session", kSessionExtensions,
                          document_.sessionPath.empty() ? folder : folderOfPath(document_.sessionPath));
             break;
-        case DialogPurpose::SaveMeshAs: dialog_.open(FileDialogMode::Save, "Save mesh as", kMeshExtensions, folder, meshName); break;
+        case DialogPurpose::SaveMeshAs: {
+            // A name typed without an extension keeps the document's format: its extension comes first.
+            std::vector<std::string> extensions = kMeshExtensions;
+            std::string own = fs::path(meshName).extension().string();
+            std::transform(own.begin(), own.end(), own.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+            const auto at = std::find(extensions.begin(), extensions.end(), own);
+            if (at != extensions.end()) std::rotate(extensions.begin(), at, at + 1);
+            dialog_.open(FileDialogMode::Save, "Save mesh as", extensions, folder, meshName);
+            break;
+        }
         case DialogPurpose::SaveSession:
             dialog_.open(FileDialogMode::Save, "Save session", kSessionExtensions,
                          document_.sessionPath.empty() ? folder : folderOfPath(document_.sessionPath),

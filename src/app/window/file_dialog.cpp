@@ -197,7 +197,9 @@ bool FileDialog::draw() {
         ImGui::SameLine();
         if (ImGui::Button("Keep it")) confirmReplace(false);
     } else {
-        ImGui::TextDisabled("Filter: %s", extensions_.empty() ? "all files" : extensions_.front().c_str());
+        std::string filter;
+        for (const std::string& extension : extensions_) filter += (filter.empty() ? "" : " ") + extension;
+        ImGui::TextDisabled("Filter: %s", extensions_.empty() ? "all files" : filter.c_str());
         ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 11.0f * em);
         if (ImGui::Button(mode_ == FileDialogMode::Save ? "Save" : "Open", ImVec2(5.0f * em, 0.0f)))
             accepted = submit(nameBuffer_) || accepted;
