@@ -397,10 +397,13 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
         materials += scene.mMaterials[m] && std::string(scene.mMaterials[m]->GetName().C_Str()) != AI_DEFAULT_MATERIAL_NAME;
     if (gltf && materials > 0) notes.push_back(std::to_string(materials) + " material(s) and their textures are not kept");
 
-    size_t vertexTotal = 0, surfaceFaces = 0;
+    size_t vertexTotal = 0, surfaceFaces = 0, cornerTotal = 0;
     for (const Placement& p : placements) {
         vertexTotal += p.mesh->mNumVertices;
-        for (unsigned f = 0; f < p.mesh->mNumFaces; ++f) surfaceFaces += p.mesh->mFaces[f].mNumIndices >= 3;
+        for (unsigned f = 0; f < p.mesh->mNumFaces; ++f) {
+            surfaceFaces += p.mesh->mFaces[f].mNumIndices >= 3;
+            cornerTotal += p.mesh->mFaces[f].mNumIndices;
+        }
     }
     // Said first: a point cloud's points are not checked (assimp misreads some, such as CGAL's oni.ply).
     if (surfaceFaces == 0) {
@@ -418,6 +421,12 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
     ObjMesh mesh;
     mesh.faceStart = {0};
     mesh.groupNames = {std::string()};
+    mesh.faceStart.reserve(surfaceFaces + 1);
+    mesh.faceGroup.reserve(surfaceFaces);
+    mesh.faceMaterial.reserve(surfaceFaces);
+    mesh.cornerVertex.reserve(cornerTotal);
+    mesh.cornerTexcoord.reserve(cornerTotal);
+    mesh.cornerNormal.reserve(cornerTotal);
     mesh.positions.resize(static_cast<Eigen::Index>(vertexTotal), 3);
     bool anyColors = false, anyNormals = false, anyTexcoords = false;
     int texcoordColumns = 2;
@@ -553,7 +562,9 @@ public:
     bool matrix(const Matrix& m) {
         pod(static_cast<int64_t>(m.rows()));
         pod(static_cast<int64_t>(m.cols()));
-        return array(std::vector<typename Matrix::Scalar>(m.data(), m.data() + m.size()));
+        pod(static_cast<uint64_t>(m.size()));
+        if (m.size() > 0) bytes.append(reinterpret_cast<const char*>(m.data()), static_cast<size_t>(m.size()) * sizeof(typename Matrix::Scalar));
+        return true;
     }
     std::string bytes;
 };
@@ -593,15 +604,17 @@ public:
     }
     template <typename Matrix>
     bool matrix(Matrix& m) {
+        using Scalar = typename Matrix::Scalar;
         int64_t rows = 0, cols = 0;
-        std::vector<typename Matrix::Scalar> values;
-        if (!pod(rows) || !pod(cols) || !array(values) || rows < 0 || cols < 0 ||
-            static_cast<uint64_t>(rows) * static_cast<uint64_t>(cols) != values.size())
+        uint64_t count = 0;
+        if (!pod(rows) || !pod(cols) || !pod(count) || rows < 0 || cols < 0 ||
+            static_cast<uint64_t>(rows) * static_cast<uint64_t>(cols) != count || count > (bytes_.size() - at_) / sizeof(Scalar))
             return false;
         constexpr int64_t fixedCols = Matrix::ColsAtCompileTime;  // Eigen::Dynamic (-1) when not fixed
         if (fixedCols != Eigen::Dynamic && cols != fixedCols && rows > 0) return false;
         m.resize(rows, fixedCols != Eigen::Dynamic ? fixedCols : cols);
-        if (!values.empty()) std::memcpy(m.data(), values.data(), values.size() * sizeof(typename Matrix::Scalar));
+        if (count > 0) std::memcpy(m.data(), bytes_.data() + at_, count * sizeof(Scalar));
+        at_ += count * sizeof(Scalar);
         return true;
     }
     bool done() const { return at_ == bytes_.size(); }
@@ -622,6 +635,10 @@ bool payloadFields(Channel& c, Mesh& mesh) {
 
 std::string encodePayload(const Status& status, const std::vector<std::string>& notes, const ObjMesh& mesh) {
     PayloadWriter w;
+    // One allocation: the arrays' bytes plus room for the sizes, names and notes.
+    w.bytes.reserve(static_cast<size_t>(mesh.positions.size() + mesh.texcoords.size()) * 8 +
+                    (mesh.faceStart.size() + 3 * mesh.cornerVertex.size() + 2 * mesh.faceGroup.size()) * 4 +
+                    static_cast<size_t>(mesh.vertexColors.size() + mesh.vertexNormals.size()) * 4 + 65536);
     w.pod(static_cast<uint8_t>(status.ok));
     w.text(status.message);
     w.texts(notes);
@@ -771,7 +788,8 @@ VertexNormals saveNormals(const ObjMesh& mesh, const Positions& deformed) {
     return normals;
 }
 
-// The vertices of each group when no vertex is shared between groups, else one list of all (glTF primitives).
+// The vertices of each group when no vertex is shared between groups and each group's vertices are consecutive,
+// else one list of all (glTF primitives).
 std::vector<std::vector<int>> primitiveGroups(const ObjMesh& mesh) {
     std::vector<int> groupOf(static_cast<size_t>(mesh.positions.rows()), -1);
     bool shared = false;
@@ -781,10 +799,23 @@ std::vector<std::vector<int>> primitiveGroups(const ObjMesh& mesh) {
             if (g >= 0 && g != mesh.faceGroup[f]) shared = true;
             g = mesh.faceGroup[f];
         }
+    // A vertex no face uses belongs to no group: one primitive then, which keeps it (and the vertex order).
+    shared = shared || std::find(groupOf.begin(), groupOf.end(), -1) != groupOf.end();
     std::vector<std::vector<int>> groups(shared ? 1 : mesh.groupNames.size());
     for (int v = 0; v < mesh.positions.rows(); ++v)
         groups[shared || groupOf[static_cast<size_t>(v)] < 0 ? 0 : static_cast<size_t>(groupOf[static_cast<size_t>(v)])].push_back(v);
     groups.erase(std::remove_if(groups.begin(), groups.end(), [](const std::vector<int>& g) { return g.empty(); }), groups.end());
+    // Primitives one after another must give the vertices in their order: each group a run of consecutive
+    // vertices. Otherwise one primitive keeps the order (the groups are then not written, like PLY's).
+    std::sort(groups.begin(), groups.end(), [](const std::vector<int>& a, const std::vector<int>& b) { return a[0] < b[0]; });
+    int next = 0;
+    for (const std::vector<int>& g : groups)
+        for (int v : g)
+            if (v != next++) {
+                std::vector<int> all(static_cast<size_t>(mesh.positions.rows()));
+                for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+                return {all};
+            }
     return groups;
 }
 
@@ -847,6 +878,8 @@ Status prepareSave(const ObjMesh& mesh, const Positions& deformed, const MeshEnc
     const bool severalGroups = std::adjacent_find(mesh.faceGroup.begin(), mesh.faceGroup.end(), std::not_equal_to<int>()) !=
                                mesh.faceGroup.end();
     if (ply && severalGroups) notes.push_back("groups are not written: PLY has none");
+    if (encoding.format == MeshFormat::Gltf && severalGroups && primitiveGroups(mesh).size() == 1)
+        notes.push_back("groups are not written: they share or interleave vertices, and a glTF primitive holds its own");
     if (!ply) {
         int polygons = 0;
         for (int f = 0; f < mesh.faceCount(); ++f) polygons += mesh.faceStart[f + 1] - mesh.faceStart[f] > 3;
@@ -996,7 +1029,7 @@ std::string writeGltf(const ObjMesh& mesh, const Positions& deformed, const Mesh
         const size_t offset = data.size();
         const size_t bytes = floats ? floats->size() * 4 : indices->size() * 4;
         data.resize(offset + bytes);
-        std::memcpy(data.data() + offset, floats ? static_cast<const void*>(floats->data()) : indices->data(), bytes);
+        if (bytes > 0) std::memcpy(data.data() + offset, floats ? static_cast<const void*>(floats->data()) : indices->data(), bytes);
         tinygltf::BufferView view;
         view.buffer = 0;
         view.byteOffset = offset;

@@ -48,7 +48,8 @@ Status saveEncodingFor(const std::string& path, const ObjMesh& mesh, MeshEncodin
 // Serialises mesh with deformedPositions (#V x 3, finite) in encoding as the bytes of the file a save at path
 // writes (path only names the file in messages). OBJ: serializeObj. PLY: vertices in order with the polygons,
 // and the colours, normals and texture coordinates the mesh has. STL: every triangle as a facet with its normal.
-// glTF: one primitive per group when no vertex is shared between groups (else one), triangles, normals,
+// glTF: one primitive per group when no vertex is shared between groups and each group's vertices are consecutive
+// (else one, with a warning), triangles, normals,
 // colours, texture coordinates; a .gltf holds its buffer as a data URI (one file). Normals of vertices next to a
 // moved one are recomputed (area-weighted), the others are the file's. What the format cannot hold (groups in
 // PLY, texture coordinates that differ between the corners of a vertex in PLY/glTF, colours and texture
