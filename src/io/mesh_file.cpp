@@ -27,6 +27,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <sstream>
 #include <unordered_map>
@@ -49,17 +50,17 @@ namespace {
 // Forwards assimp's progress (0..1) to the caller's process, at most every 1%.
 class ProgressForwarder : public Assimp::ProgressHandler {
 public:
-    explicit ProgressForwarder(IsolatedChannel& channel) : channel_(channel) {}
+    explicit ProgressForwarder(const std::function<void(float)>& report) : report_(report) {}
     bool Update(float percentage) override {
         if (percentage >= last_ + 0.01f) {
             last_ = percentage;
-            channel_.progress(std::min(0.9f, 0.9f * percentage));
+            report_(std::min(0.9f, 0.9f * percentage));
         }
         return true;
     }
 
 private:
-    IsolatedChannel& channel_;
+    const std::function<void(float)>& report_;
     float last_ = 0.0f;
 };
 
@@ -654,21 +655,23 @@ bool decodePayload(const std::string& bytes, Status& status, std::vector<std::st
     return read;
 }
 
-// The assimp part of a load, run in the reader process: the scene as a mesh without triangles (sceneToMesh), with
-// assimp's own warnings and errors in notes. assimp's logger is one global object: fine, this process does one
-// import and exits.
+// The assimp part of a load, run in the reader process (or, for a checked binary PLY, in this one under a mutex):
+// the scene as a mesh without triangles (sceneToMesh), with assimp's own warnings and errors in notes.
 Status readInThisProcess(const std::string& bytes, const std::string* path, const char* hint, MeshFormat format,
-                         const MeshEncoding& encoding, const std::string& name, IsolatedChannel& channel, ObjMesh& mesh,
-                         std::vector<std::string>& notes) {
+                         const MeshEncoding& encoding, const std::string& name, const std::function<void(float)>& report,
+                         ObjMesh& mesh, std::vector<std::string>& notes) {
     CollectedLog log;
     Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
     Assimp::DefaultLogger::get()->attachStream(&log, Assimp::Logger::Warn | Assimp::Logger::Err);
     Assimp::Importer importer;
-    ProgressForwarder forward(channel);
+    ProgressForwarder forward(report);
     importer.SetProgressHandler(&forward);
     const aiScene* scene = path != nullptr ? importer.ReadFile(*path, 0)
                                            : importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint);
     importer.SetProgressHandler(nullptr);
+    // The log is ours (on this stack): detached before the logger goes, which would delete attached streams.
+    Assimp::DefaultLogger::get()->detachStream(&log, Assimp::Logger::Warn | Assimp::Logger::Err);
+    Assimp::DefaultLogger::kill();
     const size_t kShown = 5;
     for (size_t i = 0; i < log.lines.size() && i < kShown; ++i) notes.push_back("assimp: " + log.lines[i]);
     if (log.lines.size() > kShown) notes.push_back("assimp: " + std::to_string(log.lines.size() - kShown) + " more notes");
@@ -681,6 +684,10 @@ Status readInThisProcess(const std::string& bytes, const std::string* path, cons
         return Status::error(name + ": the " + std::string(meshFormatName(format)) + " file holds no complete mesh");
     return sceneToMesh(*scene, encoding, name, mesh, notes);
 }
+
+Status finishImport(const Status& status, const std::vector<std::string>& readerNotes, ObjMesh& mesh,
+                    const MeshEncoding& encoding, const std::string& name, ObjMesh& out, std::vector<std::string>& notes,
+                    std::vector<std::string>* warnings, ObjLoadProgress* progress);
 
 // Reads bytes (or, for a glTF whose buffers may be files beside it, the file at path) through assimp.
 Status importWithAssimp(const std::string& bytes, const std::string* path, MeshFormat format, const std::string& name,
@@ -713,25 +720,44 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
     // tests/fuzz/mesh_fuzz) and may loop on others: it runs in a child process (isolated_call.h), which sends the
     // mesh back; a crash or a hang costs an error message, not the program. The timeout allows 3 s plus 1 s per
     // MB: 43 s for a 1M-vertex binary PLY of 40 MB, which reads in 0.7 s.
+    Status status;
+    std::vector<std::string> childNotes;
+    ObjMesh mesh;
+    if (format == MeshFormat::Ply && encoding.binary) {
+        // A binary PLY whose header we parsed line by line and whose body we walked element by element
+        // (checkPlyBody) is read here, without the child process: everything assimp crashed or hung on was in
+        // header lines, which we refuse first, and the indices it hands over are checked in sceneToMesh. This
+        // keeps the scans' format at full speed (a fork and the copy back cost 2-3x the read for 1M vertices).
+        static std::mutex loggerMutex;  // assimp's logger is one global object
+        std::lock_guard<std::mutex> lock(loggerMutex);
+        const std::function<void(float)> report = [progress](float f) {
+            if (progress && f > progress->fraction.load()) progress->fraction = f;
+        };
+        status = readInThisProcess(bytes, path, hint, format, encoding, name, report, mesh, childNotes);
+        return finishImport(status, childNotes, mesh, encoding, name, out, notes, warnings, progress);
+    }
     const std::string reader = "the " + std::string(meshFormatName(format)) + " reader (assimp)";
     std::string payload;
     const double timeoutSeconds = 3.0 + static_cast<double>(bytes.size()) / 1e6;
     const Status isolated = runIsolated(
         reader,
         [&](IsolatedChannel& channel) {
-            std::vector<std::string> childNotes;
-            ObjMesh mesh;
-            const Status status = readInThisProcess(bytes, path, hint, format, encoding, name, channel, mesh, childNotes);
-            channel.result(encodePayload(status, childNotes, mesh));
+            const std::function<void(float)> report = [&channel](float f) { channel.progress(f); };
+            const Status read = readInThisProcess(bytes, path, hint, format, encoding, name, report, mesh, childNotes);
+            channel.result(encodePayload(read, childNotes, mesh));
         },
         timeoutSeconds, progress, payload);
     if (!isolated) return Status::error(name + ": " + isolated.message);
-    Status status;
-    std::vector<std::string> childNotes;
-    ObjMesh mesh;
     if (!decodePayload(payload, status, childNotes, mesh))
         return Status::error(name + ": " + reader + " sent back a damaged result");
-    notes.insert(notes.end(), childNotes.begin(), childNotes.end());
+    return finishImport(status, childNotes, mesh, encoding, name, out, notes, warnings, progress);
+}
+
+// The end of every assimp load, in the caller's process: the reader's verdict and notes, then finishMesh.
+Status finishImport(const Status& status, const std::vector<std::string>& readerNotes, ObjMesh& mesh,
+                    const MeshEncoding& encoding, const std::string& name, ObjMesh& out, std::vector<std::string>& notes,
+                    std::vector<std::string>* warnings, ObjLoadProgress* progress) {
+    notes.insert(notes.end(), readerNotes.begin(), readerNotes.end());
     if (!status) return status;
     if (Status s = finishMesh(mesh, encoding, name, notes); !s) return s;
     if (progress && progress->cancel.load()) return Status::error(name + ": loading cancelled");
