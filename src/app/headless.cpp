@@ -26,8 +26,8 @@ int runHeadless(const CliOptions& options, const char* argv0) {
     std::vector<std::string> warnings;
     const auto loadStart = std::chrono::steady_clock::now();
     // The output's format comes from its name: refuse an unknown one before any work is done.
-    if (io::MeshEncoding encoding; Status s = io::meshEncodingForPath(options.output, encoding)) {
-    } else {
+    io::MeshEncoding outputEncoding;
+    if (Status s = io::meshEncodingForPath(options.output, outputEncoding); !s) {
         std::cerr << "sculpt: --output " << s.message << "\n";
         return kExitBadInput;
     }

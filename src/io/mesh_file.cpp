@@ -1,12 +1,12 @@
 // PLY, STL and glTF through assimp, and the format dispatch of loadMesh/saveMesh (mesh_file.h).
 //
-// Why assimp (Debian's libassimp 5.2): one maintained library reads and writes all three formats (PLY in both
-// byte orders, ASCII and binary STL, glTF 2.0 and GLB), keeps PLY's vertex order and polygons, and reads
-// vertex colours, normals and texture coordinates. tinygltf (also in Debian) covers glTF alone. What assimp
-// does not do is done here: the checks that give a message naming what is wrong, welding STL facets, flattening
-// glTF node transforms, warnings for what is not kept, atomic saves (every writer writes into memory first) and
-// two writers: PLY (writePly: assimp 5.2's binary one is broken) and glTF (writeGltf, through tinygltf:
-// assimp's merges vertices). assimp writes STL.
+// Why assimp (Debian's libassimp 5.2): one maintained library reads all three formats (PLY in both byte orders,
+// ASCII and binary STL, glTF 2.0 and GLB), keeps PLY's vertex order and polygons, and reads vertex colours,
+// normals and texture coordinates. What it does not do is done here: the checks that give a message naming what
+// is wrong (before assimp sees the file), running it in a child process (isolated_call.h) where it could crash or
+// hang, welding STL facets, flattening glTF node transforms, warnings for what is not kept, atomic saves (every
+// writer writes into memory first), and two of the writers: PLY (writePly: assimp 5.2's binary one is broken)
+// and glTF (writeGltf, through tinygltf: assimp's merges vertices). assimp writes STL.
 #include "io/mesh_file.h"
 
 #include <assimp/DefaultLogger.hpp>
@@ -25,7 +25,6 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -117,18 +116,19 @@ Status checkPlyBody(const std::string& bytes, const std::string& name, const Ply
     if (!header.encoding.binary) {
         // One line per item, with a value per scalar and a count plus that many values per list.
         const auto isBlank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+        std::vector<size_t> values;
         for (const PlyElement& e : header.elements)
             for (long long item = 0; item < e.count; ++item) {
                 while (at < bytes.size() && (bytes[at] == '\n' || isBlank(bytes[at]))) ++at;
                 if (at >= bytes.size()) return ended(e, item);
                 size_t lineEnd = bytes.find('\n', at);
                 if (lineEnd == std::string::npos) lineEnd = bytes.size();
-                std::vector<std::string> values;
+                values.clear();  // where each value of the line starts
                 for (size_t i = at; i < lineEnd;) {
                     while (i < lineEnd && isBlank(bytes[i])) ++i;
                     const size_t start = i;
                     while (i < lineEnd && !isBlank(bytes[i])) ++i;
-                    if (i > start) values.emplace_back(bytes, start, i - start);
+                    if (i > start) values.push_back(start);
                 }
                 size_t used = 0;
                 bool complete = true;
@@ -138,7 +138,7 @@ Status checkPlyBody(const std::string& bytes, const std::string& name, const Ply
                         ++used;
                     } else {
                         long long count = -1;
-                        if (used < values.size()) count = std::atoll(values[used].c_str());
+                        if (used < values.size()) count = std::strtoll(bytes.c_str() + values[used], nullptr, 10);
                         complete = count >= 0 && values.size() - used - 1 >= static_cast<size_t>(count);
                         used += 1 + (complete ? static_cast<size_t>(count) : 0);
                     }
@@ -261,23 +261,22 @@ Status parsePlyHeader(const std::string& bytes, const std::string& name, PlyHead
     return Status::success();
 }
 
-// A binary STL is an 80-byte header, a 32-bit facet count and 50 bytes per facet; anything else is read as ASCII.
-bool isBinaryStl(const std::string& bytes) {
-    if (bytes.size() < 84) return false;
-    uint32_t count = 0;
-    std::memcpy(&count, bytes.data() + 80, 4);
-    return bytes.size() == 84 + 50ull * count;
-}
-
-Status checkStl(const std::string& bytes, const std::string& name, MeshEncoding& encoding) {
-    encoding = {MeshFormat::Stl, isBinaryStl(bytes), false};
-    if (encoding.binary) return Status::success();
+// The offset of the first byte of bytes that is not white space (bytes.size() if none).
+size_t firstNonBlank(const std::string& bytes) {
     size_t start = 0;
     while (start < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[start]))) ++start;
-    if (bytes.compare(start, 5, "solid") != 0) {
+    return start;
+}
+
+// A binary STL is an 80-byte header, a 32-bit facet count and 50 bytes per facet, exactly; anything else is read
+// as ASCII, which starts with "solid".
+Status checkStl(const std::string& bytes, const std::string& name, MeshEncoding& encoding) {
+    uint32_t count = 0;
+    if (bytes.size() >= 84) std::memcpy(&count, bytes.data() + 80, 4);
+    encoding = {MeshFormat::Stl, bytes.size() >= 84 && bytes.size() == 84 + 50ull * count, false};
+    if (encoding.binary) return Status::success();
+    if (bytes.compare(firstNonBlank(bytes), 5, "solid") != 0) {
         if (bytes.size() >= 84) {
-            uint32_t count = 0;
-            std::memcpy(&count, bytes.data() + 80, 4);
             if (84 + 50ull * count > bytes.size())
                 return Status::error(name + ": the file ends early: a binary STL whose header declares " + std::to_string(count) +
                                      " facets has " + std::to_string(84 + 50ull * count) + " bytes, this one " +
@@ -299,8 +298,7 @@ Status checkGltf(const std::string& bytes, const std::string& name, bool binary)
                                  " bytes, the file has " + std::to_string(bytes.size()) + " (truncated?)");
         return Status::success();
     }
-    size_t start = 0;
-    while (start < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[start]))) ++start;
+    const size_t start = firstNonBlank(bytes);
     if (start >= bytes.size() || bytes[start] != '{')
         return Status::error(name + ": not a glTF file (neither a binary GLB, which starts with \"glTF\", nor JSON)");
     return Status::success();
@@ -336,8 +334,6 @@ Status collectPlacements(const aiScene& scene, const aiNode& node, const aiMatri
             if (Status s = collectPlacements(scene, *node.mChildren[c], transform, depth + 1, out, name); !s) return s;
     return Status::success();
 }
-
-bool isIdentity(const aiMatrix4x4& m) { return m.IsIdentity(); }
 
 // Welds vertices at identical positions (STL stores every facet's corners apart; -0 and 0 are one position): the
 // first use keeps its number.
@@ -389,7 +385,7 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
     if (std::any_of(uses.begin(), uses.end(), [](int u) { return u > 1; }))
         notes.push_back("meshes placed by several nodes are copied once per node");
     const bool gltf = encoding.format == MeshFormat::Gltf;
-    if (gltf && std::any_of(placements.begin(), placements.end(), [](const Placement& p) { return !isIdentity(p.transform); }))
+    if (gltf && std::any_of(placements.begin(), placements.end(), [](const Placement& p) { return !p.transform.IsIdentity(); }))
         notes.push_back("node transforms are applied to the vertices (the node hierarchy is flattened)");
     if (gltf && scene.mNumAnimations > 0) notes.push_back(std::to_string(scene.mNumAnimations) + " animation(s) are not kept");
     // assimp adds a default material to every scene; only the file's own count.
@@ -453,8 +449,9 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
         if (!(std::abs(normalTransform.Determinant()) > 0.0f) || !std::isfinite(normalTransform.Determinant()))
             return Status::error(name + ": the node transform of " + p.name + " is singular or not finite");
         normalTransform.Inverse().Transpose();
+        const bool identity = p.transform.IsIdentity();  // PLY and STL always, glTF mostly: no product per vertex
         for (unsigned v = 0; v < m.mNumVertices; ++v) {
-            const aiVector3D position = p.transform * m.mVertices[v];
+            const aiVector3D position = identity ? m.mVertices[v] : p.transform * m.mVertices[v];
             const Eigen::Index row = base + static_cast<Eigen::Index>(v);
             mesh.positions.row(row) << position.x, position.y, position.z;
             if (!mesh.positions.row(row).allFinite())
@@ -467,8 +464,8 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
                 mesh.vertexColors.row(row) << c.r, c.g, c.b, c.a;
             }
             if (mesh.vertexNormals.rows() > 0 && m.HasNormals()) {
-                aiVector3D n = normalTransform * m.mNormals[v];
-                if (!isIdentity(p.transform) && n.Length() > 0.0f) n.Normalize();
+                aiVector3D n = identity ? m.mNormals[v] : normalTransform * m.mNormals[v];
+                if (!identity && n.Length() > 0.0f) n.Normalize();
                 mesh.vertexNormals.row(row) << n.x, n.y, n.z;
             }
             if (m.HasTextureCoords(0))
@@ -526,14 +523,14 @@ Status finishMesh(ObjMesh& mesh, const MeshEncoding& encoding, const std::string
     mesh.triangles.resize(0, 3);
     mesh.triangleFace.clear();
     mesh.loadedAs = encoding;
-    // Checked before triangulating (which trusts the faces), then again with the triangles.
+    // Checked before triangulating, which trusts the faces (as loadObj does, the triangles it makes are not
+    // checked again).
     if (Status s = checkObjMesh(mesh); !s) return Status::error(name + ": " + s.message);
     const ObjTriangulationReport triangulation = triangulateObjFaces(mesh);
     if (triangulation.fannedFaces > 0)
         notes.push_back(std::to_string(triangulation.fannedFaces) + " face(s) could not be triangulated exactly (" +
                         triangulation.firstReason + ", face " + std::to_string(triangulation.firstFannedFace) +
                         "): drawn as a fan");
-    if (Status s = checkObjMesh(mesh); !s) return Status::error(name + ": " + s.message);
     return Status::success();
 }
 
@@ -716,10 +713,6 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
             break;
         case MeshFormat::Obj: return Status::error(name + ": OBJ is read by loadObj");
     }
-    // assimp crashes on some malformed files (a null dereference in its PLY header handling, found by
-    // tests/fuzz/mesh_fuzz) and may loop on others: it runs in a child process (isolated_call.h), which sends the
-    // mesh back; a crash or a hang costs an error message, not the program. The timeout allows 3 s plus 1 s per
-    // MB: 43 s for a 1M-vertex binary PLY of 40 MB, which reads in 0.7 s.
     Status status;
     std::vector<std::string> childNotes;
     ObjMesh mesh;
@@ -736,6 +729,10 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
         status = readInThisProcess(bytes, path, hint, format, encoding, name, report, mesh, childNotes);
         return finishImport(status, childNotes, mesh, encoding, name, out, notes, warnings, progress);
     }
+    // assimp crashes on some malformed files (a null dereference and a double free in its PLY header handling,
+    // found by tests/fuzz/mesh_fuzz) and loops on others: every other file is read in a child process, which sends
+    // the mesh back; a crash or a hang costs an error message, not the program. The timeout allows 3 s plus 1 s
+    // per MB (a 1M-vertex GLB of 64 MB reads in 4.2 s, the copy back included).
     const std::string reader = "the " + std::string(meshFormatName(format)) + " reader (assimp)";
     std::string payload;
     const double timeoutSeconds = 3.0 + static_cast<double>(bytes.size()) / 1e6;
@@ -850,6 +847,7 @@ struct SaveAttributes {
     Texcoords texcoords;          // #V rows when writeTexcoords
     bool writeTexcoords = false;
     VertexColors colours;         // 0 or #V rows (RGBA in [0, 1])
+    std::vector<std::vector<int>> primitives;  // glTF: primitiveGroups(mesh)
 };
 
 // The colours of an OBJ's `v x y z r g b` lines (the common extension), read from the source text after each
@@ -904,7 +902,8 @@ Status prepareSave(const ObjMesh& mesh, const Positions& deformed, const MeshEnc
     const bool severalGroups = std::adjacent_find(mesh.faceGroup.begin(), mesh.faceGroup.end(), std::not_equal_to<int>()) !=
                                mesh.faceGroup.end();
     if (ply && severalGroups) notes.push_back("groups are not written: PLY has none");
-    if (encoding.format == MeshFormat::Gltf && severalGroups && primitiveGroups(mesh).size() == 1)
+    if (encoding.format == MeshFormat::Gltf) attributes.primitives = primitiveGroups(mesh);
+    if (encoding.format == MeshFormat::Gltf && severalGroups && attributes.primitives.size() == 1)
         notes.push_back("groups are not written: they share or interleave vertices, and a glTF primitive holds its own");
     if (!ply) {
         int polygons = 0;
@@ -968,7 +967,6 @@ std::string writePly(const ObjMesh& mesh, const Positions& deformed, const MeshE
     out.reserve(out.size() + static_cast<size_t>(deformed.rows()) * (encoding.binary ? 36 : 120) +
                 mesh.cornerVertex.size() * (encoding.binary ? 4 : 9) + static_cast<size_t>(mesh.faceCount()) * 4);
     for (Eigen::Index v = 0; v < deformed.rows(); ++v) {
-        std::vector<float> values;
         for (int k = 0; k < 3; ++k) {
             putFloat(static_cast<float>(deformed(v, k)));
             separator(k == 2 && !normals && !colours && !writeTexcoords);
@@ -1072,7 +1070,7 @@ std::string writeGltf(const ObjMesh& mesh, const Positions& deformed, const Mesh
     };
     const VertexNormals normals = saveNormals(mesh, deformed);
     const bool colours = attributes.colours.rows() > 0;
-    const std::vector<std::vector<int>> groups = primitiveGroups(mesh);
+    const std::vector<std::vector<int>>& groups = attributes.primitives;
     std::vector<int> local(static_cast<size_t>(mesh.positions.rows()), -1);
     tinygltf::Scene scene;
     for (const std::vector<int>& vertices : groups) {

@@ -28,7 +28,16 @@ const char* meshFormatName(MeshFormat format) {
     return "?";
 }
 
-const char* meshExtensionList() { return ".obj .ply .stl .gltf .glb"; }
+const std::vector<std::string>& meshExtensions() {
+    static const std::vector<std::string> extensions{".obj", ".ply", ".stl", ".gltf", ".glb"};
+    return extensions;
+}
+
+std::string meshExtensionList() {
+    std::string list;
+    for (const std::string& extension : meshExtensions()) list += (list.empty() ? "" : " ") + extension;
+    return list;
+}
 
 Status meshEncodingForPath(const std::string& path, MeshEncoding& out) {
     const std::string ext = lowerExtension(path);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/status.h"
 
@@ -27,8 +28,11 @@ Status meshEncodingForPath(const std::string& path, MeshEncoding& out);
 // True when path ends in one of the extensions meshEncodingForPath accepts (the file browser's filter).
 bool isMeshPath(const std::string& path);
 
-// The extensions the program opens, for messages and the file browser: ".obj .ply .stl .gltf .glb".
-const char* meshExtensionList();
+// The extensions the program opens and saves (lower case, with the dot), for the file browser's filter.
+const std::vector<std::string>& meshExtensions();
+
+// The same as one string for messages: ".obj .ply .stl .gltf .glb".
+std::string meshExtensionList();
 
 // "PLY (binary, big-endian)", "STL (ASCII)", "glTF (.glb)", "OBJ": what a save or a load says it used.
 std::string meshEncodingText(const MeshEncoding& encoding);

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <system_error>
@@ -54,7 +53,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kMeshExtensions{".obj", ".ply", ".stl", ".gltf", ".glb"};  // io::meshEncodingForPath
 const std::vector<std::string> kSessionExtensions{".json"};
 const std::vector<std::string> kLatticeExtensions{".lattice.json"};
 const std::vector<std::string> kImageExtensions{".png"};
@@ -83,9 +81,15 @@ core::LatticeSettings settingsForNewMesh(const core::Session& session) {
     return settings;
 }
 
+// " 2 warnings, first: ..." after a load's or a save's status line; "" without warnings.
+std::string warningsText(const std::vector<std::string>& warnings) {
+    return warnings.empty() ? std::string() : " " + countOf(warnings.size(), "warning") + ", first: " + warnings.front();
+}
+
 // --- Worker side: these run on the job's thread and touch nothing but their arguments.
 
 Status cancelledStatus(const std::string& path) { return Status::error(path + ": loading cancelled"); }
+
 
 JobResult loadMeshWork(const std::string& path, const core::LatticeSettings& settings,
                        const core::InjectivitySettings& injectivity, bool trackJacobian, JobProgress& progress) {
@@ -463,9 +467,7 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             if (s.initialIntersectingPairs() > 0)
                 text += " The mesh already crosses itself (" + std::to_string(s.initialIntersectingPairs()) +
                         " triangle pairs); only new crossings are refused.";
-            if (!result.warnings.empty())
-                text += " " + countOf(result.warnings.size(), "warning") + ", first: " + result.warnings.front();
-            setStatus(state, text, false);
+            setStatus(state, text + warningsText(result.warnings), false);
             break;
         }
         case JobKind::SaveMesh:
@@ -475,9 +477,7 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             state.meshName = fileNameOfPath(job.path);  // the document is now that file: title, sidebar, prompts
             document_.saved = job.markAtStart;
             setStatus(state, "Saved " + name + " (" + countOf(static_cast<size_t>(state.session.positions().rows()), "vertex", "vertices") + ") in " +
-                                 took + "." +
-                                 (result.warnings.empty() ? std::string()
-                                                          : " " + countOf(result.warnings.size(), "warning") + ", first: " + result.warnings.front()),
+                                 took + "." + warningsText(result.warnings),
                       false);
             break;
         case JobKind::SaveSession:
@@ -546,17 +546,16 @@ void FileCommands::openDialog(DialogPurpose purpose, const PendingAction& then) 
     const std::string meshName = fileNameOfPath(document_.meshPath);
     const std::string stem = meshName.empty() ? std::string("untitled") : fs::path(meshName).stem().string();
     switch (purpose) {
-        case DialogPurpose::OpenMesh: dialog_.open(FileDialogMode::Open, "Open mesh", kMeshExtensions, folder); break;
+        case DialogPurpose::OpenMesh: dialog_.open(FileDialogMode::Open, "Open mesh", io::meshExtensions(), folder); break;
         case DialogPurpose::OpenSession:
             dialog_.open(FileDialogMode::Open, "Open session", kSessionExtensions,
                          document_.sessionPath.empty() ? folder : folderOfPath(document_.sessionPath));
             break;
         case DialogPurpose::SaveMeshAs: {
             // A name typed without an extension keeps the document's format: its extension comes first.
-            std::vector<std::string> extensions = kMeshExtensions;
-            std::string own = fs::path(meshName).extension().string();
-            std::transform(own.begin(), own.end(), own.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-            const auto at = std::find(extensions.begin(), extensions.end(), own);
+            std::vector<std::string> extensions = io::meshExtensions();
+            const auto at = std::find_if(extensions.begin(), extensions.end(),
+                                         [&meshName](const std::string& e) { return hasExtension(meshName, {e}); });
             if (at != extensions.end()) std::rotate(extensions.begin(), at, at + 1);
             dialog_.open(FileDialogMode::Save, "Save mesh as", extensions, folder, meshName);
             break;
@@ -617,7 +616,7 @@ void FileCommands::openPath(AppState& state, const std::string& path) {
         setStatus(state, "Finish the current file operation or question first.", true);
         return;
     }
-    if (!hasExtension(path, kMeshExtensions) && !hasExtension(path, kSessionExtensions)) {
+    if (!hasExtension(path, io::meshExtensions()) && !hasExtension(path, kSessionExtensions)) {
         setStatus(state, "Cannot open " + fileNameOfPath(path) + ": only meshes (" + io::meshExtensionList() + ") and .json sessions.", true);
         return;
     }
