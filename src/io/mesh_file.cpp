@@ -652,7 +652,7 @@ bool decodePayload(const std::string& bytes, Status& status, std::vector<std::st
     return read;
 }
 
-// The assimp part of a load, run in the reader process (or, for a checked binary PLY, in this one under a mutex):
+// The assimp part of a load, run in the reader process:
 // the scene as a mesh without triangles (sceneToMesh), with assimp's own warnings and errors in notes.
 Status readInThisProcess(const std::string& bytes, const std::string* path, const char* hint, MeshFormat format,
                          const MeshEncoding& encoding, const std::string& name, const std::function<void(float)>& report,
@@ -716,22 +716,10 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
     Status status;
     std::vector<std::string> childNotes;
     ObjMesh mesh;
-    if (format == MeshFormat::Ply && encoding.binary) {
-        // A binary PLY whose header we parsed line by line and whose body we walked element by element
-        // (checkPlyBody) is read here, without the child process: everything assimp crashed or hung on was in
-        // header lines, which we refuse first, and the indices it hands over are checked in sceneToMesh. This
-        // keeps the scans' format at full speed (a fork and the copy back cost 2-3x the read for 1M vertices).
-        static std::mutex loggerMutex;  // assimp's logger is one global object
-        std::lock_guard<std::mutex> lock(loggerMutex);
-        const std::function<void(float)> report = [progress](float f) {
-            if (progress && f > progress->fraction.load()) progress->fraction = f;
-        };
-        status = readInThisProcess(bytes, path, hint, format, encoding, name, report, mesh, childNotes);
-        return finishImport(status, childNotes, mesh, encoding, name, out, notes, warnings, progress);
-    }
     // assimp crashes on some malformed files (a null dereference and a double free in its PLY header handling,
-    // found by tests/fuzz/mesh_fuzz) and loops on others: every other file is read in a child process, which sends
-    // the mesh back; a crash or a hang costs an error message, not the program. The timeout allows 3 s plus 1 s
+    // found by tests/fuzz/mesh_fuzz) and loops on others (one a binary PLY whose header passed our checks): every
+    // file is read in a child process, which sends the mesh back; a crash or a hang costs an error message, not
+    // the program. The timeout allows 3 s plus 1 s
     // per MB (a 1M-vertex GLB of 64 MB reads in 4.2 s, the copy back included).
     const std::string reader = "the " + std::string(meshFormatName(format)) + " reader (assimp)";
     std::string payload;
