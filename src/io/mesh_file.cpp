@@ -22,6 +22,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -35,6 +36,7 @@
 
 #include "core/vertex_normals.h"
 #include "io/atomic_file.h"
+#include "io/huge_pages.h"
 #include "io/isolated_call.h"
 #include "io/obj_scan.h"
 #include "io/obj_refine.h"
@@ -416,15 +418,24 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
         return Status::error(name + ": " + std::to_string(vertexTotal) + " vertices are more than this program handles");
 
     ObjMesh mesh;
-    mesh.faceStart = {0};
     mesh.groupNames = {std::string()};
-    mesh.faceStart.reserve(surfaceFaces + 1);
-    mesh.faceGroup.reserve(surfaceFaces);
-    mesh.faceMaterial.reserve(surfaceFaces);
-    mesh.cornerVertex.reserve(cornerTotal);
-    mesh.cornerTexcoord.reserve(cornerTotal);
-    mesh.cornerNormal.reserve(cornerTotal);
+    // Sized once (a 1M-vertex scan has 2M faces): the loops below write each face's entries in place.
+    reserveWithHugePages(mesh.faceStart, surfaceFaces + 1);
+    reserveWithHugePages(mesh.faceGroup, surfaceFaces);
+    reserveWithHugePages(mesh.faceMaterial, surfaceFaces);
+    reserveWithHugePages(mesh.cornerVertex, cornerTotal);
+    reserveWithHugePages(mesh.cornerTexcoord, cornerTotal);
+    reserveWithHugePages(mesh.cornerNormal, cornerTotal);
+    mesh.faceStart.resize(surfaceFaces + 1);
+    mesh.faceGroup.resize(surfaceFaces);
+    mesh.faceMaterial.assign(surfaceFaces, -1);
+    mesh.cornerVertex.resize(cornerTotal);
+    mesh.cornerTexcoord.resize(cornerTotal);
+    mesh.cornerNormal.assign(cornerTotal, -1);
+    mesh.faceStart[0] = 0;
+    size_t faceCount = 0, cornerCount = 0;
     mesh.positions.resize(static_cast<Eigen::Index>(vertexTotal), 3);
+    adviseHugePages(mesh.positions.data(), static_cast<size_t>(mesh.positions.size()) * sizeof(double));
     bool anyColors = false, anyNormals = false, anyTexcoords = false;
     int texcoordColumns = 2;
     for (const Placement& p : placements) {
@@ -481,6 +492,7 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
             mesh.groupNames.push_back(p.name);
             group = static_cast<int>(mesh.groupNames.size()) - 1;
         }
+        const bool texcoords = m.HasTextureCoords(0);
         for (unsigned f = 0; f < m.mNumFaces; ++f) {
             const aiFace& face = m.mFaces[f];
             if (face.mNumIndices < 3) {
@@ -492,16 +504,19 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
                     return Status::error(name + ": face " + std::to_string(f) + " of " + p.name + " uses vertex " +
                                          std::to_string(face.mIndices[c]) + " of " + std::to_string(m.mNumVertices));
                 const int vertex = base + static_cast<int>(face.mIndices[c]);
-                mesh.cornerVertex.push_back(vertex);
-                mesh.cornerTexcoord.push_back(m.HasTextureCoords(0) ? vertex : -1);
-                mesh.cornerNormal.push_back(-1);
+                mesh.cornerVertex[cornerCount] = vertex;
+                mesh.cornerTexcoord[cornerCount] = texcoords ? vertex : -1;
+                ++cornerCount;
             }
-            mesh.faceStart.push_back(static_cast<int>(mesh.cornerVertex.size()));
-            mesh.faceGroup.push_back(group);
-            mesh.faceMaterial.push_back(-1);
+            mesh.faceGroup[faceCount] = group;
+            mesh.faceStart[++faceCount] = static_cast<int>(cornerCount);
         }
         base += static_cast<int>(m.mNumVertices);
     }
+    // Points and lines were counted as corners above but given none.
+    mesh.cornerVertex.resize(cornerCount);
+    mesh.cornerTexcoord.resize(cornerCount);
+    mesh.cornerNormal.resize(cornerCount);
     if (skippedPrimitives > 0)
         notes.push_back(std::to_string(skippedPrimitives) + " point or line element(s) are not kept (not a surface)");
     if (extraSets > 0) notes.push_back("only the first colour and texture coordinate sets are kept");
@@ -537,20 +552,39 @@ Status finishMesh(ObjMesh& mesh, const MeshEncoding& encoding, const std::string
 // What the reader process sends back: its verdict, its notes and the mesh without triangles. Plain bytes in
 // this program's own layout (both ends run the same binary). The writer and the reader share one list of the
 // fields (payloadFields), so the two directions cannot drift apart.
+
+// How PayloadWriter::indices sent an array.
+constexpr uint8_t kElementwise = 0, kOneValue = 1, kSameAsOther = 2;
+
+// Builds the payload as pieces for IsolatedChannel::result: the small fields copied here, each large array
+// referenced where it lies (the caller copies it out of the reader's memory once, with no copy here).
+// The arrays referenced must outlive the result() call.
 class PayloadWriter {
 public:
     template <typename T>
     bool pod(const T& value) {
-        bytes.append(reinterpret_cast<const char*>(&value), sizeof value);
+        raw(&value, sizeof value);
         return true;
     }
     template <typename T>
     bool array(const std::vector<T>& v) {
         pod(static_cast<uint64_t>(v.size()));
-        if (!v.empty()) bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+        bytes(v.data(), v.size() * sizeof(T));
         return true;
     }
-    bool text(const std::string& s) { return array(std::vector<char>(s.begin(), s.end())); }
+    // An index array that is often one value throughout (PLY's corner normals, a single group) or a copy of
+    // another (per-vertex texture coordinates: cornerTexcoord = cornerVertex): sent as that, not element by element.
+    bool indices(const std::vector<int>& v, const std::vector<int>& likely) {
+        if (v == likely) return pod(kSameAsOther) && pod(static_cast<uint64_t>(v.size()));
+        if (!v.empty() && std::all_of(v.begin(), v.end(), [&](int i) { return i == v[0]; }))
+            return pod(kOneValue) && pod(static_cast<uint64_t>(v.size())) && pod(v[0]);
+        return pod(kElementwise) && array(v);
+    }
+    bool text(const std::string& s) {
+        pod(static_cast<uint64_t>(s.size()));
+        raw(s.data(), s.size());
+        return true;
+    }
     bool texts(const std::vector<std::string>& list) {
         pod(static_cast<uint64_t>(list.size()));
         for (const std::string& s : list) text(s);
@@ -561,10 +595,32 @@ public:
         pod(static_cast<int64_t>(m.rows()));
         pod(static_cast<int64_t>(m.cols()));
         pod(static_cast<uint64_t>(m.size()));
-        if (m.size() > 0) bytes.append(reinterpret_cast<const char*>(m.data()), static_cast<size_t>(m.size()) * sizeof(typename Matrix::Scalar));
+        bytes(m.data(), static_cast<size_t>(m.size()) * sizeof(typename Matrix::Scalar));
         return true;
     }
-    std::string bytes;
+    const std::vector<IsolatedPiece>& pieces() {
+        seal();
+        return pieces_;
+    }
+
+private:
+    void raw(const void* data, size_t size) {
+        if (!open_) small_.emplace_back();
+        open_ = true;
+        small_.back().append(static_cast<const char*>(data), size);
+    }
+    void bytes(const void* data, size_t size) {
+        if (size < 65536) return raw(data, size);
+        seal();
+        pieces_.push_back({data, size});
+    }
+    void seal() {
+        if (open_) pieces_.push_back({small_.back().data(), small_.back().size()});
+        open_ = false;
+    }
+    std::deque<std::string> small_;  // a deque: a sealed string is never moved by the ones added after it
+    std::vector<IsolatedPiece> pieces_;
+    bool open_ = false;
 };
 
 class PayloadReader {
@@ -581,9 +637,28 @@ public:
     bool array(std::vector<T>& out) {
         uint64_t count = 0;
         if (!pod(count) || count > (bytes_.size() - at_) / sizeof(T)) return false;
+        reserveWithHugePages(out, count);
         out.resize(count);
         if (count > 0) std::memcpy(out.data(), bytes_.data() + at_, count * sizeof(T));
         at_ += count * sizeof(T);
+        return true;
+    }
+    bool indices(std::vector<int>& v, const std::vector<int>& likely) {
+        uint8_t how = 0;
+        uint64_t count = 0;
+        int value = 0;
+        if (!pod(how)) return false;
+        if (how == kElementwise) return array(v);
+        if (how == kSameAsOther) {
+            if (!pod(count) || count != likely.size()) return false;
+            reserveWithHugePages(v, count);
+            v.assign(likely.begin(), likely.end());
+            return true;
+        }
+        // A count no bigger than the payload, as for arrays: a damaged payload never asks for unbounded memory.
+        if (how != kOneValue || !pod(count) || count > bytes_.size() || !pod(value)) return false;
+        reserveWithHugePages(v, count);
+        v.assign(count, value);
         return true;
     }
     bool text(std::string& s) {
@@ -611,6 +686,7 @@ public:
         constexpr int64_t fixedCols = Matrix::ColsAtCompileTime;  // Eigen::Dynamic (-1) when not fixed
         if (fixedCols != Eigen::Dynamic && cols != fixedCols && rows > 0) return false;
         m.resize(rows, fixedCols != Eigen::Dynamic ? fixedCols : cols);
+        adviseHugePages(m.data(), count * sizeof(Scalar));
         if (count > 0) std::memcpy(m.data(), bytes_.data() + at_, count * sizeof(Scalar));
         at_ += count * sizeof(Scalar);
         return true;
@@ -622,26 +698,26 @@ private:
     size_t at_ = 0;
 };
 
+// The "likely" array of an index array that is expected to be one value throughout, or given element by element.
+// (Each likely array comes earlier in payloadFields than the array it may equal: the reader has it by then.)
+const std::vector<int> kNoIndices;
+
 // The payload after the verdict and notes, in order (Mesh: ObjMesh to read into, const ObjMesh to write).
 template <typename Channel, typename Mesh>
 bool payloadFields(Channel& c, Mesh& mesh) {
     return c.matrix(mesh.positions) && c.array(mesh.faceStart) && c.array(mesh.cornerVertex) &&
-           c.array(mesh.cornerTexcoord) && c.array(mesh.cornerNormal) && c.matrix(mesh.texcoords) &&
-           c.array(mesh.faceGroup) && c.texts(mesh.groupNames) && c.array(mesh.faceMaterial) &&
+           c.indices(mesh.cornerTexcoord, mesh.cornerVertex) && c.indices(mesh.cornerNormal, mesh.cornerTexcoord) &&
+           c.matrix(mesh.texcoords) && c.indices(mesh.faceGroup, kNoIndices) && c.texts(mesh.groupNames) &&
+           c.indices(mesh.faceMaterial, kNoIndices) &&
            c.texts(mesh.materialNames) && c.matrix(mesh.vertexColors) && c.matrix(mesh.vertexNormals);
 }
 
-std::string encodePayload(const Status& status, const std::vector<std::string>& notes, const ObjMesh& mesh) {
-    PayloadWriter w;
-    // One allocation: the arrays' bytes plus room for the sizes, names and notes.
-    w.bytes.reserve(static_cast<size_t>(mesh.positions.size() + mesh.texcoords.size()) * 8 +
-                    (mesh.faceStart.size() + 3 * mesh.cornerVertex.size() + 2 * mesh.faceGroup.size()) * 4 +
-                    static_cast<size_t>(mesh.vertexColors.size() + mesh.vertexNormals.size()) * 4 + 65536);
+// The whole payload into w (whose pieces reference mesh's arrays).
+void encodePayload(const Status& status, const std::vector<std::string>& notes, const ObjMesh& mesh, PayloadWriter& w) {
     w.pod(static_cast<uint8_t>(status.ok));
     w.text(status.message);
     w.texts(notes);
     payloadFields(w, mesh);
-    return std::move(w.bytes);
 }
 
 bool decodePayload(const std::string& bytes, Status& status, std::vector<std::string>& notes, ObjMesh& mesh) {
@@ -729,7 +805,9 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
         [&](IsolatedChannel& channel) {
             const std::function<void(float)> report = [&channel](float f) { channel.progress(f); };
             const Status read = readInThisProcess(bytes, path, hint, format, encoding, name, report, mesh, childNotes);
-            channel.result(encodePayload(read, childNotes, mesh));
+            PayloadWriter sent;
+            encodePayload(read, childNotes, mesh, sent);
+            channel.result(sent.pieces());
         },
         timeoutSeconds, progress, payload);
     if (!isolated) return Status::error(name + ": " + isolated.message);

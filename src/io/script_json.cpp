@@ -2,16 +2,18 @@
 
 #include "core/volume_kinds.h"
 
+#include <sys/stat.h>
+
 #include <cerrno>
+#include <cstdio>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "io/huge_pages.h"
 #include "io/json_fields.h"
 #include "io/json_text.h"
 #include "io/lattice_json.h"
@@ -620,12 +622,26 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
 }  // namespace
 
 Status readTextFile(const std::string& path, std::string& out) {
-    std::ifstream file(path, std::ios::binary);
+    std::FILE* file = std::fopen(path.c_str(), "rb");
     if (!file) return Status::error(path + ": cannot open (" + std::string(std::strerror(errno)) + ")");
-    std::ostringstream buffer;
-    buffer << file.rdbuf();
-    if (file.bad()) return Status::error(path + ": read error");
-    out = buffer.str();
+    // One buffer of the file's size (advised for huge pages: a 40 MB scan is 10,000 page faults otherwise), then
+    // whatever more there is (a file still growing, a pipe, a /proc file that says 0).
+    struct stat info {};
+    const size_t expected = ::fstat(::fileno(file), &info) == 0 && S_ISREG(info.st_mode) ? static_cast<size_t>(info.st_size) : 0;
+    std::string text;
+    text.reserve(expected + 1);
+    adviseHugePages(text.data(), text.capacity());
+    text.resize(expected);
+    text.resize(std::fread(text.data(), 1, expected, file));
+    if (text.size() == expected) {
+        char chunk[65536];
+        for (size_t n; (n = std::fread(chunk, 1, sizeof chunk, file)) > 0;) text.append(chunk, n);
+    }
+    const bool failed = std::ferror(file) != 0;
+    const int error = errno;
+    std::fclose(file);
+    if (failed) return Status::error(path + ": read error (" + std::string(std::strerror(error)) + ")");
+    out = std::move(text);
     return Status::success();
 }
 

@@ -709,4 +709,63 @@ TEST_CASE("mesh formats: a reader that crashes or hangs is an error, not a crash
     CHECK(out.positions == mesh.positions);
 }
 
+// The reader's result is copied out of its memory (process_vm_readv), or sent through the pipe where the system
+// does not allow that: both give the same bytes, for any number and size of pieces, and the same mesh.
+TEST_CASE("mesh formats: a reader's result is the same read from its memory or sent through the pipe", "[io][formats]") {
+    std::mt19937 rng(31);
+    for (int trial = 0; trial < 12; ++trial) {
+        // Pieces of 0 bytes to 2 MB, up to 3000 of them (more than one process_vm_readv takes at once).
+        const int count = std::uniform_int_distribution<int>(1, trial % 3 == 0 ? 3000 : 40)(rng);
+        std::vector<std::string> pieces(static_cast<size_t>(count));
+        std::string expected;
+        for (std::string& piece : pieces) {
+            const int size = std::uniform_int_distribution<int>(0, 3)(rng) == 0 ? std::uniform_int_distribution<int>(0, 2 << 20)(rng)
+                                                                                : std::uniform_int_distribution<int>(0, 40)(rng);
+            piece.resize(static_cast<size_t>(size));
+            for (char& c : piece) c = static_cast<char>(rng());
+            expected += piece;
+        }
+        for (bool throughPipe : {false, true}) {
+            setIsolatedResultsThroughPipe(throughPipe);
+            std::string bytes;
+            const Status s = runIsolated("the test reader", [&](IsolatedChannel& channel) {
+                std::vector<IsolatedPiece> list;
+                for (const std::string& piece : pieces) list.push_back({piece.data(), piece.size()});
+                channel.result(list);
+            }, 30.0, nullptr, bytes);
+            setIsolatedResultsThroughPipe(false);
+            INFO("trial " << trial << ", " << count << " pieces, through the pipe " << throughPipe << ": " << s.message);
+            REQUIRE(s.ok);
+            CHECK(bytes == expected);
+        }
+    }
+    TempFolder folder("formats_transfer");
+    for (int trial = 0; trial < 4; ++trial) {
+        const ObjMesh mesh = randomSphere(rng, 20 + 30 * trial, 25 + 20 * trial, trial % 2 == 1, trial != 1, trial != 2, trial != 3);
+        const std::string path = folder.file("t" + std::to_string(trial) + ".ply");
+        REQUIRE(saveMesh(path, mesh, mesh.positions).ok);
+        ObjMesh direct, piped;
+        REQUIRE(loadMesh(path, direct).ok);
+        setIsolatedResultsThroughPipe(true);
+        const Status s = loadMesh(path, piped);
+        setIsolatedResultsThroughPipe(false);
+        REQUIRE(s.ok);
+        CHECK(direct.positions == mesh.positions);
+        CHECK(piped.positions == direct.positions);
+        CHECK(piped.faceStart == direct.faceStart);
+        CHECK(piped.cornerVertex == direct.cornerVertex);
+        CHECK(piped.cornerTexcoord == direct.cornerTexcoord);
+        CHECK(piped.cornerNormal == direct.cornerNormal);
+        CHECK(piped.texcoords == direct.texcoords);
+        CHECK(piped.faceGroup == direct.faceGroup);
+        CHECK(piped.faceMaterial == direct.faceMaterial);
+        CHECK(piped.groupNames == direct.groupNames);
+        CHECK(piped.vertexColors == direct.vertexColors);
+        CHECK(piped.vertexNormals == direct.vertexNormals);
+        CHECK(piped.triangles == direct.triangles);
+        CHECK(direct.vertexColors.rows() == (trial != 1 ? mesh.positions.rows() : 0));
+        CHECK(direct.texcoords.rows() == (trial != 3 ? mesh.positions.rows() : 0));
+    }
+}
+
 }  // namespace sculpt::io
