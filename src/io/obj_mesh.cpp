@@ -20,6 +20,7 @@
 
 #include <tiny_obj_loader.h>
 
+#include "io/huge_pages.h"
 #include "io/obj_scan.h"
 #include "io/polygon_triangulation.h"
 
@@ -354,7 +355,10 @@ ObjTriangulationReport triangulateObjFaces(ObjMesh& mesh) {
     // note: a face of N corners gives at most N - 2 triangles, so this is the final size unless corners coincide.
     const Eigen::Index maxTriangles = static_cast<Eigen::Index>(mesh.cornerVertex.size()) - 2 * faceCount;
     Triangles triangles(maxTriangles, 3);
-    std::vector<int> triangleFace(static_cast<size_t>(maxTriangles));
+    adviseHugePages(triangles.data(), static_cast<size_t>(triangles.size()) * sizeof(int));
+    std::vector<int> triangleFace;
+    reserveWithHugePages(triangleFace, static_cast<size_t>(maxTriangles));
+    triangleFace.resize(static_cast<size_t>(maxTriangles));
     Eigen::Index t = 0;
     std::vector<double> corners;  // scratch, reused: N x 3 row-major
     std::vector<CornerTriangle> polygon;
