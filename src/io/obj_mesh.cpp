@@ -34,42 +34,9 @@ constexpr size_t kMaxWarnings = 32;                // a broken file must not flo
 // An istream over text without copying it (tinyobjloader only reads through the streambuf). With progress,
 // the text is handed out a MiB at a time so each refill can report how far the reader got and stop it
 // (end of file) once cancelled; without, it is one window.
-class TextStreamBuf : public std::streambuf {
-public:
-    TextStreamBuf(const std::string& text, ObjLoadProgress* progress, float fractionBegin, float fractionEnd)
-        : begin_(const_cast<char*>(text.data())),  // get area only: never written through
-          end_(begin_ + text.size()), progress_(progress), fractionBegin_(fractionBegin), fractionEnd_(fractionEnd) {
-        setg(begin_, begin_, progress_ ? std::min(end_, begin_ + kWindow) : end_);
-    }
-    bool cancelled() const { return cancelled_; }
-
-protected:
-    int_type underflow() override {
-        if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
-        if (egptr() == end_) return traits_type::eof();
-        if (progress_->cancel.load(std::memory_order_relaxed)) {
-            cancelled_ = true;
-            return traits_type::eof();
-        }
-        const double done = static_cast<double>(egptr() - begin_) / static_cast<double>(end_ - begin_);
-        progress_->fraction.store(fractionBegin_ + static_cast<float>(done) * (fractionEnd_ - fractionBegin_),
-                                  std::memory_order_relaxed);
-        char* next = egptr();
-        setg(next, next, std::min(end_, next + kWindow));
-        return traits_type::to_int_type(*gptr());
-    }
-
-private:
-    static constexpr std::ptrdiff_t kWindow = 1 << 20;
-    char* begin_;
-    char* end_;
-    ObjLoadProgress* progress_;
-    float fractionBegin_, fractionEnd_;
-    bool cancelled_ = false;
-};
-
-// Phase boundaries of a load for ObjLoadProgress (measured on a 1M-vertex file: scan ~40%, tinyobjloader ~50%).
-constexpr float kScanEnd = 0.4f, kTinyobjEnd = 0.92f;
+// Where the scan ends in a load's ObjLoadProgress (measured on a 1M-vertex file: the scan is about 80% of the
+// load after reading the file; triangulation most of the rest).
+constexpr float kScanEnd = 0.8f;
 
 void reportProgress(ObjLoadProgress* progress, float fraction) {
     if (progress) progress->fraction.store(fraction, std::memory_order_relaxed);
@@ -112,6 +79,10 @@ bool readRegularFile(const std::string& path, off_t maxBytes, std::string& conte
         ok = false;
     }
     if (ok) {
+        contents.clear();
+        contents.shrink_to_fit();
+        contents.reserve(static_cast<size_t>(info.st_size));
+        adviseHugePages(contents.data(), contents.capacity());  // a 200 MB OBJ: 100 faults, not 50,000
         contents.resize(static_cast<size_t>(info.st_size));
         size_t done = 0;
         while (done < contents.size()) {
@@ -273,43 +244,87 @@ Status checkAgreement(const ObjScan& scan, const tinyobj::attrib_t& attrib, cons
 }
 
 // text is kept as the mesh's source (moved in on success).
+// tinyobjloader's SplitString(s, ' ', '\\'): the file names of a `mtllib` line (a backslash escapes a blank).
+std::vector<std::string> splitLibraryNames(const std::string& s) {
+    std::vector<std::string> names;
+    std::string token;
+    bool escaping = false;
+    for (char c : s) {
+        if (escaping) {
+            escaping = false;
+        } else if (c == '\\') {
+            escaping = true;
+            continue;
+        } else if (c == ' ') {
+            if (!token.empty()) names.push_back(token);
+            token.clear();
+            continue;
+        }
+        token += c;
+    }
+    names.push_back(token);
+    return names;
+}
+
+// The .mtl files an OBJ names, read as tinyobjloader's LoadObj reads them (its `mtllib` and `usemtl` handling,
+// replayed in file order) through ConfinedMaterialReader and tinyobj::LoadMtl. Only what they report is kept:
+// materials are kept by name (usemtl), their definitions are not used.
+void readMaterialLibraries(const ObjScan& scan, const std::string& baseDir, const std::string& displayName,
+                           std::vector<std::string>& collected) {
+    if (scan.materialStatements.empty()) return;
+    ConfinedMaterialReader reader(baseDir, displayName, collected);
+    std::vector<tinyobj::material_t> materials;
+    std::map<std::string, int> materialMap;
+    std::set<std::string> loaded;
+    std::string warn, err;
+    for (const ObjScan::MaterialStatement& statement : scan.materialStatements) {
+        if (!statement.library) {
+            if (materialMap.count(statement.text) == 0) warn += "material [ '" + statement.text + "' ] not found in .mtl\n";
+            continue;
+        }
+        bool found = false;
+        for (const std::string& file : splitLibraryNames(statement.text)) {
+            if (loaded.count(file) > 0) {
+                found = true;
+                continue;
+            }
+            std::string fileWarn, fileErr;
+            const bool ok = reader(file, &materials, &materialMap, &fileWarn, &fileErr);
+            warn += fileWarn;
+            err += fileErr;
+            if (ok) {
+                found = true;
+                loaded.insert(file);
+                break;
+            }
+        }
+        if (!found) warn += "Failed to load material file(s). Use default material.\n";
+    }
+    addTinyobjWarnings(warn, displayName, collected);
+    if (!err.empty()) addTinyobjWarnings(err, displayName, collected);  // .mtl problems only; not fatal
+}
+
 Status loadChecked(std::string& text, const std::string& displayName, const std::string& baseDir, ObjMesh& out,
                    std::vector<std::string>& collected, ObjLoadProgress* progress) {
     const Status cancelled = Status::error(displayName + ": loading cancelled");
     ObjScan scan;
-    Status status = scanObjText(text, displayName, scan);
+    Status status = scanObjText(text, displayName, scan, progress, kScanEnd);
     collected.insert(collected.end(), scan.warnings.begin(), scan.warnings.end());
     if (!status) return status;
     reportProgress(progress, kScanEnd);
     if (cancelRequested(progress)) return cancelled;
 
-    // tinyobjloader parses the (possibly sanitized) same text, without triangulation so polygons stay.
-    const std::string& tinyobjText = scan.sanitizedText.empty() ? text : scan.sanitizedText;
-    TextStreamBuf buffer(tinyobjText, progress, kScanEnd, kTinyobjEnd);
-    std::istream stream(&buffer);
-    ConfinedMaterialReader materialReader(baseDir, displayName, collected);
-    tinyobj::attrib_t attrib;
-    std::vector<tinyobj::shape_t> shapes;
-    std::vector<tinyobj::material_t> materials;
-    std::string warn, err;
-    const bool parsed = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &stream, &materialReader,
-                                         /*triangulate=*/false, /*default_vcols_fallback=*/false);
-    if (buffer.cancelled() || cancelRequested(progress)) return cancelled;
-    if (!parsed) return Status::error(displayName + ": tinyobjloader rejected the file: " + err);
-    addTinyobjWarnings(warn, displayName, collected);
-    if (!err.empty()) addTinyobjWarnings(err, displayName, collected);  // .mtl problems only; not fatal
+    // The text is parsed once, by the validating reader (obj_scan.h), which keeps the exact digits
+    // tinyobjloader's number parser loses. tinyobjloader reads the .mtl files, in the order and with the
+    // messages its LoadObj has; the tests and the fuzzer check that it reads the faces the same
+    // (crossCheckObjWithTinyobj).
+    scan.sanitizedText = std::string();  // tinyobjloader's copy of the text: not needed (peak memory)
+    readMaterialLibraries(scan, baseDir, displayName, collected);
+    if (cancelRequested(progress)) return cancelled;
 
-    status = checkAgreement(scan, attrib, shapes, displayName);
-    if (!status) return status;
-    // Free tinyobjloader's copy before building ours: peak memory matters for large files.
-    attrib = tinyobj::attrib_t();
-    shapes = std::vector<tinyobj::shape_t>();
-    scan.sanitizedText = std::string();
-
-    // note: positions and texture coordinates come from the pre-pass, not from tinyobjloader: its
-    // tryParseDouble is not correctly rounded, so a written-then-read file would drift in the last
-    // bits, and it keeps only u v of a `vt` line. The corner arrays are the pre-pass's, equal to
-    // tinyobjloader's as just checked (moved, not copied).
+    // note: tinyobjloader's tryParseDouble is not correctly rounded (a written-then-read file would drift
+    // in the last bits) and it keeps only u v of a `vt` line: positions and texture coordinates are the
+    // reader's. The arrays are moved, not copied.
     ObjMesh mesh;
     const Eigen::Index vertexCount = static_cast<Eigen::Index>(scan.positions.size() / 3);
     mesh.positions = Eigen::Map<const Positions>(scan.positions.data(), vertexCount, 3);
@@ -432,6 +447,26 @@ Status loadObjFromText(const std::string& text, const std::string& displayName, 
         return Status::error(displayName + ": not enough memory to load the file");
     }
     return loadOwnedText(copy, displayName, baseDir, out, warnings, progress);
+}
+
+Status crossCheckObjWithTinyobj(const std::string& text, const std::string& displayName) {
+    try {
+        ObjScan scan;
+        if (!scanObjText(text, displayName, scan)) return Status::success();  // refused before any parse
+        const std::string& tinyobjText = scan.sanitizedText.empty() ? text : scan.sanitizedText;
+        std::istringstream stream(tinyobjText);
+        tinyobj::attrib_t attrib;
+        std::vector<tinyobj::shape_t> shapes;
+        std::vector<tinyobj::material_t> materials;
+        std::string warn, err;
+        // No material reader: `mtllib` opens nothing here.
+        if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &stream, nullptr, /*triangulate=*/false,
+                              /*default_vcols_fallback=*/false))
+            return Status::error(displayName + ": tinyobjloader rejected the file: " + err);
+        return checkAgreement(scan, attrib, shapes, displayName);
+    } catch (const std::bad_alloc&) {
+        return Status::error(displayName + ": not enough memory to cross-check the file");
+    }
 }
 
 Status loadObj(const std::string& path, ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress) {

@@ -21,6 +21,8 @@
 #include <system_error>
 #include <unordered_map>
 
+#include "io/obj_mesh.h"
+
 namespace sculpt::io {
 
 namespace {
@@ -93,8 +95,9 @@ IndexResult parseIndex(const char* begin, const char* end, long long& value) {
 
 class Scanner {
 public:
-    Scanner(const std::string& text, const std::string& displayName, ObjScan& scan)
-        : text_(text), base_(&text), name_(displayName), scan_(scan) {}
+    Scanner(const std::string& text, const std::string& displayName, ObjScan& scan, ObjLoadProgress* progress,
+            float progressEnd)
+        : text_(text), base_(&text), name_(displayName), scan_(scan), progress_(progress), progressEnd_(progressEnd) {}
 
     Status run();
 
@@ -142,6 +145,9 @@ private:
     std::vector<size_t> joinedBreaks_;  // ascending offsets of the line breaks blanked in joined_
     const std::string& name_;
     ObjScan& scan_;
+    ObjLoadProgress* progress_;  // may be null
+    float progressEnd_;
+    static constexpr ptrdiff_t kProgressStep = 1 << 20;
     size_t line_ = 0;
     const char* spanBegin_ = nullptr;  // numbers(): start of the first and end of the third number
     const char* spanEnd_ = nullptr;
@@ -211,7 +217,14 @@ Status Scanner::run() {
     reserve(begin, end);
     const char* p = begin;
     size_t nextBreak = 0;  // into joinedBreaks_
+    const char* nextReport = progress_ ? p + kProgressStep : end;
     while (p < end) {
+        if (p >= nextReport) {
+            if (progress_->cancel.load(std::memory_order_relaxed)) return fileError("loading cancelled");
+            const double done = static_cast<double>(p - begin) / static_cast<double>(end - begin);
+            progress_->fraction.store(static_cast<float>(done) * progressEnd_, std::memory_order_relaxed);
+            nextReport = p + kProgressStep;
+        }
         ++line_;
         const char* lineBegin = p;
         // One pass finds the line end and rejects binary data. note: this is the hot loop for large
@@ -506,7 +519,9 @@ void Scanner::material(const char* p, const char* end) {
     // As tinyobjloader: the first token after "usemtl" ("usemtlfoo" names "foo").
     const char* tokenBegin;
     const char* tokenEnd;
-    if (nextToken(p, end, tokenBegin, tokenEnd)) {
+    const bool named = nextToken(p, end, tokenBegin, tokenEnd);
+    scan_.materialStatements.push_back({line_, false, named ? std::string(tokenBegin, tokenEnd) : std::string()});
+    if (named) {
         materialName_.assign(tokenBegin, tokenEnd);
         materialResolved_ = false;
     } else {
@@ -516,6 +531,7 @@ void Scanner::material(const char* p, const char* end) {
 }
 
 void Scanner::library(const char* p, const char* end) {
+    scan_.materialStatements.push_back({line_, true, std::string(p, end)});
     while (p < end && isBlank(*p)) ++p;
     while (end > p && isBlank(end[-1])) --end;
     if (p == end) {
@@ -595,8 +611,9 @@ std::string normalizeObjName(const std::string& name) {
     return normalized;
 }
 
-Status scanObjText(const std::string& text, const std::string& displayName, ObjScan& scan) {
-    return Scanner(text, displayName, scan).run();
+Status scanObjText(const std::string& text, const std::string& displayName, ObjScan& scan, ObjLoadProgress* progress,
+                   float progressEnd) {
+    return Scanner(text, displayName, scan, progress, progressEnd).run();
 }
 
 bool parseObjNumber(const char* begin, const char* end, double& value) {

@@ -34,6 +34,14 @@ struct ObjScan {
     std::vector<int> faceMaterial;  // #F, into materialNames, -1 = none
     std::vector<std::string> materialNames;
     std::vector<std::string> materialLibraries;
+    // The `mtllib` and `usemtl` statements in file order, for reading the .mtl files as tinyobjloader reads
+    // them (obj_mesh.cpp): a `mtllib` line's text after the keyword and its blank, or a `usemtl` name.
+    struct MaterialStatement {
+        size_t line = 0;
+        bool library = false;
+        std::string text;
+    };
+    std::vector<MaterialStatement> materialStatements;
 
     // A copy of the text for tinyobjloader, at the same byte offsets: line continuations (a backslash
     // right before a line break, and the line break) turned into blanks, and the lines tinyobjloader must not
@@ -50,10 +58,15 @@ struct ObjScan {
 // would produce for a `g` line, applied to `o` names too so both read back the same after writing.
 std::string normalizeObjName(const std::string& name);
 
+struct ObjLoadProgress;  // obj_mesh.h
+
 // Scans text; on success fills scan (which must be default-constructed). Errors read
 // "<displayName>:<line>: <what is wrong>", the line being where the statement starts (a continued
 // statement spans several lines). Never throws except std::bad_alloc.
-Status scanObjText(const std::string& text, const std::string& displayName, ObjScan& scan);
+// progress (may be null): fraction raised from 0 to progressEnd as the text is read, every MiB; a cancel
+// request stops the scan with "<displayName>: loading cancelled".
+Status scanObjText(const std::string& text, const std::string& displayName, ObjScan& scan,
+                   ObjLoadProgress* progress = nullptr, float progressEnd = 1.0f);
 
 // Parses one number token of a `v`/`vt`/`vn` line: [+-]digits[.digits][(e|E)[+-]digits], the whole
 // token, finite and within double range. Exposed for tests.

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -574,5 +575,70 @@ TEST_CASE("obj: parseObjNumber accepts exactly the decimal grammar") {
     for (const char* s : bad) {
         INFO(s);
         REQUIRE_FALSE(sculpt::io::parseObjNumber(s, s + std::strlen(s), value));
+    }
+}
+
+// The loader parses once, with its own reader; tinyobjloader must read every file the same way
+// (crossCheckObjWithTinyobj): the files shipped and handed over, the fuzz corpus and its regressions, and
+// random meshes with groups, materials and texture coordinates, written plainly and then roughened with the
+// statements and spellings the reader mirrors tinyobjloader on.
+TEST_CASE("obj: tinyobjloader reads every file as the loader's reader does") {
+    std::vector<std::string> folders = {std::string(SCULPT_SOURCE_DIR) + "/assets", std::string(SCULPT_SOURCE_DIR) + "/assets/examples",
+                                        kDataDir, kDataDir + "/fuzz_regressions", std::string(SCULPT_SOURCE_DIR) + "/tests/fuzz/corpus",
+                                        std::string(SCULPT_SOURCE_DIR) + "/../shared/cases"};
+    int files = 0;
+    for (const std::string& folder : folders) {
+        std::error_code ec;
+        for (const auto& entry : std::filesystem::recursive_directory_iterator(folder, ec)) {
+            if (!entry.is_regular_file() || entry.file_size() > (8u << 20)) continue;
+            const std::string path = entry.path().string();
+            if (folder.find("/cases") != std::string::npos && entry.path().extension() != ".obj") continue;
+            const Status agreed = sculpt::io::crossCheckObjWithTinyobj(readBytes(path), path);
+            INFO(path << ": " << agreed.message);
+            CHECK(agreed);
+            ++files;
+        }
+    }
+    CHECK(files >= 40);
+    const std::vector<std::string> extras = {"usemtl skin\n", "usemtl\n", "g  head   part \n", "o thing\n", "# note\n", "s 1\n",
+                                             "mtllib shop.mtl\n", "g\n", "l 1 2\n", "vp 0.5\n", "\n", "  \t\n"};
+    for (int size : {1, 5, 40, 300}) {
+        std::mt19937_64 random(77 + size);
+        const ObjMesh mesh = randomMesh(random, size + 2, size);
+        std::string written;
+        REQUIRE(sculpt::io::serializeObj(mesh, mesh.positions, written));
+        for (int variant = 0; variant < 20; ++variant) {
+            // Insert extra statements between lines, and CR LF line ends in some variants.
+            std::string text;
+            std::istringstream lines(written);
+            std::string line;
+            while (std::getline(lines, line)) {
+                if (std::uniform_int_distribution<int>(0, 4)(random) == 0)
+                    text += extras[static_cast<size_t>(std::uniform_int_distribution<int>(0, static_cast<int>(extras.size()) - 1)(random))];
+                text += line + (variant % 3 == 0 ? "\r\n" : "\n");
+            }
+            const Status agreed = sculpt::io::crossCheckObjWithTinyobj(text, "random.obj");
+            INFO("size " << size << ", variant " << variant << ": " << agreed.message);
+            CHECK(agreed);
+        }
+    }
+}
+
+TEST_CASE("obj: a material no .mtl defines is named in a warning, as tinyobjloader names it") {
+    TempFolder folder("obj_usemtl");
+    writeBytes(folder.file("shop.mtl"), "newmtl skin\nKd 1 0.5 0.5\n");
+    const std::string geometry = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    for (const std::string& text : {"mtllib shop.mtl\nusemtl skin\n" + geometry, "usemtl skin\nmtllib shop.mtl\n" + geometry,
+                                    "mtllib shop.mtl\nusemtl bone\n" + geometry, "mtllib other.mtl shop.mtl\nusemtl skin\n" + geometry}) {
+        ObjMesh mesh;
+        std::vector<std::string> warnings;
+        REQUIRE(sculpt::io::loadObjFromText(text, "scene.obj", folder.path, mesh, &warnings));
+        INFO(text);
+        // Before the library is read, or not in it: said. A library that does not open: said, and the next one read.
+        const bool early = text.rfind("usemtl skin\nmtllib", 0) == 0;
+        CHECK(anyContains(warnings, "material [ 'skin' ] not found in .mtl") == early);
+        CHECK(anyContains(warnings, "material [ 'bone' ] not found in .mtl") == (text.find("usemtl bone") != std::string::npos));
+        CHECK(anyContains(warnings, "mtllib 'other.mtl' not loaded") == (text.find("other.mtl") != std::string::npos));
+        CHECK(mesh.faceMaterial.size() == 1);
     }
 }
