@@ -1003,6 +1003,12 @@ std::string writePly(const ObjMesh& mesh, const Positions& deformed, const MeshE
     if (writeTexcoords) out += "property float s\nproperty float t\n";
     out += "element face " + std::to_string(mesh.faceCount()) + "\nproperty list " + (wideCount ? "int" : "uchar") +
            " int vertex_indices\nend_header\n";
+    // One allocation (on huge pages) for the body: binary sizes exactly, ASCII numbers at up to 16 characters.
+    const size_t floatsPerVertex = 3 + (normals ? 3 : 0) + (writeTexcoords ? 2 : 0);
+    const size_t floatBytes = encoding.binary ? 4 : 16, intBytes = encoding.binary ? 4 : 12;
+    out.reserve(out.size() + static_cast<size_t>(deformed.rows()) * (floatsPerVertex * floatBytes + (colours ? 16 : 0) + 1) +
+                static_cast<size_t>(mesh.faceCount()) * (intBytes + 1) + mesh.cornerVertex.size() * intBytes);
+    adviseHugePages(out.data(), out.capacity());
     const bool swap = encoding.binary && encoding.bigEndian;
     const auto putBinary = [&out, swap](const void* value, size_t size) {
         char bytes[4];
@@ -1013,7 +1019,7 @@ std::string writePly(const ObjMesh& mesh, const Positions& deformed, const MeshE
     const auto putFloat = [&](float value) {
         if (encoding.binary) return putBinary(&value, 4);
         char buffer[32];
-        out.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+        out.append(buffer, static_cast<size_t>(std::to_chars(buffer, buffer + sizeof buffer, value).ptr - buffer));
     };
     const auto putInt = [&](long long value, size_t size) {
         if (encoding.binary) {
@@ -1025,7 +1031,7 @@ std::string writePly(const ObjMesh& mesh, const Positions& deformed, const MeshE
             return putBinary(&i, 4);
         }
         char buffer[24];
-        out.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+        out.append(buffer, static_cast<size_t>(std::to_chars(buffer, buffer + sizeof buffer, value).ptr - buffer));
     };
     const auto separator = [&](bool last) {
         if (!encoding.binary) out += last ? '\n' : ' ';

@@ -642,3 +642,33 @@ TEST_CASE("obj: a material no .mtl defines is named in a warning, as tinyobjload
         CHECK(mesh.faceMaterial.size() == 1);
     }
 }
+
+// Big sections are formatted in parallel chunks: every group and material change, at chunk starts too, must
+// come out as one serial writer would write it, which the reader then reads back exactly.
+TEST_CASE("obj: a big mesh written from its arrays reads back exactly, groups and materials included") {
+    for (int faces : {40000, 90001}) {
+        std::mt19937_64 random(static_cast<unsigned>(faces));
+        ObjMesh mesh = randomMesh(random, faces / 2 + 3, faces);
+        mesh.groupNames = {"", "body", "left arm"};
+        mesh.materialNames = {"skin", "cloth"};
+        // Runs of 1 to 3000 faces: groups 0, 1, 2, 0, 1, ... and materials none, skin, cloth, none, ...
+        int group = 0, material = -1, left = 1;
+        for (int f = 0; f < faces; ++f) {
+            if (--left == 0) {
+                left = std::uniform_int_distribution<int>(1, 3000)(random);
+                if (f > 0) group = (group + 1) % 3;
+                if (f > 0 && random() % 2 == 0) material = material == 1 ? -1 : material + 1;
+            }
+            mesh.faceGroup[static_cast<size_t>(f)] = group;
+            mesh.faceMaterial[static_cast<size_t>(f)] = material;
+        }
+        REQUIRE(sculpt::io::checkObjMesh(mesh));
+        std::string written;
+        REQUIRE(sculpt::io::serializeObj(mesh, mesh.positions, written));
+        ObjMesh reread;
+        const Status status = loadText(written, reread);
+        INFO(status.message);
+        REQUIRE(status);
+        requireSameSurface(mesh, reread);
+    }
+}
