@@ -796,7 +796,7 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
     // found by tests/fuzz/mesh_fuzz) and loops on others (one a binary PLY whose header passed our checks): every
     // file is read in a child process, which sends the mesh back; a crash or a hang costs an error message, not
     // the program. The timeout allows 3 s plus 1 s
-    // per MB (a 1M-vertex GLB of 64 MB reads in 4.2 s, the copy back included).
+    // per MB (a 1M-vertex GLB of 64 MB reads in about 1.2 s, the copy back included).
     const std::string reader = "the " + std::string(meshFormatName(format)) + " reader (assimp)";
     std::string payload;
     const double timeoutSeconds = 3.0 + static_cast<double>(bytes.size()) / 1e6;
