@@ -159,7 +159,8 @@ Status runIsolated(const std::string& what, const std::function<void(IsolatedCha
         // Likewise a sanitizer's death callback (libFuzzer's saves the input as a crash of the caller's own).
         if (&__sanitizer_set_death_callback != nullptr) __sanitizer_set_death_callback(nullptr);
         // A reader allocates much at once (assimp's PLY element lists, the mesh, the result): on pages of its own.
-        prepareChildHeapForLargeAllocations();
+        // Not under a sanitizer, whose allocator ignores malloc's settings (and would poison the heap's growth).
+        if (&__sanitizer_set_death_callback == nullptr) prepareChildHeapForLargeAllocations();
         IsolatedChannel channel(fds[1], replyFds[0]);
         try {
             work(channel);
