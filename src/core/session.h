@@ -540,7 +540,11 @@ private:
     Status enterLayer(Progress* progress, Step* placed, const Step* recorded, const BrushSettings* brush = nullptr,
                       const std::vector<Eigen::Vector3d>* centres = nullptr);
     // Removes the newest layer: the vertices it moved get their positions from the layers below.
-    void popLayer(std::vector<int>* moved);
+    void popLayer(std::vector<int>* moved) { popLayers(1, moved); }
+    // Removes the newest `count` layers at once: the vertices they moved are carried once through the layers
+    // left, not once per layer removed (undoing a 10-step subdivided drag: no layer left to carry them through,
+    // where popping one by one took 9 + 8 + ... + 1 layer evaluations per vertex).
+    void popLayers(size_t count, std::vector<int>* moved);
     void saveSnapshot(Snapshot& snapshot);
     // Multiplies (or divides) frozenJacobian_ by the det J of the layers at each vertex (when tracking).
     void accumulateLayersJacobian(bool divide);
@@ -580,7 +584,10 @@ private:
     void applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved);
     void pushOperation(Operation operation);
     void undoStep(const Step& step);
-    // Undoes the steps last to first (their inverse manipulations); lastMoved_ says what moved.
+    // Undoes the steps last to first (their inverse manipulations), appending what moved to lastMoved_. A run of
+    // fresh-frame steps (an adaptive subdivision's sub-steps, one layer each) is popped at once (popLayers).
+    void undoSteps(const std::vector<Step>& steps);
+    // The same, after clearing lastMoved_.
     void revertSteps(const std::vector<Step>& steps);
     // An operation's steps and its tool / frozen-tool change, forwards (redo) or backwards (undo); a group's
     // parts in order (reverse order backwards). Refinements are not touched.

@@ -63,10 +63,24 @@ void Session::undoStep(const Step& step) {
     if (step.newCage) leaveCage();              // inverse of the frozen cage's injective FFD
 }
 
+void Session::undoSteps(const std::vector<Step>& steps) {
+    const auto isLayer = [](const Step& step) { return step.weights.empty() && step.freshFrame && !step.newCage; };
+    for (size_t i = steps.size(); i-- > 0;) {
+        if (!isLayer(steps[i])) {
+            undoStep(steps[i]);
+            continue;
+        }
+        size_t run = 1;  // steps[i - run + 1 .. i] are layers, popped together
+        while (run <= i && isLayer(steps[i - run])) ++run;
+        popLayers(run, &lastMoved_);
+        i -= run - 1;
+    }
+}
+
 void Session::revertSteps(const std::vector<Step>& steps) {
     lastMoved_.clear();
     lastMovedAll_ = false;
-    for (auto step = steps.rbegin(); step != steps.rend(); ++step) undoStep(*step);
+    undoSteps(steps);
 }
 
 int Session::movedCount() const {
@@ -91,7 +105,7 @@ void Session::undoOperationBody(const Operation& operation) {
         return;
     }
     layerActive_ = false;
-    for (auto step = operation.steps.rbegin(); step != operation.steps.rend(); ++step) undoStep(*step);
+    undoSteps(operation.steps);
     if (operation.kind == OperationKind::LatticeTools) applyToolChange(operation, false);
     if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) frozenTool_ = operation.frozenBefore;
 }

@@ -164,16 +164,23 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
     return Status::success();
 }
 
-void Session::popLayer(std::vector<int>* moved) {
-    // Only where the layer could have put a vertex can a position change: its box and the hull of its
-    // control points (convex hull property of the B-spline volume).
-    const Lattice& top = layers_.back().lattice;
-    Eigen::Vector3d lo = top.boxMin, hi = top.boxMax;
-    for (int idx : displacedControlPoints(top)) {
-        lo = lo.cwiseMin(top.controlPoint(idx));
-        hi = hi.cwiseMax(top.controlPoint(idx));
+void Session::popLayers(size_t count, std::vector<int>* moved) {
+    // Only where a layer could have put a vertex can a position change: its box and the hull of its control
+    // points (convex hull property of the B-spline volume). A vertex outside that region of the newest layer
+    // is where the layer below left it, so outside the union of the removed layers' regions nothing changes.
+    count = std::min(count, layers_.size());
+    if (count == 0) return;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
+    for (size_t k = layers_.size() - count; k < layers_.size(); ++k) {
+        const Lattice& layer = layers_[k].lattice;
+        lo = lo.cwiseMin(layer.boxMin);
+        hi = hi.cwiseMax(layer.boxMax);
+        for (int idx : displacedControlPoints(layer)) {
+            lo = lo.cwiseMin(layer.controlPoint(idx));
+            hi = hi.cwiseMax(layer.controlPoint(idx));
+        }
     }
-    layers_.pop_back();
+    layers_.resize(layers_.size() - count);
     layerActive_ = false;
     const int n = static_cast<int>(positions_.rows());
     std::vector<std::uint8_t> changed(static_cast<size_t>(n), 0);
