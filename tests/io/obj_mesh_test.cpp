@@ -669,3 +669,26 @@ TEST_CASE("obj: a big mesh written from its arrays reads back exactly, groups an
         requireRoundTrip(mesh);
     }
 }
+
+// The one parse reports progress and stops on Cancel (the window's progress popup): a load of a few MB ends at
+// 1, and a cancel asked before it starts stops it in the scan, with out untouched.
+TEST_CASE("obj: a big load reports progress and stops on cancel") {
+    std::mt19937_64 random(9);
+    const ObjMesh mesh = randomMesh(random, 60000, 60000);
+    std::string written;
+    REQUIRE(sculpt::io::serializeObj(mesh, mesh.positions, written));
+    REQUIRE(written.size() > (3u << 20));
+    sculpt::io::ObjLoadProgress watched;
+    ObjMesh loaded;
+    REQUIRE(sculpt::io::loadObjFromText(written, "big.obj", "", loaded, nullptr, &watched));
+    CHECK(watched.fraction.load() == 1.0f);
+    CHECK(loaded.faceCount() == 60000);
+    sculpt::io::ObjLoadProgress cancelled;
+    cancelled.cancel = true;
+    ObjMesh untouched = sentinelMesh();
+    const Status status = sculpt::io::loadObjFromText(written, "big.obj", "", untouched, nullptr, &cancelled);
+    CHECK_FALSE(status);
+    CHECK(status.message == "big.obj: loading cancelled");
+    CHECK(cancelled.fraction.load() < 0.5f);  // stopped in the scan, after its first MiB
+    requireSentinel(untouched);
+}
