@@ -22,9 +22,11 @@ const bool gAvx2 = haveAvx2();
 const char* gKernelName = gAvx2 ? "avx2-fma" : "generic";
 #if defined(SCULPT_HAVE_AVX2_KERNEL)
 const detail::CellKernel gKernel = gAvx2 ? detail::evaluateCellsAvx2 : detail::evaluateCellsGeneric;
+const auto gInCellOrder = gAvx2 ? detail::evaluateInCellOrderAvx2 : detail::evaluateInCellOrderGeneric;
 const detail::IncrementKernel gIncrement = gAvx2 ? detail::incrementCellsAvx2 : detail::incrementCellsGeneric;
 #else
 const detail::CellKernel gKernel = detail::evaluateCellsGeneric;
+const auto gInCellOrder = detail::evaluateInCellOrderGeneric;
 const detail::IncrementKernel gIncrement = detail::incrementCellsGeneric;
 #endif
 
@@ -259,6 +261,10 @@ void evaluateAll(const Lattice& lattice, const Embedding& embedding, Positions& 
     std::iota(cells.begin(), cells.end(), 0);
     if (chunkedVolume(lattice)) return evaluateChunksGeneric(lattice, embedding, cells, positions);
     gKernel(lattice, embedding, cells.data(), static_cast<int>(cells.size()), positions.data());
+}
+
+void evaluateAllInCellOrder(const Lattice& lattice, const Embedding& embedding, double* out) {
+    if (!chunkedVolume(lattice)) gInCellOrder(lattice, embedding, out);
 }
 
 void evaluateCells(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& cells,

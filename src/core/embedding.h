@@ -71,6 +71,11 @@ void evaluateIncrement(const Lattice& lattice, const Embedding& embedding, const
 void controlPointInfluence(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& controlPoints,
                            std::vector<float>& weights);
 
+// For benchmarks: what evaluateAll would cost with the mesh stored in cell order (sculpt_bench
+// eval_full_8_in_cell_order: the cost of the scatter to the mesh's order): entry e of embedding.order to row e of out (insideCount x 3,
+// row-major). Writes nothing for a chunked volume or a lattice of mixed degrees (not this kernel's fast path).
+void evaluateAllInCellOrder(const Lattice& lattice, const Embedding& embedding, double* out);
+
 // Name of the kernel variant chosen for this CPU ("avx2-fma" or "generic"), for reports and benchmarks.
 const char* evaluationKernelName();
 

@@ -20,7 +20,9 @@ namespace {
 // vertices (per-lane basis arrays and the scatter to the original vertex order defeat it).
 typedef double Lanes __attribute__((vector_size(32)));
 
-template <int P, bool Rational>
+// InCellOrder: entry v of e.order goes to row v of out (the benchmark's eval_full_8_in_cell_order), not to row
+// e.order[v] (the mesh's own order, a scatter).
+template <int P, bool Rational, bool InCellOrder = false>
 void evaluateCellFixed(const Lattice& lattice, const Embedding& e, int cell, double* out) {
     constexpr int N = P + 1;
     constexpr int H = Rational ? 4 : 3;
@@ -87,7 +89,7 @@ void evaluateCellFixed(const Lattice& lattice, const Embedding& e, int cell, dou
             for (int c = 0; c < 3; ++c) sum[c] *= scale;
         }
         for (int l = 0; l < lanes; ++l) {
-            double* o = out + 3 * static_cast<size_t>(e.order[v + l]);
+            double* o = out + 3 * static_cast<size_t>(InCellOrder ? v + l : e.order[v + l]);
             o[0] = e.restX[v + l] + sum[0][l];
             o[1] = e.restY[v + l] + sum[1][l];
             o[2] = e.restZ[v + l] + sum[2][l];
@@ -221,16 +223,19 @@ void evaluateCellMixed(const Lattice& lattice, const Embedding& e, int cell, dou
     }
 }
 
-template <bool Rational>
+template <bool Rational, bool InCellOrder = false>
 void evaluateCellDispatch(const Lattice& lattice, const Embedding& e, int cell, double* out) {
     const int p = lattice.degree[0];
-    if (lattice.degree[1] != p || lattice.degree[2] != p) return evaluateCellMixed(lattice, e, cell, out);
+    if (lattice.degree[1] != p || lattice.degree[2] != p) {
+        if constexpr (!InCellOrder) evaluateCellMixed(lattice, e, cell, out);  // (cell order: fixed degrees only)
+        return;
+    }
     switch (p) {
-        case 1: return evaluateCellFixed<1, Rational>(lattice, e, cell, out);
-        case 2: return evaluateCellFixed<2, Rational>(lattice, e, cell, out);
-        case 3: return evaluateCellFixed<3, Rational>(lattice, e, cell, out);
-        case 4: return evaluateCellFixed<4, Rational>(lattice, e, cell, out);
-        default: return evaluateCellFixed<5, Rational>(lattice, e, cell, out);
+        case 1: return evaluateCellFixed<1, Rational, InCellOrder>(lattice, e, cell, out);
+        case 2: return evaluateCellFixed<2, Rational, InCellOrder>(lattice, e, cell, out);
+        case 3: return evaluateCellFixed<3, Rational, InCellOrder>(lattice, e, cell, out);
+        case 4: return evaluateCellFixed<4, Rational, InCellOrder>(lattice, e, cell, out);
+        default: return evaluateCellFixed<5, Rational, InCellOrder>(lattice, e, cell, out);
     }
 }
 
@@ -272,6 +277,18 @@ void SCULPT_KERNEL_NAME(const Lattice& lattice, const Embedding& embedding, cons
             evaluateCellDispatch<true>(lattice, embedding, cells[c], positions);
         else
             evaluateCellDispatch<false>(lattice, embedding, cells[c], positions);
+    }
+}
+
+void SCULPT_CELL_ORDER_NAME(const Lattice& lattice, const Embedding& embedding, double* out) {
+    const int cellCount = static_cast<int>(embedding.cellStart.size()) - 1;
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int c = 0; c < cellCount; ++c) {
+        if (embedding.cellStart[c] == embedding.cellStart[c + 1]) continue;
+        if (lattice.rational)
+            evaluateCellDispatch<true, true>(lattice, embedding, c, out);
+        else
+            evaluateCellDispatch<false, true>(lattice, embedding, c, out);
     }
 }
 

@@ -3,5 +3,6 @@
 #if defined(SCULPT_HAVE_AVX2_KERNEL)
 #define SCULPT_KERNEL_NAME evaluateCellsAvx2
 #define SCULPT_INCREMENT_NAME incrementCellsAvx2
+#define SCULPT_CELL_ORDER_NAME evaluateInCellOrderAvx2
 #include "core/evaluation_kernel.inl"
 #endif

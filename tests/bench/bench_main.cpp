@@ -66,6 +66,16 @@ void benchEvaluation(const Positions& points) {
         Positions positions = points;
         const double ms = bench::medianMs(15, [&] { evaluateAll(lattice, embedding, positions); });
         bench::printCase(name, n, ms, std::string("\"kernel\": \"") + evaluationKernelName() + "\", \"precision\": \"double\"");
+        // The same kernel writing the vertices in cell order (no scatter to the mesh's order), side by side in
+        // this run: what storing the mesh in cell order would save. (Not issue 12's "limit", a leaner kernel.)
+        if (!wanted(name + "_in_cell_order")) continue;
+        std::vector<double> inCellOrder(3 * static_cast<size_t>(embedding.insideCount()));
+        const double cellOrderMs = bench::medianMs(15, [&] { evaluateAllInCellOrder(lattice, embedding, inCellOrder.data()); });
+        const double productMs = bench::medianMs(15, [&] { evaluateAll(lattice, embedding, positions); });
+        char extra[160];
+        std::snprintf(extra, sizeof extra, "\"in_cell_order_ms\": %.4f, \"ratio\": %.2f, \"kernel\": \"%s\"", cellOrderMs,
+                      productMs / cellOrderMs, evaluationKernelName());
+        bench::printCase(name + "_in_cell_order", n, productMs, extra);
     }
 }
 

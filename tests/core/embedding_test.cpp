@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <random>
 
 #include "core/embedding.h"
@@ -119,5 +120,33 @@ TEST_CASE("embedding: the incremental update equals a full re-evaluation after t
             for (Eigen::Index v = 0; v < rest.rows(); ++v)
                 if (!isMoved[v]) REQUIRE(positions.row(v) == before.row(v));  // untouched: bitwise unchanged
         }
+    }
+}
+
+// The benchmark's cell-order evaluation (eval_full_8_in_cell_order) must compute what evaluateAll does, only
+// stored in cell order: row e equals the mesh-order row of embedding.order[e], bit for bit.
+TEST_CASE("embedding: the cell-order evaluation equals evaluateAll, row for row in cell order", "[core]") {
+    std::mt19937 rng(57);
+    for (int trial = 0; trial < 30; ++trial) {
+        Positions points;
+        Lattice lattice = test::randomLattice(rng, /*mixedDegrees=*/trial % 5 == 0, &points);
+        test::randomDisplacement(rng, lattice, 0.05);
+        if (trial % 4 == 1) {
+            for (double& w : lattice.weights) w = std::uniform_real_distribution<double>(0.5, 2.0)(rng);
+            lattice.rational = true;
+        }
+        const int n = test::randomInt(rng, 1, 3000);
+        const Positions rest = test::randomPoints(rng, n, lattice.boxMin, lattice.boxMax);
+        const Embedding embedding = embedVertices(lattice, rest);
+        Positions positions = rest;
+        evaluateAll(lattice, embedding, positions);
+        std::vector<double> inCellOrder(3 * static_cast<size_t>(embedding.insideCount()), NAN);
+        evaluateAllInCellOrder(lattice, embedding, inCellOrder.data());
+        const bool mixed = lattice.degree[0] != lattice.degree[1] || lattice.degree[0] != lattice.degree[2];
+        for (int e = 0; e < embedding.insideCount() && mixed; ++e) REQUIRE(std::isnan(inCellOrder[3 * static_cast<size_t>(e)]));
+        if (mixed) continue;  // documented: nothing written
+        for (int e = 0; e < embedding.insideCount(); ++e)
+            for (int c = 0; c < 3; ++c)
+                REQUIRE(inCellOrder[3 * static_cast<size_t>(e) + static_cast<size_t>(c)] == positions(embedding.order[static_cast<size_t>(e)], c));
     }
 }
