@@ -21,18 +21,24 @@ Positions referencePositions(const Lattice& lattice, const Positions& rest) {
     return out;
 }
 
+// A random lattice with a random displacement (up to 5% of its box), rational with weights in [0.5, 2] if asked.
+Lattice displacedLattice(std::mt19937& rng, bool mixedDegrees, bool rational) {
+    Positions points;
+    Lattice lattice = test::randomLattice(rng, mixedDegrees, &points);
+    test::randomDisplacement(rng, lattice, 0.05);
+    if (rational) {
+        for (double& w : lattice.weights) w = std::uniform_real_distribution<double>(0.5, 2.0)(rng);
+        lattice.rational = true;
+    }
+    return lattice;
+}
+
 }  // namespace
 
 TEST_CASE("embedding: kernel evaluation equals the scalar NURBS evaluation", "[core]") {
     std::mt19937 rng(31);
     for (int trial = 0; trial < 40; ++trial) {
-        Positions points;
-        Lattice lattice = test::randomLattice(rng, /*mixedDegrees=*/trial % 3 == 0, &points);
-        test::randomDisplacement(rng, lattice, 0.05);
-        if (trial % 4 == 1) {
-            for (double& w : lattice.weights) w = std::uniform_real_distribution<double>(0.5, 2.0)(rng);
-            lattice.rational = true;
-        }
+        const Lattice lattice = displacedLattice(rng, /*mixedDegrees=*/trial % 3 == 0, /*rational=*/trial % 4 == 1);
         // Points inside, on faces and outside the box.
         const int n = test::randomInt(rng, 1, 3000);
         const Eigen::Vector3d margin = 0.1 * (lattice.boxMax - lattice.boxMin);
@@ -128,13 +134,7 @@ TEST_CASE("embedding: the incremental update equals a full re-evaluation after t
 TEST_CASE("embedding: the cell-order evaluation equals evaluateAll, row for row in cell order", "[core]") {
     std::mt19937 rng(57);
     for (int trial = 0; trial < 30; ++trial) {
-        Positions points;
-        Lattice lattice = test::randomLattice(rng, /*mixedDegrees=*/trial % 5 == 0, &points);
-        test::randomDisplacement(rng, lattice, 0.05);
-        if (trial % 4 == 1) {
-            for (double& w : lattice.weights) w = std::uniform_real_distribution<double>(0.5, 2.0)(rng);
-            lattice.rational = true;
-        }
+        const Lattice lattice = displacedLattice(rng, /*mixedDegrees=*/trial % 5 == 0, /*rational=*/trial % 4 == 1);
         const int n = test::randomInt(rng, 1, 3000);
         const Positions rest = test::randomPoints(rng, n, lattice.boxMin, lattice.boxMax);
         const Embedding embedding = embedVertices(lattice, rest);
