@@ -72,8 +72,9 @@ void controlPointInfluence(const Lattice& lattice, const Embedding& embedding, c
                            std::vector<float>& weights);
 
 // For benchmarks: what evaluateAll would cost with the mesh stored in cell order (sculpt_bench
-// eval_full_8_in_cell_order: the cost of the scatter to the mesh's order): entry e of embedding.order to row e of out (insideCount x 3,
-// row-major). Writes nothing for a chunked volume or a lattice of mixed degrees (not this kernel's fast path).
+// eval_full_8_in_cell_order: the cost of the scatter to the mesh's order). Entry e of embedding.order goes to
+// row e of out (insideCount x 3, row-major). Writes nothing for a chunked volume or a lattice of mixed degrees
+// (not this kernel's fast path).
 void evaluateAllInCellOrder(const Lattice& lattice, const Embedding& embedding, double* out);
 
 // Name of the kernel variant chosen for this CPU ("avx2-fma" or "generic"), for reports and benchmarks.

@@ -20,9 +20,9 @@ using IncrementKernel = void (*)(const Lattice& lattice, const Embedding& embedd
 void incrementCellsGeneric(const Lattice&, const Embedding&, const int*, int, const Positions&, const std::uint8_t*, double*);
 void incrementCellsAvx2(const Lattice&, const Embedding&, const int*, int, const Positions&, const std::uint8_t*, double*);
 
-// For the benchmark (eval_full_8_in_cell_order): the same kernel with entry e of
-// embedding.order written to row e of out (#inside x 3, row-major), i.e. the vertices stored in cell order and
-// nothing scattered back to the mesh's order. Equal degrees on the three axes only (with mixed degrees nothing is written).
+// For the benchmark (eval_full_8_in_cell_order): the same kernel with entry e of embedding.order written to
+// row e of out (#inside x 3, row-major), i.e. the vertices stored in cell order and nothing scattered back to
+// the mesh's order. Equal degrees on the three axes only (with mixed degrees nothing is written).
 void evaluateInCellOrderGeneric(const Lattice&, const Embedding&, double*);
 void evaluateInCellOrderAvx2(const Lattice&, const Embedding&, double*);
 

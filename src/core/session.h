@@ -583,7 +583,6 @@ private:
     // Adds sign * delta to the lattice and re-evaluates the affected cells; moved vertices are appended.
     void applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved);
     void pushOperation(Operation operation);
-    void undoStep(const Step& step);
     // Undoes the steps last to first (their inverse manipulations), appending what moved to lastMoved_. A run of
     // fresh-frame steps (an adaptive subdivision's sub-steps, one layer each) is popped at once (popLayers).
     void undoSteps(const std::vector<Step>& steps);

@@ -48,32 +48,26 @@ size_t Session::historyBytes() const {
     return bytes;
 }
 
-void Session::undoStep(const Step& step) {
-    if (!step.weights.empty()) {  // a weight change (and the displacement with it) in the cage
-        layerActive_ = false;
-        revertWeightStep(step, &lastMoved_);
-        return;
-    }
-    if (step.freshFrame) {
-        popLayer(&lastMoved_);  // the layer and everything it did go; the layers below give the positions
-        return;
-    }
-    layerActive_ = false;
-    applyDelta(step.delta, -1.0, &lastMoved_);  // the inverse manipulation in the cage (omega(S, -rho))
-    if (step.newCage) leaveCage();              // inverse of the frozen cage's injective FFD
-}
-
 void Session::undoSteps(const std::vector<Step>& steps) {
-    const auto isLayer = [](const Step& step) { return step.weights.empty() && step.freshFrame && !step.newCage; };
+    // A step in a layer of its own (a fresh frame): the layer and everything it did go, and the layers below give
+    // the positions. A run of them (an adaptive subdivision's sub-steps) goes at once.
+    const auto isLayer = [](const Step& step) { return step.weights.empty() && step.freshFrame; };
     for (size_t i = steps.size(); i-- > 0;) {
-        if (!isLayer(steps[i])) {
-            undoStep(steps[i]);
+        const Step& step = steps[i];
+        if (isLayer(step)) {
+            size_t run = 1;  // steps[i - run + 1 .. i] are layers, popped together
+            while (run <= i && isLayer(steps[i - run])) ++run;
+            popLayers(run, &lastMoved_);
+            i -= run - 1;
             continue;
         }
-        size_t run = 1;  // steps[i - run + 1 .. i] are layers, popped together
-        while (run <= i && isLayer(steps[i - run])) ++run;
-        popLayers(run, &lastMoved_);
-        i -= run - 1;
+        layerActive_ = false;
+        if (!step.weights.empty()) {  // a weight change (and the displacement with it) in the cage
+            revertWeightStep(step, &lastMoved_);
+            continue;
+        }
+        applyDelta(step.delta, -1.0, &lastMoved_);  // the inverse manipulation in the cage (omega(S, -rho))
+        if (step.newCage) leaveCage();              // inverse of the frozen cage's injective FFD
     }
 }
 

@@ -7,7 +7,6 @@
 #pragma once
 
 #include <cstddef>
-#include <vector>
 
 namespace sculpt::io {
 
@@ -16,11 +15,13 @@ namespace sculpt::io {
 // Call it before the buffer's pages are first written; pages already in memory are not changed.
 void adviseHugePages(const void* data, size_t bytes);
 
-// v.reserve(n), advised as above (v empty before). A following assign or insert fills it without 4 KiB faults.
-template <typename T>
-void reserveWithHugePages(std::vector<T>& v, size_t n) {
-    v.reserve(n);
-    adviseHugePages(v.data(), n * sizeof(T));
+// c.reserve(n) for a std::vector or std::string, its storage advised as above. When the reservation allocates
+// anew (c was shorter), a following assign, resize or append fills it without 4 KiB faults; what c held is
+// copied over first (its pages stay small).
+template <typename Container>
+void reserveWithHugePages(Container& c, size_t n) {
+    c.reserve(n);
+    adviseHugePages(c.data(), c.capacity() * sizeof(typename Container::value_type));
 }
 
 // For a short-lived child process (runIsolated's reader) that inherited its parent's heap: gives back the heap's

@@ -70,41 +70,24 @@ bool readChildMemory(pid_t pid, const char* list, uint64_t listSize, std::string
         total += size;
     }
     out.clear();
-    out.reserve(total);
-    adviseHugePages(out.data(), total);
+    reserveWithHugePages(out, total);
     out.resize(total);
-    // At most IOV_MAX (1024) pieces a call; a call may copy less than asked (it stops at a page it cannot read).
-    size_t piece = 0, pieceDone = 0, at = 0;
-    while (piece < remote.size()) {
-        std::vector<iovec> batch;
-        for (size_t i = piece; i < remote.size() && batch.size() < 1024; ++i) {
-            const size_t skip = i == piece ? pieceDone : 0;
-            batch.push_back({static_cast<char*>(remote[i].iov_base) + skip, remote[i].iov_len - skip});
-        }
+    // At most IOV_MAX (1024) pieces a call. A call copies less than asked only where it cannot read the child's
+    // memory: a failure like any other (the result then comes through the pipe).
+    size_t at = 0;
+    for (size_t first = 0; first < remote.size(); first += 1024) {
+        const size_t batch = std::min<size_t>(1024, remote.size() - first);
         size_t wanted = 0;
-        for (const iovec& v : batch) wanted += v.iov_len;
-        if (wanted == 0) break;
+        for (size_t i = first; i < first + batch; ++i) wanted += remote[i].iov_len;
+        if (wanted == 0) continue;
         iovec local{out.data() + at, wanted};
-        const ssize_t n = ::process_vm_readv(pid, &local, 1, batch.data(), batch.size(), 0);
-        if (n <= 0) {
-            if (n < 0 && errno == EINTR) continue;
-            return false;
+        ssize_t n;
+        while ((n = ::process_vm_readv(pid, &local, 1, remote.data() + first, batch, 0)) < 0 && errno == EINTR) {
         }
-        at += static_cast<size_t>(n);
-        for (size_t left = static_cast<size_t>(n); left > 0 && piece < remote.size();) {
-            const size_t rest = remote[piece].iov_len - pieceDone;
-            if (left < rest) {
-                pieceDone += left;
-                left = 0;
-            } else {
-                left -= rest;
-                ++piece;
-                pieceDone = 0;
-            }
-        }
-        while (piece < remote.size() && remote[piece].iov_len == 0) ++piece;
+        if (n != static_cast<ssize_t>(wanted)) return false;
+        at += wanted;
     }
-    return at == total;
+    return true;
 }
 
 }  // namespace
@@ -214,10 +197,7 @@ Status runIsolated(const std::string& what, const std::function<void(IsolatedCha
             uint64_t size = 0;
             std::memcpy(&size, buffer.data() + at + 1, 8);
             if (buffer.size() - at - 9 < size) {
-                if (buffer.capacity() < at + 9 + size) {
-                    buffer.reserve(at + 9 + size + (1 << 20));
-                    adviseHugePages(buffer.data(), buffer.capacity());
-                }
+                if (buffer.capacity() < at + 9 + size) reserveWithHugePages(buffer, at + 9 + size + (1 << 20));
                 break;
             }
             const char kind = buffer[at];

@@ -549,16 +549,15 @@ Status finishMesh(ObjMesh& mesh, const MeshEncoding& encoding, const std::string
     return Status::success();
 }
 
-// What the reader process sends back: its verdict, its notes and the mesh without triangles. Plain bytes in
-// this program's own layout (both ends run the same binary). The writer and the reader share one list of the
-// fields (payloadFields), so the two directions cannot drift apart.
-
 // How PayloadWriter::indices sent an array.
 constexpr uint8_t kElementwise = 0, kOneValue = 1, kSameAsOther = 2;
 
-// Builds the payload as pieces for IsolatedChannel::result: the small fields copied here, each large array
-// referenced where it lies (the caller copies it out of the reader's memory once, with no copy here).
-// The arrays referenced must outlive the result() call.
+// What the reader process sends back: its verdict, its notes and the mesh without triangles. Plain bytes in
+// this program's own layout (both ends run the same binary). The writer and the reader share one list of the
+// fields (payloadFields), so the two directions cannot drift apart.
+// PayloadWriter builds the payload as pieces for IsolatedChannel::result: the small fields copied here, each
+// large array referenced where it lies (the caller copies it out of the reader's memory once, with no copy
+// here). The arrays referenced must outlive the result() call.
 class PayloadWriter {
 public:
     template <typename T>
@@ -795,8 +794,8 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
     // assimp crashes on some malformed files (a null dereference and a double free in its PLY header handling,
     // found by tests/fuzz/mesh_fuzz) and loops on others (one a binary PLY whose header passed our checks): every
     // file is read in a child process, which sends the mesh back; a crash or a hang costs an error message, not
-    // the program. The timeout allows 3 s plus 1 s
-    // per MB (a 1M-vertex GLB of 64 MB reads in about 1.2 s, the copy back included).
+    // the program. The timeout allows 3 s plus 1 s per MB (a 1M-vertex GLB of 64 MB reads in about 1.2 s, the copy
+    // back included).
     const std::string reader = "the " + std::string(meshFormatName(format)) + " reader (assimp)";
     std::string payload;
     const double timeoutSeconds = 3.0 + static_cast<double>(bytes.size()) / 1e6;
@@ -1003,12 +1002,6 @@ std::string writePly(const ObjMesh& mesh, const Positions& deformed, const MeshE
     if (writeTexcoords) out += "property float s\nproperty float t\n";
     out += "element face " + std::to_string(mesh.faceCount()) + "\nproperty list " + (wideCount ? "int" : "uchar") +
            " int vertex_indices\nend_header\n";
-    // One allocation (on huge pages) for the body: binary sizes exactly, ASCII numbers at up to 16 characters.
-    const size_t floatsPerVertex = 3 + (normals ? 3 : 0) + (writeTexcoords ? 2 : 0);
-    const size_t floatBytes = encoding.binary ? 4 : 16, intBytes = encoding.binary ? 4 : 12;
-    out.reserve(out.size() + static_cast<size_t>(deformed.rows()) * (floatsPerVertex * floatBytes + (colours ? 16 : 0) + 1) +
-                static_cast<size_t>(mesh.faceCount()) * (intBytes + 1) + mesh.cornerVertex.size() * intBytes);
-    adviseHugePages(out.data(), out.capacity());
     const bool swap = encoding.binary && encoding.bigEndian;
     const auto putBinary = [&out, swap](const void* value, size_t size) {
         char bytes[4];
@@ -1036,8 +1029,9 @@ std::string writePly(const ObjMesh& mesh, const Positions& deformed, const MeshE
     const auto separator = [&](bool last) {
         if (!encoding.binary) out += last ? '\n' : ' ';
     };
-    out.reserve(out.size() + static_cast<size_t>(deformed.rows()) * (encoding.binary ? 36 : 120) +
-                mesh.cornerVertex.size() * (encoding.binary ? 4 : 9) + static_cast<size_t>(mesh.faceCount()) * 4);
+    // One allocation, on huge pages, for the whole file.
+    reserveWithHugePages(out, out.size() + static_cast<size_t>(deformed.rows()) * (encoding.binary ? 36 : 120) +
+                                  mesh.cornerVertex.size() * (encoding.binary ? 4 : 9) + static_cast<size_t>(mesh.faceCount()) * 4);
     for (Eigen::Index v = 0; v < deformed.rows(); ++v) {
         for (int k = 0; k < 3; ++k) {
             putFloat(static_cast<float>(deformed(v, k)));

@@ -31,9 +31,6 @@ namespace {
 constexpr off_t kMaxMaterialFileBytes = 16 << 20;  // a .mtl is a few kB; anything huge is not one
 constexpr size_t kMaxWarnings = 32;                // a broken file must not flood the log
 
-// An istream over text without copying it (tinyobjloader only reads through the streambuf). With progress,
-// the text is handed out a MiB at a time so each refill can report how far the reader got and stop it
-// (end of file) once cancelled; without, it is one window.
 // Where the scan ends in a load's ObjLoadProgress (measured on a 1M-vertex file: the scan is about 80% of the
 // load after reading the file; triangulation most of the rest).
 constexpr float kScanEnd = 0.8f;
@@ -80,9 +77,7 @@ bool readRegularFile(const std::string& path, off_t maxBytes, std::string& conte
     }
     if (ok) {
         contents.clear();
-        contents.shrink_to_fit();
-        contents.reserve(static_cast<size_t>(info.st_size));
-        adviseHugePages(contents.data(), contents.capacity());  // a 200 MB OBJ: 100 faults, not 50,000
+        reserveWithHugePages(contents, static_cast<size_t>(info.st_size));  // a 200 MB OBJ: 100 faults, not 50,000
         contents.resize(static_cast<size_t>(info.st_size));
         size_t done = 0;
         while (done < contents.size()) {
@@ -243,7 +238,6 @@ Status checkAgreement(const ObjScan& scan, const tinyobj::attrib_t& attrib, cons
     return Status::success();
 }
 
-// text is kept as the mesh's source (moved in on success).
 // tinyobjloader's SplitString(s, ' ', '\\'): the file names of a `mtllib` line (a backslash escapes a blank).
 std::vector<std::string> splitLibraryNames(const std::string& s) {
     std::vector<std::string> names;
@@ -304,6 +298,7 @@ void readMaterialLibraries(const ObjScan& scan, const std::string& baseDir, cons
     if (!err.empty()) addTinyobjWarnings(err, displayName, collected);  // .mtl problems only; not fatal
 }
 
+// text is kept as the mesh's source (moved in on success).
 Status loadChecked(std::string& text, const std::string& displayName, const std::string& baseDir, ObjMesh& out,
                    std::vector<std::string>& collected, ObjLoadProgress* progress) {
     const Status cancelled = Status::error(displayName + ": loading cancelled");
@@ -318,7 +313,6 @@ Status loadChecked(std::string& text, const std::string& displayName, const std:
     // tinyobjloader's number parser loses. tinyobjloader reads the .mtl files, in the order and with the
     // messages its LoadObj has; the tests and the fuzzer check that it reads the faces the same
     // (crossCheckObjWithTinyobj).
-    scan.sanitizedText = std::string();  // tinyobjloader's copy of the text: not needed (peak memory)
     readMaterialLibraries(scan, baseDir, displayName, collected);
     if (cancelRequested(progress)) return cancelled;
 
@@ -452,7 +446,8 @@ Status loadObjFromText(const std::string& text, const std::string& displayName, 
 Status crossCheckObjWithTinyobj(const std::string& text, const std::string& displayName) {
     try {
         ObjScan scan;
-        if (!scanObjText(text, displayName, scan)) return Status::success();  // refused before any parse
+        if (!scanObjText(text, displayName, scan, nullptr, 1.0f, /*tinyobjCopy=*/true))
+            return Status::success();  // refused before any parse
         const std::string& tinyobjText = scan.sanitizedText.empty() ? text : scan.sanitizedText;
         std::istringstream stream(tinyobjText);
         tinyobj::attrib_t attrib;

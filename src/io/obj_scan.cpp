@@ -96,8 +96,9 @@ IndexResult parseIndex(const char* begin, const char* end, long long& value) {
 class Scanner {
 public:
     Scanner(const std::string& text, const std::string& displayName, ObjScan& scan, ObjLoadProgress* progress,
-            float progressEnd)
-        : text_(text), base_(&text), name_(displayName), scan_(scan), progress_(progress), progressEnd_(progressEnd) {}
+            float progressEnd, bool tinyobjCopy)
+        : text_(text), base_(&text), name_(displayName), scan_(scan), progress_(progress), progressEnd_(progressEnd),
+          tinyobjCopy_(tinyobjCopy) {}
 
     Status run();
 
@@ -108,22 +109,23 @@ private:
     Status fileError(const std::string& what) const { return Status::error(name_ + ": " + what); }
     void warn(const std::string& what) { scan_.warnings.push_back(name_ + ": " + what); }
 
-    // The sanitized copy at the same offset as p in the base text, copied on first use.
+    // The edits below go to the sanitized copy for tinyobjloader (copied from the base text on first use), and
+    // only when it was asked for: they never change what this scan reads.
     char* editable(const char* p) {
         if (scan_.sanitizedText.empty()) scan_.sanitizedText = *base_;
         return &scan_.sanitizedText[offset(p)];
     }
     size_t offset(const char* p) const { return static_cast<size_t>(p - base_->data()); }
-    // Turns a whole statement into a comment line.
-    void commentOut(const char* p, const char* end) {
-        char* q = editable(p);
-        q[0] = '#';
-        for (ptrdiff_t i = 1; i < end - p; ++i) q[i] = ' ';
-    }
-    // Blanks the rest of a line (a trailing comment).
+    // Blanks [p, end) in the copy (a trailing comment, a byte order mark).
     void blankOut(const char* p, const char* end) {
+        if (!tinyobjCopy_) return;
         char* q = editable(p);
         for (ptrdiff_t i = 0; i < end - p; ++i) q[i] = ' ';
+    }
+    // Turns a whole statement into a comment line in the copy.
+    void commentOut(const char* p, const char* end) {
+        blankOut(p, end);
+        if (tinyobjCopy_) editable(p)[0] = '#';
     }
 
     void joinContinuations();
@@ -147,6 +149,7 @@ private:
     ObjScan& scan_;
     ObjLoadProgress* progress_;  // may be null
     float progressEnd_;
+    bool tinyobjCopy_;  // fill scan_.sanitizedText
     static constexpr ptrdiff_t kProgressStep = 1 << 20;
     size_t line_ = 0;
     const char* spanBegin_ = nullptr;  // numbers(): start of the first and end of the third number
@@ -209,8 +212,7 @@ Status Scanner::run() {
     }
     if (text_.size() >= 3 && bytes[0] == 0xef && bytes[1] == 0xbb && bytes[2] == 0xbf) {
         // tinyobjloader would read "\xEF\xBB\xBFv" as an unknown keyword and drop the first vertex.
-        char* bom = editable(begin);
-        bom[0] = bom[1] = bom[2] = ' ';
+        blankOut(begin, begin + 3);
         begin += 3;
     }
 
@@ -255,7 +257,7 @@ Status Scanner::run() {
         }
     }
     Status finished = finish();
-    if (finished && scan_.sanitizedText.empty() && !joined_.empty()) scan_.sanitizedText = std::move(joined_);
+    if (finished && tinyobjCopy_ && scan_.sanitizedText.empty() && !joined_.empty()) scan_.sanitizedText = std::move(joined_);
     return finished;
 }
 
@@ -612,8 +614,8 @@ std::string normalizeObjName(const std::string& name) {
 }
 
 Status scanObjText(const std::string& text, const std::string& displayName, ObjScan& scan, ObjLoadProgress* progress,
-                   float progressEnd) {
-    return Scanner(text, displayName, scan, progress, progressEnd).run();
+                   float progressEnd, bool tinyobjCopy) {
+    return Scanner(text, displayName, scan, progress, progressEnd, tinyobjCopy).run();
 }
 
 bool parseObjNumber(const char* begin, const char* end, double& value) {

@@ -47,7 +47,8 @@ struct ObjScan {
     // right before a line break, and the line break) turned into blanks, and the lines tinyobjloader must not
     // interpret turned into comments (`l`, `p`, `t`, `vw`, faces of more than 255 corners, trailing
     // `# ...` on face lines, a UTF-8 byte order mark). Empty when the original text can be handed over
-    // as is, which is the usual case (no copy of a large file).
+    // as is, which is the usual case (no copy of a large file), and always unless the scan was asked for it
+    // (tinyobjCopy: the loader parses once and never hands the text to tinyobjloader).
     std::string sanitizedText;
     std::vector<int> facesNotForTinyobj;  // ascending: faces commented out in sanitizedText (> 255 corners;
                                           // tinyobjloader counts corners in a byte)
@@ -64,9 +65,9 @@ struct ObjLoadProgress;  // obj_mesh.h
 // "<displayName>:<line>: <what is wrong>", the line being where the statement starts (a continued
 // statement spans several lines). Never throws except std::bad_alloc.
 // progress (may be null): fraction raised from 0 to progressEnd as the text is read, every MiB; a cancel
-// request stops the scan with "<displayName>: loading cancelled".
+// request stops the scan with "<displayName>: loading cancelled". tinyobjCopy: fill scan.sanitizedText.
 Status scanObjText(const std::string& text, const std::string& displayName, ObjScan& scan,
-                   ObjLoadProgress* progress = nullptr, float progressEnd = 1.0f);
+                   ObjLoadProgress* progress = nullptr, float progressEnd = 1.0f, bool tinyobjCopy = false);
 
 // Parses one number token of a `v`/`vt`/`vn` line: [+-]digits[.digits][(e|E)[+-]digits], the whole
 // token, finite and within double range. Exposed for tests.

@@ -22,9 +22,10 @@ namespace sculpt::io {
 namespace {
 
 // note: std::to_chars without a precision prints the shortest text that reads back to the very
-// same double (Ryu), locale-independent; "%.17g" would also round-trip but is longer and obeys
-// LC_NUMERIC (a German locale would write "0,5").
-inline void appendNumber(std::string& text, double value) {
+// same double or float (Ryu; a float's own "0.08235294", not its double's 17 digits), locale-independent;
+// "%.17g" would also round-trip but is longer and obeys LC_NUMERIC (a German locale would write "0,5").
+template <typename Real>
+inline void appendNumber(std::string& text, Real value) {
     char buffer[32];
     const std::to_chars_result result = std::to_chars(buffer, buffer + sizeof buffer, value);
     text.append(buffer, static_cast<size_t>(result.ptr - buffer));  // (pointer, length): no iterator-pair replace
@@ -54,8 +55,7 @@ void appendRowsInParallel(std::string& out, Eigen::Index n, const Format& format
         try {
             std::string& part = parts[static_cast<size_t>(c)];
             const Eigen::Index first = n * c / chunks, last = n * (c + 1) / chunks;
-            part.reserve(static_cast<size_t>(last - first) * 96);  // a `v` or `vn` line is 50-70 bytes, an `f` line 30-45
-            adviseHugePages(part.data(), part.capacity());
+            reserveWithHugePages(part, static_cast<size_t>(last - first) * 96);  // a `v` or `vn` line is 50-70 bytes, an `f` line 30-45
             for (Eigen::Index r = first; r < last; ++r) format(r, part);
         } catch (const std::bad_alloc&) {
             outOfMemory = true;  // no exception may leave an OpenMP region
@@ -142,8 +142,7 @@ void writeFromSource(const ObjMesh& mesh, const Positions& deformed, std::string
         }
     }
 
-    out.reserve(source.text.size() + source.text.size() / 8 + 64);
-    adviseHugePages(out.data(), out.capacity());
+    reserveWithHugePages(out, source.text.size() + source.text.size() / 8 + 64);
     size_t copied = 0;  // source.text is written up to here
     const auto replace = [&](size_t begin, size_t end, const double* xyz) {
         if (begin < copied) return;  // overlapping spans: checkObjMesh refuses them, never expected here
@@ -274,9 +273,8 @@ Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std
         core::computeVertexNormals(deformedPositions, mesh.triangles, normals);
 
         // ~24 bytes per number, ~12 per corner index triple: one allocation for typical meshes.
-        out.reserve(static_cast<size_t>(deformedPositions.rows()) * 150 + mesh.cornerVertex.size() * 24 +
-                    static_cast<size_t>(mesh.texcoords.size()) * 25 + 256);
-        adviseHugePages(out.data(), out.capacity());
+        reserveWithHugePages(out, static_cast<size_t>(deformedPositions.rows()) * 150 + mesh.cornerVertex.size() * 24 +
+                                      static_cast<size_t>(mesh.texcoords.size()) * 25 + 256);
         out += "# DMFFD Sculpt\n";
         for (const std::string& library : mesh.materialLibraries) out += "mtllib " + lineEndName(library) + "\n";
         appendRowsInParallel(out, deformedPositions.rows(), [&](Eigen::Index v, std::string& part) {
@@ -288,8 +286,7 @@ Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std
             // Vertex colours (from a PLY or glTF file) as the common `v x y z r g b` extension (0..1).
             for (Eigen::Index k = 0; k < 3 && mesh.vertexColors.rows() > 0; ++k) {
                 part += ' ';
-                char buffer[32];  // the float's own shortest text ("0.08235294", not its double's 17 digits)
-                part.append(buffer, static_cast<size_t>(std::to_chars(buffer, buffer + sizeof buffer, mesh.vertexColors(v, k)).ptr - buffer));
+                appendNumber(part, mesh.vertexColors(v, k));  // a float
             }
             part += '\n';
         });

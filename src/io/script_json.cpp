@@ -629,8 +629,7 @@ Status readTextFile(const std::string& path, std::string& out) {
     struct stat info {};
     const size_t expected = ::fstat(::fileno(file), &info) == 0 && S_ISREG(info.st_mode) ? static_cast<size_t>(info.st_size) : 0;
     std::string text;
-    text.reserve(expected + 1);
-    adviseHugePages(text.data(), text.capacity());
+    reserveWithHugePages(text, expected + 1);
     text.resize(expected);
     text.resize(std::fread(text.data(), 1, expected, file));
     if (text.size() == expected) {
