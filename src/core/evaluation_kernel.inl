@@ -1,10 +1,10 @@
 // Body of the evaluation kernel, included by evaluation_kernel_generic.cpp and evaluation_kernel_avx2.cpp
 // (the latter compiled with -mavx2 -mfma). Define SCULPT_KERNEL_NAME before including.
 //
-// Per cell: gather the (p+1)^3 control displacements once (homogeneous W*delta and W when rational,
-// Hu et al. 2001 eq. 2), then for each vertex evaluate the three univariate bases from their per-span
-// polynomials (Horner, no divisions) and contract the tensor product axis by axis:
-//   (p+1)^3 * 3 + (p+1)^2 * 3 + (p+1) * 3 multiply-adds, vectorised across the vertices of the cell.
+// Full evaluation, per cell: the cell's map in power form once (homogeneous W*delta and W when rational, Hu et
+// al. 2001 eq. 2), then per vertex three nested Horner schemes, vectorised across the vertices of the cell (see
+// powerFormOfCell). The incremental update keeps the basis form: it contracts only the slab of the support
+// that holds changed control points.
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -22,6 +22,67 @@ typedef double Lanes __attribute__((vector_size(32)));
 
 // InCellOrder: entry v of e.order goes to row v of out (the benchmark's eval_full_8_in_cell_order), not to row
 // e.order[v] (the mesh's own order, a scatter).
+//
+// Power form. On one cell the displacement (Hu et al. 2001 eq. 1; for a rational lattice the numerator and the
+// denominator of eq. 2 apart) is a polynomial of degree p in each local coordinate:
+//   D(x,y,z) = sum_{a,b,c} M_abc x^a y^b z^c,   M_abc = sum_{i,j,k} Cu[i][a] Cv[j][b] Cw[k][c] P_ijk,
+// where C[i][a] is the coefficient of x^a of the cell's i-th basis function (BSplineAxis::coefficients) and P
+// the cell's (p+1)^3 control displacements (weighted and with the weight as a fourth coordinate when rational).
+// M is formed once per cell; each vertex then costs one Horner scheme per axis: (p+1)^2 p + (p+1) p + p
+// multiply-adds per coordinate (cubic: 63, so 189 for x, y, z), against the 3 (p+1)^3 + ... = 288 of
+// evaluating the basis and contracting the tensor product.
+//
+// The powers are of x - 1/2, not x: about the cell's centre every basis function's coefficients are small
+// (a Bernstein polynomial's sum of |coefficient| (1/2)^k is 1), so rounding stays at the basis form's level
+// even at degree 5, where powers of x on [0, 1] cancel terms of order C(5,2)^3 and lose three digits.
+template <int P>
+void coefficientsAboutMidpoint(const std::vector<double>& coefficients, int span, double (&c)[P + 1][P + 1]) {
+    constexpr int N = P + 1;
+    std::copy_n(coefficients.data() + static_cast<size_t>(span) * N * N, N * N, &c[0][0]);
+    // Taylor shift x = t + 1/2 by repeated synthetic division (Horner's scheme for the shift).
+    for (int i = 0; i < N; ++i)
+        for (int k = 0; k < P; ++k)
+            for (int d = P - 1; d >= k; --d) c[i][d] += 0.5 * c[i][d + 1];
+}
+
+template <int P, int H>
+void powerFormOfCell(const Lattice& lattice, int su, int sv, int sw, Lanes (&power)[P + 1][P + 1][P + 1][H]) {
+    constexpr int N = P + 1;
+    double cu[N][N], cv[N][N], cw[N][N];
+    coefficientsAboutMidpoint<P>(lattice.axes[0].coefficients, su, cu);
+    coefficientsAboutMidpoint<P>(lattice.axes[1].coefficients, sv, cv);
+    coefficientsAboutMidpoint<P>(lattice.axes[2].coefficients, sw, cw);
+    double block[N][N][N][H];  // [k][j][i][h]: control displacements, homogeneous when H == 4
+    for (int k = 0; k < N; ++k)
+        for (int j = 0; j < N; ++j)
+            for (int i = 0; i < N; ++i) {
+                const int idx = lattice.index(lattice.axes[0].first(su) + i, lattice.axes[1].first(sv) + j, lattice.axes[2].first(sw) + k);
+                const double w = H == 4 ? lattice.weights[idx] : 1.0;
+                for (int c = 0; c < 3; ++c) block[k][j][i][c] = w * lattice.displacement(idx, c);
+                if constexpr (H == 4) block[k][j][i][3] = w;
+            }
+    // Contract one axis at a time (u, then v, then w): N^4 H multiply-adds each, per cell.
+    double tu[N][N][N][H] = {}, tv[N][N][N][H] = {};  // [k][j][a], then [k][b][a]
+    for (int k = 0; k < N; ++k)
+        for (int j = 0; j < N; ++j)
+            for (int a = 0; a < N; ++a)
+                for (int i = 0; i < N; ++i)
+                    for (int h = 0; h < H; ++h) tu[k][j][a][h] += cu[i][a] * block[k][j][i][h];
+    for (int k = 0; k < N; ++k)
+        for (int b = 0; b < N; ++b)
+            for (int j = 0; j < N; ++j)
+                for (int a = 0; a < N; ++a)
+                    for (int h = 0; h < H; ++h) tv[k][b][a][h] += cv[j][b] * tu[k][j][a][h];
+    for (int c = 0; c < N; ++c)
+        for (int b = 0; b < N; ++b)
+            for (int a = 0; a < N; ++a)
+                for (int h = 0; h < H; ++h) {
+                    double m = 0.0;
+                    for (int k = 0; k < N; ++k) m += cw[k][c] * tv[k][b][a][h];
+                    power[c][b][a][h] = Lanes{} + m;  // broadcast: one memory operand per multiply-add below
+                }
+}
+
 template <int P, bool Rational, bool InCellOrder = false>
 void evaluateCellFixed(const Lattice& lattice, const Embedding& e, int cell, double* out) {
     constexpr int N = P + 1;
@@ -30,21 +91,8 @@ void evaluateCellFixed(const Lattice& lattice, const Embedding& e, int cell, dou
     const int su = cell % spans[0];
     const int sv = (cell / spans[0]) % spans[1];
     const int sw = cell / (spans[0] * spans[1]);
-    // The cell's (p+1)^3 control displacements, broadcast once per cell so the contraction below is one
-    // fused multiply-add with a memory operand per term.
-    alignas(32) Lanes block[N][N][N][H];
-    for (int k = 0; k < N; ++k)
-        for (int j = 0; j < N; ++j)
-            for (int i = 0; i < N; ++i) {
-                const int idx = lattice.index(lattice.axes[0].first(su) + i, lattice.axes[1].first(sv) + j, lattice.axes[2].first(sw) + k);
-                const double w = Rational ? lattice.weights[idx] : 1.0;
-                for (int c = 0; c < 3; ++c) block[k][j][i][c] = Lanes{} + w * lattice.displacement(idx, c);
-                if constexpr (Rational) block[k][j][i][3] = Lanes{} + w;
-            }
-    double cu[N][N], cv[N][N], cw[N][N];
-    std::copy_n(lattice.axes[0].coefficients.data() + static_cast<size_t>(su) * N * N, N * N, &cu[0][0]);
-    std::copy_n(lattice.axes[1].coefficients.data() + static_cast<size_t>(sv) * N * N, N * N, &cv[0][0]);
-    std::copy_n(lattice.axes[2].coefficients.data() + static_cast<size_t>(sw) * N * N, N * N, &cw[0][0]);
+    alignas(32) Lanes power[N][N][N][H];
+    powerFormOfCell<P, H>(lattice, su, sv, sw, power);
 
     const int begin = e.cellStart[cell], end = e.cellStart[cell + 1];
     for (int v = begin; v < end; v += 4) {
@@ -61,28 +109,19 @@ void evaluateCellFixed(const Lattice& lattice, const Embedding& e, int cell, dou
                 z[l] = e.localZ[v + l];
             }
         }
-        Lanes bu[N], bv[N], bw[N];
-        for (int i = 0; i < N; ++i) {  // per-span polynomials, Horner
-            Lanes a = Lanes{} + cu[i][P], b = Lanes{} + cv[i][P], c = Lanes{} + cw[i][P];
-            for (int d = P - 1; d >= 0; --d) {
-                a = a * x + cu[i][d];
-                b = b * y + cv[i][d];
-                c = c * z + cw[i][d];
+        x -= 0.5, y -= 0.5, z -= 0.5;  // powers about the cell's centre (coefficientsAboutMidpoint)
+        // Horner in z outermost, y inside it, x innermost.
+        Lanes sum[H];
+        for (int c = P; c >= 0; --c) {
+            Lanes sy[H];
+            for (int b = P; b >= 0; --b) {
+                Lanes sx[H];
+                for (int h = 0; h < H; ++h) sx[h] = power[c][b][P][h];
+                for (int a = P - 1; a >= 0; --a)
+                    for (int h = 0; h < H; ++h) sx[h] = sx[h] * x + power[c][b][a][h];
+                for (int h = 0; h < H; ++h) sy[h] = b == P ? sx[h] : sy[h] * y + sx[h];
             }
-            bu[i] = a;
-            bv[i] = b;
-            bw[i] = c;
-        }
-        Lanes sum[H] = {};
-        for (int k = 0; k < N; ++k) {
-            Lanes sk[H] = {};
-            for (int j = 0; j < N; ++j) {
-                Lanes sj[H] = {};
-                for (int i = 0; i < N; ++i)
-                    for (int c = 0; c < H; ++c) sj[c] += bu[i] * block[k][j][i][c];
-                for (int c = 0; c < H; ++c) sk[c] += bv[j] * sj[c];
-            }
-            for (int c = 0; c < H; ++c) sum[c] += bw[k] * sk[c];
+            for (int h = 0; h < H; ++h) sum[h] = c == P ? sy[h] : sum[h] * z + sy[h];
         }
         if constexpr (Rational) {
             const Lanes scale = 1.0 / sum[3];

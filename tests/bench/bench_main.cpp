@@ -2,7 +2,9 @@
 // >= 10 runs. Not a test: nothing here asserts a time.
 //
 // Usage: sculpt_bench [case-name-substring ...]   (no argument: every case)
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <iostream>
 #include <random>
@@ -13,6 +15,7 @@
 #include <omp.h>
 
 #include "bench_support.h"
+#include "eval_limit.h"
 #include "effd_bench.h"
 #include "io_bench.h"
 #include "tspline_bench.h"
@@ -76,6 +79,33 @@ void benchEvaluation(const Positions& points) {
         std::snprintf(extra, sizeof extra, "\"in_cell_order_ms\": %.4f, \"ratio\": %.2f, \"kernel\": \"%s\"", cellOrderMs,
                       productMs / cellOrderMs, evaluationKernelName());
         bench::printCase(name + "_in_cell_order", n, productMs, extra);
+        if (!wanted(name + "_vs_limit") || !bench::limitKernelApplies(lattice)) continue;
+        // Issue 12, point 4: evaluateAll against the reference of eval_limit.h (the same power form, AVX2
+        // intrinsics, cell order in and out, nothing else), run alternately so both see the same machine state.
+        const size_t inside = static_cast<size_t>(embedding.insideCount());
+        std::vector<double> limitX(inside), limitY(inside), limitZ(inside);
+        std::vector<double> engineTimes, limitTimes;
+        for (int run = 0; run <= 21; ++run) {
+            auto start = std::chrono::steady_clock::now();
+            evaluateAll(lattice, embedding, positions);
+            const double engine = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            start = std::chrono::steady_clock::now();
+            bench::evaluateCubicLimit(lattice, embedding, limitX.data(), limitY.data(), limitZ.data());
+            const double limit = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            if (run == 0) continue;  // warm-up
+            engineTimes.push_back(engine);
+            limitTimes.push_back(limit);
+        }
+        double difference = 0.0;  // the two must compute the same positions
+        for (size_t entry = 0; entry < inside; ++entry) {
+            const int v = embedding.order[entry];
+            difference = std::max({difference, std::abs(positions(v, 0) - limitX[entry]), std::abs(positions(v, 1) - limitY[entry]),
+                                   std::abs(positions(v, 2) - limitZ[entry])});
+        }
+        const double engineMs = bench::median(engineTimes), limitMs = bench::median(limitTimes);
+        std::snprintf(extra, sizeof extra, "\"limit_ms\": %.4f, \"ratio\": %.2f, \"max_abs_difference\": %.1e, \"kernel\": \"%s\"",
+                      limitMs, engineMs / limitMs, difference, evaluationKernelName());
+        bench::printCase(name + "_vs_limit", n, engineMs, extra);
     }
 }
 

@@ -48,7 +48,9 @@ TEST_CASE("embedding: kernel evaluation equals the scalar NURBS evaluation", "[c
         Positions positions = rest;
         evaluateAll(lattice, embedding, positions);
         const Positions reference = referencePositions(lattice, rest);
-        REQUIRE((positions - reference).cwiseAbs().maxCoeff() <= 1e-13 * lattice.diagonal());
+        // The kernel's power form about each cell's centre rounds as the basis form does (about 4e-16 of the
+        // diagonal here at every degree); powers of the local coordinate itself lost 2.5e-13 at degree 5.
+        REQUIRE((positions - reference).cwiseAbs().maxCoeff() <= 1e-14 * lattice.diagonal());
         for (Eigen::Index v = 0; v < n; ++v) {
             Eigen::Vector3d t;
             if (!restParameters(lattice, rest.row(v).transpose(), t)) REQUIRE(positions.row(v) == rest.row(v));

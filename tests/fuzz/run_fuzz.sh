@@ -17,6 +17,9 @@ cmake --build "$build" --target obj_fuzz mesh_fuzz -j2
 
 # Leaks inside third-party libraries (assimp's, on malformed files) are suppressed, as in CI's sanitizer run.
 export LSAN_OPTIONS="suppressions=$root/.ci/lsan.supp:print_suppressions=0"
+# As in .ci/run: without it LeakSanitizer's tracer can die on a dynamic TLS block it misreads (a crash that is
+# not the input's).
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}intercept_tls_get_addr=0"
 
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
