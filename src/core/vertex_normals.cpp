@@ -8,17 +8,20 @@ namespace sculpt::core {
 
 namespace {
 
-// Sum of unnormalised face normals (twice the area, so larger faces weigh more) around v.
+// Unnormalised normal of triangle t (twice its area, so larger faces weigh more).
+inline Eigen::Vector3d faceNormal(const Positions& positions, const Triangles& triangles, Eigen::Index t) {
+    const Eigen::Vector3d a = positions.row(triangles(t, 0)).transpose();
+    const Eigen::Vector3d b = positions.row(triangles(t, 1)).transpose();
+    const Eigen::Vector3d c = positions.row(triangles(t, 2)).transpose();
+    return (b - a).cross(c - a);
+}
+
+// Sum of unnormalised face normals around v.
 Eigen::Vector3d accumulatedNormal(const Positions& positions, const Triangles& triangles,
                                   const VertexTriangles& adjacency, int v) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k) {
-        const int t = adjacency.triangles[k];
-        const Eigen::Vector3d a = positions.row(triangles(t, 0)).transpose();
-        const Eigen::Vector3d b = positions.row(triangles(t, 1)).transpose();
-        const Eigen::Vector3d c = positions.row(triangles(t, 2)).transpose();
-        sum += (b - a).cross(c - a);
-    }
+    for (int k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k)
+        sum += faceNormal(positions, triangles, adjacency.triangles[k]);
     return sum;
 }
 
@@ -48,11 +51,39 @@ VertexTriangles buildVertexTriangles(int vertexCount, const Triangles& triangles
 }
 
 void computeVertexNormals(const Positions& positions, const Triangles& triangles, Positions& normals) {
+    // A one-off: each vertex sums its ring's face normals itself (no scratch of 3 doubles per triangle to
+    // fault in for one use).
     const int n = static_cast<int>(positions.rows());
     const VertexTriangles adjacency = buildVertexTriangles(n, triangles);
     normals.resize(n, 3);
 #pragma omp parallel for schedule(static) if (n > 20000)
     for (int v = 0; v < n; ++v) storeNormal(accumulatedNormal(positions, triangles, adjacency, v), normals, v);
+}
+
+void computeVertexNormals(const Positions& positions, const Triangles& triangles, const VertexTriangles& adjacency,
+                          Positions& normals) {
+    const int n = static_cast<int>(positions.rows());
+    const int faces = static_cast<int>(triangles.rows());
+    normals.resize(n, 3);
+    // Each face's normal once (a vertex's ring would compute it three times), then the sums in the order
+    // accumulatedNormal adds them, so the sparse update gives these same values.
+    std::vector<double>& faceNormals = adjacency.faceNormals;
+    faceNormals.resize(3 * static_cast<size_t>(faces));
+#pragma omp parallel if (n > 20000)
+    {
+#pragma omp for schedule(static)
+        for (int t = 0; t < faces; ++t) {
+            const Eigen::Vector3d normal = faceNormal(positions, triangles, t);
+            for (int c = 0; c < 3; ++c) faceNormals[3 * static_cast<size_t>(t) + c] = normal[c];
+        }
+#pragma omp for schedule(static)
+        for (int v = 0; v < n; ++v) {
+            Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+            for (int k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k)
+                sum += Eigen::Map<const Eigen::Vector3d>(faceNormals.data() + 3 * static_cast<size_t>(adjacency.triangles[k]));
+            storeNormal(sum, normals, v);
+        }
+    }
 }
 
 void updateVertexNormals(const Positions& positions, const Triangles& triangles, const VertexTriangles& adjacency,

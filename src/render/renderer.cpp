@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include <omp.h>
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/vertex_normals.h"
@@ -374,22 +376,43 @@ Status Renderer::updatePositions(const Positions& positions, const std::vector<i
     if (positions.rows() != vertexCount)
         return Status::error("updatePositions: " + std::to_string(positions.rows()) +
                              " positions given for a mesh of " + std::to_string(vertexCount) + " vertices");
-    for (int v : changedVertices) {
+    // Checked in parallel (a global change lists every vertex); the first bad entry is the one reported.
+    const int changedCount = int(changedVertices.size());
+    int firstBad = changedCount;
+#pragma omp parallel for schedule(static) reduction(min : firstBad) if (changedCount > 65536)
+    for (int i = 0; i < changedCount; ++i) {
+        const int v = changedVertices[size_t(i)];
+        if (v < 0 || v >= vertexCount || !positions.row(v).allFinite()) firstBad = std::min(firstBad, i);
+    }
+    if (firstBad < changedCount) {
+        const int v = changedVertices[size_t(firstBad)];
         if (v < 0 || v >= vertexCount)
             return Status::error("updatePositions: changed vertex " + std::to_string(v) + " is outside [0, " +
                                  std::to_string(vertexCount) + ")");
-        if (!positions.row(v).allFinite())
-            return Status::error("updatePositions: position of vertex " + std::to_string(v) +
-                                 " is not finite (NaN or infinity); nothing was uploaded");
+        return Status::error("updatePositions: position of vertex " + std::to_string(v) +
+                             " is not finite (NaN or infinity); nothing was uploaded");
     }
     s.lastUpload = {};
     if (changedVertices.empty()) return Status::success();
-    for (int v : changedVertices) s.positions.row(v) = positions.row(v);
+    if (changedCount > 65536) {
+        // Each thread copies the listed rows that fall in its own block of vertex ids: no two threads write
+        // one row, even when the list repeats a vertex.
+#pragma omp parallel
+        {
+            const int threads = omp_get_num_threads(), thread = omp_get_thread_num();
+            const int first = int(int64_t(vertexCount) * thread / threads);
+            const int last = int(int64_t(vertexCount) * (thread + 1) / threads);
+            for (int v : changedVertices)
+                if (v >= first && v < last) s.positions.row(v) = positions.row(v);
+        }
+    } else {
+        for (int v : changedVertices) s.positions.row(v) = positions.row(v);
+    }
 
     const GlFunctions& gl = s.gl;
     gl.BindBuffer(GL_ARRAY_BUFFER, s.vertexBuffer);
     if (changedVertices.size() * kFullUploadDivisor > size_t(vertexCount)) {
-        core::computeVertexNormals(s.positions, s.triangles, s.normals);
+        core::computeVertexNormals(s.positions, s.triangles, s.adjacency, s.normals);
         s.packVertices(0, vertexCount);
         // Re-specifying the whole store lets the driver orphan the old one instead of waiting for draws.
         gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(s.staging.size() * sizeof(float)), s.staging.data(),

@@ -374,7 +374,7 @@ int main(int argc, char** argv) {
     benchSubdivision();
     benchTriangleCheck();
 #ifdef SCULPT_BENCH_RENDER
-    if (wanted("render") || wanted("upload")) sculpt::render::runRenderBenchmarks(std::cout);
+    if (wanted("render") || wanted("upload") || wanted("full_update")) sculpt::render::runRenderBenchmarks(std::cout);
 #endif
 #ifdef SCULPT_BENCH_WINDOW
     sculpt::bench::runWindowBenchmarks(std::cout, gFilters);  // runs only the cases gFilters asks for

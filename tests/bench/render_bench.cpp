@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "../render/test_meshes.h"
+#include "core/embedding.h"
+#include "core/lattice.h"
 #include "core/vertex_normals.h"
 #include "render/offscreen_renderer.h"
 
@@ -87,8 +89,10 @@ void benchUploads(std::ostream& out, OffscreenRenderer& offscreen) {
         },
         [&] { moved = sphere.positions * (1.0 + 0.01 * ++step); });
     if (!failed) return printError(out, "upload_1m", failed.message);
-    Positions normals;
-    const double normalsMs = medianMs(kRuns, [&] { core::computeVertexNormals(moved, sphere.triangles, normals); });
+    Positions normals;  // the renderer's way: the mesh's adjacency kept
+    const core::VertexTriangles adjacency = core::buildVertexTriangles(vertexCount, sphere.triangles);
+    const double normalsMs =
+        medianMs(kRuns, [&] { core::computeVertexNormals(moved, sphere.triangles, adjacency, normals); });
     out << "{\"case\": \"upload_1m\", \"n\": " << vertexCount << ", \"median_ms\": " << fullMs
         << ", \"normals_ms\": " << normalsMs << ", \"full_upload\": " << (renderer.lastUpload().fullUpload ? "true" : "false")
         << "}" << std::endl;
@@ -113,6 +117,45 @@ void benchUploads(std::ostream& out, OffscreenRenderer& offscreen) {
         << ", \"vertices_uploaded\": " << stats.verticesUploaded << ", \"ranges\": " << stats.ranges << "}" << std::endl;
 }
 
+// full_update_1m (issue 12, point 3): what follows a fresh frame or a global drag on 1M vertices, end to end:
+// every position evaluated (cubic 8^3 lattice, all control points displaced), every normal recomputed, the
+// vertex buffer rewritten and the GL finished with it.
+void benchFullUpdate(std::ostream& out, OffscreenRenderer& offscreen) {
+    const test::TestMesh sphere = test::makeUvSphere(1000, 1001);  // 1,000,002 vertices, 2M triangles
+    const int vertexCount = int(sphere.positions.rows());
+    Renderer& renderer = offscreen.renderer();
+    if (Status status = renderer.setMesh(sphere.positions, sphere.triangles); !status)
+        return printError(out, "full_update_1m", status.message);
+    core::LatticeSettings settings;  // 8^3 control points, cubic
+    core::Lattice lattice;
+    core::makeLattice(settings, sphere.positions, lattice);
+    const core::Embedding embedding = core::embedVertices(lattice, sphere.positions);
+    const auto& gl = offscreen.context().gl();
+    std::vector<int> all(static_cast<size_t>(vertexCount));
+    for (int v = 0; v < vertexCount; ++v) all[size_t(v)] = v;
+    Positions positions = sphere.positions;
+    std::vector<double> totalMs, evaluateMs, uploadMs;
+    Status failed;
+    for (int run = 0; run <= kRuns; ++run) {
+        for (int c = 0; c < lattice.controlPointCount(); ++c)  // a new global change each run
+            lattice.displacement.row(c) << 0.01 * std::sin(c + run), 0.01 * std::cos(c * 3 + run), 0.005 * run;
+        const auto start = std::chrono::steady_clock::now();
+        core::evaluateAll(lattice, embedding, positions);
+        const auto evaluated = std::chrono::steady_clock::now();
+        if (Status status = renderer.updatePositions(positions, all); !status) failed = status;
+        gl.Finish();
+        const auto end = std::chrono::steady_clock::now();
+        if (run == 0) continue;  // warm-up
+        evaluateMs.push_back(std::chrono::duration<double, std::milli>(evaluated - start).count());
+        uploadMs.push_back(std::chrono::duration<double, std::milli>(end - evaluated).count());
+        totalMs.push_back(std::chrono::duration<double, std::milli>(end - start).count());
+    }
+    if (!failed) return printError(out, "full_update_1m", failed.message);
+    out << "{\"case\": \"full_update_1m\", \"n\": " << vertexCount << ", \"median_ms\": " << bench::median(totalMs)
+        << ", \"evaluate_ms\": " << bench::median(evaluateMs) << ", \"normals_and_upload_ms\": " << bench::median(uploadMs)
+        << ", \"full_upload\": " << (renderer.lastUpload().fullUpload ? "true" : "false") << "}" << std::endl;
+}
+
 }  // namespace
 
 void runRenderBenchmarks(std::ostream& out) {
@@ -130,6 +173,7 @@ void runRenderBenchmarks(std::ostream& out) {
     benchFrames(out, *offscreen, "render_1m", 1000, 501);    // 2 * 1000 * 500 = 1,000,000 triangles
     benchFrames(out, *offscreen, "render_1m_1x", 1000, 501, 1);
     benchUploads(out, *offscreen);
+    benchFullUpdate(out, *offscreen);
 }
 
 }  // namespace sculpt::render
