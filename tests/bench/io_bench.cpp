@@ -102,7 +102,12 @@ void runIoBenchmarks(const std::vector<std::string>& filters) {
             moved.col(0) *= 1.25;
             Status status;
             const double ms = medianMs(10, [&] { status = io::saveMesh(path, written, moved); });
+            // The save's two halves: the file's bytes made in memory, and the rest (the write to a temporary
+            // file, fsync, rename), which this machine's disk decides.
+            std::string made;
+            const double serializeMs = medianMs(10, [&] { io::serializeMesh(path, written, moved, f.encoding, made); });
             std::cout << "{\"case\": \"" << saveCase(f.name) << "\", \"vertices\": " << mesh.vertexCount() << ", \"median_ms\": " << ms
+                      << ", \"serialize_ms\": " << serializeMs << ", \"bytes\": " << made.size()
                       << (status ? "" : ", \"error\": \"" + status.message + "\"") << "}" << std::endl;
         }
     }
