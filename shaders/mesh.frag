@@ -3,16 +3,19 @@
 //  - det J colour map (jacobian_colors.glsl: diverging, log scale, saturating at 1/2 and 2 by default; fold-over
 //    det J <= 0 is loud magenta/black)
 //  - affected-region weight, tinting toward a green highlight.
+// The material is the clay, or the mesh's own vertex colours (a scan's) where uShowVertexColors says so.
 // uMode 1 draws the wireframe overlay with a flat colour instead.
 uniform int uMode;            // 0 shaded surface, 1 wireframe lines
 uniform vec4 uWireColor;      // sRGB + alpha, for uMode 1
 uniform int uShowJacobian;    // nonzero: colour by det J
 uniform int uShowAffected;    // nonzero: tint by affected weight
+uniform int uShowVertexColors;  // nonzero: the vertex colours (sRGB) are the material
 
 in vec3 vViewPosition;
 in vec3 vViewNormal;
 in float vJacobian;
 in float vAffected;
+in vec3 vVertexColor;
 out vec4 fragColor;
 
 #include "jacobian_colors.glsl"
@@ -57,10 +60,11 @@ void main() {
         return;
     }
     // note: the plain material's linear albedo is a constant the compiler folds; overlays pay for pow().
-    vec3 albedo = toLinear(kClay);
+    vec3 material = uShowVertexColors != 0 ? clamp(vVertexColor, 0.0, 1.0) : kClay;
+    vec3 albedo = uShowVertexColors != 0 ? toLinear(material) : toLinear(kClay);
     float highlight = 0.0;
     if (uShowJacobian != 0 || uShowAffected != 0) {
-        vec3 albedoSrgb = uShowJacobian != 0 ? jacobianMapColor(jacobianMapPosition(vJacobian)) : kClay;
+        vec3 albedoSrgb = uShowJacobian != 0 ? jacobianMapColor(jacobianMapPosition(vJacobian)) : material;
         if (uShowAffected != 0) {
             highlight = clamp(vAffected, 0.0, 1.0);
             albedoSrgb = mix(albedoSrgb, kHighlight, 0.75 * highlight);

@@ -3,6 +3,7 @@ layout(location = ATTRIB_POSITION) in vec3 aPosition;
 layout(location = ATTRIB_NORMAL) in vec3 aNormal;
 layout(location = ATTRIB_JACOBIAN) in float aJacobian;
 layout(location = ATTRIB_AFFECTED) in float aAffected;
+layout(location = ATTRIB_VERTEX_COLOR) in vec3 aVertexColor;
 
 uniform mat4 uView;
 uniform mat4 uProjection;
@@ -11,6 +12,7 @@ out vec3 vViewPosition;
 out vec3 vViewNormal;
 out float vJacobian;
 out float vAffected;
+out vec3 vVertexColor;
 
 void main() {
     vec4 viewPosition = uView * vec4(aPosition, 1.0);
@@ -19,5 +21,6 @@ void main() {
     vViewNormal = mat3(uView) * aNormal;
     vJacobian = aJacobian;
     vAffected = aAffected;
+    vVertexColor = aVertexColor;
     gl_Position = uProjection * viewPosition;
 }

@@ -24,7 +24,7 @@ const char* usageText() {
            "  sculpt [MESH.obj | SESSION.json]       open the interactive window (on a mesh, or a saved session)\n"
            "  sculpt --headless [--input MESH.obj] --script OPS.json --output OUT.obj\n"
            "         [--report REPORT.json] [--save-session SESSION.json] [--screenshot OUT.png [--size WxH]\n"
-           "         [--camera yaw,pitch,distance] [--overlay jacobian|affected|lattice|wireframe]...]\n"
+           "         [--camera yaw,pitch,distance] [--overlay jacobian|affected|lattice|wireframe|colors]...]\n"
            "         [--gl-backend auto|osmesa|egl]\n"
            "exit codes: 0 success, 2 bad input (nothing written), 3 output could not be written, 1 internal error\n";
 }
@@ -74,8 +74,8 @@ Status parseCommandLine(int argc, const char* const* argv, CliOptions& out) {
         } else if (arg == "--overlay") {
             std::string name;
             s = value(name);
-            if (s && name != "jacobian" && name != "affected" && name != "lattice" && name != "wireframe")
-                return Status::error("--overlay must be jacobian, affected, lattice or wireframe (got \"" + name + "\")");
+            if (s && name != "jacobian" && name != "affected" && name != "lattice" && name != "wireframe" && name != "colors")
+                return Status::error("--overlay must be jacobian, affected, lattice, wireframe or colors (got \"" + name + "\")");
             o.overlays.push_back(name);
         } else if (!arg.empty() && arg[0] == '-') {
             return Status::error("unknown option " + arg);

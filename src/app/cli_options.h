@@ -21,7 +21,7 @@ struct CliOptions {
     std::string screenshot;   // PNG written after the script (optional)
     int width = 1280, height = 800;
     std::optional<std::array<double, 3>> camera;  // yaw, pitch (degrees), distance
-    std::vector<std::string> overlays;            // jacobian | affected | lattice | wireframe
+    std::vector<std::string> overlays;            // jacobian | affected | lattice | wireframe | colors (the file's vertex colours)
     std::string glBackend = "auto";               // auto | osmesa | egl
 };
 

@@ -59,7 +59,7 @@ int runHeadless(const CliOptions& options, const char* argv0) {
     ScreenshotRenderer screenshots(options);
     core::ScriptReport report;
     const core::ScreenshotHook hook = [&](const core::Session& current, const core::ScriptOp& op) {
-        return screenshots.capture(current, op.path);
+        return screenshots.capture(current, op.path, &mesh);
     };
     if (Status s = core::runScript(session, script, report, hook); !s) {
         std::cerr << "sculpt: " << options.script << ": " << s.message << "\n";
@@ -102,7 +102,7 @@ int runHeadless(const CliOptions& options, const char* argv0) {
         std::printf("wrote %s\n", options.saveSession.c_str());
     }
     if (!options.screenshot.empty()) {
-        if (Status s = screenshots.capture(session, options.screenshot); !s) {
+        if (Status s = screenshots.capture(session, options.screenshot, &mesh); !s) {
             std::cerr << "sculpt: " << s.message << "\n";
             return kExitWriteFailed;
         }

@@ -83,6 +83,16 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
     return scene;
 }
 
+std::vector<float> sessionVertexColors(const io::ObjMesh& source, const core::Session& session) {
+    if (source.vertexCount() + static_cast<Eigen::Index>(session.appliedSplits().size()) != session.positions().rows()) return {};
+    const io::VertexColors colours = io::meshVertexColours(source, session.appliedSplits());
+    if (colours.rows() != session.positions().rows()) return {};
+    std::vector<float> rgb(3 * static_cast<size_t>(colours.rows()));
+    for (Eigen::Index v = 0; v < colours.rows(); ++v)
+        for (int c = 0; c < 3; ++c) rgb[3 * static_cast<size_t>(v) + static_cast<size_t>(c)] = colours(v, c);
+    return rgb;
+}
+
 std::vector<Positions> restToolLines(const std::shared_ptr<const core::Volume>& volume, int samplesPerSpan) {
     const core::TSplineVolume* tspline = core::asTSpline(volume.get());
     if (!tspline) return core::restChunkEdges(volume, samplesPerSpan);

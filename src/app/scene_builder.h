@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/session.h"
+#include "io/mesh_file.h"
 #include "render/scene.h"
 
 namespace sculpt::app {
@@ -31,6 +32,11 @@ struct SceneRequest {
 };
 
 render::SceneData sceneFromSession(const core::Session& session, const SceneRequest& request);
+
+// The mesh file's own colours (a scan's: io::meshVertexColours, carried through the session's refinement
+// splits) as SceneData::vertexColors takes them: #V x 3 sRGB values for the session's vertices, or empty when
+// the file had none or `source` is not the mesh the session was set up from (another vertex count).
+std::vector<float> sessionVertexColors(const io::ObjMesh& source, const core::Session& session);
 
 // A lattice tool that is not frozen as it is drawn (dim, at rest): the rest chunk edges of its volume
 // (core::restChunkEdges), or of a weighted T-spline its T-lattice between its rest control points (segments).

@@ -8,6 +8,7 @@
 #include "app/cli_options.h"
 #include "core/session.h"
 #include "core/status.h"
+#include "io/obj_mesh.h"
 
 namespace sculpt::app {
 
@@ -15,7 +16,8 @@ class ScreenshotRenderer {
 public:
     explicit ScreenshotRenderer(const CliOptions& options);
     ~ScreenshotRenderer();
-    Status capture(const core::Session& session, const std::string& pngPath);
+    // sourceMesh: the file the session was set up from, whose colours `--overlay colors` draws (null: none).
+    Status capture(const core::Session& session, const std::string& pngPath, const io::ObjMesh* sourceMesh = nullptr);
 
 private:
     struct State;

@@ -14,7 +14,7 @@ struct ScreenshotRenderer::State {
 ScreenshotRenderer::ScreenshotRenderer(const CliOptions& options) : options_(options) {}
 ScreenshotRenderer::~ScreenshotRenderer() = default;
 
-Status ScreenshotRenderer::capture(const core::Session& session, const std::string& pngPath) {
+Status ScreenshotRenderer::capture(const core::Session& session, const std::string& pngPath, const io::ObjMesh* sourceMesh) {
     render::ScreenshotOptions screenshot;
     screenshot.width = options_.width;
     screenshot.height = options_.height;
@@ -24,7 +24,9 @@ Status ScreenshotRenderer::capture(const core::Session& session, const std::stri
         screenshot.distance = (*options_.camera)[2];
     }
     SceneRequest request;
+    bool colors = false;
     for (const std::string& overlay : options_.overlays) {
+        if (overlay == "colors") colors = true;
         if (overlay == "lattice") screenshot.overlays.lattice = true;
         if (overlay == "wireframe") screenshot.overlays.wireframe = true;
         if (overlay == "jacobian") screenshot.overlays.jacobian = request.jacobian = true;
@@ -39,7 +41,9 @@ Status ScreenshotRenderer::capture(const core::Session& session, const std::stri
         state_ = std::move(state);
     }
     if (Status s = state_->renderer->makeCurrent(); !s) return s;
-    return state_->renderer->screenshot(sceneFromSession(session, request), screenshot, pngPath);
+    render::SceneData scene = sceneFromSession(session, request);
+    if (colors && sourceMesh) scene.vertexColors = sessionVertexColors(*sourceMesh, session);
+    return state_->renderer->screenshot(scene, screenshot, pngPath);
 }
 
 }  // namespace sculpt::app

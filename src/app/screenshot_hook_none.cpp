@@ -8,7 +8,7 @@ struct ScreenshotRenderer::State {};
 ScreenshotRenderer::ScreenshotRenderer(const CliOptions& options) : options_(options) {}
 ScreenshotRenderer::~ScreenshotRenderer() = default;
 
-Status ScreenshotRenderer::capture(const core::Session&, const std::string& pngPath) {
+Status ScreenshotRenderer::capture(const core::Session&, const std::string& pngPath, const io::ObjMesh*) {
     return Status::error("cannot write " + pngPath + ": this build has no renderer (configure with SCULPT_BUILD_GL=ON)");
 }
 

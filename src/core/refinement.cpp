@@ -223,16 +223,6 @@ void revertEdgeSplits(Triangles& triangles, const std::vector<TriangleHalving>& 
     triangles.conservativeResize(kept, 3);
 }
 
-void appendSplitMidpoints(Positions& rest, const std::vector<EdgeSplit>& splits) {
-    const Eigen::Index first = rest.rows();
-    rest.conservativeResize(first + static_cast<Eigen::Index>(splits.size()), 3);
-    for (size_t k = 0; k < splits.size(); ++k) {
-        const Eigen::Index row = first + static_cast<Eigen::Index>(k);
-        assert(splits[k].a >= 0 && splits[k].a < row && splits[k].b >= 0 && splits[k].b < row);
-        rest.row(row) = 0.5 * (rest.row(splits[k].a) + rest.row(splits[k].b));
-    }
-}
-
 Status refineMesh(const Positions& rest, const Positions& current, const Triangles& triangles, const RestImage& image,
                   const RefinementOptions& options, RefinementResult& result) {
     if (Status s = validateRefinementOptions(options); !s) return s;

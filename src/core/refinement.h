@@ -11,6 +11,7 @@
 // the OBJ writer share. The map from rest space to the current shape is given as a callable.
 #pragma once
 
+#include <cassert>
 #include <functional>
 #include <string>
 #include <vector>
@@ -95,9 +96,20 @@ Status applyEdgeSplits(Triangles& triangles, int vertexCount, const std::vector<
 // triangles must be what applyEdgeSplits produced with these halvings (asserted).
 void revertEdgeSplits(Triangles& triangles, const std::vector<TriangleHalving>& halvings);
 
-// Appends a row per split to `rest`: the midpoint of its edge's two rows (rows added by earlier splits count).
-// Ids out of range are a programmer mistake (asserted).
-void appendSplitMidpoints(Positions& rest, const std::vector<EdgeSplit>& splits);
+// Appends a row per split to `rows` (rest positions, or any per-vertex attribute: a row-major Eigen matrix with
+// one row per vertex): the midpoint of its edge's two rows (rows added by earlier splits count). Ids out of range
+// are a programmer mistake (asserted).
+template <typename Rows>
+void appendSplitMidpoints(Rows& rows, const std::vector<EdgeSplit>& splits) {
+    using Scalar = typename Rows::Scalar;
+    const Eigen::Index first = rows.rows();
+    rows.conservativeResize(first + static_cast<Eigen::Index>(splits.size()), Eigen::NoChange);
+    for (size_t k = 0; k < splits.size(); ++k) {
+        const Eigen::Index row = first + static_cast<Eigen::Index>(k);
+        assert(splits[k].a >= 0 && splits[k].a < row && splits[k].b >= 0 && splits[k].b < row);
+        rows.row(row) = Scalar(0.5) * (rows.row(splits[k].a) + rows.row(splits[k].b));
+    }
+}
 
 struct RefinementResult {
     std::vector<EdgeSplit> splits;  // in order (applyEdgeSplits reproduces `triangles` from them)

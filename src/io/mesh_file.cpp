@@ -955,7 +955,7 @@ Status prepareSave(const ObjMesh& mesh, const Positions& deformed, const MeshEnc
     const bool ply = encoding.format == MeshFormat::Ply, stl = encoding.format == MeshFormat::Stl;
     attributes.writeTexcoords = !stl && perVertexTexcoords(mesh, attributes.texcoords);
     const bool writeTexcoords = attributes.writeTexcoords;
-    attributes.colours = mesh.vertexColors.rows() > 0 ? mesh.vertexColors : objVertexColours(mesh);
+    attributes.colours = meshVertexColours(mesh);
     const bool anyTexcoords = std::any_of(mesh.cornerTexcoord.begin(), mesh.cornerTexcoord.end(), [](int t) { return t >= 0; });
     if (!stl && !writeTexcoords && mesh.texcoords.rows() > 0 && anyTexcoords)
         notes.push_back("texture coordinates are not written: they differ between the corners of a vertex, and " +
@@ -1240,6 +1240,17 @@ Status loadMeshFromMemory(const std::string& bytes, MeshFormat format, const std
     } catch (const std::exception& e) {
         return Status::error(displayName + ": " + e.what());
     }
+}
+
+VertexColors meshVertexColours(const ObjMesh& mesh, const std::vector<core::EdgeSplit>& splits) {
+    VertexColors colours = mesh.vertexColors.rows() > 0 ? mesh.vertexColors : objVertexColours(mesh);
+    if (colours.rows() == 0 || splits.empty()) return colours;
+    for (size_t i = 0; i < splits.size(); ++i) {
+        const Eigen::Index row = colours.rows() + static_cast<Eigen::Index>(i);
+        if (splits[i].a < 0 || splits[i].b < 0 || splits[i].a >= row || splits[i].b >= row) return {};
+    }
+    core::appendSplitMidpoints(colours, splits);
+    return colours;
 }
 
 Status saveEncodingFor(const std::string& path, const ObjMesh& mesh, MeshEncoding& out) {

@@ -64,6 +64,13 @@ Status serializeMesh(const std::string& path, const ObjMesh& mesh, const Positio
 Status saveMesh(const std::string& path, const ObjMesh& mesh, const Positions& deformedPositions,
                 std::vector<std::string>* warnings = nullptr);
 
+// The mesh's own per-vertex colours, to draw: a PLY's or glTF's (vertexColors), else an OBJ's `v x y z r g b`
+// lines (read from its source text; white where a line has none). With splits (a refined mesh), one row more per
+// split, in order: the midpoint of its edge's two vertices, as refineObjMesh gives a saved file. #V + #splits
+// rows of RGBA in [0, 1] (sRGB, as the files store them), or 0 rows when the file had no colours. Split
+// vertices out of range leave the colours out (0 rows): they are not this mesh's.
+VertexColors meshVertexColours(const ObjMesh& mesh, const std::vector<core::EdgeSplit>& splits = {});
+
 // saveMesh of refineObjMesh(mesh, splits) (obj_refine.h) with deformedPositions (#V + #splits rows); with no
 // splits exactly saveMesh(path, mesh, deformedPositions).
 Status saveRefinedMesh(const std::string& path, const ObjMesh& mesh, const std::vector<core::EdgeSplit>& splits,

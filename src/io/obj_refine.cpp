@@ -81,16 +81,10 @@ Status refineObjMesh(const ObjMesh& mesh, const std::vector<core::EdgeSplit>& sp
             for (int column = 0; column < texcoordColumns; ++column)
                 out.texcoords(texcoordCount + static_cast<Eigen::Index>(i), column) = addedTexcoords[i][static_cast<size_t>(column)];
         // Per-vertex colours and normals (PLY, glTF): each new vertex gets its edge's midpoint, like its position.
-        const auto appendMidpointRows = [&splits](auto rows) {
-            if (rows.rows() == 0) return rows;
-            const Eigen::Index first = rows.rows();
-            rows.conservativeResize(first + static_cast<Eigen::Index>(splits.size()), Eigen::NoChange);
-            for (size_t i = 0; i < splits.size(); ++i)
-                rows.row(first + static_cast<Eigen::Index>(i)) = 0.5f * (rows.row(splits[i].a) + rows.row(splits[i].b));
-            return rows;
-        };
-        out.vertexColors = appendMidpointRows(mesh.vertexColors);
-        out.vertexNormals = appendMidpointRows(mesh.vertexNormals);
+        out.vertexColors = mesh.vertexColors;
+        if (out.vertexColors.rows() > 0) core::appendSplitMidpoints(out.vertexColors, splits);
+        out.vertexNormals = mesh.vertexNormals;
+        if (out.vertexNormals.rows() > 0) core::appendSplitMidpoints(out.vertexNormals, splits);
         out.loadedAs = mesh.loadedAs;
         out.groupNames = mesh.groupNames;
         out.materialNames = mesh.materialNames;

@@ -33,7 +33,8 @@ struct InstanceBatch {
 };
 
 struct MeshUniforms {
-    GLint view = -1, projection = -1, mode = -1, wireColor = -1, showJacobian = -1, showAffected = -1, jacobianRange = -1;
+    GLint view = -1, projection = -1, mode = -1, wireColor = -1, showJacobian = -1, showAffected = -1, jacobianRange = -1,
+          showVertexColors = -1;
 };
 struct OverlayUniforms {
     GLint viewport = -1, jacobianRange = -1;
@@ -80,8 +81,8 @@ struct Renderer::State {
     GLuint emptyVao = 0;  // core profile draws need a bound VAO even without attributes
 
     // Mesh on the GPU: interleaved position + normal records, 32-bit indices, optional fields.
-    GLuint meshVao = 0, vertexBuffer = 0, indexBuffer = 0, jacobianBuffer = 0, affectedBuffer = 0;
-    bool hasJacobian = false, hasAffected = false;
+    GLuint meshVao = 0, vertexBuffer = 0, indexBuffer = 0, jacobianBuffer = 0, affectedBuffer = 0, colorBuffer = 0;
+    bool hasJacobian = false, hasAffected = false, hasVertexColors = false;
     // The element buffer holds the full mesh's triangles, then the proxy's (mesh_proxy.h; none for a small mesh).
     GLsizei proxyIndexCount = 0;
     MeshProxyOptions proxyOptions;
@@ -177,7 +178,7 @@ Status Renderer::State::buildPrograms() {
     meshUniforms = {uniform(meshProgram, "uView"),       uniform(meshProgram, "uProjection"),
                     uniform(meshProgram, "uMode"),       uniform(meshProgram, "uWireColor"),
                     uniform(meshProgram, "uShowJacobian"), uniform(meshProgram, "uShowAffected"),
-                    uniform(meshProgram, "uJacobianRange")};
+                    uniform(meshProgram, "uJacobianRange"), uniform(meshProgram, "uShowVertexColors")};
     overlayUniforms = {uniform(overlayProgram, "uViewport"), uniform(overlayProgram, "uJacobianRange")};
     lineUniforms = {uniform(lineProgram, "uViewProjection"), uniform(lineProgram, "uViewport"),
                     uniform(lineProgram, "uWidth"), uniform(lineProgram, "uTint"),
@@ -196,6 +197,7 @@ void Renderer::State::createObjects() {
     gl.GenBuffers(1, &indexBuffer);
     gl.GenBuffers(1, &jacobianBuffer);
     gl.GenBuffers(1, &affectedBuffer);
+    gl.GenBuffers(1, &colorBuffer);
     gl.BindVertexArray(meshVao);
     gl.BindBuffer(GL_ARRAY_BUFFER, vertexBuffer);
     const GLsizei stride = kVertexFloats * sizeof(float);
@@ -207,6 +209,8 @@ void Renderer::State::createObjects() {
     gl.VertexAttribPointer(kAttribJacobian, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
     gl.BindBuffer(GL_ARRAY_BUFFER, affectedBuffer);
     gl.VertexAttribPointer(kAttribAffected, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.BindBuffer(GL_ARRAY_BUFFER, colorBuffer);
+    gl.VertexAttribPointer(kAttribVertexColor, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer);  // recorded in the VAO
     gl.BindVertexArray(0);
     gl.BindBuffer(GL_ARRAY_BUFFER, 0);
@@ -284,7 +288,7 @@ void Renderer::release() {
         for (GLuint* vao : {&s.emptyVao, &s.meshVao, &s.latticeEdges.vao, &s.latticePoints.vao, &s.handleLines.vao,
                             &s.handlePoints.vao, &s.overlayVao})
             gl.DeleteVertexArrays(1, vao);
-        for (GLuint* buffer : {&s.vertexBuffer, &s.indexBuffer, &s.jacobianBuffer, &s.affectedBuffer,
+        for (GLuint* buffer : {&s.vertexBuffer, &s.indexBuffer, &s.jacobianBuffer, &s.affectedBuffer, &s.colorBuffer,
                                &s.latticeEdges.buffer, &s.latticePoints.buffer, &s.handleLines.buffer,
                                &s.handlePoints.buffer, &s.overlayBuffer})
             gl.DeleteBuffers(1, buffer);
@@ -364,6 +368,7 @@ Status Renderer::setMesh(const Positions& positions, const Triangles& triangles)
     s.lastUpload = {int(vertexCount), 1, true};
     setJacobianField({});
     setAffectedWeights({});
+    setVertexColors({});
     s.staging.clear();
     s.staging.shrink_to_fit();
     return Status::success();
@@ -463,6 +468,7 @@ namespace {
 // shader then reads its constant default).
 void uploadOptionalAttribute(const GlFunctions& gl, GLuint vao, GLuint buffer, GLuint attribute,
                              const std::vector<float>& values) {
+    // note: the attribute's size (components per vertex) was set once in createObjects.
     gl.BindVertexArray(vao);
     if (values.empty()) {
         gl.DisableVertexAttribArray(attribute);
@@ -580,8 +586,25 @@ Status Renderer::setConstraints(const ConstraintView& constraints) {
     return Status::success();
 }
 
+Status Renderer::setVertexColors(const std::vector<float>& rgb) {
+    State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    if (!rgb.empty() && rgb.size() != 3 * size_t(s.positions.rows()))
+        return Status::error("vertex colours: " + std::to_string(rgb.size()) + " values for " +
+                             std::to_string(s.positions.rows()) + " vertices (3 per vertex)");
+    for (size_t i = 0; i < rgb.size(); ++i)
+        if (!std::isfinite(rgb[i]))
+            return Status::error("vertex colour " + std::to_string(i / 3) + " is not finite");
+    uploadOptionalAttribute(s.gl, s.meshVao, s.colorBuffer, kAttribVertexColor, rgb);
+    s.hasVertexColors = !rgb.empty();
+    return Status::success();
+}
+
+bool Renderer::hasVertexColors() const { return state_->hasVertexColors; }
+
 Status Renderer::setScene(const SceneData& scene) {
     if (Status status = setMesh(scene.positions, scene.triangles); !status) return status;
+    if (Status status = setVertexColors(scene.vertexColors); !status) return status;
     if (Status status = setJacobianField(scene.jacobianDet); !status) return status;
     if (Status status = setAffectedWeights(scene.affectedWeight); !status) return status;
     if (Status status = setLattice(scene.lattice); !status) return status;
@@ -706,6 +729,7 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
         gl.Uniform1i(s.meshUniforms.mode, 0);
         gl.Uniform1i(s.meshUniforms.showJacobian, options.jacobian ? 1 : 0);
         gl.Uniform1i(s.meshUniforms.showAffected, options.affected ? 1 : 0);
+        gl.Uniform1i(s.meshUniforms.showVertexColors, options.vertexColors && s.hasVertexColors ? 1 : 0);
         gl.Uniform1f(s.meshUniforms.jacobianRange, kJacobianRange);
         // Absent fields read as constants: det J = 1 (unchanged), weight 0 (unaffected).
         if (!s.hasJacobian) gl.VertexAttrib1f(kAttribJacobian, 1.0f);

@@ -64,6 +64,13 @@ public:
     Status setJacobianField(const std::vector<float>& jacobianDet);
     Status setAffectedWeights(const std::vector<float>& affectedWeight);
 
+    // The mesh's own colours (a scan's, from a PLY, glTF or OBJ file), drawn as its albedo under the same
+    // lighting where DrawOptions::vertexColors asks: rgb #V x 3 values (sRGB in [0, 1], values outside are
+    // clamped when drawn), or empty to clear. Fails on a wrong count or a non-finite value (nothing changes).
+    // setMesh clears them.
+    Status setVertexColors(const std::vector<float>& rgb);
+    bool hasVertexColors() const;
+
     // nu = 0 clears. Otherwise nu, nv, nw >= 1, controlPoints (nu*nv*nw) x 3 finite, selected / pinned
     // empty or one per control point.
     Status setLattice(const LatticeView& lattice);

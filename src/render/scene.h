@@ -74,6 +74,7 @@ struct SceneData {
     // Optional per-vertex fields: empty, or exactly #V values.
     std::vector<float> jacobianDet;     // det J of the deformation at each vertex, relative to rest (1 = unchanged)
     std::vector<float> affectedWeight;  // in [0, 1]: how much a constraint / the selection influences the vertex
+    std::vector<float> vertexColors;    // empty or #V x 3 (row-major): the file's colours, sRGB in [0, 1]
     LatticeView lattice;                // nu == 0: none
     ConstraintView constraints;         // empty: none
 };
@@ -86,6 +87,7 @@ struct DrawOptions {
     bool wireframe = false;    // mesh edges over the shaded surface
     bool jacobian = false;     // per-vertex det J colour map, and its legend (with a mesh and a det J field)
     bool affected = false;     // tint of the affected region
+    bool vertexColors = true;  // the mesh's vertex colours as its albedo, where it has them (else the clay)
     bool background = true;    // gradient; false clears to transparent black (alpha 0) for compositing
     // The camera or the shape is moving (a drag, an orbit): draw the mesh's decimated proxy where it has one
     // (a large mesh, see mesh_proxy.h), so software GL keeps up; the full mesh once the motion stops.

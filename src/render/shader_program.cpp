@@ -68,6 +68,7 @@ std::string shaderPreamble() {
     define("ATTRIB_NORMAL", kAttribNormal);
     define("ATTRIB_JACOBIAN", kAttribJacobian);
     define("ATTRIB_AFFECTED", kAttribAffected);
+    define("ATTRIB_VERTEX_COLOR", kAttribVertexColor);
     define("ATTRIB_SEGMENT_START", kAttribSegmentStart);
     define("ATTRIB_SEGMENT_END", kAttribSegmentEnd);
     define("ATTRIB_COLOR_START", kAttribColorStart);

@@ -25,6 +25,7 @@ enum AttributeLocation : GLuint {
     kAttribOverlayPixel = 11,  // overlay2d: vec2 window pixel (origin top-left)
     kAttribOverlayColor = 12,  // overlay2d: vec4 colour
     kAttribOverlayFill = 13,   // overlay2d: vec2 (fill kind: 0 colour, 1 det J map, 2 fold stripes; map position)
+    kAttribVertexColor = 14,   // mesh: vec3 the file's vertex colour (sRGB in [0, 1])
 };
 
 // The text prepended to every shader: `#version 330 core` and the ATTRIB_* defines above.

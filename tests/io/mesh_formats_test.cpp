@@ -17,6 +17,7 @@
 #include "core/vertex_normals.h"
 #include "io/isolated_call.h"
 #include "io/mesh_file.h"
+#include "io/obj_refine.h"
 #include "io_test_support.h"
 
 namespace sculpt::io {
@@ -361,6 +362,52 @@ TEST_CASE("mesh formats: an OBJ's vertex colours (v x y z r g b) are written to 
         expected << 1, 0, 0, 1, 0, 1, 0.5f, 1, 1, 1, 1, 1, 0.25f, 0.25f, 0.25f, 1;  // white where a line has none
         CHECK((back.vertexColors - expected).cwiseAbs().maxCoeff() <= 0.5f / 255.0f + 1e-6f);
     }
+}
+
+TEST_CASE("mesh formats: the colours drawn follow refinement: a new vertex has its edge's midpoint colour", "[io][formats]") {
+    // Random coloured spheres of several sizes, refined by random splits of edges of the current triangles (a
+    // split vertex may be split again); the colours are checked against a plain recomputation in double and
+    // against what a refined save carries (refineObjMesh).
+    std::mt19937 rng(515);
+    for (int trial = 0; trial < 12; ++trial) {
+        const int rings = std::uniform_int_distribution<int>(3, 20)(rng);
+        const int segments = std::uniform_int_distribution<int>(3, 24)(rng);
+        const ObjMesh mesh = randomSphere(rng, rings, segments, false, true, false, false);
+        Triangles triangles = mesh.triangles;
+        std::vector<core::EdgeSplit> splits;
+        const int splitCount = std::uniform_int_distribution<int>(0, 40)(rng);
+        for (int k = 0; k < splitCount; ++k) {
+            const int t = std::uniform_int_distribution<int>(0, static_cast<int>(triangles.rows()) - 1)(rng);
+            const int c = std::uniform_int_distribution<int>(0, 2)(rng);
+            const core::EdgeSplit split{triangles(t, c), triangles(t, (c + 1) % 3)};
+            REQUIRE(core::applyEdgeSplits(triangles, mesh.vertexCount() + k, {split}).ok);
+            splits.push_back(split);
+        }
+        const VertexColors colours = meshVertexColours(mesh, splits);
+        REQUIRE(colours.rows() == mesh.vertexCount() + splitCount);
+        std::vector<Eigen::Vector4d> expected;
+        for (int v = 0; v < mesh.vertexCount(); ++v) expected.push_back(mesh.vertexColors.row(v).transpose().cast<double>());
+        for (const core::EdgeSplit& split : splits) expected.push_back(0.5 * (expected[size_t(split.a)] + expected[size_t(split.b)]));
+        for (Eigen::Index v = 0; v < colours.rows(); ++v)
+            CHECK((colours.row(v).transpose().cast<double>() - expected[size_t(v)]).cwiseAbs().maxCoeff() < 1e-6);
+        ObjMesh refined;
+        REQUIRE(refineObjMesh(mesh, splits, refined).ok);
+        CHECK(refined.vertexColors == colours);
+    }
+    // An OBJ's `v x y z r g b` colours (white where a line has none), split once.
+    ObjMesh obj;
+    REQUIRE(loadMeshFromMemory("v 0 0 0 1 0 0\nv 1 0 0 0 0 1\nv 0 1 0\nf 1 2 3\n", MeshFormat::Obj, "c.obj", obj).ok);
+    const VertexColors objColours = meshVertexColours(obj, {{0, 1}});
+    REQUIRE(objColours.rows() == 4);
+    CHECK(objColours.row(2) == Eigen::RowVector4f(1, 1, 1, 1));
+    CHECK(objColours.row(3) == Eigen::RowVector4f(0.5f, 0, 0.5f, 1));
+    // No colours in the file: none to draw; splits that name vertices the mesh does not have: none either.
+    REQUIRE(loadMeshFromMemory("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", MeshFormat::Obj, "p.obj", obj).ok);
+    CHECK(meshVertexColours(obj, {{0, 1}}).rows() == 0);
+    std::mt19937 again(516);
+    const ObjMesh coloured = randomSphere(again, 4, 5, false, true, false, false);
+    CHECK(meshVertexColours(coloured, {{0, coloured.vertexCount()}}).rows() == 0);
+    CHECK(meshVertexColours(coloured, {{-1, 2}}).rows() == 0);
 }
 
 TEST_CASE("mesh formats: bad files get a message naming the file and what is wrong, and change nothing", "[io][formats]") {

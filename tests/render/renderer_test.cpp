@@ -297,3 +297,120 @@ TEST_CASE("renderer: the lattice and constraints never hide the mesh", "[gl]") {
     CHECK(double(changedSum) / double(meshPixels) < 25.0);
     CHECK(double(hidden) / double(meshPixels) < 0.06);  // markers (opaque by design) and the handle
 }
+
+TEST_CASE("renderer: vertex colours are the material where asked, the clay otherwise", "[gl]") {
+    render::OffscreenRenderer& offscreen = glTestRenderer();
+    render::Renderer& renderer = offscreen.renderer();
+    const render::SceneData scene = blobScene(3);
+    const int vertexCount = int(scene.positions.rows());
+    requireOk(renderer.setScene(scene));
+    const render::Camera camera = cameraFor(renderer);
+    const render::Rgba8Image clay = draw(offscreen, camera);
+    CHECK_FALSE(renderer.hasVertexColors());
+
+    // Red over the top half of the blob, blue under it (world y is up on screen in this view).
+    std::vector<float> colours(3 * size_t(vertexCount));
+    const double middle = 0.5 * (scene.positions.col(1).maxCoeff() + scene.positions.col(1).minCoeff());
+    for (int v = 0; v < vertexCount; ++v) {
+        const bool top = scene.positions(v, 1) > middle;
+        colours[3 * size_t(v)] = top ? 0.9f : 0.05f;
+        colours[3 * size_t(v) + 1] = 0.05f;
+        colours[3 * size_t(v) + 2] = top ? 0.05f : 0.9f;
+    }
+    requireOk(renderer.setVertexColors(colours));
+    REQUIRE(renderer.hasVertexColors());
+    const render::Rgba8Image coloured = draw(offscreen, camera);
+    // Sample the lit front of each half along the centre column: the reddest and the bluest pixel.
+    int redMargin = -255, blueMargin = -255;
+    for (int y = 0; y < kHeight; ++y) {
+        const auto p = pixel(coloured, kWidth / 2, y);
+        if (y < kHeight / 2) redMargin = std::max(redMargin, p[0] - std::max(p[1], p[2]));
+        else blueMargin = std::max(blueMargin, p[2] - std::max(p[0], p[1]));
+    }
+    CHECK(redMargin > 60);
+    CHECK(blueMargin > 60);
+    // The clay itself is a grey: no pixel of it is that red or that blue.
+    for (int y = 0; y < kHeight; ++y) {
+        const auto p = pixel(clay, kWidth / 2, y);
+        CHECK(std::abs(p[0] - p[2]) < 40);
+    }
+
+    // Turned off in the draw options: exactly the clay picture.
+    render::DrawOptions off;
+    off.vertexColors = false;
+    CHECK(countDifferent(draw(offscreen, camera, off), clay, 0) == 0);
+
+    // A wrong count or a non-finite value is refused, and what was uploaded stays.
+    const Status wrongCount = renderer.setVertexColors(std::vector<float>(3 * size_t(vertexCount) - 3, 0.5f));
+    CHECK_FALSE(wrongCount.ok);
+    CHECK(wrongCount.message.find("3 per vertex") != std::string::npos);
+    std::vector<float> withNaN = colours;
+    withNaN[3 * 7 + 1] = std::numeric_limits<float>::quiet_NaN();
+    const Status nan = renderer.setVertexColors(withNaN);
+    CHECK_FALSE(nan.ok);
+    CHECK(nan.message.find("vertex colour 7") != std::string::npos);
+    CHECK(renderer.hasVertexColors());
+    CHECK(countDifferent(draw(offscreen, camera), coloured, 0) == 0);
+
+    // A new mesh starts without them.
+    requireOk(renderer.setMesh(scene.positions, scene.triangles));
+    CHECK_FALSE(renderer.hasVertexColors());
+    CHECK(countDifferent(draw(offscreen, camera), clay, 0) == 0);
+}
+
+TEST_CASE("renderer: a whole-mesh update of a big mesh is checked in parallel and refused whole at its first bad entry", "[gl]") {
+    // Over 65536 listed vertices the checks and the copy run on every thread; the list may repeat vertices.
+    render::OffscreenRenderer& offscreen = glTestRenderer();
+    render::Renderer& renderer = offscreen.renderer();
+    const render::SceneData scene = blobScene(6);  // 40962 vertices
+    const int vertexCount = int(scene.positions.rows());
+    requireOk(renderer.setMesh(scene.positions, scene.triangles));
+    const render::Camera camera = cameraFor(renderer);
+    const render::Rgba8Image rest = draw(offscreen, camera);
+    Positions moved = scene.positions * 1.1;
+    std::vector<int> listed;  // every vertex twice, in two interleaved passes
+    for (int pass = 0; pass < 2; ++pass)
+        for (int v = 0; v < vertexCount; ++v) listed.push_back(pass == 0 ? v : vertexCount - 1 - v);
+    REQUIRE(listed.size() > 65536);
+
+    std::mt19937 rng(91);
+    for (int trial = 0; trial < 6; ++trial) {
+        std::vector<int> bad = listed;
+        Positions badPositions = moved;
+        const int first = std::uniform_int_distribution<int>(0, int(listed.size()) - 2)(rng);
+        const int later = std::uniform_int_distribution<int>(first + 1, int(listed.size()) - 1)(rng);
+        // The first bad entry is a NaN position (odd trials) or an index out of range (even ones); a later
+        // entry is bad the other way. The message names the first.
+        if (trial % 2) {
+            badPositions(listed[size_t(first)], 1) = std::numeric_limits<double>::quiet_NaN();
+            bad[size_t(later)] = vertexCount + 5;
+        } else {
+            bad[size_t(first)] = -3;
+            badPositions(listed[size_t(later)], 0) = std::numeric_limits<double>::infinity();
+        }
+        const Status status = renderer.updatePositions(badPositions, bad);
+        REQUIRE_FALSE(status.ok);
+        // The first bad entry in list order, found one by one (a vertex listed twice may be bad earlier).
+        std::string expected;
+        for (int v : bad) {
+            if (v < 0 || v >= vertexCount) {
+                expected = "changed vertex " + std::to_string(v) + " is outside";
+                break;
+            }
+            if (!badPositions.row(v).allFinite()) {
+                expected = "position of vertex " + std::to_string(v) + " is not finite";
+                break;
+            }
+        }
+        REQUIRE_FALSE(expected.empty());
+        INFO(status.message);
+        CHECK(status.message.find(expected) != std::string::npos);
+        CHECK(countDifferent(draw(offscreen, camera), rest, 0) == 0);  // nothing changed
+    }
+    requireOk(renderer.updatePositions(moved, listed));
+    CHECK(renderer.lastUpload().fullUpload);
+    CHECK(renderer.positions() == moved);
+    const render::Rgba8Image updated = draw(offscreen, camera);
+    requireOk(renderer.setMesh(moved, scene.triangles));
+    CHECK(countDifferent(draw(offscreen, camera), updated, 0) == 0);
+}

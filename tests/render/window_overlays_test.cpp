@@ -4,6 +4,9 @@
 // is missing the frame checks warn and skip.
 #include <catch2/catch.hpp>
 
+#include <array>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "app/window/sculpt_app.h"
@@ -191,4 +194,66 @@ TEST_CASE("window overlays: a large mesh is drawn as its proxy during a drag, wh
     sculptApp.onMouseButton({app::MouseButton::Middle, app::ButtonAction::Release, cx + 20.0, cy, {}}, {});
     frame(window);
     CHECK(renderer.lastDrawnTriangles() == renderer.triangleCount());
+}
+
+TEST_CASE("window overlays: a scan's vertex colours are drawn, and the Vertex colours checkbox turns them off", "[gl]") {
+    app::SculptApp sculptApp;  // outlives the window, whose end releases the app's GL objects
+    test::OffscreenWindow window;
+    if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kHeight)) return;
+    app::AppState& state = sculptApp.state();
+    frame(window);
+    CHECK_FALSE(state.meshHasVertexColors);  // the default mesh has none: the checkbox is not offered
+
+    // A binary PLY sphere in orange (a scan's colours), written through the program's own PLY writer.
+    const test::TestMesh sphere = test::makeUvSphere(48, 25);
+    const std::string folder = std::string(SCULPT_GL_TEST_OUTPUT_DIR) + "/window_vertex_colours";
+    std::filesystem::create_directories(folder);
+    const std::string path = folder + "/orange.ply";
+    {
+        std::ofstream out(path, std::ios::binary);
+        out << "ply\nformat binary_little_endian 1.0\nelement vertex " << sphere.positions.rows()
+            << "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\n"
+               "property uchar blue\nelement face "
+            << sphere.triangles.rows() << "\nproperty list uchar int vertex_indices\nend_header\n";
+        for (Eigen::Index v = 0; v < sphere.positions.rows(); ++v) {
+            const float xyz[3] = {float(sphere.positions(v, 0)), float(sphere.positions(v, 1)), float(sphere.positions(v, 2))};
+            const unsigned char rgb[3] = {230, 120, 20};
+            out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);
+            out.write(reinterpret_cast<const char*>(rgb), sizeof rgb);
+        }
+        for (Eigen::Index t = 0; t < sphere.triangles.rows(); ++t) {
+            const unsigned char three = 3;
+            const int corners[3] = {sphere.triangles(t, 0), sphere.triangles(t, 1), sphere.triangles(t, 2)};
+            out.write(reinterpret_cast<const char*>(&three), 1);
+            out.write(reinterpret_cast<const char*>(corners), sizeof corners);
+        }
+    }
+    const Status loaded = sculptApp.loadMesh(path);
+    INFO(loaded.message);
+    REQUIRE(loaded.ok);
+    app::frameMesh(state);
+    const auto centre = [&] {
+        const render::Rgba8Image image = frame(window);
+        const std::uint8_t* p = &image.pixels[(size_t(kHeight / 2) * size_t(kWidth) + size_t(kWidth / 2)) * 4];
+        return std::array<int, 3>{p[0], p[1], p[2]};
+    };
+    std::array<int, 3> c = centre();
+    CHECK(state.meshHasVertexColors);
+    INFO("coloured: " << c[0] << " " << c[1] << " " << c[2]);
+    CHECK(c[0] > c[2] + 80);  // orange: red well over blue
+    CHECK(c[1] > c[2] + 30);
+
+    app::Overlays overlays = state.overlays;
+    overlays.vertexColors = false;
+    app::setOverlays(state, overlays);
+    c = centre();
+    INFO("clay: " << c[0] << " " << c[1] << " " << c[2]);
+    CHECK(c[0] < c[2] + 50);  // the clay is a warm grey, nowhere near that orange
+
+    // Back to a mesh without colours: nothing offered, the clay drawn.
+    overlays.vertexColors = true;
+    app::setOverlays(state, overlays);
+    test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+    frame(window);
+    CHECK_FALSE(state.meshHasVertexColors);
 }

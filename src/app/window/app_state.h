@@ -35,6 +35,7 @@ struct Overlays {
                                     // lattice "Outside"); selected points always show
     bool jacobian = false;  // det J colour map (turns on Jacobian tracking in the session)
     bool affected = false;  // influence of the last operation's control points
+    bool vertexColors = true;  // the mesh file's own colours as the material, where it has them
 };
 
 // What the GPU copy of the scene is missing; drained by SculptApp::renderFrame.
@@ -155,6 +156,7 @@ struct AppState {
 
     FrameStats stats;
     PendingGpuUpdate gpu;
+    bool meshHasVertexColors = false;  // the GPU has the file's colours for this mesh (set by each mesh upload)
     DragState drag;
     ToolState tools;
     TransformState transform;

@@ -29,6 +29,13 @@ void drawOverlaysPanel(AppState& state) {
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
         ImGui::SetTooltip("Only the control points and edges on the lattice's outer faces (and the selected ones);\n"
                           "the lattice tool picks only what is drawn.");
+    if (state.meshHasVertexColors) {  // only a mesh whose file has colours (a scan's) offers them
+        ImGui::SameLine(0.5f * ImGui::GetContentRegionAvail().x + ImGui::GetStyle().ItemSpacing.x);
+        changed |= ImGui::Checkbox("Vertex colours", &overlays.vertexColors);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("The file's own vertex colours as the material (off: the clay). The Jacobian map\n"
+                              "replaces them while it is on.");
+    }
     if (changed) setOverlays(state, overlays);
     if (ImGui::Button("Frame mesh (Home)")) frameMesh(state);
 }

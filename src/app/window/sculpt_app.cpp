@@ -188,6 +188,11 @@ void SculptApp::syncGpu() {
         uploadedTopology_ = session.topologyVersion();
         if (Status s = renderer_.setMesh(session.positions(), session.triangles()); !s)
             setStatus(state_, "GPU upload failed: " + s.message, true);
+        // The file's own colours (a scan's), carried through refinement; cleared by setMesh otherwise.
+        if (const std::shared_ptr<const io::ObjMesh>& source = files_.document().mesh; source && renderer_.vertexCount() > 0)
+            if (Status s = renderer_.setVertexColors(sessionVertexColors(*source, session)); !s)
+                setStatus(state_, "GPU upload failed: " + s.message, true);
+        state_.meshHasVertexColors = renderer_.hasVertexColors();
         gpu.mesh = false;
         gpu.fields = true;
         uploaded = positionsUploaded = true;
@@ -271,6 +276,7 @@ Status SculptApp::renderFrame(int width, int height) {
     options.lattice = latticeShown(state_) || latticeToolsShown(state_) || tsplineOverlaysShown(state_);
     options.jacobian = state_.overlays.jacobian;
     options.affected = state_.overlays.affected;
+    options.vertexColors = state_.overlays.vertexColors;
     options.constraints = true;  // the drag's constraints, placed handles and pins (empty: nothing drawn)
     // While the shape or the view moves, a large mesh is drawn as its decimated proxy; the first frame
     // after the motion stops draws it whole.
