@@ -9,6 +9,8 @@
 #include <map>
 #include <new>
 
+#include "io/mesh_file.h"
+
 namespace sculpt::io {
 
 Status refineObjMesh(const ObjMesh& mesh, const std::vector<core::EdgeSplit>& splits, ObjMesh& refined) {
@@ -80,9 +82,9 @@ Status refineObjMesh(const ObjMesh& mesh, const std::vector<core::EdgeSplit>& sp
         for (size_t i = 0; i < addedTexcoords.size(); ++i)
             for (int column = 0; column < texcoordColumns; ++column)
                 out.texcoords(texcoordCount + static_cast<Eigen::Index>(i), column) = addedTexcoords[i][static_cast<size_t>(column)];
-        // Per-vertex colours and normals (PLY, glTF): each new vertex gets its edge's midpoint, like its position.
-        out.vertexColors = mesh.vertexColors;
-        if (out.vertexColors.rows() > 0) core::appendSplitMidpoints(out.vertexColors, splits);
+        // Per-vertex colours (PLY, glTF, and an OBJ's `v x y z r g b`, which the result's arrays must now hold:
+        // it has no source text) and normals: each new vertex gets its edge's midpoint, like its position.
+        out.vertexColors = meshVertexColours(mesh, splits);
         out.vertexNormals = mesh.vertexNormals;
         if (out.vertexNormals.rows() > 0) core::appendSplitMidpoints(out.vertexNormals, splits);
         out.loadedAs = mesh.loadedAs;

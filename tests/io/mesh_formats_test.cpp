@@ -401,6 +401,15 @@ TEST_CASE("mesh formats: the colours drawn follow refinement: a new vertex has i
     REQUIRE(objColours.rows() == 4);
     CHECK(objColours.row(2) == Eigen::RowVector4f(1, 1, 1, 1));
     CHECK(objColours.row(3) == Eigen::RowVector4f(0.5f, 0, 0.5f, 1));
+    // A refined OBJ has no source text left to keep them in: its arrays carry them, and a save writes them.
+    ObjMesh refinedObj;
+    REQUIRE(refineObjMesh(obj, {{0, 1}}, refinedObj).ok);
+    CHECK(refinedObj.vertexColors == objColours);
+    std::string text;
+    REQUIRE(serializeObj(refinedObj, refinedObj.positions, text).ok);
+    ObjMesh reread;
+    REQUIRE(loadMeshFromMemory(text, MeshFormat::Obj, "r.obj", reread).ok);
+    CHECK(meshVertexColours(reread) == objColours);
     // No colours in the file: none to draw; splits that name vertices the mesh does not have: none either.
     REQUIRE(loadMeshFromMemory("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", MeshFormat::Obj, "p.obj", obj).ok);
     CHECK(meshVertexColours(obj, {{0, 1}}).rows() == 0);
