@@ -84,7 +84,6 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
 }
 
 std::vector<float> sessionVertexColors(const io::ObjMesh& source, const core::Session& session) {
-    if (source.vertexCount() + static_cast<Eigen::Index>(session.appliedSplits().size()) != session.positions().rows()) return {};
     const io::VertexColors colours = io::meshVertexColours(source, session.appliedSplits());
     if (colours.rows() != session.positions().rows()) return {};
     std::vector<float> rgb(3 * static_cast<size_t>(colours.rows()));

@@ -20,9 +20,6 @@ namespace {
 // vertices (per-lane basis arrays and the scatter to the original vertex order defeat it).
 typedef double Lanes __attribute__((vector_size(32)));
 
-// InCellOrder: entry v of e.order goes to row v of out (the benchmark's eval_full_8_in_cell_order), not to row
-// e.order[v] (the mesh's own order, a scatter).
-//
 // Power form. On one cell the displacement (Hu et al. 2001 eq. 1; for a rational lattice the numerator and the
 // denominator of eq. 2 apart) is a polynomial of degree p in each local coordinate:
 //   D(x,y,z) = sum_{a,b,c} M_abc x^a y^b z^c,   M_abc = sum_{i,j,k} Cu[i][a] Cv[j][b] Cw[k][c] P_ijk,
@@ -83,6 +80,8 @@ void powerFormOfCell(const Lattice& lattice, int su, int sv, int sw, Lanes (&pow
                 }
 }
 
+// InCellOrder: entry v of e.order goes to row v of out (the benchmark's eval_full_8_in_cell_order), not to row
+// e.order[v] (the mesh's own order, a scatter).
 template <int P, bool Rational, bool InCellOrder = false>
 void evaluateCellFixed(const Lattice& lattice, const Embedding& e, int cell, double* out) {
     constexpr int N = P + 1;
