@@ -207,6 +207,7 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     initialBoxMax_ = lattice.boxMax;
     lattice_ = std::move(lattice);
     embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
     frames_.clear();
     layers_.clear();
     cageOut_.resize(0, 3);

@@ -26,6 +26,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -690,8 +691,14 @@ public:
     std::vector<EdgeSplit> appliedSplits() const;
     // Changes whenever triangles() does (a refinement applied or taken back): a view re-uploads the mesh.
     int topologyVersion() const { return topologyVersion_; }
+    // Changes whenever restPositions() or their embedding in the cage change (a mesh set, a lattice set up, a
+    // frame entered or left, a refinement, a weight edit that moves the rest surface): a view that deforms the
+    // rest mesh itself (the renderer's GPU path) uploads it again. Within one session only: compare it
+    // together with the session's identity.
+    std::uint64_t restVersion() const { return restVersion_; }
 
 private:
+    std::uint64_t restVersion_ = 0;
     // Plans (refineMesh) and applies a refinement with `options`; fills record and report. False if nothing
     // was applied (nothing over the tolerance, or refused by the triangle check: report says so).
     bool refineNow(const RefinementOptions& options, RefinementRecord& record, OpReport& report);

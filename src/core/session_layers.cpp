@@ -245,6 +245,7 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
     lattice_ = std::move(fresh);
     rest_ = positions_;
     embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
     pinBoundaryIfPartial(lattice_, embedding_);
     lastMovedAll_ = true;
 }
@@ -277,6 +278,7 @@ void Session::leaveCage() {
         invertDeformation(lattice_, cageOut_, rest_);
     }
     embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
     pinBoundaryIfPartial(lattice_, embedding_);
     if (trackJacobian_) {
         accumulateFrameJacobian(true);

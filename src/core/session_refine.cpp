@@ -189,6 +189,7 @@ void Session::applyRefinement(RefinementRecord& record) {
     before_.conservativeResize(count, 3);
     if (beforeCage_.rows() > 0) beforeCage_.conservativeResize(count, 3);
     embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
     meshIndex_.build(positions_, triangles_);
     lastMoved_.clear();
     lastMovedAll_ = true;
@@ -207,6 +208,7 @@ void Session::removeRefinement(const RefinementRecord& record) {
     before_.conservativeResize(count, 3);
     if (beforeCage_.rows() > 0) beforeCage_.conservativeResize(count, 3);
     embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
     meshIndex_.build(positions_, triangles_);
     lastMoved_.clear();
     lastMovedAll_ = true;

@@ -492,6 +492,7 @@ Status Session::applyWeightStep(const Step& step, std::vector<int>* moved) {
         }
     }
     if (layered) refreshLayerOutput(undo->vertices);
+    ++restVersion_;  // the rest surface moved with the weights
     positionsChanged(&undo->vertices);
     if (moved) moved->insert(moved->end(), undo->vertices.begin(), undo->vertices.end());
     step.weightUndo = std::move(undo);
@@ -504,6 +505,7 @@ void Session::revertWeightStep(const Step& step, std::vector<int>* moved) {
     for (size_t c = 0; c < undo->displacement.indices.size(); ++c)
         lattice_.displacement.row(undo->displacement.indices[c]) = undo->displacement.deltas.row(static_cast<Eigen::Index>(c));
     lattice_.volume = undo->volume;
+    ++restVersion_;
     lattice_.weights = undo->volume->controlWeights();
     lattice_.rational = undo->volume->isRational();
     settings_.volume = undo->volume;

@@ -57,6 +57,18 @@ namespace sculpt::render {
     X(VertexAttribPointer, VERTEXATTRIBPOINTER)                       \
     X(VertexAttribDivisor, VERTEXATTRIBDIVISOR)                       \
     X(VertexAttrib1f, VERTEXATTRIB1F)                                 \
+    X(VertexAttrib4f, VERTEXATTRIB4F)                                 \
+    X(BindBufferBase, BINDBUFFERBASE)                                 \
+    /* textures (buffer textures feed the vertex-shader deformation) */ \
+    X(GenTextures, GENTEXTURES)                                       \
+    X(DeleteTextures, DELETETEXTURES)                                 \
+    X(BindTexture, BINDTEXTURE)                                       \
+    X(ActiveTexture, ACTIVETEXTURE)                                   \
+    X(TexBuffer, TEXBUFFER)                                           \
+    /* transform feedback (reading back what the vertex shader computed) */ \
+    X(TransformFeedbackVaryings, TRANSFORMFEEDBACKVARYINGS)           \
+    X(BeginTransformFeedback, BEGINTRANSFORMFEEDBACK)                 \
+    X(EndTransformFeedback, ENDTRANSFORMFEEDBACK)                     \
     /* drawing */                                                     \
     X(DrawArrays, DRAWARRAYS)                                         \
     X(DrawElements, DRAWELEMENTS)                                     \
@@ -77,6 +89,9 @@ namespace sculpt::render {
     X(UseProgram, USEPROGRAM)                                         \
     X(GetUniformLocation, GETUNIFORMLOCATION)                         \
     X(Uniform1i, UNIFORM1I)                                           \
+    X(Uniform1iv, UNIFORM1IV)                                         \
+    X(Uniform3iv, UNIFORM3IV)                                         \
+    X(Uniform3fv, UNIFORM3FV)                                         \
     X(Uniform1f, UNIFORM1F)                                           \
     X(Uniform2f, UNIFORM2F)                                           \
     X(Uniform3f, UNIFORM3F)                                           \

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include <omp.h>
 
@@ -36,6 +37,24 @@ struct MeshUniforms {
     GLint view = -1, projection = -1, mode = -1, wireColor = -1, showJacobian = -1, showAffected = -1, jacobianRange = -1,
           showVertexColors = -1;
 };
+// The GPU_DEFORMATION variant's own uniforms (shaders/mesh.vert); the arrays hold the cage, then the layers.
+constexpr int kMaxGpuLattices = 16;  // mesh.vert's kMaxLattices
+struct DeformUniforms {
+    GLint control = -1, basis = -1, latticeCount = -1, count = -1, degree = -1, spans = -1, basisOffset = -1,
+          firstOffset = -1, controlOffset = -1, boxMin = -1, spansPerUnit = -1;
+};
+// A lattice on the GPU path: its shape (what the cage's per-frame update must match) and where its data lie.
+struct GpuLatticeShape {
+    std::array<int, 3> count{}, degree{}, spans{};
+    Eigen::Vector3d boxMin = Eigen::Vector3d::Zero(), boxMax = Eigen::Vector3d::Zero();
+    std::array<int, 3> basisOffset{}, firstOffset{};
+    int controlOffset = 0;
+    bool sameLattice(const GpuLatticeShape& o) const {
+        return count == o.count && degree == o.degree && spans == o.spans && boxMin == o.boxMin && boxMax == o.boxMax;
+    }
+};
+// Transform feedback of the GPU path: position and normal per vertex (captureGpuDeformation).
+constexpr int kFeedbackFloats = 6;
 struct OverlayUniforms {
     GLint viewport = -1, jacobianRange = -1;
 };
@@ -72,6 +91,14 @@ struct Renderer::State {
     float pixelScale = 1.0f;
 
     GLuint backgroundProgram = 0, meshProgram = 0, lineProgram = 0, pointProgram = 0, overlayProgram = 0;
+    GLuint deformProgram = 0;  // mesh.vert with GPU_DEFORMATION
+    MeshUniforms deformMeshUniforms;
+    DeformUniforms deformUniforms;
+    // The GPU path: per-vertex cell + local coordinates, and two buffer textures (control points, basis).
+    GLuint cellBuffer = 0, controlBuffer = 0, controlTexture = 0, basisBuffer = 0, basisTexture = 0;
+    bool gpuDeformation = false;
+    std::vector<GpuLatticeShape> gpuLattices;  // the cage, then its layers
+    std::vector<float> basisData, controlStaging;  // basisData: as uploaded to basisBuffer
     BackgroundUniforms backgroundUniforms;
     OverlayUniforms overlayUniforms;
     GLuint overlayVao = 0, overlayBuffer = 0;  // flat screen-space triangles (the det J legend), rebuilt per draw
@@ -112,7 +139,14 @@ struct Renderer::State {
     ConstraintView constraints;
 
     GLint uniform(GLuint program, const char* name) const { return gl.GetUniformLocation(program, name); }
-    void packVertices(int first, int last);  // into staging, vertices [first, last)
+    // Into staging, vertices [first, last) of the given arrays (the kept positions and normals by default).
+    void packVertices(int first, int last) { packVertices(first, last, positions, normals); }
+    void packVertices(int first, int last, const Positions& from, const Positions& fromNormals);
+    // Recomputes every normal of the kept positions and rewrites the whole vertex buffer.
+    void uploadAllVertices();
+    // The lattices' control displacements (GPU frame units) and weights into controlBuffer, and their basis
+    // into basisBuffer where it changed; fills gpuLattices.
+    void uploadLattices(const core::Lattice& cage, const std::vector<const core::Lattice*>& layers);
     void uploadVertexRange(int first, int last);
     Status buildPrograms();
     void createObjects();
@@ -132,6 +166,9 @@ struct Renderer::State {
     float markerCrowding(const glm::mat4& viewProjection, int width, int height) const;
     // The det J legend in the bottom-right corner (legend.h), over everything.
     void drawJacobianLegend(const DrawOptions& options, int width, int height) const;
+    // The GPU path's uniforms and buffer textures (units 0 and 1) for deformProgram, in use; and undone.
+    void bindGpuDeformation() const;
+    void unbindGpuDeformation() const;
     // The lattice overlay: edges and control points, the parts behind the mesh fainter, faded with depth.
     void drawLattice(const glm::mat4& view, const glm::mat4& projection, int width, int height) const;
 };
@@ -174,6 +211,20 @@ Status Renderer::State::buildPrograms() {
     if (Status status = buildEmbeddedProgram(gl, "line", lineProgram); !status) return status;
     if (Status status = buildEmbeddedProgram(gl, "point", pointProgram); !status) return status;
     if (Status status = buildEmbeddedProgram(gl, "overlay2d", overlayProgram); !status) return status;
+    ProgramOptions deformOptions;
+    deformOptions.defines = "#define GPU_DEFORMATION 1\n";
+    deformOptions.feedbackVaryings = {"vDeformedPosition", "vDeformedNormal"};
+    if (Status status = buildEmbeddedProgram(gl, "mesh", deformOptions, deformProgram); !status) return status;
+    deformMeshUniforms = {uniform(deformProgram, "uView"),       uniform(deformProgram, "uProjection"),
+                          uniform(deformProgram, "uMode"),       uniform(deformProgram, "uWireColor"),
+                          uniform(deformProgram, "uShowJacobian"), uniform(deformProgram, "uShowAffected"),
+                          uniform(deformProgram, "uJacobianRange"), uniform(deformProgram, "uShowVertexColors")};
+    deformUniforms = {uniform(deformProgram, "uControl"),       uniform(deformProgram, "uBasis"),
+                      uniform(deformProgram, "uLatticeCount"),  uniform(deformProgram, "uCount"),
+                      uniform(deformProgram, "uDegree"),        uniform(deformProgram, "uSpans"),
+                      uniform(deformProgram, "uBasisOffset"),   uniform(deformProgram, "uFirstOffset"),
+                      uniform(deformProgram, "uControlOffset"), uniform(deformProgram, "uBoxMin"),
+                      uniform(deformProgram, "uSpansPerUnit")};
     backgroundUniforms = {uniform(backgroundProgram, "uTopColor"), uniform(backgroundProgram, "uBottomColor")};
     meshUniforms = {uniform(meshProgram, "uView"),       uniform(meshProgram, "uProjection"),
                     uniform(meshProgram, "uMode"),       uniform(meshProgram, "uWireColor"),
@@ -211,9 +262,17 @@ void Renderer::State::createObjects() {
     gl.VertexAttribPointer(kAttribAffected, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
     gl.BindBuffer(GL_ARRAY_BUFFER, colorBuffer);
     gl.VertexAttribPointer(kAttribVertexColor, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.GenBuffers(1, &cellBuffer);
+    gl.BindBuffer(GL_ARRAY_BUFFER, cellBuffer);
+    gl.VertexAttribPointer(kAttribLatticeCell, 4, GL_FLOAT, GL_FALSE, 0, nullptr);  // enabled on the GPU path
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer);  // recorded in the VAO
     gl.BindVertexArray(0);
     gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+
+    for (auto [buffer, texture] : {std::pair{&controlBuffer, &controlTexture}, std::pair{&basisBuffer, &basisTexture}}) {
+        gl.GenBuffers(1, buffer);
+        gl.GenTextures(1, texture);
+    }
 
     setupLineBatch(latticeEdges);
     setupLineBatch(handleLines);
@@ -283,15 +342,17 @@ void Renderer::release() {
     // Also after a failed init, which may have created some objects (glDelete* ignores name 0).
     if (s.gl.DeleteProgram) {
         const GlFunctions& gl = s.gl;
-        for (GLuint program : {s.backgroundProgram, s.meshProgram, s.lineProgram, s.pointProgram, s.overlayProgram})
+        for (GLuint program : {s.backgroundProgram, s.meshProgram, s.lineProgram, s.pointProgram, s.overlayProgram,
+                               s.deformProgram})
             if (program) gl.DeleteProgram(program);
         for (GLuint* vao : {&s.emptyVao, &s.meshVao, &s.latticeEdges.vao, &s.latticePoints.vao, &s.handleLines.vao,
                             &s.handlePoints.vao, &s.overlayVao})
             gl.DeleteVertexArrays(1, vao);
         for (GLuint* buffer : {&s.vertexBuffer, &s.indexBuffer, &s.jacobianBuffer, &s.affectedBuffer, &s.colorBuffer,
                                &s.latticeEdges.buffer, &s.latticePoints.buffer, &s.handleLines.buffer,
-                               &s.handlePoints.buffer, &s.overlayBuffer})
+                               &s.handlePoints.buffer, &s.overlayBuffer, &s.cellBuffer, &s.controlBuffer, &s.basisBuffer})
             gl.DeleteBuffers(1, buffer);
+        for (GLuint* texture : {&s.controlTexture, &s.basisTexture}) gl.DeleteTextures(1, texture);
     }
     const float pixelScale = s.pixelScale;
     const MeshProxyOptions proxyOptions = s.proxyOptions;
@@ -302,7 +363,7 @@ void Renderer::release() {
 
 // ---- mesh ----------------------------------------------------------------------------------------
 
-void Renderer::State::packVertices(int first, int last) {
+void Renderer::State::packVertices(int first, int last, const Positions& from, const Positions& fromNormals) {
     staging.resize(size_t(last - first) * kVertexFloats);
     float* out = staging.data();
     // note: the origin is subtracted in double, before the conversion to float (camera.h, LocalFrame).
@@ -312,8 +373,8 @@ void Renderer::State::packVertices(int first, int last) {
     for (int v = first; v < last; ++v) {
         float* record = out + size_t(v - first) * kVertexFloats;
         for (int c = 0; c < 3; ++c) {
-            record[c] = float((positions(v, c) - origin[c]) * inverseScale);
-            record[3 + c] = float(normals(v, c));
+            record[c] = float((from(v, c) - origin[c]) * inverseScale);
+            record[3 + c] = float(fromNormals(v, c));
         }
     }
 }
@@ -337,6 +398,12 @@ Status Renderer::setMesh(const Positions& positions, const Triangles& triangles)
                                      std::to_string(vertexCount) + ")");
     s.positions = positions;
     s.triangles = triangles;
+    if (s.gpuDeformation) {
+        s.gpuDeformation = false;
+        s.gl.BindVertexArray(s.meshVao);
+        s.gl.DisableVertexAttribArray(kAttribLatticeCell);
+        s.gl.BindVertexArray(0);
+    }
     if (vertexCount > 0) {
         const LocalFrame frame = localFrameOf(boundsOf(s.positions));
         if (frame != s.frame) {
@@ -377,6 +444,9 @@ Status Renderer::setMesh(const Positions& positions, const Triangles& triangles)
 Status Renderer::updatePositions(const Positions& positions, const std::vector<int>& changedVertices) {
     State& s = *state_;
     if (!s.ready) return Status::error("renderer not initialised");
+    if (s.gpuDeformation)
+        return Status::error("updatePositions: the mesh is deformed on the GPU; send the lattice "
+                             "(updateGpuDeformation) or leave the GPU path first (clearGpuDeformation)");
     const int vertexCount = int(s.positions.rows());
     if (positions.rows() != vertexCount)
         return Status::error("updatePositions: " + std::to_string(positions.rows()) +
@@ -417,12 +487,7 @@ Status Renderer::updatePositions(const Positions& positions, const std::vector<i
     const GlFunctions& gl = s.gl;
     gl.BindBuffer(GL_ARRAY_BUFFER, s.vertexBuffer);
     if (changedVertices.size() * kFullUploadDivisor > size_t(vertexCount)) {
-        core::computeVertexNormals(s.positions, s.triangles, s.adjacency, s.normals);
-        s.packVertices(0, vertexCount);
-        // Re-specifying the whole store lets the driver orphan the old one instead of waiting for draws.
-        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(s.staging.size() * sizeof(float)), s.staging.data(),
-                      GL_DYNAMIC_DRAW);
-        s.lastUpload = {vertexCount, 1, true};
+        s.uploadAllVertices();
     } else {
         core::updateVertexNormals(s.positions, s.triangles, s.adjacency, changedVertices, s.normals);
         // Stale records: each changed vertex (position) and every vertex sharing a triangle with it (normal),
@@ -460,6 +525,297 @@ Status Renderer::updatePositions(const Positions& positions, const std::vector<i
     }
     gl.BindBuffer(GL_ARRAY_BUFFER, 0);
     return Status::success();
+}
+
+void Renderer::State::uploadAllVertices() {
+    const int vertexCount = int(positions.rows());
+    core::computeVertexNormals(positions, triangles, adjacency, normals);
+    packVertices(0, vertexCount);
+    gl.BindBuffer(GL_ARRAY_BUFFER, vertexBuffer);
+    // Re-specifying the whole store lets the driver orphan the old one instead of waiting for draws.
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(staging.size() * sizeof(float)), staging.data(), GL_DYNAMIC_DRAW);
+    lastUpload = {vertexCount, 1, true};
+}
+
+// ---- the deformation on the GPU ------------------------------------------------------------------
+
+std::string Renderer::gpuDeformationProblem(const core::Lattice& cage, const std::vector<const core::Lattice*>& layers) {
+    if (cage.volume)
+        return "a " + cage.volume->kindName() + " lattice is deformed on the CPU (the GPU path takes box lattices)";
+    if (cage.controlPointCount() <= 0) return "there is no lattice";
+    if (int(layers.size()) + 1 > kMaxGpuLattices)
+        return std::to_string(layers.size()) + " layers are deformed on the CPU (the GPU path takes up to " +
+               std::to_string(kMaxGpuLattices - 1) + ")";
+    for (const core::Lattice* layer : layers)
+        if (!layer || layer->volume || layer->controlPointCount() <= 0)
+            return "a layer that is not a box lattice is deformed on the CPU";
+    return {};
+}
+
+namespace {
+
+// Checks one lattice's arrays for the GPU path (sizes, finite values); `what` names it in the message.
+Status checkGpuLatticeValues(const core::Lattice& lattice, const std::string& what) {
+    const Eigen::Index points = lattice.controlPointCount();
+    if (lattice.displacement.rows() != points || Eigen::Index(lattice.weights.size()) != points)
+        return Status::error("GPU deformation: " + what + " has " + std::to_string(points) + " control points but " +
+                             std::to_string(lattice.displacement.rows()) + " displacements and " +
+                             std::to_string(lattice.weights.size()) + " weights");
+    for (Eigen::Index i = 0; i < points; ++i) {
+        if (!lattice.displacement.row(i).allFinite())
+            return Status::error("GPU deformation: the displacement of control point " + lattice.controlPointName(int(i)) +
+                                 " of " + what + " is not finite");
+        if (!(lattice.weights[size_t(i)] > 0.0) || !std::isfinite(lattice.weights[size_t(i)]))
+            return Status::error("GPU deformation: the weight of control point " + lattice.controlPointName(int(i)) +
+                                 " of " + what + " is not a finite positive number");
+    }
+    if (!lattice.boxMin.allFinite() || !lattice.boxMax.allFinite() || !((lattice.boxMax - lattice.boxMin).array() > 0.0).all())
+        return Status::error("GPU deformation: the box of " + what + " is empty or not finite");
+    return Status::success();
+}
+
+// The kinds first, then every lattice's values.
+Status checkGpuLattices(const core::Lattice& cage, const std::vector<const core::Lattice*>& layers) {
+    if (std::string problem = Renderer::gpuDeformationProblem(cage, layers); !problem.empty())
+        return Status::error("GPU deformation: " + problem);
+    if (Status status = checkGpuLatticeValues(cage, "the lattice"); !status) return status;
+    for (size_t k = 0; k < layers.size(); ++k)
+        if (Status status = checkGpuLatticeValues(*layers[k], "layer " + std::to_string(k + 1)); !status) return status;
+    return Status::success();
+}
+
+GpuLatticeShape shapeOf(const core::Lattice& lattice) {
+    GpuLatticeShape shape;
+    shape.count = lattice.count;
+    shape.degree = lattice.degree;
+    shape.spans = lattice.spans();
+    shape.boxMin = lattice.boxMin;
+    shape.boxMax = lattice.boxMax;
+    return shape;
+}
+
+}  // namespace
+
+void Renderer::State::uploadLattices(const core::Lattice& cage, const std::vector<const core::Lattice*>& layers) {
+    std::vector<const core::Lattice*> all{&cage};
+    all.insert(all.end(), layers.begin(), layers.end());
+    gpuLattices.clear();
+    std::vector<float> basis;
+    int controlCount = 0;
+    for (const core::Lattice* source : all) {
+        // Each axis's basis in per-span polynomial form, then its first-function table (shaders/mesh.vert).
+        GpuLatticeShape shape = shapeOf(*source);
+        for (int a = 0; a < 3; ++a) {
+            const core::SplineAxis& axis = source->axes[size_t(a)];
+            shape.basisOffset[size_t(a)] = int(basis.size());
+            for (double c : axis.coefficients) basis.push_back(float(c));
+            shape.firstOffset[size_t(a)] = int(basis.size());
+            for (int span = 0; span < axis.spans; ++span) basis.push_back(float(axis.first(span)));
+        }
+        shape.controlOffset = controlCount;
+        controlCount += source->controlPointCount();
+        gpuLattices.push_back(shape);
+    }
+    controlStaging.resize(size_t(controlCount) * 4);
+    const double inverseScale = 1.0 / frame.scale;  // displacements are differences: no origin
+    for (size_t l = 0; l < all.size(); ++l) {
+        const core::Lattice& source = *all[l];
+        float* out = controlStaging.data() + size_t(gpuLattices[l].controlOffset) * 4;
+        for (int i = 0; i < source.controlPointCount(); ++i) {
+            for (int c = 0; c < 3; ++c) out[size_t(i) * 4 + size_t(c)] = float(source.displacement(i, c) * inverseScale);
+            out[size_t(i) * 4 + 3] = float(source.weights[size_t(i)]);
+        }
+    }
+    gl.BindBuffer(GL_TEXTURE_BUFFER, controlBuffer);
+    gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(controlStaging.size() * sizeof(float)), controlStaging.data(), GL_STREAM_DRAW);
+    if (basis != basisData) {  // a layer came or went: its basis goes up too
+        basisData = std::move(basis);
+        gl.BindBuffer(GL_TEXTURE_BUFFER, basisBuffer);
+        gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(basisData.size() * sizeof(float)), basisData.data(), GL_STATIC_DRAW);
+    }
+    gl.BindBuffer(GL_TEXTURE_BUFFER, 0);
+    lastUpload.controlPointsUploaded = controlCount;
+}
+
+Status Renderer::setGpuDeformation(const core::Lattice& lattice, const core::Embedding& embedding, const Positions& rest,
+                                   const std::vector<const core::Lattice*>& layers) {
+    State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    const int vertexCount = int(s.positions.rows());
+    if (vertexCount == 0) return Status::error("GPU deformation: there is no mesh");
+    if (rest.rows() != vertexCount || embedding.vertexCount != vertexCount)
+        return Status::error("GPU deformation: " + std::to_string(rest.rows()) + " rest positions and an embedding of " +
+                             std::to_string(embedding.vertexCount) + " vertices for a mesh of " +
+                             std::to_string(vertexCount) + " vertices");
+    if (Status status = checkFinite(rest, "rest position"); !status) return status;
+    if (Status status = checkGpuLattices(lattice, layers); !status) return status;
+    const std::array<int, 3> spans = lattice.spans();
+    const int cellCount = spans[0] * spans[1] * spans[2];
+    if (int(embedding.cellStart.size()) != cellCount + 1 || embedding.localX.size() != embedding.order.size())
+        return Status::error("GPU deformation: the embedding was made for another lattice (" +
+                             std::to_string(int(embedding.cellStart.size()) - 1) + " cells, the lattice has " +
+                             std::to_string(cellCount) + ")");
+
+    // Per vertex: local coordinates in its cell and the cell, or the identity's mark -1 outside the box.
+    std::vector<float> cells(size_t(vertexCount) * 4, 0.0f);
+    for (int v = 0; v < vertexCount; ++v) cells[size_t(v) * 4 + 3] = -1.0f;
+#pragma omp parallel for schedule(dynamic, 64) if (cellCount > 64)
+    for (int cell = 0; cell < cellCount; ++cell)
+        for (int e = embedding.cellStart[size_t(cell)]; e < embedding.cellStart[size_t(cell) + 1]; ++e) {
+            float* record = cells.data() + size_t(embedding.order[size_t(e)]) * 4;
+            record[0] = float(embedding.localX[size_t(e)]);
+            record[1] = float(embedding.localY[size_t(e)]);
+            record[2] = float(embedding.localZ[size_t(e)]);
+            record[3] = float(cell);
+        }
+    Positions restNormals;
+    core::computeVertexNormals(rest, s.triangles, s.adjacency, restNormals);
+
+    const GlFunctions& gl = s.gl;
+    s.packVertices(0, vertexCount, rest, restNormals);
+    gl.BindBuffer(GL_ARRAY_BUFFER, s.vertexBuffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(s.staging.size() * sizeof(float)), s.staging.data(), GL_DYNAMIC_DRAW);
+    gl.BindBuffer(GL_ARRAY_BUFFER, s.cellBuffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(cells.size() * sizeof(float)), cells.data(), GL_STATIC_DRAW);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    gl.BindVertexArray(s.meshVao);
+    gl.EnableVertexAttribArray(kAttribLatticeCell);
+    gl.BindVertexArray(0);
+    s.basisData.clear();
+    s.uploadLattices(lattice, layers);  // the buffers' stores exist before the textures are attached to them
+    gl.BindTexture(GL_TEXTURE_BUFFER, s.basisTexture);
+    gl.TexBuffer(GL_TEXTURE_BUFFER, GL_R32F, s.basisBuffer);
+    gl.BindTexture(GL_TEXTURE_BUFFER, s.controlTexture);
+    gl.TexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, s.controlBuffer);
+    gl.BindTexture(GL_TEXTURE_BUFFER, 0);
+    s.gpuDeformation = true;
+    s.lastUpload = {vertexCount, 1, true, s.lastUpload.controlPointsUploaded};
+    s.staging.clear();
+    s.staging.shrink_to_fit();
+    return Status::success();
+}
+
+Status Renderer::updateGpuDeformation(const core::Lattice& lattice, const std::vector<const core::Lattice*>& layers) {
+    State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    if (!s.gpuDeformation) return Status::error("GPU deformation: the GPU path is off (setGpuDeformation first)");
+    if (Status status = checkGpuLattices(lattice, layers); !status) return status;
+    if (!shapeOf(lattice).sameLattice(s.gpuLattices.front()))
+        return Status::error("GPU deformation: the lattice is not the one the GPU path was set up with (other counts, "
+                             "degrees or box); set it up again");
+    s.lastUpload = {};
+    s.uploadLattices(lattice, layers);
+    return Status::success();
+}
+
+Status Renderer::clearGpuDeformation(const Positions& positions) {
+    State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    if (positions.rows() != s.positions.rows())
+        return Status::error("clearGpuDeformation: " + std::to_string(positions.rows()) + " positions given for a mesh of " +
+                             std::to_string(s.positions.rows()) + " vertices");
+    if (!s.gpuDeformation) return Status::success();
+    if (Status status = checkFinite(positions, "mesh position"); !status) return status;
+    s.positions = positions;
+    s.uploadAllVertices();
+    const GlFunctions& gl = s.gl;
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    gl.BindVertexArray(s.meshVao);
+    gl.DisableVertexAttribArray(kAttribLatticeCell);
+    gl.BindVertexArray(0);
+    s.gpuDeformation = false;
+    return Status::success();
+}
+
+bool Renderer::gpuDeformationActive() const { return state_->gpuDeformation; }
+
+void Renderer::State::bindGpuDeformation() const {
+    const int count = int(gpuLattices.size());
+    std::vector<GLint> counts, degrees, spans, basisOffsets, firstOffsets, controlOffsets;
+    std::vector<GLfloat> boxMins, spansPerUnit;
+    for (const GpuLatticeShape& g : gpuLattices) {
+        for (int a = 0; a < 3; ++a) {
+            counts.push_back(g.count[size_t(a)]);
+            degrees.push_back(g.degree[size_t(a)]);
+            spans.push_back(g.spans[size_t(a)]);
+            basisOffsets.push_back(g.basisOffset[size_t(a)]);
+            firstOffsets.push_back(g.firstOffset[size_t(a)]);
+            // The box in the GPU frame, and d(local coordinate)/dX there: spans over the box's size.
+            boxMins.push_back(float((g.boxMin[a] - frame.origin[a]) / frame.scale));
+            spansPerUnit.push_back(float(double(g.spans[size_t(a)]) * frame.scale / (g.boxMax[a] - g.boxMin[a])));
+        }
+        controlOffsets.push_back(g.controlOffset);
+    }
+    gl.Uniform1i(deformUniforms.control, 0);
+    gl.Uniform1i(deformUniforms.basis, 1);
+    gl.Uniform1i(deformUniforms.latticeCount, count);
+    gl.Uniform3iv(deformUniforms.count, count, counts.data());
+    gl.Uniform3iv(deformUniforms.degree, count, degrees.data());
+    gl.Uniform3iv(deformUniforms.spans, count, spans.data());
+    gl.Uniform3iv(deformUniforms.basisOffset, count, basisOffsets.data());
+    gl.Uniform3iv(deformUniforms.firstOffset, count, firstOffsets.data());
+    gl.Uniform1iv(deformUniforms.controlOffset, count, controlOffsets.data());
+    gl.Uniform3fv(deformUniforms.boxMin, count, boxMins.data());
+    gl.Uniform3fv(deformUniforms.spansPerUnit, count, spansPerUnit.data());
+    gl.ActiveTexture(GL_TEXTURE1);
+    gl.BindTexture(GL_TEXTURE_BUFFER, basisTexture);
+    gl.ActiveTexture(GL_TEXTURE0);
+    gl.BindTexture(GL_TEXTURE_BUFFER, controlTexture);
+}
+
+void Renderer::State::unbindGpuDeformation() const {
+    gl.ActiveTexture(GL_TEXTURE1);
+    gl.BindTexture(GL_TEXTURE_BUFFER, 0);
+    gl.ActiveTexture(GL_TEXTURE0);
+    gl.BindTexture(GL_TEXTURE_BUFFER, 0);
+}
+
+Status Renderer::captureGpuDeformation(Positions& positions, Positions& normals) const {
+    const State& s = *state_;
+    if (!s.ready) return Status::error("renderer not initialised");
+    if (!s.gpuDeformation) return Status::error("captureGpuDeformation: the GPU path is off");
+    const GlFunctions& gl = s.gl;
+    const int vertexCount = int(s.positions.rows());
+    for (int i = 0; i < 32 && gl.GetError() != GL_NO_ERROR; ++i) {
+    }
+    GLuint feedback = 0;
+    gl.GenBuffers(1, &feedback);
+    gl.BindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, feedback);
+    gl.BufferData(GL_TRANSFORM_FEEDBACK_BUFFER, GLsizeiptr(vertexCount) * kFeedbackFloats * GLsizeiptr(sizeof(float)),
+                  nullptr, GL_STREAM_READ);
+    gl.BindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, feedback);
+    gl.UseProgram(s.deformProgram);
+    s.bindGpuDeformation();
+    gl.BindVertexArray(s.meshVao);
+    gl.Enable(GL_RASTERIZER_DISCARD);
+    gl.BeginTransformFeedback(GL_POINTS);
+    gl.DrawArrays(GL_POINTS, 0, vertexCount);
+    gl.EndTransformFeedback();
+    gl.Disable(GL_RASTERIZER_DISCARD);
+    std::vector<float> captured(size_t(vertexCount) * kFeedbackFloats);
+    gl.GetBufferSubData(GL_TRANSFORM_FEEDBACK_BUFFER, 0, GLsizeiptr(captured.size() * sizeof(float)), captured.data());
+    gl.BindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, 0);
+    gl.BindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, 0);
+    gl.DeleteBuffers(1, &feedback);
+    gl.BindVertexArray(0);
+    gl.UseProgram(0);
+    s.unbindGpuDeformation();
+    if (const GLenum error = gl.GetError(); error != GL_NO_ERROR)
+        return Status::error("captureGpuDeformation failed: " + glErrorText(error));
+    positions.resize(vertexCount, 3);
+    normals.resize(vertexCount, 3);
+    for (int v = 0; v < vertexCount; ++v) {
+        const float* record = captured.data() + size_t(v) * kFeedbackFloats;
+        Eigen::Vector3d normal(record[3], record[4], record[5]);
+        if (normal.norm() > 0.0) normal.normalize();
+        for (int c = 0; c < 3; ++c) positions(v, c) = double(record[c]) * s.frame.scale + s.frame.origin[c];
+        normals.row(v) = normal.transpose();
+    }
+    return Status::success();
+}
+
+void Renderer::finish() const {
+    if (state_->ready) state_->gl.Finish();
 }
 
 namespace {
@@ -723,14 +1079,17 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
     const void* firstIndex = reinterpret_cast<const void*>(useProxy ? s.triangles.size() * sizeof(int) : 0);
     s.lastDrawnTriangles = indexCount / 3;
     if (indexCount > 0) {
-        gl.UseProgram(s.meshProgram);
-        gl.UniformMatrix4fv(s.meshUniforms.view, 1, GL_FALSE, glm::value_ptr(view));
-        gl.UniformMatrix4fv(s.meshUniforms.projection, 1, GL_FALSE, glm::value_ptr(projection));
-        gl.Uniform1i(s.meshUniforms.mode, 0);
-        gl.Uniform1i(s.meshUniforms.showJacobian, options.jacobian ? 1 : 0);
-        gl.Uniform1i(s.meshUniforms.showAffected, options.affected ? 1 : 0);
-        gl.Uniform1i(s.meshUniforms.showVertexColors, options.vertexColors && s.hasVertexColors ? 1 : 0);
-        gl.Uniform1f(s.meshUniforms.jacobianRange, kJacobianRange);
+        // The GPU path deforms the rest mesh in its vertex shader; both programs share the mesh uniforms.
+        const MeshUniforms& uniforms = s.gpuDeformation ? s.deformMeshUniforms : s.meshUniforms;
+        gl.UseProgram(s.gpuDeformation ? s.deformProgram : s.meshProgram);
+        if (s.gpuDeformation) s.bindGpuDeformation();
+        gl.UniformMatrix4fv(uniforms.view, 1, GL_FALSE, glm::value_ptr(view));
+        gl.UniformMatrix4fv(uniforms.projection, 1, GL_FALSE, glm::value_ptr(projection));
+        gl.Uniform1i(uniforms.mode, 0);
+        gl.Uniform1i(uniforms.showJacobian, options.jacobian ? 1 : 0);
+        gl.Uniform1i(uniforms.showAffected, options.affected ? 1 : 0);
+        gl.Uniform1i(uniforms.showVertexColors, options.vertexColors && s.hasVertexColors ? 1 : 0);
+        gl.Uniform1f(uniforms.jacobianRange, kJacobianRange);
         // Absent fields read as constants: det J = 1 (unchanged), weight 0 (unaffected).
         if (!s.hasJacobian) gl.VertexAttrib1f(kAttribJacobian, 1.0f);
         if (!s.hasAffected) gl.VertexAttrib1f(kAttribAffected, 0.0f);
@@ -748,13 +1107,14 @@ Status Renderer::draw(const Camera& camera, const DrawOptions& options, int widt
             gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
             gl.DepthFunc(GL_LEQUAL);
             gl.DepthMask(GL_FALSE);
-            gl.Uniform1i(s.meshUniforms.mode, 1);
-            gl.Uniform4f(s.meshUniforms.wireColor, kWireColor.r, kWireColor.g, kWireColor.b, kWireColor.a);
+            gl.Uniform1i(uniforms.mode, 1);
+            gl.Uniform4f(uniforms.wireColor, kWireColor.r, kWireColor.g, kWireColor.b, kWireColor.a);
             gl.DrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, firstIndex);
             gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
             gl.DepthMask(GL_TRUE);
             gl.DepthFunc(GL_LESS);
         }
+        if (s.gpuDeformation) s.unbindGpuDeformation();
     }
 
     // Overlays blend over the surface and never write depth.

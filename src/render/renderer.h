@@ -9,8 +9,11 @@
 
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "core/embedding.h"
+#include "core/lattice.h"
 #include "core/mesh_types.h"
 #include "core/status.h"
 #include "render/camera.h"
@@ -31,6 +34,7 @@ struct UploadStats {
     int verticesUploaded = 0;  // vertex records (position + normal) written
     int ranges = 0;            // glBufferSubData calls for the vertex buffer
     bool fullUpload = false;   // the whole buffer was rewritten
+    int controlPointsUploaded = 0;  // control displacements sent for the deformation on the GPU
 };
 
 class Renderer {
@@ -53,11 +57,45 @@ public:
     // An empty mesh (#V = 0) is valid and draws nothing. On failure the previous mesh stays.
     Status setMesh(const Positions& positions, const Triangles& triangles);
 
+    // On the GPU path (setGpuDeformation) this fails: the vertex buffer holds rest positions there.
     // positions: the mesh's full current #V x 3 array, but only the rows listed in changedVertices are
     // read (their values must be finite; indices in [0, #V), duplicates allowed). Recomputes the normals
     // around them (core::updateVertexNormals) and re-uploads only the changed vertex ranges, or the whole
     // buffer when more than a quarter of the vertices changed. On failure nothing changes.
     Status updatePositions(const Positions& positions, const std::vector<int>& changedVertices);
+
+    // ---- the deformation on the GPU (vertex-shader FFD, Chua & Neumann 2000) ----
+    // Instead of deformed positions, the vertex shader evaluates the session's map x = L_k(...L_1(C(X0))) and
+    // the normal cof(J) n0 (shaders/mesh.vert): the cage C(X0) = X0 + sum R_ijk(t) delta_ijk (Hu et al. 2001,
+    // eq. 1-2) from the rest positions and each vertex's cell and local coordinates (uploaded once), then each
+    // layer L (core/session.h: a brush region, a subdivision step) y -> y + sum R(t(y)) delta with t(y) its box's
+    // linear map, as Session::pushThroughLayers does. Per frame only the control displacements go up (a few KB).
+    // Empty string when the GPU can evaluate these lattices: box lattices (no volume), polynomial or rational,
+    // the cage and up to 15 layers. Otherwise why not (the CPU path, updatePositions, takes every kind).
+    static std::string gpuDeformationProblem(const core::Lattice& cage, const std::vector<const core::Lattice*>& layers = {});
+    // Switches the mesh to the GPU path: rest #V x 3 (the mesh's vertex count, finite) are the positions the
+    // embedding was made of (core::embedVertices(lattice, rest)), lattice the cage with its current
+    // displacements, layers those after it in order (each non-null). Computes the rest normals (area-weighted)
+    // and uploads rest positions, rest normals, cells and local coordinates: a full upload, once per rest mesh.
+    // Fails (nothing changes) on lattices the GPU path does not take (gpuDeformationProblem), an embedding of
+    // another lattice or vertex count, a wrong row count, or a non-finite value or empty box, naming it.
+    Status setGpuDeformation(const core::Lattice& lattice, const core::Embedding& embedding, const Positions& rest,
+                             const std::vector<const core::Lattice*>& layers = {});
+    // Per frame on the GPU path: the lattices' current displacements and weights (#P x 4 floats each; a layer's
+    // basis too when the layers changed). The cage must have the shape setGpuDeformation was given (counts,
+    // degrees, box); fails otherwise, on a bad value, or when the GPU path is off (nothing changes).
+    Status updateGpuDeformation(const core::Lattice& lattice, const std::vector<const core::Lattice*>& layers = {});
+    // Back to the CPU path with the current positions (#V x 3, finite): recomputes every normal and rewrites
+    // the vertex buffer, as updatePositions of every vertex does. Fails (nothing changes) on a wrong row count
+    // or a non-finite position. A no-op success when the GPU path is off and positions are those already kept.
+    Status clearGpuDeformation(const Positions& positions);
+    bool gpuDeformationActive() const;
+    // What the vertex shader computes on the GPU path, read back by transform feedback: positions and unit
+    // normals, #V x 3 each, world units. For tests and benchmarks (it stalls the pipeline). Fails when the GPU
+    // path is off.
+    Status captureGpuDeformation(Positions& positions, Positions& normals) const;
+    // Waits for the GPU to finish every command given so far (glFinish): for timing a frame.
+    void finish() const;
 
     // Per-vertex fields: #V values, or empty to clear. det J must not be NaN (any value <= 0 is a
     // fold-over); weights are clamped to [0, 1] when drawn.
@@ -110,6 +148,7 @@ public:
     // setLattice from the lattice's while the mesh is empty; the identity before either. Lattice and
     // constraints are re-expressed when it changes, so callers never see it except in tests.
     LocalFrame localFrame() const;
+    // Positions as last given by setMesh / updatePositions / clearGpuDeformation (not the GPU path's frames).
     const Positions& positions() const;  // current positions, as uploaded
     const Positions& normals() const;    // current vertex normals, as uploaded
     UploadStats lastUpload() const;

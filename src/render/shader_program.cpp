@@ -30,12 +30,12 @@ std::string programLog(const GlFunctions& gl, GLuint program) {
 }
 
 Status compileStage(const GlFunctions& gl, GLenum stage, const std::string& label, std::string_view source,
-                    GLuint& shader) {
+                    std::string_view defines, GLuint& shader) {
     shader = gl.CreateShader(stage);
     if (shader == 0) return Status::error("glCreateShader failed for " + label);
     // note: the preamble is a separate string, so the driver's line numbers are off by its line count;
     // the message says so rather than rewriting the log.
-    const std::string preamble = shaderPreamble();
+    const std::string preamble = shaderPreamble() + std::string(defines);
     const GLchar* strings[2] = {preamble.c_str(), source.data()};
     const GLint lengths[2] = {static_cast<GLint>(preamble.size()), static_cast<GLint>(source.size())};
     gl.ShaderSource(shader, 2, strings, lengths);
@@ -69,6 +69,7 @@ std::string shaderPreamble() {
     define("ATTRIB_JACOBIAN", kAttribJacobian);
     define("ATTRIB_AFFECTED", kAttribAffected);
     define("ATTRIB_VERTEX_COLOR", kAttribVertexColor);
+    define("ATTRIB_LATTICE_CELL", kAttribLatticeCell);
     define("ATTRIB_SEGMENT_START", kAttribSegmentStart);
     define("ATTRIB_SEGMENT_END", kAttribSegmentEnd);
     define("ATTRIB_COLOR_START", kAttribColorStart);
@@ -84,12 +85,18 @@ std::string shaderPreamble() {
 
 Status buildProgram(const GlFunctions& gl, std::string_view name, std::string_view vertexSource,
                     std::string_view fragmentSource, GLuint& program) {
+    return buildProgram(gl, name, vertexSource, fragmentSource, ProgramOptions{}, program);
+}
+
+Status buildProgram(const GlFunctions& gl, std::string_view name, std::string_view vertexSource,
+                    std::string_view fragmentSource, const ProgramOptions& options, GLuint& program) {
     program = 0;
     const std::string base(name);
     GLuint vertexShader = 0, fragmentShader = 0;
-    if (Status status = compileStage(gl, GL_VERTEX_SHADER, base + ".vert", vertexSource, vertexShader); !status)
+    if (Status status = compileStage(gl, GL_VERTEX_SHADER, base + ".vert", vertexSource, options.defines, vertexShader);
+        !status)
         return status;
-    if (Status status = compileStage(gl, GL_FRAGMENT_SHADER, base + ".frag", fragmentSource, fragmentShader);
+    if (Status status = compileStage(gl, GL_FRAGMENT_SHADER, base + ".frag", fragmentSource, options.defines, fragmentShader);
         !status) {
         gl.DeleteShader(vertexShader);
         return status;
@@ -97,6 +104,11 @@ Status buildProgram(const GlFunctions& gl, std::string_view name, std::string_vi
     const GLuint linked = gl.CreateProgram();
     gl.AttachShader(linked, vertexShader);
     gl.AttachShader(linked, fragmentShader);
+    if (!options.feedbackVaryings.empty()) {
+        std::vector<const GLchar*> names;
+        for (const std::string& varying : options.feedbackVaryings) names.push_back(varying.c_str());
+        gl.TransformFeedbackVaryings(linked, GLsizei(names.size()), names.data(), GL_INTERLEAVED_ATTRIBS);
+    }
     gl.LinkProgram(linked);
     // Flagged for deletion; freed with the program.
     gl.DeleteShader(vertexShader);
@@ -142,6 +154,10 @@ Status resolveIncludes(std::string_view fileName, std::string_view source, std::
 }  // namespace
 
 Status buildEmbeddedProgram(const GlFunctions& gl, std::string_view name, GLuint& program) {
+    return buildEmbeddedProgram(gl, name, ProgramOptions{}, program);
+}
+
+Status buildEmbeddedProgram(const GlFunctions& gl, std::string_view name, const ProgramOptions& options, GLuint& program) {
     program = 0;
     const std::string base(name);
     std::string vertexSource, fragmentSource;
@@ -150,7 +166,7 @@ Status buildEmbeddedProgram(const GlFunctions& gl, std::string_view name, GLuint
         if (source.empty()) return Status::error("no embedded shaders/" + base + ".vert and .frag in this binary");
         if (Status status = resolveIncludes(file, source, *out); !status) return status;
     }
-    return buildProgram(gl, name, vertexSource, fragmentSource, program);
+    return buildProgram(gl, name, vertexSource, fragmentSource, options, program);
 }
 
 }  // namespace sculpt::render

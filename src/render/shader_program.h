@@ -3,6 +3,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "render/gl_functions.h"
 
@@ -26,6 +27,14 @@ enum AttributeLocation : GLuint {
     kAttribOverlayColor = 12,  // overlay2d: vec4 colour
     kAttribOverlayFill = 13,   // overlay2d: vec2 (fill kind: 0 colour, 1 det J map, 2 fold stripes; map position)
     kAttribVertexColor = 14,   // mesh: vec3 the file's vertex colour (sRGB in [0, 1])
+    kAttribLatticeCell = 15,   // mesh, deformed on the GPU: vec4 (local coordinates in the knot-span cell, cell index)
+};
+
+// Variants of one program: text added after the preamble (e.g. "#define GPU_DEFORMATION\n") and the vertex
+// shader outputs to capture by transform feedback (interleaved, in this order; set before linking).
+struct ProgramOptions {
+    std::string defines;
+    std::vector<std::string> feedbackVaryings;
 };
 
 // The text prepended to every shader: `#version 330 core` and the ATTRIB_* defines above.
@@ -35,10 +44,13 @@ std::string shaderPreamble();
 // `name` is used in messages only. On failure the message names the stage and carries the driver's log.
 Status buildProgram(const GlFunctions& gl, std::string_view name, std::string_view vertexSource,
                     std::string_view fragmentSource, GLuint& program);
+Status buildProgram(const GlFunctions& gl, std::string_view name, std::string_view vertexSource,
+                    std::string_view fragmentSource, const ProgramOptions& options, GLuint& program);
 
 // buildProgram with shaders/<name>.vert and shaders/<name>.frag from the embedded table. A line
 // `#include "file.glsl"` in either is replaced by that embedded shaders/ file (functions shared by several
 // shaders, such as the det J colour map), one level deep; a missing file is an error.
 Status buildEmbeddedProgram(const GlFunctions& gl, std::string_view name, GLuint& program);
+Status buildEmbeddedProgram(const GlFunctions& gl, std::string_view name, const ProgramOptions& options, GLuint& program);
 
 }  // namespace sculpt::render

@@ -375,6 +375,8 @@ int main(int argc, char** argv) {
     benchTriangleCheck();
 #ifdef SCULPT_BENCH_RENDER
     if (wanted("render") || wanted("upload") || wanted("full_update")) sculpt::render::runRenderBenchmarks(std::cout);
+    if (wanted("gpu_drag_1m") || wanted("gpu_drag_10m"))
+        sculpt::render::runGpuDragBenchmarks(std::cout, wanted("gpu_drag_10m"));
 #endif
 #ifdef SCULPT_BENCH_WINDOW
     sculpt::bench::runWindowBenchmarks(std::cout, gFilters);  // runs only the cases gFilters asks for

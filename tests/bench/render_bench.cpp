@@ -151,12 +151,103 @@ void benchFullUpdate(std::ostream& out, OffscreenRenderer& offscreen) {
         totalMs.push_back(std::chrono::duration<double, std::milli>(end - start).count());
     }
     if (!failed) return printError(out, "full_update_1m", failed.message);
+    const bool fullUpload = renderer.lastUpload().fullUpload;
+    // The same update on the GPU path (Renderer::setGpuDeformation): the positions still evaluated in double for
+    // the engine, then only the control displacements sent; the normals come from the vertex shader at draw time.
+    std::vector<double> gpuPathMs;
+    if (Status status = renderer.setGpuDeformation(lattice, embedding, sphere.positions); !status)
+        return printError(out, "full_update_1m", status.message);
+    for (int run = 0; run <= kRuns; ++run) {
+        for (int c = 0; c < lattice.controlPointCount(); ++c)
+            lattice.displacement.row(c) << 0.01 * std::cos(c + run), 0.01 * std::sin(c * 3 + run), 0.005 * run;
+        const auto start = std::chrono::steady_clock::now();
+        core::evaluateAll(lattice, embedding, positions);
+        if (Status status = renderer.updateGpuDeformation(lattice); !status) failed = status;
+        gl.Finish();
+        if (run > 0) gpuPathMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+    if (Status status = renderer.clearGpuDeformation(positions); !status) failed = status;
+    if (!failed) return printError(out, "full_update_1m", failed.message);
     out << "{\"case\": \"full_update_1m\", \"n\": " << vertexCount << ", \"median_ms\": " << bench::median(totalMs)
         << ", \"evaluate_ms\": " << bench::median(evaluateMs) << ", \"normals_and_upload_ms\": " << bench::median(uploadMs)
-        << ", \"full_upload\": " << (renderer.lastUpload().fullUpload ? "true" : "false") << "}" << std::endl;
+        << ", \"full_upload\": " << (fullUpload ? "true" : "false")
+        << ", \"gpu_path_ms\": " << bench::median(gpuPathMs) << "}" << std::endl;
+}
+
+// gpu_drag_1m / gpu_drag_10m (issue 12, point 1): frames per second while dragging globally, every vertex
+// moving, on the CPU path and on the GPU path. A frame on either path: the engine evaluates every position
+// (picking, saving and the injectivity checks use them), the renderer updates, a 1280 x 800 picture without
+// MSAA (the window's on software GL) is drawn and finished. CPU path: normals, packing and the whole vertex
+// buffer (updatePositions); GPU path: the control displacements only, the vertex shader deforms
+// (updateGpuDeformation). gpu_only_ms leaves out the engine's evaluation.
+void benchGpuDrag(std::ostream& out, OffscreenRenderer& offscreen, const char* name, int segments, int rings, int runs) {
+    const test::TestMesh sphere = test::makeUvSphere(segments, rings);
+    const int vertexCount = int(sphere.positions.rows());
+    Renderer& renderer = offscreen.renderer();
+    if (Status status = renderer.setMesh(sphere.positions, sphere.triangles); !status) return printError(out, name, status.message);
+    core::LatticeSettings settings;  // 8^3 control points, cubic
+    core::Lattice lattice;
+    core::makeLattice(settings, sphere.positions, lattice);
+    const core::Embedding embedding = core::embedVertices(lattice, sphere.positions);
+    std::vector<int> all(static_cast<size_t>(vertexCount));
+    for (int v = 0; v < vertexCount; ++v) all[size_t(v)] = v;
+    Positions positions = sphere.positions;
+    const Camera camera = halfScreenCamera();
+    Status failed;
+    const auto frames = [&](bool gpu, bool proxy, std::vector<double>& totalMs, std::vector<double>& rendererMs) {
+        DrawOptions options;
+        options.proxy = proxy;
+        for (int run = 0; run <= runs; ++run) {
+            for (int c = 0; c < lattice.controlPointCount(); ++c)  // a new global change each frame
+                lattice.displacement.row(c) << 0.01 * std::sin(c + run), 0.01 * std::cos(c * 3 + run), 0.005 * run;
+            const auto start = std::chrono::steady_clock::now();
+            core::evaluateAll(lattice, embedding, positions);
+            const auto evaluated = std::chrono::steady_clock::now();
+            const Status status = gpu ? renderer.updateGpuDeformation(lattice) : renderer.updatePositions(positions, all);
+            if (!status) failed = status;
+            if (Status drawn = offscreen.render(camera, options, kWidth, kHeight, 1, nullptr); !drawn) failed = drawn;
+            const auto end = std::chrono::steady_clock::now();
+            if (run == 0) continue;  // warm-up (the first frame after a switch uploads everything)
+            totalMs.push_back(std::chrono::duration<double, std::milli>(end - start).count());
+            rendererMs.push_back(std::chrono::duration<double, std::milli>(end - evaluated).count());
+        }
+    };
+    // The whole mesh drawn each frame, and the window's way during a drag: its decimated proxy (mesh_proxy.h,
+    // an index buffer over the same vertices, so either path deforms it).
+    std::vector<double> cpuMs, cpuRendererMs, gpuMs, gpuRendererMs, cpuProxyMs, gpuProxyMs, unused;
+    frames(false, false, cpuMs, cpuRendererMs);
+    frames(false, true, cpuProxyMs, unused);
+    if (Status status = renderer.setGpuDeformation(lattice, embedding, sphere.positions); !status)
+        return printError(out, name, status.message);
+    frames(true, false, gpuMs, gpuRendererMs);
+    frames(true, true, gpuProxyMs, unused);
+    if (Status status = renderer.clearGpuDeformation(positions); !status) failed = status;
+    if (!failed) return printError(out, name, failed.message);
+    const double cpu = bench::median(cpuMs), gpu = bench::median(gpuMs);
+    const double cpuProxy = bench::median(cpuProxyMs), gpuProxy = bench::median(gpuProxyMs);
+    out << "{\"case\": \"" << name << "\", \"n\": " << vertexCount << ", \"cpu_fps\": " << 1000.0 / cpu
+        << ", \"gpu_fps\": " << 1000.0 / gpu << ", \"cpu_frame_ms\": " << cpu << ", \"gpu_frame_ms\": " << gpu
+        << ", \"cpu_update_and_draw_ms\": " << bench::median(cpuRendererMs)
+        << ", \"gpu_update_and_draw_ms\": " << bench::median(gpuRendererMs) << ", \"gpu_speedup\": " << cpu / gpu
+        << ", \"proxy_triangles\": " << renderer.proxyTriangleCount() << ", \"cpu_fps_proxy\": " << 1000.0 / cpuProxy
+        << ", \"gpu_fps_proxy\": " << 1000.0 / gpuProxy << ", \"gpu_speedup_proxy\": " << cpuProxy / gpuProxy
+        << ", \"backend\": \"" << jsonText(offscreen.context().description()) << "\"}" << std::endl;
 }
 
 }  // namespace
+
+void runGpuDragBenchmarks(std::ostream& out, bool tenMillion) {
+    GlBackend backend = GlBackend::Auto;
+    if (const char* value = std::getenv("SCULPT_GL_BACKEND")) {
+        if (Status status = parseGlBackend(value, backend); !status) return printError(out, "gpu_drag", status.message);
+    }
+    std::unique_ptr<OffscreenRenderer> offscreen;
+    if (Status status = OffscreenRenderer::create(backend, offscreen); !status)
+        return printError(out, "gpu_drag", status.message);
+    offscreen->renderer().setPixelScale(1.0f);
+    benchGpuDrag(out, *offscreen, "gpu_drag_1m", 1000, 1001, 10);  // 1,000,002 vertices
+    if (tenMillion) benchGpuDrag(out, *offscreen, "gpu_drag_10m", 3163, 3163, 4);  // 10,001,468 vertices
+}
 
 void runRenderBenchmarks(std::ostream& out) {
     GlBackend backend = GlBackend::Auto;

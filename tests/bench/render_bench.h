@@ -12,5 +12,8 @@ namespace sculpt::render {
 //   upload_1m_local          updatePositions with a 2% patch changed (sparse normals + ranged upload)
 // A case that cannot run (no GL) prints {"case": ..., "error": "..."} instead.
 void runRenderBenchmarks(std::ostream& out);
+//   gpu_drag_1m, gpu_drag_10m  frames per second of a global drag (every vertex moves), CPU path against the
+//                              vertex-shader path (Renderer::setGpuDeformation); the 10M case only when asked.
+void runGpuDragBenchmarks(std::ostream& out, bool tenMillion);
 
 }  // namespace sculpt::render

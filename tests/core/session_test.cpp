@@ -389,3 +389,53 @@ TEST_CASE("session: cancelling a drag takes back what it applied, subdivided ste
     }
     CHECK(subdivided >= 2);
 }
+
+TEST_CASE("session: restVersion changes whenever the rest mesh or its embedding does", "[core]") {
+    // The renderer's GPU path keeps a copy of restPositions() and the cage cells of every vertex, and uploads it
+    // again only when restVersion() changes: an unchanged version must mean unchanged rest data.
+    std::mt19937 rng(31);
+    for (int trial = 0; trial < 4; ++trial) {
+        Session session = randomSession(rng, 600);
+        session.setInjectivity({trial % 2 ? InjectivityMode::Conic : InjectivityMode::Off, 4});
+        std::uint64_t version = session.restVersion();
+        Positions rest = session.restPositions();
+        Embedding embedding = session.embedding();
+        int changes = 0;
+        for (int op = 0; op < 40; ++op) {
+            OpReport report;
+            const int kind = test::randomInt(rng, 0, 9);
+            const int vertex = test::randomInt(rng, 0, int(session.positions().rows()) - 1);
+            const Eigen::Vector3d target = session.positions().row(vertex).transpose() + test::randomVector(rng, -0.4, 0.4);
+            if (kind <= 3) {
+                (void)session.dragVertex(vertex, target, report);
+            } else if (kind == 4) {
+                BrushSettings brush;
+                brush.radius = 0.6;
+                (void)session.dragVertex(vertex, target, report, brush);
+            } else if (kind == 5) {
+                LatticeSettings settings;
+                settings.resolution = {test::randomInt(rng, 4, 7), test::randomInt(rng, 4, 7), test::randomInt(rng, 4, 7)};
+                (void)session.setupLattice(settings, report);
+            } else if (kind <= 7) {
+                (void)session.undo(report);
+            } else {
+                (void)session.redo(report);
+            }
+            if (session.restVersion() == version) {
+                INFO("trial " << trial << ", op " << op << " (kind " << kind << ")");
+                REQUIRE(session.restPositions().rows() == rest.rows());
+                CHECK(session.restPositions() == rest);
+                CHECK(session.embedding().order == embedding.order);
+                CHECK(session.embedding().cellStart == embedding.cellStart);
+                CHECK(session.embedding().localX == embedding.localX);
+                CHECK(session.embedding().localZ == embedding.localZ);
+            } else {
+                ++changes;
+                version = session.restVersion();
+                rest = session.restPositions();
+                embedding = session.embedding();
+            }
+        }
+        CHECK(changes > 0);  // set-ups (and their undos) did change it
+    }
+}

@@ -13,6 +13,7 @@
 
 #include "app/window/tools.h"
 #include "app/window/transform_tool.h"
+#include "app/deformation_path.h"
 #include "core/session.h"
 #include "render/camera.h"
 #include "render/scene.h"
@@ -51,6 +52,8 @@ struct FrameStats {
     double updateMs = 0.0;  // last GPU update (positions, normals, overlays)
     double renderMs = 0.0;  // CPU time of the last frame's draw calls (scene + UI)
     int lastUploadVertices = 0;
+    // Which path deforms the mesh on screen and why (DeformationPathChooser::describe, or why the GPU cannot).
+    std::string deformationPath = "CPU";
     // The stats panel shows "--" for the times and the frame rate, which differ run to run, so a frame is
     // reproducible pixel for pixel (golden-image tests, tests/render/window_golden_test.cpp).
     bool hideTimings = false;
@@ -155,6 +158,9 @@ struct AppState {
     core::OpReport lastReport;
 
     FrameStats stats;
+    // Chooses between deforming the mesh on the CPU and in the vertex shader by timing frames of both
+    // (deformation_path.h); reset with every new mesh.
+    DeformationPathChooser deformationPath;
     PendingGpuUpdate gpu;
     bool meshHasVertexColors = false;  // the GPU has the file's colours for this mesh (set by each mesh upload)
     DragState drag;

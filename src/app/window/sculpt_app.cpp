@@ -182,29 +182,67 @@ void SculptApp::syncGpu() {
     PendingGpuUpdate& gpu = state_.gpu;
     const core::Session& session = state_.session;
     bool uploaded = false, positionsUploaded = false;
+    // The GPU path (deformation_path.h) where the chooser wants it and the renderer can take the lattices: a box
+    // cage and box layers after it (a brush's region, a subdivision's steps).
+    std::vector<const core::Lattice*> layers;
+    for (const core::Layer& layer : session.layers()) layers.push_back(&layer.lattice);
+    const std::string gpuProblem = render::Renderer::gpuDeformationProblem(session.lattice(), layers);
+    const bool freshMesh = gpu.mesh;  // a new mesh or session, or a new context (not only a refinement)
     // A refinement (or its undo) changes the triangles: a full upload.
     if (session.topologyVersion() != uploadedTopology_) gpu.mesh = true;
     if (gpu.mesh) {
+        // A new mesh is measured afresh; a refinement keeps the decision unless it made a small mesh big.
+        const int vertexCount = static_cast<int>(session.positions().rows());
+        if (freshMesh || !state_.deformationPath.decidedFor(vertexCount)) state_.deformationPath.reset(vertexCount);
+    }
+    const bool wantGpu = gpuProblem.empty() && session.hasMesh() && state_.deformationPath.path() == DeformationPath::Gpu;
+    const auto reportGpu = [&](const Status& s) {
+        if (!s) setStatus(state_, "GPU update failed: " + s.message, true);
+    };
+    // The rest mesh and its cells go up once per rest mesh; then only the control displacements.
+    const auto enterGpuPath = [&] {
+        reportGpu(renderer_.setGpuDeformation(session.lattice(), session.embedding(), session.restPositions(), layers));
+        uploadedRest_ = session.restVersion();
+    };
+    // The path changes (the chooser switched, the lattice became another kind): every vertex is redrawn.
+    if (!gpu.mesh && wantGpu != renderer_.gpuDeformationActive()) gpu.allPositions = true;
+    if (gpu.mesh) {
         uploadedTopology_ = session.topologyVersion();
-        if (Status s = renderer_.setMesh(session.positions(), session.triangles()); !s)
-            setStatus(state_, "GPU upload failed: " + s.message, true);
+        reportGpu(renderer_.setMesh(session.positions(), session.triangles()));
         // The file's own colours (a scan's), carried through refinement; cleared by setMesh otherwise.
         if (const std::shared_ptr<const io::ObjMesh>& source = files_.document().mesh; source && renderer_.vertexCount() > 0)
-            if (Status s = renderer_.setVertexColors(sessionVertexColors(*source, session)); !s)
-                setStatus(state_, "GPU upload failed: " + s.message, true);
+            reportGpu(renderer_.setVertexColors(sessionVertexColors(*source, session)));
         state_.meshHasVertexColors = renderer_.hasVertexColors();
+        if (wantGpu && renderer_.vertexCount() > 0) enterGpuPath();
         gpu.mesh = false;
         gpu.fields = true;
         uploaded = positionsUploaded = true;
     } else if (gpu.allPositions || !gpu.vertices.empty()) {
-        std::vector<int> all;
-        if (gpu.allPositions) {
-            all.resize(static_cast<size_t>(session.positions().rows()));
-            std::iota(all.begin(), all.end(), 0);
+        if (wantGpu) {
+            if (!renderer_.gpuDeformationActive() || session.restVersion() != uploadedRest_)
+                enterGpuPath();
+            else
+                reportGpu(renderer_.updateGpuDeformation(session.lattice(), layers));
+        } else if (renderer_.gpuDeformationActive()) {
+            reportGpu(renderer_.clearGpuDeformation(session.positions()));
+        } else {
+            std::vector<int> all;
+            if (gpu.allPositions) {
+                all.resize(static_cast<size_t>(session.positions().rows()));
+                std::iota(all.begin(), all.end(), 0);
+            }
+            reportGpu(renderer_.updatePositions(session.positions(), gpu.allPositions ? all : gpu.vertices));
         }
-        if (Status s = renderer_.updatePositions(session.positions(), gpu.allPositions ? all : gpu.vertices); !s)
-            setStatus(state_, "GPU update failed: " + s.message, true);
         uploaded = positionsUploaded = true;
+    }
+    state_.stats.deformationPath = gpuProblem.empty() || !session.hasMesh()
+                                       ? state_.deformationPath.describe()
+                                       : "CPU: " + gpuProblem;
+    // While the chooser measures, a frame in which the dragged mesh moved is timed to the end of its draw.
+    measuringFrame_ = positionsUploaded && state_.drag.active && state_.deformationPath.deciding() && gpuProblem.empty();
+    if (measuringFrame_) {
+        frameStart_ = start;
+        framePath_ = renderer_.gpuDeformationActive() ? DeformationPath::Gpu : DeformationPath::Cpu;
     }
     gpu.allPositions = false;
     gpu.vertices.clear();
@@ -283,6 +321,11 @@ Status SculptApp::renderFrame(int width, int height) {
     options.proxy = state_.drag.active || state_.navigation != Navigation::None;
     options.uiInsetBottom = state_.statusLineHeight;
     Status drawn = renderer_.draw(state_.camera, options, width, height);
+    if (measuringFrame_) {
+        renderer_.finish();  // the GPU's share of the frame counts too
+        state_.deformationPath.addFrame(framePath_, millisecondsSince(frameStart_));
+        measuringFrame_ = false;
+    }
     files_.afterSceneDrawn(state_, width, height);  // a requested screenshot: the scene without the UI
     if (imguiBackendReady_ && ImGui::GetCurrentContext()) {
         ImGui_ImplOpenGL3_NewFrame();

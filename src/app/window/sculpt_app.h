@@ -11,6 +11,9 @@
 // Ctrl+Z undoes, Ctrl+Shift+Z / Ctrl+Y redo. Input the UI claims (CaptureFlags) is left alone.
 #pragma once
 
+#include <chrono>
+#include <cstdint>
+
 #include <string>
 #include <vector>
 
@@ -99,6 +102,11 @@ private:
     FileCommands files_;
     render::Renderer renderer_;
     int uploadedTopology_ = -1;  // Session::topologyVersion() of the mesh last uploaded
+    std::uint64_t uploadedRest_ = 0;  // Session::restVersion() of the rest mesh on the GPU path
+    // A frame the deformation-path chooser times (syncGpu to the end of the draw), and the path it took.
+    bool measuringFrame_ = false;
+    std::chrono::steady_clock::time_point frameStart_;
+    DeformationPath framePath_ = DeformationPath::Cpu;
     bool imguiBackendReady_ = false;
 };
 
