@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <new>
+#include <string_view>
 
 #include <Eigen/Geometry>
 
@@ -21,30 +22,53 @@ namespace sculpt::io {
 
 namespace {
 
-// note: std::to_chars without a precision prints the shortest text that reads back to the very
-// same double or float (Ryu; a float's own "0.08235294", not its double's 17 digits), locale-independent;
-// "%.17g" would also round-trip but is longer and obeys LC_NUMERIC (a German locale would write "0,5").
-template <typename Real>
-inline void appendNumber(std::string& text, Real value) {
-    char buffer[32];
-    const std::to_chars_result result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    text.append(buffer, static_cast<size_t>(result.ptr - buffer));  // (pointer, length): no iterator-pair replace
-}
+// Text written through a cursor into a std::string whose reserved storage is made writable ahead (room()):
+// a number or a character is then a store, not a call of std::string's append with its length checks, which
+// was a third of save_obj_1m. The string has its used length again when the cursor goes.
+class TextCursor {
+public:
+    explicit TextCursor(std::string& text) : text_(text), used_(text.size()) {}
+    ~TextCursor() { text_.resize(used_); }
+    TextCursor(const TextCursor&) = delete;
+    TextCursor& operator=(const TextCursor&) = delete;
+    // Makes at least n more bytes writable (storage doubled, advised for huge pages, when it runs out).
+    void room(size_t n) {
+        if (text_.size() - used_ >= n) return;
+        if (text_.capacity() < used_ + n) reserveWithHugePages(text_, std::max(used_ + n, 2 * text_.capacity()));
+        text_.resize(text_.capacity());
+    }
+    // The writes below need room: one character, or kNumberRoom bytes for a number.
+    static constexpr size_t kNumberRoom = 32;
+    void put(char c) { text_[used_++] = c; }
+    // Checks its own room.
+    void put(std::string_view s) {
+        room(s.size());
+        std::memcpy(&text_[used_], s.data(), s.size());
+        used_ += s.size();
+    }
+    // note: std::to_chars without a precision prints the shortest text that reads back to the very same double
+    // or float (Ryu; a float's own "0.08235294", not its double's 17 digits), locale-independent; "%.17g" would
+    // also round-trip but is longer and obeys LC_NUMERIC (a German locale would write "0,5").
+    template <typename Number>
+    void number(Number value) {
+        char* at = &text_[used_];
+        used_ += static_cast<size_t>(std::to_chars(at, at + kNumberRoom, value).ptr - at);
+    }
 
-inline void appendIndex(std::string& text, long long oneBased) {
-    char buffer[24];
-    const std::to_chars_result result = std::to_chars(buffer, buffer + sizeof buffer, oneBased);
-    text.append(buffer, static_cast<size_t>(result.ptr - buffer));
-}
+private:
+    std::string& text_;
+    size_t used_;
+};
 
-// Appends format(row, part) for rows 0..n-1 to out, in order. A big section is formatted in chunks on every
+// Appends format(row, cursor) for rows 0..n-1 to out, in order. A big section is formatted in chunks on every
 // thread (a 1M-vertex OBJ has 4M lines: half of save_obj_1m was formatting), then appended chunk by chunk.
-// format must write only to part. Throws std::bad_alloc as the serial loop would.
+// format must write only through its cursor. Throws std::bad_alloc as the serial loop would.
 template <typename Format>
 void appendRowsInParallel(std::string& out, Eigen::Index n, const Format& format) {
     constexpr Eigen::Index kSerialRows = 32768;
     if (n <= kSerialRows) {
-        for (Eigen::Index r = 0; r < n; ++r) format(r, out);
+        TextCursor cursor(out);
+        for (Eigen::Index r = 0; r < n; ++r) format(r, cursor);
         return;
     }
     const int chunks = 4 * omp_get_max_threads();
@@ -56,7 +80,8 @@ void appendRowsInParallel(std::string& out, Eigen::Index n, const Format& format
             std::string& part = parts[static_cast<size_t>(c)];
             const Eigen::Index first = n * c / chunks, last = n * (c + 1) / chunks;
             reserveWithHugePages(part, static_cast<size_t>(last - first) * 96);  // a `v` or `vn` line is 50-70 bytes, an `f` line 30-45
-            for (Eigen::Index r = first; r < last; ++r) format(r, part);
+            TextCursor cursor(part);
+            for (Eigen::Index r = first; r < last; ++r) format(r, cursor);
         } catch (const std::bad_alloc&) {
             outOfMemory = true;  // no exception may leave an OpenMP region
         }
@@ -142,18 +167,14 @@ void writeFromSource(const ObjMesh& mesh, const Positions& deformed, std::string
         }
     }
 
-    reserveWithHugePages(out, source.text.size() + source.text.size() / 8 + 64);
-    size_t copied = 0;  // source.text is written up to here
-    const auto replace = [&](size_t begin, size_t end, const double* xyz) {
-        if (begin < copied) return;  // overlapping spans: checkObjMesh refuses them, never expected here
-        out.append(source.text, copied, begin - copied);
-        for (int k = 0; k < 3; ++k) {
-            if (k > 0) out += ' ';
-            appendNumber(out, xyz[k]);
-        }
-        copied = end;
+    // The replacements in text order (v and vn lines interleave in the file: both span lists walked by offset),
+    // then formatted in parallel chunks, each the source text between its first replacement and the next
+    // chunk's, with its replacements in place.
+    struct Replacement {
+        size_t begin, end;
+        Eigen::Vector3d xyz;
     };
-    // v and vn lines interleave in the file: walk both span lists in offset order.
+    std::vector<Replacement> replacements;
     size_t v = 0, n = 0;
     for (;;) {
         while (v < static_cast<size_t>(vertexCount) && !moved[v]) ++v;
@@ -167,15 +188,59 @@ void writeFromSource(const ObjMesh& mesh, const Positions& deformed, std::string
         const bool haveVertex = v < static_cast<size_t>(vertexCount), haveNormal = n < normalCount;
         if (!haveVertex && !haveNormal) break;
         if (haveVertex && (!haveNormal || source.positionSpans[2 * v] < source.normalSpans[2 * n])) {
-            replace(source.positionSpans[2 * v], source.positionSpans[2 * v + 1], deformed.row(static_cast<Eigen::Index>(v)).data());
+            replacements.push_back({source.positionSpans[2 * v], source.positionSpans[2 * v + 1],
+                                    deformed.row(static_cast<Eigen::Index>(v)).transpose()});
             ++v;
         } else {
-            const Eigen::Vector3d unit = normalSum[n].normalized();
-            replace(source.normalSpans[2 * n], source.normalSpans[2 * n + 1], unit.data());
+            replacements.push_back({source.normalSpans[2 * n], source.normalSpans[2 * n + 1], normalSum[n].normalized()});
             ++n;
         }
     }
-    out.append(source.text, copied, std::string::npos);
+    // Overlapping spans: checkObjMesh refuses them, never expected here; such a replacement is left out.
+    size_t kept = 0, lastEnd = 0;
+    for (const Replacement& r : replacements)
+        if (r.begin >= lastEnd) {
+            replacements[kept++] = r;
+            lastEnd = r.end;
+        }
+    replacements.resize(kept);
+
+    reserveWithHugePages(out, source.text.size() + source.text.size() / 8 + 64);
+    const std::string_view text(source.text);
+    const size_t count = replacements.size();
+    const int chunks = count > 32768 ? 4 * omp_get_max_threads() : 1;
+    std::vector<std::string> parts(static_cast<size_t>(chunks));
+    std::atomic<bool> outOfMemory{false};
+#pragma omp parallel for schedule(dynamic, 1) if (chunks > 1)
+    for (int c = 0; c < chunks; ++c) {
+        try {
+            const size_t first = count * size_t(c) / size_t(chunks), last = count * size_t(c + 1) / size_t(chunks);
+            size_t copied = c == 0 ? 0 : replacements[first].begin;  // source.text is written up to here
+            const size_t end = c + 1 == chunks ? source.text.size() : replacements[last].begin;
+            std::string& part = chunks == 1 ? out : parts[static_cast<size_t>(c)];
+            if (chunks > 1) reserveWithHugePages(part, end - copied + (last - first) * 16 + 64);
+            TextCursor cursor(part);
+            for (size_t i = first; i < last; ++i) {
+                const Replacement& r = replacements[i];
+                cursor.put(text.substr(copied, r.begin - copied));
+                cursor.room(3 * TextCursor::kNumberRoom + 2);
+                for (int k = 0; k < 3; ++k) {
+                    if (k > 0) cursor.put(' ');
+                    cursor.number(r.xyz[k]);
+                }
+                copied = r.end;
+            }
+            cursor.put(text.substr(copied, end - copied));
+        } catch (const std::bad_alloc&) {
+            outOfMemory = true;  // no exception may leave an OpenMP region
+        }
+    }
+    if (outOfMemory) throw std::bad_alloc();
+    if (chunks > 1)
+        for (std::string& part : parts) {
+            out += part;
+            std::string().swap(part);
+        }
 }
 
 // A name as the last word of a line: one that ends in a backslash gets a blank after it, or the reader
@@ -277,60 +342,70 @@ Status serializeObj(const ObjMesh& mesh, const Positions& deformedPositions, std
                                       static_cast<size_t>(mesh.texcoords.size()) * 25 + 256);
         out += "# DMFFD Sculpt\n";
         for (const std::string& library : mesh.materialLibraries) out += "mtllib " + lineEndName(library) + "\n";
-        appendRowsInParallel(out, deformedPositions.rows(), [&](Eigen::Index v, std::string& part) {
-            part += "v";
+        // Room for a whole line is made at its start: 6 numbers and their separators at most (a `v` with colours).
+        constexpr size_t kLineRoom = 8 * TextCursor::kNumberRoom;
+        appendRowsInParallel(out, deformedPositions.rows(), [&](Eigen::Index v, TextCursor& line) {
+            line.room(kLineRoom);
+            line.put('v');
             for (int k = 0; k < 3; ++k) {
-                part += ' ';
-                appendNumber(part, deformedPositions(v, k));
+                line.put(' ');
+                line.number(deformedPositions(v, k));
             }
             // Vertex colours (from a PLY or glTF file) as the common `v x y z r g b` extension (0..1).
             for (Eigen::Index k = 0; k < 3 && mesh.vertexColors.rows() > 0; ++k) {
-                part += ' ';
-                appendNumber(part, mesh.vertexColors(v, k));  // a float
+                line.put(' ');
+                line.number(mesh.vertexColors(v, k));  // a float
             }
-            part += '\n';
+            line.put('\n');
         });
-        appendRowsInParallel(out, mesh.texcoords.rows(), [&](Eigen::Index t, std::string& part) {
-            part += "vt";
+        appendRowsInParallel(out, mesh.texcoords.rows(), [&](Eigen::Index t, TextCursor& line) {
+            line.room(kLineRoom);
+            line.put('v');
+            line.put('t');
             for (Eigen::Index k = 0; k < mesh.texcoords.cols(); ++k) {
-                part += ' ';
-                appendNumber(part, mesh.texcoords(t, k));
+                line.put(' ');
+                line.number(mesh.texcoords(t, k));
             }
-            part += '\n';
+            line.put('\n');
         });
-        appendRowsInParallel(out, normals.rows(), [&](Eigen::Index v, std::string& part) {
+        appendRowsInParallel(out, normals.rows(), [&](Eigen::Index v, TextCursor& line) {
             // computeVertexNormals promises finite unit normals; a NaN here would make the file unreadable.
             const bool finite = normals.row(v).allFinite();
-            part += "vn";
+            line.room(kLineRoom);
+            line.put('v');
+            line.put('n');
             for (int k = 0; k < 3; ++k) {
-                part += ' ';
-                appendNumber(part, finite ? normals(v, k) : (k == 2 ? 1.0 : 0.0));
+                line.put(' ');
+                line.number(finite ? normals(v, k) : (k == 2 ? 1.0 : 0.0));
             }
-            part += '\n';
+            line.put('\n');
         });
         // A `g` or `usemtl` line comes before a face whose group or material differs from the face before it
         // (the unnamed group 0 and no material before the first face): each face's lines depend on it and the
         // one before only, so the faces format in parallel too.
-        appendRowsInParallel(out, mesh.faceCount(), [&](Eigen::Index face, std::string& part) {
+        appendRowsInParallel(out, mesh.faceCount(), [&](Eigen::Index face, TextCursor& line) {
             const int f = static_cast<int>(face);
             if (mesh.faceGroup[f] != (f > 0 ? mesh.faceGroup[f - 1] : 0))
                 // note: "g " with a trailing blank is the unnamed group; a bare "g" is not a group line
                 // to tinyobjloader and would be ignored.
-                part += "g " + lineEndName(mesh.groupNames[mesh.faceGroup[f]]) + "\n";
+                line.put("g " + lineEndName(mesh.groupNames[mesh.faceGroup[f]]) + "\n");
             const int material = mesh.faceMaterial[f];
             if (material != (f > 0 ? mesh.faceMaterial[f - 1] : -1))
-                part += material < 0 ? std::string("usemtl\n") : "usemtl " + lineEndName(mesh.materialNames[material]) + "\n";
-            part += 'f';
+                line.put(material < 0 ? std::string("usemtl\n") : "usemtl " + lineEndName(mesh.materialNames[material]) + "\n");
+            line.room(2);
+            line.put('f');
             for (int c = mesh.faceStart[f]; c < mesh.faceStart[f + 1]; ++c) {
                 const long long vertex = mesh.cornerVertex[c] + 1LL;
-                part += ' ';
-                appendIndex(part, vertex);
-                part += '/';
-                if (mesh.cornerTexcoord[c] >= 0) appendIndex(part, mesh.cornerTexcoord[c] + 1LL);
-                part += '/';
-                appendIndex(part, vertex);  // one recomputed normal per vertex
+                line.room(4 + 3 * TextCursor::kNumberRoom);  // " v/t/n" of one corner
+                line.put(' ');
+                line.number(vertex);
+                line.put('/');
+                if (mesh.cornerTexcoord[c] >= 0) line.number(mesh.cornerTexcoord[c] + 1LL);
+                line.put('/');
+                line.number(vertex);  // one recomputed normal per vertex
             }
-            part += '\n';
+            line.room(1);
+            line.put('\n');
         });
         text.swap(out);
         return Status::success();
