@@ -519,3 +519,62 @@ TEST_CASE("obj: non-planar, collinear and degenerate polygons: exact where possi
         sculpt::test::requireSameFaces(mesh, reread);
     }
 }
+
+TEST_CASE("obj: a big loaded file's save rewrites exactly the moved vertices' numbers, in parallel chunks") {
+    // Over 32768 replacements the save formats chunks of the source text in parallel (obj_write.cpp): every
+    // statement must still be the source's own except the moved vertices' positions and the recomputed normals.
+    std::mt19937 rng(12345);
+    constexpr int kRows = 200, kColumns = 250;  // a grid of quads: 50,000 vertices, v and vn lines interleaved
+    std::string text = "# a big grid\nmtllib none.mtl\n";
+    for (int r = 0; r < kRows; ++r)
+        for (int c = 0; c < kColumns; ++c)
+            text += "v " + std::to_string(c) + " " + std::to_string(r) + " 0.5\nvn 0 0 1\nvt 0.25 0.75\n";
+    text += "g sheet\n";
+    for (int r = 0; r + 1 < kRows; ++r)
+        for (int c = 0; c + 1 < kColumns; ++c) {
+            const int a = r * kColumns + c + 1, b = a + 1, d = a + kColumns, e = d + 1;
+            text += "f " + std::to_string(a) + "/" + std::to_string(a) + "/" + std::to_string(a) + " " + std::to_string(b) + "/" +
+                    std::to_string(b) + "/" + std::to_string(b) + " " + std::to_string(e) + "/" + std::to_string(e) + "/" +
+                    std::to_string(e) + " " + std::to_string(d) + "/" + std::to_string(d) + "/" + std::to_string(d) + "\n";
+        }
+    const ObjMesh mesh = requireLoad(text);
+    const auto source = statements(text);
+    for (const double fraction : {0.02, 0.4, 1.0}) {
+        INFO("moved fraction " << fraction);
+        Positions deformed = mesh.positions;
+        std::vector<char> moved(static_cast<size_t>(deformed.rows()), 0);
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        for (Eigen::Index v = 0; v < deformed.rows(); ++v)
+            if (unit(rng) < fraction) {
+                moved[static_cast<size_t>(v)] = 1;
+                deformed(v, 2) += 0.1 + unit(rng) / 3.0;  // a bump: the grid's normals change where it moves
+            }
+        const std::string saved = serialize(mesh, deformed);
+        const auto written = statements(saved);
+        REQUIRE(written.size() == source.size());
+        size_t vertex = 0, changedNormals = 0;
+        for (size_t i = 0; i < source.size(); ++i) {
+            if (source[i][0] == "v") {
+                REQUIRE(written[i].size() == 4);
+                if (moved[vertex]) {
+                    for (int k = 0; k < 3; ++k)
+                        REQUIRE(std::stod(written[i][size_t(k) + 1]) == deformed(static_cast<Eigen::Index>(vertex), k));
+                } else {
+                    REQUIRE(written[i] == source[i]);
+                }
+                ++vertex;
+            } else if (source[i][0] == "vn" && written[i] != source[i]) {
+                REQUIRE(written[i].size() == 4);
+                const Eigen::Vector3d n(std::stod(written[i][1]), std::stod(written[i][2]), std::stod(written[i][3]));
+                REQUIRE(std::abs(n.norm() - 1.0) < 1e-12);
+                ++changedNormals;
+            } else {
+                REQUIRE(written[i] == source[i]);
+            }
+        }
+        CHECK(changedNormals > 0);
+        const ObjMesh reread = requireLoad(saved);
+        REQUIRE(sameBits(reread.positions, deformed));
+        sculpt::test::requireSameFaces(mesh, reread);
+    }
+}
