@@ -196,13 +196,24 @@ void SculptApp::syncGpu() {
         if (freshMesh || !state_.deformationPath.decidedFor(vertexCount)) state_.deformationPath.reset(vertexCount);
     }
     const bool wantGpu = gpuProblem.empty() && session.hasMesh() && state_.deformationPath.path() == DeformationPath::Gpu;
+    const auto allVertices = [&session] {
+        std::vector<int> all(static_cast<size_t>(session.positions().rows()));
+        std::iota(all.begin(), all.end(), 0);
+        return all;
+    };
     const auto reportGpu = [&](const Status& s) {
         if (!s) setStatus(state_, "GPU update failed: " + s.message, true);
     };
     // The rest mesh and its cells go up once per rest mesh; then only the control displacements.
+    // Should it fail (it checks every value), the CPU path takes over for this mesh, with the reason shown.
     const auto enterGpuPath = [&] {
-        reportGpu(renderer_.setGpuDeformation(session.lattice(), session.embedding(), session.restPositions(), layers));
         uploadedRest_ = session.restVersion();
+        if (Status s = renderer_.setGpuDeformation(session.lattice(), session.embedding(), session.restPositions(), layers); !s) {
+            reportGpu(s);
+            state_.deformationPath.force(DeformationPath::Cpu);
+            reportGpu(renderer_.gpuDeformationActive() ? renderer_.clearGpuDeformation(session.positions())
+                                                       : renderer_.updatePositions(session.positions(), allVertices()));
+        }
     };
     // The path changes (the chooser switched, the lattice became another kind): every vertex is redrawn.
     if (!gpu.mesh && wantGpu != renderer_.gpuDeformationActive()) gpu.allPositions = true;
@@ -219,19 +230,14 @@ void SculptApp::syncGpu() {
         uploaded = positionsUploaded = true;
     } else if (gpu.allPositions || !gpu.vertices.empty()) {
         if (wantGpu) {
-            if (!renderer_.gpuDeformationActive() || session.restVersion() != uploadedRest_)
+            // A cage of another shape under the same rest mesh (which the update refuses) is set up afresh too.
+            if (!renderer_.gpuDeformationActive() || session.restVersion() != uploadedRest_ ||
+                !renderer_.updateGpuDeformation(session.lattice(), layers))
                 enterGpuPath();
-            else
-                reportGpu(renderer_.updateGpuDeformation(session.lattice(), layers));
         } else if (renderer_.gpuDeformationActive()) {
             reportGpu(renderer_.clearGpuDeformation(session.positions()));
         } else {
-            std::vector<int> all;
-            if (gpu.allPositions) {
-                all.resize(static_cast<size_t>(session.positions().rows()));
-                std::iota(all.begin(), all.end(), 0);
-            }
-            reportGpu(renderer_.updatePositions(session.positions(), gpu.allPositions ? all : gpu.vertices));
+            reportGpu(renderer_.updatePositions(session.positions(), gpu.allPositions ? allVertices() : gpu.vertices));
         }
         uploaded = positionsUploaded = true;
     }
