@@ -236,28 +236,39 @@ void benchGpuDrag(std::ostream& out, OffscreenRenderer& offscreen, const char* n
 
 }  // namespace
 
-void runGpuDragBenchmarks(std::ostream& out, bool tenMillion) {
+namespace {
+
+// The offscreen renderer of SCULPT_GL_BACKEND (default auto) at pixel scale 1, or null with the error printed
+// as the case `name`.
+std::unique_ptr<OffscreenRenderer> benchRenderer(std::ostream& out, const char* name) {
     GlBackend backend = GlBackend::Auto;
     if (const char* value = std::getenv("SCULPT_GL_BACKEND")) {
-        if (Status status = parseGlBackend(value, backend); !status) return printError(out, "gpu_drag", status.message);
+        if (Status status = parseGlBackend(value, backend); !status) {
+            printError(out, name, status.message);
+            return nullptr;
+        }
     }
     std::unique_ptr<OffscreenRenderer> offscreen;
-    if (Status status = OffscreenRenderer::create(backend, offscreen); !status)
-        return printError(out, "gpu_drag", status.message);
+    if (Status status = OffscreenRenderer::create(backend, offscreen); !status) {
+        printError(out, name, status.message);
+        return nullptr;
+    }
     offscreen->renderer().setPixelScale(1.0f);
+    return offscreen;
+}
+
+}  // namespace
+
+void runGpuDragBenchmarks(std::ostream& out, bool tenMillion) {
+    const std::unique_ptr<OffscreenRenderer> offscreen = benchRenderer(out, "gpu_drag");
+    if (!offscreen) return;
     benchGpuDrag(out, *offscreen, "gpu_drag_1m", 1000, 1001, 10);  // 1,000,002 vertices
     if (tenMillion) benchGpuDrag(out, *offscreen, "gpu_drag_10m", 3163, 3163, 4);  // 10,001,468 vertices
 }
 
 void runRenderBenchmarks(std::ostream& out) {
-    GlBackend backend = GlBackend::Auto;
-    if (const char* value = std::getenv("SCULPT_GL_BACKEND")) {
-        if (Status status = parseGlBackend(value, backend); !status) return printError(out, "render", status.message);
-    }
-    std::unique_ptr<OffscreenRenderer> offscreen;
-    if (Status status = OffscreenRenderer::create(backend, offscreen); !status)
-        return printError(out, "render", status.message);
-    offscreen->renderer().setPixelScale(1.0f);
+    const std::unique_ptr<OffscreenRenderer> offscreen = benchRenderer(out, "render");
+    if (!offscreen) return;
     benchFrames(out, *offscreen, "render_100k", 250, 201);   // 2 * 250 * 200 = 100,000 triangles
     // The interactive window on software GL renders without MSAA (llvmpipe pays 2-3x for 4 samples).
     benchFrames(out, *offscreen, "render_100k_1x", 250, 201, 1);

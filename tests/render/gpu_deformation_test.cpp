@@ -18,6 +18,7 @@
 #include "core/script.h"
 #include "core/session.h"
 #include "core/vertex_normals.h"
+#include "demo_session.h"
 #include "gl_test_support.h"
 #include "io/obj_mesh.h"
 #include "io/png_image.h"
@@ -78,6 +79,13 @@ Positions placedBlob(std::mt19937& rng, int subdivisions, Triangles& triangles) 
     return placed;
 }
 
+// The engine's deformed positions: rest + sum R(t) delta for the embedded vertices (evaluateAll).
+Positions evaluated(const core::Lattice& lattice, const core::Embedding& embedding, const Positions& rest) {
+    Positions out = rest;
+    core::evaluateAll(lattice, embedding, out);
+    return out;
+}
+
 // The deformed normal the vertex shader should give: cof(J) n0, normalised, from the engine's Jacobian.
 Eigen::Vector3d expectedNormal(const core::Lattice& lattice, const Eigen::Vector3d& params, const Eigen::Vector3d& restNormal) {
     Eigen::Vector3d displacement;
@@ -116,8 +124,7 @@ TEST_CASE("GPU deformation: the vertex shader's positions and normals are the en
                       << lattice.count[0] << " " << lattice.count[1] << " " << lattice.count[2]
                       << (rational ? ", rational" : "") << (partial ? ", partial box" : ""));
         const core::Embedding embedding = core::embedVertices(lattice, rest);
-        Positions deformed = rest;
-        core::evaluateAll(lattice, embedding, deformed);
+        Positions deformed = evaluated(lattice, embedding, rest);
         Positions restNormals;
         core::computeVertexNormals(rest, triangles, restNormals);
 
@@ -157,7 +164,7 @@ TEST_CASE("GPU deformation: the vertex shader's positions and normals are the en
         requireOk(renderer.updateGpuDeformation(moved));
         CHECK(renderer.lastUpload().controlPointsUploaded == lattice.controlPointCount());
         CHECK_FALSE(renderer.lastUpload().fullUpload);
-        core::evaluateAll(moved, embedding, deformed);
+        deformed = evaluated(moved, embedding, rest);
         requireOk(renderer.captureGpuDeformation(gpuPositions, gpuNormals));
         CHECK((gpuPositions - deformed).rowwise().norm().maxCoeff() / size < 2e-6);
     }
@@ -174,8 +181,7 @@ TEST_CASE("GPU deformation: both paths draw the same picture, and the CPU path c
         const Positions rest = placedBlob(rng, 4, triangles);
         const core::Lattice lattice = randomLattice(rng, rest, trial % 2 == 1, trial % 3 == 2, 0.1);
         const core::Embedding embedding = core::embedVertices(lattice, rest);
-        Positions deformed = rest;
-        core::evaluateAll(lattice, embedding, deformed);
+        const Positions deformed = evaluated(lattice, embedding, rest);
 
         requireOk(renderer.setMesh(deformed, triangles));
         const render::Camera camera = cameraFor(renderer, kWidth, kHeight);
@@ -202,16 +208,7 @@ TEST_CASE("GPU deformation: both paths draw the same picture, and the CPU path c
 }
 
 TEST_CASE("GPU deformation: goldens of the demo session drawn through the GPU path", "[gl][gpu_deformation][golden]") {
-    io::ObjMesh mesh;
-    requireOk(io::loadObj(std::string(SCULPT_SOURCE_DIR) + "/assets/default.obj", mesh));
-    core::Script script;
-    requireOk(io::loadScript(std::string(SCULPT_SOURCE_DIR) + "/assets/demo.json", script));
-    core::Session session;
-    requireOk(session.setMesh(mesh.positions, mesh.triangles, script.lattice));
-    session.setInjectivity(script.injectivity);
-    session.setTrackJacobian(true);
-    core::ScriptReport report;
-    requireOk(core::runScript(session, script, report));
+    const core::Session session = demoSession();
     // The demo's drags were subdivided: the mesh shown is the cage's map followed by the steps' layers.
     std::vector<const core::Lattice*> layers;
     for (const core::Layer& layer : session.layers()) layers.push_back(&layer.lattice);
@@ -221,21 +218,7 @@ TEST_CASE("GPU deformation: goldens of the demo session drawn through the GPU pa
                                                   std::tuple{"scripted_drag_lattice", false, true},
                                                   std::tuple{"scripted_drag_jacobian", true, false}}) {
         INFO(name);
-        app::SceneRequest request;
-        request.jacobian = jacobian;
-        render::ScreenshotOptions options;
-        options.width = 320;
-        options.height = 200;
-        options.overlays.jacobian = jacobian;
-        options.overlays.lattice = lattice;
-        render::Rgba8Image image;
-        render::OffscreenRenderer& offscreen = glTestRenderer();
-        requireOk(offscreen.renderScene(app::sceneFromSession(session, request), options, image));
-        requireOk(offscreen.renderer().setGpuDeformation(session.lattice(), session.embedding(), session.restPositions(), layers));
-        const render::Camera camera =
-            render::screenshotCamera(offscreen.renderer().meshBounds(), offscreen.renderer().latticeBounds(), options);
-        render::Rgba8Image gpu;
-        requireOk(offscreen.render(camera, options.overlays, options.width, options.height, options.samples, &gpu));
+        const render::Rgba8Image gpu = renderSession(session, jacobian, lattice, &layers);
         checkGolden(gpu, name);
         // Kept for a look: what the GPU path drew.
         io::writePng(glTestOutputDir() + "/gpu_path_" + name + ".png", gpu.width, gpu.height, gpu.pixels.data());
@@ -332,8 +315,7 @@ TEST_CASE("GPU deformation: layers after the cage compose as the engine's, rando
         const Positions rest = placedBlob(rng, 3, triangles);
         const core::Lattice cage = randomLattice(rng, rest, trial % 2 == 1, trial % 3 == 0, 0.05);
         const core::Embedding embedding = core::embedVertices(cage, rest);
-        Positions expected = rest;
-        core::evaluateAll(cage, embedding, expected);
+        Positions expected = evaluated(cage, embedding, rest);
         // 1 to 4 layers, each a box lattice over part of the shape as it is after the ones before it.
         std::vector<core::Lattice> layerLattices;
         const int layerCount = 1 + trial % 4;

@@ -5,48 +5,14 @@
 #include "app/scene_builder.h"
 #include "core/script.h"
 #include "core/session.h"
+#include "demo_session.h"
 #include "gl_test_support.h"
 #include "io/obj_mesh.h"
 #include "io/script_json.h"
 
 using namespace sculpt;
-
-namespace {
-
-core::Session demoSession() {
-    io::ObjMesh mesh;
-    const Status loaded = io::loadObj(std::string(SCULPT_SOURCE_DIR) + "/assets/default.obj", mesh);
-    INFO(loaded.message);
-    REQUIRE(loaded.ok);
-    core::Script script;
-    const Status parsed = io::loadScript(std::string(SCULPT_SOURCE_DIR) + "/assets/demo.json", script);
-    INFO(parsed.message);
-    REQUIRE(parsed.ok);
-    core::Session session;
-    REQUIRE(session.setMesh(mesh.positions, mesh.triangles, script.lattice).ok);
-    session.setInjectivity(script.injectivity);
-    session.setTrackJacobian(true);
-    core::ScriptReport report;
-    REQUIRE(core::runScript(session, script, report).ok);
-    return session;
-}
-
-render::Rgba8Image renderSession(const core::Session& session, bool jacobian, bool lattice) {
-    app::SceneRequest request;
-    request.jacobian = jacobian;
-    render::ScreenshotOptions options;
-    options.width = 320;
-    options.height = 200;
-    options.overlays.jacobian = jacobian;
-    options.overlays.lattice = lattice;
-    render::Rgba8Image image;
-    const Status status = test::glTestRenderer().renderScene(app::sceneFromSession(session, request), options, image);
-    INFO(status.message);
-    REQUIRE(status.ok);
-    return image;
-}
-
-}  // namespace
+using sculpt::test::demoSession;
+using sculpt::test::renderSession;
 
 TEST_CASE("golden: the default mesh after the demo script's drags, with its constraint", "[gl][golden]") {
     const core::Session session = demoSession();
