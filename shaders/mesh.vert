@@ -26,24 +26,30 @@ out vec3 vVertexColor;
 
 #ifdef GPU_DEFORMATION
 // The lattices, in the order they apply: the cage (index 0), then the layers after it (session.h: the mesh shown
-// is x = L_k( ... L_1( C(X0) ) )). Every one is a box lattice.
-const int kMaxLattices = 16;
-uniform int uLatticeCount;                  // 1 + the number of layers
-uniform ivec3 uCount[kMaxLattices];         // control points per axis
-uniform ivec3 uDegree[kMaxLattices];        // 1 to 5 per axis
-uniform ivec3 uSpans[kMaxLattices];         // knot spans per axis
-uniform ivec3 uBasisOffset[kMaxLattices];   // where axis a's span polynomials start in uBasis
-uniform ivec3 uFirstOffset[kMaxLattices];   // where axis a's first-function table starts in uBasis
-uniform int uControlOffset[kMaxLattices];   // where the lattice's control points start in uControl
-uniform vec3 uBoxMin[kMaxLattices];         // the box's corner, GPU frame
-uniform vec3 uSpansPerUnit[kMaxLattices];   // spans_a / box size_a, GPU frame: d(local coordinate)/dX
+// is x = L_k( ... L_1( C(X0) ) )). Every one is a box lattice. Their table heads uBasis: kTableStride floats per
+// lattice (integers stored as floats, exact below 2^24):
+//   0-2 control points per axis, 3-5 degree per axis (1 to 5), 6-8 knot spans per axis, 9-11 where each axis's
+//   span polynomials start in uBasis, 12-14 where its first-function table starts, 15 where the lattice's control
+//   points start in uControl, 16-18 the box's corner (GPU frame), 19-21 spans / box size (GPU frame: the local
+//   coordinate per unit of X).
+const int kTableStride = 24;
+uniform int uLatticeCount;  // 1 + the number of layers
 // Per control point id i + Nu (j + Nv k) (after the lattice's offset): displacement delta (GPU frame units) in
 // xyz, NURBS weight W in w.
 uniform samplerBuffer uControl;
-// Per axis, the basis in per-span polynomial form (bspline_basis.h, SplineAxis::coefficients): coefficient of
-// x^k of basis function first(s) + i on span s at basisOffset + (s (p+1) + i) (p+1) + k, first(s) at
-// firstOffset + s.
+// The table above, then per axis the basis in per-span polynomial form (bspline_basis.h,
+// SplineAxis::coefficients): coefficient of x^k of basis function first(s) + i on span s at
+// basisOffset + (s (p+1) + i) (p+1) + k, first(s) at firstOffset + s.
 uniform samplerBuffer uBasis;
+
+float tableEntry(int lattice, int entry) { return texelFetch(uBasis, lattice * kTableStride + entry).r; }
+int tableInt(int lattice, int entry) { return int(tableEntry(lattice, entry) + 0.5); }
+ivec3 tableInts(int lattice, int entry) {
+    return ivec3(tableInt(lattice, entry), tableInt(lattice, entry + 1), tableInt(lattice, entry + 2));
+}
+vec3 tableVector(int lattice, int entry) {
+    return vec3(tableEntry(lattice, entry), tableEntry(lattice, entry + 1), tableEntry(lattice, entry + 2));
+}
 
 // Per vertex: its local coordinates x in [0,1]^3 inside its knot-span cell of the cage, and the cell's index
 // su + Su (sv + Sv sw) (a float, exact below 2^24), or -1 for a vertex outside the cage's box (it never moves
@@ -60,8 +66,8 @@ const int kMaxOrder = 6;  // degree 5 + 1
 // their polynomial coefficients; first: the id of the first of them along this axis.
 void axisBasis(int lattice, int axis, int span, float x, out float value[kMaxOrder], out float slope[kMaxOrder],
                out int first) {
-    int order = uDegree[lattice][axis] + 1;
-    int base = uBasisOffset[lattice][axis] + span * order * order;
+    int order = tableInt(lattice, 3 + axis) + 1;
+    int base = tableInt(lattice, 9 + axis) + span * order * order;
     for (int i = 0; i < kMaxOrder; ++i) {
         value[i] = 0.0;
         slope[i] = 0.0;
@@ -74,7 +80,7 @@ void axisBasis(int lattice, int axis, int span, float x, out float value[kMaxOrd
         value[i] = v;
         slope[i] = d;
     }
-    first = int(texelFetch(uBasis, uFirstOffset[lattice][axis] + span).r + 0.5);
+    first = int(texelFetch(uBasis, tableInt(lattice, 12 + axis) + span).r + 0.5);
 }
 
 // One lattice's map y -> y + D(t) at the point in knot span `span` with local coordinates `local`, and its
@@ -85,8 +91,8 @@ void applyLattice(int lattice, ivec3 span, vec3 local, inout vec3 position, inou
     axisBasis(lattice, 0, span.x, local.x, bu, du, fu);
     axisBasis(lattice, 1, span.y, local.y, bv, dv, fv);
     axisBasis(lattice, 2, span.z, local.z, bw, dw, fw);
-    ivec3 count = uCount[lattice], degree = uDegree[lattice];
-    int offset = uControlOffset[lattice];
+    ivec3 count = tableInts(lattice, 0), degree = tableInts(lattice, 3);
+    int offset = tableInt(lattice, 15);
     // Numerator N = sum W B delta and denominator S = sum W B, each with its three partials in x.
     vec3 n = vec3(0.0), nx = vec3(0.0), ny = vec3(0.0), nz = vec3(0.0);
     float s = 0.0, sx = 0.0, sy = 0.0, sz = 0.0;
@@ -112,7 +118,7 @@ void applyLattice(int lattice, ivec3 span, vec3 local, inout vec3 position, inou
     }
     // D = N / S and its partials by the quotient rule (S = 1, partials 0, for unit weights).
     vec3 d = n / s;
-    vec3 perUnit = uSpansPerUnit[lattice];
+    vec3 perUnit = tableVector(lattice, 19);
     mat3 step = mat3(vec3(1.0, 0.0, 0.0) + (nx - d * sx) / s * perUnit.x,
                      vec3(0.0, 1.0, 0.0) + (ny - d * sy) / s * perUnit.y,
                      vec3(0.0, 0.0, 1.0) + (nz - d * sz) / s * perUnit.z);
@@ -126,16 +132,16 @@ void deform(vec3 rest, vec3 restNormal, out vec3 position, out vec3 normal) {
     mat3 jacobian = mat3(1.0);
     if (aLatticeCell.w >= 0.0) {  // inside the cage's box (outside: the identity)
         int cell = int(aLatticeCell.w + 0.5);
-        ivec3 spans = uSpans[0];
+        ivec3 spans = tableInts(0, 6);
         ivec3 span = ivec3(cell % spans.x, (cell / spans.x) % spans.y, cell / (spans.x * spans.y));
         applyLattice(0, span, aLatticeCell.xyz, position, jacobian);
     }
     for (int layer = 1; layer < uLatticeCount; ++layer) {
         // The layer's parameters of the point as it is now, times its spans: u * spans per axis.
-        vec3 t = (position - uBoxMin[layer]) * uSpansPerUnit[layer];
-        vec3 spans = vec3(uSpans[layer]);
-        if (any(lessThan(t, vec3(0.0))) || any(greaterThan(t, spans))) continue;  // outside its box: the identity
-        ivec3 span = min(ivec3(floor(t)), uSpans[layer] - 1);
+        vec3 t = (position - tableVector(layer, 16)) * tableVector(layer, 19);
+        ivec3 spans = tableInts(layer, 6);
+        if (any(lessThan(t, vec3(0.0))) || any(greaterThan(t, vec3(spans)))) continue;  // outside its box: the identity
+        ivec3 span = min(ivec3(floor(t)), spans - 1);
         applyLattice(layer, span, t - vec3(span), position, jacobian);
     }
     // Columns c_a of J: det(J) J^-T n0 = (c1 x c2) n0.x + (c2 x c0) n0.y + (c0 x c1) n0.z.

@@ -8,22 +8,41 @@ namespace sculpt::app {
 
 namespace {
 
-size_t slot(DeformationPath path) { return path == DeformationPath::Gpu ? 1 : 0; }
+const char* nameOf(DeformationPath path) { return path == DeformationPath::Gpu ? "GPU" : "CPU"; }
 
 }  // namespace
 
 void DeformationPathChooser::reset(int vertexCount) {
     vertexCount_ = std::max(vertexCount, 0);
     frames_ = {};
+    still_ = {-1.0, -1.0};
     skipNext_ = true;
+    started_ = false;
     forced_ = false;
-    deciding_ = vertexCount_ > 0 && vertexCount_ >= minVertices_;
-    // Measured meshes start on the GPU path (where a real GPU leaves it); small ones stay on the CPU.
-    path_ = deciding_ ? DeformationPath::Gpu : DeformationPath::Cpu;
+    deciding_ = measured();
+    measuring_ = DeformationPath::Gpu;  // measured first: where a real GPU stays
+    decided_ = DeformationPath::Cpu;
 }
 
-void DeformationPathChooser::addFrame(DeformationPath path, double milliseconds) {
-    if (!deciding_ || path != path_ || !std::isfinite(milliseconds) || milliseconds < 0.0) return;
+void DeformationPathChooser::force(DeformationPath path) {
+    decided_ = path;
+    deciding_ = false;
+    forced_ = true;
+}
+
+DeformationPath DeformationPathChooser::dragPath() const { return deciding_ ? measuring_ : decided_; }
+
+DeformationPath DeformationPathChooser::restPath() const {
+    if (forced_) return decided_;
+    if (deciding_ || decided_ == DeformationPath::Cpu) return DeformationPath::Cpu;
+    const double gpu = still_[1], cpu = still_[0];
+    if (gpu < 0.0) return DeformationPath::Gpu;  // to time its still frame once
+    return cpu < 0.0 || gpu <= 1.25 * cpu ? DeformationPath::Gpu : DeformationPath::Cpu;
+}
+
+void DeformationPathChooser::addDragFrame(DeformationPath path, double milliseconds) {
+    if (!deciding_ || path != measuring_ || !std::isfinite(milliseconds) || milliseconds < 0.0) return;
+    started_ = true;
     if (skipNext_) {
         skipNext_ = false;
         return;
@@ -32,12 +51,19 @@ void DeformationPathChooser::addFrame(DeformationPath path, double milliseconds)
     frames.push_back(milliseconds);
     if (int(frames.size()) < kFramesPerPath) return;
     if (frames_[slot(DeformationPath::Cpu)].size() < size_t(kFramesPerPath)) {
-        path_ = DeformationPath::Cpu;  // now measure the other one
+        measuring_ = DeformationPath::Cpu;  // now measure the other one
         skipNext_ = true;
         return;
     }
     deciding_ = false;
-    path_ = medianMs(DeformationPath::Gpu) < medianMs(DeformationPath::Cpu) ? DeformationPath::Gpu : DeformationPath::Cpu;
+    decided_ = medianMs(DeformationPath::Gpu) < medianMs(DeformationPath::Cpu) ? DeformationPath::Gpu : DeformationPath::Cpu;
+}
+
+bool DeformationPathChooser::wantsStillFrame(DeformationPath path) const { return measured() && !forced_ && still_[slot(path)] < 0.0; }
+
+void DeformationPathChooser::addStillFrame(DeformationPath path, double milliseconds) {
+    if (!wantsStillFrame(path) || !std::isfinite(milliseconds) || milliseconds < 0.0) return;
+    still_[slot(path)] = milliseconds;
 }
 
 double DeformationPathChooser::medianMs(DeformationPath path) const {
@@ -47,22 +73,43 @@ double DeformationPathChooser::medianMs(DeformationPath path) const {
     return frames[frames.size() / 2];
 }
 
+std::string DeformationPathChooser::label(bool dragging) const {
+    if (forced_) return std::string(nameOf(decided_)) + " (chosen)";
+    if (deciding_) {
+        if (dragging) return std::string(nameOf(measuring_)) + " (timing)";
+        return started_ ? "CPU (timing)" : "CPU";  // at rest on the CPU until both are timed
+    }
+    const DeformationPath rest = restPath();
+    if (decided_ == rest) return nameOf(rest);
+    return std::string(nameOf(decided_)) + " drag, " + nameOf(rest) + " rest";
+}
+
 std::string DeformationPathChooser::describe() const {
-    const char* name = path_ == DeformationPath::Gpu ? "GPU (vertex shader)" : "CPU";
-    char text[160];
-    if (forced_)
-        std::snprintf(text, sizeof text, "%s (chosen)", name);
-    else if (deciding_)
-        std::snprintf(text, sizeof text, "%s, measuring both", name);
-    else if (medianMs(DeformationPath::Gpu) >= 0.0 && medianMs(DeformationPath::Cpu) >= 0.0)
-        std::snprintf(text, sizeof text, "%s: %.1f ms a frame vs %.1f on the %s", name,
-                      medianMs(path_), medianMs(path_ == DeformationPath::Gpu ? DeformationPath::Cpu : DeformationPath::Gpu),
-                      path_ == DeformationPath::Gpu ? "CPU" : "GPU");
-    else if (vertexCount_ < minVertices_)
-        std::snprintf(text, sizeof text, "%s (a small mesh)", name);
+    char text[400];
+    if (forced_) {
+        std::snprintf(text, sizeof text, "The %s path, chosen.", nameOf(decided_));
+        return text;
+    }
+    if (!measured()) return "A small mesh: the CPU path, either would take a fraction of a millisecond.";
+    std::string out;
+    const auto frames = [&](DeformationPath path) {
+        const double ms = medianMs(path);
+        if (ms < 0.0) return std::string("not timed");
+        std::snprintf(text, sizeof text, "%.1f ms", ms);
+        return std::string(text);
+    };
+    const auto still = [&](DeformationPath path) {
+        if (still_[slot(path)] < 0.0) return std::string("not timed");
+        std::snprintf(text, sizeof text, "%.1f ms", still_[slot(path)]);
+        return std::string(text);
+    };
+    if (deciding_)
+        out = "Timing the first drag on both paths (now the " + std::string(nameOf(measuring_)) + ").\n";
     else
-        std::snprintf(text, sizeof text, "%s", name);
-    return text;
+        out = std::string("While dragging: the ") + nameOf(decided_) + " path. At rest: the " + nameOf(restPath()) + " path.\n";
+    out += "Drag frames (median): GPU " + frames(DeformationPath::Gpu) + ", CPU " + frames(DeformationPath::Cpu) + ".\n";
+    out += "Still frames: GPU " + still(DeformationPath::Gpu) + ", CPU " + still(DeformationPath::Cpu) + ".";
+    return out;
 }
 
 }  // namespace sculpt::app

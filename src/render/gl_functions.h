@@ -57,7 +57,6 @@ namespace sculpt::render {
     X(VertexAttribPointer, VERTEXATTRIBPOINTER)                       \
     X(VertexAttribDivisor, VERTEXATTRIBDIVISOR)                       \
     X(VertexAttrib1f, VERTEXATTRIB1F)                                 \
-    X(VertexAttrib4f, VERTEXATTRIB4F)                                 \
     X(BindBufferBase, BINDBUFFERBASE)                                 \
     /* textures (buffer textures feed the vertex-shader deformation) */ \
     X(GenTextures, GENTEXTURES)                                       \
@@ -89,9 +88,6 @@ namespace sculpt::render {
     X(UseProgram, USEPROGRAM)                                         \
     X(GetUniformLocation, GETUNIFORMLOCATION)                         \
     X(Uniform1i, UNIFORM1I)                                           \
-    X(Uniform1iv, UNIFORM1IV)                                         \
-    X(Uniform3iv, UNIFORM3IV)                                         \
-    X(Uniform3fv, UNIFORM3FV)                                         \
     X(Uniform1f, UNIFORM1F)                                           \
     X(Uniform2f, UNIFORM2F)                                           \
     X(Uniform3f, UNIFORM3F)                                           \

@@ -37,12 +37,14 @@ struct MeshUniforms {
     GLint view = -1, projection = -1, mode = -1, wireColor = -1, showJacobian = -1, showAffected = -1, jacobianRange = -1,
           showVertexColors = -1;
 };
-// The GPU_DEFORMATION variant's own uniforms (shaders/mesh.vert); the arrays hold the cage, then the layers.
-constexpr int kMaxGpuLattices = 16;  // mesh.vert's kMaxLattices
+// The GPU_DEFORMATION variant's own uniforms (shaders/mesh.vert).
 struct DeformUniforms {
-    GLint control = -1, basis = -1, latticeCount = -1, count = -1, degree = -1, spans = -1, basisOffset = -1,
-          firstOffset = -1, controlOffset = -1, boxMin = -1, spansPerUnit = -1;
+    GLint control = -1, basis = -1, latticeCount = -1;
 };
+// The most layers the GPU path takes after the cage: each costs every vertex a box test in the shader.
+constexpr int kMaxGpuLayers = 1024;
+// mesh.vert's lattice table: floats per lattice at the head of the basis buffer.
+constexpr int kLatticeTableStride = 24;
 // A lattice on the GPU path: its shape (what the cage's per-frame update must match) and where its data lie.
 struct GpuLatticeShape {
     std::array<int, 3> count{}, degree{}, spans{};
@@ -98,7 +100,8 @@ struct Renderer::State {
     GLuint cellBuffer = 0, controlBuffer = 0, controlTexture = 0, basisBuffer = 0, basisTexture = 0;
     bool gpuDeformation = false;
     std::vector<GpuLatticeShape> gpuLattices;  // the cage, then its layers
-    std::vector<float> basisData, controlStaging;  // basisData: as uploaded to basisBuffer
+    // As uploaded: the lattice table and bases (basisBuffer), the control points (controlBuffer).
+    std::vector<float> basisData, controlData;
     BackgroundUniforms backgroundUniforms;
     OverlayUniforms overlayUniforms;
     GLuint overlayVao = 0, overlayBuffer = 0;  // flat screen-space triangles (the det J legend), rebuilt per draw
@@ -219,12 +222,8 @@ Status Renderer::State::buildPrograms() {
                           uniform(deformProgram, "uMode"),       uniform(deformProgram, "uWireColor"),
                           uniform(deformProgram, "uShowJacobian"), uniform(deformProgram, "uShowAffected"),
                           uniform(deformProgram, "uJacobianRange"), uniform(deformProgram, "uShowVertexColors")};
-    deformUniforms = {uniform(deformProgram, "uControl"),       uniform(deformProgram, "uBasis"),
-                      uniform(deformProgram, "uLatticeCount"),  uniform(deformProgram, "uCount"),
-                      uniform(deformProgram, "uDegree"),        uniform(deformProgram, "uSpans"),
-                      uniform(deformProgram, "uBasisOffset"),   uniform(deformProgram, "uFirstOffset"),
-                      uniform(deformProgram, "uControlOffset"), uniform(deformProgram, "uBoxMin"),
-                      uniform(deformProgram, "uSpansPerUnit")};
+    deformUniforms = {uniform(deformProgram, "uControl"), uniform(deformProgram, "uBasis"),
+                      uniform(deformProgram, "uLatticeCount")};
     backgroundUniforms = {uniform(backgroundProgram, "uTopColor"), uniform(backgroundProgram, "uBottomColor")};
     meshUniforms = {uniform(meshProgram, "uView"),       uniform(meshProgram, "uProjection"),
                     uniform(meshProgram, "uMode"),       uniform(meshProgram, "uWireColor"),
@@ -543,9 +542,9 @@ std::string Renderer::gpuDeformationProblem(const core::Lattice& cage, const std
     if (cage.volume)
         return "a " + cage.volume->kindName() + " lattice is deformed on the CPU (the GPU path takes box lattices)";
     if (cage.controlPointCount() <= 0) return "there is no lattice";
-    if (int(layers.size()) + 1 > kMaxGpuLattices)
+    if (int(layers.size()) > kMaxGpuLayers)
         return std::to_string(layers.size()) + " layers are deformed on the CPU (the GPU path takes up to " +
-               std::to_string(kMaxGpuLattices - 1) + ")";
+               std::to_string(kMaxGpuLayers) + ")";
     for (const core::Lattice* layer : layers)
         if (!layer || layer->volume || layer->controlPointCount() <= 0)
             return "a layer that is not a box lattice is deformed on the CPU";
@@ -600,41 +599,67 @@ void Renderer::State::uploadLattices(const core::Lattice& cage, const std::vecto
     std::vector<const core::Lattice*> all{&cage};
     all.insert(all.end(), layers.begin(), layers.end());
     gpuLattices.clear();
-    std::vector<float> basis;
+    // The table first (mesh.vert), then each lattice's bases: each axis's span polynomials and first functions.
+    std::vector<float> basis(all.size() * kLatticeTableStride, 0.0f);
     int controlCount = 0;
-    for (const core::Lattice* source : all) {
-        // Each axis's basis in per-span polynomial form, then its first-function table (shaders/mesh.vert).
-        GpuLatticeShape shape = shapeOf(*source);
+    for (size_t l = 0; l < all.size(); ++l) {
+        const core::Lattice& source = *all[l];
+        GpuLatticeShape shape = shapeOf(source);
+        float* row = basis.data() + l * kLatticeTableStride;
         for (int a = 0; a < 3; ++a) {
-            const core::SplineAxis& axis = source->axes[size_t(a)];
+            const core::SplineAxis& axis = source.axes[size_t(a)];
             shape.basisOffset[size_t(a)] = int(basis.size());
             for (double c : axis.coefficients) basis.push_back(float(c));
             shape.firstOffset[size_t(a)] = int(basis.size());
             for (int span = 0; span < axis.spans; ++span) basis.push_back(float(axis.first(span)));
+            row = basis.data() + l * kLatticeTableStride;  // (the vector may have moved)
+            row[a] = float(shape.count[size_t(a)]);
+            row[3 + a] = float(shape.degree[size_t(a)]);
+            row[6 + a] = float(shape.spans[size_t(a)]);
+            row[9 + a] = float(shape.basisOffset[size_t(a)]);
+            row[12 + a] = float(shape.firstOffset[size_t(a)]);
+            // The box in the GPU frame, and the local coordinate per unit there: spans over the box's size.
+            row[16 + a] = float((shape.boxMin[a] - frame.origin[a]) / frame.scale);
+            row[19 + a] = float(double(shape.spans[size_t(a)]) * frame.scale / (shape.boxMax[a] - shape.boxMin[a]));
         }
         shape.controlOffset = controlCount;
-        controlCount += source->controlPointCount();
+        row[15] = float(controlCount);
+        controlCount += source.controlPointCount();
         gpuLattices.push_back(shape);
     }
-    controlStaging.resize(size_t(controlCount) * 4);
+    std::vector<float> control(size_t(controlCount) * 4);
     const double inverseScale = 1.0 / frame.scale;  // displacements are differences: no origin
     for (size_t l = 0; l < all.size(); ++l) {
         const core::Lattice& source = *all[l];
-        float* out = controlStaging.data() + size_t(gpuLattices[l].controlOffset) * 4;
+        float* out = control.data() + size_t(gpuLattices[l].controlOffset) * 4;
         for (int i = 0; i < source.controlPointCount(); ++i) {
             for (int c = 0; c < 3; ++c) out[size_t(i) * 4 + size_t(c)] = float(source.displacement(i, c) * inverseScale);
             out[size_t(i) * 4 + 3] = float(source.weights[size_t(i)]);
         }
     }
+    // Only what changed goes up: during a drag, the one lattice being solved (many layers stay as they are).
     gl.BindBuffer(GL_TEXTURE_BUFFER, controlBuffer);
-    gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(controlStaging.size() * sizeof(float)), controlStaging.data(), GL_STREAM_DRAW);
-    if (basis != basisData) {  // a layer came or went: its basis goes up too
+    if (control.size() != controlData.size()) {
+        gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(control.size() * sizeof(float)), control.data(), GL_STREAM_DRAW);
+        lastUpload.controlPointsUploaded = controlCount;
+    } else {
+        const auto first = std::mismatch(control.begin(), control.end(), controlData.begin()).first - control.begin();
+        if (first < std::ptrdiff_t(control.size())) {
+            std::ptrdiff_t last = std::ptrdiff_t(control.size());
+            while (control[size_t(last - 1)] == controlData[size_t(last - 1)]) --last;
+            const std::ptrdiff_t from = first / 4 * 4, to = (last + 3) / 4 * 4;  // whole control points
+            gl.BufferSubData(GL_TEXTURE_BUFFER, GLintptr(from) * GLintptr(sizeof(float)), GLsizeiptr(to - from) * GLsizeiptr(sizeof(float)),
+                             control.data() + from);
+            lastUpload.controlPointsUploaded = int((to - from) / 4);
+        }
+    }
+    controlData = std::move(control);
+    if (basis != basisData) {  // a layer came or went: the table and bases go up too
         basisData = std::move(basis);
         gl.BindBuffer(GL_TEXTURE_BUFFER, basisBuffer);
         gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(basisData.size() * sizeof(float)), basisData.data(), GL_STATIC_DRAW);
     }
     gl.BindBuffer(GL_TEXTURE_BUFFER, 0);
-    lastUpload.controlPointsUploaded = controlCount;
 }
 
 Status Renderer::setGpuDeformation(const core::Lattice& lattice, const core::Embedding& embedding, const Positions& rest,
@@ -682,6 +707,7 @@ Status Renderer::setGpuDeformation(const core::Lattice& lattice, const core::Emb
     gl.EnableVertexAttribArray(kAttribLatticeCell);
     gl.BindVertexArray(0);
     s.basisData.clear();
+    s.controlData.clear();
     s.uploadLattices(lattice, layers);  // the buffers' stores exist before the textures are attached to them
     gl.BindTexture(GL_TEXTURE_BUFFER, s.basisTexture);
     gl.TexBuffer(GL_TEXTURE_BUFFER, GL_R32F, s.basisBuffer);
@@ -730,33 +756,9 @@ Status Renderer::clearGpuDeformation(const Positions& positions) {
 bool Renderer::gpuDeformationActive() const { return state_->gpuDeformation; }
 
 void Renderer::State::bindGpuDeformation() const {
-    const int count = int(gpuLattices.size());
-    std::vector<GLint> counts, degrees, spans, basisOffsets, firstOffsets, controlOffsets;
-    std::vector<GLfloat> boxMins, spansPerUnit;
-    for (const GpuLatticeShape& g : gpuLattices) {
-        for (int a = 0; a < 3; ++a) {
-            counts.push_back(g.count[size_t(a)]);
-            degrees.push_back(g.degree[size_t(a)]);
-            spans.push_back(g.spans[size_t(a)]);
-            basisOffsets.push_back(g.basisOffset[size_t(a)]);
-            firstOffsets.push_back(g.firstOffset[size_t(a)]);
-            // The box in the GPU frame, and d(local coordinate)/dX there: spans over the box's size.
-            boxMins.push_back(float((g.boxMin[a] - frame.origin[a]) / frame.scale));
-            spansPerUnit.push_back(float(double(g.spans[size_t(a)]) * frame.scale / (g.boxMax[a] - g.boxMin[a])));
-        }
-        controlOffsets.push_back(g.controlOffset);
-    }
     gl.Uniform1i(deformUniforms.control, 0);
     gl.Uniform1i(deformUniforms.basis, 1);
-    gl.Uniform1i(deformUniforms.latticeCount, count);
-    gl.Uniform3iv(deformUniforms.count, count, counts.data());
-    gl.Uniform3iv(deformUniforms.degree, count, degrees.data());
-    gl.Uniform3iv(deformUniforms.spans, count, spans.data());
-    gl.Uniform3iv(deformUniforms.basisOffset, count, basisOffsets.data());
-    gl.Uniform3iv(deformUniforms.firstOffset, count, firstOffsets.data());
-    gl.Uniform1iv(deformUniforms.controlOffset, count, controlOffsets.data());
-    gl.Uniform3fv(deformUniforms.boxMin, count, boxMins.data());
-    gl.Uniform3fv(deformUniforms.spansPerUnit, count, spansPerUnit.data());
+    gl.Uniform1i(deformUniforms.latticeCount, int(gpuLattices.size()));
     gl.ActiveTexture(GL_TEXTURE1);
     gl.BindTexture(GL_TEXTURE_BUFFER, basisTexture);
     gl.ActiveTexture(GL_TEXTURE0);

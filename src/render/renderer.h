@@ -71,7 +71,7 @@ public:
     // layer L (core/session.h: a brush region, a subdivision step) y -> y + sum R(t(y)) delta with t(y) its box's
     // linear map, as Session::pushThroughLayers does. Per frame only the control displacements go up (a few KB).
     // Empty string when the GPU can evaluate these lattices: box lattices (no volume), polynomial or rational,
-    // the cage and up to 15 layers. Otherwise why not (the CPU path, updatePositions, takes every kind).
+    // the cage and up to 1024 layers. Otherwise why not (the CPU path, updatePositions, takes every kind).
     static std::string gpuDeformationProblem(const core::Lattice& cage, const std::vector<const core::Lattice*>& layers = {});
     // Switches the mesh to the GPU path: rest #V x 3 (the mesh's vertex count, finite) are the positions the
     // embedding was made of (core::embedVertices(lattice, rest)), lattice the cage with its current
@@ -81,8 +81,8 @@ public:
     // another lattice or vertex count, a wrong row count, or a non-finite value or empty box, naming it.
     Status setGpuDeformation(const core::Lattice& lattice, const core::Embedding& embedding, const Positions& rest,
                              const std::vector<const core::Lattice*>& layers = {});
-    // Per frame on the GPU path: the lattices' current displacements and weights (#P x 4 floats each; a layer's
-    // basis too when the layers changed). The cage must have the shape setGpuDeformation was given (counts,
+    // Per frame on the GPU path: the lattices' current displacements and weights (#P x 4 floats each, only the
+    // range that changed; the lattice table and bases too when the layers changed). The cage must have the shape setGpuDeformation was given (counts,
     // degrees, box); fails otherwise, on a bad value, or when the GPU path is off (nothing changes).
     Status updateGpuDeformation(const core::Lattice& lattice, const std::vector<const core::Lattice*>& layers = {});
     // Back to the CPU path with the current positions (#V x 3, finite): recomputes every normal and rewrites

@@ -52,8 +52,10 @@ struct FrameStats {
     double updateMs = 0.0;  // last GPU update (positions, normals, overlays)
     double renderMs = 0.0;  // CPU time of the last frame's draw calls (scene + UI)
     int lastUploadVertices = 0;
-    // Which path deforms the mesh on screen and why (DeformationPathChooser::describe, or why the GPU cannot).
+    // Which path deforms the mesh on screen, in a few words (DeformationPathChooser::label), and the measurements
+    // or the reason behind it (its tooltip).
     std::string deformationPath = "CPU";
+    std::string deformationDetails;
     // The stats panel shows "--" for the times and the frame rate, which differ run to run, so a frame is
     // reproducible pixel for pixel (golden-image tests, tests/render/window_golden_test.cpp).
     bool hideTimings = false;

@@ -195,7 +195,11 @@ void SculptApp::syncGpu() {
         const int vertexCount = static_cast<int>(session.positions().rows());
         if (freshMesh || !state_.deformationPath.decidedFor(vertexCount)) state_.deformationPath.reset(vertexCount);
     }
-    const bool wantGpu = gpuProblem.empty() && session.hasMesh() && state_.deformationPath.path() == DeformationPath::Gpu;
+    // A drag's frames and the others (still, or the view moving) each take the path the chooser found faster.
+    const DeformationPathChooser& chooser = state_.deformationPath;
+    const bool dragging = state_.drag.active;
+    const bool wantGpu = gpuProblem.empty() && session.hasMesh() &&
+                         (dragging ? chooser.dragPath() : chooser.restPath()) == DeformationPath::Gpu;
     const auto allVertices = [&session] {
         std::vector<int> all(static_cast<size_t>(session.positions().rows()));
         std::iota(all.begin(), all.end(), 0);
@@ -241,15 +245,16 @@ void SculptApp::syncGpu() {
         }
         uploaded = positionsUploaded = true;
     }
-    state_.stats.deformationPath = gpuProblem.empty() || !session.hasMesh()
-                                       ? state_.deformationPath.describe()
-                                       : "CPU: " + gpuProblem;
-    // While the chooser measures, a frame in which the dragged mesh moved is timed to the end of its draw.
-    measuringFrame_ = positionsUploaded && state_.drag.active && state_.deformationPath.deciding() && gpuProblem.empty();
-    if (measuringFrame_) {
-        frameStart_ = start;
-        framePath_ = renderer_.gpuDeformationActive() ? DeformationPath::Gpu : DeformationPath::Cpu;
-    }
+    // The stats panel: the path in a few words, the story in its tooltip (a small mesh's reason first).
+    const bool possible = gpuProblem.empty() || !chooser.measuresThisMesh();
+    state_.stats.deformationPath = possible ? chooser.label(dragging) : "CPU";
+    state_.stats.deformationDetails = possible ? chooser.describe() : "The CPU path: " + gpuProblem + ".";
+    // While the chooser measures, a drag frame in which the mesh moved is timed from here to the end of its draw,
+    // and the first still frame on each path from the draw to its end.
+    framePath_ = renderer_.gpuDeformationActive() ? DeformationPath::Gpu : DeformationPath::Cpu;
+    measuringFrame_ = positionsUploaded && dragging && chooser.deciding() && gpuProblem.empty();
+    if (measuringFrame_) frameStart_ = start;
+    stillFrame_ = !dragging && state_.navigation == Navigation::None && gpuProblem.empty() && chooser.wantsStillFrame(framePath_);
     gpu.allPositions = false;
     gpu.vertices.clear();
     if (gpu.fields) {
@@ -326,11 +331,13 @@ Status SculptApp::renderFrame(int width, int height) {
     // after the motion stops draws it whole.
     options.proxy = state_.drag.active || state_.navigation != Navigation::None;
     options.uiInsetBottom = state_.statusLineHeight;
+    const auto drawStart = std::chrono::steady_clock::now();
     Status drawn = renderer_.draw(state_.camera, options, width, height);
-    if (measuringFrame_) {
+    if (measuringFrame_ || stillFrame_) {
         renderer_.finish();  // the GPU's share of the frame counts too
-        state_.deformationPath.addFrame(framePath_, millisecondsSince(frameStart_));
-        measuringFrame_ = false;
+        if (measuringFrame_) state_.deformationPath.addDragFrame(framePath_, millisecondsSince(frameStart_));
+        if (stillFrame_) state_.deformationPath.addStillFrame(framePath_, millisecondsSince(drawStart));
+        measuringFrame_ = stillFrame_ = false;
     }
     files_.afterSceneDrawn(state_, width, height);  // a requested screenshot: the scene without the UI
     if (imguiBackendReady_ && ImGui::GetCurrentContext()) {

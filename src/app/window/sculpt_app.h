@@ -103,8 +103,9 @@ private:
     render::Renderer renderer_;
     int uploadedTopology_ = -1;  // Session::topologyVersion() of the mesh last uploaded
     std::uint64_t uploadedRest_ = 0;  // Session::restVersion() of the rest mesh on the GPU path
-    // A frame the deformation-path chooser times (syncGpu to the end of the draw), and the path it took.
-    bool measuringFrame_ = false;
+    // A frame the deformation-path chooser times (a drag frame: syncGpu to the end of the draw; a still frame: the
+    // draw), and the path it took.
+    bool measuringFrame_ = false, stillFrame_ = false;
     std::chrono::steady_clock::time_point frameStart_;
     DeformationPath framePath_ = DeformationPath::Cpu;
     bool imguiBackendReady_ = false;

@@ -52,17 +52,14 @@ void drawStatsPanel(AppState& state) {
             const float fps = ImGui::GetIO().Framerate;
             row("Frame rate", "%.1f fps (%.1f ms)", fps, fps > 0.0f ? 1000.0f / fps : 0.0f);
         }
-        {
-            // The path's name; the measured times (which differ run to run) only where timings are shown.
-            const std::string& path = state.stats.deformationPath;
-            const std::string shown = state.stats.hideTimings ? path.substr(0, path.find_first_of(":,")) : path;
-            row("Deformed on", "%s", shown.c_str());
-            if (ImGui::IsItemHovered())
-                ImGui::SetTooltip("Where the mesh on screen is deformed while you drag: on the CPU (positions, normals and\n"
-                                  "their upload each frame) or in the GPU's vertex shader from the rest mesh (only the\n"
-                                  "lattice goes up each frame). A big mesh's first drags time both and keep the faster.\n"
-                                  "Picking, saving and the injectivity checks always use the engine's exact positions.");
-        }
+        row("Deformed on", "%s", state.stats.deformationPath.c_str());
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("Where the mesh on screen is deformed: on the CPU (positions, normals and their upload\n"
+                              "each frame) or in the GPU's vertex shader from the rest mesh (only the lattices go up\n"
+                              "each frame). A big mesh's first drag times both and keeps the faster, for drag frames\n"
+                              "and for still ones. Picking, saving and the injectivity checks always use the engine's\n"
+                              "exact positions.\n\n%s",
+                              state.stats.hideTimings ? "" : state.stats.deformationDetails.c_str());
         row("History", "%.1f KiB", static_cast<double>(session.historyBytes()) / 1024.0);
         ImGui::EndTable();
     }
