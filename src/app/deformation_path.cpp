@@ -103,9 +103,16 @@ std::string DeformationPathChooser::describe() const {
         std::snprintf(text, sizeof text, "%.1f ms", still_[slot(path)]);
         return std::string(text);
     };
-    if (deciding_)
-        out = "Timing the first drag on both paths (now the " + std::string(nameOf(measuring_)) + ").\n";
-    else
+    if (deciding_ && !started_) {
+        out = "The first drag on this mesh will be timed on both paths; the CPU path until then.\n";
+    } else if (deciding_) {
+        const int counted = int(frames_[slot(measuring_)].size());
+        std::snprintf(text, sizeof text,
+                      "Timing drag frames on both paths: the %s path now, %d of %d frames (the GPU first). Keep "
+                      "dragging to finish; at rest the CPU path meanwhile.\n",
+                      nameOf(measuring_), counted, kFramesPerPath);
+        out = text;
+    } else
         out = std::string("While dragging: the ") + nameOf(decided_) + " path. At rest: the " + nameOf(restPath()) + " path.\n";
     out += "Drag frames (median): GPU " + frames(DeformationPath::Gpu) + ", CPU " + frames(DeformationPath::Cpu) + ".\n";
     out += "Still frames: GPU " + still(DeformationPath::Gpu) + ", CPU " + still(DeformationPath::Cpu) + ".";

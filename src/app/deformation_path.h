@@ -7,8 +7,8 @@
 // CPU's normals and upload of a big mesh are not; on a software rasteriser (llvmpipe) every vertex the shader
 // deforms costs CPU time, which pays off while a drag draws the mesh's decimated proxy but not for a still frame
 // of the whole mesh. So the window measures both kinds of frame on both paths and chooses for each:
-//   - drag frames (update and draw while the mesh moves in a drag): the first drag on a big mesh runs five
-//     on the GPU path, then five on the CPU path (each path's first frame pays the switch and is not counted);
+//   - drag frames (update and draw while the mesh moves in a drag): the first drag on a big mesh runs three
+//     on the GPU path, then three on the CPU path (each path's first frame pays the switch and is not counted);
 //     the shorter median wins;
 //   - still frames (the whole mesh drawn, nothing moving): one on each path, the first at rest on it. The CPU
 //     path is the rest path until the GPU's still frame is measured no slower than 1.25 times the CPU's.
@@ -28,8 +28,9 @@ public:
     // Meshes smaller than this stay on the CPU path without measuring (either path is a fraction of a
     // millisecond there).
     static constexpr int kDefaultMinVertices = 100000;
-    // Drag frames measured per path before deciding.
-    static constexpr int kFramesPerPath = 5;
+    // Drag frames measured per path before deciding (few: on a slow machine a drag has few frames, and a user
+    // should not have to drag three times before the choice is made).
+    static constexpr int kFramesPerPath = 3;
 
     // A new mesh (or a new context): decide again. vertexCount >= 0.
     void reset(int vertexCount);
