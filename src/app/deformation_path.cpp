@@ -92,15 +92,9 @@ std::string DeformationPathChooser::describe() const {
     }
     if (!measured()) return "A small mesh: the CPU path, either would take a fraction of a millisecond.";
     std::string out;
-    const auto frames = [&](DeformationPath path) {
-        const double ms = medianMs(path);
+    const auto milliseconds = [&](double ms) {  // a median or a still frame; negative: none yet
         if (ms < 0.0) return std::string("not timed");
         std::snprintf(text, sizeof text, "%.1f ms", ms);
-        return std::string(text);
-    };
-    const auto still = [&](DeformationPath path) {
-        if (still_[slot(path)] < 0.0) return std::string("not timed");
-        std::snprintf(text, sizeof text, "%.1f ms", still_[slot(path)]);
         return std::string(text);
     };
     if (deciding_ && !started_) {
@@ -114,8 +108,10 @@ std::string DeformationPathChooser::describe() const {
         out = text;
     } else
         out = std::string("While dragging: the ") + nameOf(decided_) + " path. At rest: the " + nameOf(restPath()) + " path.\n";
-    out += "Drag frames (median): GPU " + frames(DeformationPath::Gpu) + ", CPU " + frames(DeformationPath::Cpu) + ".\n";
-    out += "Still frames: GPU " + still(DeformationPath::Gpu) + ", CPU " + still(DeformationPath::Cpu) + ".";
+    out += "Drag frames (median): GPU " + milliseconds(medianMs(DeformationPath::Gpu)) + ", CPU " +
+           milliseconds(medianMs(DeformationPath::Cpu)) + ".\n";
+    out += "Still frames: GPU " + milliseconds(stillMs(DeformationPath::Gpu)) + ", CPU " +
+           milliseconds(stillMs(DeformationPath::Cpu)) + ".";
     return out;
 }
 

@@ -168,8 +168,7 @@ void writeFromSource(const ObjMesh& mesh, const Positions& deformed, std::string
     }
 
     // The replacements in text order (v and vn lines interleave in the file: both span lists walked by offset),
-    // then formatted in parallel chunks, each the source text between its first replacement and the next
-    // chunk's, with its replacements in place.
+    // then formatted in parallel (appendRowsInParallel), each with the source text before it.
     struct Replacement {
         size_t begin, end;
         Eigen::Vector3d xyz;
@@ -206,41 +205,19 @@ void writeFromSource(const ObjMesh& mesh, const Positions& deformed, std::string
     replacements.resize(kept);
 
     reserveWithHugePages(out, source.text.size() + source.text.size() / 8 + 64);
+    // Row i of the output: the source text from the replacement before it up to it, then its numbers.
     const std::string_view text(source.text);
-    const size_t count = replacements.size();
-    const int chunks = count > 32768 ? 4 * omp_get_max_threads() : 1;
-    std::vector<std::string> parts(static_cast<size_t>(chunks));
-    std::atomic<bool> outOfMemory{false};
-#pragma omp parallel for schedule(dynamic, 1) if (chunks > 1)
-    for (int c = 0; c < chunks; ++c) {
-        try {
-            const size_t first = count * size_t(c) / size_t(chunks), last = count * size_t(c + 1) / size_t(chunks);
-            size_t copied = c == 0 ? 0 : replacements[first].begin;  // source.text is written up to here
-            const size_t end = c + 1 == chunks ? source.text.size() : replacements[last].begin;
-            std::string& part = chunks == 1 ? out : parts[static_cast<size_t>(c)];
-            if (chunks > 1) reserveWithHugePages(part, end - copied + (last - first) * 16 + 64);
-            TextCursor cursor(part);
-            for (size_t i = first; i < last; ++i) {
-                const Replacement& r = replacements[i];
-                cursor.put(text.substr(copied, r.begin - copied));
-                cursor.room(3 * TextCursor::kNumberRoom + 2);
-                for (int k = 0; k < 3; ++k) {
-                    if (k > 0) cursor.put(' ');
-                    cursor.number(r.xyz[k]);
-                }
-                copied = r.end;
-            }
-            cursor.put(text.substr(copied, end - copied));
-        } catch (const std::bad_alloc&) {
-            outOfMemory = true;  // no exception may leave an OpenMP region
+    appendRowsInParallel(out, static_cast<Eigen::Index>(replacements.size()), [&](Eigen::Index i, TextCursor& cursor) {
+        const Replacement& r = replacements[static_cast<size_t>(i)];
+        const size_t copied = i == 0 ? 0 : replacements[static_cast<size_t>(i) - 1].end;  // written up to here
+        cursor.put(text.substr(copied, r.begin - copied));
+        cursor.room(3 * TextCursor::kNumberRoom + 2);
+        for (int k = 0; k < 3; ++k) {
+            if (k > 0) cursor.put(' ');
+            cursor.number(r.xyz[k]);
         }
-    }
-    if (outOfMemory) throw std::bad_alloc();
-    if (chunks > 1)
-        for (std::string& part : parts) {
-            out += part;
-            std::string().swap(part);
-        }
+    });
+    out.append(text.substr(replacements.empty() ? 0 : replacements.back().end));
 }
 
 // A name as the last word of a line: one that ends in a backslash gets a blank after it, or the reader

@@ -45,12 +45,10 @@ struct DeformUniforms {
 constexpr int kMaxGpuLayers = 1024;
 // mesh.vert's lattice table: floats per lattice at the head of the basis buffer.
 constexpr int kLatticeTableStride = 24;
-// A lattice on the GPU path: its shape (what the cage's per-frame update must match) and where its data lie.
+// A lattice's shape on the GPU path: what the cage's per-frame update must match (its cells are per vertex).
 struct GpuLatticeShape {
     std::array<int, 3> count{}, degree{}, spans{};
     Eigen::Vector3d boxMin = Eigen::Vector3d::Zero(), boxMax = Eigen::Vector3d::Zero();
-    std::array<int, 3> basisOffset{}, firstOffset{};
-    int controlOffset = 0;
     bool sameLattice(const GpuLatticeShape& o) const {
         return count == o.count && degree == o.degree && spans == o.spans && boxMin == o.boxMin && boxMax == o.boxMax;
     }
@@ -99,7 +97,8 @@ struct Renderer::State {
     // The GPU path: per-vertex cell + local coordinates, and two buffer textures (control points, basis).
     GLuint cellBuffer = 0, controlBuffer = 0, controlTexture = 0, basisBuffer = 0, basisTexture = 0;
     bool gpuDeformation = false;
-    std::vector<GpuLatticeShape> gpuLattices;  // the cage, then its layers
+    GpuLatticeShape gpuCage;  // the cage the GPU path was set up with
+    int gpuLatticeCount = 0;  // the cage and its layers, as last uploaded
     // As uploaded: the lattice table and bases (basisBuffer), the control points (controlBuffer).
     std::vector<float> basisData, controlData;
     BackgroundUniforms backgroundUniforms;
@@ -142,13 +141,21 @@ struct Renderer::State {
     ConstraintView constraints;
 
     GLint uniform(GLuint program, const char* name) const { return gl.GetUniformLocation(program, name); }
+    // The uniforms of shaders/mesh.frag and mesh.vert that both mesh programs (CPU and GPU path) have.
+    MeshUniforms meshUniformsOf(GLuint program) const {
+        return {uniform(program, "uView"),          uniform(program, "uProjection"),   uniform(program, "uMode"),
+                uniform(program, "uWireColor"),     uniform(program, "uShowJacobian"), uniform(program, "uShowAffected"),
+                uniform(program, "uJacobianRange"), uniform(program, "uShowVertexColors")};
+    }
+    // Off the GPU path: the mesh draws the vertex buffer's positions again (the caller has put them there).
+    void leaveGpuPath();
     // Into staging, vertices [first, last) of the given arrays (the kept positions and normals by default).
     void packVertices(int first, int last) { packVertices(first, last, positions, normals); }
     void packVertices(int first, int last, const Positions& from, const Positions& fromNormals);
     // Recomputes every normal of the kept positions and rewrites the whole vertex buffer.
     void uploadAllVertices();
     // The lattices' control displacements (GPU frame units) and weights into controlBuffer, and their basis
-    // into basisBuffer where it changed; fills gpuLattices.
+    // into basisBuffer where it changed; records the cage's shape and the lattice count.
     void uploadLattices(const core::Lattice& cage, const std::vector<const core::Lattice*>& layers);
     void uploadVertexRange(int first, int last);
     Status buildPrograms();
@@ -218,17 +225,11 @@ Status Renderer::State::buildPrograms() {
     deformOptions.defines = "#define GPU_DEFORMATION 1\n";
     deformOptions.feedbackVaryings = {"vDeformedPosition", "vDeformedNormal"};
     if (Status status = buildEmbeddedProgram(gl, "mesh", deformOptions, deformProgram); !status) return status;
-    deformMeshUniforms = {uniform(deformProgram, "uView"),       uniform(deformProgram, "uProjection"),
-                          uniform(deformProgram, "uMode"),       uniform(deformProgram, "uWireColor"),
-                          uniform(deformProgram, "uShowJacobian"), uniform(deformProgram, "uShowAffected"),
-                          uniform(deformProgram, "uJacobianRange"), uniform(deformProgram, "uShowVertexColors")};
+    deformMeshUniforms = meshUniformsOf(deformProgram);
     deformUniforms = {uniform(deformProgram, "uControl"), uniform(deformProgram, "uBasis"),
                       uniform(deformProgram, "uLatticeCount")};
     backgroundUniforms = {uniform(backgroundProgram, "uTopColor"), uniform(backgroundProgram, "uBottomColor")};
-    meshUniforms = {uniform(meshProgram, "uView"),       uniform(meshProgram, "uProjection"),
-                    uniform(meshProgram, "uMode"),       uniform(meshProgram, "uWireColor"),
-                    uniform(meshProgram, "uShowJacobian"), uniform(meshProgram, "uShowAffected"),
-                    uniform(meshProgram, "uJacobianRange"), uniform(meshProgram, "uShowVertexColors")};
+    meshUniforms = meshUniformsOf(meshProgram);
     overlayUniforms = {uniform(overlayProgram, "uViewport"), uniform(overlayProgram, "uJacobianRange")};
     lineUniforms = {uniform(lineProgram, "uViewProjection"), uniform(lineProgram, "uViewport"),
                     uniform(lineProgram, "uWidth"), uniform(lineProgram, "uTint"),
@@ -397,12 +398,7 @@ Status Renderer::setMesh(const Positions& positions, const Triangles& triangles)
                                      std::to_string(vertexCount) + ")");
     s.positions = positions;
     s.triangles = triangles;
-    if (s.gpuDeformation) {
-        s.gpuDeformation = false;
-        s.gl.BindVertexArray(s.meshVao);
-        s.gl.DisableVertexAttribArray(kAttribLatticeCell);
-        s.gl.BindVertexArray(0);
-    }
+    if (s.gpuDeformation) s.leaveGpuPath();
     if (vertexCount > 0) {
         const LocalFrame frame = localFrameOf(boundsOf(s.positions));
         if (frame != s.frame) {
@@ -598,40 +594,38 @@ GpuLatticeShape shapeOf(const core::Lattice& lattice) {
 void Renderer::State::uploadLattices(const core::Lattice& cage, const std::vector<const core::Lattice*>& layers) {
     std::vector<const core::Lattice*> all{&cage};
     all.insert(all.end(), layers.begin(), layers.end());
-    gpuLattices.clear();
     // The table first (mesh.vert), then each lattice's bases: each axis's span polynomials and first functions.
     std::vector<float> basis(all.size() * kLatticeTableStride, 0.0f);
-    int controlCount = 0;
+    std::vector<int> controlOffset(all.size() + 1, 0);
     for (size_t l = 0; l < all.size(); ++l) {
         const core::Lattice& source = *all[l];
-        GpuLatticeShape shape = shapeOf(source);
-        float* row = basis.data() + l * kLatticeTableStride;
+        const GpuLatticeShape shape = shapeOf(source);
+        const size_t row = l * kLatticeTableStride;
         for (int a = 0; a < 3; ++a) {
             const core::SplineAxis& axis = source.axes[size_t(a)];
-            shape.basisOffset[size_t(a)] = int(basis.size());
+            basis[row + 9 + size_t(a)] = float(basis.size());
             for (double c : axis.coefficients) basis.push_back(float(c));
-            shape.firstOffset[size_t(a)] = int(basis.size());
+            basis[row + 12 + size_t(a)] = float(basis.size());
             for (int span = 0; span < axis.spans; ++span) basis.push_back(float(axis.first(span)));
-            row = basis.data() + l * kLatticeTableStride;  // (the vector may have moved)
-            row[a] = float(shape.count[size_t(a)]);
-            row[3 + a] = float(shape.degree[size_t(a)]);
-            row[6 + a] = float(shape.spans[size_t(a)]);
-            row[9 + a] = float(shape.basisOffset[size_t(a)]);
-            row[12 + a] = float(shape.firstOffset[size_t(a)]);
+            basis[row + size_t(a)] = float(shape.count[size_t(a)]);
+            basis[row + 3 + size_t(a)] = float(shape.degree[size_t(a)]);
+            basis[row + 6 + size_t(a)] = float(shape.spans[size_t(a)]);
             // The box in the GPU frame, and the local coordinate per unit there: spans over the box's size.
-            row[16 + a] = float((shape.boxMin[a] - frame.origin[a]) / frame.scale);
-            row[19 + a] = float(double(shape.spans[size_t(a)]) * frame.scale / (shape.boxMax[a] - shape.boxMin[a]));
+            basis[row + 16 + size_t(a)] = float((shape.boxMin[a] - frame.origin[a]) / frame.scale);
+            basis[row + 19 + size_t(a)] =
+                float(double(shape.spans[size_t(a)]) * frame.scale / (shape.boxMax[a] - shape.boxMin[a]));
         }
-        shape.controlOffset = controlCount;
-        row[15] = float(controlCount);
-        controlCount += source.controlPointCount();
-        gpuLattices.push_back(shape);
+        basis[row + 15] = float(controlOffset[l]);
+        controlOffset[l + 1] = controlOffset[l] + source.controlPointCount();
     }
+    gpuCage = shapeOf(cage);
+    gpuLatticeCount = int(all.size());
+    const int controlCount = controlOffset.back();
     std::vector<float> control(size_t(controlCount) * 4);
     const double inverseScale = 1.0 / frame.scale;  // displacements are differences: no origin
     for (size_t l = 0; l < all.size(); ++l) {
         const core::Lattice& source = *all[l];
-        float* out = control.data() + size_t(gpuLattices[l].controlOffset) * 4;
+        float* out = control.data() + size_t(controlOffset[l]) * 4;
         for (int i = 0; i < source.controlPointCount(); ++i) {
             for (int c = 0; c < 3; ++c) out[size_t(i) * 4 + size_t(c)] = float(source.displacement(i, c) * inverseScale);
             out[size_t(i) * 4 + 3] = float(source.weights[size_t(i)]);
@@ -726,7 +720,7 @@ Status Renderer::updateGpuDeformation(const core::Lattice& lattice, const std::v
     if (!s.ready) return Status::error("renderer not initialised");
     if (!s.gpuDeformation) return Status::error("GPU deformation: the GPU path is off (setGpuDeformation first)");
     if (Status status = checkGpuLattices(lattice, layers); !status) return status;
-    if (!shapeOf(lattice).sameLattice(s.gpuLattices.front()))
+    if (!shapeOf(lattice).sameLattice(s.gpuCage))
         return Status::error("GPU deformation: the lattice is not the one the GPU path was set up with (other counts, "
                              "degrees or box); set it up again");
     s.lastUpload = {};
@@ -744,13 +738,16 @@ Status Renderer::clearGpuDeformation(const Positions& positions) {
     if (Status status = checkFinite(positions, "mesh position"); !status) return status;
     s.positions = positions;
     s.uploadAllVertices();
-    const GlFunctions& gl = s.gl;
-    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
-    gl.BindVertexArray(s.meshVao);
+    s.gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    s.leaveGpuPath();
+    return Status::success();
+}
+
+void Renderer::State::leaveGpuPath() {
+    gl.BindVertexArray(meshVao);
     gl.DisableVertexAttribArray(kAttribLatticeCell);
     gl.BindVertexArray(0);
-    s.gpuDeformation = false;
-    return Status::success();
+    gpuDeformation = false;
 }
 
 bool Renderer::gpuDeformationActive() const { return state_->gpuDeformation; }
@@ -758,7 +755,7 @@ bool Renderer::gpuDeformationActive() const { return state_->gpuDeformation; }
 void Renderer::State::bindGpuDeformation() const {
     gl.Uniform1i(deformUniforms.control, 0);
     gl.Uniform1i(deformUniforms.basis, 1);
-    gl.Uniform1i(deformUniforms.latticeCount, int(gpuLattices.size()));
+    gl.Uniform1i(deformUniforms.latticeCount, gpuLatticeCount);
     gl.ActiveTexture(GL_TEXTURE1);
     gl.BindTexture(GL_TEXTURE_BUFFER, basisTexture);
     gl.ActiveTexture(GL_TEXTURE0);

@@ -86,6 +86,22 @@ Positions evaluated(const core::Lattice& lattice, const core::Embedding& embeddi
     return out;
 }
 
+// Each point carried through the layers in order, as Session::pushThroughLayers does (parameters by each layer
+// box's linear map, the identity outside it); with jacobians (one per point), each layer's Jacobian multiplied on.
+void pushThroughLayers(const std::vector<core::Lattice>& layers, Positions& points, std::vector<Eigen::Matrix3d>* jacobians) {
+    for (Eigen::Index v = 0; v < points.rows(); ++v)
+        for (const core::Lattice& layer : layers) {
+            Eigen::Vector3d t, displacement;
+            if (!core::restParameters(layer, points.row(v).transpose(), t)) continue;
+            if (jacobians) {
+                Eigen::Matrix3d step;
+                core::deformationJacobian(layer, t, displacement, step);
+                (*jacobians)[size_t(v)] = step * (*jacobians)[size_t(v)];
+            }
+            points.row(v) += core::displacementAt(layer, t).transpose();
+        }
+}
+
 // The deformed normal the vertex shader should give: cof(J) n0, normalised, from the engine's Jacobian.
 Eigen::Vector3d expectedNormal(const core::Lattice& lattice, const Eigen::Vector3d& params, const Eigen::Vector3d& restNormal) {
     Eigen::Vector3d displacement;
@@ -339,15 +355,7 @@ TEST_CASE("GPU deformation: layers after the cage compose as the engine's, rando
                 core::deformationJacobian(cage, core::embeddedParameters(cage, embedding, cell, e), displacement,
                                           jacobians[size_t(embedding.order[size_t(e)])]);
             }
-        for (int v = 0; v < rest.rows(); ++v)
-            for (const core::Lattice& layer : layerLattices) {
-                Eigen::Vector3d t, displacement;
-                Eigen::Matrix3d step;
-                if (!core::restParameters(layer, expected.row(v).transpose(), t)) continue;
-                core::deformationJacobian(layer, t, displacement, step);
-                expected.row(v) += core::displacementAt(layer, t).transpose();
-                jacobians[size_t(v)] = step * jacobians[size_t(v)];
-            }
+        pushThroughLayers(layerLattices, expected, &jacobians);
 
         requireOk(renderer.setMesh(rest, triangles));
         requireOk(renderer.setGpuDeformation(cage, embedding, rest, layers));
@@ -384,11 +392,7 @@ TEST_CASE("GPU deformation: layers after the cage compose as the engine's, rando
         CHECK(renderer.lastUpload().controlPointsUploaded > 0);
         CHECK(renderer.lastUpload().controlPointsUploaded <= last.controlPointCount());
         Positions halved = evaluated(cage, embedding, rest);
-        for (int v = 0; v < rest.rows(); ++v)
-            for (const core::Lattice& layer : layerLattices) {
-                Eigen::Vector3d t;
-                if (core::restParameters(layer, halved.row(v).transpose(), t)) halved.row(v) += core::displacementAt(layer, t).transpose();
-            }
+        pushThroughLayers(layerLattices, halved, nullptr);
         requireOk(renderer.captureGpuDeformation(gpuPositions, gpuNormals));
         CHECK((gpuPositions - halved).rowwise().norm().maxCoeff() / size < 2e-6);
         // The per-frame update takes other layers (one fewer) without a new rest upload.
