@@ -35,7 +35,6 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
-#include <Eigen/SVD>
 
 #include "core/bspline_basis.h"
 #include "core/mesh_types.h"
@@ -146,13 +145,7 @@ public:
 // LU where dQ/dt (`d`, columns d/dt_a) is well conditioned, else by its pseudo-inverse (singular values below
 // 1e-9 of the largest dropped), which moves only along the directions the volume can move in (a cylinder's
 // axis, a pole: degenerate chunks). May be non-finite for non-finite input.
-inline Eigen::Vector3d freezingNewtonStep(const Eigen::Matrix3d& d, const Eigen::Vector3d& residual) {
-    const double scale = d.colwise().norm().prod();
-    if (scale > 0.0 && std::abs(d.determinant()) > 1e-9 * scale) return d.partialPivLu().solve(residual);
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(d, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    svd.setThreshold(1e-9);
-    return svd.solve(residual);
-}
+Eigen::Vector3d freezingNewtonStep(const Eigen::Matrix3d& d, const Eigen::Vector3d& residual);
 
 // The weld group holding control point `id` (sorted ids, representative first), or null when it is not welded.
 inline const std::vector<int>* weldGroupOf(const Volume& volume, int id) {
