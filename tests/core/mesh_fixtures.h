@@ -52,30 +52,69 @@ inline void icosphere(int levels, double radius, const Eigen::Vector3d& centre, 
 
 namespace detail {
 
-// Exact predicates in rational arithmetic (GMP): every double is a rational, so the signs below are exact.
-// Written apart from the engine's check (which uses CGAL's filtered predicates and its own case analysis),
-// so the tests compare two independent computations.
+// Exact predicates: every double is a rational, so the signs below are exact. Each sign is first computed in
+// double with a forward error bound (Shewchuk 1997's static filter, made 10x more cautious); only where the
+// double result is within the bound of zero is it computed again in rational arithmetic (GMP). Written apart
+// from the engine's check (which uses CGAL's filtered predicates and its own case analysis), so the tests
+// compare two independent computations.
 using Rational = mpq_class;
 struct ExactPoint {
-    Rational x, y, z;
+    double x, y, z;
     explicit ExactPoint(const Eigen::Vector3d& p) : x(p.x()), y(p.y()), z(p.z()) {}
 };
 
 inline int sign(const Rational& r) { return sgn(r); }
 
+// The sign of `value` if its error `bound` cannot reach zero, else 2 (undecided). A bound that underflows or
+// overflows, or a NaN, is undecided too: the caller then computes exactly.
+inline int filteredSign(double value, double bound) {
+    constexpr double kTiny = 1e-280;  // below it the static bound may have lost its meaning to underflow
+    if (!(std::isfinite(value) && std::isfinite(bound)) || bound < kTiny) return 2;
+    if (value > bound) return 1;
+    if (value < -bound) return -1;
+    return 2;
+}
+
+// Relative error bounds of the double evaluations below, against their permanents: Shewchuk's orient3d bound is
+// (7 + 56 eps) eps, his orient2d bound (3 + 16 eps) eps, eps = 2^-53; 10x those.
+constexpr double kOrient3dBound = 10.0 * 8.0 * 1.1102230246251565e-16;
+constexpr double kOrient2dBound = 10.0 * 4.0 * 1.1102230246251565e-16;
+
 // Sign of det[b-a, c-a, d-a]: > 0 when d is on the side of plane (a, b, c) its normal (b-a) x (c-a) points to.
 inline int orient3d(const ExactPoint& a, const ExactPoint& b, const ExactPoint& c, const ExactPoint& d) {
-    const Rational bx = b.x - a.x, by = b.y - a.y, bz = b.z - a.z;
-    const Rational cx = c.x - a.x, cy = c.y - a.y, cz = c.z - a.z;
-    const Rational dx = d.x - a.x, dy = d.y - a.y, dz = d.z - a.z;
+    {
+        const double bx = b.x - a.x, by = b.y - a.y, bz = b.z - a.z;
+        const double cx = c.x - a.x, cy = c.y - a.y, cz = c.z - a.z;
+        const double dx = d.x - a.x, dy = d.y - a.y, dz = d.z - a.z;
+        const double value = bx * (cy * dz - cz * dy) - by * (cx * dz - cz * dx) + bz * (cx * dy - cy * dx);
+        const double permanent = std::abs(bx) * (std::abs(cy * dz) + std::abs(cz * dy)) +
+                                 std::abs(by) * (std::abs(cx * dz) + std::abs(cz * dx)) +
+                                 std::abs(bz) * (std::abs(cx * dy) + std::abs(cy * dx));
+        const int filtered = filteredSign(value, kOrient3dBound * permanent);
+        if (filtered != 2) return filtered;
+    }
+    const Rational ax(a.x), ay(a.y), az(a.z);
+    const Rational bx = Rational(b.x) - ax, by = Rational(b.y) - ay, bz = Rational(b.z) - az;
+    const Rational cx = Rational(c.x) - ax, cy = Rational(c.y) - ay, cz = Rational(c.z) - az;
+    const Rational dx = Rational(d.x) - ax, dy = Rational(d.y) - ay, dz = Rational(d.z) - az;
     return sign(bx * (cy * dz - cz * dy) - by * (cx * dz - cz * dx) + bz * (cx * dy - cy * dx));
 }
 
+// The coordinates kept when axis `drop` is dropped.
+inline double planeU(const ExactPoint& p, int drop) { return drop == 0 ? p.y : p.x; }
+inline double planeV(const ExactPoint& p, int drop) { return drop == 2 ? p.y : p.z; }
+
 // 2D orientation of (a, b, c) in the coordinate plane that drops axis `drop`.
 inline int orient2d(const ExactPoint& a, const ExactPoint& b, const ExactPoint& c, int drop) {
-    auto u = [drop](const ExactPoint& p) -> const Rational& { return drop == 0 ? p.y : p.x; };
-    auto v = [drop](const ExactPoint& p) -> const Rational& { return drop == 2 ? p.y : p.z; };
-    return sign((u(b) - u(a)) * (v(c) - v(a)) - (v(b) - v(a)) * (u(c) - u(a)));
+    const double ua = planeU(a, drop), va = planeV(a, drop), ub = planeU(b, drop), vb = planeV(b, drop);
+    const double uc = planeU(c, drop), vc = planeV(c, drop);
+    {
+        const double left = (ub - ua) * (vc - va), right = (vb - va) * (uc - ua);
+        const int filtered = filteredSign(left - right, kOrient2dBound * (std::abs(left) + std::abs(right)));
+        if (filtered != 2) return filtered;
+    }
+    const Rational u0(ua), v0(va);
+    return sign((Rational(ub) - u0) * (Rational(vc) - v0) - (Rational(vb) - v0) * (Rational(uc) - u0));
 }
 
 // Closed 2D segments pq and rs (in the plane dropping `drop`, all four points coplanar) meet.
@@ -83,9 +122,9 @@ inline bool segmentsMeet2d(const ExactPoint& p, const ExactPoint& q, const Exact
     const int o1 = orient2d(p, q, r, drop), o2 = orient2d(p, q, s, drop), o3 = orient2d(r, s, p, drop), o4 = orient2d(r, s, q, drop);
     if (o1 * o2 < 0 && o3 * o4 < 0) return true;
     auto within = [drop](const ExactPoint& a, const ExactPoint& b, const ExactPoint& c) {  // c on segment ab, given collinear
-        auto u = [drop](const ExactPoint& x) -> const Rational& { return drop == 0 ? x.y : x.x; };
-        auto v = [drop](const ExactPoint& x) -> const Rational& { return drop == 2 ? x.y : x.z; };
-        return std::min(u(a), u(b)) <= u(c) && u(c) <= std::max(u(a), u(b)) && std::min(v(a), v(b)) <= v(c) && v(c) <= std::max(v(a), v(b));
+        const double ua = planeU(a, drop), ub = planeU(b, drop), uc = planeU(c, drop);  // coordinates compare exactly
+        const double va = planeV(a, drop), vb = planeV(b, drop), vc = planeV(c, drop);
+        return std::min(ua, ub) <= uc && uc <= std::max(ua, ub) && std::min(va, vb) <= vc && vc <= std::max(va, vb);
     };
     return (o1 == 0 && within(p, q, r)) || (o2 == 0 && within(p, q, s)) || (o3 == 0 && within(r, s, p)) || (o4 == 0 && within(r, s, q));
 }
@@ -95,12 +134,13 @@ inline bool segmentMeetsTriangle(const ExactPoint& p, const ExactPoint& q, const
     const int op = orient3d(a, b, c, p), oq = orient3d(a, b, c, q);
     if (op * oq > 0) return false;
     if (op == 0 && oq == 0) {
-        // Coplanar: project along the normal's largest component (exactly compared).
-        const Rational nx = (b.y - a.y) * (c.z - a.z) - (b.z - a.z) * (c.y - a.y);
-        const Rational ny = (b.z - a.z) * (c.x - a.x) - (b.x - a.x) * (c.z - a.z);
-        const Rational nz = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-        const Rational ax = abs(nx), ay = abs(ny), az = abs(nz);
-        const int drop = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+        // Coplanar (rare): project along the normal's largest component, computed exactly.
+        const Rational ax = Rational(a.x), ay = Rational(a.y), az = Rational(a.z);
+        const Rational bx = Rational(b.x) - ax, by = Rational(b.y) - ay, bz = Rational(b.z) - az;
+        const Rational cx = Rational(c.x) - ax, cy = Rational(c.y) - ay, cz = Rational(c.z) - az;
+        const Rational nx = by * cz - bz * cy, ny = bz * cx - bx * cz, nz = bx * cy - by * cx;
+        const Rational mx = abs(nx), my = abs(ny), mz = abs(nz);
+        const int drop = mx >= my && mx >= mz ? 0 : (my >= mz ? 1 : 2);
         auto inside = [&](const ExactPoint& x) {
             const int s1 = orient2d(a, b, x, drop), s2 = orient2d(b, c, x, drop), s3 = orient2d(c, a, x, drop);
             return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
@@ -119,7 +159,6 @@ inline bool exactTrianglesIntersect(const std::array<Eigen::Vector3d, 3>& pa, co
                                     const std::array<Eigen::Vector3d, 3>& pb, const std::array<int, 3>& ib) {
     std::vector<ExactPoint> A, B;
     for (int k = 0; k < 3; ++k) A.emplace_back(pa[k]), B.emplace_back(pb[k]);
-    const Rational zero(0);
     auto degenerate = [](const std::vector<ExactPoint>& t) {
         for (int drop = 0; drop < 3; ++drop)
             if (orient2d(t[0], t[1], t[2], drop) != 0) return false;

@@ -141,8 +141,9 @@ TEST_CASE("subdivision: a subdivided drag undoes and redoes through its fresh la
     REQUIRE((session.positions() - after).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
 }
 
-TEST_CASE("subdivision: 1000 random operations undo to the original and redo to the result", "[core]") {
-    std::mt19937 rng(61);
+// 1000 random operations in four sessions of 250 (each with its own seed), so ctest runs them side by side.
+static void runRandomOperationsUndoRedo(unsigned seed, int operationCount) {
+    std::mt19937 rng(seed);
     Positions positions;
     Triangles triangles;
     test::icosphere(2, 1.0, Eigen::Vector3d::Zero(), positions, triangles);  // 162 vertices
@@ -162,7 +163,7 @@ TEST_CASE("subdivision: 1000 random operations undo to the original and redo to 
     std::vector<int> inside;
     for (Eigen::Index v = 0; v < positions.rows(); ++v)
         if (positions(v, 2) > 0.05) inside.push_back(static_cast<int>(v));
-    const int operations = test::scaledCount(1000, 200);
+    const int operations = test::scaledCount(operationCount, 50);
     for (int op = 0; op < operations; ++op) {
         OpReport report;
         const int kind = test::randomInt(rng, 0, 9);
@@ -209,6 +210,19 @@ TEST_CASE("subdivision: 1000 random operations undo to the original and redo to 
         if (positions(v, 2) < -0.01) REQUIRE(session.positions().row(v) == positions.row(v));  // outside the region: bitwise
     for (int i = 0; i < applied; ++i) REQUIRE(session.redo(report).ok);
     REQUIRE((session.positions() - final).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+}
+
+TEST_CASE("subdivision: 1000 random operations undo to the original and redo to the result, part 1 of 4", "[core]") {
+    runRandomOperationsUndoRedo(61, 250);
+}
+TEST_CASE("subdivision: 1000 random operations undo to the original and redo to the result, part 2 of 4", "[core]") {
+    runRandomOperationsUndoRedo(161, 250);
+}
+TEST_CASE("subdivision: 1000 random operations undo to the original and redo to the result, part 3 of 4", "[core]") {
+    runRandomOperationsUndoRedo(261, 250);
+}
+TEST_CASE("subdivision: 1000 random operations undo to the original and redo to the result, part 4 of 4", "[core]") {
+    runRandomOperationsUndoRedo(361, 250);
 }
 
 TEST_CASE("subdivision: a recorded session replays on the same mesh and applies the same deformation to another", "[core]") {
