@@ -13,8 +13,6 @@ namespace sculpt::core {
 
 namespace {
 
-std::string axisName(int a) { return std::string(1, "uvw"[a]); }
-
 Status checkSlot(const LatticeNet& net, int slot) {
     if (slot < 0 || slot >= net.slotCount())
         return Status::error("slot " + std::to_string(slot) + " is out of range (the lattice has " + std::to_string(net.slotCount()) +
@@ -81,7 +79,7 @@ Status refineAxisBy(const LatticeNet& net, int axis, const Eigen::MatrixXd& a, s
                     LatticeNet& out) {
     const int newCount = static_cast<int>(a.rows());
     if (newCount > kMaxControlPointsPerAxis)
-        return Status::error(what + " would make " + std::to_string(newCount) + " control points along " + axisName(axis) + " (at most " +
+        return Status::error(what + " would make " + std::to_string(newCount) + " control points along " + parameterAxisName(axis) + " (at most " +
                              std::to_string(kMaxControlPointsPerAxis) + ")");
     LatticeNet refined;
     refined.kind = net.kind;
@@ -213,13 +211,13 @@ Status refineNetAxis(const LatticeNet& net, int axis, LatticeNet& out) {
     }
     std::vector<double> knots = old.knots;
     const Eigen::MatrixXd a = insertionMatrix(knots, old.degree, midpoints);
-    return refineAxisBy(net, axis, a, std::move(knots), "refining along " + axisName(axis), out);
+    return refineAxisBy(net, axis, a, std::move(knots), "refining along " + parameterAxisName(axis), out);
 }
 
 Status insertNetKnot(const LatticeNet& net, int axis, double at, int times, LatticeNet& out) {
     if (Status s = checkAxis(axis); !s) return s;
     const SplineAxis& old = net.axes[axis];
-    const std::string where = "a knot at " + axisName(axis) + " = " + std::to_string(at);
+    const std::string where = "a knot at " + parameterAxisName(axis) + " = " + std::to_string(at);
     if (!(std::isfinite(at) && at > 0.0 && at < 1.0))
         return Status::error("cannot insert " + where + ": the parameter must lie strictly inside (0, 1) (the ends are clamped already)");
     if (times < 1 || times > old.degree)
@@ -238,7 +236,7 @@ Status insertNetKnot(const LatticeNet& net, int axis, double at, int times, Latt
 
 Status removeNetSlice(const LatticeNet& net, int axis, int index, LatticeNet& out) {
     if (Status s = checkAxis(axis); !s) return s;
-    const std::string along = " along " + axisName(axis);
+    const std::string along = " along " + parameterAxisName(axis);
     const int count = net.count[axis], degree = net.degree[axis], multiplicity = net.multiplicity[axis];
     if (index < 0 || index >= count)
         return Status::error("slice " + std::to_string(index) + along + " is out of range (the lattice has " + std::to_string(count) +

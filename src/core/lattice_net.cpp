@@ -18,8 +18,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-std::string axisName(int a) { return std::string(1, "uvw"[a]); }
-
 // Rest positions of one axis' control points for `chunks` uniform spans of `degree` (Greville points: the
 // volume is then linear in that parameter, sum xi_i B_i(u) = u).
 std::vector<double> grevillePoints(int chunks, int degree) {
@@ -57,10 +55,10 @@ bool finitePositive(double v) { return std::isfinite(v) && v > 0.0; }
 Status checkChunks(const std::array<int, 3>& chunks, const std::array<int, 3>& degree, const std::array<int, 3>& multiplicity) {
     for (int a = 0; a < 3; ++a) {
         if (degree[a] < kMinDegree || degree[a] > kMaxDegree)
-            return Status::error("lattice degree along " + axisName(a) + " is " + std::to_string(degree[a]) + "; it must be in [1, 5]");
+            return Status::error("lattice degree along " + parameterAxisName(a) + " is " + std::to_string(degree[a]) + "; it must be in [1, 5]");
         const int count = chunks[a] < 1 ? 0 : splineAxisCount(chunks[a], degree[a], multiplicity[a]);
         if (chunks[a] < 1 || count > kMaxControlPointsPerAxis)
-            return Status::error("lattice chunks along " + axisName(a) + " is " + std::to_string(chunks[a]) +
+            return Status::error("lattice chunks along " + parameterAxisName(a) + " is " + std::to_string(chunks[a]) +
                                  "; it must be at least 1 with at most 64 control points per axis");
     }
     return Status::success();
@@ -229,7 +227,7 @@ Status finishLatticeNet(LatticeNet& net) {
     for (int a = 0; a < 3; ++a) {
         if (!net.knots[a].empty()) {
             if (const std::string problem = splineKnotsProblem(net.knots[a], net.count[a], net.degree[a]); !problem.empty())
-                return Status::error("lattice axis " + axisName(a) + " knots: " + problem);
+                return Status::error("lattice axis " + parameterAxisName(a) + " knots: " + problem);
             // One volume, one form: knots that are the uniform ones of the axis' multiplicity are not stored.
             if (splineAxisCountValid(net.count[a], net.degree[a], net.multiplicity[a]) &&
                 makeSplineAxis(net.count[a], net.degree[a], net.multiplicity[a]).knots == net.knots[a])
@@ -237,7 +235,7 @@ Status finishLatticeNet(LatticeNet& net) {
             continue;
         }
         if (!splineAxisCountValid(net.count[a], net.degree[a], net.multiplicity[a]))
-            return Status::error("lattice axis " + axisName(a) + ": " + std::to_string(net.count[a]) + " control points of degree " +
+            return Status::error("lattice axis " + parameterAxisName(a) + ": " + std::to_string(net.count[a]) + " control points of degree " +
                                  std::to_string(net.degree[a]) + " with knot multiplicity " + std::to_string(net.multiplicity[a]) +
                                  " do not make whole knot spans (at most 64 per axis)");
     }

@@ -32,6 +32,9 @@
 
 namespace sculpt::core {
 
+// The name of parameter axis `axis` (0, 1, 2) in messages: "u", "v" or "w".
+inline std::string parameterAxisName(int axis) { return std::string(1, "uvw"[axis]); }
+
 // A spatial index of a net's chunks: the bounds of every chunk's control points (a chunk lies in their
 // convex hull, weights > 0), and a uniform grid over all of them listing the chunks that overlap each grid
 // cell, so a point's candidate chunks cost O(1) to find.

@@ -16,8 +16,6 @@ namespace sculpt::io {
 
 namespace {
 
-std::string errnoText(int error) { return std::generic_category().message(error); }
-
 Status failure(const std::string& path, const std::string& what, int error) {
     return Status::error("cannot save '" + path + "': " + what + ": " + errnoText(error));
 }
@@ -45,20 +43,20 @@ std::string temporaryName(const std::string& folder, const std::string& name) {
     return folder + "/." + name + suffix;
 }
 
-bool writeAll(int fd, const char* data, size_t size) {
+}  // namespace
+
+std::string errnoText(int error) { return std::generic_category().message(error); }
+
+bool writeAllBytes(int fd, const char* data, std::size_t size) {
     while (size > 0) {
         const ssize_t written = ::write(fd, data, size);
-        if (written < 0) {
-            if (errno == EINTR) continue;
-            return false;
-        }
+        if (written < 0 && errno == EINTR) continue;
+        if (written <= 0) return false;
         data += written;
         size -= static_cast<size_t>(written);
     }
     return true;
 }
-
-}  // namespace
 
 Status writeFileAtomically(const std::string& path, const std::string& contents) {
     if (path.empty()) return Status::error("cannot save: empty file name");
@@ -104,7 +102,7 @@ Status writeFileAtomically(const std::string& path, const std::string& contents)
     // note: keep the permission bits of the file being replaced (a 0600 file stays private).
     if (exists && ::fchmod(fd, existing.st_mode & 07777) != 0)
         return abandon("cannot copy the file's permissions", errno);
-    if (!writeAll(fd, contents.data(), contents.size())) return abandon("write failed", errno);
+    if (!writeAllBytes(fd, contents.data(), contents.size())) return abandon("write failed", errno);
     // fsync before rename: otherwise a crash can leave the new name pointing at an empty file.
     if (::fsync(fd) != 0) return abandon("fsync failed", errno);
     const int closeResult = ::close(fd);

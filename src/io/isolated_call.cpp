@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 
+#include "io/atomic_file.h"
 #include "io/huge_pages.h"
 
 // Defined by the sanitizer runtimes (ASan, UBSan) when the program is built with one; null otherwise.
@@ -32,13 +33,7 @@ std::atomic<bool> resultsThroughPipe{false};
 // size of each piece, 8 bytes each); 'R': the result's bytes.
 // On the reply socket (caller to child, after a 'G'): 'D' (done: the caller has the bytes) or 'S' (send them as 'R').
 void writeAll(int fd, const char* data, size_t size) {
-    while (size > 0) {
-        const ssize_t n = ::write(fd, data, size);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) ::_exit(3);  // the caller went away (cancelled): nothing more to do
-        data += n;
-        size -= static_cast<size_t>(n);
-    }
+    if (!writeAllBytes(fd, data, size)) ::_exit(3);  // the caller went away (cancelled): nothing more to do
 }
 
 void writeHeader(int fd, char kind, uint64_t size) {

@@ -34,6 +34,7 @@
 
 #include "core/lattice_net.h"
 #include "core/status.h"
+#include "io/lattice_file.h"
 
 namespace sculpt::io {
 
@@ -42,17 +43,7 @@ Status parseLatticeNetJson(const nlohmann::json& j, const std::string& path, cor
 // The explicit form of a net.
 nlohmann::json latticeNetJson(const core::LatticeNet& net);
 
-// A library entry: a named lattice tool.
-struct LatticeFile {
-    std::string name;
-    std::shared_ptr<const core::Volume> volume;  // any registered kind
-};
-// Reads a library file; the error names the file, the field and what is wrong; `out` untouched on failure.
-Status readLatticeFile(const std::string& path, LatticeFile& out);
-Status parseLatticeFile(const std::string& text, const std::string& displayName, LatticeFile& out);
-// Writes it atomically (a failed save leaves an existing file as it was).
-Status writeLatticeFile(const std::string& path, const LatticeFile& file);
-std::string latticeFileText(const LatticeFile& file);
+// The library files (LatticeFile, readLatticeFile, writeLatticeFile) are declared in io/lattice_file.h.
 
 // ---- volume kinds (core/volume.h) -------------------------------------------------------------------------
 // Every lattice kind has a JSON form; a kind added to the engine registers its reader and writer here, and

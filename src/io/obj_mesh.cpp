@@ -20,6 +20,7 @@
 
 #include <tiny_obj_loader.h>
 
+#include "io/atomic_file.h"
 #include "io/huge_pages.h"
 #include "io/obj_scan.h"
 #include "io/polygon_triangulation.h"
@@ -42,7 +43,6 @@ bool cancelRequested(const ObjLoadProgress* progress) {
     return progress && progress->cancel.load(std::memory_order_relaxed);
 }
 
-std::string errnoText(int error) { return std::generic_category().message(error); }
 
 bool isPlainFileName(const std::string& name) {
     if (name.empty() || name == "." || name == "..") return false;

@@ -12,7 +12,8 @@ seconds="${1:-60}"
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="$root/build-fuzz"
 
-CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build" -DSCULPT_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+# SCULPT_UNITY: the instrumented libraries compile in batches (see the top-level CMakeLists.txt).
+CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build" -DSCULPT_FUZZ=ON -DSCULPT_UNITY=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" --target obj_fuzz mesh_fuzz -j2
 
 # Leaks inside third-party libraries (assimp's, on malformed files) are suppressed, as in CI's sanitizer run.

@@ -24,7 +24,7 @@
 #include "app/window/tools.h"
 #include "core/lattice_net.h"
 #include "gl_test_support.h"
-#include "io/lattice_json.h"
+#include "io/lattice_file.h"
 #include "io/png_image.h"
 #include "offscreen_window.h"
 #include "render/overlay_geometry.h"

@@ -17,7 +17,7 @@
 #include "app/window/picking.h"
 #include "core/script.h"
 #include "core/tspline_view.h"
-#include "io/lattice_json.h"
+#include "io/lattice_file.h"
 #include "render/camera.h"
 
 namespace sculpt::app {
