@@ -151,6 +151,18 @@ InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vecto
 InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptions& options = {},
                                         const std::vector<int>& cells = {});
 
+// The directional bound: a sufficient test for cells whose control displacements all lie along one line.
+// In a cell of a polynomial box lattice where every displaced control point of the support moves along the
+// same unit vector e (delta_c = s_c e), J = I + e grad(s)^T, so det J = 1 + e . grad s (the matrix determinant
+// lemma) = sum_a e_a (e . J_a) with J_a the Jacobian's columns, whose Bezier control vectors are the cell's
+// hodographs (section 7). Each e . J_a raised to the cell's degree along a, their weighted sum is det J in
+// Bernstein form, cancellation kept; a cell whose least coefficient exceeds 1e-9 is proven to have det J > 0 (Gain & Dodgson 2001, Theorem 1),
+// as is a cell with no displaced control point (det J = 1). The brush's pull fields (brush_field.h) are of
+// this kind, and certify here in O(coefficients) where the Bernstein test would subdivide.
+// Returns the cells of `cells` this does not prove (to pass to checkInjectivity), in order; every cell for a
+// net lattice, a rational lattice or an axis with a general knot vector.
+std::vector<int> cellsLeftByDirectionalBound(const Lattice& lattice, const std::vector<int>& cells);
+
 // The engine's entry point: Off -> Certified without looking; Conic / Exact as above (default options).
 // note: an empty `cells` means all cells, so a caller with nothing changed should skip the call rather
 // than pass an empty list.

@@ -284,9 +284,21 @@ void Session::reportSingleStep(std::vector<int> moved, OpReport& report) {
 
 bool Session::certifyCells(const Lattice& lattice, const std::vector<int>& cells, StepFailure& failure, double& injectivityMs) const {
     if (injectivity_.mode == InjectivityMode::Off || cells.empty()) return true;  // note: an empty list would mean "all cells"
-    const InjectivityResult verdict = checkInjectivity(lattice, injectivity_.mode, cells);
+    // Cells displaced along one line (a brush's pull) are proven by the directional bound; the rest by the test.
+    const auto start = Clock::now();
+    const std::vector<int> left = cellsLeftByDirectionalBound(lattice, cells);
+    injectivityMs += millisecondsSince(start);
+    if (left.empty()) return true;
+    InjectivityResult verdict = checkInjectivity(lattice, injectivity_.mode, left);
     injectivityMs += verdict.milliseconds;
     if (verdict.certified) return true;
+    if (injectivity_.mode == InjectivityMode::Conic) {
+        // The cone test is sufficient only: where it cannot decide, the exact test does (Gain & Dodgson 2001,
+        // section 6) before anything is called a fold.
+        verdict = checkInjectivity(lattice, InjectivityMode::Exact, left);
+        injectivityMs += verdict.milliseconds;
+        if (verdict.certified) return true;
+    }
     const auto& ijk = verdict.failingCellIjk;
     failure.cause = StepFailure::Cause::Lattice;
     failure.technical = std::string(injectivityModeName(injectivity_.mode)) + " test fails in " +
@@ -611,6 +623,7 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
         report.reason = "the constraints contradict each other or ask more than the free control points can give (largest miss " +
                         std::to_string(worst) + "): met as closely as possible; use fewer constraints, unpin points, or a finer lattice";
     }
+    if (!operation.steps.empty() && bakeLayers(operation.steps)) operation.steps.back().baked = true;  // the detail travels with the surface
     refineAfterEdit(operation, &report);
     pushOperation(std::move(operation));
     report.wallMs = millisecondsSince(start);
@@ -663,6 +676,22 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     if (constraints.empty()) return Status::error("drag has no constraints");
     if (Status s = checkBrush(brush); !s) return s;
     layerActive_ = false;
+    if (brush.active()) {
+        // A scripted brush drag is the window's stroke with one mouse move (session_brush.cpp).
+        std::vector<Eigen::Vector3d> sources, targets;
+        for (size_t f = 0; f < constraints.size(); ++f) {
+            const std::string which = "constraint " + std::to_string(f);
+            if (!constraints[f].target.allFinite()) return Status::error(which + " target has non-finite coordinates");
+            sources.push_back(constraints[f].source);
+            targets.push_back(constraints[f].target);
+        }
+        if (Status s = beginDragAt(sources, {}, brush); !s) return s;
+        const Status updated = updateDrag(targets, report);
+        endDrag();
+        report.op = "drag";
+        report.wallMs = millisecondsSince(start);
+        return updated;
+    }
     // The constraints as asked, their targets scaled by the brush's strength.
     std::vector<Eigen::Vector3d> sources, targets;
     for (size_t f = 0; f < constraints.size(); ++f) {
@@ -768,8 +797,13 @@ Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& 
         return Status::error("vertex index " + std::to_string(vertex) + " is out of range (mesh has " + std::to_string(positions_.rows()) +
                              " vertices)");
     Eigen::Vector3d params;
-    if (!brush.active())
-        if (Status s = parametersOfVertex(vertex, params); !s) return s;
+    if (!brush.active() && !parametersOfVertex(vertex, params)) {
+        // Sculpted out of the cage's box (a brush stroke goes where it is pulled): the cage cannot move it.
+        report.status = OpStatus::Rejected;
+        report.refusedBy = "setup";
+        report.reason = "vertex " + std::to_string(vertex) + " lies outside the lattice, which moves only what it holds: drag it with the brush, or set up a larger lattice";
+        return Status::success();
+    }
     const Status status = drag({PointConstraint{positions_.row(vertex).transpose(), target}}, report, brush);
     report.op = "drag_vertex";
     return status;

@@ -34,6 +34,7 @@
 #include <Eigen/Core>
 
 #include "core/brush.h"
+#include "core/brush_field.h"
 #include "core/direct_manipulation.h"
 #include "core/embedding.h"
 #include "core/injectivity.h"
@@ -183,6 +184,13 @@ struct Step {
     bool region = false;
     std::vector<int> regionFree;
     ControlDelta delta;        // the change of the control points (cage, or the layer this step made)
+    // After this step the layers (those this operation made, since the last baked step) were put into the rest
+    // shape the cage deforms (Session::bakeLayers); undo takes them out again first.
+    bool baked = false;
+    // Set when baked (made again by redo and replay, never recorded): the vertices whose rest point was outside
+    // the cage's box before, which unbaking puts outside again (once the cage's boundary has moved, a point
+    // outside the box can also be the image of one inside).
+    mutable std::vector<int> bakedOutside;
     std::vector<PointConstraint> constraints;  // drags: where the sources were before and after the step
     WeightChange weights;      // a weight change of the frozen T-spline, applied before `delta` (in the cage)
     mutable std::shared_ptr<WeightUndo> weightUndo;  // set when `weights` is applied; what undo puts back
@@ -546,6 +554,19 @@ private:
     // left, not once per layer removed (undoing a 10-step subdivided drag: no layer left to carry them through,
     // where popping one by one took 9 + 8 + ... + 1 layer evaluations per vertex).
     void popLayers(size_t count, std::vector<int>* moved);
+    // Detail travels with the surface (issue "Sculpting as a sculptor expects", point 1): the layers' change
+    // becomes part of the rest shape the cage deforms. Every vertex a layer moved gets the cage parameters of
+    // where it is now (Newton's method, locateDeformedPoint: the cage is injective, so they exist) and the
+    // rest point there; the layers are removed and the mesh keeps its positions. A later edit of the cage
+    // then carries the sculpted detail with the surface. Returns false (nothing changed) if a moved vertex has
+    // no preimage in the cage; the caller marks the operation's last step baked.
+    bool bakeLayers(const std::vector<Step>& steps);
+    // The same for every layer there is (redo and replay of a step recorded baked); outside: Step::bakedOutside.
+    bool bakeAllLayers(std::vector<int>* outside = nullptr);
+    // The inverse, before the baked step steps[last] is undone: the layers of steps (first, last] are put back
+    // after the cage and each vertex they moved gets its rest point back (through the layers' inverse, then
+    // the cage's, both by Newton), so the state is as it was before bakeLayers.
+    void unbakeLayers(const std::vector<Step>& steps, size_t last);
     void saveSnapshot(Snapshot& snapshot);
     // Multiplies (or divides) frozenJacobian_ by the det J of the layers at each vertex (when tracking).
     void accumulateLayersJacobian(bool divide);
@@ -577,6 +598,14 @@ private:
     // One increment of an interactive drag: `delta` in the current frame when that is injective, otherwise m
     // subdivided; merged into dragOperation_. Returns false (report says why, nothing changed) if rejected.
     bool applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report);
+    // One update of a brush stroke (session_brush.cpp): `steps` (the stroke's one step, or none) is replaced by
+    // the pull field for `pulls` (brush_field.h; each from where the stroke began), or by the largest share of
+    // it, to 1/64, that passes every check; with no share passing, the stroke stays as it was. Returns the
+    // share applied (0: none of this pull); failure: what stopped it when below 1. Sets lastMoved_.
+    double applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps, OpReport& report,
+                           StepFailure& failure);
+    // A brush drag's update: the stroke's pulls towards `targets` (one per dragMirror_ entry), with the report.
+    void updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
     // Adds an increment applied in the current frame to the interactive operation's last step (or a new one).
     void mergeInteractiveStep(const ControlDelta& delta);
     // A control point a user edit may move: inside the lattice and not pinned (the error names it).

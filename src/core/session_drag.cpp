@@ -61,24 +61,31 @@ Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const s
     layerActive_ = false;
     const auto isHeld = [&](size_t f) { return f < held.size() && held[f]; };
     std::vector<MirroredConstraint> mirror = mirrorConstraints(sources, held, brush.symmetry, symmetryCentre_, mirrorMergeDistance(brush));
-    Step pending;
     if (brush.active()) {
-        // The brush's region around every moving source and its mirror images (brush.h), and its profile.
-        std::vector<Eigen::Vector3d> centres;
-        for (const MirroredConstraint& c : mirror)
-            if (!isHeld(static_cast<size_t>(c.images.front().first))) centres.push_back(c.source);
-        addBrushProfile(mirror, held, brush.radius, brush.falloff);
-        if (centres.empty()) return Status::error("every source of the drag is held");
-        if (Status s = enterLayer(nullptr, &pending, nullptr, &brush, &centres); !s) return s;
-        // A held point outside the region needs no constraint: nothing moves there.
-        const Lattice& region = layers_.back().lattice;
-        mirror.erase(std::remove_if(mirror.begin(), mirror.end(), [&](const MirroredConstraint& c) {
-                         Eigen::Vector3d t;
-                         return isHeld(static_cast<size_t>(c.images.front().first)) && !restParameters(region, c.source, t);
-                     }),
-                     mirror.end());
+        // A stroke (session_brush.cpp): no lattice is solved at the start; every update places the pull field.
+        std::vector<bool> moving;
+        for (const MirroredConstraint& c : mirror) moving.push_back(!isHeld(static_cast<size_t>(c.images.front().first)));
+        if (std::find(moving.begin(), moving.end(), true) == moving.end()) return Status::error("every source of the drag is held");
+        dragOperation_ = Operation{};
+        dragOperation_.kind = OperationKind::Drag;
+        dragOperation_.interactive = true;
+        dragOperation_.label = "brush " + dragLabel(sources.size());
+        if (brush.symmetry.any()) dragOperation_.label += ", symmetric in " + symmetryText(brush.symmetry);
+        dragOperation_.brush = brush;
+        for (const Eigen::Vector3d& source : sources) dragOperation_.constraints.push_back({source, source});
+        dragSourceWorld_.clear();
+        for (const MirroredConstraint& c : mirror) dragSourceWorld_.push_back(c.source);
+        dragParams_.clear();
+        dragRegionCentre_ = std::move(moving);
+        dragAppliedInFrame_ = false;
+        dragMirrored_ = true;
+        dragUserStarts_ = sources;
+        dragMirror_ = std::move(mirror);
+        dragBrush_ = brush;
+        dragLayerPending_ = false;
+        dragActive_ = true;
+        return Status::success();
     }
-
     std::vector<Eigen::Vector3d> params(mirror.size());
     Status located = Status::success();
     for (size_t e = 0; e < mirror.size() && located; ++e) {
@@ -109,10 +116,7 @@ Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const s
         params = std::move(hard);
         located = precomputeDirectManipulation(activeLattice(), params, data);
     }
-    if (!located) {
-        if (brush.active()) popLayer(nullptr);
-        return located;
-    }
+    if (!located) return located;
     dragRegionCentre_.clear();
     for (const MirroredConstraint& c : mirror)
         dragRegionCentre_.push_back(c.weight == 1.0 && !isHeld(static_cast<size_t>(c.images.front().first)));
@@ -120,7 +124,7 @@ Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const s
     dragOperation_ = Operation{};
     dragOperation_.kind = OperationKind::Drag;
     dragOperation_.interactive = true;
-    dragOperation_.label = (brush.active() ? "brush " : "") + dragLabel(sources.size());
+    dragOperation_.label = dragLabel(sources.size());
     if (brush.symmetry.any()) dragOperation_.label += ", symmetric in " + symmetryText(brush.symmetry);
     dragOperation_.brush = brush;
     for (const Eigen::Vector3d& source : sources) dragOperation_.constraints.push_back({source, source});
@@ -132,8 +136,7 @@ Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const s
     dragUserStarts_ = sources;
     dragMirror_ = std::move(mirror);
     dragBrush_ = brush;
-    dragLayerPending_ = brush.active();
-    dragPendingLayer_ = pending;
+    dragLayerPending_ = false;
     dragActive_ = true;
     return Status::success();
 }
@@ -281,18 +284,10 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
         for (const MirroredConstraint& c : dragMirror_) targets.push_back(mirroredTarget(c, scaled, dragUserStarts_));
     }
 
-    // The brush's region is a ball around where the grabbed points began, which they cannot leave.
     if (dragMirrored_ && dragBrush_.active()) {
-        const double reach = 1.25 * dragBrush_.radius;
-        for (size_t e = 0; e < dragMirror_.size(); ++e)
-            if (dragRegionCentre_[e] && (targets[e] - dragMirror_[e].source).norm() >= 0.95 * reach) {
-                report.status = OpStatus::Rejected;
-                report.refusedBy = "brush";
-                report.reason = "Stopped at the brush's reach (1.25 x its radius from where the stroke began): release and pull "
-                                "again, or use a larger radius.";
-                report.wallMs = millisecondsSince(start);
-                return Status::success();
-            }
+        updateStroke(targets, report);
+        report.wallMs = millisecondsSince(start);
+        return Status::success();
     }
     Eigen::MatrixX3d increment(static_cast<Eigen::Index>(targets.size()), 3);
     for (size_t f = 0; f < targets.size(); ++f) {
@@ -347,6 +342,43 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
     report.verticesMoved = movedCount();
     report.wallMs = millisecondsSince(start);
     return Status::success();
+}
+
+void Session::updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport& report) {
+    // Every pull from where the stroke began (brush_field.h): the region follows it, however long.
+    std::vector<BrushPull> pulls;
+    for (size_t e = 0; e < dragMirror_.size(); ++e)
+        pulls.push_back({dragMirror_[e].source, dragRegionCentre_[e] ? Eigen::Vector3d(targets[e] - dragMirror_[e].source) : Eigen::Vector3d::Zero()});
+    StepFailure failure;
+    const double share = applyBrushPulls(pulls, dragBrush_, dragOperation_.steps, report, failure);
+    for (size_t e = 0; e < dragMirror_.size(); ++e)
+        dragSourceWorld_[e] = dragOperation_.steps.empty() ? dragMirror_[e].source : dragOperation_.steps.back().constraints[e].target;
+    for (size_t e = 0; e < dragMirror_.size(); ++e)
+        if (dragMirror_[e].images.front().second == 0)
+            dragOperation_.constraints[static_cast<size_t>(dragMirror_[e].images.front().first)].target = dragSourceWorld_[e];
+    report.fractionApplied = share;
+    report.subSteps = dragOperation_.steps.empty() ? 0 : 1;
+    report.controlPointsChanged = dragOperation_.steps.empty() ? 0 : static_cast<int>(dragOperation_.steps.back().delta.indices.size());
+    report.verticesMoved = movedCount();
+    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    for (size_t e = 0; e < dragMirror_.size(); ++e)
+        if (dragMirror_[e].images.front().second == 0) report.residuals.push_back((dragSourceWorld_[e] - targets[e]).norm());
+    if (share == 1.0) {
+        report.status = OpStatus::Applied;
+        return;
+    }
+    report.refusedBy = stepFailureCauseName(failure.cause);
+    if (share > 0.0) {
+        report.status = OpStatus::Applied;
+        report.reason = "Stopped at " + detail::percentText(share) + " of the pull, the last injective point: beyond it " +
+                        stepFailureWords(failure, true) + " (" + stepFailureAdvice(failure.cause) + ").";
+        return;
+    }
+    report.status = OpStatus::Rejected;
+    report.reason = failure.cause == StepFailure::Cause::SourceLeft
+                        ? "Refused: " + failure.technical + "."
+                        : "Refused: " + stepFailureWords(failure, true) + ". The stroke stays where it was; " + stepFailureAdvice(failure.cause) + ".";
+    report.injectivity = "rejected: " + failure.technical;
 }
 
 Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& report) {
@@ -431,6 +463,7 @@ void Session::endDrag() {
     dragLayerPending_ = false;
     layerActive_ = false;  // the next operation starts in the cage
     if (!dragOperation_.steps.empty()) {
+        if (bakeLayers(dragOperation_.steps)) dragOperation_.steps.back().baked = true;  // the detail travels with the surface
         refineAfterEdit(dragOperation_, nullptr);
         pushOperation(std::move(dragOperation_));
     }

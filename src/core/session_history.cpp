@@ -54,9 +54,10 @@ void Session::undoSteps(const std::vector<Step>& steps) {
     const auto isLayer = [](const Step& step) { return step.weights.empty() && step.freshFrame; };
     for (size_t i = steps.size(); i-- > 0;) {
         const Step& step = steps[i];
+        if (step.baked) unbakeLayers(steps, i);  // the layers it put into the rest shape come back first
         if (isLayer(step)) {
-            size_t run = 1;  // steps[i - run + 1 .. i] are layers, popped together
-            while (run <= i && isLayer(steps[i - run])) ++run;
+            size_t run = 1;  // steps[i - run + 1 .. i] are layers, popped together (not across another bake)
+            while (run <= i && isLayer(steps[i - run]) && !steps[i - run].baked) ++run;
             popLayers(run, &lastMoved_);
             i -= run - 1;
             continue;
@@ -91,6 +92,10 @@ void Session::redoStep(const Step& step) {
     else if (step.freshFrame) enterLayer(nullptr, nullptr, &step);
     else layerActive_ = false;  // a step without a lattice of its own is in the cage
     applyDelta(step.delta, 1.0, &lastMoved_);
+    if (step.baked) {
+        layerActive_ = false;
+        bakeAllLayers(&step.bakedOutside);
+    }
 }
 
 void Session::undoOperationBody(const Operation& operation) {

@@ -382,4 +382,222 @@ std::vector<double> Session::totalJacobianDeterminants() const {
     return det;
 }
 
+// ---- baking layers into the rest shape -----------------------------------------------------------------
+
+namespace {
+
+// The rest point the cage carries onto y: X0 with C(X0) = y (Newton, tight tolerance first), or, outside the box,
+// y itself (the cage leaves every point outside its box where it is; a vertex there is never embedded). Once
+// the cage's boundary has moved, a point outside the box can have both; `outsideFirst` picks the one on the
+// side the vertex's rest point was on, so baking and unbaking a vertex keep it on its side. False if none.
+bool cagePreimage(const Lattice& cage, const Eigen::Vector3d& y, bool outsideFirst, Eigen::Vector3d& rest) {
+    const bool outside = !cage.volume && ((y.array() < cage.boxMin.array()).any() || (y.array() > cage.boxMax.array()).any());
+    if (outside && outsideFirst) {
+        rest = y;
+        return true;
+    }
+    Eigen::Vector3d t;
+    if (locateDeformedPoint(cage, y, t, 1e-15) || locateDeformedPoint(cage, y, t, 1e-12)) {
+        rest = restPoint(cage, t);
+        return true;
+    }
+    if (outside) {
+        rest = y;
+        return true;
+    }
+    return false;
+}
+
+bool outsideBox(const Lattice& cage, const Eigen::Vector3d& rest) {
+    return !cage.volume && ((rest.array() < cage.boxMin.array()).any() || (rest.array() > cage.boxMax.array()).any());
+}
+
+// The unit direction every displaced control point of `lattice` moves along, or zero if they do not share one
+// (a brush stroke's pull field has one: brush_field.h).
+Eigen::Vector3d sharedDirection(const Lattice& lattice) {
+    double largest = 0.0;
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    const std::vector<int> displaced = displacedControlPoints(lattice);
+    for (int idx : displaced) {
+        const double norm = lattice.displacement.row(idx).norm();
+        if (norm > largest) {
+            largest = norm;
+            e = lattice.displacement.row(idx).transpose() / norm;
+        }
+    }
+    for (int idx : displaced) {
+        const Eigen::Vector3d d = lattice.displacement.row(idx).transpose();
+        if ((d - d.dot(e) * e).norm() > 1e-12 * largest) return Eigen::Vector3d::Zero();
+    }
+    return e;
+}
+
+// The preimage x of y under a layer that moves every point along e: x = y - lambda e with
+// g(lambda) = lambda - e . u(y - lambda e) = 0, and g' = 1 + e . grad(u . e) = det J > 0 (the field is
+// injective), so g is increasing and a safeguarded Newton iteration on the bracket [-M, M] (M: the largest
+// control displacement, which bounds u by the convex hull property) always converges.
+bool invertParallelLayer(const Lattice& layer, const Eigen::Vector3d& e, double bound, const Eigen::Vector3d& y, Eigen::Vector3d& x) {
+    const auto g = [&](double lambda, double* slope) {
+        const Eigen::Vector3d p = y - lambda * e;
+        Eigen::Vector3d t;
+        if (!restParameters(layer, p, t)) {
+            if (slope) *slope = 1.0;
+            return lambda;
+        }
+        Eigen::Vector3d displacement;
+        Eigen::Matrix3d jacobian;
+        deformationJacobian(layer, t, displacement, jacobian);
+        if (slope) *slope = e.dot(jacobian * e);
+        return lambda - e.dot(displacement);
+    };
+    double lo = -bound, hi = bound, lambda = 0.0;
+    for (int iteration = 0; iteration < 200; ++iteration) {
+        double slope = 1.0;
+        const double value = g(lambda, &slope);
+        if (value == 0.0) break;
+        (value < 0.0 ? lo : hi) = lambda;
+        double next = lambda - value / slope;
+        if (!(next > lo && next < hi) || !std::isfinite(next)) next = 0.5 * (lo + hi);
+        if (std::abs(next - lambda) <= 1e-17 * std::max(1.0, bound) || hi - lo <= 4e-16 * std::max(1.0, bound)) {
+            lambda = next;
+            break;
+        }
+        lambda = next;
+    }
+    x = y - lambda * e;
+    return std::isfinite(lambda);
+}
+
+double cageJacobianAt(const Lattice& cage, const Eigen::Vector3d& rest) {
+    Eigen::Vector3d t;
+    return restParameters(cage, rest, t) ? jacobianDeterminant(cage, t) : 1.0;
+}
+
+}  // namespace
+
+bool Session::bakeLayers(const std::vector<Step>& steps) {
+    // Only an operation's own layers (fresh-frame steps since its last baked step): layers an earlier operation
+    // could not bake stay after the cage, and so then do these.
+    size_t own = 0;
+    for (size_t k = steps.size(); k-- > 0 && (k + 1 == steps.size() || !steps[k].baked);)
+        own += steps[k].freshFrame && steps[k].weights.empty();
+    if (own != layers_.size()) return false;
+    return bakeAllLayers(&steps.back().bakedOutside);
+}
+
+bool Session::bakeAllLayers(std::vector<int>* outside) {
+    if (layers_.empty() || layerActive_) return false;
+    const int n = static_cast<int>(positions_.rows());
+    // Exactly the vertices some layer moved: their output differs from the cage's.
+    std::vector<int> moved;
+    for (int v = 0; v < n; ++v)
+        if (positions_.row(v) != cageOut_.row(v)) moved.push_back(v);
+    Positions rest(static_cast<Eigen::Index>(moved.size()), 3);
+    bool ok = true;
+    const int count = static_cast<int>(moved.size());
+#pragma omp parallel for schedule(static) if (count > 2048) reduction(&& : ok)
+    for (int c = 0; c < count; ++c) {
+        Eigen::Vector3d x = Eigen::Vector3d::Zero();
+        const int v = moved[static_cast<size_t>(c)];
+        const bool found = cagePreimage(lattice_, positions_.row(v).transpose(), outsideBox(lattice_, rest_.row(v).transpose()), x);
+        ok = ok && found;
+        rest.row(c) = x.transpose();
+    }
+    if (!ok) return false;  // the layers stay after the cage, as before
+    if (trackJacobian_) {
+        // The det J map multiplies the cage's det J at the rest point by frozenJacobian_: keep the product.
+        for (int c = 0; c < count; ++c) {
+            const int v = moved[static_cast<size_t>(c)];
+            const double before = cageJacobianAt(lattice_, rest_.row(v).transpose()) * layersJacobian(layers_, cageOut_.row(v).transpose());
+            const double after = cageJacobianAt(lattice_, rest.row(c).transpose());
+            frozenJacobian_[static_cast<size_t>(v)] *= before / after;
+        }
+    }
+    if (outside) {
+        outside->clear();
+        for (int v : moved)
+            if (outsideBox(lattice_, rest_.row(v).transpose())) outside->push_back(v);
+    }
+    for (int c = 0; c < count; ++c) rest_.row(moved[static_cast<size_t>(c)]) = rest.row(c);
+    layers_.clear();
+    cageOut_.resize(0, 3);
+    embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
+    return true;
+}
+
+void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
+    // The layers baked at steps[last]: the fresh-frame steps after the previous baked one.
+    size_t first = last;
+    while (first > 0 && !steps[first - 1].baked) --first;
+    layerActive_ = false;
+    for (size_t k = first; k <= last; ++k) {
+        if (!steps[k].freshFrame || !steps[k].weights.empty()) continue;
+        enterLayer(nullptr, nullptr, &steps[k]);
+        applyControlDelta(layers_.back().lattice, steps[k].delta, 1.0);
+        layerActive_ = false;
+    }
+    if (layers_.empty()) return;
+    if (cageOut_.rows() != positions_.rows()) cageOut_ = positions_;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
+    for (const Layer& layer : layers_) {
+        lo = lo.cwiseMin(layer.lattice.boxMin);
+        hi = hi.cwiseMax(layer.lattice.boxMax);
+        for (int idx : displacedControlPoints(layer.lattice)) {
+            lo = lo.cwiseMin(layer.lattice.controlPoint(idx));
+            hi = hi.cwiseMax(layer.lattice.controlPoint(idx));
+        }
+    }
+    // A stroke's layer moves along one line: inverted along it (always converges); other layers by Newton.
+    std::vector<Eigen::Vector3d> directions;
+    std::vector<double> bounds;
+    for (const Layer& layer : layers_) {
+        directions.push_back(sharedDirection(layer.lattice));
+        bounds.push_back(layer.lattice.displacement.rowwise().norm().maxCoeff() * (1.0 + 1e-9));
+    }
+    const auto invert = [&](const Eigen::Vector3d& y, Eigen::Vector3d& x) {
+        x = y;
+        for (size_t k = layers_.size(); k-- > 0;) {
+            const Lattice& layer = layers_[k].lattice;
+            Eigen::Vector3d below = x;
+            if (directions[k].squaredNorm() > 0.0) {
+                if (!invertParallelLayer(layer, directions[k], bounds[k], x, below)) return false;
+            } else {
+                // Newton to the last bit (undo is exact to 1e-12 x diagonal over many strokes); outside the region
+                // of the box and the displaced control points' hull, the layer is the identity.
+                Eigen::Vector3d regionLo = layer.boxMin, regionHi = layer.boxMax, params;
+                for (int idx : displacedControlPoints(layer)) {
+                    regionLo = regionLo.cwiseMin(layer.controlPoint(idx));
+                    regionHi = regionHi.cwiseMax(layer.controlPoint(idx));
+                }
+                if ((x.array() >= regionLo.array()).all() && (x.array() <= regionHi.array()).all()) {
+                    if (locateDeformedPoint(layer, x, params, 1e-15) || locateDeformedPoint(layer, x, params)) below = restPoint(layer, params);
+                    else if (restParameters(layer, x, params)) return false;
+                }
+            }
+            x = below;
+        }
+        return true;
+    };
+    const int n = static_cast<int>(positions_.rows());
+#pragma omp parallel for schedule(static) if (n > 4096)
+    for (int v = 0; v < n; ++v) {
+        const Eigen::Vector3d y = positions_.row(v).transpose();
+        if (!((y.array() >= lo.array()).all() && (y.array() <= hi.array()).all())) continue;
+        Eigen::Vector3d x = y, rest = y;
+        const bool inverted = invert(y, x);
+        const bool wasOutside = std::binary_search(steps[last].bakedOutside.begin(), steps[last].bakedOutside.end(), v);
+        if (!inverted || x == y || !cagePreimage(lattice_, x, wasOutside, rest)) continue;
+        if (trackJacobian_) {
+            const double baked = cageJacobianAt(lattice_, rest_.row(v).transpose());
+            const double unbaked = cageJacobianAt(lattice_, rest) * layersJacobian(layers_, x);
+            frozenJacobian_[static_cast<size_t>(v)] *= baked / unbaked;
+        }
+        rest_.row(v) = rest.transpose();
+        cageOut_.row(v) = x.transpose();
+    }
+    embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
+}
+
 }  // namespace sculpt::core

@@ -203,7 +203,8 @@ core::Operation parseApplied(const json& j, const std::string& path) {
     if (!steps.is_array() || (steps.empty() && operation.kind != core::OperationKind::Refine)) fail(path + ".steps", "expected a non-empty array");
     for (size_t k = 0; k < steps.size(); ++k) {
         const std::string sp = path + ".steps[" + std::to_string(k) + "]";
-        allowOnly(steps[k], sp, {"new_layer", "new_cage", "fresh_frame", "frame", "region_free", "lattice", "indices", "deltas", "constraints", "weights"});
+        allowOnly(steps[k], sp, {"new_layer", "new_cage", "fresh_frame", "frame", "region_free", "lattice", "indices", "deltas", "constraints", "weights",
+                                 "baked"});
         core::Step step;
         const auto flag = [&](const char* key) {
             if (!steps[k].contains(key)) return false;
@@ -212,6 +213,7 @@ core::Operation parseApplied(const json& j, const std::string& path) {
         };
         step.freshFrame = flag("new_layer");
         step.newCage = flag("new_cage");
+        step.baked = flag("baked");
         // note: recordings before layers said "fresh_frame" for both; a set-up's was a new cage.
         if (flag("fresh_frame")) (operation.kind == core::OperationKind::LatticeSetup ? step.newCage : step.freshFrame) = true;
         if (step.freshFrame && step.newCage) fail(sp, "a step cannot make both a new layer and a new cage");
@@ -754,6 +756,7 @@ json appliedJson(const core::Operation& operation) {
         if (step.freshFrame) k["new_layer"] = true;
         if (step.newCage) k["new_cage"] = true;
         if (step.region) k["region_free"] = step.regionFree;
+        if (step.baked) k["baked"] = true;
         if (step.freshFrame || step.newCage)
             k["frame"] = {{"min", vectorJson(step.frameMin)}, {"max", vectorJson(step.frameMax)}, {"pins_kept", step.framePinsKept}};
         if (!step.constraints.empty()) k["constraints"] = constraintsJson(step.constraints);

@@ -1,0 +1,232 @@
+// The brush's pull field and its region lattice (brush_field.h).
+#include "core/brush_field.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace sculpt::core {
+
+double segmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const Eigen::Vector3d ab = b - a;
+    const double length2 = ab.squaredNorm();
+    const double s = length2 > 0.0 ? std::clamp((x - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+    return (x - (a + s * ab)).norm();
+}
+
+double brushFieldSlope(double pullLength, double radius) {
+    // At most 0.7 (det J >= 0.3: margin for the spline's smoothing); steeper only where the ramp must end within 1.25 radius of the segment.
+    return std::max(0.7, pullLength / (pullLength + 0.75 * radius));
+}
+
+double brushFieldProfile(BrushFalloff falloff, double x) {
+    // The spline that carries the field smooths it over a knot span; a profile with a corner (sharp's peak) or an
+    // unbounded slope (medium's rim) would be smoothed into a dip along the pull. Rounded there, within 0.1.
+    x = std::clamp(x, 0.0, 1.0);
+    switch (falloff) {
+        case BrushFalloff::Smooth: return brushProfile(falloff, x);
+        case BrushFalloff::Medium: return std::min(brushProfile(falloff, x), 3.0 * (1.0 - x));  // meets it at x = 0.8
+        case BrushFalloff::Sharp: {
+            constexpr double a = 0.15;  // (1 - x)^2 beyond a, a parabola with a flat top inside, scaled to 1 at 0
+            const double top = 1.0 - a;
+            return (x >= a ? (1.0 - x) * (1.0 - x) : top - (1.0 - a) / a * x * x) / top;
+        }
+    }
+    return 0.0;
+}
+
+double brushFieldWeight(const BrushPull& pull, double radius, BrushFalloff falloff, const Eigen::Vector3d& x) {
+    const double length = pull.pull.norm();
+    if (!(length > 0.0)) return 0.0;
+    const Eigen::Vector3d e = pull.pull / length;
+    const Eigen::Vector3d offset = x - pull.source;
+    const double z = offset.dot(e);
+    if (z <= 0.0) return brushFieldProfile(falloff, offset.norm() / radius);  // behind: the falloff of the rest distance
+    const double lateral = (offset - z * e).norm();
+    if (lateral >= radius) return 0.0;
+    // Ahead: the least function above the falloff whose share falls by at most k / |d| per unit along e,
+    // phi(z) = max over 0 <= z' <= z of f(|(lateral, z')| / r) - k (z - z') / |d|.
+    const double k = brushFieldSlope(length, radius) / length;
+    const auto h = [&](double at) { return brushFieldProfile(falloff, std::sqrt(lateral * lateral + at * at) / radius) + k * at; };
+    constexpr int samples = 12;
+    double best = h(z), bestAt = z;
+    for (int i = 0; i < samples; ++i) {
+        const double at = z * i / samples;
+        const double value = h(at);
+        if (value > best) {
+            best = value;
+            bestAt = at;
+        }
+    }
+    // Golden-section refinement around the best sample (h is unimodal there for the falloff curves).
+    double lo = std::max(0.0, bestAt - z / samples), hi = std::min(z, bestAt + z / samples);
+    constexpr double golden = 0.6180339887498949;
+    for (int i = 0; i < 12; ++i) {
+        const double a = hi - golden * (hi - lo), b = lo + golden * (hi - lo);
+        if (h(a) > h(b)) hi = b;
+        else lo = a;
+    }
+    best = std::max(best, h(0.5 * (lo + hi)));
+    return std::clamp(best - k * z, 0.0, 1.0);
+}
+
+Status pullRegionLattice(const std::vector<BrushPull>& pulls, double radius, RegionLattice& out) {
+    if (!std::isfinite(radius) || radius <= 0.0) return Status::error("brush radius must be a finite number > 0");
+    const double reach = kBrushReach * radius;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
+    std::vector<const BrushPull*> moving;
+    for (const BrushPull& p : pulls) {
+        if (!p.source.allFinite() || !p.pull.allFinite()) return Status::error("a brush pull has non-finite coordinates");
+        if (!p.moving()) continue;
+        moving.push_back(&p);
+        lo = lo.cwiseMin(p.source.cwiseMin(p.source + p.pull));
+        hi = hi.cwiseMax(p.source.cwiseMax(p.source + p.pull));
+    }
+    if (moving.empty()) return Status::error("a brush stroke needs a grabbed point that moves");
+    constexpr int degree = 3;
+    RegionLattice region;
+    region.settings.degree = {degree, degree, degree};
+    region.settings.padding = 0.0;
+    region.settings.pinLayers = 0;
+    // One knot spacing for every axis (the field's derivative bound holds best on cubes), the finest of
+    // 8 spans a radius that keeps every axis within 64 control points.
+    double span = radius / kBrushFieldSpansPerRadius;
+    for (int a = 0; a < 3; ++a) span = std::max(span, (hi[a] - lo[a] + 2.0 * reach) / (kMaxControlPointsPerAxis - degree));
+    for (int a = 0; a < 3; ++a) {
+        const double extent = hi[a] - lo[a] + 2.0 * reach;
+        const int spans = std::clamp(static_cast<int>(std::ceil(extent / span - 1e-9)), 1, kMaxControlPointsPerAxis - degree);
+        const double width = spans * span;
+        const double middle = 0.5 * (lo[a] + hi[a]);
+        region.boxMin[a] = middle - 0.5 * width;
+        region.boxMax[a] = middle + 0.5 * width;
+        region.settings.resolution[a] = spans + degree;
+    }
+    std::array<SplineAxis, 3> axes;
+    for (int a = 0; a < 3; ++a) axes[a] = makeSplineAxis(region.settings.resolution[a], degree);
+    const std::array<int, 3> count = region.settings.resolution;
+    for (int k = 0; k < count[2]; ++k)
+        for (int j = 0; j < count[1]; ++j)
+            for (int i = 0; i < count[0]; ++i) {
+                const std::array<int, 3> c{i, j, k};
+                Eigen::Vector3d supportLo, supportHi;
+                for (int a = 0; a < 3; ++a) {
+                    const double size = region.boxMax[a] - region.boxMin[a];
+                    supportLo[a] = region.boxMin[a] + axes[a].knots[static_cast<size_t>(c[a])] * size;
+                    supportHi[a] = region.boxMin[a] + axes[a].knots[static_cast<size_t>(c[a] + degree + 1)] * size;
+                }
+                // The distance to a segment is convex, so its largest value on the support box is at a corner.
+                bool free = false;
+                for (const BrushPull* p : moving) {
+                    bool inside = true;
+                    for (int corner = 0; corner < 8 && inside; ++corner) {
+                        const Eigen::Vector3d x(corner & 1 ? supportHi[0] : supportLo[0], corner & 2 ? supportHi[1] : supportLo[1],
+                                                corner & 4 ? supportHi[2] : supportLo[2]);
+                        inside = segmentDistance(x, p->source, p->source + p->pull) <= reach;
+                    }
+                    if (inside) {
+                        free = true;
+                        break;
+                    }
+                }
+                if (free) region.freePoints.push_back(i + count[0] * (j + count[1] * k));
+            }
+    out = std::move(region);
+    return Status::success();
+}
+
+Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pulls, double radius, BrushFalloff falloff,
+                       ControlDelta& out, double& residual) {
+    const int n = region.controlPointCount();
+    std::vector<int> free;
+    for (int idx = 0; idx < n; ++idx)
+        if (!region.pinned[static_cast<size_t>(idx)]) free.push_back(idx);
+    // Sources inside the region, with their parameters; a source outside it is where the layer is the identity.
+    std::vector<size_t> constrained;
+    std::vector<Eigen::Vector3d> params;
+    for (size_t p = 0; p < pulls.size(); ++p) {
+        Eigen::Vector3d t;
+        if (restParameters(region, pulls[p].source, t)) {
+            constrained.push_back(p);
+            params.push_back(t);
+        } else if (pulls[p].moving()) {
+            return Status::error("a grabbed point lies outside its brush region");
+        }
+    }
+    // Each moving pull's field at the free control points' Greville points, and its value at every source.
+    std::vector<size_t> moving;
+    for (size_t p = 0; p < pulls.size(); ++p)
+        if (pulls[p].moving()) moving.push_back(p);
+    const size_t m = moving.size();
+    std::vector<Eigen::VectorXd> fields(m, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(free.size())));
+    for (size_t k = 0; k < m; ++k)
+        for (size_t c = 0; c < free.size(); ++c)
+            fields[k][static_cast<Eigen::Index>(c)] = brushFieldWeight(pulls[moving[k]], radius, falloff, region.restControlPoint(free[c]));
+    std::vector<int> slot(static_cast<size_t>(n), -1);
+    for (size_t c = 0; c < free.size(); ++c) slot[static_cast<size_t>(free[c])] = static_cast<int>(c);
+    // value[i][k]: field k's spline at constrained source i (partition of unity: the quasi-interpolant's value).
+    std::vector<std::vector<double>> value(constrained.size(), std::vector<double>(m, 0.0));
+    for (size_t i = 0; i < constrained.size(); ++i) {
+        SupportWeights support;
+        supportWeights(region, params[i], support);
+        for (int s = 0; s < support.count; ++s) {
+            const int c = slot[static_cast<size_t>(support.index[s])];
+            if (c < 0) continue;
+            for (size_t k = 0; k < m; ++k) value[i][k] += support.weight[s] * fields[k][c];
+        }
+    }
+    // Scales: each moving source's displacement along its own pull equals the pull's length.
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    Eigen::VectorXd b(static_cast<Eigen::Index>(m));
+    for (size_t i = 0; i < m; ++i) {
+        const size_t row = static_cast<size_t>(std::find(constrained.begin(), constrained.end(), moving[i]) - constrained.begin());
+        const Eigen::Vector3d e = pulls[moving[i]].pull.normalized();
+        for (size_t k = 0; k < m; ++k)
+            a(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = value[row][k] * pulls[moving[k]].pull.dot(e);
+        b[static_cast<Eigen::Index>(i)] = pulls[moving[i]].pull.norm();
+    }
+    Eigen::VectorXd scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(m));
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
+    if (m > 0 && lu.rank() == static_cast<Eigen::Index>(m)) scale = lu.solve(b);
+    if (!scale.allFinite()) scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(m));
+    Positions dense = Positions::Zero(static_cast<Eigen::Index>(free.size()), 3);
+    for (size_t k = 0; k < m; ++k)
+        dense += (scale[static_cast<Eigen::Index>(k)] * fields[k]) * pulls[moving[k]].pull.transpose();
+    // What the scales leave (held sources, crossing regions): the minimum-norm correction (Hu et al. eq. 12).
+    const auto sourceResiduals = [&](Eigen::MatrixX3d& rows) {
+        rows.resize(static_cast<Eigen::Index>(constrained.size()), 3);
+        for (size_t i = 0; i < constrained.size(); ++i) {
+            SupportWeights support;
+            supportWeights(region, params[i], support);
+            Eigen::Vector3d moved = Eigen::Vector3d::Zero();
+            for (int s = 0; s < support.count; ++s) {
+                const int c = slot[static_cast<size_t>(support.index[s])];
+                if (c >= 0) moved += support.weight[s] * dense.row(c).transpose();
+            }
+            rows.row(static_cast<Eigen::Index>(i)) = (pulls[constrained[i]].pull - moved).transpose();
+        }
+    };
+    Eigen::MatrixX3d rows;
+    sourceResiduals(rows);
+    if (rows.rows() > 0 && rows.rowwise().norm().maxCoeff() > 1e-13 * radius) {
+        DirectManipulationData data;
+        if (Status s = precomputeDirectManipulation(region, params, data); !s) return s;
+        const DirectManipulationResult solved = solveDirectManipulation(data, rows);
+        for (size_t c = 0; c < solved.delta.indices.size(); ++c) {
+            const int at = slot[static_cast<size_t>(solved.delta.indices[c])];
+            if (at >= 0) dense.row(at) += solved.delta.deltas.row(static_cast<Eigen::Index>(c));
+        }
+        sourceResiduals(rows);
+    }
+    residual = rows.rows() > 0 ? rows.rowwise().norm().maxCoeff() : 0.0;
+    if (!dense.allFinite()) return Status::error("the brush field is not finite");
+    out = ControlDelta{};
+    for (size_t c = 0; c < free.size(); ++c)
+        if (dense.row(static_cast<Eigen::Index>(c)).squaredNorm() > 0.0) out.indices.push_back(free[c]);
+    out.deltas.resize(static_cast<Eigen::Index>(out.indices.size()), 3);
+    for (size_t c = 0; c < out.indices.size(); ++c)
+        out.deltas.row(static_cast<Eigen::Index>(c)) = dense.row(slot[static_cast<size_t>(out.indices[c])]);
+    return Status::success();
+}
+
+}  // namespace sculpt::core
