@@ -623,8 +623,8 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
         report.reason = "the constraints contradict each other or ask more than the free control points can give (largest miss " +
                         std::to_string(worst) + "): met as closely as possible; use fewer constraints, unpin points, or a finer lattice";
     }
-    if (!operation.steps.empty() && bakeLayers(operation.steps)) operation.steps.back().baked = true;  // the detail travels with the surface
     refineAfterEdit(operation, &report);
+    if (!operation.steps.empty() && bakeLayers(operation.steps)) operation.steps.back().baked = true;  // the detail travels with the surface
     pushOperation(std::move(operation));
     report.wallMs = millisecondsSince(start);
     return Status::success();
@@ -719,7 +719,16 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
             // Solved in the cage: the source must lie in it (as the engine sees it: equal up to rounding).
             const std::string which = f < constraints.size() ? "constraint " + std::to_string(f) : "the mirror image of a constraint";
             Eigen::Vector3d params;
-            if (Status s = parametersOfCurrentPoint(m.sources[f], params); !s) return Status::error(which + " source: " + s.message);
+            if (Status s = parametersOfCurrentPoint(m.sources[f], params); !s) {
+                if (layers_.empty()) return Status::error(which + " source: " + s.message);
+                // Through the layers after the cage Newton's method found no cage point: refused, not an input error.
+                report.status = OpStatus::Rejected;
+                report.refusedBy = "setup";
+                report.reason = which + " source could not be traced back into the lattice through the layers after it (" + s.message +
+                                "); nothing was changed";
+                report.wallMs = millisecondsSince(start);
+                return Status::success();
+            }
             m.sources[f] = currentImage(params);
         }
         moves = moves || m.sources[f] != m.targets[f];
@@ -802,6 +811,16 @@ Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& 
         report.status = OpStatus::Rejected;
         report.refusedBy = "setup";
         report.reason = "vertex " + std::to_string(vertex) + " lies outside the lattice, which moves only what it holds: drag it with the brush, or set up a larger lattice";
+        return Status::success();
+    }
+    Eigen::Vector3d current;
+    if (!brush.active() && !parametersOfCurrentPoint(positions_.row(vertex).transpose(), current)) {
+        // The layers after the cage carry it where Newton's method finds no cage point for it (a mesh vertex, so
+        // not the user's mistake): refused, nothing changed.
+        report.status = OpStatus::Rejected;
+        report.refusedBy = "setup";
+        report.reason = "vertex " + std::to_string(vertex) + " could not be traced back into the lattice through the layers after it; "
+                        "nothing was changed (set up a fresh lattice around the mesh, or use the brush)";
         return Status::success();
     }
     const Status status = drag({PointConstraint{positions_.row(vertex).transpose(), target}}, report, brush);

@@ -563,6 +563,9 @@ private:
     bool bakeLayers(const std::vector<Step>& steps);
     // The same for every layer there is (redo and replay of a step recorded baked); outside: Step::bakedOutside.
     bool bakeAllLayers(std::vector<int>* outside = nullptr);
+    // bakeAllLayers if `step` was baked; bakeLastStep: for an operation's last step (after its refinement).
+    void bakeAfter(const Step& step);
+    void bakeLastStep(const Operation& operation);
     // The inverse, before the baked step steps[last] is undone: the layers of steps (first, last] are put back
     // after the cage and each vertex they moved gets its rest point back (through the layers' inverse, then
     // the cage's, both by Newton), so the state is as it was before bakeLayers.

@@ -22,6 +22,7 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
         popLayer(&moved);  // the stroke's layer is the newest: back to where the stroke began
         steps.clear();
     }
+    double residual = 0.0;
     const auto attempt = [&](double share) {
         std::vector<BrushPull> scaled = pulls;
         for (BrushPull& p : scaled) p.pull *= share;
@@ -43,7 +44,7 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
             failure.technical = s.message;
             return false;
         }
-        double residual = 0.0;
+        residual = 0.0;
         Status solved = brushFieldDelta(layers_.back().lattice, scaled, brush.radius, brush.falloff, step.delta, residual);
         if (!solved || !tryDelta(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs)) {
             if (!solved) {
@@ -88,6 +89,13 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
         applyDelta(previous.delta, 1.0, &moved);
         layerActive_ = false;
         steps.push_back(previous);
+    }
+    // Held points (pins inside the region) and crossing regions are met by the minimum-norm correction; where
+    // the free control points cannot, the report says so.
+    if (share > 0.0 && residual > 1e-9 * brush.radius) {
+        report.rankDeficient = true;
+        report.reason = "the held points and the pull ask more than the brush's region can give (largest miss " + std::to_string(residual) +
+                        "): met as closely as possible";
     }
     std::sort(moved.begin(), moved.end());
     moved.erase(std::unique(moved.begin(), moved.end()), moved.end());

@@ -463,8 +463,8 @@ void Session::endDrag() {
     dragLayerPending_ = false;
     layerActive_ = false;  // the next operation starts in the cage
     if (!dragOperation_.steps.empty()) {
-        if (bakeLayers(dragOperation_.steps)) dragOperation_.steps.back().baked = true;  // the detail travels with the surface
         refineAfterEdit(dragOperation_, nullptr);
+        if (bakeLayers(dragOperation_.steps)) dragOperation_.steps.back().baked = true;  // the detail travels with the surface
         pushOperation(std::move(dragOperation_));
     }
     dragOperation_ = Operation{};

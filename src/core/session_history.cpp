@@ -92,10 +92,16 @@ void Session::redoStep(const Step& step) {
     else if (step.freshFrame) enterLayer(nullptr, nullptr, &step);
     else layerActive_ = false;  // a step without a lattice of its own is in the cage
     applyDelta(step.delta, 1.0, &lastMoved_);
-    if (step.baked) {
-        layerActive_ = false;
-        bakeAllLayers(&step.bakedOutside);
-    }
+}
+
+void Session::bakeAfter(const Step& step) {
+    if (!step.baked) return;
+    layerActive_ = false;
+    bakeAllLayers(&step.bakedOutside);
+}
+
+void Session::bakeLastStep(const Operation& operation) {
+    if (!operation.steps.empty()) bakeAfter(operation.steps.back());
 }
 
 void Session::undoOperationBody(const Operation& operation) {
@@ -110,8 +116,16 @@ void Session::undoOperationBody(const Operation& operation) {
 }
 
 void Session::redoOperationBody(const Operation& operation) {
-    for (const Operation& part : operation.parts) redoOperationBody(part);
-    for (const Step& step : operation.steps) redoStep(step);
+    for (const Operation& part : operation.parts) {
+        redoOperationBody(part);
+        bakeLastStep(part);
+    }
+    // A step baked within the operation (a group's) is baked again where it was; the last one after the
+    // refinement (redo, replay), as the operation did it.
+    for (size_t k = 0; k < operation.steps.size(); ++k) {
+        redoStep(operation.steps[k]);
+        if (k + 1 < operation.steps.size()) bakeAfter(operation.steps[k]);
+    }
     if (operation.parts.empty() && operation.kind == OperationKind::LatticeTools) applyToolChange(operation, true);
     if (operation.parts.empty() && (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup))
         frozenTool_ = operation.frozenAfter;
@@ -237,6 +251,7 @@ Status Session::redo(OpReport& report) {
     lastMovedAll_ = false;
     redoOperationBody(operation);
     reapplyRefinement(history_[static_cast<size_t>(cursor_ - 1)]);
+    bakeLastStep(operation);
     journal_.push_back(JournalEntry{JournalEntry::Kind::Redo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;
@@ -319,7 +334,10 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     }
     lastMoved_.clear();
     lastMovedAll_ = false;
-    for (const Step& step : operation.steps) redoStep(step);
+    for (size_t k = 0; k < operation.steps.size(); ++k) {
+        redoStep(operation.steps[k]);
+        if (k + 1 < operation.steps.size() && !cancelled) bakeAfter(operation.steps[k]);
+    }
     if (operation.kind == OperationKind::LatticeSetup && !cancelled) frozenTool_ = operation.frozenAfter;
     layerActive_ = false;
     report.status = OpStatus::Applied;
@@ -334,6 +352,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     } else {
         pushOperation(operation);
         reapplyRefinement(history_.back());
+        bakeLastStep(history_.back());
         report.reason = "replayed " + operation.label + " as recorded (" + std::to_string(report.subSteps) + " steps)";
     }
     report.verticesMoved = movedCount();

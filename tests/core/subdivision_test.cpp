@@ -170,7 +170,9 @@ static void runRandomOperationsUndoRedo(unsigned seed, int operationCount) {
         const double size = kind == 9 ? 0.8 : 0.08;  // some large moves that must be subdivided or rejected
         if (kind < 5) {
             const int v = inside[test::randomInt(rng, 0, static_cast<int>(inside.size()) - 1)];
-            REQUIRE(session.dragVertex(v, session.positions().row(v).transpose() + size * test::randomVector(rng, -1, 1), report).ok);
+            const Status dragged = session.dragVertex(v, session.positions().row(v).transpose() + size * test::randomVector(rng, -1, 1), report);
+            INFO(dragged.message);
+            REQUIRE(dragged.ok);
         } else if (kind < 8 || kind == 9) {
             std::vector<PointConstraint> constraints;
             for (int f = 0; f < 3; ++f) {
