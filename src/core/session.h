@@ -627,6 +627,8 @@ private:
     void redoOperationBody(const Operation& operation);
     // How many vertices the last command moved (all of them when a frame was entered or left).
     int movedCount() const;
+    // lastMoved_ = the vertices whose rows differ from `before` (undo, redo).
+    void countChangedVertices(const Positions& before);
     void redoStep(const Step& step);
 
     Positions original_, rest_, positions_;

@@ -17,6 +17,25 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
     std::vector<int> moved;
     Step previous;
     const bool hadStep = !steps.empty();
+    // Only vertices in the last step's box or within reach of the new pulls can change: their rows as they are,
+    // so the report counts the vertices whose position this update changed (trials taken back do not count).
+    Eigen::Vector3d reachLo = Eigen::Vector3d::Constant(INFINITY), reachHi = Eigen::Vector3d::Constant(-INFINITY);
+    if (hadStep) {
+        reachLo = steps.back().frameMin;
+        reachHi = steps.back().frameMax;
+    }
+    for (const BrushPull& p : pulls) {
+        if (!p.moving()) continue;
+        const Eigen::Vector3d reach = Eigen::Vector3d::Constant(kBrushReach * brush.radius);
+        reachLo = reachLo.cwiseMin(p.source.cwiseMin(p.source + p.pull) - reach);
+        reachHi = reachHi.cwiseMax(p.source.cwiseMax(p.source + p.pull) + reach);
+    }
+    std::vector<int> candidates;
+    for (Eigen::Index v = 0; v < positions_.rows(); ++v)
+        if ((positions_.row(v).transpose().array() >= reachLo.array()).all() && (positions_.row(v).transpose().array() <= reachHi.array()).all())
+            candidates.push_back(static_cast<int>(v));
+    Positions rowsBefore(static_cast<Eigen::Index>(candidates.size()), 3);
+    for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = positions_.row(candidates[c]);
     if (hadStep) {
         previous = steps.back();
         popLayer(&moved);  // the stroke's layer is the newest: back to where the stroke began
@@ -97,9 +116,10 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
         report.reason = "the held points and the pull ask more than the brush's region can give (largest miss " + std::to_string(residual) +
                         "): met as closely as possible";
     }
-    std::sort(moved.begin(), moved.end());
-    moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
-    lastMoved_ = std::move(moved);
+    (void)moved;
+    lastMoved_.clear();
+    for (size_t c = 0; c < candidates.size(); ++c)
+        if (positions_.row(candidates[c]) != rowsBefore.row(static_cast<Eigen::Index>(c))) lastMoved_.push_back(candidates[c]);
     lastMovedAll_ = false;
     return share;
 }

@@ -78,6 +78,17 @@ void Session::revertSteps(const std::vector<Step>& steps) {
     undoSteps(steps);
 }
 
+void Session::countChangedVertices(const Positions& before) {
+    // The vertices whose positions differ (a refinement's added or removed vertices count as changed), so undo
+    // and redo of one operation report the same count, never more than the mesh has.
+    if (lastMovedAll_) return;
+    const Eigen::Index common = std::min(before.rows(), positions_.rows());
+    lastMoved_.clear();
+    for (Eigen::Index v = 0; v < common; ++v)
+        if (positions_.row(v) != before.row(v)) lastMoved_.push_back(static_cast<int>(v));
+    for (Eigen::Index v = common; v < positions_.rows(); ++v) lastMoved_.push_back(static_cast<int>(v));
+}
+
 int Session::movedCount() const {
     return lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
 }
@@ -223,8 +234,10 @@ Status Session::undo(OpReport& report) {
     const Operation& operation = history_[--cursor_];
     lastMoved_.clear();
     lastMovedAll_ = false;
+    const Positions before = positions_;  // to count what changed (not kept: the history holds no mesh)
     undoOperationBody(operation);
     removeRefinement(operation.refinement);
+    countChangedVertices(before);
     journal_.push_back(JournalEntry{JournalEntry::Kind::Undo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
@@ -249,9 +262,11 @@ Status Session::redo(OpReport& report) {
     const Operation& operation = history_[cursor_++];
     lastMoved_.clear();
     lastMovedAll_ = false;
+    const Positions before = positions_;
     redoOperationBody(operation);
     reapplyRefinement(history_[static_cast<size_t>(cursor_ - 1)]);
     bakeLastStep(operation);
+    countChangedVertices(before);
     journal_.push_back(JournalEntry{JournalEntry::Kind::Redo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;

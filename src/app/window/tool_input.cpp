@@ -288,6 +288,12 @@ void SculptApp::updateSculpt(double x, double y) {
     ++drag.moves;
     if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state_);
     if (!s || report.status == core::OpStatus::Rejected) ++drag.refused;
+    const bool stopped = s && report.status == core::OpStatus::Applied && report.fractionApplied < 1.0;
+    if (stopped) ++drag.stoppedShort;
+    if (!s || report.status == core::OpStatus::Rejected || stopped) {
+        const std::string& by = report.refusedBy;
+        ++(by == "lattice" ? drag.byFold : by == "triangles" ? drag.byCrossing : by == "boundary" ? drag.byBoundary : drag.byOther);
+    }
     reportOperation(state_, report, s,
                     drag.kind == DragKind::Control ? "Moving " + countOf(drag.controlPoints.size(), "control point") : std::string());
     state_.gpu.fields = true;
@@ -305,7 +311,19 @@ void SculptApp::endSculpt() {
     if (finished.moves == 0) return;  // a click (selecting, placing): its own message stays
     std::string text = recorded ? "Drag recorded as one undo step (" + countOf(static_cast<size_t>(finished.moves), "move")
                                 : "Drag changed nothing (" + countOf(static_cast<size_t>(finished.moves), "move");
-    if (finished.refused > 0) text += ", " + std::to_string(finished.refused) + " refused as not injective";
+    // What stopped the moves that did not go all the way, each named as what it is.
+    std::vector<std::string> parts;
+    if (finished.stoppedShort > 0) parts.push_back(std::to_string(finished.stoppedShort) + " stopped short");
+    if (finished.refused > 0) parts.push_back(std::to_string(finished.refused) + " refused");
+    if (!parts.empty()) {
+        std::vector<std::string> causes;
+        if (finished.byFold > 0) causes.push_back(std::to_string(finished.byFold) + " where the mesh would fold");
+        if (finished.byCrossing > 0) causes.push_back(std::to_string(finished.byCrossing) + " where the surface would cross itself");
+        if (finished.byBoundary > 0) causes.push_back(std::to_string(finished.byBoundary) + " where the lattice boundary would overlap");
+        if (finished.byOther > 0) causes.push_back(std::to_string(finished.byOther) + " for another reason");
+        text += ", " + parts[0] + (parts.size() > 1 ? " and " + parts[1] : std::string());
+        for (size_t c = 0; c < causes.size(); ++c) text += (c == 0 ? ": " : ", ") + causes[c];
+    }
     text += ").";
     if (finished.refused > 0 && state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected) {
         std::string why = state_.lastReport.reason.empty() ? state_.lastReport.injectivity : state_.lastReport.reason;
