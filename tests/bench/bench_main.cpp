@@ -26,6 +26,9 @@
 #include "core/lattice.h"
 #include "core/self_intersection.h"
 #include "core/session.h"
+#include "core/vertex_normals.h"
+#include "../core/cgal_meshes.h"
+#include "../core/mesh_fixtures.h"
 #ifdef SCULPT_BENCH_RENDER
 #include "render_bench.h"
 #endif
@@ -356,6 +359,101 @@ void benchTriangleCheck() {
     }
 }
 
+// The brush on real meshes (issue "Sculpting as a sculptor expects", point 5): 100 random strokes on each of
+// three of CGAL's meshes, and one brush move on a 1M-vertex sphere.
+void benchBrush() {
+    if (wanted("strokes_real")) {
+        for (const char* name : {"elephant.off", "camel.off", "armadillo.off"}) {
+            Positions positions, normals;
+            Triangles triangles;
+            std::string error;
+            if (!test::loadCgalMesh(name, positions, triangles, error)) {
+                std::fprintf(stderr, "strokes_real: %s\n", error.c_str());
+                continue;
+            }
+            computeVertexNormals(positions, triangles, normals);
+            const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+            const size_t initialPairs = test::intersectingPairs(positions, triangles).size();
+            Session session;
+            session.setMesh(positions, triangles);
+            std::mt19937 rng(2026);
+            std::uniform_real_distribution<double> unit(0.0, 1.0);
+            int full = 0, stopped = 0, refused = 0, crossings = 0;
+            std::vector<double> profiles, moveMs;
+            for (int stroke = 0; stroke < 100; ++stroke) {
+                BrushSettings brush;
+                brush.radius = (0.03 + 0.12 * unit(rng)) * diagonal;
+                brush.falloff = static_cast<BrushFalloff>(stroke % 3);
+                if (stroke % 4 == 3) brush.symmetry.mirror[0] = true;
+                session.setInjectivity({stroke % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6});
+                const int v = std::uniform_int_distribution<int>(0, static_cast<int>(positions.rows()) - 1)(rng);
+                const Eigen::Vector3d n = normals.row(v).transpose();
+                const int kind = stroke % 3;  // along the normal, a tangent, inward
+                const Eigen::Vector3d direction = kind == 0 ? n : kind == 1 ? n.unitOrthogonal() : Eigen::Vector3d(-n);
+                const double pull = (0.1 + 2.9 * unit(rng)) * brush.radius;
+                const Eigen::Vector3d source = positions.row(v).transpose();
+                OpReport report;
+                session.dragVertex(v, source + pull * direction, report, brush);
+                moveMs.push_back(report.wallMs);
+                if (report.status != OpStatus::Applied) {
+                    ++refused;
+                    continue;
+                }
+                (report.fractionApplied == 1.0 ? full : stopped) += 1;
+                // The independent exact triangle test (tests/core/mesh_fixtures.h), on the whole mesh.
+                crossings += static_cast<int>(test::intersectingPairs(session.positions(), triangles).size() - initialPairs);
+                if (kind == 0 && report.fractionApplied == 1.0 && !brush.symmetry.any()) {
+                    double squares = 0.0;
+                    int within = 0;
+                    for (Eigen::Index r = 0; r < positions.rows(); ++r) {
+                        const double rho = (positions.row(r) - positions.row(v)).norm();
+                        if (rho >= brush.radius) continue;
+                        const double share = (session.positions().row(r) - positions.row(r)).dot(direction.transpose()) / pull;
+                        squares += std::pow(share - brushProfile(brush.falloff, rho / brush.radius), 2);
+                        ++within;
+                    }
+                    if (within > 0) profiles.push_back(std::sqrt(squares / within));
+                }
+                session.undo(report);
+            }
+            char extra[320];
+            std::snprintf(extra, sizeof extra,
+                          "\"mesh\": \"%s\", \"applied_in_full\": %d, \"stopped_short\": %d, \"refused\": %d, \"profile_rms_median\": %.3f, "
+                          "\"profiles\": %zu, \"crossing_pairs\": %d",
+                          name, full, stopped, refused, profiles.empty() ? NAN : bench::median(profiles), profiles.size(), crossings);
+            bench::printCase("strokes_real", positions.rows(), bench::median(moveMs), extra);
+        }
+    }
+    if (wanted("brush_move_1m")) {
+        Positions positions;
+        Triangles triangles;
+        sphereMesh(1000000, positions, triangles);
+        Session session;
+        session.setMesh(positions, triangles);
+        const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+        BrushSettings brush;
+        brush.radius = 0.05 * diagonal;
+        const int v = static_cast<int>(positions.rows()) / 3;
+        const Eigen::Vector3d source = positions.row(v).transpose();
+        const Eigen::Vector3d normal = source.normalized();
+        std::vector<double> injectivity, triangle;
+        OpReport report;
+        int step = 0;
+        session.beginDragAt({source}, {}, brush);
+        const double ms = bench::medianMs(10, [&] {
+            ++step;
+            session.updateDrag({source + 0.1 * step * brush.radius * normal}, report);
+            injectivity.push_back(report.injectivityMs);
+            triangle.push_back(report.triangleCheckMs);
+        });
+        session.endDrag();
+        char extra[200];
+        std::snprintf(extra, sizeof extra, "\"status\": \"%s\", \"vertices_moved\": %d, \"injectivity_ms\": %.2f, \"triangle_check_ms\": %.2f",
+                      opStatusName(report.status), report.verticesMoved, bench::median(injectivity), bench::median(triangle));
+        bench::printCase("brush_move_1m", positions.rows(), ms, extra);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -373,6 +471,7 @@ int main(int argc, char** argv) {
     sculpt::bench::runIoBenchmarks(gFilters);
     benchSubdivision();
     benchTriangleCheck();
+    benchBrush();
 #ifdef SCULPT_BENCH_RENDER
     if (wanted("render") || wanted("upload") || wanted("full_update")) sculpt::render::runRenderBenchmarks(std::cout);
     if (wanted("gpu_drag_1m") || wanted("gpu_drag_10m"))
