@@ -601,7 +601,8 @@ private:
     // One increment of an interactive drag: `delta` in the current frame when that is injective, otherwise m
     // subdivided; merged into dragOperation_. Returns false (report says why, nothing changed) if rejected.
     bool applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report);
-    // One update of a brush stroke (session_brush.cpp): `steps` (the stroke's one step, or none) is replaced by
+    // One update of a brush stroke (session_brush.cpp): `steps` (the stroke's steps: a layer per moving grabbed
+    // image, each its own pull; or none) is replaced by
     // the pull field for `pulls` (brush_field.h; each from where the stroke began), or by the largest share of
     // it, to 1/64, that passes every check; with no share passing, the stroke stays as it was. Returns the
     // share applied (0: none of this pull); failure: what stopped it when below 1. Sets lastMoved_.
@@ -609,6 +610,7 @@ private:
                            StepFailure& failure);
     // A brush drag's update: the stroke's pulls towards `targets` (one per dragMirror_ entry), with the report.
     void updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
+    std::vector<Eigen::Vector3d> strokeReached_;  // applyBrushPulls: where each grabbed image is now
     // Adds an increment applied in the current frame to the interactive operation's last step (or a new one).
     void mergeInteractiveStep(const ControlDelta& delta);
     // A control point a user edit may move: inside the lattice and not pinned (the error names it).

@@ -15,14 +15,13 @@ using detail::millisecondsSince;
 double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps,
                                 OpReport& report, StepFailure& failure) {
     std::vector<int> moved;
-    Step previous;
     const bool hadStep = !steps.empty();
     // Only vertices in the last step's box or within reach of the new pulls can change: their rows as they are,
     // so the report counts the vertices whose position this update changed (trials taken back do not count).
     Eigen::Vector3d reachLo = Eigen::Vector3d::Constant(INFINITY), reachHi = Eigen::Vector3d::Constant(-INFINITY);
-    if (hadStep) {
-        reachLo = steps.back().frameMin;
-        reachHi = steps.back().frameMax;
+    for (const Step& step : steps) {
+        reachLo = reachLo.cwiseMin(step.frameMin);
+        reachHi = reachHi.cwiseMax(step.frameMax);
     }
     for (const BrushPull& p : pulls) {
         if (!p.moving()) continue;
@@ -36,46 +35,67 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
             candidates.push_back(static_cast<int>(v));
     Positions rowsBefore(static_cast<Eigen::Index>(candidates.size()), 3);
     for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = positions_.row(candidates[c]);
+    std::vector<Step> previous;
     if (hadStep) {
-        previous = steps.back();
-        popLayer(&moved);  // the stroke's layer is the newest: back to where the stroke began
+        previous = steps;
+        popLayers(steps.size(), &moved);  // the stroke's layers are the newest: back to where the stroke began
         steps.clear();
     }
     double residual = 0.0;
+    std::vector<Eigen::Vector3d> where;  // each grabbed image, where the layers entered so far put it
+    // One layer per moving image, each a field along its own pull (brush_field.h), so every layer is proven by
+    // the directional bound and undone along its line; the images already placed are held where they are.
     const auto attempt = [&](double share) {
-        std::vector<BrushPull> scaled = pulls;
-        for (BrushPull& p : scaled) p.pull *= share;
-        RegionLattice region;
-        if (Status s = pullRegionLattice(scaled, brush.radius, region); !s) {
-            failure.cause = StepFailure::Cause::SourceLeft;
-            failure.technical = s.message;
-            return false;
-        }
-        Step step;
-        step.freshFrame = true;
-        step.region = true;
-        step.settings = region.settings;
-        step.frameMin = region.boxMin;
-        step.frameMax = region.boxMax;
-        step.regionFree = std::move(region.freePoints);
-        if (Status s = enterLayer(nullptr, nullptr, &step); !s) {
-            failure.cause = StepFailure::Cause::SourceLeft;
-            failure.technical = s.message;
-            return false;
-        }
+        where.clear();
+        for (const BrushPull& p : pulls) where.push_back(p.source);
         residual = 0.0;
-        Status solved = brushFieldDelta(layers_.back().lattice, scaled, brush.radius, brush.falloff, step.delta, residual);
-        if (!solved || !tryDelta(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs)) {
-            if (!solved) {
+        size_t entered = 0;
+        const auto fail = [&](const Status& s) {
+            if (!s) {
                 failure.cause = StepFailure::Cause::SourceLeft;
-                failure.technical = solved.message;
+                failure.technical = s.message;
             }
-            popLayer(nullptr);
+            popLayers(entered, &moved);
+            steps.resize(steps.size() - entered);
             return false;
+        };
+        for (size_t k = 0; k < pulls.size(); ++k) {
+            if (!pulls[k].moving()) continue;
+            std::vector<BrushPull> local;
+            for (size_t j = 0; j < pulls.size(); ++j)
+                local.push_back(j == k ? BrushPull{where[k], pulls[k].source + share * pulls[k].pull - where[k]} : BrushPull{where[j], Eigen::Vector3d::Zero()});
+            if (!local[k].moving()) continue;
+            RegionLattice region;
+            if (Status s = pullRegionLattice(local, brush.radius, region); !s) return fail(s);
+            Step step;
+            step.freshFrame = true;
+            step.region = true;
+            step.settings = region.settings;
+            step.frameMin = region.boxMin;
+            step.frameMax = region.boxMax;
+            step.regionFree = std::move(region.freePoints);
+            if (Status s = enterLayer(nullptr, nullptr, &step); !s) return fail(s);
+            double miss = 0.0;
+            Status solved = brushFieldDelta(layers_.back().lattice, local, brush.radius, brush.falloff, step.delta, miss);
+            if (!solved) {
+                popLayer(nullptr);
+                return fail(solved);
+            }
+            if (!tryDelta(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs)) {
+                popLayer(nullptr);
+                return fail(Status::success());
+            }
+            layerActive_ = false;
+            residual = std::max(residual, miss);
+            const Lattice& layer = layers_.back().lattice;
+            for (Eigen::Vector3d& w : where) {
+                Eigen::Vector3d t;
+                if (restParameters(layer, w, t)) w += displacementAt(layer, t);
+            }
+            for (size_t j = 0; j < local.size(); ++j) step.constraints.push_back({local[j].source, local[j].source + local[j].pull});
+            steps.push_back(std::move(step));
+            ++entered;
         }
-        layerActive_ = false;
-        for (const BrushPull& p : scaled) step.constraints.push_back({p.source, p.source + p.pull});
-        steps.push_back(std::move(step));
         return true;
     };
     double share = 0.0;
@@ -92,7 +112,7 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
                 const double mid = 0.5 * (lo + hi);
                 if (attempt(mid)) {
                     lo = mid;
-                    popLayer(&moved);
+                    popLayers(steps.size(), &moved);
                     steps.clear();
                 } else {
                     hi = mid;
@@ -104,11 +124,19 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
     }
     if (share == 0.0 && hadStep && moving) {
         // Nothing of this pull passes: the stroke stays where the last update left it (already certified).
-        enterLayer(nullptr, nullptr, &previous);
-        applyDelta(previous.delta, 1.0, &moved);
-        layerActive_ = false;
-        steps.push_back(previous);
+        for (const Step& step : previous) {
+            enterLayer(nullptr, nullptr, &step);
+            applyDelta(step.delta, 1.0, &moved);
+            layerActive_ = false;
+        }
+        steps = previous;
     }
+    // Where the grabbed images are now: the last layer's constraints hold every image's place.
+    strokeReached_.clear();
+    if (!steps.empty())
+        for (const PointConstraint& c : steps.back().constraints) strokeReached_.push_back(c.target);
+    else
+        for (const BrushPull& p : pulls) strokeReached_.push_back(p.source);
     // Held points (pins inside the region) and crossing regions are met by the minimum-norm correction; where
     // the free control points cannot, the report says so.
     if (share > 0.0 && residual > 1e-9 * brush.radius) {

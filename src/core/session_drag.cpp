@@ -352,13 +352,14 @@ void Session::updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport
     StepFailure failure;
     const double share = applyBrushPulls(pulls, dragBrush_, dragOperation_.steps, report, failure);
     for (size_t e = 0; e < dragMirror_.size(); ++e)
-        dragSourceWorld_[e] = dragOperation_.steps.empty() ? dragMirror_[e].source : dragOperation_.steps.back().constraints[e].target;
+        dragSourceWorld_[e] = strokeReached_[e];
     for (size_t e = 0; e < dragMirror_.size(); ++e)
         if (dragMirror_[e].images.front().second == 0)
             dragOperation_.constraints[static_cast<size_t>(dragMirror_[e].images.front().first)].target = dragSourceWorld_[e];
     report.fractionApplied = share;
-    report.subSteps = dragOperation_.steps.empty() ? 0 : 1;
-    report.controlPointsChanged = dragOperation_.steps.empty() ? 0 : static_cast<int>(dragOperation_.steps.back().delta.indices.size());
+    report.subSteps = static_cast<int>(dragOperation_.steps.size());
+    report.controlPointsChanged = 0;
+    for (const Step& step : dragOperation_.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
     report.verticesMoved = movedCount();
     report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
     for (size_t e = 0; e < dragMirror_.size(); ++e)

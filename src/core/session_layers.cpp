@@ -579,7 +579,11 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
                     else if (restParameters(layer, x, params)) return false;
                 }
             }
-            x = below;
+            // A point the layer left where it was (no displacement at its preimage) comes back as itself bitwise,
+            // not moved by Newton's last bits.
+            Eigen::Vector3d at;
+            const bool fixed = (below - x).norm() <= 1e-14 * layer.diagonal() && restParameters(layer, below, at) && displacementAt(layer, at).isZero(0.0);
+            if (!fixed) x = below;
         }
         return true;
     };

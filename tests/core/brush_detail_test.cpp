@@ -196,3 +196,53 @@ TEST_CASE("brush reach: on real meshes, pulls of 0.5 to 3 radii along the normal
     CHECK(full >= total * 85 / 100);
     CHECK(withinProfile >= profiled * 80 / 100);
 }
+
+TEST_CASE("brush counts: undo and redo of a stroke report the same vertices, those whose positions changed", "[core][brush]") {
+    std::mt19937 rng(17);
+    const Mesh mesh = realMesh("elephant.off");
+    Session session;
+    REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
+    for (int trial = 0; trial < 6; ++trial) {
+        BrushSettings brush;
+        brush.radius = (0.04 + 0.02 * trial) * mesh.diagonal;
+        brush.symmetry.mirror[0] = trial % 2 == 1;
+        const int v = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
+        const Positions before = session.positions();
+        OpReport stroke, undo, redo;
+        REQUIRE(session.dragVertex(v, before.row(v).transpose() + (0.5 + trial * 0.4) * brush.radius * mesh.normals.row(v).transpose(), stroke, brush).ok);
+        if (stroke.status != OpStatus::Applied) continue;
+        const Positions after = session.positions();
+        int changed = 0;
+        for (Eigen::Index r = 0; r < before.rows(); ++r) changed += before.row(r) != after.row(r);
+        INFO("trial " << trial);
+        CHECK(stroke.verticesMoved == changed);
+        REQUIRE(session.undo(undo).ok);
+        CHECK((session.positions() - before).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+        REQUIRE(session.redo(redo).ok);
+        CHECK(undo.verticesMoved == redo.verticesMoved);
+        CHECK(undo.verticesMoved <= mesh.positions.rows());
+        CHECK(std::abs(undo.verticesMoved - changed) <= changed / 50 + 1);  // the same vertices, up to rounding to zero
+    }
+}
+
+TEST_CASE("brush crossings: strokes on a real mesh make no triangle pair cross, by the independent exact test", "[core][brush]") {
+    std::mt19937 rng(2026);
+    const Mesh mesh = realMesh("elephant.off");
+    const size_t initial = test::intersectingPairs(mesh.positions, mesh.triangles).size();
+    Session session;
+    REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
+    for (int stroke = 0; stroke < 12; ++stroke) {
+        BrushSettings brush;
+        brush.radius = (0.03 + 0.01 * stroke) * mesh.diagonal;
+        brush.falloff = static_cast<BrushFalloff>(stroke % 3);
+        const int v = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
+        const Eigen::Vector3d n = mesh.normals.row(v).transpose();
+        const Eigen::Vector3d direction = stroke % 3 == 0 ? n : stroke % 3 == 1 ? n.unitOrthogonal() : Eigen::Vector3d(-n);
+        OpReport report;
+        REQUIRE(session.dragVertex(v, mesh.positions.row(v).transpose() + (0.2 + 0.25 * stroke) * brush.radius * direction, report, brush).ok);
+        INFO("stroke " << stroke << ": " << report.reason);
+        CHECK(test::intersectingPairs(session.positions(), mesh.triangles).size() == initial);
+        REQUIRE(session.undo(report).ok);
+        CHECK((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+    }
+}
