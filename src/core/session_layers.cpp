@@ -450,14 +450,17 @@ bool invertParallelLayer(const Lattice& layer, const Eigen::Vector3d& e, double 
         if (slope) *slope = e.dot(jacobian * e);
         return lambda - e.dot(displacement);
     };
-    double lo = -bound, hi = bound, lambda = 0.0;
+    double lo = -bound, hi = bound, lambda = 0.0, previous = INFINITY;
     for (int iteration = 0; iteration < 200; ++iteration) {
         double slope = 1.0;
         const double value = g(lambda, &slope);
         if (value == 0.0) break;
         (value < 0.0 ? lo : hi) = lambda;
         double next = lambda - value / slope;
-        if (!(next > lo && next < hi) || !std::isfinite(next)) next = 0.5 * (lo + hi);
+        // Newton where it converges; bisection where it leaves the bracket or does not halve |g| (it can cycle
+        // between the steep and the flat side of the root).
+        if (!(next > lo && next < hi) || !std::isfinite(next) || std::abs(value) > 0.5 * previous) next = 0.5 * (lo + hi);
+        previous = std::abs(value);
         if (std::abs(next - lambda) <= 1e-17 * std::max(1.0, bound) || hi - lo <= 4e-16 * std::max(1.0, bound)) {
             lambda = next;
             break;
@@ -465,7 +468,7 @@ bool invertParallelLayer(const Lattice& layer, const Eigen::Vector3d& e, double 
         lambda = next;
     }
     x = y - lambda * e;
-    return std::isfinite(lambda);
+    return std::isfinite(lambda) && std::abs(g(lambda, nullptr)) <= 1e-12 * std::max(1.0, bound);
 }
 
 double cageJacobianAt(const Lattice& cage, const Eigen::Vector3d& rest) {
