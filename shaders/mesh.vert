@@ -31,8 +31,9 @@ out vec3 vVertexColor;
 //   0-2 control points per axis, 3-5 degree per axis (1 to 5), 6-8 knot spans per axis, 9-11 where each axis's
 //   span polynomials start in uBasis, 12-14 where its first-function table starts, 15 where the lattice's control
 //   points start in uControl, 16-18 the box's corner (GPU frame), 19-21 spans / box size (GPU frame: the local
-//   coordinate per unit of X).
-const int kTableStride = 24;
+//   coordinate per unit of X), 22-30 the rows of the box's axes A (core/lattice.h: the identity but for a brush
+//   stroke's layer, turned to its pull; the corner is then in box coordinates, (boxMin - A origin) / scale).
+const int kTableStride = 32;
 uniform int uLatticeCount;  // 1 + the number of layers
 // Per control point id i + Nu (j + Nv k) (after the lattice's offset): displacement delta (GPU frame units) in
 // xyz, NURBS weight W in w.
@@ -83,6 +84,11 @@ void axisBasis(int lattice, int axis, int span, float x, out float value[kMaxOrd
     first = int(texelFetch(uBasis, tableInt(lattice, 12 + axis) + span).r + 0.5);
 }
 
+// The box's axes A (rows in the table; GLSL's constructor takes columns, hence the transpose).
+mat3 boxAxes(int lattice) {
+    return transpose(mat3(tableVector(lattice, 22), tableVector(lattice, 25), tableVector(lattice, 28)));
+}
+
 // One lattice's map y -> y + D(t) at the point in knot span `span` with local coordinates `local`, and its
 // Jacobian I + dD/dy multiplied onto `jacobian` (the chain rule through the lattices so far).
 void applyLattice(int lattice, ivec3 span, vec3 local, inout vec3 position, inout mat3 jacobian) {
@@ -119,9 +125,9 @@ void applyLattice(int lattice, ivec3 span, vec3 local, inout vec3 position, inou
     // D = N / S and its partials by the quotient rule (S = 1, partials 0, for unit weights).
     vec3 d = n / s;
     vec3 perUnit = tableVector(lattice, 19);
-    mat3 step = mat3(vec3(1.0, 0.0, 0.0) + (nx - d * sx) / s * perUnit.x,
-                     vec3(0.0, 1.0, 0.0) + (ny - d * sy) / s * perUnit.y,
-                     vec3(0.0, 0.0, 1.0) + (nz - d * sz) / s * perUnit.z);
+    // dD/db (columns: along the box's axes), then dx/dy = I + dD/db A (A = I but for a turned box).
+    mat3 dDdb = mat3((nx - d * sx) / s * perUnit.x, (ny - d * sy) / s * perUnit.y, (nz - d * sz) / s * perUnit.z);
+    mat3 step = mat3(1.0) + dDdb * boxAxes(lattice);
     position += d;
     jacobian = step * jacobian;
 }
@@ -138,7 +144,7 @@ void deform(vec3 rest, vec3 restNormal, out vec3 position, out vec3 normal) {
     }
     for (int layer = 1; layer < uLatticeCount; ++layer) {
         // The layer's parameters of the point as it is now, times its spans: u * spans per axis.
-        vec3 t = (position - tableVector(layer, 16)) * tableVector(layer, 19);
+        vec3 t = (boxAxes(layer) * position - tableVector(layer, 16)) * tableVector(layer, 19);
         ivec3 spans = tableInts(layer, 6);
         if (any(lessThan(t, vec3(0.0))) || any(greaterThan(t, vec3(spans)))) continue;  // outside its box: the identity
         ivec3 span = min(ivec3(floor(t)), spans - 1);

@@ -93,7 +93,8 @@ void addBrushProfile(std::vector<MirroredConstraint>& constraints, const std::ve
 // The region-of-interest lattice of a brush drag grabbing `centres` (world points; the drag's sources).
 struct RegionLattice {
     LatticeSettings settings;       // resolution and degree (pin layers 0: the pins are `freePoints`' complement)
-    Eigen::Vector3d boxMin = Eigen::Vector3d::Zero(), boxMax = Eigen::Vector3d::Zero();
+    Eigen::Vector3d boxMin = Eigen::Vector3d::Zero(), boxMax = Eigen::Vector3d::Zero();  // in box coordinates
+    Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // the box's axes (Lattice::boxAxes): turned to a pull
     std::vector<int> freePoints;    // sorted ids of the control points that may move; every other one is pinned
 };
 // Fails on no centres, a non-finite centre, or a radius that is not finite and > 0. The box is the centres'

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -74,18 +75,35 @@ double brushFieldWeight(const BrushPull& pull, double radius, BrushFalloff fallo
 Status pullRegionLattice(const std::vector<BrushPull>& pulls, double radius, RegionLattice& out) {
     if (!std::isfinite(radius) || radius <= 0.0) return Status::error("brush radius must be a finite number > 0");
     const double reach = kBrushReach * radius;
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
     std::vector<const BrushPull*> moving;
     for (const BrushPull& p : pulls) {
         if (!p.source.allFinite() || !p.pull.allFinite()) return Status::error("a brush pull has non-finite coordinates");
-        if (!p.moving()) continue;
-        moving.push_back(&p);
-        lo = lo.cwiseMin(p.source.cwiseMin(p.source + p.pull));
-        hi = hi.cwiseMax(p.source.cwiseMax(p.source + p.pull));
+        if (p.moving()) moving.push_back(&p);
     }
     if (moving.empty()) return Status::error("a brush stroke needs a grabbed point that moves");
-    constexpr int degree = 3;
     RegionLattice region;
+    // One moving pull: the box is turned so that its w axis is the pull. Along a parameter axis the spline's
+    // derivative is a convex combination of the divided differences of its coefficients (de Boor), and those
+    // of the field's samples at the Greville points are means of the field's own derivative along the pull:
+    // det J = 1 + e . grad(u . e) keeps the field's bound for every falloff, however steep across the pull.
+    // The box is also no larger than the capsule's: |d| + 2.5 r long, 2.5 r wide.
+    if (moving.size() == 1) {
+        const Eigen::Vector3d e = moving.front()->pull.normalized();
+        const Eigen::Vector3d u = e.unitOrthogonal(), v = e.cross(u);
+        region.axes.row(0) = u.transpose();
+        region.axes.row(1) = v.transpose();
+        region.axes.row(2) = e.transpose();
+    }
+    // The segments in box coordinates.
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
+    for (const BrushPull* p : moving) {
+        const Eigen::Vector3d a = region.axes * p->source, b = region.axes * (p->source + p->pull);
+        segments.emplace_back(a, b);
+        lo = lo.cwiseMin(a.cwiseMin(b));
+        hi = hi.cwiseMax(a.cwiseMax(b));
+    }
+    constexpr int degree = 3;
     region.settings.degree = {degree, degree, degree};
     region.settings.padding = 0.0;
     region.settings.pinLayers = 0;
@@ -117,12 +135,15 @@ Status pullRegionLattice(const std::vector<BrushPull>& pulls, double radius, Reg
                 }
                 // The distance to a segment is convex, so its largest value on the support box is at a corner.
                 bool free = false;
-                for (const BrushPull* p : moving) {
+                for (const auto& [a, b] : segments) {
                     bool inside = true;
                     for (int corner = 0; corner < 8 && inside; ++corner) {
                         const Eigen::Vector3d x(corner & 1 ? supportHi[0] : supportLo[0], corner & 2 ? supportHi[1] : supportLo[1],
                                                 corner & 4 ? supportHi[2] : supportLo[2]);
-                        inside = segmentDistance(x, p->source, p->source + p->pull) <= reach;
+                        // note: on the capsule's side the distance is the lateral one whatever the corner's w, so every
+                        // point of a column along the pull must get the same answer; the grid is centred on the
+                        // segment, and ties (a corner at exactly 1.25 r) fall on the inside instead of to rounding.
+                        inside = segmentDistance(x, a, b) <= reach * (1.0 + 1e-9);
                     }
                     if (inside) {
                         free = true;

@@ -65,6 +65,7 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
     // The parameters are the box's linear map (restParameters), inlined here: this runs on every re-embedding.
     // A lattice of another kind freezes each vertex (Coquillart 1990, 3.3) once, in pass 1, into scratchParams.
     const bool net = lattice.volume != nullptr;
+    const bool turned = lattice.boxTurned;  // a turned box (lattice.h): its coordinates are boxAxes * x
     // A volume that is not one tensor product: its cells are its chunks (Volume::chunkOf).
     const Volume* chunked = lattice.volume && !lattice.tensorNet() ? lattice.volume.get() : nullptr;
     auto parameters = [&](int v, double t[3]) {
@@ -72,6 +73,15 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
             const double* frozen = &e.scratchParams[3 * static_cast<size_t>(v)];
             if (!(frozen[0] >= 0.0)) return false;  // NaN marks a vertex outside every chunk
             for (int a = 0; a < 3; ++a) t[a] = frozen[a];
+            return true;
+        }
+        if (turned) {
+            const Eigen::Vector3d b = lattice.boxAxes * Eigen::Vector3d(positions[3 * static_cast<size_t>(v)], positions[3 * static_cast<size_t>(v) + 1],
+                                                                        positions[3 * static_cast<size_t>(v) + 2]);
+            for (int a = 0; a < 3; ++a) {
+                if (!(b[a] >= lo[a] && b[a] <= hi[a])) return false;
+                t[a] = std::clamp((b[a] - lo[a]) / (hi[a] - lo[a]), 0.0, 1.0);
+            }
             return true;
         }
         for (int a = 0; a < 3; ++a) {

@@ -311,6 +311,7 @@ double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3
             jacobian(c, 1) = (c == 1 ? 1.0 : 0.0) + dv[c] / size[1];
             jacobian(c, 2) = (c == 2 ? 1.0 : 0.0) + dw[c] / size[2];
         }
+        if (lattice.boxTurned) jacobian = Eigen::Matrix3d::Identity() + (jacobian - Eigen::Matrix3d::Identity()) * lattice.boxAxes;  // lattice.h
         return jacobian.determinant();
     }
     // Rational: homogeneous sums as in deformationJacobian (lattice.cpp): N = sum W B delta, W = sum W B,
@@ -336,7 +337,8 @@ double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3
     // Quotient rule for D = N / W.
     const Eigen::Matrix3d dDisplacementDt =
         (numeratorGrad - (numerator / denominator) * denominatorGrad.transpose()) / denominator;
-    const Eigen::Matrix3d jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal();
+    const Eigen::Matrix3d turn = lattice.boxTurned ? lattice.boxAxes : Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal() * turn;
     return jacobian.determinant();
 }
 

@@ -53,7 +53,54 @@ Eigen::Vector3d Lattice::restControlPoint(int idx) const {
     const std::array<int, 3> c = ijk(idx);
     Eigen::Vector3d p;
     for (int a = 0; a < 3; ++a) p[a] = boxMin[a] + axes[a].greville[c[a]] * (boxMax[a] - boxMin[a]);
-    return p;
+    return boxTurned ? Eigen::Vector3d(boxAxes.transpose() * p) : p;
+}
+
+Status turnBoxLattice(Lattice& lattice, const Eigen::Matrix3d& axes) {
+    if (lattice.volume) return Status::error("only a box lattice can be turned");
+    if (!axes.allFinite() || !(axes * axes.transpose()).isIdentity(1e-12) || !(std::abs(axes.determinant() - 1.0) <= 1e-12))
+        return Status::error("a lattice's box axes must be orthonormal and right-handed");
+    lattice.boxAxes = axes;
+    lattice.boxTurned = axes != Eigen::Matrix3d::Identity();
+    return Status::success();
+}
+
+void turnedBoxBounds(const Eigen::Matrix3d& axes, const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax, Eigen::Vector3d& lo,
+                     Eigen::Vector3d& hi) {
+    if (axes == Eigen::Matrix3d::Identity()) {
+        lo = boxMin;
+        hi = boxMax;
+        return;
+    }
+    lo = Eigen::Vector3d::Constant(INFINITY);
+    hi = Eigen::Vector3d::Constant(-INFINITY);
+    for (int corner = 0; corner < 8; ++corner) {
+        const Eigen::Vector3d b(corner & 1 ? boxMax[0] : boxMin[0], corner & 2 ? boxMax[1] : boxMin[1], corner & 4 ? boxMax[2] : boxMin[2]);
+        const Eigen::Vector3d x = axes.transpose() * b;
+        lo = lo.cwiseMin(x);
+        hi = hi.cwiseMax(x);
+    }
+}
+
+void worldBoxBounds(const Lattice& lattice, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+    turnedBoxBounds(lattice.boxAxes, lattice.boxMin, lattice.boxMax, lo, hi);
+}
+
+void deformationBounds(const Lattice& lattice, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+    worldBoxBounds(lattice, lo, hi);
+    for (int idx : displacedControlPoints(lattice)) {
+        lo = lo.cwiseMin(lattice.controlPoint(idx));
+        hi = hi.cwiseMax(lattice.controlPoint(idx));
+    }
+}
+
+Lattice unturnedLattice(const Lattice& lattice) {
+    Lattice out = lattice;
+    if (!lattice.boxTurned) return out;
+    out.displacement = lattice.displacement * lattice.boxAxes.transpose();  // rows (A delta)^T = delta^T A^T
+    out.boxAxes.setIdentity();
+    out.boxTurned = false;
+    return out;
 }
 
 Status validateLatticeSettings(const LatticeSettings& s) {
@@ -204,6 +251,10 @@ Status makeLattice(const LatticeSettings& settings, const Positions& points, Lat
 
 bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen::Vector3d& params) {
     if (lattice.volume) return lattice.volume->freeze(point, params);
+    return restParametersInBox(lattice, toBoxCoordinates(lattice, point), params);
+}
+
+bool restParametersInBox(const Lattice& lattice, const Eigen::Vector3d& point, Eigen::Vector3d& params) {
     Eigen::Vector3d t;
     for (int a = 0; a < 3; ++a) {
         if (!(point[a] >= lattice.boxMin[a] && point[a] <= lattice.boxMax[a])) return false;  // also rejects NaN
@@ -267,7 +318,7 @@ Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& pa
 }
 
 Eigen::Vector3d restPoint(const Lattice& lattice, const Eigen::Vector3d& params) {
-    if (!lattice.volume) return lattice.boxMin + params.cwiseProduct(lattice.boxMax - lattice.boxMin);
+    if (!lattice.volume) return fromBoxCoordinates(lattice, lattice.boxMin + params.cwiseProduct(lattice.boxMax - lattice.boxMin));
     Eigen::Vector3d rest;
     lattice.volume->evaluate(lattice.volume->restControlPoints(), params, rest);
     return rest;
@@ -360,7 +411,9 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
         dDisplacementDt = (numeratorGrad - displacement * denominatorGrad.transpose()) / denominator;
     }
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
-    jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal();
+    // dx/dX0 = I + dD/dt dt/db db/dX0, with db/dX0 = boxAxes for a turned box.
+    if (lattice.boxTurned) jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal() * lattice.boxAxes;
+    else jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal();
 }
 
 Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deformedPoint, Eigen::Vector3d& params,
@@ -374,13 +427,19 @@ Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deform
     }
     const double diagonal = lattice.diagonal();
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
-    Eigen::Vector3d rest = deformedPoint.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+    // In box coordinates (a turned box: b = A x, the residual A (x + D) - A y, the Jacobian A J A^T).
+    const Eigen::Vector3d target = toBoxCoordinates(lattice, deformedPoint);
+    Eigen::Vector3d rest = target.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
     for (int iteration = 0; iteration < 60; ++iteration) {
         const Eigen::Vector3d t = ((rest - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
         Eigen::Vector3d displacement;
         Eigen::Matrix3d jacobian;
         deformationJacobian(lattice, t, displacement, jacobian);
-        const Eigen::Vector3d residual = rest + displacement - deformedPoint;
+        if (lattice.boxTurned) {
+            displacement = lattice.boxAxes * displacement;
+            jacobian = lattice.boxAxes * jacobian * lattice.boxAxes.transpose();
+        }
+        const Eigen::Vector3d residual = rest + displacement - target;
         if (residual.norm() <= tolerance * diagonal) {
             params = t;
             return Status::success();

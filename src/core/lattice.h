@@ -58,6 +58,12 @@ struct Lattice {
     std::array<SplineAxis, 3> axes;
     Eigen::Vector3d boxMin = Eigen::Vector3d::Zero();
     Eigen::Vector3d boxMax = Eigen::Vector3d::Ones();
+    // A box lattice may be turned: row a of boxAxes is the unit world direction of parameter axis a (an
+    // orthonormal, right-handed frame), boxMin/boxMax are in box coordinates b = boxAxes * x, and the control
+    // displacements stay world vectors. The brush aligns its region with the pull this way (brush_field.h).
+    // boxTurned is false exactly when boxAxes is the identity (the cage, subdivision layers, every net).
+    Eigen::Matrix3d boxAxes = Eigen::Matrix3d::Identity();
+    bool boxTurned = false;
     std::vector<double> weights;        // #P NURBS weights W_ijk (all 1 unless the user changes them)
     bool rational = false;              // some weight differs from 1
     Positions displacement;             // #P x 3, delta_ijk accumulated since set-up
@@ -101,10 +107,36 @@ Status latticeBox(const LatticeSettings& settings, const Positions& points, Eige
 Status makeLatticeInBox(const LatticeSettings& settings, const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax,
                         Lattice& out);
 
+// Turns a box lattice: `axes` (rows: the world directions of parameter axes u, v, w) must be orthonormal and
+// right-handed to 1e-12 (fails otherwise, lattice untouched); boxMin/boxMax are then read in box coordinates.
+// The identity un-turns it. A lattice of another kind (volume) cannot be turned.
+Status turnBoxLattice(Lattice& lattice, const Eigen::Matrix3d& axes);
+// Box coordinates of a world point (boxAxes * x; x itself for an unturned lattice), and back.
+inline Eigen::Vector3d toBoxCoordinates(const Lattice& lattice, const Eigen::Vector3d& x) {
+    return lattice.boxTurned ? Eigen::Vector3d(lattice.boxAxes * x) : x;
+}
+inline Eigen::Vector3d fromBoxCoordinates(const Lattice& lattice, const Eigen::Vector3d& b) {
+    return lattice.boxTurned ? Eigen::Vector3d(lattice.boxAxes.transpose() * b) : b;
+}
+// The world axis-aligned bounds of the lattice's box (of its turned box: the bounds of its 8 corners).
+void worldBoxBounds(const Lattice& lattice, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
+// The same for a box [boxMin, boxMax] in the coordinates of `axes` (rows: world directions).
+void turnedBoxBounds(const Eigen::Matrix3d& axes, const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax, Eigen::Vector3d& lo,
+                     Eigen::Vector3d& hi);
+// Where the lattice's map can differ from the identity or put a point: the world bounds of its box and of its
+// displaced control points (the convex hull property of the B-spline volume). Outside it the map is the identity.
+void deformationBounds(const Lattice& lattice, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
+// The same deformation seen in box coordinates: an unturned copy whose displacements are boxAxes * delta. Its
+// Jacobian is boxAxes J boxAxes^T, so det J and every injectivity verdict are the turned lattice's.
+Lattice unturnedLattice(const Lattice& lattice);
+
 // Parameters t in [0,1]^3 of a rest-space point, by the linear map of the box (O(1), no iteration).
 // Returns false (t untouched) for points outside the closed box; points on a face get exactly 0 or 1.
 // A net lattice freezes the point (freezePoint: Newton per chunk, Coquillart 1990, 3.3); false outside it.
 bool restParameters(const Lattice& lattice, const Eigen::Vector3d& point, Eigen::Vector3d& params);
+
+// restParameters of a box lattice for a point given in box coordinates (toBoxCoordinates).
+bool restParametersInBox(const Lattice& lattice, const Eigen::Vector3d& boxPoint, Eigen::Vector3d& params);
 
 // R_ijk(t) for the (p+1)(q+1)(r+1) control points whose basis is non-zero at t (Hu et al. 2001, eq. 2).
 // Welded control points are reported once, on their representative, with the sum of their basis functions

@@ -13,7 +13,6 @@ void latticeBoundarySurface(const Lattice& lattice, int samplesPerSpan, Position
     std::vector<int> id(static_cast<size_t>(n[0]) * n[1] * n[2], -1);
     const auto node = [&](int i, int j, int k) -> int& { return id[static_cast<size_t>(i) + static_cast<size_t>(n[0]) * (j + static_cast<size_t>(n[1]) * k)]; };
     std::vector<Eigen::Vector3d> points;
-    const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
     const LatticeNet* net = lattice.tensorNet();
     assert(net || !lattice.volume);  // tensor kinds only (header)
     // A net lattice's sample nodes that are one point of the volume share one id: the periodic seam's last
@@ -45,7 +44,7 @@ void latticeBoundarySurface(const Lattice& lattice, int samplesPerSpan, Position
                     evaluateNetVolume(*net, net->rest, t, rest);
                     points.push_back(rest + displacementAt(lattice, t));
                 } else {
-                    points.push_back(lattice.boxMin + t.cwiseProduct(size) + displacementAt(lattice, t));
+                    points.push_back(restPoint(lattice, t) + displacementAt(lattice, t));
                 }
             }
     for (int k = 0; k < n[2]; ++k)

@@ -134,6 +134,7 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
 #pragma omp parallel for schedule(dynamic, 256) if (n > 2000)
     for (int v = 0; v < n; ++v) {
         const Eigen::Vector3d y = deformed.row(v).transpose();
+        const Eigen::Vector3d yBox = toBoxCoordinates(lattice, y);  // Newton runs in box coordinates (lattice.h)
         Eigen::Vector3d t;
         // A point whose own displacement is exactly zero is its own preimage (the map is injective), so
         // vertices the frame never moved come back bitwise.
@@ -146,14 +147,15 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
             continue;
         }
         // Start from the fixed-point guess x = y - d(y): off by |d| |grad d|, so Newton needs two or three steps.
-        Eigen::Vector3d x = (y - displacementAtY).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+        Eigen::Vector3d x = (yBox - toBoxCoordinates(lattice, displacementAtY)).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
         Eigen::Vector3d residual;
         Eigen::Matrix3d jacobian;
         const auto evaluate = [&](const Eigen::Vector3d& at, Eigen::Vector3d& res, Eigen::Matrix3d& jac) {
             const Eigen::Vector3d tt = ((at - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
             Eigen::Vector3d displacement;
             deformationJacobian(lattice, tt, displacement, jac);
-            res = at + displacement - y;
+            if (lattice.boxTurned) jac = lattice.boxAxes * jac * lattice.boxAxes.transpose();
+            res = at + toBoxCoordinates(lattice, displacement) - yBox;
             return res.norm();
         };
         double r = evaluate(x, residual, jacobian);
@@ -181,7 +183,7 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
             if (!improved) break;
         }
         // Outside the box nothing moved: keep y unless Newton found a genuine preimage inside.
-        rest.row(v) = (r <= 1e-9 * lattice.diagonal() ? x : y).transpose();
+        rest.row(v) = (r <= 1e-9 * lattice.diagonal() ? fromBoxCoordinates(lattice, x) : y).transpose();
     }
 }
 

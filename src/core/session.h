@@ -179,6 +179,9 @@ struct Step {
     // With freshFrame or newCage: the box it was placed in, and whether it kept the cage's pin edits (same
     // settings); redo and replay place it exactly there instead of deciding again.
     Eigen::Vector3d frameMin = Eigen::Vector3d::Zero(), frameMax = Eigen::Vector3d::Zero();
+    // With freshFrame: the layer box's axes (Lattice::boxAxes; frameMin/frameMax are in its coordinates). A brush
+    // region is aligned with its pull; every other layer has the identity.
+    Eigen::Matrix3d frameAxes = Eigen::Matrix3d::Identity();
     bool framePinsKept = false;
     // A brush's region-of-interest layer: every control point is pinned except `regionFree` (brush.h).
     bool region = false;

@@ -20,8 +20,10 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
     // so the report counts the vertices whose position this update changed (trials taken back do not count).
     Eigen::Vector3d reachLo = Eigen::Vector3d::Constant(INFINITY), reachHi = Eigen::Vector3d::Constant(-INFINITY);
     for (const Step& step : steps) {
-        reachLo = reachLo.cwiseMin(step.frameMin);
-        reachHi = reachHi.cwiseMax(step.frameMax);
+        Eigen::Vector3d lo, hi;
+        turnedBoxBounds(step.frameAxes, step.frameMin, step.frameMax, lo, hi);
+        reachLo = reachLo.cwiseMin(lo);
+        reachHi = reachHi.cwiseMax(hi);
     }
     for (const BrushPull& p : pulls) {
         if (!p.moving()) continue;
@@ -73,6 +75,7 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
             step.settings = region.settings;
             step.frameMin = region.boxMin;
             step.frameMax = region.boxMax;
+            step.frameAxes = region.axes;
             step.regionFree = std::move(region.freePoints);
             if (Status s = enterLayer(nullptr, nullptr, &step); !s) return fail(s);
             double miss = 0.0;

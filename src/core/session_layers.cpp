@@ -19,6 +19,7 @@ void recordPlacement(Step& step, bool newCage, const LatticeSettings& settings, 
     step.frameMin = lo;
     step.frameMax = hi;
     step.framePinsKept = pinsKept;
+    step.frameAxes.setIdentity();
 }
 
 }  // namespace
@@ -38,14 +39,10 @@ bool Session::pullThroughLayers(const Eigen::Vector3d& y, Eigen::Vector3d& x, si
     for (size_t k = count; k-- > 0;) {
         const Lattice& layer = layers_[k].lattice;
         // Only the box and the hull of its control points can hold an image of the box (convex hull property).
-        Eigen::Vector3d lo = layer.boxMin, hi = layer.boxMax;
-        for (int idx : displacedControlPoints(layer)) {
-            lo = lo.cwiseMin(layer.controlPoint(idx));
-            hi = hi.cwiseMax(layer.controlPoint(idx));
-        }
+        Eigen::Vector3d lo, hi;
+        deformationBounds(layer, lo, hi);
         Eigen::Vector3d restParams;
-        const bool inBox = layer.volume ? restParameters(layer, point, restParams)
-                                     : (point.array() >= layer.boxMin.array()).all() && (point.array() <= layer.boxMax.array()).all();
+        const bool inBox = restParameters(layer, point, restParams);
         if (!((point.array() >= lo.array()).all() && (point.array() <= hi.array()).all())) continue;  // the identity there
         Eigen::Vector3d params;
         if (locateDeformedPoint(layer, point, params)) {
@@ -143,6 +140,8 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
         pinsKept = true;
     }
     if (Status s = makeLatticeInBox(settings, lo, hi, layer.lattice); !s) return s;
+    if (recorded && !recorded->frameAxes.isIdentity(0.0))  // a brush region turned to its pull
+        if (Status s = turnBoxLattice(layer.lattice, recorded->frameAxes); !s) return s;
     if (region) pinAllBut(layer.lattice, free);
     else if (pinsKept)
         for (int idx : pinToggles()) layer.lattice.pinned[static_cast<size_t>(idx)] ^= 1;
@@ -172,13 +171,10 @@ void Session::popLayers(size_t count, std::vector<int>* moved) {
     if (count == 0) return;
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
     for (size_t k = layers_.size() - count; k < layers_.size(); ++k) {
-        const Lattice& layer = layers_[k].lattice;
-        lo = lo.cwiseMin(layer.boxMin);
-        hi = hi.cwiseMax(layer.boxMax);
-        for (int idx : displacedControlPoints(layer)) {
-            lo = lo.cwiseMin(layer.controlPoint(idx));
-            hi = hi.cwiseMax(layer.controlPoint(idx));
-        }
+        Eigen::Vector3d layerLo, layerHi;
+        deformationBounds(layers_[k].lattice, layerLo, layerHi);
+        lo = lo.cwiseMin(layerLo);
+        hi = hi.cwiseMax(layerHi);
     }
     layers_.resize(layers_.size() - count);
     layerActive_ = false;
@@ -548,12 +544,10 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
     if (cageOut_.rows() != positions_.rows()) cageOut_ = positions_;
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
     for (const Layer& layer : layers_) {
-        lo = lo.cwiseMin(layer.lattice.boxMin);
-        hi = hi.cwiseMax(layer.lattice.boxMax);
-        for (int idx : displacedControlPoints(layer.lattice)) {
-            lo = lo.cwiseMin(layer.lattice.controlPoint(idx));
-            hi = hi.cwiseMax(layer.lattice.controlPoint(idx));
-        }
+        Eigen::Vector3d layerLo, layerHi;
+        deformationBounds(layer.lattice, layerLo, layerHi);
+        lo = lo.cwiseMin(layerLo);
+        hi = hi.cwiseMax(layerHi);
     }
     // A stroke's layer moves along one line: inverted along it (always converges); other layers by Newton.
     std::vector<Eigen::Vector3d> directions;
@@ -572,11 +566,8 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
             } else {
                 // Newton to the last bit (undo is exact to 1e-12 x diagonal over many strokes); outside the region
                 // of the box and the displaced control points' hull, the layer is the identity.
-                Eigen::Vector3d regionLo = layer.boxMin, regionHi = layer.boxMax, params;
-                for (int idx : displacedControlPoints(layer)) {
-                    regionLo = regionLo.cwiseMin(layer.controlPoint(idx));
-                    regionHi = regionHi.cwiseMax(layer.controlPoint(idx));
-                }
+                Eigen::Vector3d regionLo, regionHi, params;
+                deformationBounds(layer, regionLo, regionHi);
                 if ((x.array() >= regionLo.array()).all() && (x.array() <= regionHi.array()).all()) {
                     if (locateDeformedPoint(layer, x, params, 1e-15) || locateDeformedPoint(layer, x, params)) below = restPoint(layer, params);
                     else if (restParameters(layer, x, params)) return false;

@@ -225,7 +225,14 @@ core::Operation parseApplied(const json& j, const std::string& path) {
         if (step.freshFrame || step.newCage) {
             const json& frame = required(steps[k], "frame", sp);
             const std::string fp = sp + ".frame";
-            allowOnly(frame, fp, {"min", "max", "pins_kept"});
+            allowOnly(frame, fp, {"min", "max", "pins_kept", "axes"});
+            if (frame.contains("axes")) {
+                // A brush region turned to its pull (Lattice::boxAxes): three rows, the world directions of u, v, w.
+                const Eigen::MatrixX3d rows = vectorRows(frame["axes"], fp + ".axes");
+                if (rows.rows() != 3) fail(fp + ".axes", "expected three [x,y,z] rows");
+                if (!step.freshFrame) fail(fp + ".axes", "only a step with \"new_layer\" has turned axes");
+                step.frameAxes = rows;
+            }
             step.frameMin = vector3(required(frame, "min", fp), fp + ".min");
             step.frameMax = vector3(required(frame, "max", fp), fp + ".max");
             if (!(step.frameMin.array() < step.frameMax.array()).all()) fail(fp, "\"min\" must be below \"max\" on every axis");
@@ -759,6 +766,7 @@ json appliedJson(const core::Operation& operation) {
         if (step.baked) k["baked"] = true;
         if (step.freshFrame || step.newCage)
             k["frame"] = {{"min", vectorJson(step.frameMin)}, {"max", vectorJson(step.frameMax)}, {"pins_kept", step.framePinsKept}};
+        if (step.freshFrame && step.frameAxes != Eigen::Matrix3d::Identity()) k["frame"]["axes"] = rowsJson(step.frameAxes);
         if (!step.constraints.empty()) k["constraints"] = constraintsJson(step.constraints);
         if (!step.weights.empty()) k["weights"] = {{"ids", step.weights.ids}, {"before", step.weights.before}, {"after", step.weights.after}};
         steps.push_back(k);

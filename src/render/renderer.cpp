@@ -44,7 +44,7 @@ struct DeformUniforms {
 // The most layers the GPU path takes after the cage: each costs every vertex a box test in the shader.
 constexpr int kMaxGpuLayers = 1024;
 // mesh.vert's lattice table: floats per lattice at the head of the basis buffer.
-constexpr int kLatticeTableStride = 24;
+constexpr int kLatticeTableStride = 32;
 // A lattice's shape on the GPU path: what the cage's per-frame update must match (its cells are per vertex).
 struct GpuLatticeShape {
     std::array<int, 3> count{}, degree{}, spans{};
@@ -610,8 +610,12 @@ void Renderer::State::uploadLattices(const core::Lattice& cage, const std::vecto
             basis[row + size_t(a)] = float(shape.count[size_t(a)]);
             basis[row + 3 + size_t(a)] = float(shape.degree[size_t(a)]);
             basis[row + 6 + size_t(a)] = float(shape.spans[size_t(a)]);
-            // The box in the GPU frame, and the local coordinate per unit there: spans over the box's size.
-            basis[row + 16 + size_t(a)] = float((shape.boxMin[a] - frame.origin[a]) / frame.scale);
+            // The box in the GPU frame, and the local coordinate per unit there: spans over the box's size. A
+            // turned box (a brush stroke's, core/lattice.h): its corner in box coordinates relative to the turned
+            // origin, (boxMin - A origin) / scale, and A's rows at 22-30, so t = (A p - corner) * perUnit.
+            const Eigen::Vector3d turnedOrigin = source.boxAxes * Eigen::Vector3d(frame.origin[0], frame.origin[1], frame.origin[2]);
+            basis[row + 16 + size_t(a)] = float((shape.boxMin[a] - turnedOrigin[a]) / frame.scale);
+            for (int c = 0; c < 3; ++c) basis[row + 22 + size_t(3 * a + c)] = float(source.boxAxes(a, c));
             basis[row + 19 + size_t(a)] =
                 float(double(shape.spans[size_t(a)]) * frame.scale / (shape.boxMax[a] - shape.boxMin[a]));
         }

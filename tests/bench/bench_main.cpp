@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <iostream>
+#include <map>
 #include <random>
 #include <string>
 #include <tuple>
@@ -379,11 +380,13 @@ void benchBrush() {
             std::mt19937 rng(2026);
             std::uniform_real_distribution<double> unit(0.0, 1.0);
             int full = 0, stopped = 0, refused = 0, crossings = 0;
+            std::map<std::string, int> stoppedBy;  // what stopped or refused a stroke: "triangles", "lattice", ...
+            int fullByKind[3] = {0, 0, 0}, strokesByKind[3] = {0, 0, 0};
             std::vector<double> profiles, moveMs;
             for (int stroke = 0; stroke < 100; ++stroke) {
                 BrushSettings brush;
                 brush.radius = (0.03 + 0.12 * unit(rng)) * diagonal;
-                brush.falloff = static_cast<BrushFalloff>(stroke % 3);
+                brush.falloff = static_cast<BrushFalloff>(stroke / 3 % 3);  // independent of the kind (stroke % 3)
                 if (stroke % 4 == 3) brush.symmetry.mirror[0] = true;
                 session.setInjectivity({stroke % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6});
                 const int v = std::uniform_int_distribution<int>(0, static_cast<int>(positions.rows()) - 1)(rng);
@@ -395,11 +398,19 @@ void benchBrush() {
                 OpReport report;
                 session.dragVertex(v, source + pull * direction, report, brush);
                 moveMs.push_back(report.wallMs);
+                ++strokesByKind[kind];
+                if (report.status != OpStatus::Applied || report.fractionApplied < 1.0)
+                    ++stoppedBy[report.refusedBy.empty() ? std::string("other") : report.refusedBy];
+                if (getenv("SCULPT_BENCH_VERBOSE") && (report.status != OpStatus::Applied || report.fractionApplied < 1.0))
+                    std::fprintf(stderr, "  %s stroke %d kind %d pull %.2f r radius %.3f diag falloff %d sym %d: %s %.3f by %s (%s)\n", name,
+                                 stroke, kind, pull / brush.radius, brush.radius / diagonal, stroke / 3 % 3, brush.symmetry.any() ? 1 : 0,
+                                 opStatusName(report.status), report.fractionApplied, report.refusedBy.c_str(), report.reason.c_str());
                 if (report.status != OpStatus::Applied) {
                     ++refused;
                     continue;
                 }
                 (report.fractionApplied == 1.0 ? full : stopped) += 1;
+                fullByKind[kind] += report.fractionApplied == 1.0;
                 // The independent exact triangle test (tests/core/mesh_fixtures.h), on the whole mesh.
                 crossings += static_cast<int>(test::intersectingPairs(session.positions(), triangles).size() - initialPairs);
                 if (kind == 0 && report.fractionApplied == 1.0 && !brush.symmetry.any()) {
@@ -416,11 +427,14 @@ void benchBrush() {
                 }
                 session.undo(report);
             }
-            char extra[320];
+            std::string by;
+            for (const auto& [what, count] : stoppedBy) by += (by.empty() ? "" : ", ") + ("\"" + what + "\": " + std::to_string(count));
+            char extra[640];
             std::snprintf(extra, sizeof extra,
                           "\"mesh\": \"%s\", \"applied_in_full\": %d, \"stopped_short\": %d, \"refused\": %d, \"profile_rms_median\": %.3f, "
-                          "\"profiles\": %zu, \"crossing_pairs\": %d",
-                          name, full, stopped, refused, profiles.empty() ? NAN : bench::median(profiles), profiles.size(), crossings);
+                          "\"profiles\": %zu, \"crossing_pairs\": %d, \"full_normal_tangent_inward\": [\"%d/%d\", \"%d/%d\", \"%d/%d\"], \"stopped_by\": {%s}",
+                          name, full, stopped, refused, profiles.empty() ? NAN : bench::median(profiles), profiles.size(), crossings,
+                          fullByKind[0], strokesByKind[0], fullByKind[1], strokesByKind[1], fullByKind[2], strokesByKind[2], by.c_str());
             bench::printCase("strokes_real", positions.rows(), bench::median(moveMs), extra);
         }
     }

@@ -2,6 +2,8 @@
 // and it proves the brush's pull fields that the cone test cannot.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "core/brush_field.h"
@@ -74,21 +76,26 @@ TEST_CASE("directional bound: a cell it proves has det J > 0 at every sampled po
     CHECK(left > 100);
 }
 
-TEST_CASE("directional bound: the brush's smooth pull field is proven injective at pulls of 0.1 to 3 radii in any direction", "[injectivity][brush]") {
+TEST_CASE("directional bound: the brush's pull field is proven injective for every falloff at pulls of 0.1 to 3 radii in any direction", "[injectivity][brush]") {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    for (int trial = 0; trial < 24; ++trial) {
+    for (int trial = 0; trial < 72; ++trial) {
         const double radius = 0.2 + 0.1 * (trial % 4);
-        const double length = radius * (0.1 + 0.12 * trial);
+        const double length = radius * (0.1 + 0.12 * (trial % 24));
         BrushPull pull{Eigen::Vector3d(unit(rng), unit(rng), unit(rng)), Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized() * length};
         RegionLattice region;
         REQUIRE(pullRegionLattice({pull}, radius, region));
         Lattice lattice;
         REQUIRE(makeLatticeInBox(region.settings, region.boxMin, region.boxMax, lattice));
+        // The region is turned to the pull (its w axis is the pull's direction), and no larger than the capsule.
+        REQUIRE(turnBoxLattice(lattice, region.axes));
+        CHECK((region.axes.row(2).transpose() - pull.pull.normalized()).norm() <= 1e-12);
+        CHECK(region.boxMax[2] - region.boxMin[2] <= length + 2.0 * kBrushReach * radius + 4.0 * radius / kBrushFieldSpansPerRadius);
         pinAllBut(lattice, region.freePoints);
         ControlDelta delta;
         double residual = 1.0;
-        const BrushFalloff falloff = BrushFalloff::Smooth;  // the others' corners leave cells to the exact test
+        // Smooth, then medium (steep at the rim, across the pull) and sharp (a rounded peak).
+        const BrushFalloff falloff = static_cast<BrushFalloff>(trial / 24);
         REQUIRE(brushFieldDelta(lattice, {pull}, radius, falloff, delta, residual));
         CHECK(residual <= 1e-12 * radius);
         applyControlDelta(lattice, delta, 1.0);
@@ -97,6 +104,13 @@ TEST_CASE("directional bound: the brush's smooth pull field is proven injective 
         INFO("trial " << trial << " pull " << length / radius << " radii, falloff " << brushFalloffName(falloff));
         const std::vector<int> remaining = cellsLeftByDirectionalBound(lattice, cells);
         CHECK(remaining.empty());
+        // Independently: det J sampled on a grid, and the exact test, agree that nothing folds.
+        double least = INFINITY;
+        for (int i = 0; i < 12; ++i)
+            for (int j = 0; j < 12; ++j)
+                for (int k = 0; k < 12; ++k) least = std::min(least, jacobianDeterminant(lattice, Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5) / 12.0));
+        CHECK(least > 0.0);
+        CHECK(checkInjectivityExact(lattice).verdict == InjectivityVerdict::Certified);
         // The grabbed point lands on its target.
         Eigen::Vector3d t;
         REQUIRE(restParameters(lattice, pull.source, t));

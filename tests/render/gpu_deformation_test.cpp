@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include <catch2/catch.hpp>
+#include <Eigen/Geometry>
 
 #include "app/scene_builder.h"
 #include "core/embedding.h"
@@ -341,6 +342,17 @@ TEST_CASE("GPU deformation: layers after the cage compose as the engine's, rando
             core::Lattice layer = randomLattice(rng, expected, true, k % 2 == 1, layerCount > 4 ? 0.01 : 0.05);
             for (int i = 0; i < layer.controlPointCount(); ++i)
                 if (core::inOuterLayers(layer, i, 1)) layer.displacement.row(i).setZero();
+            if (k % 3 == 1) {
+                // Turned about its centre, as a brush stroke's layer is turned to its pull (core/lattice.h).
+                std::uniform_real_distribution<double> unit(-1.0, 1.0);
+                Eigen::Quaterniond turn(unit(rng), unit(rng), unit(rng), unit(rng));
+                turn.normalize();
+                const Eigen::Matrix3d axes = turn.toRotationMatrix();
+                const Eigen::Vector3d centre = 0.5 * (layer.boxMin + layer.boxMax), shift = axes * centre - centre;
+                layer.boxMin += shift;
+                layer.boxMax += shift;
+                REQUIRE(core::turnBoxLattice(layer, axes));
+            }
             layerLattices.push_back(std::move(layer));
         }
         std::vector<const core::Lattice*> layers;
