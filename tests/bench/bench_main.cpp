@@ -379,7 +379,7 @@ void benchBrush() {
             session.setMesh(positions, triangles);
             std::mt19937 rng(2026);
             std::uniform_real_distribution<double> unit(0.0, 1.0);
-            int full = 0, stopped = 0, refused = 0, crossings = 0;
+            int full = 0, stopped = 0, refused = 0, crossings = 0, unrestored = 0;
             std::map<std::string, int> stoppedBy;  // what stopped or refused a stroke: "triangles", "lattice", ...
             int fullByKind[3] = {0, 0, 0}, strokesByKind[3] = {0, 0, 0};
             std::vector<double> profiles, moveMs;
@@ -407,6 +407,7 @@ void benchBrush() {
                                  opStatusName(report.status), report.fractionApplied, report.refusedBy.c_str(), report.reason.c_str());
                 if (report.status != OpStatus::Applied) {
                     ++refused;
+                    unrestored += session.positions() != positions;  // a refused stroke changes nothing
                     continue;
                 }
                 (report.fractionApplied == 1.0 ? full : stopped) += 1;
@@ -426,15 +427,16 @@ void benchBrush() {
                     if (within > 0) profiles.push_back(std::sqrt(squares / within));
                 }
                 session.undo(report);
+                unrestored += (session.positions() - positions).cwiseAbs().maxCoeff() > 1e-12 * diagonal;  // undo is exact
             }
             std::string by;
             for (const auto& [what, count] : stoppedBy) by += (by.empty() ? "" : ", ") + ("\"" + what + "\": " + std::to_string(count));
             char extra[640];
             std::snprintf(extra, sizeof extra,
                           "\"mesh\": \"%s\", \"applied_in_full\": %d, \"stopped_short\": %d, \"refused\": %d, \"profile_rms_median\": %.3f, "
-                          "\"profiles\": %zu, \"crossing_pairs\": %d, \"full_normal_tangent_inward\": [\"%d/%d\", \"%d/%d\", \"%d/%d\"], \"stopped_by\": {%s}",
+                          "\"profiles\": %zu, \"crossing_pairs\": %d, \"full_normal_tangent_inward\": [\"%d/%d\", \"%d/%d\", \"%d/%d\"], \"stopped_by\": {%s}, \"not_restored\": %d",
                           name, full, stopped, refused, profiles.empty() ? NAN : bench::median(profiles), profiles.size(), crossings,
-                          fullByKind[0], strokesByKind[0], fullByKind[1], strokesByKind[1], fullByKind[2], strokesByKind[2], by.c_str());
+                          fullByKind[0], strokesByKind[0], fullByKind[1], strokesByKind[1], fullByKind[2], strokesByKind[2], by.c_str(), unrestored);
             bench::printCase("strokes_real", positions.rows(), bench::median(moveMs), extra);
         }
     }
