@@ -49,12 +49,6 @@ struct BrushSettings {
 // Finite radius >= 0, strength in (0, 1]; the message names the field.
 Status validateBrush(const BrushSettings& brush);
 
-// The degree and the knot spans per radius of a falloff: smooth = cubic, 4 spans per radius; medium =
-// quadratic, 3; sharp = linear, 3 (a cone-like peak reaching 2/3 radius). The grabbed point's basis
-// functions reach (p+1) spans from it: about one radius for smooth and medium.
-int brushDegree(BrushFalloff falloff);
-int brushSpansPerRadius(BrushFalloff falloff);
-
 // One constraint of a drag after symmetry: its source, and the user constraints and mirror masks (bit a set:
 // reflected in plane a) whose targets it follows. Most stand for one image; a mirrored source that falls
 // within the merge distance of another (a point on a mirror plane) is merged with it, and its target is the
@@ -62,7 +56,7 @@ int brushSpansPerRadius(BrushFalloff falloff);
 struct MirroredConstraint {
     Eigen::Vector3d source = Eigen::Vector3d::Zero();
     std::vector<std::pair<int, int>> images;  // (user constraint, mirror mask)
-    double weight = 1.0;  // the fraction of the images' move it makes (< 1: a falloff profile sample)
+    double weight = 1.0;  // the fraction of the images' move it makes
 };
 // The constraints of a drag with their mirror images added: for every non-empty subset of the mirrored axes,
 // each constraint not `held` reflected in those planes (held constraints, e.g. pins, are not mirrored). The
@@ -81,31 +75,13 @@ Eigen::Vector3d mirroredTarget(const MirroredConstraint& constraint, const std::
 // 1 at 0 and 0 at 1, as Blender's brush curves: smooth 1 - (3x^2 - 2x^3), medium (sphere) sqrt(1 - x^2),
 // sharp (1 - x)^2.
 double brushProfile(BrushFalloff falloff, double x);
-// The brush's shape as constraints (Hu et al. 2001, eq. 12): around every moving constraint (weight 1, not
-// held), 14 points at 0.3 radius (the 6 axis and 8 diagonal directions) that move brushProfile(0.3) of its
-// move, so the bump is the falloff's shape rather than the narrow peak of the basis at the grabbed point
-// alone. A sample closer than 0.2 radius to another constraint is left out (the system stays well posed);
-// the session also leaves out samples whose basis the pins mostly hold (freeCoverage), and all of them in a
-// step where they and the user's constraints cannot all be met: the user's are always met exactly.
-// constraints: as mirrorConstraints made them; held: per user constraint.
-void addBrushProfile(std::vector<MirroredConstraint>& constraints, const std::vector<bool>& held, double radius, BrushFalloff falloff);
-
-// The region-of-interest lattice of a brush drag grabbing `centres` (world points; the drag's sources).
+// The region-of-interest lattice of a brush stroke (pullRegionLattice, brush_field.h).
 struct RegionLattice {
     LatticeSettings settings;       // resolution and degree (pin layers 0: the pins are `freePoints`' complement)
     Eigen::Vector3d boxMin = Eigen::Vector3d::Zero(), boxMax = Eigen::Vector3d::Zero();  // in box coordinates
     Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // the box's axes (Lattice::boxAxes): turned to a pull
     std::vector<int> freePoints;    // sorted ids of the control points that may move; every other one is pinned
 };
-// Fails on no centres, a non-finite centre, or a radius that is not finite and > 0. The box is the centres'
-// bounds grown by 1.25 radius on every side, with the knot spacing of the falloff (coarser where more than
-// 64 control points an axis would be needed, which leaves fewer points free).
-Status regionLattice(const std::vector<Eigen::Vector3d>& centres, double radius, BrushFalloff falloff, RegionLattice& out);
-// The share of the volume's basis at params carried by control points that are not pinned (1: none pinned;
-// partition of unity). A brush profile sample below kProfileCoverage is left out of the solve: meeting it
-// exactly would take huge moves of the few free points there.
-double freeCoverage(const Lattice& lattice, const Eigen::Vector3d& params);
-constexpr double kProfileCoverage = 0.5;
 // Pins every control point of `lattice` except `freePoints` (ids in range).
 void pinAllBut(Lattice& lattice, const std::vector<int>& freePoints);
 

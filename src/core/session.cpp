@@ -10,6 +10,7 @@
 
 #include <Eigen/LU>
 
+#include "core/brush_field.h"
 #include "core/injectivity.h"
 #include "core/lattice_boundary.h"
 #include "core/session_internal.h"
@@ -482,11 +483,10 @@ std::string stepFailureAdvice(StepFailure::Cause cause) {
 bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
     // Each step after the first is a separate deformation in a fresh lattice (a layer) around the mesh the
     // earlier steps produced (design.md): with one lattice the halves would just add up to the failing move.
-    // A brush drag's first step already has its own lattice: the region around the grabbed points.
-    const bool needLayer = progress.appliedInCurrentFrame || (progress.brush && !layerActive_);
+    const bool needLayer = progress.appliedInCurrentFrame;
     if (depth > 0 || needLayer) saveSnapshot(progress.snapshot);  // what a rejection must restore
     if (needLayer) {
-        const Status entered = enterLayer(&progress, &progress.pendingFrame, nullptr, progress.brush, &progress.regionCentres);
+        const Status entered = enterLayer(&progress, &progress.pendingFrame, nullptr);
         if (!entered) {
             progress.failure.cause = StepFailure::Cause::SourceLeft;
             progress.failure.technical = entered.message;
@@ -509,24 +509,7 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
         // explicit solution is linear in the control points.
         displacements.row(static_cast<Eigen::Index>(f)) = (target - activeImage(params[f])).transpose();
     }
-    // A profile sample whose basis is mostly pinned would ask for huge control moves: left out of this step.
-    bool dropSoft = false;
-    for (size_t f = 0; f < m.soft.size() && !dropSoft; ++f) dropSoft = m.soft[f] && freeCoverage(activeLattice(), params[f]) < kProfileCoverage;
     DirectManipulationResult solved = directManipulation(activeLattice(), params, displacements);  // Hu et al. 2001, eq. 7 / 12
-    if ((dropSoft || solved.rankDeficient) && std::find(m.soft.begin(), m.soft.end(), true) != m.soft.end()) {
-        // The brush's profile samples ask more than the free control points can give: meet the user's
-        // constraints exactly without them.
-        std::vector<Eigen::Vector3d> hardParams;
-        Eigen::MatrixX3d hardDisplacements(static_cast<Eigen::Index>(m.sources.size()), 3);
-        Eigen::Index rows = 0;
-        for (size_t f = 0; f < m.sources.size(); ++f) {
-            if (m.soft[f] && (solved.rankDeficient || freeCoverage(activeLattice(), params[f]) < kProfileCoverage)) continue;
-            hardParams.push_back(params[f]);
-            hardDisplacements.row(rows++) = displacements.row(static_cast<Eigen::Index>(f));
-        }
-        hardDisplacements.conservativeResize(rows, 3);
-        solved = directManipulation(activeLattice(), hardParams, hardDisplacements);
-    }
     ControlDelta delta = std::move(solved.delta);
 
     if (!tryDelta(delta, &progress.moved, progress.failure, progress.injectivityMs, progress.triangleMs)) {
@@ -563,13 +546,10 @@ bool Session::injectSubdiv(Manipulation& m, int depth, Progress& progress) {
     return true;
 }
 
-Status Session::runManipulation(Manipulation m, Operation operation, OpReport& report, const BrushSettings* brush,
-                                const std::vector<Eigen::Vector3d>& regionCentres) {
+Status Session::runManipulation(Manipulation m, Operation operation, OpReport& report) {
     const auto start = Clock::now();
     Progress progress(scratch_);
     progress.operation = &operation;
-    progress.brush = brush;
-    progress.regionCentres = regionCentres;
     const bool ok = injectSubdiv(m, 0, progress);
     layerActive_ = false;  // the next operation starts in the cage
     report.injectivityMs = progress.injectivityMs;
@@ -649,7 +629,7 @@ void Session::trimResiduals(OpReport& report, size_t userConstraints) const {
 double Session::mirrorMergeDistance(const BrushSettings& brush) const {
     // Closer than a quarter of a knot span, two sources would pull on the same few control points in
     // different directions: one point on the mirror plane.
-    if (brush.active()) return 0.25 * brush.radius / brushSpansPerRadius(brush.falloff);
+    if (brush.active()) return 0.25 * brush.radius / kBrushFieldSpansPerRadius;
     double span = INFINITY;
     for (int a = 0; a < 3; ++a) span = std::min(span, (lattice_.boxMax[a] - lattice_.boxMin[a]) / lattice_.axes[a].spans);
     return 0.25 * span;
@@ -703,36 +683,30 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
         sources.push_back(constraints[f].source);
         targets.push_back(constraints[f].source + brush.strength * (constraints[f].target - constraints[f].source));
     }
-    // With symmetry, the mirror images join as further constraints (Hu et al. 2001, eq. 12).
-    // With a radius, the falloff's profile joins as constraints around each source (brush.h).
+    // With symmetry, the mirror images join as further constraints (Hu et al. 2001, eq. 12). (A drag with a
+    // radius is a brush stroke: it went the stroke's way above.)
     Manipulation m;
     std::vector<MirroredConstraint> solved = mirrorConstraints(sources, {}, brush.symmetry, symmetryCentre_, mirrorMergeDistance(brush));
-    std::vector<Eigen::Vector3d> regionCentres;
-    if (brush.active()) addBrushProfile(solved, {}, brush.radius, brush.falloff);
     for (const MirroredConstraint& c : solved) {
         m.sources.push_back(c.source);
         m.targets.push_back(mirroredTarget(c, targets, sources));
-        m.soft.push_back(c.weight != 1.0);
-        if (c.weight == 1.0) regionCentres.push_back(c.source);
     }
     bool moves = false;
     for (size_t f = 0; f < m.sources.size(); ++f) {
-        if (!brush.active()) {
-            // Solved in the cage: the source must lie in it (as the engine sees it: equal up to rounding).
-            const std::string which = f < constraints.size() ? "constraint " + std::to_string(f) : "the mirror image of a constraint";
-            Eigen::Vector3d params;
-            if (Status s = parametersOfCurrentPoint(m.sources[f], params); !s) {
-                if (layers_.empty()) return Status::error(which + " source: " + s.message);
-                // Through the layers after the cage Newton's method found no cage point: refused, not an input error.
-                report.status = OpStatus::Rejected;
-                report.refusedBy = "setup";
-                report.reason = which + " source could not be traced back into the lattice through the layers after it (" + s.message +
-                                "); nothing was changed";
-                report.wallMs = millisecondsSince(start);
-                return Status::success();
-            }
-            m.sources[f] = currentImage(params);
+        // Solved in the cage: the source must lie in it (as the engine sees it: equal up to rounding).
+        const std::string which = f < constraints.size() ? "constraint " + std::to_string(f) : "the mirror image of a constraint";
+        Eigen::Vector3d params;
+        if (Status s = parametersOfCurrentPoint(m.sources[f], params); !s) {
+            if (layers_.empty()) return Status::error(which + " source: " + s.message);
+            // Through the layers after the cage Newton's method found no cage point: refused, not an input error.
+            report.status = OpStatus::Rejected;
+            report.refusedBy = "setup";
+            report.reason = which + " source could not be traced back into the lattice through the layers after it (" + s.message +
+                            "); nothing was changed";
+            report.wallMs = millisecondsSince(start);
+            return Status::success();
         }
+        m.sources[f] = currentImage(params);
         moves = moves || m.sources[f] != m.targets[f];
     }
     if (!moves) {
@@ -743,7 +717,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
         return Status::success();
     }
     // Simple causes no subdivision can help, said plainly before any work.
-    if (std::string cause = brush.active() ? std::string() : unreachableDragCause(m); !cause.empty()) {
+    if (std::string cause = unreachableDragCause(m); !cause.empty()) {
         report.status = OpStatus::Rejected;
         report.reason = "refused: " + cause + "; nothing was changed";
         report.injectivity = "rejected: " + cause;
@@ -754,11 +728,10 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     Operation operation;
     operation.kind = OperationKind::Drag;
     operation.label = constraints.size() == 1 ? "drag" : "drag (" + std::to_string(constraints.size()) + " points)";
-    if (brush.active()) operation.label = "brush " + operation.label;
     if (brush.symmetry.any()) operation.label += ", symmetric in " + symmetryText(brush.symmetry);
     operation.constraints = constraints;
     operation.brush = brush;
-    const Status status = runManipulation(std::move(m), std::move(operation), report, brush.active() ? &brush : nullptr, regionCentres);
+    const Status status = runManipulation(std::move(m), std::move(operation), report);
     trimResiduals(report, constraints.size());
     report.wallMs = millisecondsSince(start);
     return status;

@@ -471,9 +471,6 @@ private:
     // A drag being subdivided: world-space sources and targets.
     struct Manipulation {
         std::vector<Eigen::Vector3d> sources, targets;
-        // Per constraint (or empty: none): a brush profile sample, which a step leaves out where the lattice
-        // cannot meet every constraint exactly (the user's constraints are always met).
-        std::vector<bool> soft;
     };
     // State kept while an operation is being applied, so a rejection restores everything bitwise.
     struct Snapshot {
@@ -490,11 +487,7 @@ private:
         Operation* operation = nullptr;
         bool appliedInCurrentFrame = false;  // a step of this operation already changed the active lattice
         bool pendingFreshFrame = false;      // a layer was entered and no step has been applied in it yet
-        Step pendingFrame;                   // that layer's placement (Step::frameMin, frameMax, region, ...)
-        const BrushSettings* brush = nullptr;  // a brush drag: each step is solved in a region layer
-        // ...around these points: the grabbed points where the operation began (every step's region is the
-        // same ball, so nothing farther than 1.25 radius from them moves).
-        std::vector<Eigen::Vector3d> regionCentres;
+        Step pendingFrame;                   // that layer's placement (Step::frameMin, frameMax, ...)
         Snapshot& snapshot;  // the session's scratch_, reused so large copies do not fault in fresh pages
         StepFailure failure;                                        // the last step that failed
         StepFailure firstFailure;                                   // what first made it subdivide
@@ -546,11 +539,10 @@ private:
     bool pullThroughLayers(const Eigen::Vector3d& y, Eigen::Vector3d& x, size_t count) const;
     // positions_[v] = cageOut_[v] carried through every layer, for the listed vertices.
     void refreshLayerOutput(const std::vector<int>& vertices);
-    // Puts a new layer after the others and makes it active: a recorded one (redo, replay), a brush region
-    // around `brushCentres`, or (neither) a fresh regular lattice with the cage's settings around the mesh the
-    // active lattice deforms. placed: its placement for the step that will be applied in it.
-    Status enterLayer(Progress* progress, Step* placed, const Step* recorded, const BrushSettings* brush = nullptr,
-                      const std::vector<Eigen::Vector3d>* centres = nullptr);
+    // Puts a new layer after the others and makes it active: a recorded one (redo, replay, or a brush region
+    // placed by applyBrushPulls), or a fresh regular lattice with the cage's settings around the mesh the active
+    // lattice deforms. placed: its placement for the step that will be applied in it.
+    Status enterLayer(Progress* progress, Step* placed, const Step* recorded);
     // Removes the newest layer: the vertices it moved get their positions from the layers below.
     void popLayer(std::vector<int>* moved) { popLayers(1, moved); }
     // Removes the newest `count` layers at once: the vertices they moved are carried once through the layers
@@ -595,8 +587,10 @@ private:
     Status weightBump(const WeightToolSettings& settings, WeightBump& out) const;
     Status applyWeightTool(const WeightToolSettings& settings, Step step, const std::string& label, OpReport& report);
     void restoreSnapshot(Snapshot& snapshot);
-    Status runManipulation(Manipulation m, Operation operation, OpReport& report, const BrushSettings* brush = nullptr,
-                           const std::vector<Eigen::Vector3d>& regionCentres = {});
+    Status runManipulation(Manipulation m, Operation operation, OpReport& report);
+    // The drag state beginDragAt's two ways (a stroke, a solved drag) share: the operation, its label, the mirror.
+    void startMirroredDrag(const std::string& label, const std::vector<Eigen::Vector3d>& sources, std::vector<MirroredConstraint> mirror,
+                           const BrushSettings& brush);
     // How close two mirrored sources must come to count as one (mirrorConstraints).
     double mirrorMergeDistance(const BrushSettings& brush) const;
     // Keeps the first `userConstraints` residuals (the constraints the user gave) and judges the fit on them.
@@ -689,14 +683,12 @@ private:
     std::vector<Eigen::Vector3d> dragParams_;       // their parameters in the active lattice
     bool dragAppliedInFrame_ = false;
     // With a brush or symmetry (beginDragAt): the user's sources at the start, what each solved constraint
-    // follows, and the brush; a region layer entered at the start and not yet given a step.
+    // follows, and the brush.
     bool dragMirrored_ = false;
     std::vector<Eigen::Vector3d> dragUserStarts_;
     std::vector<MirroredConstraint> dragMirror_;
-    std::vector<bool> dragRegionCentre_;  // per constraint of dragMirror_: a grabbed point or its image (region centre)
+    std::vector<bool> dragPulled_;  // a stroke's, per constraint of dragMirror_: pulled (not held)
     BrushSettings dragBrush_;
-    bool dragLayerPending_ = false;
-    Step dragPendingLayer_;
     // The cage's points as shown when a control-point drag began (with layers: the drag moves those).
     Positions dragControlStart_;
     // Adds an increment's control delta (per point, in the cage) for an interactive control-point drag.

@@ -46,9 +46,25 @@ Status Session::beginDrag(const std::vector<Eigen::Vector3d>& sourceParams) {
     dragAppliedInFrame_ = false;
     dragMirrored_ = false;
     dragBrush_ = BrushSettings{};
-    dragLayerPending_ = false;
     dragActive_ = true;
     return Status::success();
+}
+
+void Session::startMirroredDrag(const std::string& label, const std::vector<Eigen::Vector3d>& sources, std::vector<MirroredConstraint> mirror,
+                                const BrushSettings& brush) {
+    dragOperation_ = Operation{};
+    dragOperation_.kind = OperationKind::Drag;
+    dragOperation_.interactive = true;
+    dragOperation_.label = label;
+    if (brush.symmetry.any()) dragOperation_.label += ", symmetric in " + symmetryText(brush.symmetry);
+    dragOperation_.brush = brush;
+    for (const Eigen::Vector3d& source : sources) dragOperation_.constraints.push_back({source, source});
+    dragAppliedInFrame_ = false;
+    dragMirrored_ = true;
+    dragUserStarts_ = sources;
+    dragMirror_ = std::move(mirror);
+    dragBrush_ = brush;
+    dragActive_ = true;
 }
 
 Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held, const BrushSettings& brush) {
@@ -66,78 +82,29 @@ Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const s
         std::vector<bool> moving;
         for (const MirroredConstraint& c : mirror) moving.push_back(!isHeld(static_cast<size_t>(c.images.front().first)));
         if (std::find(moving.begin(), moving.end(), true) == moving.end()) return Status::error("every source of the drag is held");
-        dragOperation_ = Operation{};
-        dragOperation_.kind = OperationKind::Drag;
-        dragOperation_.interactive = true;
-        dragOperation_.label = "brush " + dragLabel(sources.size());
-        if (brush.symmetry.any()) dragOperation_.label += ", symmetric in " + symmetryText(brush.symmetry);
-        dragOperation_.brush = brush;
-        for (const Eigen::Vector3d& source : sources) dragOperation_.constraints.push_back({source, source});
         dragSourceWorld_.clear();
         for (const MirroredConstraint& c : mirror) dragSourceWorld_.push_back(c.source);
         dragParams_.clear();
-        dragRegionCentre_ = std::move(moving);
-        dragAppliedInFrame_ = false;
-        dragMirrored_ = true;
-        dragUserStarts_ = sources;
-        dragMirror_ = std::move(mirror);
-        dragBrush_ = brush;
-        dragLayerPending_ = false;
-        dragActive_ = true;
+        dragPulled_ = std::move(moving);
+        startMirroredDrag("brush " + dragLabel(sources.size()), sources, std::move(mirror), brush);
         return Status::success();
     }
     std::vector<Eigen::Vector3d> params(mirror.size());
     Status located = Status::success();
     for (size_t e = 0; e < mirror.size() && located; ++e) {
         located = parametersOfCurrentPoint(mirror[e].source, params[e]);
-        if (located && mirror[e].weight != 1.0 && freeCoverage(activeLattice(), params[e]) < kProfileCoverage) {
-            mirror.erase(mirror.begin() + static_cast<std::ptrdiff_t>(e));  // a profile sample the pins hold back
-            params.pop_back();
-            --e;
-            continue;
-        }
         if (!located) located = Status::error((mirror[e].images.front().second == 0 ? "constraint " + std::to_string(mirror[e].images.front().first)
                                                                                     : std::string("the mirror image of a constraint")) +
                                               " source: " + located.message);
     }
     DirectManipulationData data;
     if (located) located = precomputeDirectManipulation(activeLattice(), params, data);
-    if (located && data.rank < data.constraintCount && mirror.size() > sources.size()) {
-        // The brush's profile samples ask more than the free control points can give: the user's constraints
-        // (and their mirror images) alone, met exactly.
-        std::vector<Eigen::Vector3d> hard;
-        std::vector<MirroredConstraint> kept;
-        for (size_t e = 0; e < mirror.size(); ++e)
-            if (mirror[e].weight == 1.0) {
-                kept.push_back(mirror[e]);
-                hard.push_back(params[e]);
-            }
-        mirror = std::move(kept);
-        params = std::move(hard);
-        located = precomputeDirectManipulation(activeLattice(), params, data);
-    }
     if (!located) return located;
-    dragRegionCentre_.clear();
-    for (const MirroredConstraint& c : mirror)
-        dragRegionCentre_.push_back(c.weight == 1.0 && !isHeld(static_cast<size_t>(c.images.front().first)));
     dragData_ = std::move(data);
-    dragOperation_ = Operation{};
-    dragOperation_.kind = OperationKind::Drag;
-    dragOperation_.interactive = true;
-    dragOperation_.label = dragLabel(sources.size());
-    if (brush.symmetry.any()) dragOperation_.label += ", symmetric in " + symmetryText(brush.symmetry);
-    dragOperation_.brush = brush;
-    for (const Eigen::Vector3d& source : sources) dragOperation_.constraints.push_back({source, source});
     dragSourceWorld_.clear();
     for (const Eigen::Vector3d& t : params) dragSourceWorld_.push_back(currentImage(t));
     dragParams_ = std::move(params);
-    dragAppliedInFrame_ = false;
-    dragMirrored_ = true;
-    dragUserStarts_ = sources;
-    dragMirror_ = std::move(mirror);
-    dragBrush_ = brush;
-    dragLayerPending_ = false;
-    dragActive_ = true;
+    startMirroredDrag(dragLabel(sources.size()), sources, std::move(mirror), brush);
     return Status::success();
 }
 
@@ -164,7 +131,6 @@ Status Session::beginControlDrag(const std::vector<int>& indices) {
     dragParams_.clear();
     dragAppliedInFrame_ = false;
     dragMirrored_ = false;
-    dragLayerPending_ = false;
     dragActive_ = true;
     return Status::success();
 }
@@ -184,9 +150,7 @@ void Session::mergeInteractiveStep(const ControlDelta& delta) {
         mergeDelta(dragOperation_.steps.back().delta, delta);
     } else {
         Step step;
-        if (dragLayerPending_) step = dragPendingLayer_;  // the brush region entered at the start
-        dragLayerPending_ = false;
-        if (!step.freshFrame) step.settings = settings_;
+        step.settings = settings_;
         step.delta = delta;
         for (const Eigen::Vector3d& source : dragSourceWorld_) step.constraints.push_back({source, source});
         dragOperation_.steps.push_back(std::move(step));
@@ -213,21 +177,7 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
     progress.operation = &increments;
     progress.appliedInCurrentFrame = dragAppliedInFrame_;
     progress.firstFailure = failure;
-    progress.brush = dragBrush_.active() ? &dragBrush_ : nullptr;
-    // Every region of a brush drag is the same ball around where the grabbed points began: nothing farther
-    // than 1.25 radius from them moves, however far the cursor goes (a longer pull is a new stroke).
-    for (size_t e = 0; e < dragMirror_.size() && dragBrush_.active(); ++e)
-        if (dragRegionCentre_[e]) progress.regionCentres.push_back(dragMirror_[e].source);
-    if (dragLayerPending_) {
-        progress.pendingFreshFrame = true;
-        progress.pendingFrame = dragPendingLayer_;
-    }
-    // A brush drag is re-tried on every mouse move: halving it only a few times keeps a move beyond what the
-    // brush can give from stalling the window (each step is a region lattice of its own).
-    const int maxDepth = injectivity_.maxDepth;
-    if (dragBrush_.active()) injectivity_.maxDepth = std::min(maxDepth, 3);
     const bool ok = injectSubdiv(m, 0, progress);
-    injectivity_.maxDepth = maxDepth;
     report.injectivityMs += progress.injectivityMs;
     report.triangleCheckMs += progress.triangleMs;
     if (!ok) {
@@ -242,7 +192,6 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
         report.injectivity = "rejected: " + progress.failure.technical;
         return false;
     }
-    if (!increments.steps.empty()) dragLayerPending_ = false;
     for (Step& step : increments.steps) {
         if (!step.freshFrame && !dragOperation_.steps.empty() && dragAppliedInFrame_) {
             mergeDelta(dragOperation_.steps.back().delta, step.delta);
@@ -309,8 +258,6 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
     Manipulation m;
     for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));
     m.targets = targets;
-    if (dragMirrored_)
-        for (const MirroredConstraint& c : dragMirror_) m.soft.push_back(c.weight != 1.0);
 
     const int framesBefore = frameDepth();
     if (!applyInteractiveIncrement(solved.delta, m, report)) {
@@ -348,7 +295,7 @@ void Session::updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport
     // Every pull from where the stroke began (brush_field.h): the region follows it, however long.
     std::vector<BrushPull> pulls;
     for (size_t e = 0; e < dragMirror_.size(); ++e)
-        pulls.push_back({dragMirror_[e].source, dragRegionCentre_[e] ? Eigen::Vector3d(targets[e] - dragMirror_[e].source) : Eigen::Vector3d::Zero()});
+        pulls.push_back({dragMirror_[e].source, dragPulled_[e] ? Eigen::Vector3d(targets[e] - dragMirror_[e].source) : Eigen::Vector3d::Zero()});
     StepFailure failure;
     const double share = applyBrushPulls(pulls, dragBrush_, dragOperation_.steps, report, failure);
     for (size_t e = 0; e < dragMirror_.size(); ++e)
@@ -460,8 +407,6 @@ void Session::applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& 
 void Session::endDrag() {
     if (!dragActive_) return;
     dragActive_ = false;
-    if (dragLayerPending_) popLayer(nullptr);  // a brush region that never moved anything
-    dragLayerPending_ = false;
     layerActive_ = false;  // the next operation starts in the cage
     if (!dragOperation_.steps.empty()) {
         refineAfterEdit(dragOperation_, nullptr);
@@ -482,8 +427,6 @@ Status Session::cancelDrag(OpReport& report) {
     }
     dragActive_ = false;
     revertSteps(dragOperation_.steps);
-    if (dragLayerPending_) popLayer(nullptr);
-    dragLayerPending_ = false;
     layerActive_ = false;
     // Taking it back is an inverse manipulation, exact only up to rounding: the replay repeats it.
     if (!dragOperation_.steps.empty()) journal_.push_back(JournalEntry{JournalEntry::Kind::CancelledDrag, dragOperation_, 0, {}, {}, {}});

@@ -92,8 +92,7 @@ Positions Session::cagePoints() const {
 
 // ---- layers ---------------------------------------------------------------------------------------------
 
-Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorded, const BrushSettings* brush,
-                           const std::vector<Eigen::Vector3d>* centres) {
+Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorded) {
     Layer layer;
     LatticeSettings settings = settings_;
     Eigen::Vector3d lo, hi;
@@ -106,14 +105,6 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
         pinsKept = recorded->framePinsKept;
         region = recorded->region;
         free = recorded->regionFree;
-    } else if (brush) {
-        RegionLattice placement;
-        if (Status s = regionLattice(*centres, brush->radius, brush->falloff, placement); !s) return s;
-        settings = placement.settings;
-        lo = placement.boxMin;
-        hi = placement.boxMax;
-        region = true;
-        free = std::move(placement.freePoints);
     } else {
         // Adaptive subdivision: a fresh regular lattice with the cage's settings in the active lattice's box,
         // grown to contain the mesh it deforms as that is now. It depends only on the mesh and the settings,

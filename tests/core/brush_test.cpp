@@ -44,22 +44,29 @@ BrushFalloff randomFalloff(std::mt19937& rng) {
 
 }  // namespace
 
-TEST_CASE("brush: the region lattice frees only control points whose support lies within 1.25 radius of a centre", "[core]") {
+TEST_CASE("brush: the region lattice frees only control points whose support lies within 1.25 radius of a pull's segment", "[core]") {
     std::mt19937 rng(5);
     for (int trial = 0; trial < 60; ++trial) {
-        std::vector<Eigen::Vector3d> centres;
-        for (int c = test::randomInt(rng, 1, 3); c > 0; --c) centres.push_back(test::randomVector(rng, -3.0, 3.0));
         const double radius = std::exp(std::uniform_real_distribution<double>(std::log(1e-3), std::log(5.0))(rng));
-        const BrushFalloff falloff = randomFalloff(rng);
+        std::vector<BrushPull> pulls;
+        for (int c = test::randomInt(rng, 1, 3); c > 0; --c)
+            pulls.push_back({test::randomVector(rng, -3.0, 3.0), radius * std::uniform_real_distribution<double>(0.0, 3.0)(rng) * test::randomVector(rng, -1.0, 1.0).normalized()});
+        if (trial % 5 == 0) pulls.push_back({test::randomVector(rng, -3.0, 3.0), Eigen::Vector3d::Zero()});  // a held point
         RegionLattice region;
-        REQUIRE(regionLattice(centres, radius, falloff, region).ok);
+        REQUIRE(pullRegionLattice(pulls, radius, region).ok);
         Lattice lattice;
         REQUIRE(makeLatticeInBox(region.settings, region.boxMin, region.boxMax, lattice).ok);
+        REQUIRE(turnBoxLattice(lattice, region.axes).ok);
+        // One moving pull: the box is turned to it (its w axis along the pull).
+        size_t moving = 0;
+        for (const BrushPull& p : pulls) moving += p.moving();
+        if (moving == 1)
+            for (const BrushPull& p : pulls)
+                if (p.moving()) CHECK((region.axes.row(2).transpose() - p.pull.normalized()).norm() <= 1e-12);
         pinAllBut(lattice, region.freePoints);
         CHECK(boundaryUnmoved(lattice));
         // An independent check of the support: random points where a free basis function is non-zero lie within
-        // the reach of some centre.
-        std::vector<int> freeSet(region.freePoints);
+        // the reach of some moving pull's segment.
         for (int sample = 0; sample < 400; ++sample) {
             const Eigen::Vector3d t = test::randomParams(rng);
             SupportWeights support;
@@ -68,13 +75,14 @@ TEST_CASE("brush: the region lattice frees only control points whose support lie
             for (int c = 0; c < support.count; ++c)
                 freeHere = freeHere || (support.weight[c] > 0.0 && !lattice.pinned[support.index[c]]);
             if (!freeHere) continue;
-            const Eigen::Vector3d x = lattice.boxMin + t.cwiseProduct(lattice.boxMax - lattice.boxMin);
+            const Eigen::Vector3d x = restPoint(lattice, t);
             double nearest = INFINITY;
-            for (const Eigen::Vector3d& c : centres) nearest = std::min(nearest, (x - c).norm());
-            CHECK(nearest <= 1.25 * radius * (1.0 + 1e-12));
+            for (const BrushPull& p : pulls)
+                if (p.moving()) nearest = std::min(nearest, segmentDistance(x, p.source, p.source + p.pull));
+            CHECK(nearest <= kBrushReach * radius * (1.0 + 1e-8));
         }
-        // Each lone centre has free points around it (a brush that can move something).
-        if (centres.size() == 1) CHECK(!region.freePoints.empty());
+        // A lone pull has free points around it (a brush that can move something).
+        if (moving == 1) CHECK(!region.freePoints.empty());
     }
 }
 
