@@ -54,8 +54,13 @@ Embedding embedVertices(const Lattice& lattice, const Positions& rest) {
     return e;
 }
 
-void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) {
+namespace {
+
+void embedVertexSet(const Lattice& lattice, const Positions& rest, Embedding& e, const std::vector<int>* only) {
     const int n = static_cast<int>(rest.rows());
+    // The vertices tested: all, or `only` (entry i is vertex vertexAt(i)).
+    const int tested = only ? static_cast<int>(only->size()) : n;
+    const auto vertexAt = [&](int i) { return only ? (*only)[static_cast<size_t>(i)] : i; };
     e.vertexCount = n;
     const std::array<int, 3> spans = lattice.spans();
     const int cellCount = lattice.cellCount();
@@ -106,25 +111,26 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
         }
     }
     // Pass 1: the cell of every vertex (-1 outside the box).
-    std::vector<int>& cellOf = e.scratchCell;
-    cellOf.resize(n);
-#pragma omp parallel for schedule(static) if (n > 20000)
-    for (int v = 0; v < n; ++v) {
+    std::vector<int>& cellOf = e.scratchCell;  // per tested vertex
+    cellOf.resize(tested);
+#pragma omp parallel for schedule(static) if (tested > 20000)
+    for (int i = 0; i < tested; ++i) {
+        const int v = vertexAt(i);
         double t[3] = {0.0, 0.0, 0.0}, local = 0.0;
         if (!parameters(v, t)) {
-            cellOf[v] = -1;
+            cellOf[i] = -1;
             continue;
         }
         if (chunked) {
             Eigen::Vector3d localT;
-            cellOf[v] = chunked->chunkOf(Eigen::Vector3d(t[0], t[1], t[2]), localT);
+            cellOf[i] = chunked->chunkOf(Eigen::Vector3d(t[0], t[1], t[2]), localT);
             continue;
         }
-        cellOf[v] = spanOf(t[0], spans[0], local) + spans[0] * (spanOf(t[1], spans[1], local) + spans[1] * spanOf(t[2], spans[2], local));
+        cellOf[i] = spanOf(t[0], spans[0], local) + spans[0] * (spanOf(t[1], spans[1], local) + spans[1] * spanOf(t[2], spans[2], local));
     }
     // Counting sort by cell: stable, O(n + cells).
     e.cellStart.assign(static_cast<size_t>(cellCount) + 1, 0);
-    for (int v = 0; v < n; ++v) ++e.cellStart[cellOf[v] + 1];  // outside vertices land in slot 0, dropped below
+    for (int i = 0; i < tested; ++i) ++e.cellStart[cellOf[i] + 1];  // outside vertices land in slot 0, dropped below
     e.cellStart[0] = 0;
     std::partial_sum(e.cellStart.begin(), e.cellStart.end(), e.cellStart.begin());
     const int inside = e.cellStart.back();
@@ -132,8 +138,8 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
     {
         std::vector<int>& cursor = e.scratchCursor;
         cursor.assign(e.cellStart.begin(), e.cellStart.end() - 1);
-        for (int v = 0; v < n; ++v)
-            if (cellOf[v] >= 0) e.order[cursor[cellOf[v]]++] = v;
+        for (int i = 0; i < tested; ++i)
+            if (cellOf[i] >= 0) e.order[cursor[cellOf[i]]++] = vertexAt(i);
     }
     // Pass 2: local coordinates and rest positions in cell order, so the kernel reads them sequentially.
     e.localX.resize(inside);
@@ -162,6 +168,14 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) 
     }
 }
 
+}  // namespace
+
+void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e) { embedVertexSet(lattice, rest, e, nullptr); }
+
+void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e, const std::vector<int>& candidates) {
+    embedVertexSet(lattice, rest, e, lattice.volume ? nullptr : &candidates);
+}
+
 Eigen::Vector3d embeddedParameters(const Lattice& lattice, const Embedding& embedding, int cell, int entry) {
     if (lattice.volume && !lattice.tensorNet())
         return lattice.volume->chunkParameters(cell, {embedding.localX[entry], embedding.localY[entry], embedding.localZ[entry]});
@@ -187,6 +201,10 @@ std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int
         }
         return cells;
     }
+    // Many control points (a brush region's thousands): a mark per cell, read in order, instead of sorting
+    // (p+1)^3 entries per point.
+    const bool marking = controlPoints.size() > 64;
+    std::vector<std::uint8_t> marked(marking ? static_cast<size_t>(lattice.cellCount()) : 0, 0);
     for (int idx : controlPoints) {
         const std::array<int, 3> c = lattice.ijk(idx);
         // Control point i has support on spans [i - p, i] (clamped to the existing spans; SplineAxis::supportSpans
@@ -195,7 +213,16 @@ std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int
         for (int a = 0; a < 3; ++a) lattice.axes[a].supportSpans(c[a], lo[a], hi[a]);
         for (int w = lo[2]; w <= hi[2]; ++w)
             for (int v = lo[1]; v <= hi[1]; ++v)
-                for (int u = lo[0]; u <= hi[0]; ++u) cells.push_back(u + spans[0] * (v + spans[1] * w));
+                for (int u = lo[0]; u <= hi[0]; ++u) {
+                    const int cell = u + spans[0] * (v + spans[1] * w);
+                    if (marking) marked[static_cast<size_t>(cell)] = 1;
+                    else cells.push_back(cell);
+                }
+    }
+    if (marking) {
+        for (size_t cell = 0; cell < marked.size(); ++cell)
+            if (marked[cell]) cells.push_back(static_cast<int>(cell));
+        return cells;
     }
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());

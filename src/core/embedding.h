@@ -35,6 +35,10 @@ Embedding embedVertices(const Lattice& lattice, const Positions& rest);
 // The same, refilling `embedding` in place and reusing its storage (no page faults when re-embedding a
 // mesh of the same size, as adaptive subdivision does).
 void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& embedding);
+// The same for a box lattice, testing only the vertices in `candidates` (ascending ids; every vertex inside the
+// box that the lattice can move must be among them): the others are left out as if outside. A brush stroke's
+// region holds a few thousand of a million vertices. A net lattice tests every vertex.
+void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& embedding, const std::vector<int>& candidates);
 
 // Lattice parameters of entry `entry` of `order`, which lies in cell `cell` (from its local coordinates).
 Eigen::Vector3d embeddedParameters(const Lattice& lattice, const Embedding& embedding, int cell, int entry);

@@ -688,6 +688,9 @@ private:
     std::vector<Eigen::Vector3d> dragUserStarts_;
     std::vector<MirroredConstraint> dragMirror_;
     std::vector<bool> dragPulled_;  // a stroke's, per constraint of dragMirror_: pulled (not held)
+    // While applyBrushPulls runs: the vertices its regions can reach (ascending), the only ones a region layer
+    // entered then embeds (a stroke's region holds thousands of a million vertices).
+    const std::vector<int>* layerCandidates_ = nullptr;
     BrushSettings dragBrush_;
     // The cage's points as shown when a control-point drag began (with layers: the drag moves those).
     Positions dragControlStart_;

@@ -27,7 +27,8 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
     }
     for (const BrushPull& p : pulls) {
         if (!p.moving()) continue;
-        const Eigen::Vector3d reach = Eigen::Vector3d::Constant(kBrushReach * brush.radius);
+        // (a hair wider than the reach: the free supports reach it up to the ties pullRegionLattice counts in)
+        const Eigen::Vector3d reach = Eigen::Vector3d::Constant(kBrushReach * brush.radius * (1.0 + 1e-6));
         reachLo = reachLo.cwiseMin(p.source.cwiseMin(p.source + p.pull) - reach);
         reachHi = reachHi.cwiseMax(p.source.cwiseMax(p.source + p.pull) + reach);
     }
@@ -35,6 +36,7 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
     for (Eigen::Index v = 0; v < positions_.rows(); ++v)
         if ((positions_.row(v).transpose().array() >= reachLo.array()).all() && (positions_.row(v).transpose().array() <= reachHi.array()).all())
             candidates.push_back(static_cast<int>(v));
+    layerCandidates_ = &candidates;
     Positions rowsBefore(static_cast<Eigen::Index>(candidates.size()), 3);
     for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = positions_.row(candidates[c]);
     std::vector<Step> previous;
@@ -148,6 +150,7 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
                         "): met as closely as possible";
     }
     (void)moved;
+    layerCandidates_ = nullptr;
     lastMoved_.clear();
     for (size_t c = 0; c < candidates.size(); ++c)
         if (positions_.row(candidates[c]) != rowsBefore.row(static_cast<Eigen::Index>(c))) lastMoved_.push_back(candidates[c]);

@@ -144,7 +144,8 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
     if (layers_.empty()) cageOut_ = positions_;
     layer.settings = settings;
     layers_.push_back(std::move(layer));
-    embedVertices(layers_.back().lattice, positions_, layerEmbedding_);
+    if (region && layerCandidates_) embedVertices(layers_.back().lattice, positions_, layerEmbedding_, *layerCandidates_);
+    else embedVertices(layers_.back().lattice, positions_, layerEmbedding_);
     pinBoundaryIfPartial(layers_.back().lattice, layerEmbedding_);
     layerActive_ = true;
     if (progress) {
