@@ -429,27 +429,58 @@ Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deform
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
     // In box coordinates (a turned box: b = A x, the residual A (x + D) - A y, the Jacobian A J A^T).
     const Eigen::Vector3d target = toBoxCoordinates(lattice, deformedPoint);
-    Eigen::Vector3d rest = target.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
-    for (int iteration = 0; iteration < 60; ++iteration) {
-        const Eigen::Vector3d t = ((rest - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
+    const auto evaluate = [&](const Eigen::Vector3d& rest, Eigen::Vector3d& t, Eigen::Vector3d& residual, Eigen::Matrix3d& jacobian) {
+        t = ((rest - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
         Eigen::Vector3d displacement;
-        Eigen::Matrix3d jacobian;
         deformationJacobian(lattice, t, displacement, jacobian);
         if (lattice.boxTurned) {
             displacement = lattice.boxAxes * displacement;
             jacobian = lattice.boxAxes * jacobian * lattice.boxAxes.transpose();
         }
-        const Eigen::Vector3d residual = rest + displacement - target;
-        if (residual.norm() <= tolerance * diagonal) {
+        residual = rest + displacement - target;
+        return residual.norm();
+    };
+    // Newton's method with backtracking (the step is halved until the residual drops), from the fixed-point
+    // guess y - D(y) (off by |D| |grad D|), then from y itself: a strongly bent layer (a brush stroke's region,
+    // a subdivided drag's lattice) sends a full step far past the preimage.
+    Eigen::Vector3d t, residual;
+    Eigen::Matrix3d jacobian;
+    const Eigen::Vector3d clamped = target.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+    evaluate(clamped, t, residual, jacobian);
+    const Eigen::Vector3d starts[2] = {(clamped - (residual - (clamped - target))).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax), clamped};
+    for (const Eigen::Vector3d& start : starts) {
+        Eigen::Vector3d rest = start;
+        double r = evaluate(rest, t, residual, jacobian);
+        for (int iteration = 0; iteration < 80; ++iteration) {
+            if (r <= tolerance * diagonal) {
+                params = t;
+                return Status::success();
+            }
+            const Eigen::Vector3d step = jacobian.fullPivLu().solve(residual);
+            if (!step.allFinite()) break;
+            // Never more than a quarter of the box per iteration, always inside the box.
+            double lambda = step.norm() > 0.25 * diagonal ? 0.25 * diagonal / step.norm() : 1.0;
+            bool improved = false;
+            for (int halving = 0; halving < 40 && !improved; ++halving, lambda *= 0.5) {
+                const Eigen::Vector3d candidate = (rest - lambda * step).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+                Eigen::Vector3d candidateT, candidateResidual;
+                Eigen::Matrix3d candidateJacobian;
+                const double rc = evaluate(candidate, candidateT, candidateResidual, candidateJacobian);
+                if (rc < r) {
+                    rest = candidate;
+                    r = rc;
+                    t = candidateT;
+                    residual = candidateResidual;
+                    jacobian = candidateJacobian;
+                    improved = true;
+                }
+            }
+            if (!improved) break;  // at rounding level: as close as it gets from here
+        }
+        if (r <= tolerance * diagonal) {
             params = t;
             return Status::success();
         }
-        const Eigen::Vector3d step = jacobian.fullPivLu().solve(residual);
-        if (!step.allFinite()) break;
-        // Damped step: never move more than a quarter of the box per iteration, stay inside the box.
-        const double limit = 0.25 * diagonal;
-        const double scale = step.norm() > limit ? limit / step.norm() : 1.0;
-        rest = (rest - scale * step).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
     }
     return Status::error("point (" + std::to_string(deformedPoint.x()) + ", " + std::to_string(deformedPoint.y()) + ", " +
                          std::to_string(deformedPoint.z()) + ") is not inside the deformed lattice");
