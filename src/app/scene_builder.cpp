@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "core/cage_view.h"
+#include "core/embedding.h"
 #include "core/injectivity.h"
 #include "core/tspline_view.h"
 
@@ -70,9 +71,24 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
         std::vector<int> ids = request.affectedControlPoints;
         // The last operation's last step: in the cage, or in the layer it made (a brush region or a
         // subdivision step; the newest layer, since later operations were undone).
+        const bool stroke = ids.empty() && last && !last->steps.empty() && last->steps.back().region;
         const bool inLayer = ids.empty() && last && !last->steps.empty() && last->steps.back().freshFrame && !session.layers().empty();
         if (ids.empty() && last && !last->steps.empty()) ids = last->steps.back().delta.indices;
-        if (inLayer) {
+        if (stroke) {
+            // A brush stroke: its regions (one per grabbed image), placed again from their steps, since a finished
+            // stroke is baked into the rest shape and its layers are gone; the strongest influence of any of them.
+            scene.affectedWeight.assign(static_cast<size_t>(session.positions().rows()), 0.0f);
+            for (const core::Step& step : last->steps) {
+                if (!step.region) continue;
+                core::Lattice region;
+                if (!core::makeLatticeInBox(step.settings, step.frameMin, step.frameMax, region) || !core::turnBoxLattice(region, step.frameAxes))
+                    continue;
+                std::vector<float> weight;
+                core::controlPointInfluence(region, core::embedVertices(region, session.positions()), step.delta.indices, weight);
+                for (size_t v = 0; v < weight.size() && v < scene.affectedWeight.size(); ++v)
+                    scene.affectedWeight[v] = std::max(scene.affectedWeight[v], weight[v]);
+            }
+        } else if (inLayer) {
             // note: the layer's input is the mesh before its step; the mesh now is near enough for a tint.
             const core::Lattice& layer = session.layers().back().lattice;
             core::controlPointInfluence(layer, core::embedVertices(layer, session.positions()), ids, scene.affectedWeight);

@@ -3,10 +3,14 @@
 // with symmetry the mirror image of the grabbed point follows the mirrored cursor.
 #include <catch2/catch.hpp>
 
+#include <random>
+
 #include "app/window/sculpt_app.h"
 #include "app/window/tools.h"
 #include "core/brush.h"
 #include "core/brush_field.h"
+#include "app/scene_builder.h"
+#include "test_meshes.h"
 #include "window_test_support.h"
 
 using namespace sculpt;
@@ -152,4 +156,42 @@ TEST_CASE("window brush: with X symmetry the mirror image of the grabbed point f
     CHECK(checked >= 2);
     REQUIRE(state.session.history().size() == 1);
     CHECK(state.session.history().front().label.find("symmetric in x") != std::string::npos);
+}
+
+TEST_CASE("window brush: the affected-region overlay shows what a finished stroke moved, baked as it is", "[gl]") {
+    // After a stroke its layers are baked into the rest shape and gone; the overlay places its regions again.
+    const test::TestMesh mesh = test::makeIcosphere(4);
+    std::mt19937 rng(31);
+    for (int trial = 0; trial < 8; ++trial) {
+        core::Session session;
+        REQUIRE(session.setMesh(mesh.positions, mesh.triangles));
+        core::BrushSettings brush;
+        brush.radius = 0.2 + 0.05 * (trial % 4);
+        brush.falloff = static_cast<core::BrushFalloff>(trial % 3);
+        if (trial % 2 == 1) brush.symmetry.mirror[0] = true;
+        const int v = std::uniform_int_distribution<int>(0, int(mesh.positions.rows()) - 1)(rng);
+        const Eigen::Vector3d source = mesh.positions.row(v).transpose();
+        const double pull = brush.radius * (0.3 + 0.3 * (trial % 5));
+        core::OpReport report;
+        REQUIRE(session.dragVertex(v, source + pull * source.normalized(), report, brush));
+        REQUIRE(report.status == core::OpStatus::Applied);
+        REQUIRE(session.layers().empty());  // baked
+        app::SceneRequest request;
+        request.mesh = false;
+        request.affected = true;
+        const render::SceneData scene = app::sceneFromSession(session, request);
+        REQUIRE(scene.affectedWeight.size() == size_t(mesh.positions.rows()));
+        int moved = 0;
+        for (Eigen::Index r = 0; r < mesh.positions.rows(); ++r) {
+            const bool changed = session.positions().row(r) != mesh.positions.row(r);
+            moved += changed;
+            INFO("trial " << trial << " vertex " << r);
+            if (changed) CHECK(scene.affectedWeight[size_t(r)] > 0.0f);
+            // Far beyond every pull's reach (and its region's box): untinted.
+            const double far = std::min((mesh.positions.row(r).transpose() - source).norm(),
+                                        (mesh.positions.row(r).transpose() - core::reflectPoint(source, 1, Eigen::Vector3d::Zero())).norm());
+            if (far > pull + 3.0 * brush.radius) CHECK(scene.affectedWeight[size_t(r)] == 0.0f);
+        }
+        CHECK(moved > 0);
+    }
 }

@@ -76,7 +76,25 @@ void onGlfwError(int code, const char* description) {
 // backend (1.86) only notes the events; its WantCapture flags are computed at the next NewFrame, for where the
 // cursor was at the last one. So mouse events ask SculptApp::uiCaptureAt for their own point: a press whose
 // move (off the panel whose button was just clicked, onto the mesh) came in the same frame is still a press.
+// Mouse moves are coalesced: of the moves one glfwPollEvents delivers, only the last reaches the app, before
+// the next button, scroll or key event and after the poll. A stroke update rebuilds the stroke from where it
+// began to the cursor, so the moves in between change nothing; processed one by one, a stroke that stops
+// short (each update bisects the pull) fell seconds behind the mouse on a 26k-vertex scan.
+struct PendingMove {
+    bool pending = false;
+    MouseMoveEvent event;
+    CaptureFlags capture;
+};
+PendingMove gPendingMove;
+
+void flushMove(GLFWwindow* window) {
+    if (!gPendingMove.pending) return;
+    gPendingMove.pending = false;
+    appOf(window).onMouseMove(gPendingMove.event, gPendingMove.capture);
+}
+
 void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
+    flushMove(window);
     MouseButtonEvent event;
     if (button == GLFW_MOUSE_BUTTON_LEFT) event.button = MouseButton::Left;
     else if (button == GLFW_MOUSE_BUTTON_RIGHT) event.button = MouseButton::Right;
@@ -96,10 +114,11 @@ void onCursorPos(GLFWwindow* window, double x, double y) {
     event.y = y;
     toFramebuffer(window, event.x, event.y);
     event.modifiers = currentModifiers(window);
-    appOf(window).onMouseMove(event, captureFlags());
+    gPendingMove = {true, event, captureFlags()};
 }
 
 void onScroll(GLFWwindow* window, double dx, double dy) {
+    flushMove(window);
     double x = 0.0, y = 0.0;
     glfwGetCursorPos(window, &x, &y);
     appOf(window).onScroll({dx, dy}, SculptApp::uiCaptureAt(x, y));
@@ -142,6 +161,7 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) 
     event.action = action == GLFW_PRESS ? KeyAction::Press
                  : action == GLFW_REPEAT ? KeyAction::Repeat : KeyAction::Release;
     event.modifiers = modifiersOf(mods);
+    flushMove(window);
     appOf(window).onKey(event, captureFlags());
 }
 
@@ -163,6 +183,7 @@ void onWindowClose(GLFWwindow* window) {
 }
 
 void onDrop(GLFWwindow* window, int count, const char** paths) {
+    flushMove(window);
     appOf(window).onDropFiles(std::vector<std::string>(paths, paths + count));
 }
 
@@ -275,6 +296,7 @@ int runWindow(const std::string& meshPath) {
         // the CPU: at full rate a 1M-vertex load took 4x as long as without a window).
         if (app.files().busy() && !autoDrag) glfwWaitEventsTimeout(1.0 / 15.0);
         else glfwPollEvents();
+        flushMove(window);
         if (app.windowTitle() != title) {  // "name*" while there are unsaved changes
             title = app.windowTitle();
             glfwSetWindowTitle(window, title.c_str());
