@@ -3,6 +3,7 @@
 // with symmetry the mirror image of the grabbed point follows the mirrored cursor.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <random>
 
 #include "app/window/sculpt_app.h"
@@ -57,15 +58,32 @@ TEST_CASE("window brush: F and a mouse move set the radius, Shift+F the strength
     CHECK(brush.radiusPixels == Approx(start + 50.0));
     CHECK(state.session.history().empty());  // the click that kept the radius did not sculpt
 
+    const double keptCircle = brush.hoverRadius;
     press(sculptApp, app::Key::F);
     move(sculptApp, cx + 200.0, cy + 100.0);
     CHECK(brush.radiusPixels != Approx(start + 50.0));
+    CHECK(brush.hoverRadius > keptCircle);  // the circle grows live
     press(sculptApp, app::Key::Escape);
     CHECK(brush.radiusPixels == Approx(start + 50.0));
+    // The circle shrinks back at once (not at the next mouse move), under the cursor: a move that stays put
+    // changes nothing.
+    const double afterEscape = brush.hoverRadius;
+    const bool shownAfterEscape = brush.hover;
+    move(sculptApp, cx + 200.0, cy + 100.0);
+    CHECK(brush.hover == shownAfterEscape);
+    CHECK(brush.hoverRadius == Approx(afterEscape));
+    double px = 0.0, py = 0.0;
+    if (brush.hover) {  // the cursor is over the mesh
+        REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, brush.hoverPoint, px, py));
+        CHECK(std::hypot(px - (cx + 200.0), py - (cy + 100.0)) < 2.0);
+    }
     press(sculptApp, app::Key::F);
     move(sculptApp, cx + 250.0, cy);
     click(sculptApp, cx + 250.0, cy, app::MouseButton::Right);
     CHECK(brush.radiusPixels == Approx(start + 50.0));
+    const double afterRightClick = brush.hoverRadius;
+    move(sculptApp, cx + 250.0, cy);
+    CHECK(brush.hoverRadius == Approx(afterRightClick));
 
     press(sculptApp, app::Key::F, true);
     REQUIRE(brush.resize == app::BrushTool::Resize::Strength);

@@ -58,7 +58,10 @@ bool SculptApp::brushKey(const KeyEvent& event) {
     BrushTool& brush = state_.tools.brush;
     if (event.action != KeyAction::Press) return false;
     if (brush.resize != BrushTool::Resize::None) {
-        if (event.key == Key::Enter || event.key == Key::Escape) finishBrushResize(state_, event.key == Key::Enter);
+        if (event.key == Key::Enter || event.key == Key::Escape) {
+            finishBrushResize(state_, event.key == Key::Enter);
+            updateBrushHover(state_.cursorX, state_.cursorY);  // the circle comes back under the cursor, at its size
+        }
         return true;  // nothing else acts while the brush is being resized
     }
     if (event.key != Key::F || state_.tools.mode != ToolMode::Sculpt || state_.drag.active || event.modifiers.control ||
@@ -98,6 +101,7 @@ bool SculptApp::brushMouseButton(const MouseButtonEvent& event) {
     BrushTool& brush = state_.tools.brush;
     if (brush.resize == BrushTool::Resize::None || event.action != ButtonAction::Press) return false;
     finishBrushResize(state_, event.button != MouseButton::Right);
+    updateBrushHover(state_.cursorX, state_.cursorY);  // the circle comes back under the cursor, at its size
     return true;
 }
 

@@ -1,6 +1,7 @@
 // SculptApp's editing tools (tools.h): the mouse and keys of the sculpt tool (grab, handles, pins) and of the
 // lattice tool (pick, box-select, drag and pin control points). Navigation, files and undo stay in sculpt_app.cpp.
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -325,6 +326,12 @@ void SculptApp::endSculpt() {
         for (size_t c = 0; c < causes.size(); ++c) text += (c == 0 ? ": " : ", ") + causes[c];
     }
     text += ").";
+    // The last move is where the stroke ends: how far it went, if not all the way.
+    if (state_.hasReport && state_.lastReport.status == core::OpStatus::Applied && state_.lastReport.fractionApplied < 1.0) {
+        char share[96];
+        std::snprintf(share, sizeof share, " The last move went %.0f%% of the way to the cursor.", 100.0 * state_.lastReport.fractionApplied);
+        text += share;
+    }
     if (finished.refused > 0 && state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected) {
         std::string why = state_.lastReport.reason.empty() ? state_.lastReport.injectivity : state_.lastReport.reason;
         if (why.rfind("refused: ", 0) == 0) why.erase(0, 9);  // "Last move refused: refused: ..." said it twice
@@ -462,7 +469,9 @@ void SculptApp::updateHint(double x, double y) {
         else if (tools.brush.kind == BrushTool::Kind::Crimp)
             tools.hint = "Click: broaden the bump there, height kept. Ctrl+click: sharpen it. Tab: lattice tool.";
         else
-            tools.hint = "Drag: sculpt. Shift+click: add handle. Ctrl+click: add pin. Tab: lattice tool.";
+            tools.hint = std::string(tools.brush.limited ? "Drag: sculpt within the brush radius (F: radius)."
+                                                         : "Drag: deform with the whole lattice (\"Limit to radius\" is off).") +
+                         " Shift+click: add handle. Ctrl+click: add pin. Tab: lattice tool.";
     } else {
         // note: the hover test projects every control point; at 64^3 that is ~2 ms, acceptable for a hint.
         const int hit = controlPointAtPixel(session.cagePoints(), shownControlPoints(state_),
