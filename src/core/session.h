@@ -396,6 +396,10 @@ public:
     Status updateControlDragPerPoint(const Eigen::MatrixX3d& offsets, OpReport& report);
     // Ends either kind of interactive drag; a drag that changed something becomes one history entry.
     void endDrag();
+    // After the last brush stroke was baked into the rest shape (endDrag, a scripted drag with a radius): how
+    // many of the vertices it moved now rest outside the cage's box. The cage does not hold them, so later
+    // edits of it leave them where they are (a lattice set-up with more padding takes them in). 0 otherwise.
+    int strokeVerticesOutsideCage() const { return strokeOutsideCage_; }
     // Ends the drag in progress by undoing what it applied (its inverse manipulation, step by step), leaving
     // the shape and the history as they were before beginDrag. No drag in progress: NoOp.
     Status cancelDrag(OpReport& report);
@@ -608,6 +612,7 @@ private:
     // A brush drag's update: the stroke's pulls towards `targets` (one per dragMirror_ entry), with the report.
     void updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
     std::vector<Eigen::Vector3d> strokeReached_;  // applyBrushPulls: where each grabbed image is now
+    int strokeOutsideCage_ = 0;                    // strokeVerticesOutsideCage()
     // Adds an increment applied in the current frame to the interactive operation's last step (or a new one).
     void mergeInteractiveStep(const ControlDelta& delta);
     // A control point a user edit may move: inside the lattice and not pinned (the error names it).

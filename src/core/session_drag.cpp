@@ -408,6 +408,7 @@ void Session::endDrag() {
     if (!dragActive_) return;
     dragActive_ = false;
     layerActive_ = false;  // the next operation starts in the cage
+    strokeOutsideCage_ = 0;
     if (!dragOperation_.steps.empty()) {
         refineAfterEdit(dragOperation_, nullptr);
         if (bakeLayers(dragOperation_.steps)) dragOperation_.steps.back().baked = true;  // the detail travels with the surface

@@ -513,7 +513,11 @@ bool Session::bakeAllLayers(std::vector<int>* outside) {
         for (int v : moved)
             if (outsideBox(lattice_, rest_.row(v).transpose())) outside->push_back(v);
     }
-    for (int c = 0; c < count; ++c) rest_.row(moved[static_cast<size_t>(c)]) = rest.row(c);
+    strokeOutsideCage_ = 0;
+    for (int c = 0; c < count; ++c) {
+        rest_.row(moved[static_cast<size_t>(c)]) = rest.row(c);
+        strokeOutsideCage_ += outsideBox(lattice_, rest.row(c).transpose());
+    }
     layers_.clear();
     cageOut_.resize(0, 3);
     embedVertices(lattice_, rest_, embedding_);

@@ -332,6 +332,10 @@ void SculptApp::endSculpt() {
         std::snprintf(share, sizeof share, " The last move went %.0f%% of the way to the cursor.", 100.0 * state_.lastReport.fractionApplied);
         text += share;
     }
+    if (const int outside = state_.session.strokeVerticesOutsideCage(); recorded && outside > 0)
+        text += " " + countOf(static_cast<size_t>(outside), "vertex", "vertices") + " of the stroke now " + (outside == 1 ? "lies" : "lie") +
+                " outside the lattice's box: later lattice edits do not carry " + (outside == 1 ? "it" : "them") +
+                " (Lattice set-up with more padding takes them in).";
     if (finished.refused > 0 && state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected) {
         std::string why = state_.lastReport.reason.empty() ? state_.lastReport.injectivity : state_.lastReport.reason;
         if (why.rfind("refused: ", 0) == 0) why.erase(0, 9);  // "Last move refused: refused: ..." said it twice
