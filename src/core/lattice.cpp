@@ -416,6 +416,45 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
     else jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal();
 }
 
+double newtonPreimageInBox(const Lattice& lattice, const Eigen::Vector3d& target, Eigen::Vector3d& rest, Eigen::Vector3d& params,
+                           double tolerance, double roundingLevel, int iterations) {
+    const double diagonal = lattice.diagonal();
+    const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
+    const auto evaluate = [&](const Eigen::Vector3d& at, Eigen::Vector3d& t, Eigen::Vector3d& residual, Eigen::Matrix3d& jacobian) {
+        t = ((at - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
+        Eigen::Vector3d displacement;
+        deformationJacobian(lattice, t, displacement, jacobian);
+        if (lattice.boxTurned) jacobian = lattice.boxAxes * jacobian * lattice.boxAxes.transpose();
+        residual = at + toBoxCoordinates(lattice, displacement) - target;
+        return residual.norm();
+    };
+    Eigen::Vector3d residual;
+    Eigen::Matrix3d jacobian;
+    double r = evaluate(rest, params, residual, jacobian);
+    for (int iteration = 0; iteration < iterations && r > tolerance; ++iteration) {
+        const Eigen::Vector3d step = jacobian.partialPivLu().solve(residual);
+        if (!step.allFinite()) break;
+        double lambda = step.norm() > 0.25 * diagonal ? 0.25 * diagonal / step.norm() : 1.0;
+        bool improved = false;
+        for (int halving = 0; halving < (r > roundingLevel ? 40 : 1) && !improved; ++halving, lambda *= 0.5) {
+            const Eigen::Vector3d candidate = (rest - lambda * step).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
+            Eigen::Vector3d candidateT, candidateResidual;
+            Eigen::Matrix3d candidateJacobian;
+            const double rc = evaluate(candidate, candidateT, candidateResidual, candidateJacobian);
+            if (rc < r) {
+                rest = candidate;
+                r = rc;
+                params = candidateT;
+                residual = candidateResidual;
+                jacobian = candidateJacobian;
+                improved = true;
+            }
+        }
+        if (!improved) break;  // at rounding level: as close as it gets from here
+    }
+    return r;
+}
+
 Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deformedPoint, Eigen::Vector3d& params,
                            double tolerance) {
     if (!finite3(deformedPoint)) return Status::error("point has non-finite coordinates");
@@ -426,58 +465,18 @@ Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deform
                              std::to_string(deformedPoint.z()) + ") is not inside the deformed lattice");
     }
     const double diagonal = lattice.diagonal();
-    const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
-    // In box coordinates (a turned box: b = A x, the residual A (x + D) - A y, the Jacobian A J A^T).
+    // In box coordinates (a turned box: b = A x, the residual A (x + D) - A y, the Jacobian A J A^T). A strongly
+    // bent layer (a brush stroke's region, a subdivided drag's lattice) sends a full step from y far past the
+    // preimage: the fixed-point guess y - D(y) (off by |D| |grad D|) first.
     const Eigen::Vector3d target = toBoxCoordinates(lattice, deformedPoint);
-    const auto evaluate = [&](const Eigen::Vector3d& rest, Eigen::Vector3d& t, Eigen::Vector3d& residual, Eigen::Matrix3d& jacobian) {
-        t = ((rest - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
-        Eigen::Vector3d displacement;
-        deformationJacobian(lattice, t, displacement, jacobian);
-        if (lattice.boxTurned) {
-            displacement = lattice.boxAxes * displacement;
-            jacobian = lattice.boxAxes * jacobian * lattice.boxAxes.transpose();
-        }
-        residual = rest + displacement - target;
-        return residual.norm();
-    };
-    // Newton's method with backtracking (the step is halved until the residual drops), from the fixed-point
-    // guess y - D(y) (off by |D| |grad D|), then from y itself: a strongly bent layer (a brush stroke's region,
-    // a subdivided drag's lattice) sends a full step far past the preimage.
-    Eigen::Vector3d t, residual;
-    Eigen::Matrix3d jacobian;
     const Eigen::Vector3d clamped = target.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
-    evaluate(clamped, t, residual, jacobian);
-    const Eigen::Vector3d starts[2] = {(clamped - (residual - (clamped - target))).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax), clamped};
+    Eigen::Vector3d t;
+    restParametersInBox(lattice, clamped, t);
+    const Eigen::Vector3d guess = clamped - toBoxCoordinates(lattice, displacementAt(lattice, t));
+    const Eigen::Vector3d starts[2] = {guess.cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax), clamped};
     for (const Eigen::Vector3d& start : starts) {
         Eigen::Vector3d rest = start;
-        double r = evaluate(rest, t, residual, jacobian);
-        for (int iteration = 0; iteration < 80; ++iteration) {
-            if (r <= tolerance * diagonal) {
-                params = t;
-                return Status::success();
-            }
-            const Eigen::Vector3d step = jacobian.fullPivLu().solve(residual);
-            if (!step.allFinite()) break;
-            // Never more than a quarter of the box per iteration, always inside the box.
-            double lambda = step.norm() > 0.25 * diagonal ? 0.25 * diagonal / step.norm() : 1.0;
-            bool improved = false;
-            for (int halving = 0; halving < 40 && !improved; ++halving, lambda *= 0.5) {
-                const Eigen::Vector3d candidate = (rest - lambda * step).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
-                Eigen::Vector3d candidateT, candidateResidual;
-                Eigen::Matrix3d candidateJacobian;
-                const double rc = evaluate(candidate, candidateT, candidateResidual, candidateJacobian);
-                if (rc < r) {
-                    rest = candidate;
-                    r = rc;
-                    t = candidateT;
-                    residual = candidateResidual;
-                    jacobian = candidateJacobian;
-                    improved = true;
-                }
-            }
-            if (!improved) break;  // at rounding level: as close as it gets from here
-        }
-        if (r <= tolerance * diagonal) {
+        if (newtonPreimageInBox(lattice, target, rest, t, tolerance * diagonal, 1e-13 * diagonal, 80) <= tolerance * diagonal) {
             params = t;
             return Status::success();
         }

@@ -162,9 +162,16 @@ Eigen::Vector3d volumePoint(const Lattice& lattice, const Eigen::Vector3d& param
 void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, Eigen::Vector3d& displacement,
                          Eigen::Matrix3d& jacobian);
 
+// Damped Newton for the preimage of a box lattice's map, in box coordinates (toBoxCoordinates): from `rest`
+// (inside the box), steps of at most a quarter of the diagonal, each halved until |x + D(x) - target| drops
+// (once only below roundingLevel, where nothing improves any more), until it is <= tolerance or
+// `iterations` are done. rest and params get the last iterate; returns its residual (world units).
+double newtonPreimageInBox(const Lattice& lattice, const Eigen::Vector3d& target, Eigen::Vector3d& rest, Eigen::Vector3d& params,
+                           double tolerance, double roundingLevel, int iterations);
+
 // Finds the rest-space parameters whose deformed image is `deformedPoint` by damped Newton iteration
-// started at the point's own box parameters. Fails if the point is outside the deformed lattice, or the
-// iteration does not converge to tolerance * diagonal.
+// (newtonPreimageInBox) from the fixed-point guess y - D(y), then from the point's own box parameters. Fails
+// if the point is outside the deformed lattice, or the iteration does not converge to tolerance * diagonal.
 Status locateDeformedPoint(const Lattice& lattice, const Eigen::Vector3d& deformedPoint, Eigen::Vector3d& params,
                            double tolerance = 1e-12);
 

@@ -124,7 +124,6 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
         }
         return;
     }
-    const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
     // note: the residual x + d(x) - y sums up to (p+1)^3 terms of size ~|x|, so it cannot go much below a few
     // ulps of the box; Newton stops at 1e-14 of the diagonal or when even a halved step no longer improves
     // (below 1e-13 only the full step is tried: rounding level), so no iterations are burnt on noise. Undo chains many inversions: each must be this tight.
@@ -148,41 +147,8 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
             continue;
         }
         // Start from the fixed-point guess x = y - d(y): off by |d| |grad d|, so Newton needs two or three steps.
-        Eigen::Vector3d x = (yBox - toBoxCoordinates(lattice, displacementAtY)).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
-        Eigen::Vector3d residual;
-        Eigen::Matrix3d jacobian;
-        const auto evaluate = [&](const Eigen::Vector3d& at, Eigen::Vector3d& res, Eigen::Matrix3d& jac) {
-            const Eigen::Vector3d tt = ((at - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
-            Eigen::Vector3d displacement;
-            deformationJacobian(lattice, tt, displacement, jac);
-            if (lattice.boxTurned) jac = lattice.boxAxes * jac * lattice.boxAxes.transpose();
-            res = at + toBoxCoordinates(lattice, displacement) - yBox;
-            return res.norm();
-        };
-        double r = evaluate(x, residual, jacobian);
-        for (int iteration = 0; iteration < 40 && r > tolerance; ++iteration) {
-            const Eigen::Vector3d step = jacobian.partialPivLu().solve(residual);
-            if (!step.allFinite()) break;
-            // Damped Newton: where the full step overshoots (a strongly bent frame), halve it until the
-            // residual drops. At rounding level nothing improves any more: stop there.
-            double lambda = 1.0;
-            bool improved = false;
-            for (int halving = 0; halving < (r > roundingLevel ? 30 : 1); ++halving, lambda *= 0.5) {
-                const Eigen::Vector3d candidate = (x - lambda * step).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax);
-                Eigen::Vector3d candidateResidual;
-                Eigen::Matrix3d candidateJacobian;
-                const double rc = evaluate(candidate, candidateResidual, candidateJacobian);
-                if (rc < r) {
-                    x = candidate;
-                    r = rc;
-                    residual = candidateResidual;
-                    jacobian = candidateJacobian;
-                    improved = true;
-                    break;
-                }
-            }
-            if (!improved) break;
-        }
+        Eigen::Vector3d x = (yBox - toBoxCoordinates(lattice, displacementAtY)).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax), params;
+        const double r = newtonPreimageInBox(lattice, yBox, x, params, tolerance, roundingLevel, 40);
         // Outside the box nothing moved: keep y unless Newton found a genuine preimage inside.
         rest.row(v) = (r <= 1e-9 * lattice.diagonal() ? fromBoxCoordinates(lattice, x) : y).transpose();
     }
