@@ -40,14 +40,24 @@ void drawStatsPanel(AppState& state) {
             ImGui::SetTooltip("How many lattices the history has used: an edit that would fold the mesh in one\n"
                               "lattice is split into injective steps, each later one in a fresh lattice (a frame)\n"
                               "around the shape the earlier steps made. 1: everything in the first lattice.");
+        // note: the CPU path uploads positions and normals too; the count is the vertices sent, which includes
+        // the neighbours whose normals a move changed (more than the vertices an undo reports as moved).
+        const auto uploadTooltip = [] {
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("The time of the last upload to the GPU, and the vertices whose positions and normals it\n"
+                                  "sent: those that moved and their neighbours, whose normals changed (an undo counts only\n"
+                                  "the moved ones). The GPU path sends the lattices' control points instead.");
+        };
         if (state.stats.hideTimings) {
             row("Solve", "%s", "-- ms");
-            row("GPU update", "-- ms (%d vtx)", state.stats.lastUploadVertices);
+            row("Upload to GPU", "-- ms (%d vtx)", state.stats.lastUploadVertices);
+            uploadTooltip();
             row("Draw calls", "%s", "-- ms");
             row("Frame rate", "%s", "-- fps");
         } else {
             row("Solve", "%.2f ms", state.stats.solveMs);
-            row("GPU update", "%.2f ms (%d vtx)", state.stats.updateMs, state.stats.lastUploadVertices);
+            row("Upload to GPU", "%.2f ms (%d vtx)", state.stats.updateMs, state.stats.lastUploadVertices);
+            uploadTooltip();
             row("Draw calls", "%.2f ms", state.stats.renderMs);
             const float fps = ImGui::GetIO().Framerate;
             row("Frame rate", "%.1f fps (%.1f ms)", fps, fps > 0.0f ? 1000.0f / fps : 0.0f);
