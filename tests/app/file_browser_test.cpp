@@ -88,7 +88,7 @@ TEST_CASE("file browser: save checks ask before replacing and refuse what cannot
     CHECK_FALSE(app::checkOpenPath(folder.file("none.obj")).error.empty());
 }
 
-TEST_CASE("document: modified follows the applied history; undo back to the saved state is clean", "[app]") {
+TEST_CASE("document: modified follows the applied history, undo back to the saved state is clean", "[app]") {
     Positions positions;
     Triangles triangles;
     test::icosphere(2, 1.0, Eigen::Vector3d::Zero(), positions, triangles);

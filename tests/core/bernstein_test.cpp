@@ -83,7 +83,7 @@ TEST_CASE("bernstein: monomial to Bernstein conversion preserves the polynomial"
         }
 }
 
-TEST_CASE("bernstein: de Casteljau evaluation equals the basis sum; corners interpolate; convex hull bounds",
+TEST_CASE("bernstein: de Casteljau evaluation equals the basis sum, corners interpolate, convex hull bounds",
           "[core]") {
     std::mt19937 rng(302);
     for (int trial = 0; trial < 200; ++trial) {

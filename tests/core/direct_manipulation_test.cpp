@@ -245,7 +245,7 @@ TEST_CASE("direct_manipulation: h single-point steps (eq. 13-19) give the joint 
     }
 }
 
-TEST_CASE("direct_manipulation: pinned control points never move; least norm over the free ones", "[core]") {
+TEST_CASE("direct_manipulation: pinned control points never move, least norm over the free ones", "[core]") {
     std::mt19937 rng(47);
     for (int trial = 0; trial < 80; ++trial) {
         Lattice lattice = test::randomLattice(rng);

@@ -29,7 +29,7 @@ TEST_CASE("lattice: undeformed lattice is the identity inside the box, faces inc
     }
 }
 
-TEST_CASE("lattice: parameters are 0 and 1 exactly on the faces; outside points are refused", "[core]") {
+TEST_CASE("lattice: parameters are 0 and 1 exactly on the faces, outside points are refused", "[core]") {
     std::mt19937 rng(22);
     for (int trial = 0; trial < 20; ++trial) {
         const Lattice lattice = test::randomLattice(rng);

@@ -81,7 +81,7 @@ void requireConforming(const Positions& rest, const Triangles& refined, const Tr
 
 }  // namespace
 
-TEST_CASE("refinement: a coarse plane under a sharp ridge is refined within the tolerance; undo and redo are bitwise", "[refine]") {
+TEST_CASE("refinement: a coarse plane under a sharp ridge is refined within the tolerance, undo and redo are bitwise", "[refine]") {
     Positions positions;
     Triangles triangles;
     twoQuads(positions, triangles);
@@ -242,7 +242,7 @@ TEST_CASE("refinement: random meshes under random drags end within the tolerance
     REQUIRE(refined >= 10);
 }
 
-TEST_CASE("refinement: the planner follows an analytic bump; its splits replay, revert and stop at the limits", "[refine]") {
+TEST_CASE("refinement: the planner follows an analytic bump, its splits replay, revert and stop at the limits", "[refine]") {
     std::mt19937 rng(2024);
     for (int trial = 0; trial < 6; ++trial) {
         Positions rest;
@@ -328,7 +328,7 @@ TEST_CASE("refinement: the planner follows an analytic bump; its splits replay, 
     REQUIRE_FALSE(refineMesh(rest, rest, triangles, [](const Eigen::Vector3d& x) { return x; }, bad, result).ok);
 }
 
-TEST_CASE("refinement: the deviation of a quadratic patch is bounded by the estimate; an affine one has none", "[refine]") {
+TEST_CASE("refinement: the deviation of a quadratic patch is bounded by the estimate, an affine one has none", "[refine]") {
     std::mt19937 rng(77);
     for (int trial = 0; trial < 200; ++trial) {
         const Eigen::Vector3d a = test::randomVector(rng, -1, 1), b = test::randomVector(rng, -1, 1), c = test::randomVector(rng, -1, 1);

@@ -340,7 +340,7 @@ TEST_CASE("session: a slab lattice bent until its ends meet stops before they ov
 // steps), stays positive at every grid point and vertex; with the pinned layer holding the box's boundary,
 // a map with det J > 0 is globally injective. Meanwhile, with the triangle check off, the straight triangles
 // between the mapped vertices do cross: the fault is the discretisation, and the triangle check closes it.
-TEST_CASE("session: under pinch drags the composed map does not fold; only straight triangles cross", "[core]") {
+TEST_CASE("session: under pinch drags the composed map does not fold, only straight triangles cross", "[core]") {
     Positions sphere;
     Triangles triangles;
     test::icosphere(3, 1.0, Eigen::Vector3d::Zero(), sphere, triangles);

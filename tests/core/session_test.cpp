@@ -32,7 +32,7 @@ bool sameState(const Session& a, const Positions& positions, const Positions& di
 
 }  // namespace
 
-TEST_CASE("session: a drag puts the source on the target; undo and redo restore", "[core]") {
+TEST_CASE("session: a drag puts the source on the target, undo and redo restore", "[core]") {
     std::mt19937 rng(51);
     for (int trial = 0; trial < 20; ++trial) {
         Session session = randomSession(rng, 3000);
@@ -160,7 +160,7 @@ TEST_CASE("session: an interactive drag of many small moves is one history entry
     }
 }
 
-TEST_CASE("session: a lattice re-setup is an operation; undo returns to the old lattice and mesh", "[core]") {
+TEST_CASE("session: a lattice re-setup is an operation, undo returns to the old lattice and mesh", "[core]") {
     std::mt19937 rng(56);
     for (int trial = 0; trial < 10; ++trial) {
         Session session = randomSession(rng, 600);

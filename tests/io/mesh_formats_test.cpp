@@ -721,7 +721,7 @@ namespace sculpt::io {
 
 // A reader that crashes or never returns costs an error message, not the program (isolated_call.h); assimp loops
 // forever on this malformed PLY (found by mesh_fuzz), which passes every check of ours.
-TEST_CASE("mesh formats: a reader that crashes or hangs is an error, not a crash; a cancelled load stops", "[io][formats]") {
+TEST_CASE("mesh formats: a reader that crashes or hangs is an error, not a crash, a cancelled load stops", "[io][formats]") {
     std::string bytes;
     const Status crashed = runIsolated("the test reader", [](IsolatedChannel&) { std::raise(SIGSEGV); }, 10.0, nullptr, bytes);
     CHECK_FALSE(crashed.ok);

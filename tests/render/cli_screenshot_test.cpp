@@ -42,7 +42,7 @@ TEST_CASE("cli: screenshot ops and --screenshot write framed PNGs of the request
     fs::remove_all(dir);
 }
 
-TEST_CASE("cli: --overlay colors draws a scan's vertex colours, before and after an edit; without it the clay", "[gl]") {
+TEST_CASE("cli: --overlay colors draws a scan's vertex colours, before and after an edit, without it the clay", "[gl]") {
     const fs::path dir = fs::temp_directory_path() / ("sculpt_cli_colours_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);

@@ -56,7 +56,7 @@ Eigen::Vector3d dragUp(app::SculptApp& sculptApp, app::CaptureFlags capture, int
 
 }  // namespace
 
-TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor; one undo step", "[gl]") {
+TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, one undo step", "[gl]") {
     app::SculptApp sculptApp;
     loadDefault(sculptApp);
     app::AppState& state = sculptApp.state();
@@ -194,7 +194,7 @@ TEST_CASE("window: orbit, pan and a minimised (0 x 0) framebuffer keep the camer
     CHECK(sculptApp.renderFrame(0, 0).ok);  // draws nothing, touches no GL
 }
 
-TEST_CASE("window: full frames with the UI render offscreen; drag updates are sparse", "[gl]") {
+TEST_CASE("window: full frames with the UI render offscreen, drag updates are sparse", "[gl]") {
     app::SculptApp sculptApp;
     loadDefault(sculptApp);
     test::OffscreenWindow window;

@@ -38,7 +38,7 @@ void click(app::SculptApp& sculptApp, double x, double y, app::MouseButton butto
 
 }  // namespace
 
-TEST_CASE("window brush: F and a mouse move set the radius, Shift+F the strength; a click or Enter keeps, Esc or a right click puts back", "[gl]") {
+TEST_CASE("window brush: F and a mouse move set the radius, Shift+F the strength, a click or Enter keeps, Esc or a right click puts back", "[gl]") {
     app::SculptApp sculptApp;
     test::loadDefaultMesh(sculptApp, kWidth, kHeight);
     app::AppState& state = sculptApp.state();

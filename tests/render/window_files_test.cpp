@@ -294,7 +294,7 @@ TEST_CASE("window files: save, reload, overwrite only after Replace, failures ke
     CHECK(state.modified);
 }
 
-TEST_CASE("window files: a PLY is dropped, sculpted and saved as STL and GLB like an OBJ; other files are refused by name",
+TEST_CASE("window files: a PLY is dropped, sculpted and saved as STL and GLB like an OBJ, other files are refused by name",
           "[gl]") {
     TempFolder folder;
     io::ObjMesh obj;
@@ -411,7 +411,7 @@ TEST_CASE("window files: the first Save over the original input asks once", "[gl
     CHECK_FALSE(state.modified);
 }
 
-TEST_CASE("window files: quit and open with unsaved changes ask; Cancel keeps everything", "[gl]") {
+TEST_CASE("window files: quit and open with unsaved changes ask, Cancel keeps everything", "[gl]") {
     TempFolder folder;
     app::SculptApp sculptApp;
     loadDefault(sculptApp);

@@ -224,7 +224,7 @@ TEST_CASE("window tools: the lattice tool picks the control point under the curs
     CHECK(state.session.history().empty());
 }
 
-TEST_CASE("window tools: dragging selected control points is one undoable edit; pinned ones stay", "[gl]") {
+TEST_CASE("window tools: dragging selected control points is one undoable edit, pinned ones stay", "[gl]") {
     std::mt19937 rng(504);
     int edits = 0, unsubdivided = 0;
     for (int trial = 0; trial < 6; ++trial) {
@@ -301,7 +301,7 @@ TEST_CASE("window tools: dragging selected control points is one undoable edit; 
     CHECK(unsubdivided >= 2);
 }
 
-TEST_CASE("window tools: P pins the selection; a pinned selection cannot be dragged", "[gl]") {
+TEST_CASE("window tools: P pins the selection, a pinned selection cannot be dragged", "[gl]") {
     app::SculptApp sculptApp;
     loadDefault(sculptApp);
     app::AppState& state = sculptApp.state();

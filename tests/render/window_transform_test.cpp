@@ -122,7 +122,7 @@ TEST_CASE("window transform: typed G, R and S move, turn and scale the selection
     CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= tolerance);
 }
 
-TEST_CASE("window transform: the mouse moves along a locked axis; X Y Z lock and unlock; Backspace and minus edit the value", "[gl]") {
+TEST_CASE("window transform: the mouse moves along a locked axis, X Y Z lock and unlock, Backspace and minus edit the value", "[gl]") {
     app::SculptApp sculptApp;
     startWithAllSelected(sculptApp);
     app::AppState& state = sculptApp.state();
@@ -158,7 +158,7 @@ TEST_CASE("window transform: the mouse moves along a locked axis; X Y Z lock and
     CHECK_FALSE(state.transform.active);
 }
 
-TEST_CASE("window transform: Esc or a right click cancels exactly and records nothing; shortcuts wait until it ends", "[gl]") {
+TEST_CASE("window transform: Esc or a right click cancels exactly and records nothing, shortcuts wait until it ends", "[gl]") {
     for (const bool rightClick : {false, true}) {
         app::SculptApp sculptApp;
         test::loadDefaultMesh(sculptApp, kWidth, kHeight);
@@ -197,7 +197,7 @@ TEST_CASE("window transform: Esc or a right click cancels exactly and records no
     }
 }
 
-TEST_CASE("window transform: a left click confirms the mouse's move as one undo step; nothing selected says so", "[gl]") {
+TEST_CASE("window transform: a left click confirms the mouse's move as one undo step, nothing selected says so", "[gl]") {
     app::SculptApp sculptApp;
     test::loadDefaultMesh(sculptApp, kWidth, kHeight);
     app::AppState& state = sculptApp.state();

@@ -159,7 +159,7 @@ std::set<int> tJunctionsByEdgeCount(const core::TLattice& lattice, const std::ve
 
 }  // namespace
 
-TEST_CASE("window tspline: Set up T-spline adds and freezes the lattice the panel asks for; undo takes it back", "[gl][tspline]") {
+TEST_CASE("window tspline: Set up T-spline adds and freezes the lattice the panel asks for, undo takes it back", "[gl][tspline]") {
     Ui ui;
     if (!ui.open()) return;
     app::AppState& state = ui.sculptApp.state();

@@ -43,7 +43,7 @@ void orbit(app::SculptApp& a, double dx) {
 
 }  // namespace
 
-TEST_CASE("window views: numpad 1 3 7 look along the axes as Blender's front right and top; Ctrl the opposite; 5 toggles orthographic", "[gl]") {
+TEST_CASE("window views: numpad 1 3 7 look along the axes as Blender's front right and top, Ctrl the opposite, 5 toggles orthographic", "[gl]") {
     app::SculptApp sculptApp;
     test::loadDefaultMesh(sculptApp, kWidth, kHeight);
     app::AppState& state = sculptApp.state();
@@ -78,7 +78,7 @@ TEST_CASE("window views: numpad 1 3 7 look along the axes as Blender's front rig
     CHECK_FALSE(state.camera.orthographic);
 }
 
-TEST_CASE("window views: picking finds what is drawn under the cursor in both projections; the wheel zooms toward it", "[gl]") {
+TEST_CASE("window views: picking finds what is drawn under the cursor in both projections, the wheel zooms toward it", "[gl]") {
     for (const bool orthographic : {false, true}) {
         INFO((orthographic ? "orthographic" : "perspective"));
         app::SculptApp sculptApp;
