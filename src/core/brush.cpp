@@ -88,7 +88,7 @@ Eigen::Vector3d mirroredTarget(const MirroredConstraint& constraint, const std::
             if (mask & (1 << a)) d[a] = -d[a];
         move += d;
     }
-    return constraint.source + constraint.weight * move / static_cast<double>(constraint.images.size());
+    return constraint.source + move / static_cast<double>(constraint.images.size());
 }
 
 double brushProfile(BrushFalloff falloff, double x) {

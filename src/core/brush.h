@@ -56,7 +56,6 @@ Status validateBrush(const BrushSettings& brush);
 struct MirroredConstraint {
     Eigen::Vector3d source = Eigen::Vector3d::Zero();
     std::vector<std::pair<int, int>> images;  // (user constraint, mirror mask)
-    double weight = 1.0;  // the fraction of the images' move it makes
 };
 // The constraints of a drag with their mirror images added: for every non-empty subset of the mirrored axes,
 // each constraint not `held` reflected in those planes (held constraints, e.g. pins, are not mirrored). The
@@ -66,8 +65,8 @@ std::vector<MirroredConstraint> mirrorConstraints(const std::vector<Eigen::Vecto
 // The point p reflected in the planes of `mask` through `centre`.
 Eigen::Vector3d reflectPoint(const Eigen::Vector3d& p, int mask, const Eigen::Vector3d& centre);
 // The target of a constraint given the user's sources and targets (one each per user constraint): its source
-// moved by `weight` times the mean of its images' moves, each reflected by its mask (for a weight of 1 and a
-// source on the images: the mean of the mirrored targets).
+// moved by the mean of its images' moves, each reflected by its mask (for a source on the images: the mean of
+// the mirrored targets).
 Eigen::Vector3d mirroredTarget(const MirroredConstraint& constraint, const std::vector<Eigen::Vector3d>& userTargets,
                                const std::vector<Eigen::Vector3d>& userSources);
 

@@ -70,7 +70,7 @@ void embedVertexSet(const Lattice& lattice, const Positions& rest, Embedding& e,
     // The parameters are the box's linear map (restParameters), inlined here: this runs on every re-embedding.
     // A lattice of another kind freezes each vertex (Coquillart 1990, 3.3) once, in pass 1, into scratchParams.
     const bool net = lattice.volume != nullptr;
-    const bool turned = lattice.boxTurned;  // a turned box (lattice.h): its coordinates are boxAxes * x
+    const bool turned = lattice.boxTurned();  // a turned box (lattice.h): its coordinates are boxAxes * x
     // A volume that is not one tensor product: its cells are its chunks (Volume::chunkOf).
     const Volume* chunked = lattice.volume && !lattice.tensorNet() ? lattice.volume.get() : nullptr;
     auto parameters = [&](int v, double t[3]) {

@@ -649,7 +649,7 @@ std::string formatValue(double value) {
 }  // namespace
 
 InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vector<int>& cells) {
-    if (lattice.boxTurned) return checkInjectivityConic(unturnedLattice(lattice), cells);  // the same det J (lattice.h)
+    if (lattice.boxTurned()) return checkInjectivityConic(unturnedLattice(lattice), cells);  // the same det J (lattice.h)
     if (lattice.volume) {
         // note: the cones of section 7 are around the axes e_a, the directions of a box lattice's hodographs at
         // rest; a curved net's rest hodographs point anywhere, so the cones would fail at rest. The exact test
@@ -703,7 +703,7 @@ InjectivityResult checkInjectivityConic(const Lattice& lattice, const std::vecto
 
 InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptions& options,
                                         const std::vector<int>& cells) {
-    if (lattice.boxTurned) return checkInjectivityExact(unturnedLattice(lattice), options, cells);  // the same det J (lattice.h)
+    if (lattice.boxTurned()) return checkInjectivityExact(unturnedLattice(lattice), options, cells);  // the same det J (lattice.h)
     const Clock::time_point start = Clock::now();
     InjectivityResult result;
     const std::vector<int> work = cellsToCheck(lattice, cells, result);

@@ -305,14 +305,13 @@ double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3
                     dw[c] += vdw * sum[c];
                 }
             }
-        Eigen::Matrix3d jacobian;
+        Eigen::Matrix3d m;  // dD/dt diag(1 / size)
         for (int c = 0; c < 3; ++c) {
-            jacobian(c, 0) = (c == 0 ? 1.0 : 0.0) + du[c] / size[0];
-            jacobian(c, 1) = (c == 1 ? 1.0 : 0.0) + dv[c] / size[1];
-            jacobian(c, 2) = (c == 2 ? 1.0 : 0.0) + dw[c] / size[2];
+            m(c, 0) = du[c] / size[0];
+            m(c, 1) = dv[c] / size[1];
+            m(c, 2) = dw[c] / size[2];
         }
-        if (lattice.boxTurned) jacobian = Eigen::Matrix3d::Identity() + (jacobian - Eigen::Matrix3d::Identity()) * lattice.boxAxes;  // lattice.h
-        return jacobian.determinant();
+        return worldJacobian(lattice, m).determinant();
     }
     // Rational: homogeneous sums as in deformationJacobian (lattice.cpp): N = sum W B delta, W = sum W B,
     // and their gradients in t.
@@ -337,9 +336,7 @@ double jacobianDeterminantInCell(const Lattice& lattice, const std::array<int, 3
     // Quotient rule for D = N / W.
     const Eigen::Matrix3d dDisplacementDt =
         (numeratorGrad - (numerator / denominator) * denominatorGrad.transpose()) / denominator;
-    const Eigen::Matrix3d turn = lattice.boxTurned ? lattice.boxAxes : Eigen::Matrix3d::Identity();
-    const Eigen::Matrix3d jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal() * turn;
-    return jacobian.determinant();
+    return worldJacobian(lattice, dDisplacementDt * size.cwiseInverse().asDiagonal()).determinant();
 }
 
 }  // namespace sculpt::core

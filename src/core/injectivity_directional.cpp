@@ -9,7 +9,7 @@
 namespace sculpt::core {
 
 std::vector<int> cellsLeftByDirectionalBound(const Lattice& lattice, const std::vector<int>& cells) {
-    if (lattice.boxTurned) return cellsLeftByDirectionalBound(unturnedLattice(lattice), cells);  // the same det J (lattice.h)
+    if (lattice.boxTurned()) return cellsLeftByDirectionalBound(unturnedLattice(lattice), cells);  // the same det J (lattice.h)
     if (lattice.volume || lattice.rational) return cells;
     for (int a = 0; a < 3; ++a)
         if (!lattice.axes[a].uniform()) return cells;

@@ -53,15 +53,18 @@ Eigen::Vector3d Lattice::restControlPoint(int idx) const {
     const std::array<int, 3> c = ijk(idx);
     Eigen::Vector3d p;
     for (int a = 0; a < 3; ++a) p[a] = boxMin[a] + axes[a].greville[c[a]] * (boxMax[a] - boxMin[a]);
-    return boxTurned ? Eigen::Vector3d(boxAxes.transpose() * p) : p;
+    return boxTurned() ? Eigen::Vector3d(boxAxes.transpose() * p) : p;
 }
 
 Status turnBoxLattice(Lattice& lattice, const Eigen::Matrix3d& axes) {
+    if (axes == Eigen::Matrix3d::Identity()) {  // not turned: any lattice
+        lattice.boxAxes = axes;
+        return Status::success();
+    }
     if (lattice.volume) return Status::error("only a box lattice can be turned");
     if (!axes.allFinite() || !(axes * axes.transpose()).isIdentity(1e-12) || !(std::abs(axes.determinant() - 1.0) <= 1e-12))
         return Status::error("a lattice's box axes must be orthonormal and right-handed");
     lattice.boxAxes = axes;
-    lattice.boxTurned = axes != Eigen::Matrix3d::Identity();
     return Status::success();
 }
 
@@ -96,10 +99,9 @@ void deformationBounds(const Lattice& lattice, Eigen::Vector3d& lo, Eigen::Vecto
 
 Lattice unturnedLattice(const Lattice& lattice) {
     Lattice out = lattice;
-    if (!lattice.boxTurned) return out;
+    if (!lattice.boxTurned()) return out;
     out.displacement = lattice.displacement * lattice.boxAxes.transpose();  // rows (A delta)^T = delta^T A^T
     out.boxAxes.setIdentity();
-    out.boxTurned = false;
     return out;
 }
 
@@ -411,9 +413,8 @@ void deformationJacobian(const Lattice& lattice, const Eigen::Vector3d& params, 
         dDisplacementDt = (numeratorGrad - displacement * denominatorGrad.transpose()) / denominator;
     }
     const Eigen::Vector3d size = lattice.boxMax - lattice.boxMin;
-    // dx/dX0 = I + dD/dt dt/db db/dX0, with db/dX0 = boxAxes for a turned box.
-    if (lattice.boxTurned) jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal() * lattice.boxAxes;
-    else jacobian = Eigen::Matrix3d::Identity() + dDisplacementDt * size.cwiseInverse().asDiagonal();
+    // dx/dX0 = I + dD/dt dt/db db/dX0.
+    jacobian = worldJacobian(lattice, dDisplacementDt * size.cwiseInverse().asDiagonal());
 }
 
 double newtonPreimageInBox(const Lattice& lattice, const Eigen::Vector3d& target, Eigen::Vector3d& rest, Eigen::Vector3d& params,
@@ -424,7 +425,7 @@ double newtonPreimageInBox(const Lattice& lattice, const Eigen::Vector3d& target
         t = ((at - lattice.boxMin).cwiseQuotient(size)).cwiseMax(0.0).cwiseMin(1.0);
         Eigen::Vector3d displacement;
         deformationJacobian(lattice, t, displacement, jacobian);
-        if (lattice.boxTurned) jacobian = lattice.boxAxes * jacobian * lattice.boxAxes.transpose();
+        if (lattice.boxTurned()) jacobian = lattice.boxAxes * jacobian * lattice.boxAxes.transpose();
         residual = at + toBoxCoordinates(lattice, displacement) - target;
         return residual.norm();
     };

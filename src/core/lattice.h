@@ -61,9 +61,9 @@ struct Lattice {
     // A box lattice may be turned: row a of boxAxes is the unit world direction of parameter axis a (an
     // orthonormal, right-handed frame), boxMin/boxMax are in box coordinates b = boxAxes * x, and the control
     // displacements stay world vectors. The brush aligns its region with the pull this way (brush_field.h).
-    // boxTurned is false exactly when boxAxes is the identity (the cage, subdivision layers, every net).
+    // Not turned (the identity): the cage, subdivision layers, every net.
     Eigen::Matrix3d boxAxes = Eigen::Matrix3d::Identity();
-    bool boxTurned = false;
+    bool boxTurned() const { return boxAxes != Eigen::Matrix3d::Identity(); }
     std::vector<double> weights;        // #P NURBS weights W_ijk (all 1 unless the user changes them)
     bool rational = false;              // some weight differs from 1
     Positions displacement;             // #P x 3, delta_ijk accumulated since set-up
@@ -109,14 +109,19 @@ Status makeLatticeInBox(const LatticeSettings& settings, const Eigen::Vector3d& 
 
 // Turns a box lattice: `axes` (rows: the world directions of parameter axes u, v, w) must be orthonormal and
 // right-handed to 1e-12 (fails otherwise, lattice untouched); boxMin/boxMax are then read in box coordinates.
-// The identity un-turns it. A lattice of another kind (volume) cannot be turned.
+// The identity un-turns it, and any lattice takes it; a lattice of another kind (volume) cannot be turned.
 Status turnBoxLattice(Lattice& lattice, const Eigen::Matrix3d& axes);
 // Box coordinates of a world point (boxAxes * x; x itself for an unturned lattice), and back.
 inline Eigen::Vector3d toBoxCoordinates(const Lattice& lattice, const Eigen::Vector3d& x) {
-    return lattice.boxTurned ? Eigen::Vector3d(lattice.boxAxes * x) : x;
+    return lattice.boxTurned() ? Eigen::Vector3d(lattice.boxAxes * x) : x;
 }
 inline Eigen::Vector3d fromBoxCoordinates(const Lattice& lattice, const Eigen::Vector3d& b) {
-    return lattice.boxTurned ? Eigen::Vector3d(lattice.boxAxes.transpose() * b) : b;
+    return lattice.boxTurned() ? Eigen::Vector3d(lattice.boxAxes.transpose() * b) : b;
+}
+// The deformation's Jacobian dx/dX0 = I + M A from M = dD/dt diag(1 / size), the displacement's derivatives
+// along the box's axes (A = boxAxes = db/dX0; I + M for an unturned lattice).
+inline Eigen::Matrix3d worldJacobian(const Lattice& lattice, const Eigen::Matrix3d& m) {
+    return Eigen::Matrix3d::Identity() + (lattice.boxTurned() ? Eigen::Matrix3d(m * lattice.boxAxes) : m);
 }
 // The world axis-aligned bounds of the lattice's box (of its turned box: the bounds of its 8 corners).
 void worldBoxBounds(const Lattice& lattice, Eigen::Vector3d& lo, Eigen::Vector3d& hi);

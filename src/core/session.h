@@ -547,6 +547,8 @@ private:
     // placed by applyBrushPulls), or a fresh regular lattice with the cage's settings around the mesh the active
     // lattice deforms. placed: its placement for the step that will be applied in it.
     Status enterLayer(Progress* progress, Step* placed, const Step* recorded);
+    // Where the newest `count` layers can move anything (deformationBounds of each, together).
+    void newestLayersBounds(size_t count, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const;
     // Removes the newest layer: the vertices it moved get their positions from the layers below.
     void popLayer(std::vector<int>* moved) { popLayers(1, moved); }
     // Removes the newest `count` layers at once: the vertices they moved are carried once through the layers

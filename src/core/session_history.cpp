@@ -332,7 +332,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
             if (Status s = validateLatticeSettings(step.settings); !s) return Status::error("step " + std::to_string(k) + ": " + s.message);
             if (!step.frameMin.allFinite() || !step.frameMax.allFinite() || !(step.frameMin.array() < step.frameMax.array()).all())
                 return Status::error("step " + std::to_string(k) + ": the lattice box must be finite with min < max on every axis");
-            if (Lattice probe; !step.frameAxes.isIdentity(0.0) && !turnBoxLattice(probe, step.frameAxes))
+            if (Lattice probe; !turnBoxLattice(probe, step.frameAxes))
                 return Status::error("step " + std::to_string(k) + ": a layer's box axes must be orthonormal and right-handed");
             settings = step.settings;
             if (step.newCage) cageSettings = step.settings;

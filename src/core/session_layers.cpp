@@ -131,7 +131,7 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
         pinsKept = true;
     }
     if (Status s = makeLatticeInBox(settings, lo, hi, layer.lattice); !s) return s;
-    if (recorded && !recorded->frameAxes.isIdentity(0.0))  // a brush region turned to its pull
+    if (recorded)  // a brush region is turned to its pull
         if (Status s = turnBoxLattice(layer.lattice, recorded->frameAxes); !s) return s;
     if (region) pinAllBut(layer.lattice, free);
     else if (pinsKept)
@@ -155,19 +155,25 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
     return Status::success();
 }
 
+void Session::newestLayersBounds(size_t count, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
+    lo = Eigen::Vector3d::Constant(INFINITY);
+    hi = Eigen::Vector3d::Constant(-INFINITY);
+    for (size_t k = layers_.size() - std::min(count, layers_.size()); k < layers_.size(); ++k) {
+        Eigen::Vector3d layerLo, layerHi;
+        deformationBounds(layers_[k].lattice, layerLo, layerHi);
+        lo = lo.cwiseMin(layerLo);
+        hi = hi.cwiseMax(layerHi);
+    }
+}
+
 void Session::popLayers(size_t count, std::vector<int>* moved) {
     // Only where a layer could have put a vertex can a position change: its box and the hull of its control
     // points (convex hull property of the B-spline volume). A vertex outside that region of the newest layer
     // is where the layer below left it, so outside the union of the removed layers' regions nothing changes.
     count = std::min(count, layers_.size());
     if (count == 0) return;
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
-    for (size_t k = layers_.size() - count; k < layers_.size(); ++k) {
-        Eigen::Vector3d layerLo, layerHi;
-        deformationBounds(layers_[k].lattice, layerLo, layerHi);
-        lo = lo.cwiseMin(layerLo);
-        hi = hi.cwiseMax(layerHi);
-    }
+    Eigen::Vector3d lo, hi;
+    newestLayersBounds(count, lo, hi);
     layers_.resize(layers_.size() - count);
     layerActive_ = false;
     const int n = static_cast<int>(positions_.rows());
@@ -539,13 +545,8 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
     }
     if (layers_.empty()) return;
     if (cageOut_.rows() != positions_.rows()) cageOut_ = positions_;
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
-    for (const Layer& layer : layers_) {
-        Eigen::Vector3d layerLo, layerHi;
-        deformationBounds(layer.lattice, layerLo, layerHi);
-        lo = lo.cwiseMin(layerLo);
-        hi = hi.cwiseMax(layerHi);
-    }
+    Eigen::Vector3d lo, hi;
+    newestLayersBounds(layers_.size(), lo, hi);
     // A stroke's layer moves along one line: inverted along it (always converges); other layers by Newton.
     std::vector<Eigen::Vector3d> directions;
     std::vector<double> bounds;

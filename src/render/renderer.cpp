@@ -601,6 +601,8 @@ void Renderer::State::uploadLattices(const core::Lattice& cage, const std::vecto
         const core::Lattice& source = *all[l];
         const GpuLatticeShape shape = shapeOf(source);
         const size_t row = l * kLatticeTableStride;
+        // The GPU frame's origin in the box's coordinates (itself for an unturned box).
+        const Eigen::Vector3d turnedOrigin = core::toBoxCoordinates(source, Eigen::Vector3d(frame.origin[0], frame.origin[1], frame.origin[2]));
         for (int a = 0; a < 3; ++a) {
             const core::SplineAxis& axis = source.axes[size_t(a)];
             basis[row + 9 + size_t(a)] = float(basis.size());
@@ -613,7 +615,6 @@ void Renderer::State::uploadLattices(const core::Lattice& cage, const std::vecto
             // The box in the GPU frame, and the local coordinate per unit there: spans over the box's size. A
             // turned box (a brush stroke's, core/lattice.h): its corner in box coordinates relative to the turned
             // origin, (boxMin - A origin) / scale, and A's rows at 22-30, so t = (A p - corner) * perUnit.
-            const Eigen::Vector3d turnedOrigin = source.boxAxes * Eigen::Vector3d(frame.origin[0], frame.origin[1], frame.origin[2]);
             basis[row + 16 + size_t(a)] = float((shape.boxMin[a] - turnedOrigin[a]) / frame.scale);
             for (int c = 0; c < 3; ++c) basis[row + 22 + size_t(3 * a + c)] = float(source.boxAxes(a, c));
             basis[row + 19 + size_t(a)] =
