@@ -291,13 +291,7 @@ constexpr int kMaxRestSubdivisionDepth = 8;   // boxes of 2^-8 of an element
 constexpr int kMaxRestBoxesPerElement = 1024;
 constexpr double kHullGuard = 1e-10;          // relative to the magnitude of a product coefficient's terms
 
-struct ElementOutcome {
-    enum Kind { Proven, Fold, Undecided, NonFinite } kind = Proven;
-    bool byHull = false;
-    long long boxes = 0;
-    Eigen::Vector3d local = Eigen::Vector3d::Constant(0.5);  // fold / least sampled point, element coordinates
-    double value = 0.0;                                        // det dQ0/dt there (undecided: least sampled)
-};
+using ElementOutcome = ChunkJacobianProof;
 
 // Degree-3 Bernstein basis and its derivative at 1/2.
 constexpr double kHalf[4] = {0.125, 0.375, 0.375, 0.125};
@@ -560,10 +554,17 @@ HullVerdict jacobianHullTest(const double* p, const double extent[3], bool polyn
     return HullVerdict::Proven;
 }
 
-double restDeterminantAt(const TSplineVolume& volume, int element, const Eigen::Vector3d& local) {
+// det dQ/dt at an element's local point, of the rest volume (displacement null) or the moved one.
+double determinantAt(const Volume& volume, const Positions* displacement, int element, const Eigen::Vector3d& local) {
+    const Eigen::Vector3d t = volume.chunkParameters(element, local);
     Eigen::Vector3d q;
     Eigen::Matrix3d d;
-    volume.evaluate(volume.restControlPoints(), volume.chunkParameters(element, local), q, &d);
+    volume.evaluate(volume.restControlPoints(), t, q, &d);
+    if (displacement) {
+        Eigen::Matrix3d moved;
+        volume.evaluate(*displacement, t, q, &moved);
+        d += moved;
+    }
     return d.determinant();
 }
 
@@ -598,7 +599,8 @@ int splitAxis(const double* w) {
 // parameters) along the axis splitAxis picks, each half given the hull test, until every box is proven, a box's
 // centre is a fold (confirmed by evaluating dQ0/dt there), or boxes of 2^-8 of the element on an axis / the box
 // limit leave some undecided.
-void subdivisionSearch(const TSplineVolume& volume, int element, const BezierChunk& chunk, std::vector<double>& pool, ElementOutcome& outcome) {
+void subdivisionSearch(const Volume& volume, const Positions* displacement, int element, const BezierChunk& chunk, std::vector<double>& pool,
+                       ElementOutcome& outcome) {
     constexpr int n = 64, block = 4 * n;
     const BernsteinDegree cubic{3, 3, 3};
     const double finest = std::ldexp(1.0, -kMaxRestSubdivisionDepth);
@@ -616,7 +618,7 @@ void subdivisionSearch(const TSplineVolume& volume, int element, const BezierChu
         ++outcome.boxes;
         double centreDet = 0.0;
         if (jacobianHullTest(pool.data() + at, extent, chunk.polynomial, centreDet) == HullVerdict::Proven) continue;
-        const double det = restDeterminantAt(volume, element, centre);
+        const double det = determinantAt(volume, displacement, element, centre);
         if (!(det > 0.0)) {
             outcome.kind = std::isfinite(det) ? ElementOutcome::Fold : ElementOutcome::NonFinite;
             outcome.local = centre;
@@ -653,6 +655,27 @@ std::string formatNumber(double x) {
 
 }  // namespace
 
+ChunkJacobianProof proveChunkJacobian(const Volume& volume, int chunk, const Positions* displacement) {
+    thread_local BezierChunk bezier;
+    thread_local std::vector<double> pool;
+    ChunkJacobianProof outcome;
+    volume.bezierChunk(chunk, displacement, bezier);
+    bool collapsed = false;
+    for (const auto& faces : bezier.collapse) collapsed = collapsed || faces[0] != 0 || faces[1] != 0;
+    if (bezier.degree != std::array<int, 3>{3, 3, 3} || collapsed) {
+        outcome.kind = ChunkJacobianProof::NotApplicable;
+        return outcome;
+    }
+    double centreDet = 0.0;
+    const double extent[3] = {bezier.parameterScale[0], bezier.parameterScale[1], bezier.parameterScale[2]};
+    if (jacobianHullTest(bezier.points.data(), extent, bezier.polynomial, centreDet) == HullVerdict::Proven) {
+        outcome.byHull = true;
+        return outcome;
+    }
+    subdivisionSearch(volume, displacement, chunk, bezier, pool, outcome);
+    return outcome;
+}
+
 Status checkTSplineRestVolume(const TSplineVolume& volume, const std::vector<int>& elements, TSplineRestCheckStats* stats) {
     const auto start = std::chrono::steady_clock::now();
     const TSplineBasis& basis = volume.basis();
@@ -675,17 +698,9 @@ Status checkTSplineRestVolume(const TSplineVolume& volume, const std::vector<int
 #pragma omp parallel for schedule(dynamic, 16) if (count > 64)
     for (int i = 0; i < count; ++i) {
         if (i > firstFailure.load(std::memory_order_relaxed)) continue;
-        thread_local BezierChunk chunk;
-        thread_local std::vector<double> pool;
         const int e = list[static_cast<size_t>(i)];
         ElementOutcome& outcome = outcomes[static_cast<size_t>(i)];
-        volume.bezierChunk(e, nullptr, chunk);
-        double centreDet = 0.0;
-        const double extent[3] = {chunk.parameterScale[0], chunk.parameterScale[1], chunk.parameterScale[2]};
-        if (jacobianHullTest(chunk.points.data(), extent, chunk.polynomial, centreDet) == HullVerdict::Proven)
-            outcome.byHull = true;
-        else
-            subdivisionSearch(volume, e, chunk, pool, outcome);
+        outcome = proveChunkJacobian(volume, e, nullptr);
         if (outcome.kind != ElementOutcome::Proven) {
             int seen = firstFailure.load(std::memory_order_relaxed);
             while (i < seen && !firstFailure.compare_exchange_weak(seen, i, std::memory_order_relaxed)) {

@@ -263,6 +263,26 @@ Status subdivideTSplineVolume(const TSplineVolume& volume, const std::vector<int
 std::vector<double> balancedTSplineWeights(const TSplineBasis& basis, const std::vector<std::uint8_t>& heavyAnchors, double heavy, double light,
                                            double step);
 
+// The outcome of proveChunkJacobian on one chunk.
+struct ChunkJacobianProof {
+    // Proven: det dQ/dt > 0 on the closed chunk. Fold: det dQ/dt <= 0 evaluated at `local` (value). Undecided: the
+    // limits were reached with boxes left (value: the least det sampled, at local). NotApplicable: the chunk is not
+    // cubic, or has a collapsed face (the proof needs neither; the Bernstein form of det decides those).
+    enum Kind { Proven, Fold, Undecided, NonFinite, NotApplicable } kind = Proven;
+    bool byHull = false;     // proven on the whole chunk, without subdivision
+    long long boxes = 0;     // subdivision boxes looked at (0 when byHull)
+    Eigen::Vector3d local = Eigen::Vector3d::Constant(0.5);  // the chunk's local coordinates in [0,1]^3
+    double value = 0.0;                                        // det dQ/dt there
+};
+
+// The proof of checkTSplineRestVolume (tspline_rest.cpp, steps 1-3: the Jacobian hull of the homogeneous Bezier
+// points, preconditioned by dQ/dt at the box centre, then de Casteljau halving to 2^-8 of the chunk / 1024 boxes)
+// on one cubic chunk of any volume, with its control points at rest (displacement null) or moved by
+// `displacement` (#controlPointCount x 3). The hull is taken in the frame of dQ/dt at each box's centre, so a
+// rigid motion or a uniform scaling of the chunk is proven as its rest is (Gain & Dodgson 2001, Theorem 1: det J =
+// det dQ/dt / det dQ0/dt, of one sign when both are positive). Deterministic; thread-safe (thread-local scratch).
+ChunkJacobianProof proveChunkJacobian(const Volume& volume, int chunk, const Positions* displacement);
+
 // What checkTSplineRestVolume did.
 struct TSplineRestCheckStats {
     int elementsChecked = 0;
