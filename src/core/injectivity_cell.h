@@ -64,6 +64,10 @@ void cellBezierDisplacement(const Lattice& lattice, const CellBezierBasis& basis
 // Appendix's FindDeviation "fail") if some control vector has a component along its own axis <= 0; then
 // sinSquared is unspecified.
 bool cellHodographCones(const CellBezierBasis& basis, const double* bezier, std::array<double, 3>& sinSquared);
+// The same test in the frame of the cell's mean Jacobian M (column a: the mean of J_a's Bezier control vectors):
+// the cones around e_a of the vectors M^-1 h (det(M^-1 J) = det J / det M). A rigid motion or uniform scaling of
+// the cell is certified at any angle (M^-1 J = I). False also when det M <= 0 (then nothing is said).
+bool cellHodographConesInMeanFrame(const CellBezierBasis& basis, const double* bezier, std::array<double, 3>& sinSquared);
 
 // Bezier control vectors of the Jacobian columns J_a over the cell (see the top of this file), from the
 // output of cellBezierDisplacement. column[a] receives 3 blocks (x, y, z components) of

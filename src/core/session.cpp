@@ -268,9 +268,21 @@ bool Session::certifyCells(const Lattice& lattice, const std::vector<int>& cells
         injectivityMs += verdict.milliseconds;
         if (verdict.certified) return true;
     }
+    if (verdict.verdict == InjectivityVerdict::Undecided) {
+        // Undecided is not a fold: search deeper (boxes of 2^-13 of a cell, 10x the work) before giving up. A
+        // smaller step is the next escalation (the caller's subdivision of the manipulation).
+        ExactOptions deeper;
+        deeper.maxSubdivisionDepth = 13;
+        deeper.maxBoxesPerCell = 200000;
+        verdict = checkInjectivityExact(lattice, deeper, left);
+        injectivityMs += verdict.milliseconds;
+        if (verdict.certified) return true;
+    }
     const auto& ijk = verdict.failingCellIjk;
-    failure.cause = StepFailure::Cause::Lattice;
-    failure.technical = std::string(injectivityModeName(injectivity_.mode)) + " test fails in " +
+    // Only a point where det J <= 0 was evaluated is a fold; what the tests could not decide is "not certified".
+    const bool fold = verdict.verdict == InjectivityVerdict::Fold;
+    failure.cause = fold ? StepFailure::Cause::Lattice : StepFailure::Cause::Uncertified;
+    failure.technical = std::string(injectivityModeName(injectivity_.mode)) + " test " + (fold ? "finds a fold" : "cannot decide") + " in " +
                         (lattice.volume && !lattice.tensorNet() ? "chunk " + std::to_string(ijk[0])
                                                                 : "cell [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
                                                                       std::to_string(ijk[2]) + "]");
@@ -417,6 +429,7 @@ const char* stepFailureCauseName(StepFailure::Cause cause) {
         case StepFailure::Cause::Triangles: return "triangles";
         case StepFailure::Cause::Boundary: return "boundary";
         case StepFailure::Cause::Lattice: return "lattice";
+        case StepFailure::Cause::Uncertified: return "uncertified";
         case StepFailure::Cause::SourceLeft: return "source";
         case StepFailure::Cause::None: break;
     }
@@ -429,10 +442,24 @@ std::string stepFailureWords(const StepFailure& failure, bool drag) {
         case StepFailure::Cause::Triangles: return "the surface would pass through itself" + near;
         case StepFailure::Cause::Boundary: return "the lattice's outer surface would fold onto itself" + near;
         case StepFailure::Cause::Lattice: return std::string("the ") + (drag ? "mesh" : "lattice") + " would fold over itself" + near;
+        case StepFailure::Cause::Uncertified:
+            return "the deformation could not be certified free of folds" + near + " (no fold was found there; the tests stayed undecided)";
         case StepFailure::Cause::SourceLeft:
         case StepFailure::Cause::None: break;
     }
     return failure.technical;
+}
+
+std::string stepStopWords(StepFailure::Cause cause) {
+    switch (cause) {
+        case StepFailure::Cause::Triangles: return "where the surface would pass through itself";
+        case StepFailure::Cause::Boundary: return "where the lattice's outer surface would fold onto itself";
+        case StepFailure::Cause::Lattice: return "where the lattice would fold";
+        case StepFailure::Cause::Uncertified: return "where the deformation could no longer be certified";
+        case StepFailure::Cause::SourceLeft:
+        case StepFailure::Cause::None: break;
+    }
+    return "short";
 }
 
 std::string stepFailureAdvice(StepFailure::Cause cause) {
@@ -440,6 +467,8 @@ std::string stepFailureAdvice(StepFailure::Cause cause) {
         case StepFailure::Cause::Triangles: return "try a smaller move, a finer lattice, or a finer mesh there";
         case StepFailure::Cause::Boundary: return "pin the outer layer (pin layers 1), make a smaller move, or enlarge the lattice";
         case StepFailure::Cause::Lattice: return "try a smaller move or a finer lattice";
+        case StepFailure::Cause::Uncertified:
+            return "the move may well be injective: try it in smaller moves, a finer lattice there, or the exact test";
         case StepFailure::Cause::SourceLeft:
         case StepFailure::Cause::None: break;
     }
@@ -901,7 +930,7 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     report.controlPointsChanged = static_cast<int>(delta.indices.size());
     if (fraction < 1.0) {
         report.refusedBy = stepFailureCauseName(failure.cause);
-        report.reason = "stopped where the lattice would fold: moved " + percentText(fraction) + " of the way (beyond it " + stepFailureWords(failure, false) +
+        report.reason = "stopped " + stepStopWords(failure.cause) + ": moved " + percentText(fraction) + " of the way (beyond it " + stepFailureWords(failure, false) +
                         "); control point " + lattice_.controlPointName(delta.indices.front()) + " ended at " +
                         vectorText(lattice_.controlPoint(delta.indices.front()));
     }

@@ -113,12 +113,17 @@ struct TSplineSetup {
 
 // Why a step of an operation was not applied: what failed, in the engine's terms, and where on the mesh.
 struct StepFailure {
-    enum class Cause { None, SourceLeft, Lattice, Boundary, Triangles } cause = Cause::None;
+    // Lattice: a point with det J <= 0 was evaluated (a fold). Uncertified: the injectivity tests stayed undecided
+    // after escalating (conic to exact, deeper subdivision) and found no fold: not proven, not known to fold.
+    enum class Cause { None, SourceLeft, Lattice, Uncertified, Boundary, Triangles } cause = Cause::None;
     std::string technical;  // e.g. "conic test fails in cell [2,4,1] (...)"
     Eigen::Vector3d where = Eigen::Vector3d::Constant(NAN);  // world point near the failure (current shape)
 };
-// "lattice", "boundary", "triangles", "source" or "" (OpReport::refusedBy).
+// "lattice" (a fold), "uncertified", "boundary", "triangles", "source" or "" (OpReport::refusedBy).
 const char* stepFailureCauseName(StepFailure::Cause cause);
+// Where a move stopped short, e.g. "where the lattice would fold", "where the deformation could no longer be
+// certified" (report reasons: "stopped " + this).
+std::string stepStopWords(StepFailure::Cause cause);
 // What would happen, in the user's words, e.g. "the surface would pass through itself near (0.1, 0.2, 0.3)".
 std::string stepFailureWords(const StepFailure& failure, bool drag);
 // What the user can do about it, e.g. "try a smaller move, a finer lattice, or a finer mesh there".

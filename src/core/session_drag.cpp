@@ -400,7 +400,7 @@ void Session::applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& 
     report.status = fraction > 0.0 ? OpStatus::Applied : OpStatus::Rejected;
     if (fraction < 1.0) {
         report.refusedBy = stepFailureCauseName(failure.cause);
-        report.reason = "Stopped where the lattice would fold: moving further, " + stepFailureWords(failure, false) + ".";
+        report.reason = "Stopped " + stepStopWords(failure.cause) + ": moving further, " + stepFailureWords(failure, false) + ".";
     }
 }
 

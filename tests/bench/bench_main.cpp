@@ -362,6 +362,137 @@ void benchTriangleCheck() {
 
 // The brush on real meshes (issue "Sculpting as a sculptor expects", point 5): 100 random strokes on each of
 // three of CGAL's meshes, and one brush move on a 1M-vertex sphere.
+// Certification on real scans (issue "Certification that decides", point 6), each with the share of its time in
+// each test: a T-spline drag step on CGAL's armadillo (26k vertices, depth 4, weights 100:1), a whole-cage drag of
+// one vertex (8^3 cubic lattice: every vertex moves, so every triangle is checked), and every control point of a
+// 5^3 lattice turned 90 degrees about z in one move under the conic test.
+void benchCertification() {
+    if (!wanted("certify_tspline_real") && !wanted("triangle_check_global_26k") && !wanted("rotate_lattice_conic")) return;
+    Positions positions;
+    Triangles triangles;
+    std::string error;
+    if (!test::loadCgalMesh("armadillo.off", positions, triangles, error)) {
+        bench::printError(std::cout, "certify_tspline_real", error);
+        return;
+    }
+    const int n = static_cast<int>(positions.rows());
+    const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+    const auto shares = [](const std::vector<OpReport>& reports, int& applied, double& lattice, double& triangle, double& wall) {
+        std::vector<double> l, t, w;
+        applied = 0;
+        for (const OpReport& r : reports) {
+            applied += r.status == OpStatus::Applied && r.fractionApplied == 1.0;
+            l.push_back(r.injectivityMs - r.triangleCheckMs);
+            t.push_back(r.triangleCheckMs);
+            w.push_back(r.wallMs);
+        }
+        lattice = bench::median(l), triangle = bench::median(t), wall = bench::median(w);
+    };
+    const auto print = [&](const std::string& name, const std::vector<OpReport>& reports, double ms, const std::string& more) {
+        int applied = 0;
+        double lattice = 0.0, tri = 0.0, wall = 0.0;
+        shares(reports, applied, lattice, tri, wall);
+        char extra[400];
+        std::snprintf(extra, sizeof extra,
+                      "\"applied_in_full\": \"%d of %zu\", \"lattice_test_ms\": %.2f, \"triangle_check_ms\": %.2f, \"lattice_share\": %.2f, "
+                      "\"triangle_share\": %.2f%s",
+                      applied, reports.size(), lattice, tri, wall > 0 ? lattice / wall : 0.0, wall > 0 ? tri / wall : 0.0, more.c_str());
+        bench::printCase(name, n, ms, extra);
+    };
+    if (wanted("certify_tspline_real")) {
+        for (const InjectivityMode mode : {InjectivityMode::Exact, InjectivityMode::Conic}) {
+            Session session;
+            LatticeSettings start;
+            start.resolution = {4, 4, 4};
+            session.setMesh(positions, triangles, start);
+            session.setInjectivity({mode, 6});
+            TSplineSetup setup;
+            setup.octree.octree.depth = 4;
+            OpReport report;
+            if (Status s = session.setupTSpline(setup, report); !s) {
+                bench::printError(std::cout, "certify_tspline_real", s.message);
+                return;
+            }
+            // One drag step of 3% of the diagonal at each of 9 vertices spread over the mesh, each undone after.
+            std::vector<OpReport> reports;
+            int next = 0;
+            const double ms = bench::medianMs(
+                9,
+                [&] {
+                    const int v = (next++ * 2909 + 17) % n;
+                    const Eigen::Vector3d from = session.positions().row(v).transpose();
+                    session.dragVertex(v, from + 0.03 * diagonal * Eigen::Vector3d(0.3, -0.5, 0.8).normalized(), report);
+                    reports.push_back(report);
+                },
+                [&] {
+                    OpReport undone;
+                    while (session.historyCursor() > 2) session.undo(undone);
+                });
+            reports.erase(reports.begin());  // the warm-up
+            print(std::string("certify_tspline_real") + (mode == InjectivityMode::Conic ? "_conic" : ""), reports, ms,
+                  ", \"depth\": 4, \"weight_ratio\": 100, \"drag\": \"3% of the diagonal\"");
+        }
+    }
+    if (wanted("triangle_check_global_26k")) {
+        LatticeSettings settings;
+        settings.resolution = {8, 8, 8};
+        Session session;
+        session.setMesh(positions, triangles, settings);
+        session.setInjectivity({InjectivityMode::Conic, 6});
+        std::vector<OpReport> reports;
+        OpReport report;
+        int next = 0;
+        const double ms = bench::medianMs(
+            9,
+            [&] {
+                const int v = (next++ * 2909 + 17) % n;
+                const Eigen::Vector3d from = session.positions().row(v).transpose();
+                session.dragVertex(v, from + 0.05 * diagonal * Eigen::Vector3d(0.3, -0.5, 0.8).normalized(), report);
+                reports.push_back(report);
+            },
+            [&] {
+                OpReport undone;
+                if (session.historyCursor() > 0) session.undo(undone);
+            });
+        reports.erase(reports.begin());
+        print("triangle_check_global_26k", reports, ms, ", \"vertices_moved\": " + std::to_string(report.verticesMoved));
+    }
+    if (wanted("rotate_lattice_conic")) {
+        LatticeSettings settings;
+        settings.resolution = {5, 5, 5};
+        Session session;
+        session.setMesh(positions, triangles, settings);
+        session.setInjectivity({InjectivityMode::Conic, 6});
+        const Lattice& lattice = session.lattice();
+        std::vector<int> ids;
+        Eigen::MatrixX3d to(lattice.controlPointCount(), 3);
+        Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+        for (int c = 0; c < lattice.controlPointCount(); ++c) centre += lattice.controlPoint(c);
+        centre /= lattice.controlPointCount();
+        const Eigen::Matrix3d turn = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        for (int c = 0; c < lattice.controlPointCount(); ++c) {
+            ids.push_back(c);
+            to.row(c) = (centre + turn * (lattice.controlPoint(c) - centre)).transpose();
+        }
+        std::vector<OpReport> reports;
+        OpReport report;
+        const double ms = bench::medianMs(
+            5,
+            [&] {
+                session.moveControlPoints(ids, to, false, report);
+                reports.push_back(report);
+            },
+            [&] {
+                OpReport undone;
+                if (session.historyCursor() > 0) session.undo(undone);
+            });
+        reports.erase(reports.begin());
+        char more[96];
+        std::snprintf(more, sizeof more, ", \"fraction_applied\": %.3f", report.fractionApplied);
+        print("rotate_lattice_conic", reports, ms, more);
+    }
+}
+
 void benchBrush() {
     if (wanted("strokes_real")) {
         for (const char* name : {"elephant.off", "camel.off", "armadillo.off"}) {
@@ -487,6 +618,7 @@ int main(int argc, char** argv) {
     sculpt::bench::runIoBenchmarks(gFilters);
     benchSubdivision();
     benchTriangleCheck();
+    benchCertification();
     benchBrush();
 #ifdef SCULPT_BENCH_RENDER
     if (wanted("render") || wanted("upload") || wanted("full_update")) sculpt::render::runRenderBenchmarks(std::cout);

@@ -461,7 +461,7 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
                                              fileNameOfPath(result.meshPath)
                                        : "Loaded " + name + ": " + countOf(static_cast<size_t>(s.positions().rows()), "vertex", "vertices") +
                                              ", " + countOf(static_cast<size_t>(s.triangles().rows()), "triangle");
-            if (result.opsRejected > 0) text += " (" + std::to_string(result.opsRejected) + " refused as not injective)";
+            if (result.opsRejected > 0) text += " (" + std::to_string(result.opsRejected) + " refused: the report says why)";
             if (result.screenshotsSkipped > 0) text += ", " + countOf(static_cast<size_t>(result.screenshotsSkipped), "screenshot op") + " skipped";
             text += " in " + took + ".";
             if (s.initialIntersectingPairs() > 0)

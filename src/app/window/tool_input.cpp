@@ -293,7 +293,11 @@ void SculptApp::updateSculpt(double x, double y) {
     if (stopped) ++drag.stoppedShort;
     if (!s || report.status == core::OpStatus::Rejected || stopped) {
         const std::string& by = report.refusedBy;
-        ++(by == "lattice" ? drag.byFold : by == "triangles" ? drag.byCrossing : by == "boundary" ? drag.byBoundary : drag.byOther);
+        ++(by == "lattice"       ? drag.byFold
+           : by == "uncertified" ? drag.byUncertified
+           : by == "triangles"   ? drag.byCrossing
+           : by == "boundary"    ? drag.byBoundary
+                                 : drag.byOther);
     }
     reportOperation(state_, report, s,
                     drag.kind == DragKind::Control ? "Moving " + countOf(drag.controlPoints.size(), "control point") : std::string());
@@ -319,6 +323,7 @@ void SculptApp::endSculpt() {
     if (!parts.empty()) {
         std::vector<std::string> causes;
         if (finished.byFold > 0) causes.push_back(std::to_string(finished.byFold) + " where the mesh would fold");
+        if (finished.byUncertified > 0) causes.push_back(std::to_string(finished.byUncertified) + " where it could not be certified (no fold found)");
         if (finished.byCrossing > 0) causes.push_back(std::to_string(finished.byCrossing) + " where the surface would cross itself");
         if (finished.byBoundary > 0) causes.push_back(std::to_string(finished.byBoundary) + " where the lattice boundary would overlap");
         if (finished.byOther > 0) causes.push_back(std::to_string(finished.byOther) + " for another reason");
