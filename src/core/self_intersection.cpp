@@ -50,6 +50,7 @@ void SelfIntersectionIndex::clear() {
     dirtyFlag_.clear();
     movedVertexFlag_.clear();
     movedTriangleFlag_.clear();
+    nodeMoved_.clear();
     allDirty_ = false;
 }
 
@@ -172,65 +173,108 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     }
     verticesMoved(moved);
     refit(positions, triangles);
-    // Queries in leaf order: neighbouring queries walk the same nodes, which stay in cache.
-    std::sort(movedTriangles.begin(), movedTriangles.end(), [&](int x, int y) { return leafOfTriangle_[x] < leafOfTriangle_[y]; });
+    // The nodes holding a moved triangle: its leaf and the leaf's ancestors (the walk up stops at a marked one).
+    if (nodeMoved_.size() != nodes_.size()) nodeMoved_.assign(nodes_.size(), 0);
+    std::vector<int> markedNodes;
+    for (int t : movedTriangles)
+        for (int index = leafOfTriangle_[t]; index >= 0 && !nodeMoved_[index]; index = nodes_[index].parent) {
+            nodeMoved_[index] = 1;
+            markedNodes.push_back(index);
+        }
 
     const auto now = [&](int v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
     const auto then = [&](int v) -> Eigen::Vector3d { return (movedVertexFlag_[v] ? before.row(v) : positions.row(v)).transpose(); };
-    // The moved triangles of one leaf share one walk of the hierarchy with the union of their boxes.
-    std::vector<int> groupStart;
-    for (size_t m = 0; m < movedTriangles.size(); ++m)
-        if (m == 0 || leafOfTriangle_[movedTriangles[m]] != leafOfTriangle_[movedTriangles[m - 1]]) groupStart.push_back(static_cast<int>(m));
-    groupStart.push_back(static_cast<int>(movedTriangles.size()));
     std::atomic<bool> found{false};
     std::atomic<long long> tested{0};
     TrianglePairHit hit;
-    const int groups = static_cast<int>(groupStart.size()) - 1;
-#pragma omp parallel for schedule(dynamic, 32) if (groups > 128)
-    for (int g = 0; g < groups; ++g) {
-        if (found.load(std::memory_order_relaxed)) continue;
-        const int first = groupStart[g], last = groupStart[g + 1];
-        Eigen::AlignedBox3d boxes[kLeafSize];
-        TriangleCorners cornersNow[kLeafSize];
-        Eigen::AlignedBox3d all;
-        for (int m = first; m < last; ++m) {
-            boxes[m - first] = triangleBox(positions, triangles, movedTriangles[m]);
-            cornersNow[m - first] = corners(triangles, movedTriangles[m], now);
-            all.extend(boxes[m - first]);
-        }
-        long long local = 0;
-        forEachCandidate(all, [&](int b) {
-            if (found.load(std::memory_order_relaxed)) return false;
-            const Eigen::AlignedBox3d boxB = triangleBox(positions, triangles, b);
-            if (!overlaps(boxB, all)) return true;
-            TriangleCorners cornersB;
-            bool haveB = false;
-            for (int m = first; m < last; ++m) {
-                const int a = movedTriangles[m];
-                // A pair of two moved triangles is tested once, from its lower id.
-                if (b == a || (movedTriangleFlag_[b] && b < a) || !overlaps(boxB, boxes[m - first])) continue;
-                if (!haveB) cornersB = corners(triangles, b, now), haveB = true;
+
+    // Broad phase: the hierarchy collided with itself (a dual traversal: each pair of overlapping nodes once, each
+    // unordered triangle pair at most once), only where one side holds a moved triangle. It costs what moved and
+    // what lies near it; a walk from the root per moved leaf (the earlier broad phase) repeated the upper levels
+    // for every leaf: 970 ms of a whole-mesh check on 2M triangles.
+    // Items: a node against itself (second == -1) or a pair of nodes.
+    struct Item {
+        int first, second;
+    };
+    const auto leafPairs = [&](const Node& na, const Node* nb, long long& local) {
+        // The triangles of one leaf (nb null: pairs inside it) or of two.
+        const int countA = na.count, countB = nb ? nb->count : na.count;
+        Eigen::AlignedBox3d boxA[kLeafSize], boxB[kLeafSize];
+        for (int i = 0; i < countA; ++i) boxA[i] = triangleBox(positions, triangles, leafTriangles_[na.first + i]);
+        if (nb)
+            for (int j = 0; j < countB; ++j) boxB[j] = triangleBox(positions, triangles, leafTriangles_[nb->first + j]);
+        for (int i = 0; i < countA; ++i) {
+            const int a = leafTriangles_[na.first + i];
+            for (int j = nb ? 0 : i + 1; j < countB; ++j) {
+                const int b = leafTriangles_[(nb ? nb->first : na.first) + j];
+                if (!movedTriangleFlag_[a] && !movedTriangleFlag_[b]) continue;
+                if (!overlaps(boxA[i], nb ? boxB[j] : boxA[j])) continue;
                 ++local;
-                if (!trianglesIntersect(cornersNow[m - first], cornersB)) continue;
+                if (!trianglesIntersect(corners(triangles, a, now), corners(triangles, b, now))) continue;
                 // It intersects now; it is new only if it did not before the move.
                 if (trianglesIntersect(corners(triangles, a, then), corners(triangles, b, then))) continue;
 #pragma omp critical(sculpt_self_intersection_hit)
                 if (!found.load()) {
                     hit.first = std::min(a, b);
                     hit.second = std::max(a, b);
-                    const TriangleCorners& c = cornersNow[m - first];
+                    const TriangleCorners c = corners(triangles, movedTriangleFlag_[a] ? a : b, now);
                     hit.where = (c.point[0] + c.point[1] + c.point[2]) / 3.0;
                     found.store(true);
                 }
-                return false;
+                return;
             }
-            return true;
-        });
+        }
+    };
+    // Expands an item one level: into `out` (the children to look at), or tests it when both sides are leaves.
+    const auto expand = [&](const Item& item, std::vector<Item>& out, long long& local) {
+        const Node& a = nodes_[item.first];
+        if (item.second < 0) {
+            if (!nodeMoved_[item.first]) return;
+            if (a.count > 0) return leafPairs(a, nullptr, local);
+            out.push_back({a.first, -1});
+            out.push_back({a.first + 1, -1});
+            out.push_back({a.first, a.first + 1});
+            return;
+        }
+        const Node& b = nodes_[item.second];
+        if (!nodeMoved_[item.first] && !nodeMoved_[item.second]) return;
+        if ((a.box.min().array() > b.box.max().array()).any() || (b.box.min().array() > a.box.max().array()).any()) return;
+        if (a.count > 0 && b.count > 0) return leafPairs(a, &b, local);
+        // Split the inner node with the larger box (a leaf is never split).
+        const bool splitA = b.count > 0 || (a.count == 0 && a.box.sizes().maxCoeff() >= b.box.sizes().maxCoeff());
+        const Node& split = splitA ? a : b;
+        const int other = splitA ? item.second : item.first;
+        out.push_back({split.first, other});
+        out.push_back({split.first + 1, other});
+    };
+    // A serial breadth-first start until there is work for every thread, then each item depth-first on its own.
+    std::vector<Item> items{{0, -1}}, next;
+    long long serialTested = 0;
+    for (int level = 0; level < 64 && !items.empty() && items.size() < 512 && !found.load(); ++level) {
+        next.clear();
+        for (const Item& item : items) expand(item, next, serialTested);
+        items.swap(next);
+    }
+    tested += serialTested;
+    const int itemCount = static_cast<int>(items.size());
+#pragma omp parallel for schedule(dynamic, 1) if (itemCount > 1 && movedTriangles.size() > 256)
+    for (int i = 0; i < itemCount; ++i) {
+        if (found.load(std::memory_order_relaxed)) continue;
+        thread_local std::vector<Item> stack;
+        stack.clear();
+        stack.push_back(items[static_cast<size_t>(i)]);
+        long long local = 0;
+        while (!stack.empty() && !found.load(std::memory_order_relaxed)) {
+            const Item item = stack.back();
+            stack.pop_back();
+            expand(item, stack, local);
+        }
         tested += local;
     }
     const int count = static_cast<int>(movedTriangles.size());
     for (int v : moved) movedVertexFlag_[v] = 0;
     for (int t : movedTriangles) movedTriangleFlag_[t] = 0;
+    for (int index : markedNodes) nodeMoved_[index] = 0;
     result.found = found.load();
     result.pair = hit;
     result.trianglesMoved = count;

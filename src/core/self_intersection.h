@@ -109,6 +109,7 @@ private:
     std::vector<std::uint8_t> dirtyFlag_;  // #T
     bool allDirty_ = false;
     std::vector<std::uint8_t> movedVertexFlag_, movedTriangleFlag_;  // scratch, all zero between queries
+    std::vector<std::uint8_t> nodeMoved_;                            // #nodes: holds a moved triangle (scratch, zero between queries)
 };
 
 }  // namespace sculpt::core
