@@ -51,6 +51,8 @@ void SelfIntersectionIndex::clear() {
     movedVertexFlag_.clear();
     movedTriangleFlag_.clear();
     nodeMoved_.clear();
+    closedFan_.clear();
+    starOk_.clear();
     allDirty_ = false;
 }
 
@@ -66,6 +68,7 @@ void SelfIntersectionIndex::build(const Positions& positions, const Triangles& t
     std::vector<int> cursor(vertexTriangleStart_.begin(), vertexTriangleStart_.end() - 1);
     for (int t = 0; t < nt; ++t)
         for (int k = 0; k < 3; ++k) vertexTriangles_[static_cast<size_t>(cursor[triangles(t, k)]++)] = t;
+    orderFans(triangles);
     movedVertexFlag_.assign(static_cast<size_t>(nv), 0);
     movedTriangleFlag_.assign(static_cast<size_t>(nt), 0);
     dirtyFlag_.assign(static_cast<size_t>(nt), 0);
@@ -156,6 +159,80 @@ void SelfIntersectionIndex::refit(const Positions& positions, const Triangles& t
     allDirty_ = false;
 }
 
+void SelfIntersectionIndex::orderFans(const Triangles& triangles) {
+    // Each vertex's triangles in order round it (triangle (v, a, b) is followed by the one that starts with b),
+    // when they close one consistently oriented fan; otherwise (a boundary, a non-manifold or inconsistently
+    // oriented vertex) closedFan_ stays 0 and its pairs are always tested.
+    const int nv = static_cast<int>(vertexTriangleStart_.size()) - 1;
+    closedFan_.assign(static_cast<size_t>(nv), 0);
+    std::vector<int> ordered;
+    for (int v = 0; v < nv; ++v) {
+        const int first = vertexTriangleStart_[v], count = vertexTriangleStart_[v + 1] - first;
+        if (count < 3) continue;
+        const auto after = [&](int t, int offset) {
+            for (int k = 0; k < 3; ++k)
+                if (triangles(t, k) == v) return triangles(t, (k + offset) % 3);
+            return -1;
+        };
+        ordered.assign(1, vertexTriangles_[first]);
+        bool closed = true;
+        while (closed && static_cast<int>(ordered.size()) < count) {
+            const int end = after(ordered.back(), 2);
+            int nextTriangle = -1;
+            for (int s = first; s < first + count; ++s) {
+                const int t = vertexTriangles_[s];
+                if (after(t, 1) != end) continue;
+                if (nextTriangle >= 0 || std::find(ordered.begin(), ordered.end(), t) != ordered.end()) closed = false;
+                nextTriangle = t;
+            }
+            if (nextTriangle < 0) closed = false;
+            else ordered.push_back(nextTriangle);
+        }
+        if (!closed || after(ordered.back(), 2) != after(ordered.front(), 1)) continue;
+        std::copy(ordered.begin(), ordered.end(), vertexTriangles_.begin() + first);
+        closedFan_[v] = 1;
+    }
+}
+
+bool SelfIntersectionIndex::starEmbedded(const Positions& positions, const Triangles& triangles, int w) const {
+    // Pairs of triangles that share a vertex w can only cross inside w's star. The star is embedded (no two of its
+    // triangles meet beyond what they share) when its projection along a normal n is one-to-one: every projected
+    // triangle (w, p_i, p_i+1) positively oriented, so the angle round w grows by less than pi per triangle, and
+    // the link polygon winds once round w. Rounding: each orientation must exceed 1e-9 of the product of its
+    // lengths, and no link point may lie within 1e-9 of its length of the ray the winding is counted on.
+    if (!closedFan_[w]) return false;
+    const int first = vertexTriangleStart_[w], count = vertexTriangleStart_[w + 1] - first;
+    const Eigen::Vector3d centre = positions.row(w).transpose();
+    const auto linkPoint = [&](int t) {
+        for (int k = 0; k < 3; ++k)
+            if (triangles(t, k) == w) return Eigen::Vector3d(positions.row(triangles(t, (k + 1) % 3)).transpose() - centre);
+        return Eigen::Vector3d(Eigen::Vector3d::Zero());
+    };
+    constexpr int kMaxFan = 32;
+    if (count > kMaxFan) return false;
+    Eigen::Vector3d link[kMaxFan];
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (int i = 0; i < count; ++i) link[i] = linkPoint(vertexTriangles_[first + i]);
+    for (int i = 0; i < count; ++i) normal += link[i].cross(link[(i + 1) % count]);
+    const double length = normal.norm();
+    if (!(length > 0.0) || !std::isfinite(length)) return false;
+    normal /= length;
+    const Eigen::Vector3d e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
+    double x[kMaxFan], y[kMaxFan], r[kMaxFan];
+    for (int i = 0; i < count; ++i) {
+        x[i] = link[i].dot(e1), y[i] = link[i].dot(e2);
+        r[i] = link[i].norm();
+        if (!(std::abs(y[i]) > 1e-9 * r[i])) return false;
+    }
+    int windings = 0;
+    for (int i = 0; i < count; ++i) {
+        const int j = (i + 1) % count;
+        if (!(x[i] * y[j] - y[i] * x[j] > 1e-9 * r[i] * r[j])) return false;
+        windings += y[i] < 0.0 && y[j] > 0.0;
+    }
+    return windings == 1;
+}
+
 SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const Positions& positions, const Triangles& triangles,
                                                                           const std::vector<int>& moved, const Positions& before) {
     const auto start = std::chrono::steady_clock::now();
@@ -182,11 +259,35 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
             markedNodes.push_back(index);
         }
 
+    // The stars of the moved triangles' corners that are still embedded after the step (starEmbedded): the pairs
+    // sharing such a vertex cannot cross, and are not tested.
+    if (starOk_.size() != movedVertexFlag_.size()) starOk_.assign(movedVertexFlag_.size(), 0);
+    std::vector<int> corners3;
+    for (int t : movedTriangles)
+        for (int k = 0; k < 3; ++k) {
+            const int v = triangles(t, k);
+            if (starOk_[v] == 0) starOk_[v] = 2, corners3.push_back(v);  // 2: seen, not (yet) proven
+        }
+    const int cornerCount = static_cast<int>(corners3.size());
+#pragma omp parallel for schedule(static) if (cornerCount > 4096)
+    for (int c = 0; c < cornerCount; ++c)
+        if (starEmbedded(positions, triangles, corners3[static_cast<size_t>(c)])) starOk_[corners3[static_cast<size_t>(c)]] = 1;
+
     const auto now = [&](int v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
     const auto then = [&](int v) -> Eigen::Vector3d { return (movedVertexFlag_[v] ? before.row(v) : positions.row(v)).transpose(); };
     std::atomic<bool> found{false};
-    std::atomic<long long> tested{0};
+    std::atomic<long long> tested{0}, proven{0};
     TrianglePairHit hit;
+    // A pair sharing a vertex whose star is embedded now cannot cross (an edge pair: either end's star).
+    const auto provenByStar = [&](int a, int b) {
+        for (int i = 0; i < 3; ++i) {
+            const int v = triangles(a, i);
+            if (starOk_[v] != 1) continue;
+            for (int j = 0; j < 3; ++j)
+                if (triangles(b, j) == v) return true;
+        }
+        return false;
+    };
 
     // Broad phase: the hierarchy collided with itself (a dual traversal: each pair of overlapping nodes once, each
     // unordered triangle pair at most once), only where one side holds a moved triangle. It costs what moved and
@@ -196,7 +297,7 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     struct Item {
         int first, second;
     };
-    const auto leafPairs = [&](const Node& na, const Node* nb, long long& local) {
+    const auto leafPairs = [&](const Node& na, const Node* nb, long long& local, long long& localProven) {
         // The triangles of one leaf (nb null: pairs inside it) or of two.
         const int countA = na.count, countB = nb ? nb->count : na.count;
         Eigen::AlignedBox3d boxA[kLeafSize], boxB[kLeafSize];
@@ -209,6 +310,10 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
                 const int b = leafTriangles_[(nb ? nb->first : na.first) + j];
                 if (!movedTriangleFlag_[a] && !movedTriangleFlag_[b]) continue;
                 if (!overlaps(boxA[i], nb ? boxB[j] : boxA[j])) continue;
+                if (provenByStar(a, b)) {
+                    ++localProven;
+                    continue;
+                }
                 ++local;
                 if (!trianglesIntersect(corners(triangles, a, now), corners(triangles, b, now))) continue;
                 // It intersects now; it is new only if it did not before the move.
@@ -226,11 +331,11 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
         }
     };
     // Expands an item one level: into `out` (the children to look at), or tests it when both sides are leaves.
-    const auto expand = [&](const Item& item, std::vector<Item>& out, long long& local) {
+    const auto expand = [&](const Item& item, std::vector<Item>& out, long long& local, long long& localProven) {
         const Node& a = nodes_[item.first];
         if (item.second < 0) {
             if (!nodeMoved_[item.first]) return;
-            if (a.count > 0) return leafPairs(a, nullptr, local);
+            if (a.count > 0) return leafPairs(a, nullptr, local, localProven);
             out.push_back({a.first, -1});
             out.push_back({a.first + 1, -1});
             out.push_back({a.first, a.first + 1});
@@ -239,7 +344,7 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
         const Node& b = nodes_[item.second];
         if (!nodeMoved_[item.first] && !nodeMoved_[item.second]) return;
         if ((a.box.min().array() > b.box.max().array()).any() || (b.box.min().array() > a.box.max().array()).any()) return;
-        if (a.count > 0 && b.count > 0) return leafPairs(a, &b, local);
+        if (a.count > 0 && b.count > 0) return leafPairs(a, &b, local, localProven);
         // Split the inner node with the larger box (a leaf is never split).
         const bool splitA = b.count > 0 || (a.count == 0 && a.box.sizes().maxCoeff() >= b.box.sizes().maxCoeff());
         const Node& split = splitA ? a : b;
@@ -249,13 +354,14 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     };
     // A serial breadth-first start until there is work for every thread, then each item depth-first on its own.
     std::vector<Item> items{{0, -1}}, next;
-    long long serialTested = 0;
+    long long serialTested = 0, serialProven = 0;
     for (int level = 0; level < 64 && !items.empty() && items.size() < 512 && !found.load(); ++level) {
         next.clear();
-        for (const Item& item : items) expand(item, next, serialTested);
+        for (const Item& item : items) expand(item, next, serialTested, serialProven);
         items.swap(next);
     }
     tested += serialTested;
+    proven += serialProven;
     const int itemCount = static_cast<int>(items.size());
 #pragma omp parallel for schedule(dynamic, 1) if (itemCount > 1 && movedTriangles.size() > 256)
     for (int i = 0; i < itemCount; ++i) {
@@ -263,22 +369,25 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
         thread_local std::vector<Item> stack;
         stack.clear();
         stack.push_back(items[static_cast<size_t>(i)]);
-        long long local = 0;
+        long long local = 0, localProven = 0;
         while (!stack.empty() && !found.load(std::memory_order_relaxed)) {
             const Item item = stack.back();
             stack.pop_back();
-            expand(item, stack, local);
+            expand(item, stack, local, localProven);
         }
         tested += local;
+        proven += localProven;
     }
     const int count = static_cast<int>(movedTriangles.size());
     for (int v : moved) movedVertexFlag_[v] = 0;
     for (int t : movedTriangles) movedTriangleFlag_[t] = 0;
     for (int index : markedNodes) nodeMoved_[index] = 0;
+    for (int v : corners3) starOk_[v] = 0;
     result.found = found.load();
     result.pair = hit;
     result.trianglesMoved = count;
     result.pairsTested = tested.load();
+    result.pairsProvenByStar = proven.load();
     result.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return result;
 }
