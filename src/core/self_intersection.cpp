@@ -42,6 +42,7 @@ TriangleCorners corners(const Triangles& triangles, int t, PointOf pointOf) {
 
 void SelfIntersectionIndex::clear() {
     nodes_.clear();
+    slotBoxes_.clear();
     leafTriangles_.clear();
     leafOfTriangle_.clear();
     vertexTriangleStart_.clear();
@@ -119,9 +120,13 @@ void SelfIntersectionIndex::build(const Positions& positions, const Triangles& t
     refit(positions, triangles);
 }
 
-Eigen::AlignedBox3d SelfIntersectionIndex::leafBox(const Node& node, const Positions& positions, const Triangles& triangles) const {
+Eigen::AlignedBox3d SelfIntersectionIndex::leafBox(const Node& node, const Positions& positions, const Triangles& triangles) {
+    // The leaf's triangles' boxes are kept in leaf order (slotBoxes_) for the pair tests that read them.
     Eigen::AlignedBox3d box;
-    for (int e = node.first; e < node.first + node.count; ++e) box.extend(triangleBox(positions, triangles, leafTriangles_[e]));
+    for (int e = node.first; e < node.first + node.count; ++e) {
+        slotBoxes_[static_cast<size_t>(e)] = triangleBox(positions, triangles, leafTriangles_[e]);
+        box.extend(slotBoxes_[static_cast<size_t>(e)]);
+    }
     return box;
 }
 
@@ -139,12 +144,17 @@ void SelfIntersectionIndex::verticesMoved(const std::vector<int>& vertices) {
 
 void SelfIntersectionIndex::refit(const Positions& positions, const Triangles& triangles) {
     if (nodes_.empty()) return;
+    slotBoxes_.resize(leafTriangles_.size());
     if (allDirty_) {
-        // Children always come after their parent: one backward sweep refits everything.
-        for (int index = static_cast<int>(nodes_.size()) - 1; index >= 0; --index) {
+        // The leaves on both threads, then (children always come after their parent) one backward sweep of the
+        // inner nodes.
+        const int nodeCount = static_cast<int>(nodes_.size());
+#pragma omp parallel for schedule(static, 4096) if (nodeCount > 20000)
+        for (int index = 0; index < nodeCount; ++index)
+            if (nodes_[index].count > 0) nodes_[index].box = leafBox(nodes_[index], positions, triangles);
+        for (int index = nodeCount - 1; index >= 0; --index) {
             Node& node = nodes_[index];
-            if (node.count > 0) node.box = leafBox(node, positions, triangles);
-            else node.box = nodes_[node.first].box.merged(nodes_[node.first + 1].box);
+            if (node.count == 0) node.box = nodes_[node.first].box.merged(nodes_[node.first + 1].box);
         }
     } else {
         for (int t : dirtyTriangles_) {
@@ -278,17 +288,6 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     std::atomic<bool> found{false};
     std::atomic<long long> tested{0}, proven{0};
     TrianglePairHit hit;
-    // A pair sharing a vertex whose star is embedded now cannot cross (an edge pair: either end's star).
-    const auto provenByStar = [&](int a, int b) {
-        for (int i = 0; i < 3; ++i) {
-            const int v = triangles(a, i);
-            if (starOk_[v] != 1) continue;
-            for (int j = 0; j < 3; ++j)
-                if (triangles(b, j) == v) return true;
-        }
-        return false;
-    };
-
     // Broad phase: the hierarchy collided with itself (a dual traversal: each pair of overlapping nodes once, each
     // unordered triangle pair at most once), only where one side holds a moved triangle. It costs what moved and
     // what lies near it; a walk from the root per moved leaf (the earlier broad phase) repeated the upper levels
@@ -300,17 +299,22 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     const auto leafPairs = [&](const Node& na, const Node* nb, long long& local, long long& localProven) {
         // The triangles of one leaf (nb null: pairs inside it) or of two.
         const int countA = na.count, countB = nb ? nb->count : na.count;
-        Eigen::AlignedBox3d boxA[kLeafSize], boxB[kLeafSize];
-        for (int i = 0; i < countA; ++i) boxA[i] = triangleBox(positions, triangles, leafTriangles_[na.first + i]);
-        if (nb)
-            for (int j = 0; j < countB; ++j) boxB[j] = triangleBox(positions, triangles, leafTriangles_[nb->first + j]);
+        const Eigen::AlignedBox3d* boxA = slotBoxes_.data() + na.first;
+        const Eigen::AlignedBox3d* boxB = slotBoxes_.data() + (nb ? nb->first : na.first);
         for (int i = 0; i < countA; ++i) {
             const int a = leafTriangles_[na.first + i];
+            const bool movedA = movedTriangleFlag_[a] != 0;
+            // a's corners whose star is proven embedded (-1 for the others): a pair sharing one is proven.
+            int provenCorner[3];
+            for (int k = 0; k < 3; ++k) provenCorner[k] = starOk_[triangles(a, k)] == 1 ? triangles(a, k) : -1;
             for (int j = nb ? 0 : i + 1; j < countB; ++j) {
                 const int b = leafTriangles_[(nb ? nb->first : na.first) + j];
-                if (!movedTriangleFlag_[a] && !movedTriangleFlag_[b]) continue;
-                if (!overlaps(boxA[i], nb ? boxB[j] : boxA[j])) continue;
-                if (provenByStar(a, b)) {
+                if (!movedA && !movedTriangleFlag_[b]) continue;
+                if (!overlaps(boxA[i], boxB[j])) continue;
+                const int b0 = triangles(b, 0), b1 = triangles(b, 1), b2 = triangles(b, 2);
+                bool byStar = false;
+                for (int k = 0; k < 3; ++k) byStar = byStar || (provenCorner[k] >= 0 && (provenCorner[k] == b0 || provenCorner[k] == b1 || provenCorner[k] == b2));
+                if (byStar) {
                     ++localProven;
                     continue;
                 }

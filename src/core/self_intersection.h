@@ -102,10 +102,11 @@ private:
         int parent = -1;
     };
     void refit(const Positions& positions, const Triangles& triangles);
-    Eigen::AlignedBox3d leafBox(const Node& node, const Positions& positions, const Triangles& triangles) const;
+    Eigen::AlignedBox3d leafBox(const Node& node, const Positions& positions, const Triangles& triangles);
 
     std::vector<Node> nodes_;
     std::vector<int> leafTriangles_;   // triangle ids in leaf order
+    std::vector<Eigen::AlignedBox3d> slotBoxes_;  // their boxes, in the same order, as of the last refit
     std::vector<int> leafOfTriangle_;  // #T: the node holding each triangle
     std::vector<int> vertexTriangleStart_, vertexTriangles_;
     std::vector<int> dirtyTriangles_;
