@@ -191,14 +191,7 @@ std::vector<int> cellsInfluencedBy(const Lattice& lattice, const std::vector<int
     const std::array<int, 3> spans = lattice.spans();
     std::vector<int> cells;
     if (lattice.volume && !lattice.tensorNet()) {
-        std::vector<std::uint8_t> chosen(static_cast<size_t>(lattice.controlPointCount()), 0);
-        for (int idx : controlPoints) chosen[static_cast<size_t>(idx)] = 1;
-        std::vector<int> support;
-        for (int chunk = 0; chunk < lattice.cellCount(); ++chunk) {
-            lattice.volume->chunkSupport(chunk, support);
-            if (std::any_of(support.begin(), support.end(), [&](int id) { return chosen[static_cast<size_t>(id)] != 0; }))
-                cells.push_back(chunk);
-        }
+        lattice.volume->chunksOfControlPoints(controlPoints, cells);
         return cells;
     }
     // Many control points (a brush region's thousands): a mark per cell, read in order, instead of sorting

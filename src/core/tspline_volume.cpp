@@ -243,6 +243,18 @@ Status buildTSplineBasis(const TLattice& input, std::shared_ptr<const TSplineBas
                 }
         b.cellElementStart.push_back(b.elementCount());
     }
+    // The inverse of the support lists: which elements each anchor reaches (what a changed control point makes the
+    // injectivity tests look at again).
+    b.anchorElementStart.assign(static_cast<size_t>(b.anchorCount()) + 1, 0);
+    for (int id : b.supportIds) ++b.anchorElementStart[static_cast<size_t>(id) + 1];
+    for (size_t s = 1; s < b.anchorElementStart.size(); ++s) b.anchorElementStart[s] += b.anchorElementStart[s - 1];
+    b.anchorElements.resize(b.supportIds.size());
+    {
+        std::vector<int> cursor(b.anchorElementStart.begin(), b.anchorElementStart.end() - 1);
+        for (int e = 0; e < b.elementCount(); ++e)
+            for (int c = b.supportStart[static_cast<size_t>(e)]; c < b.supportStart[static_cast<size_t>(e) + 1]; ++c)
+                b.anchorElements[static_cast<size_t>(cursor[static_cast<size_t>(b.supportIds[static_cast<size_t>(c)])]++)] = e;
+    }
     // T-lattice edges: each cell edge split at the vertices on it (T-junctions), each edge once.
     {
         for (int a = 0; a < 3; ++a) {
@@ -459,6 +471,15 @@ void TSplineVolume::evaluate(const Positions& points, const Eigen::Vector3d& t, 
 Eigen::Vector3d TSplineVolume::chunkParameters(int chunk, const Eigen::Vector3d& local) const {
     const Eigen::Vector3d lo = basis_->elementMin(chunk), hi = basis_->elementMax(chunk);
     return lo + local.cwiseProduct(hi - lo);
+}
+
+void TSplineVolume::chunksOfControlPoints(const std::vector<int>& ids, std::vector<int>& chunks) const {
+    chunks.clear();
+    for (int id : ids)
+        chunks.insert(chunks.end(), basis_->anchorElements.begin() + basis_->anchorElementStart[static_cast<size_t>(id)],
+                      basis_->anchorElements.begin() + basis_->anchorElementStart[static_cast<size_t>(id) + 1]);
+    std::sort(chunks.begin(), chunks.end());
+    chunks.erase(std::unique(chunks.begin(), chunks.end()), chunks.end());
 }
 
 void TSplineVolume::chunkSupport(int chunk, std::vector<int>& ids) const {

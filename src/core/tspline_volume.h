@@ -67,6 +67,7 @@ struct TSplineBasis {
     std::vector<int> elementCell;                    // #elements
     std::vector<std::array<int, 3>> elementLo, elementHi;  // fine coordinates
     std::vector<int> supportStart, supportIds;       // CSR: anchors non-zero on element e, ascending
+    std::vector<int> anchorElementStart, anchorElements;  // the inverse CSR: elements where anchor s is non-zero, ascending
     int maxSupport = 0;
     // T-lattice edges between adjacent vertices (cell edges split at T-junctions), each once: {vertex, vertex}.
     std::vector<std::array<int, 2>> latticeEdges;
@@ -154,6 +155,7 @@ public:
     int chunkOf(const Eigen::Vector3d& t, Eigen::Vector3d& local) const override { return basis_->elementOf(t, local); }
     Eigen::Vector3d chunkParameters(int chunk, const Eigen::Vector3d& local) const override;
     void chunkSupport(int chunk, std::vector<int>& ids) const override;
+    void chunksOfControlPoints(const std::vector<int>& ids, std::vector<int>& chunks) const override;
     // Bezier extraction: the element's homogeneous Bernstein points sum_s W_s P_s b_s and weights sum_s W_s b_s,
     // b_s = B_s's tensor Bernstein coefficients on the element (from its spans' pieces, equal to the blossoms to
     // rounding). Polynomial (points divided through, w = 1) when the weights are equal and sum W b is constant on

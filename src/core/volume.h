@@ -28,6 +28,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -127,6 +128,23 @@ public:
     virtual Eigen::Vector3d chunkParameters(int chunk, const Eigen::Vector3d& local) const = 0;
     // The ids whose basis is non-zero somewhere in the chunk (ascending).
     virtual void chunkSupport(int chunk, std::vector<int>& ids) const = 0;
+    // The chunks some of `ids` is non-zero on (ascending, each once): those a change of these control points
+    // reaches. This default scans every chunk's support; a volume with an inverse index answers in proportion
+    // to what the ids reach.
+    virtual void chunksOfControlPoints(const std::vector<int>& ids, std::vector<int>& chunks) const {
+        std::vector<std::uint8_t> chosen(static_cast<size_t>(controlPointCount()), 0);
+        for (int id : ids) chosen[static_cast<size_t>(id)] = 1;
+        std::vector<int> support;
+        chunks.clear();
+        for (int chunk = 0; chunk < chunkCount(); ++chunk) {
+            chunkSupport(chunk, support);
+            for (int id : support)
+                if (chosen[static_cast<size_t>(id)]) {
+                    chunks.push_back(chunk);
+                    break;
+                }
+        }
+    }
     // The chunk in Bezier form: of the rest volume, or with the control points moved by `displacement`
     // (#controlPointCount x 3) when it is not null. `out` is reused (no allocation once it is large enough).
     virtual void bezierChunk(int chunk, const Positions* displacement, BezierChunk& out) const = 0;
