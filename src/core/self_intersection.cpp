@@ -4,6 +4,7 @@
 #include "core/self_intersection.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <numeric>
@@ -14,7 +15,7 @@ namespace sculpt::core {
 
 namespace {
 
-constexpr int kLeafSize = 4;
+constexpr int kLeafSize = 8;
 
 Eigen::AlignedBox3d triangleBox(const Positions& positions, const Triangles& triangles, int t) {
     Eigen::AlignedBox3d box(positions.row(triangles(t, 0)).transpose());
@@ -36,6 +37,14 @@ TriangleCorners corners(const Triangles& triangles, int t, PointOf pointOf) {
         c.point[k] = pointOf(c.vertex[k]);
     }
     return c;
+}
+
+bool sharesVertex(const Triangles& triangles, int a, int b0, int b1, int b2) {
+    for (int k = 0; k < 3; ++k) {
+        const int v = triangles(a, k);
+        if (v == b0 || v == b1 || v == b2) return true;
+    }
+    return false;
 }
 
 }  // namespace
@@ -263,21 +272,32 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     // The nodes holding a moved triangle: its leaf and the leaf's ancestors (the walk up stops at a marked one).
     if (nodeMoved_.size() != nodes_.size()) nodeMoved_.assign(nodes_.size(), 0);
     std::vector<int> markedNodes;
-    for (int t : movedTriangles)
-        for (int index = leafOfTriangle_[t]; index >= 0 && !nodeMoved_[index]; index = nodes_[index].parent) {
-            nodeMoved_[index] = 1;
-            markedNodes.push_back(index);
-        }
+    const bool allMoved = movedTriangles.size() == static_cast<size_t>(triangles.rows());
+    if (allMoved) {
+        std::fill(nodeMoved_.begin(), nodeMoved_.end(), 1);  // every node (cleared below)
+    } else {
+        for (int t : movedTriangles)
+            for (int index = leafOfTriangle_[t]; index >= 0 && !nodeMoved_[index]; index = nodes_[index].parent) {
+                nodeMoved_[index] = 1;
+                markedNodes.push_back(index);
+            }
+    }
 
     // The stars of the moved triangles' corners that are still embedded after the step (starEmbedded): the pairs
     // sharing such a vertex cannot cross, and are not tested.
     if (starOk_.size() != movedVertexFlag_.size()) starOk_.assign(movedVertexFlag_.size(), 0);
     std::vector<int> corners3;
-    for (int t : movedTriangles)
-        for (int k = 0; k < 3; ++k) {
-            const int v = triangles(t, k);
-            if (starOk_[v] == 0) starOk_[v] = 2, corners3.push_back(v);  // 2: seen, not (yet) proven
-        }
+    if (allMoved) {
+        // Every vertex that has a triangle.
+        for (int v = 0; v < static_cast<int>(starOk_.size()); ++v)
+            if (vertexTriangleStart_[v + 1] > vertexTriangleStart_[v]) starOk_[v] = 2, corners3.push_back(v);
+    } else {
+        for (int t : movedTriangles)
+            for (int k = 0; k < 3; ++k) {
+                const int v = triangles(t, k);
+                if (starOk_[v] == 0) starOk_[v] = 2, corners3.push_back(v);  // 2: seen, not (yet) proven
+            }
+    }
     const int cornerCount = static_cast<int>(corners3.size());
 #pragma omp parallel for schedule(static) if (cornerCount > 4096)
     for (int c = 0; c < cornerCount; ++c)
@@ -307,6 +327,14 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
             // a's corners whose star is proven embedded (-1 for the others): a pair sharing one is proven.
             int provenCorner[3];
             for (int k = 0; k < 3; ++k) provenCorner[k] = starOk_[triangles(a, k)] == 1 ? triangles(a, k) : -1;
+            // a's plane now, once for all its partners: b wholly on one side of it cannot meet a. The side of q is
+            // the sign of n . (q - p0), n = (p1 - p0) x (p2 - p0); computed, it is within 8 eps |p1 - p0| |p2 - p0|
+            // |q - p0| of the exact value (each rounding relative to its own result), so a margin of 1e-13 of
+            // that product decides it for certain (the same sign as the exact orientation predicate).
+            const Eigen::Vector3d p0 = now(triangles(a, 0));
+            const Eigen::Vector3d edge1 = now(triangles(a, 1)) - p0, edge2 = now(triangles(a, 2)) - p0;
+            const Eigen::Vector3d normal = edge1.cross(edge2);
+            const double lengths = 1e-13 * edge1.lpNorm<1>() * edge2.lpNorm<1>();
             for (int j = nb ? 0 : i + 1; j < countB; ++j) {
                 const int b = leafTriangles_[(nb ? nb->first : na.first) + j];
                 if (!movedA && !movedTriangleFlag_[b]) continue;
@@ -319,6 +347,16 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
                     continue;
                 }
                 ++local;
+                if (b0 != a && !sharesVertex(triangles, a, b0, b1, b2)) {
+                    int above = 0, below = 0;
+                    for (const int q : {b0, b1, b2}) {
+                        const Eigen::Vector3d offset = now(q) - p0;
+                        const double side = normal.dot(offset), margin = lengths * offset.lpNorm<1>();
+                        above += side > margin;
+                        below += side < -margin;
+                    }
+                    if (above == 3 || below == 3) continue;
+                }
                 if (!trianglesIntersect(corners(triangles, a, now), corners(triangles, b, now))) continue;
                 // It intersects now; it is new only if it did not before the move.
                 if (trianglesIntersect(corners(triangles, a, then), corners(triangles, b, then))) continue;
@@ -385,6 +423,7 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     const int count = static_cast<int>(movedTriangles.size());
     for (int v : moved) movedVertexFlag_[v] = 0;
     for (int t : movedTriangles) movedTriangleFlag_[t] = 0;
+    if (allMoved) std::fill(nodeMoved_.begin(), nodeMoved_.end(), 0);
     for (int index : markedNodes) nodeMoved_[index] = 0;
     for (int v : corners3) starOk_[v] = 0;
     result.found = found.load();

@@ -12,6 +12,7 @@
 // predicates (triangle_pair.h).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
