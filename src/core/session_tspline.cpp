@@ -61,10 +61,13 @@ Status Session::setupTSpline(const TSplineSetup& setup, OpReport& report) {
     if (Status s = addLatticeTool({name, volume}, added); !s) return s;
     // The heavy points are those at the largest weight (sec. 4's non-empty cells); the weights fall off from
     // them by the weight step per ring of the control net (balancedTSplineWeights).
+    // A ratio below 1 makes them the lightest (the far ones keep weight 1 either way).
     const std::vector<double>& w = volume->controlWeights();
-    const double heaviest = w.empty() ? 1.0 : *std::max_element(w.begin(), w.end());
+    const double extreme = w.empty()                 ? 1.0
+                           : weights.weightRatio >= 1.0 ? *std::max_element(w.begin(), w.end())
+                                                        : *std::min_element(w.begin(), w.end());
     int heavy = 0;
-    for (double x : w) heavy += x == heaviest && heaviest != 1.0;
+    for (double x : w) heavy += x == extreme && extreme != 1.0;
     char ratio[32];
     std::snprintf(ratio, sizeof ratio, "%g", weights.weightRatio);
     std::string summary = "T-spline " + name + ": " + std::to_string(volume->lattice().cells.size()) + " cells at depth " +
