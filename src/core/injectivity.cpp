@@ -182,13 +182,12 @@ CellCheck conicCell(const Lattice& lattice, const CellBezierBasis& basis, const 
     if (!cellIsPolynomial(lattice, cell)) return CellCheck::Unsupported;
     cellBezierDisplacement(lattice, basis, cell, bezier);
     std::array<double, 3> sinSquared{};
-    if (cellHodographCones(basis, bezier, sinSquared) && sinSquared[0] + sinSquared[1] + sinSquared[2] < 1.0 - kConicGuard)
-        return CellCheck::Certified;
+    const auto apart = [&] { return sinSquared[0] + sinSquared[1] + sinSquared[2] < 1.0 - kConicGuard; };
+    if (cellHodographCones(basis, bezier, sinSquared) && apart()) return CellCheck::Certified;
     // Section 7's cones are around the rest axes; a cell the edit turned or scaled as a whole fails them at any
     // angle past ~45 degrees. In the frame of the cell's mean Jacobian it passes (point 3 of the certification
     // issue: rigid motions and scalings always pass).
-    if (cellHodographConesInMeanFrame(basis, bezier, sinSquared) && sinSquared[0] + sinSquared[1] + sinSquared[2] < 1.0 - kConicGuard)
-        return CellCheck::Certified;
+    if (cellHodographConesInMeanFrame(basis, bezier, sinSquared) && apart()) return CellCheck::Certified;
     return CellCheck::Failed;
 }
 

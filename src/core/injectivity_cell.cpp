@@ -161,49 +161,6 @@ bool hodographConesKernel(const CellBezierBasis& basis, const double* bezier, st
     return !failed;
 }
 
-// The same cones in the frame of the cell's mean Jacobian M (column a: the mean of J_a's Bezier vectors): the
-// vectors M^-1 h. det(M^-1 J) = det J / det M, so with det M > 0 the cones around e_a in that frame prove det J > 0
-// as section 7's do in the rest frame (the cones' axes give det 1; no choice of vectors in them is coplanar). A
-// rigid motion or uniform scaling R of the cell makes every J = R: M^-1 J = I, certified at any angle.
-bool hodographConesInMeanFrame(const CellBezierBasis& basis, const double* bezier, std::array<double, 3>& sinSquared) {
-    const int n0 = basis.degree[0] + 1, n1 = basis.degree[1] + 1, n2 = basis.degree[2] + 1;
-    const int n = n0 * n1 * n2;
-    const int stride[3] = {1, n0, n0 * n1};
-    const auto forEachVector = [&](int a, auto&& f) {
-        const double scale = basis.hodographScale[a];
-        for (int k = 0; k < n2 - (a == 2); ++k)
-            for (int j = 0; j < n1 - (a == 1); ++j)
-                for (int i = 0; i < n0 - (a == 0); ++i) {
-                    const int at = i + n0 * (j + n1 * k);
-                    Eigen::Vector3d h;
-                    for (int c = 0; c < 3; ++c) h[c] = (c == a ? 1.0 : 0.0) + scale * (bezier[c * n + at + stride[a]] - bezier[c * n + at]);
-                    f(h);
-                }
-    };
-    Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();
-    for (int a = 0; a < 3; ++a) {
-        int count = 0;
-        forEachVector(a, [&](const Eigen::Vector3d& h) { mean.col(a) += h, ++count; });
-        mean.col(a) /= count;
-    }
-    const double det = mean.determinant();
-    if (!(det > 0.0) || !std::isfinite(det)) return false;
-    const Eigen::Matrix3d inverse = mean.inverse();
-    if (!inverse.allFinite()) return false;
-    bool failed = false;
-    for (int a = 0; a < 3; ++a) {
-        double worst = 0.0;
-        forEachVector(a, [&](const Eigen::Vector3d& h) {
-            const Eigen::Vector3d u = inverse * h;
-            const double norm = u.squaredNorm();
-            failed |= !(u[a] > 0.0 && norm <= std::numeric_limits<double>::max());
-            worst = std::max(worst, (norm - u[a] * u[a]) / norm);
-        });
-        sinSquared[a] = worst;
-    }
-    return !failed;
-}
-
 }  // namespace
 
 void cellBezierDisplacement(const Lattice& lattice, const CellBezierBasis& basis, const std::array<int, 3>& cell,
@@ -222,7 +179,38 @@ void cellBezierDisplacement(const Lattice& lattice, const CellBezierBasis& basis
 }
 
 bool cellHodographConesInMeanFrame(const CellBezierBasis& basis, const double* bezier, std::array<double, 3>& sinSquared) {
-    return hodographConesInMeanFrame(basis, bezier, sinSquared);
+    // The Bezier vectors of J_a (cellJacobianColumns), in the frame of M, their mean per axis: the vectors M^-1 h.
+    // det(M^-1 J) = det J / det M, so with det M > 0 the cones around e_a in that frame prove det J > 0 as section
+    // 7's do in the rest frame (the cones' axes give det 1; no choice of vectors in them is coplanar). A rigid
+    // motion or uniform scaling R of the cell makes every J = R: M^-1 J = I, certified at any angle.
+    double storage[9 * kMaxCellControlPoints];
+    double* const column[3] = {storage, storage + 3 * kMaxCellControlPoints, storage + 6 * kMaxCellControlPoints};
+    cellJacobianColumns(basis, bezier, column);
+    int count[3];
+    Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();
+    for (int a = 0; a < 3; ++a) {
+        count[a] = bernsteinCoefficientCount(columnDegree(basis, a));
+        for (int l = 0; l < count[a]; ++l)
+            for (int c = 0; c < 3; ++c) mean(c, a) += column[a][c * count[a] + l];
+        mean.col(a) /= count[a];
+    }
+    const double det = mean.determinant();
+    if (!(det > 0.0) || !std::isfinite(det)) return false;
+    const Eigen::Matrix3d inverse = mean.inverse();
+    if (!inverse.allFinite()) return false;
+    bool failed = false;
+    for (int a = 0; a < 3; ++a) {
+        double worst = 0.0;
+        for (int l = 0; l < count[a]; ++l) {
+            const Eigen::Vector3d h(column[a][l], column[a][count[a] + l], column[a][2 * count[a] + l]);
+            const Eigen::Vector3d u = inverse * h;
+            const double norm = u.squaredNorm();
+            failed |= !(u[a] > 0.0 && norm <= std::numeric_limits<double>::max());
+            worst = std::max(worst, (norm - u[a] * u[a]) / norm);
+        }
+        sinSquared[a] = worst;
+    }
+    return !failed;
 }
 
 bool cellHodographCones(const CellBezierBasis& basis, const double* bezier, std::array<double, 3>& sinSquared) {

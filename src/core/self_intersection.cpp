@@ -39,14 +39,6 @@ TriangleCorners corners(const Triangles& triangles, int t, PointOf pointOf) {
     return c;
 }
 
-bool sharesVertex(const Triangles& triangles, int a, int b0, int b1, int b2) {
-    for (int k = 0; k < 3; ++k) {
-        const int v = triangles(a, k);
-        if (v == b0 || v == b1 || v == b2) return true;
-    }
-    return false;
-}
-
 }  // namespace
 
 void SelfIntersectionIndex::clear() {
@@ -286,22 +278,22 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     // The stars of the moved triangles' corners that are still embedded after the step (starEmbedded): the pairs
     // sharing such a vertex cannot cross, and are not tested.
     if (starOk_.size() != movedVertexFlag_.size()) starOk_.assign(movedVertexFlag_.size(), 0);
-    std::vector<int> corners3;
+    std::vector<int> starVertices;
     if (allMoved) {
         // Every vertex that has a triangle.
         for (int v = 0; v < static_cast<int>(starOk_.size()); ++v)
-            if (vertexTriangleStart_[v + 1] > vertexTriangleStart_[v]) starOk_[v] = 2, corners3.push_back(v);
+            if (vertexTriangleStart_[v + 1] > vertexTriangleStart_[v]) starOk_[v] = 2, starVertices.push_back(v);
     } else {
         for (int t : movedTriangles)
             for (int k = 0; k < 3; ++k) {
                 const int v = triangles(t, k);
-                if (starOk_[v] == 0) starOk_[v] = 2, corners3.push_back(v);  // 2: seen, not (yet) proven
+                if (starOk_[v] == 0) starOk_[v] = 2, starVertices.push_back(v);  // 2: seen, not (yet) proven
             }
     }
-    const int cornerCount = static_cast<int>(corners3.size());
+    const int cornerCount = static_cast<int>(starVertices.size());
 #pragma omp parallel for schedule(static) if (cornerCount > 4096)
     for (int c = 0; c < cornerCount; ++c)
-        if (starEmbedded(positions, triangles, corners3[static_cast<size_t>(c)])) starOk_[corners3[static_cast<size_t>(c)]] = 1;
+        if (starEmbedded(positions, triangles, starVertices[static_cast<size_t>(c)])) starOk_[starVertices[static_cast<size_t>(c)]] = 1;
 
     const auto now = [&](int v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
     const auto then = [&](int v) -> Eigen::Vector3d { return (movedVertexFlag_[v] ? before.row(v) : positions.row(v)).transpose(); };
@@ -324,15 +316,16 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
         for (int i = 0; i < countA; ++i) {
             const int a = leafTriangles_[na.first + i];
             const bool movedA = movedTriangleFlag_[a] != 0;
-            // a's corners whose star is proven embedded (-1 for the others): a pair sharing one is proven.
-            int provenCorner[3];
-            for (int k = 0; k < 3; ++k) provenCorner[k] = starOk_[triangles(a, k)] == 1 ? triangles(a, k) : -1;
+            const int corner[3] = {triangles(a, 0), triangles(a, 1), triangles(a, 2)};
+            // Which of them have a star proven embedded: a pair sharing one of those is proven.
+            bool cornerProven[3];
+            for (int k = 0; k < 3; ++k) cornerProven[k] = starOk_[corner[k]] == 1;
             // a's plane now, once for all its partners: b wholly on one side of it cannot meet a. The side of q is
             // the sign of n . (q - p0), n = (p1 - p0) x (p2 - p0); computed, it is within 8 eps |p1 - p0| |p2 - p0|
             // |q - p0| of the exact value (each rounding relative to its own result), so a margin of 1e-13 of
             // that product decides it for certain (the same sign as the exact orientation predicate).
-            const Eigen::Vector3d p0 = now(triangles(a, 0));
-            const Eigen::Vector3d edge1 = now(triangles(a, 1)) - p0, edge2 = now(triangles(a, 2)) - p0;
+            const Eigen::Vector3d p0 = now(corner[0]);
+            const Eigen::Vector3d edge1 = now(corner[1]) - p0, edge2 = now(corner[2]) - p0;
             const Eigen::Vector3d normal = edge1.cross(edge2);
             const double lengths = 1e-13 * edge1.lpNorm<1>() * edge2.lpNorm<1>();
             for (int j = nb ? 0 : i + 1; j < countB; ++j) {
@@ -340,14 +333,18 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
                 if (!movedA && !movedTriangleFlag_[b]) continue;
                 if (!overlaps(boxA[i], boxB[j])) continue;
                 const int b0 = triangles(b, 0), b1 = triangles(b, 1), b2 = triangles(b, 2);
-                bool byStar = false;
-                for (int k = 0; k < 3; ++k) byStar = byStar || (provenCorner[k] >= 0 && (provenCorner[k] == b0 || provenCorner[k] == b1 || provenCorner[k] == b2));
+                bool shares = false, byStar = false;
+                for (int k = 0; k < 3; ++k) {
+                    const bool shared = corner[k] == b0 || corner[k] == b1 || corner[k] == b2;
+                    shares = shares || shared;
+                    byStar = byStar || (shared && cornerProven[k]);
+                }
                 if (byStar) {
                     ++localProven;
                     continue;
                 }
                 ++local;
-                if (b0 != a && !sharesVertex(triangles, a, b0, b1, b2)) {
+                if (!shares) {
                     int above = 0, below = 0;
                     for (const int q : {b0, b1, b2}) {
                         const Eigen::Vector3d offset = now(q) - p0;
@@ -425,7 +422,7 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     for (int t : movedTriangles) movedTriangleFlag_[t] = 0;
     if (allMoved) std::fill(nodeMoved_.begin(), nodeMoved_.end(), 0);
     for (int index : markedNodes) nodeMoved_[index] = 0;
-    for (int v : corners3) starOk_[v] = 0;
+    for (int v : starVertices) starOk_[v] = 0;
     result.found = found.load();
     result.pair = hit;
     result.trianglesMoved = count;

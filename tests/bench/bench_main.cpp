@@ -377,27 +377,46 @@ void benchCertification() {
     }
     const int n = static_cast<int>(positions.rows());
     const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
-    const auto shares = [](const std::vector<OpReport>& reports, int& applied, double& lattice, double& triangle, double& wall) {
+    // The reports' medians: how many applied in full, the lattice test's and the triangle check's ms and shares.
+    const auto print = [&](const std::string& name, const std::vector<OpReport>& reports, double ms, const std::string& more) {
         std::vector<double> l, t, w;
-        applied = 0;
+        int applied = 0;
         for (const OpReport& r : reports) {
             applied += r.status == OpStatus::Applied && r.fractionApplied == 1.0;
             l.push_back(r.injectivityMs - r.triangleCheckMs);
             t.push_back(r.triangleCheckMs);
             w.push_back(r.wallMs);
         }
-        lattice = bench::median(l), triangle = bench::median(t), wall = bench::median(w);
-    };
-    const auto print = [&](const std::string& name, const std::vector<OpReport>& reports, double ms, const std::string& more) {
-        int applied = 0;
-        double lattice = 0.0, tri = 0.0, wall = 0.0;
-        shares(reports, applied, lattice, tri, wall);
+        const double lattice = bench::median(l), tri = bench::median(t), wall = bench::median(w);
         char extra[400];
         std::snprintf(extra, sizeof extra,
                       "\"applied_in_full\": \"%d of %zu\", \"lattice_test_ms\": %.2f, \"triangle_check_ms\": %.2f, \"lattice_share\": %.2f, "
                       "\"triangle_share\": %.2f%s",
                       applied, reports.size(), lattice, tri, wall > 0 ? lattice / wall : 0.0, wall > 0 ? tri / wall : 0.0, more.c_str());
         bench::printCase(name, n, ms, extra);
+    };
+    // `step` timed `runs` times after a warm-up, the history taken back to `keep` entries before each; the timed
+    // runs' reports in `reports`.
+    const auto timed = [](Session& session, int keep, int runs, const std::function<OpReport()>& step, std::vector<OpReport>& reports) {
+        reports.clear();
+        const double ms = bench::medianMs(
+            runs, [&] { reports.push_back(step()); },
+            [&] {
+                OpReport undone;
+                while (session.historyCursor() > keep) session.undo(undone);
+            });
+        reports.erase(reports.begin());  // the warm-up
+        return ms;
+    };
+    // Drags of `length` (a fraction of the diagonal) at vertices spread over the mesh, one after another.
+    const auto spreadDrags = [&](Session& session, double length) {
+        return [&session, length, diagonal, n, next = 0]() mutable {
+            const int v = (next++ * 2909 + 17) % n;
+            const Eigen::Vector3d from = session.positions().row(v).transpose();
+            OpReport report;
+            session.dragVertex(v, from + length * diagonal * Eigen::Vector3d(0.3, -0.5, 0.8).normalized(), report);
+            return report;
+        };
     };
     if (wanted("certify_tspline_real")) {
         for (const InjectivityMode mode : {InjectivityMode::Exact, InjectivityMode::Conic}) {
@@ -415,20 +434,7 @@ void benchCertification() {
             }
             // One drag step of 3% of the diagonal at each of 9 vertices spread over the mesh, each undone after.
             std::vector<OpReport> reports;
-            int next = 0;
-            const double ms = bench::medianMs(
-                9,
-                [&] {
-                    const int v = (next++ * 2909 + 17) % n;
-                    const Eigen::Vector3d from = session.positions().row(v).transpose();
-                    session.dragVertex(v, from + 0.03 * diagonal * Eigen::Vector3d(0.3, -0.5, 0.8).normalized(), report);
-                    reports.push_back(report);
-                },
-                [&] {
-                    OpReport undone;
-                    while (session.historyCursor() > 2) session.undo(undone);
-                });
-            reports.erase(reports.begin());  // the warm-up
+            const double ms = timed(session, 2, 9, spreadDrags(session, 0.03), reports);
             print(std::string("certify_tspline_real") + (mode == InjectivityMode::Conic ? "_conic" : ""), reports, ms,
                   ", \"depth\": 4, \"weight_ratio\": 100, \"drag\": \"3% of the diagonal\"");
         }
@@ -440,22 +446,8 @@ void benchCertification() {
         session.setMesh(positions, triangles, settings);
         session.setInjectivity({InjectivityMode::Conic, 6});
         std::vector<OpReport> reports;
-        OpReport report;
-        int next = 0;
-        const double ms = bench::medianMs(
-            9,
-            [&] {
-                const int v = (next++ * 2909 + 17) % n;
-                const Eigen::Vector3d from = session.positions().row(v).transpose();
-                session.dragVertex(v, from + 0.05 * diagonal * Eigen::Vector3d(0.3, -0.5, 0.8).normalized(), report);
-                reports.push_back(report);
-            },
-            [&] {
-                OpReport undone;
-                if (session.historyCursor() > 0) session.undo(undone);
-            });
-        reports.erase(reports.begin());
-        print("triangle_check_global_26k", reports, ms, ", \"vertices_moved\": " + std::to_string(report.verticesMoved));
+        const double ms = timed(session, 0, 9, spreadDrags(session, 0.05), reports);
+        print("triangle_check_global_26k", reports, ms, ", \"vertices_moved\": " + std::to_string(reports.back().verticesMoved));
     }
     if (wanted("rotate_lattice_conic")) {
         LatticeSettings settings;
@@ -475,20 +467,13 @@ void benchCertification() {
             to.row(c) = (centre + turn * (lattice.controlPoint(c) - centre)).transpose();
         }
         std::vector<OpReport> reports;
-        OpReport report;
-        const double ms = bench::medianMs(
-            5,
-            [&] {
-                session.moveControlPoints(ids, to, false, report);
-                reports.push_back(report);
-            },
-            [&] {
-                OpReport undone;
-                if (session.historyCursor() > 0) session.undo(undone);
-            });
-        reports.erase(reports.begin());
+        const double ms = timed(session, 0, 5, [&] {
+            OpReport report;
+            session.moveControlPoints(ids, to, false, report);
+            return report;
+        }, reports);
         char more[96];
-        std::snprintf(more, sizeof more, ", \"fraction_applied\": %.3f", report.fractionApplied);
+        std::snprintf(more, sizeof more, ", \"fraction_applied\": %.3f", reports.back().fractionApplied);
         print("rotate_lattice_conic", reports, ms, more);
     }
 }
