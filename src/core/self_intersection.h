@@ -55,6 +55,10 @@ public:
         // Box-overlapping pairs sharing a vertex whose star is embedded after the step (its projection along its
         // normal is one-to-one), so they cannot cross: not tested.
         long long pairsProvenByStar = 0;
+        // Hierarchy nodes whose patch was proven free of crossings as a whole (patchEmbedded), and the triangles
+        // in them: none of their pairs among themselves was looked at.
+        int patchesProven = 0;
+        long long trianglesInProvenPatches = 0;
         double milliseconds = 0.0;
     };
     // Looks for a pair of triangles, at least one with a vertex in `moved`, that intersects at `positions`
@@ -101,9 +105,14 @@ private:
         int first = 0;   // leaf: first entry of leafTriangles_; inner: index of the left child (right = first + 1)
         int count = 0;   // leaf: triangle count (> 0); inner: 0
         int parent = -1;
+        int rangeFirst = 0, rangeCount = 0;  // the subtree's triangles: leafTriangles_[rangeFirst, + rangeCount)
+        // A cone holding the normals of the subtree's triangles (axis unit, half-angle in radians; pi when unknown or
+        // wider), merged bottom-up at refit: which patches are worth trying as height fields.
+        Eigen::Vector3d coneAxis = Eigen::Vector3d::UnitZ();
+        double coneAngle = 3.2;
     };
     void refit(const Positions& positions, const Triangles& triangles);
-    Eigen::AlignedBox3d leafBox(const Node& node, const Positions& positions, const Triangles& triangles);
+    void refitLeaf(Node& node, const Positions& positions, const Triangles& triangles);
 
     std::vector<Node> nodes_;
     std::vector<int> leafTriangles_;   // triangle ids in leaf order
@@ -116,8 +125,19 @@ private:
     std::vector<std::uint8_t> movedVertexFlag_, movedTriangleFlag_;  // scratch, all zero between queries
     void orderFans(const Triangles& triangles);
     bool starEmbedded(const Positions& positions, const Triangles& triangles, int vertex) const;
+    bool starProven(const Positions& positions, const Triangles& triangles, int vertex);
+    void buildPatchBoundaries(const Triangles& triangles);
+    bool patchEmbedded(const Positions& positions, int node) const;
+    void mergeCone(Node& node) const;
+    std::vector<Eigen::Vector3d> slotNormals_;  // leaf order: (p1 - p0) x (p2 - p0) / (|p1 - p0| |p2 - p0|), as of the last refit
+    // The boundary chain of each node's patch with at least kPatchMinimum triangles (CSR over nodes): the directed
+    // edges (by vertex id) of its triangles that no opposite edge of the patch cancels, repeated by multiplicity.
+    std::vector<int> patchBoundaryStart_;
+    std::vector<std::array<int, 2>> patchBoundary_;
+    std::uint32_t starGeneration_ = 0;
+    std::vector<std::uint8_t> refitFlag_;  // #nodes scratch of the partial refit, zero between refits
+    std::vector<std::uint32_t> starStamp_;  // #V: (generation << 1) | embedded, for the query of that generation
     std::vector<std::uint8_t> closedFan_;  // #V: the vertex's triangles close one oriented fan (ordered round it)
-    std::vector<std::uint8_t> starOk_;     // #V scratch: 1 star embedded now, 2 looked at and not proven, 0 else
     std::vector<std::uint8_t> nodeMoved_;                            // #nodes: holds a moved triangle (scratch, zero between queries)
 };
 

@@ -149,7 +149,7 @@ TEST_CASE("self_intersection: new pairs after a move match the brute force, over
 // lengths, which often crosses triangles.
 TEST_CASE("self_intersection: the pruned check finds every new crossing the brute force finds, on real meshes", "[core]") {
     int newCount = 0, quietCount = 0;
-    long long proven = 0;
+    long long proven = 0, patches = 0;
     for (const char* name : {"elephant.off", "cow.off", "blobby.off"}) {
         Positions positions;
         Triangles triangles;
@@ -190,6 +190,7 @@ TEST_CASE("self_intersection: the pruned check finds every new crossing the brut
             }
             const SelfIntersectionIndex::Result result = index.findNewIntersection(positions, triangles, moved, before);
             proven += result.pairsProvenByStar;
+            patches += result.patchesProven;
             const std::vector<std::pair<int, int>> after = test::intersectingPairs(positions, triangles);
             bool expectNew = false;
             for (const auto& pair : after) expectNew = expectNew || !current.count(pair);
@@ -205,10 +206,125 @@ TEST_CASE("self_intersection: the pruned check finds every new crossing the brut
             current = std::set<std::pair<int, int>>(after.begin(), after.end());
         }
     }
-    INFO(newCount << " steps made a new pair, " << quietCount << " did not; " << proven << " pairs proven by their stars");
+    INFO(newCount << " steps made a new pair, " << quietCount << " did not; " << proven << " pairs proven by their stars, "
+                   << patches << " patches proven whole");
     CHECK(newCount >= 5);
     CHECK(quietCount >= 5);
     CHECK(proven > 0);
+    CHECK(patches > 0);
+}
+
+// The patch certificate (a hierarchy node proven a height field as a whole) on open sheets, where the root itself has
+// a boundary and can be proven: random grid sheets of several sizes, jittered in the plane so their triangles and
+// boundaries are irregular, then moved by smooth waves (height fields stay), by folds that lay a band of the sheet
+// back over itself, by coils whose ends overlap (every triangle positive, the boundary winding twice), and by shakes of
+// a few vertices; and flat coils of a strip, whose overlapping ends only the boundary's winding reveals. After every move the check reports a new pair exactly when the
+// brute force finds one, and whole patches are proven on the smooth moves.
+TEST_CASE("self_intersection: sheets proven whole as height fields, and folded ones not, against the brute force", "[core]") {
+    std::mt19937 rng(20261202);
+    int newCount = 0, quietCount = 0;
+    long long patchTriangles = 0;
+    for (const int size : {9, 16, 23, 40}) {
+        Positions positions((size + 1) * (size + 1), 3);
+        for (int i = 0; i <= size; ++i)
+            for (int j = 0; j <= size; ++j) {
+                const double jitter = 0.3 / size;
+                positions.row(i * (size + 1) + j) << double(i) / size + jitter * std::uniform_real_distribution<double>(-1, 1)(rng),
+                    double(j) / size + jitter * std::uniform_real_distribution<double>(-1, 1)(rng), 0.0;
+            }
+        Triangles triangles(2 * size * size, 3);
+        for (int i = 0, t = 0; i < size; ++i)
+            for (int j = 0; j < size; ++j) {
+                const int a = i * (size + 1) + j, b = a + 1, c = a + size + 1, d = c + 1;
+                const bool flip = (i + j) % 3 == 0;  // both diagonals occur
+                if (flip) triangles.row(t++) << a, c, b, triangles.row(t++) << b, c, d;
+                else triangles.row(t++) << a, d, b, triangles.row(t++) << a, c, d;
+            }
+        SelfIntersectionIndex index;
+        index.build(positions, triangles);
+        const Positions rest = positions;
+        std::set<std::pair<int, int>> current;
+        for (int step = 0; step < 24; ++step) {
+            // Each step's shape is made from the flat sheet; what moved is what differs from the step before.
+            const Positions before = positions;
+            positions = rest;
+            const int kind = step % 4;
+            if (kind == 0) {  // smooth waves: still a height field over the plane
+                const double amplitude = std::uniform_real_distribution<double>(0.01, 0.2)(rng);
+                const Eigen::Vector3d frequency = test::randomVector(rng, 1.0, 9.0), phase = test::randomVector(rng, 0.0, 6.3);
+                for (int v = 0; v < positions.rows(); ++v)
+                    positions(v, 2) = amplitude * std::sin(frequency.x() * rest(v, 0) + phase.x()) * std::cos(frequency.y() * rest(v, 1) + phase.y());
+            } else if (kind == 1) {  // a fold: the band beyond a line is turned over about it, laid just above the rest
+                const double at = std::uniform_real_distribution<double>(0.3, 0.7)(rng);
+                const double lift = std::uniform_real_distribution<double>(-0.02, 0.02)(rng);
+                for (int v = 0; v < positions.rows(); ++v)
+                    if (rest(v, 0) > at) positions.row(v) << 2.0 * at - rest(v, 0), rest(v, 1), lift * (rest(v, 0) - at);
+            } else if (kind == 3) {  // a coil: the sheet wound 1.1 to 1.4 turns round an axis, every triangle still
+                                     // positive along it, the ends overlapping flat (crossing) or a little apart
+                const double turns = std::uniform_real_distribution<double>(1.1, 1.4)(rng);
+                const double rise = step % 8 == 3 ? 0.0 : 0.02;
+                for (int v = 0; v < positions.rows(); ++v) {
+                    const double angle = 2.0 * M_PI * turns * rest(v, 0), radius = 0.4 + 0.5 * rest(v, 1);
+                    positions.row(v) << radius * std::cos(angle), radius * std::sin(angle), rise * angle;
+                }
+            } else {  // shakes of a few vertices by up to two edge lengths
+                for (int m = 0; m < 4; ++m)
+                    positions.row(test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1)) +=
+                        (2.0 / size) * test::randomVector(rng, -1.0, 1.0).transpose();
+            }
+            std::vector<int> moved;
+            for (int v = 0; v < positions.rows(); ++v)
+                if (positions.row(v) != before.row(v)) moved.push_back(v);
+            const SelfIntersectionIndex::Result result = index.findNewIntersection(positions, triangles, moved, before);
+            if (kind == 0) patchTriangles += result.trianglesInProvenPatches;
+            const std::vector<std::pair<int, int>> after = test::intersectingPairs(positions, triangles);
+            bool expectNew = false;
+            for (const auto& pair : after) expectNew = expectNew || !current.count(pair);
+            INFO(size << "^2 sheet, step " << step << " (kind " << kind << "), " << moved.size() << " vertices moved, "
+                      << result.patchesProven << " patches proven");
+            REQUIRE(result.found == expectNew);
+            if (result.found) {
+                REQUIRE(std::find(after.begin(), after.end(), std::make_pair(result.pair.first, result.pair.second)) != after.end());
+                ++newCount;
+            } else {
+                ++quietCount;
+            }
+            current = std::set<std::pair<int, int>>(after.begin(), after.end());
+        }
+    }
+    // A strip wound 1.1 to 1.5 turns into a flat coil: every triangle keeps its orientation along the axis, so only
+    // the boundary's winding (twice round the overlap) tells that the ends cross.
+    for (int trial = 0; trial < 6; ++trial) {
+        const int columns = 240 + 40 * trial, rows = 3;
+        Positions positions((columns + 1) * (rows + 1), 3);
+        for (int i = 0; i <= columns; ++i)
+            for (int j = 0; j <= rows; ++j) positions.row(i * (rows + 1) + j) << double(i) / columns, 0.2 * j / rows, 0.0;
+        Triangles triangles(2 * columns * rows, 3);
+        for (int i = 0, t = 0; i < columns; ++i)
+            for (int j = 0; j < rows; ++j) {
+                const int a = i * (rows + 1) + j, b = a + 1, c = a + rows + 1, d = c + 1;
+                triangles.row(t++) << a, c, d, triangles.row(t++) << a, d, b;
+            }
+        SelfIntersectionIndex index;
+        index.build(positions, triangles);
+        const Positions before = positions;
+        const double turns = std::uniform_real_distribution<double>(1.1, 1.5)(rng);
+        std::vector<int> moved;
+        for (int v = 0; v < positions.rows(); ++v) {
+            const double angle = 2.0 * M_PI * turns * before(v, 0), radius = 0.5 + before(v, 1);
+            positions.row(v) << radius * std::cos(angle), radius * std::sin(angle), 0.0;
+            moved.push_back(v);
+        }
+        const SelfIntersectionIndex::Result result = index.findNewIntersection(positions, triangles, moved, before);
+        INFO("coil of " << turns << " turns, " << columns << " columns: " << result.patchesProven << " patches proven");
+        REQUIRE_FALSE(test::intersectingPairs(positions, triangles).empty());
+        REQUIRE(result.found);
+        ++newCount;
+    }
+    INFO(newCount << " moves made a new pair, " << quietCount << " did not; " << patchTriangles << " triangles in proven patches");
+    CHECK(newCount >= 8);
+    CHECK(quietCount >= 8);
+    CHECK(patchTriangles > 0);
 }
 
 // issue 9 item 1's sequence: a unit icosphere, cubic 8^3 lattice with one pinned layer, the exact (or conic)
