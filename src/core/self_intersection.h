@@ -8,8 +8,9 @@
 // injectivity test. Pairs that already intersected (a mesh that self-intersects when loaded) do not count.
 //
 // Broad phase: a bounding-volume hierarchy over the triangles' boxes, refitted (not rebuilt) where vertices
-// moved, so a local drag costs in proportion to the triangles it moved. Narrow phase: CGAL's exact
-// predicates (triangle_pair.h).
+// moved, so a local drag costs in proportion to the triangles it moved, and collided with itself. A node whose patch
+// projects as a height field (patchEmbedded) and a vertex whose star does (starEmbedded) are proven free of
+// crossings without enumerating their pairs. Narrow phase: CGAL's exact predicates (triangle_pair.h).
 #pragma once
 
 #include <array>

@@ -291,8 +291,9 @@ void benchSubdivision() {
     }
 }
 
-// A closed latitude-longitude sphere mesh of about n vertices (rings x perRing plus the poles), the
-// triangles a real 1M-vertex scan would have.
+// A closed latitude-longitude sphere mesh of about n vertices (rings x perRing plus the poles). Every ring has the
+// same count, so toward the poles the triangles become slivers (width to height sin(latitude)), whose boxes overlap
+// many neighbours: harder for the triangle check than a scan (geodesicSphereMesh is the scan-like one).
 void sphereMesh(int n, Positions& positions, Triangles& triangles) {
     const int rings = static_cast<int>(std::sqrt(n / 2.0)), perRing = 2 * rings;
     positions.resize(rings * perRing + 2, 3);
