@@ -218,7 +218,7 @@ TEST_CASE("self_intersection: the pruned check finds every new crossing the brut
 // a boundary and can be proven: random grid sheets of several sizes, jittered in the plane so their triangles and
 // boundaries are irregular, then moved by smooth waves (height fields stay), by folds that lay a band of the sheet
 // back over itself, by coils whose ends overlap (every triangle positive, the boundary winding twice), and by shakes of
-// a few vertices; and flat coils of a strip, whose overlapping ends only the boundary's winding reveals. After every move the check reports a new pair exactly when the
+// a few vertices; and rippled coils of a strip, whose overlapping ends only the boundary's winding reveals. After every move the check reports a new pair exactly when the
 // brute force finds one, and whole patches are proven on the smooth moves.
 TEST_CASE("self_intersection: sheets proven whole as height fields, and folded ones not, against the brute force", "[core]") {
     std::mt19937 rng(20261202);
@@ -229,8 +229,9 @@ TEST_CASE("self_intersection: sheets proven whole as height fields, and folded o
         for (int i = 0; i <= size; ++i)
             for (int j = 0; j <= size; ++j) {
                 const double jitter = 0.3 / size;
-                positions.row(i * (size + 1) + j) << double(i) / size + jitter * std::uniform_real_distribution<double>(-1, 1)(rng),
-                    double(j) / size + jitter * std::uniform_real_distribution<double>(-1, 1)(rng), 0.0;
+                const double x = double(i) / size + jitter * std::uniform_real_distribution<double>(-1, 1)(rng);
+                const double y = double(j) / size + jitter * std::uniform_real_distribution<double>(-1, 1)(rng);
+                positions.row(i * (size + 1) + j) << x, y, 0.1 * x * y + 0.05 * x * x;  // curved: few coplanar pairs
             }
         Triangles triangles(2 * size * size, 3);
         for (int i = 0, t = 0; i < size; ++i)
@@ -260,12 +261,13 @@ TEST_CASE("self_intersection: sheets proven whole as height fields, and folded o
                 for (int v = 0; v < positions.rows(); ++v)
                     if (rest(v, 0) > at) positions.row(v) << 2.0 * at - rest(v, 0), rest(v, 1), lift * (rest(v, 0) - at);
             } else if (kind == 3) {  // a coil: the sheet wound 1.1 to 1.4 turns round an axis, every triangle still
-                                     // positive along it, the ends overlapping flat (crossing) or a little apart
+                                     // positive along it, the ends overlapping and crossing, or a little apart
                 const double turns = std::uniform_real_distribution<double>(1.1, 1.4)(rng);
-                const double rise = step % 8 == 3 ? 0.0 : 0.02;
+                const bool apart = step % 8 != 3;
                 for (int v = 0; v < positions.rows(); ++v) {
                     const double angle = 2.0 * M_PI * turns * rest(v, 0), radius = 0.4 + 0.5 * rest(v, 1);
-                    positions.row(v) << radius * std::cos(angle), radius * std::sin(angle), rise * angle;
+                    // Crossing: a ripple of 7.5 waves a turn, so the overlapping ends meet transversally (not coplanar).
+                    positions.row(v) << radius * std::cos(angle), radius * std::sin(angle), apart ? 0.02 * angle : 0.01 * std::sin(7.5 * angle);
                 }
             } else {  // shakes of a few vertices by up to two edge lengths
                 for (int m = 0; m < 4; ++m)
@@ -292,7 +294,7 @@ TEST_CASE("self_intersection: sheets proven whole as height fields, and folded o
             current = std::set<std::pair<int, int>>(after.begin(), after.end());
         }
     }
-    // A strip wound 1.1 to 1.5 turns into a flat coil: every triangle keeps its orientation along the axis, so only
+    // A strip wound 1.1 to 1.5 turns into a rippled coil: every triangle keeps its orientation along the axis, so only
     // the boundary's winding (twice round the overlap) tells that the ends cross.
     for (int trial = 0; trial < 6; ++trial) {
         const int columns = 240 + 40 * trial, rows = 3;
@@ -312,7 +314,7 @@ TEST_CASE("self_intersection: sheets proven whole as height fields, and folded o
         std::vector<int> moved;
         for (int v = 0; v < positions.rows(); ++v) {
             const double angle = 2.0 * M_PI * turns * before(v, 0), radius = 0.5 + before(v, 1);
-            positions.row(v) << radius * std::cos(angle), radius * std::sin(angle), 0.0;
+            positions.row(v) << radius * std::cos(angle), radius * std::sin(angle), 0.01 * std::sin(7.5 * angle);
             moved.push_back(v);
         }
         const SelfIntersectionIndex::Result result = index.findNewIntersection(positions, triangles, moved, before);
@@ -567,3 +569,4 @@ TEST_CASE("session: under pinch drags the composed map does not fold, only strai
 }
 
 }  // namespace
+
