@@ -52,6 +52,9 @@ int runHeadless(const CliOptions& options, const char* argv0) {
                 static_cast<int>(mesh.positions.rows()), static_cast<int>(mesh.triangles.rows()), loadMs,
                 session.lattice().count[0], session.lattice().count[1], session.lattice().count[2],
                 session.lattice().degree[0], session.lattice().degree[1], session.lattice().degree[2]);
+    if (session.initialDegenerateTriangles() > 0)
+        std::cerr << "sculpt: warning: " << input << " has " << session.initialDegenerateTriangles()
+                  << " degenerate (zero-area) facet(s); they are not counted as crossings\n";
     if (session.initialIntersectingPairs() > 0)
         std::cerr << "sculpt: warning: " << input << " already crosses itself (" << session.initialIntersectingPairs()
                   << " triangle pairs); those never count against an edit, only new crossings are refused\n";

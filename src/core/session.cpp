@@ -14,6 +14,7 @@
 #include "core/injectivity.h"
 #include "core/lattice_boundary.h"
 #include "core/session_internal.h"
+#include "core/triangle_pair.h"
 
 namespace sculpt::core {
 
@@ -188,7 +189,23 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     if (trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(rest_.rows()), 1.0);
     // The triangle check's index, and the pairs that already cross (they never count against an edit).
     meshIndex_.build(positions_, triangles_);
-    initialIntersectingPairs_ = static_cast<int>(meshIndex_.allIntersections(positions_, triangles_).size());
+    {
+        // Zero-area facets (common in STL files) touch their neighbours in ways that read as crossings: they are
+        // counted apart, and pairs that hold one are not counted as crossings.
+        std::vector<char> degenerate(static_cast<size_t>(triangles_.rows()), 0);
+        int degenerateCount = 0;
+#pragma omp parallel for schedule(static) reduction(+ : degenerateCount)
+        for (Eigen::Index t = 0; t < triangles_.rows(); ++t) {
+            TriangleCorners corners;
+            for (int k = 0; k < 3; ++k) corners.point[static_cast<size_t>(k)] = positions_.row(triangles_(t, k)).transpose();
+            degenerate[static_cast<size_t>(t)] = triangleDegenerate(corners);
+            degenerateCount += degenerate[static_cast<size_t>(t)];
+        }
+        initialDegenerateTriangles_ = degenerateCount;
+        initialIntersectingPairs_ = 0;
+        for (const TrianglePairHit& hit : meshIndex_.allIntersections(positions_, triangles_))
+            initialIntersectingPairs_ += !degenerate[static_cast<size_t>(hit.first)] && !degenerate[static_cast<size_t>(hit.second)];
+    }
     before_.resize(positions_.rows(), 3);
     history_.clear();
     cursor_ = 0;

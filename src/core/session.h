@@ -474,7 +474,11 @@ public:
     bool lastMovedAll() const { return lastMovedAll_; }
     // Intersecting triangle pairs the mesh had when it was set (a self-intersecting input; these never count
     // against an operation). Counted once by setMesh.
+    // Pairs with a degenerate (zero-area) triangle in them are not counted there: those facets are counted
+    // apart, by initialDegenerateTriangles.
     int initialIntersectingPairs() const { return initialIntersectingPairs_; }
+    // Triangles with no area (collinear or coincident corners, decided exactly) the mesh had when it was set.
+    int initialDegenerateTriangles() const { return initialDegenerateTriangles_; }
 
 private:
     // A drag being subdivided: world-space sources and targets.
@@ -686,6 +690,7 @@ private:
     SelfIntersectionIndex meshIndex_;     // broad phase of the triangle check, refitted where vertices move
     Positions before_;                    // #V: the rows of the vertices a step moves, as they were before it
     int initialIntersectingPairs_ = 0;
+    int initialDegenerateTriangles_ = 0;
     void accumulateFrameJacobian(bool divide);
 
     bool dragActive_ = false;

@@ -171,4 +171,8 @@ bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& b) {
     return exactDecision(a, b);
 }
 
+bool triangleDegenerate(const TriangleCorners& t) {
+    return CGAL::collinear(toPoint(t.point[0]), toPoint(t.point[1]), toPoint(t.point[2]));
+}
+
 }  // namespace sculpt::core

@@ -28,4 +28,9 @@ struct TriangleCorners {
 // Never throws; coordinates must be finite (the engine never produces others).
 bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& b);
 
+// True if the triangle has no area: its corners are collinear or coincide (CGAL's exact collinear predicate on
+// the double coordinates, no tolerance). A mesh file's zero-area facets are such triangles: the load counts them
+// apart from crossings (Session::initialDegenerateTriangles).
+bool triangleDegenerate(const TriangleCorners& t);
+
 }  // namespace sculpt::core

@@ -36,6 +36,7 @@
 
 #include "core/vertex_normals.h"
 #include "io/atomic_file.h"
+#include "io/gltf_read.h"
 #include "io/huge_pages.h"
 #include "io/isolated_call.h"
 #include "io/obj_scan.h"
@@ -270,23 +271,43 @@ size_t firstNonBlank(const std::string& bytes) {
     return start;
 }
 
-// A binary STL is an 80-byte header, a 32-bit facet count and 50 bytes per facet, exactly; anything else is read
-// as ASCII, which starts with "solid".
-Status checkStl(const std::string& bytes, const std::string& name, MeshEncoding& encoding) {
+// Binary or ASCII, decided by the file's structure as other loaders do, not by its first word: many binary
+// writers start the 80-byte header with "solid". In order:
+//   1. 84 + 50 x the header's facet count bytes exactly: binary;
+//   2. "solid" and text throughout (no NUL byte, which the ASCII grammar cannot hold): ASCII;
+//   3. at least 84 bytes, more than the count says: binary, the whole facets the size holds read (fixed, a
+//      copy of the bytes with the count mended, into `mended`), and a note says so (a writer that left the
+//      count 0, or trailing bytes);
+//   4. fewer bytes than the count needs: refused as cut short (a partial surface saved back would lose the rest).
+Status checkStl(const std::string& bytes, const std::string& name, MeshEncoding& encoding, std::string& mended,
+                std::vector<std::string>& notes) {
     uint32_t count = 0;
     if (bytes.size() >= 84) std::memcpy(&count, bytes.data() + 80, 4);
-    encoding = {MeshFormat::Stl, bytes.size() >= 84 && bytes.size() == 84 + 50ull * count, false};
+    const uint64_t declared = 84 + 50ull * count;
+    encoding = {MeshFormat::Stl, bytes.size() >= 84 && bytes.size() == declared, false};
     if (encoding.binary) return Status::success();
-    if (bytes.compare(firstNonBlank(bytes), 5, "solid") != 0) {
-        if (bytes.size() >= 84) {
-            if (84 + 50ull * count > bytes.size())
-                return Status::error(name + ": the file ends early: a binary STL whose header declares " + std::to_string(count) +
-                                     " facets has " + std::to_string(84 + 50ull * count) + " bytes, this one " +
-                                     std::to_string(bytes.size()) + " (truncated?)");
-        }
-        return Status::error(name + ": not an STL file (neither \"solid\" text nor a binary file of 84 + 50 x " +
-                             "facets bytes)");
-    }
+    const size_t start = firstNonBlank(bytes);
+    // ASCII STL is text: no NUL byte anywhere. A binary STL nearly always holds one (each facet's 2 attribute
+    // bytes, every zero float), whatever its header says.
+    if (bytes.compare(start, 5, "solid") == 0 && (bytes.size() < 84 || std::memchr(bytes.data(), 0, bytes.size()) == nullptr))
+        return Status::success();
+    if (bytes.size() < 84)
+        return Status::error(name + ": not an STL file (neither \"solid\" text nor a binary file of 84 + 50 x facets bytes)");
+    if (declared > bytes.size())
+        return Status::error(name + ": the file ends early: a binary STL whose header declares " + std::to_string(count) +
+                             " facets has " + std::to_string(declared) + " bytes, this one " + std::to_string(bytes.size()) +
+                             " (truncated?)");
+    const uint64_t facets = (bytes.size() - 84) / 50;
+    const uint64_t trailing = (bytes.size() - 84) % 50;
+    if (facets > UINT32_MAX) return Status::error(name + ": more facets than a binary STL can number");
+    encoding.binary = true;
+    mended = bytes.substr(0, 84 + 50 * facets);
+    const uint32_t held = static_cast<uint32_t>(facets);
+    std::memcpy(mended.data() + 80, &held, 4);
+    std::string note = "the header declares " + std::to_string(count) + " facet(s) but the file holds " + std::to_string(facets) +
+                       ": all " + std::to_string(facets) + " are read";
+    if (trailing > 0) note += " (" + std::to_string(trailing) + " trailing byte(s) after them are not a facet, ignored)";
+    notes.push_back(note);
     return Status::success();
 }
 
@@ -386,15 +407,6 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
         notes.push_back(std::to_string(unplaced) + " mesh(es) no node of the scene places are not kept");
     if (std::any_of(uses.begin(), uses.end(), [](int u) { return u > 1; }))
         notes.push_back("meshes placed by several nodes are copied once per node");
-    const bool gltf = encoding.format == MeshFormat::Gltf;
-    if (gltf && std::any_of(placements.begin(), placements.end(), [](const Placement& p) { return !p.transform.IsIdentity(); }))
-        notes.push_back("node transforms are applied to the vertices (the node hierarchy is flattened)");
-    if (gltf && scene.mNumAnimations > 0) notes.push_back(std::to_string(scene.mNumAnimations) + " animation(s) are not kept");
-    // assimp adds a default material to every scene; only the file's own count.
-    unsigned materials = 0;
-    for (unsigned m = 0; m < scene.mNumMaterials; ++m)
-        materials += scene.mMaterials[m] && std::string(scene.mMaterials[m]->GetName().C_Str()) != AI_DEFAULT_MATERIAL_NAME;
-    if (gltf && materials > 0) notes.push_back(std::to_string(materials) + " material(s) and their textures are not kept");
 
     size_t vertexTotal = 0, surfaceFaces = 0, cornerTotal = 0;
     for (const Placement& p : placements) {
@@ -727,19 +739,26 @@ bool decodePayload(const std::string& bytes, Status& status, std::vector<std::st
     return read;
 }
 
-// The assimp part of a load, run in the reader process:
-// the scene as a mesh without triangles (sceneToMesh), with assimp's own warnings and errors in notes.
+// The library part of a load, run in the reader process: a glTF through readGltfDocument (tinygltf and checked
+// accessors), PLY and STL through assimp, as a mesh without triangles (sceneToMesh), with assimp's own
+// warnings and errors in notes.
 Status readInThisProcess(const std::string& bytes, const std::string* path, const char* hint, MeshFormat format,
                          const MeshEncoding& encoding, const std::string& name, const std::function<void(float)>& report,
                          ObjMesh& mesh, std::vector<std::string>& notes) {
+    if (format == MeshFormat::Gltf) {
+        // A JSON glTF's buffers may be files beside it: looked up from the file's folder.
+        const std::string folder = path != nullptr ? std::filesystem::path(*path).parent_path().string() : std::string();
+        report(0.1f);
+        return readGltfDocument(bytes, encoding.binary, path != nullptr ? &folder : nullptr, name, mesh, notes);
+    }
     CollectedLog log;
     Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
     Assimp::DefaultLogger::get()->attachStream(&log, Assimp::Logger::Warn | Assimp::Logger::Err);
     Assimp::Importer importer;
     ProgressForwarder forward(report);
     importer.SetProgressHandler(&forward);
-    const aiScene* scene = path != nullptr ? importer.ReadFile(*path, 0)
-                                           : importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint);
+    // PLY and STL are whole in their bytes: read from memory (a mended STL is not the file on disk).
+    const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint);
     importer.SetProgressHandler(nullptr);
     // The log is ours (on this stack): detached before the logger goes, which would delete attached streams.
     Assimp::DefaultLogger::get()->detachStream(&log, Assimp::Logger::Warn | Assimp::Logger::Err);
@@ -761,11 +780,12 @@ Status finishImport(const Status& status, const std::vector<std::string>& reader
                     const MeshEncoding& encoding, const std::string& name, ObjMesh& out, std::vector<std::string>& notes,
                     std::vector<std::string>* warnings, ObjLoadProgress* progress);
 
-// Reads bytes (or, for a glTF whose buffers may be files beside it, the file at path) through assimp.
-Status importWithAssimp(const std::string& bytes, const std::string* path, MeshFormat format, const std::string& name,
+// Reads bytes (a glTF's buffers named as files are looked up beside path, when given) in a reader process.
+Status importInReaderProcess(const std::string& bytes, const std::string* path, MeshFormat format, const std::string& name,
                         ObjMesh& out, std::vector<std::string>* warnings, ObjLoadProgress* progress) {
     MeshEncoding encoding{format, false, false};
     std::vector<std::string> notes;
+    std::string mended;  // a binary STL whose facet count disagrees with its size, mended (checkStl)
     const char* hint = "";
     switch (format) {
         case MeshFormat::Ply: {
@@ -778,13 +798,12 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
             break;
         }
         case MeshFormat::Stl:
-            if (Status s = checkStl(bytes, name, encoding); !s) return s;
+            if (Status s = checkStl(bytes, name, encoding, mended, notes); !s) return s;
             hint = "stl";
             break;
         case MeshFormat::Gltf:
             encoding.binary = bytes.compare(0, 4, "glTF") == 0;
             if (Status s = checkGltf(bytes, name, encoding.binary); !s) return s;
-            hint = encoding.binary ? "glb" : "gltf";
             break;
         case MeshFormat::Obj: return Status::error(name + ": OBJ is read by loadObj");
     }
@@ -796,14 +815,16 @@ Status importWithAssimp(const std::string& bytes, const std::string* path, MeshF
     // file is read in a child process, which sends the mesh back; a crash or a hang costs an error message, not
     // the program. The timeout allows 3 s plus 1 s per MB (a 1M-vertex GLB of 64 MB reads in about 1.2 s, the copy
     // back included).
-    const std::string reader = "the " + std::string(meshFormatName(format)) + " reader (assimp)";
+    const std::string reader = "the " + std::string(meshFormatName(format)) + " reader (" +
+                               (format == MeshFormat::Gltf ? "tinygltf" : "assimp") + ")";
     std::string payload;
     const double timeoutSeconds = 3.0 + static_cast<double>(bytes.size()) / 1e6;
     const Status isolated = runIsolated(
         reader,
         [&](IsolatedChannel& channel) {
             const std::function<void(float)> report = [&channel](float f) { channel.progress(f); };
-            const Status read = readInThisProcess(bytes, path, hint, format, encoding, name, report, mesh, childNotes);
+            const Status read = readInThisProcess(mended.empty() ? bytes : mended, path, hint, format, encoding, name, report,
+                                                  mesh, childNotes);
             PayloadWriter sent;
             encodePayload(read, childNotes, mesh, sent);
             channel.result(sent.pieces());
@@ -1211,12 +1232,9 @@ Status loadMesh(const std::string& path, ObjMesh& out, std::vector<std::string>*
         std::string bytes;
         if (Status s = readTextFile(path, bytes); !s) return s;
         if (progress && progress->cancel.load()) return Status::error(path + ": loading cancelled");
-        // A JSON glTF may name its buffers as files beside it: assimp opens those through its own file system,
-        // from the file (a .gltf; a JSON file misnamed .glb is read from memory). A GLB is read from memory
-        // whatever its extension.
-        const bool fromFile = encoding.format == MeshFormat::Gltf && encoding.binary == false &&
-                              bytes.compare(0, 4, "glTF") != 0;
-        return importWithAssimp(bytes, fromFile ? &path : nullptr, encoding.format, path, out, warnings, progress);
+        // A glTF may name its buffers as files beside it, which are looked up from the file's folder.
+        const bool fromFile = encoding.format == MeshFormat::Gltf;
+        return importInReaderProcess(bytes, fromFile ? &path : nullptr, encoding.format, path, out, warnings, progress);
     } catch (const std::bad_alloc&) {
         return Status::error(path + ": not enough memory to load it");
     } catch (const std::exception& e) {
@@ -1234,7 +1252,7 @@ Status loadMeshFromMemory(const std::string& bytes, MeshFormat format, const std
             out = std::move(mesh);
             return Status::success();
         }
-        return importWithAssimp(bytes, nullptr, format, displayName, out, warnings, nullptr);
+        return importInReaderProcess(bytes, nullptr, format, displayName, out, warnings, nullptr);
     } catch (const std::bad_alloc&) {
         return Status::error(displayName + ": not enough memory to load it");
     } catch (const std::exception& e) {

@@ -1,6 +1,7 @@
 // Mesh files in every format the program opens and saves: OBJ (obj_mesh.h, our own exact reader and writer)
-// and PLY, STL, glTF 2.0 / GLB, read through assimp (Debian's libassimp) and written by assimp (STL), tinygltf
-// (glTF) or here (PLY): see mesh_file.cpp for why. The format comes from the extension
+// and PLY, STL, glTF 2.0 / GLB: PLY and STL read through assimp (Debian's libassimp), glTF parsed by tinygltf
+// (Debian's libtinygltf) with every accessor checked and read here (gltf_read.h: assimp read sparse accessors
+// wrong); written by assimp (STL), tinygltf (glTF) or here (PLY): see mesh_file.cpp for why. The format comes from the extension
 // (mesh_format.h). Every format keeps OBJ's guarantees: bad input gets a message naming the file and what is
 // wrong, nothing is dropped without a warning that says what, saves are atomic, and loads report progress and
 // can be cancelled.
@@ -14,8 +15,9 @@
 //     numbered in order of first use) so the surface is one connected mesh; each `solid` becomes a group.
 //   - glTF 2.0 (.gltf with its buffers in files or data URIs, or .glb): every triangle primitive of every mesh placed by a node of the
 //     scene, node transforms applied (the hierarchy is flattened, which the load warns about), one group per
-//     primitive, with its colours (COLOR_0), normals and texture coordinates (TEXCOORD_0). Materials, textures,
-//     skins, animations and point/line primitives are not kept, with a warning naming them.
+//     primitive, with its colours (COLOR_0), normals and texture coordinates (TEXCOORD_0); sparse, interleaved and
+//     normalized accessors read as the specification defines them, and one that breaks its bounds refused.
+//     Materials, textures, skins, animations and point/line primitives are not kept, with a warning naming them.
 // Positions in PLY, STL and glTF are single precision: a save rounds them, and one loaded is exactly its float.
 #pragma once
 

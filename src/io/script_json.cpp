@@ -970,6 +970,7 @@ std::string reportToJson(const core::ScriptReport& report, const core::Session& 
                        {"bytes", session.historyBytes()}, {"lattice_frames", session.frameDepth() + 1}};
     root["injectivity"] = injectivityJson(session.injectivity());
     root["self_intersecting_pairs_at_load"] = session.initialIntersectingPairs();
+    root["degenerate_triangles_at_load"] = session.initialDegenerateTriangles();
     return root.dump(2) + "\n";
 }
 

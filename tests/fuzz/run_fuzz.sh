@@ -2,7 +2,8 @@
 # Usage: tests/fuzz/run_fuzz.sh [SECONDS]   (default 60)
 # Configures and builds the libFuzzer targets in build-fuzz/ (clang-14, -DSCULPT_FUZZ=ON), then fuzzes, SECONDS
 # each, the OBJ reader/writer on a temporary copy of tests/fuzz/corpus and the PLY/STL/glTF readers/writers on
-# one of tests/fuzz/corpus_mesh (the repository stays clean). Any crash, leak, timeout or out-of-memory input
+# one of tests/fuzz/corpus_mesh, and the glTF reader structure-aware (gltf_fuzz) on tests/fuzz/corpus_gltf (the
+# repository stays clean). Any crash, leak, timeout or out-of-memory input
 # is copied to tests/io/data/fuzz_regressions/ (OBJ) or fuzz_regressions_mesh/, which the unit tests
 # "obj: fuzz regressions ..." and "mesh formats: fuzz corpus and regressions ..." replay, and the script exits
 # non-zero.
@@ -14,7 +15,7 @@ build="$root/build-fuzz"
 
 # SCULPT_UNITY: the instrumented libraries compile in batches (see the top-level CMakeLists.txt).
 CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build" -DSCULPT_FUZZ=ON -DSCULPT_UNITY=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-cmake --build "$build" --target obj_fuzz mesh_fuzz -j2
+cmake --build "$build" --target obj_fuzz mesh_fuzz gltf_fuzz -j2
 
 # Leaks inside third-party libraries (assimp's, on malformed files) are suppressed, as in CI's sanitizer run.
 export LSAN_OPTIONS="suppressions=$root/.ci/lsan.supp:print_suppressions=0"
@@ -52,3 +53,4 @@ fuzz() {
 
 fuzz obj_fuzz "$root/tests/fuzz/corpus" "$root/tests/fuzz/obj.dict" "$root/tests/io/data/fuzz_regressions"
 fuzz mesh_fuzz "$root/tests/fuzz/corpus_mesh" "" "$root/tests/io/data/fuzz_regressions_mesh"
+fuzz gltf_fuzz "$root/tests/fuzz/corpus_gltf" "" "$root/tests/io/data/fuzz_regressions_mesh"

@@ -464,6 +464,8 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             if (result.opsRejected > 0) text += " (" + std::to_string(result.opsRejected) + " refused: the report says why)";
             if (result.screenshotsSkipped > 0) text += ", " + countOf(static_cast<size_t>(result.screenshotsSkipped), "screenshot op") + " skipped";
             text += " in " + took + ".";
+            if (s.initialDegenerateTriangles() > 0)
+                text += " " + countOf(static_cast<size_t>(s.initialDegenerateTriangles()), "degenerate (zero-area) facet") + " in the file.";
             if (s.initialIntersectingPairs() > 0)
                 text += " The mesh already crosses itself (" + std::to_string(s.initialIntersectingPairs()) +
                         " triangle pairs); only new crossings are refused.";
