@@ -39,6 +39,7 @@
 #include "io/gltf_read.h"
 #include "io/huge_pages.h"
 #include "io/isolated_call.h"
+#include "io/off_mesh.h"
 #include "io/obj_scan.h"
 #include "io/obj_refine.h"
 #include "io/script_json.h"
@@ -745,6 +746,10 @@ bool decodePayload(const std::string& bytes, Status& status, std::vector<std::st
 Status readInThisProcess(const std::string& bytes, const std::string* path, const char* hint, MeshFormat format,
                          const MeshEncoding& encoding, const std::string& name, const std::function<void(float)>& report,
                          ObjMesh& mesh, std::vector<std::string>& notes) {
+    if (format == MeshFormat::Off) {
+        report(0.1f);
+        return readOffDocument(bytes, name, mesh, notes);
+    }
     if (format == MeshFormat::Gltf) {
         // A JSON glTF's buffers may be files beside it: looked up from the file's folder.
         const std::string folder = path != nullptr ? std::filesystem::path(*path).parent_path().string() : std::string();
@@ -805,6 +810,12 @@ Status importInReaderProcess(const std::string& bytes, const std::string* path, 
             encoding.binary = bytes.compare(0, 4, "glTF") == 0;
             if (Status s = checkGltf(bytes, name, encoding.binary); !s) return s;
             break;
+        case MeshFormat::Off: {
+            // "OFF BINARY" (any header word ending in OFF, then BINARY on the same line).
+            const size_t lineEnd = bytes.find('\n');
+            encoding.binary = bytes.substr(0, lineEnd == std::string::npos ? bytes.size() : lineEnd).find("BINARY") != std::string::npos;
+            break;
+        }
         case MeshFormat::Obj: return Status::error(name + ": OBJ is read by loadObj");
     }
     Status status;
@@ -816,7 +827,7 @@ Status importInReaderProcess(const std::string& bytes, const std::string* path, 
     // the program. The timeout allows 3 s plus 1 s per MB (a 1M-vertex GLB of 64 MB reads in about 1.2 s, the copy
     // back included).
     const std::string reader = "the " + std::string(meshFormatName(format)) + " reader (" +
-                               (format == MeshFormat::Gltf ? "tinygltf" : "assimp") + ")";
+                               (format == MeshFormat::Gltf ? "tinygltf" : format == MeshFormat::Off ? "CGAL" : "assimp") + ")";
     std::string payload;
     const double timeoutSeconds = 3.0 + static_cast<double>(bytes.size()) / 1e6;
     const Status isolated = runIsolated(
@@ -968,30 +979,33 @@ VertexColors objVertexColours(const ObjMesh& mesh) {
 // format cannot hold.
 Status prepareSave(const ObjMesh& mesh, const Positions& deformed, const MeshEncoding& encoding,
                    SaveAttributes& attributes, std::vector<std::string>& notes) {
-    for (Eigen::Index v = 0; v < deformed.rows(); ++v)
+    const bool off = encoding.format == MeshFormat::Off;  // doubles, as text
+    for (Eigen::Index v = 0; v < deformed.rows() && !off; ++v)
         for (int k = 0; k < 3; ++k)
             if (std::abs(deformed(v, k)) > static_cast<double>(FLT_MAX))
                 return Status::error("vertex " + std::to_string(v) + " is outside single precision's range, which " +
                                      meshFormatName(encoding.format) + " stores");
     const bool ply = encoding.format == MeshFormat::Ply, stl = encoding.format == MeshFormat::Stl;
-    attributes.writeTexcoords = !stl && perVertexTexcoords(mesh, attributes.texcoords);
+    attributes.writeTexcoords = !stl && !off && perVertexTexcoords(mesh, attributes.texcoords);
     const bool writeTexcoords = attributes.writeTexcoords;
     attributes.colours = meshVertexColours(mesh);
     const bool anyTexcoords = std::any_of(mesh.cornerTexcoord.begin(), mesh.cornerTexcoord.end(), [](int t) { return t >= 0; });
-    if (!stl && !writeTexcoords && mesh.texcoords.rows() > 0 && anyTexcoords)
+    if (!stl && !off && !writeTexcoords && mesh.texcoords.rows() > 0 && anyTexcoords)
         notes.push_back("texture coordinates are not written: they differ between the corners of a vertex, and " +
                         std::string(meshFormatName(encoding.format)) + " stores one per vertex");
-    if (stl && anyTexcoords) notes.push_back("texture coordinates are not written: STL has none");
+    if ((stl || off) && anyTexcoords)
+        notes.push_back(std::string("texture coordinates are not written: ") + (stl ? "STL" : "OFF") + " has none");
+    if (off && encoding.binary) notes.push_back("written as ASCII OFF (the file was binary OFF)");
     if (stl && attributes.colours.rows() > 0) notes.push_back("vertex colours are not written: STL has none");
     if (stl) attributes.colours.resize(0, 4);
     // One group holding every face loses nothing but its name; several lose the split.
     const bool severalGroups = std::adjacent_find(mesh.faceGroup.begin(), mesh.faceGroup.end(), std::not_equal_to<int>()) !=
                                mesh.faceGroup.end();
-    if (ply && severalGroups) notes.push_back("groups are not written: PLY has none");
+    if ((ply || off) && severalGroups) notes.push_back(std::string("groups are not written: ") + (ply ? "PLY" : "OFF") + " has none");
     if (encoding.format == MeshFormat::Gltf) attributes.primitives = primitiveGroups(mesh);
     if (encoding.format == MeshFormat::Gltf && severalGroups && attributes.primitives.size() == 1)
         notes.push_back("groups are not written: they share or interleave vertices, and a glTF primitive holds its own");
-    if (!ply) {
+    if (!ply && !off) {
         int polygons = 0;
         for (int f = 0; f < mesh.faceCount(); ++f) polygons += mesh.faceStart[f + 1] - mesh.faceStart[f] > 3;
         if (polygons > 0)
@@ -1302,6 +1316,9 @@ Status serializeMesh(const std::string& path, const ObjMesh& mesh, const Positio
             out = writePly(mesh, deformedPositions, encoding, attributes);
         } else if (encoding.format == MeshFormat::Gltf) {
             out = writeGltf(mesh, deformedPositions, encoding, attributes);
+        } else if (encoding.format == MeshFormat::Off) {
+            const VertexNormals normals = mesh.vertexNormals.rows() > 0 ? saveNormals(mesh, deformedPositions) : VertexNormals();
+            out = writeOff(mesh, deformedPositions, attributes.colours, normals);
         } else {
             aiScene scene;
             buildStlScene(mesh, deformedPositions, scene);

@@ -24,12 +24,13 @@ const char* meshFormatName(MeshFormat format) {
         case MeshFormat::Ply: return "PLY";
         case MeshFormat::Stl: return "STL";
         case MeshFormat::Gltf: return "glTF";
+        case MeshFormat::Off: return "OFF";
     }
     return "?";
 }
 
 const std::vector<std::string>& meshExtensions() {
-    static const std::vector<std::string> extensions{".obj", ".ply", ".stl", ".gltf", ".glb"};
+    static const std::vector<std::string> extensions{".obj", ".ply", ".stl", ".gltf", ".glb", ".off"};
     return extensions;
 }
 
@@ -55,6 +56,8 @@ Status meshEncodingForPath(const std::string& path, MeshEncoding& out) {
     } else if (ext == ".glb") {
         e.format = MeshFormat::Gltf;
         e.binary = true;
+    } else if (ext == ".off") {
+        e.format = MeshFormat::Off;
     } else {
         return Status::error(path + ": " +
                              (ext.empty() ? std::string("the file name has no extension")
@@ -78,6 +81,7 @@ std::string meshEncodingText(const MeshEncoding& encoding) {
                                                                          : "PLY (binary, little-endian)";
         case MeshFormat::Stl: return encoding.binary ? "STL (binary)" : "STL (ASCII)";
         case MeshFormat::Gltf: return encoding.binary ? "glTF (.glb)" : "glTF (.gltf + .bin)";
+        case MeshFormat::Off: return encoding.binary ? "OFF (binary)" : "OFF";
     }
     return "?";
 }

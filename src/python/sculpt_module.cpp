@@ -521,7 +521,7 @@ or {"op": "refine", "tolerance": 0.002}. Returns its report. A "screenshot" op u
             },
             py::arg("path"),
             R"doc(Writes the current shape to path as the command line's --output does, in the format of the
-extension (.obj .ply .stl .gltf .glb). A loaded OBJ keeps its text with only moved vertices and changed
+extension (.obj .ply .stl .gltf .glb .off). A loaded OBJ keeps its text with only moved vertices and changed
 normals rewritten; PLY, STL and glTF store single precision. Returns the warnings (a list of str) naming
 what the format cannot hold (groups in PLY, colours in STL...). Atomic: on failure (sculpt.Error) the file
 is left as it was.)doc")
@@ -553,7 +553,7 @@ file cannot be written.)doc");
         },
         py::arg("path"), py::kw_only(), py::arg("lattice") = py::none(), py::arg("injectivity") = py::none(),
         py::arg("track_jacobian") = false,
-        R"doc(A session on the mesh file at path (.obj .ply .stl .gltf .glb, the format from the extension), as the
+        R"doc(A session on the mesh file at path (.obj .ply .stl .gltf .glb .off, the format from the extension), as the
 command line's --input.
 
 lattice, injectivity, track_jacobian: as Session(V, F, ...). Raises sculpt.Error with the file and line of

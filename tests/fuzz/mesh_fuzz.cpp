@@ -1,6 +1,6 @@
-// Fuzz target for the PLY, STL and glTF readers (io/mesh_file.h, through assimp) and the writers behind them.
+// Fuzz target for the PLY, STL, glTF and OFF readers (io/mesh_file.h) and the writers behind them.
 // The format is picked from the bytes the way a misnamed file would meet it: "ply" -> PLY, "glTF" or "{" ->
-// glTF, anything else -> STL (whose reader takes any bytes that are not another format). Any input either
+// glTF, "OFF", "COFF", "NOFF" -> OFF, anything else -> STL (whose reader takes any bytes that are not another format). Any input either
 // loads into a consistent mesh or fails with a message naming the file, leaving the output untouched; what
 // loads must save in every encoding and load back with the same vertices (PLY and GLB: the same count; PLY:
 // the positions rounded to float, exactly from binary; STL: the same triangles).
@@ -30,6 +30,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (bytes.compare(0, 3, "ply") == 0) {
         format = MeshFormat::Ply;
         name = "fuzz.ply";
+    } else if (bytes.compare(0, 3, "OFF") == 0 || bytes.compare(0, 4, "COFF") == 0 || bytes.compare(0, 4, "NOFF") == 0) {
+        format = MeshFormat::Off;
+        name = "fuzz.off";
     } else if (bytes.compare(0, 4, "glTF") == 0 || bytes.compare(0, 1, "{") == 0) {
         format = MeshFormat::Gltf;
         name = "fuzz.gltf";

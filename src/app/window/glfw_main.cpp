@@ -231,7 +231,7 @@ int runWindow(const std::string& meshPath) {
     if (!glfwInit()) {
         std::cerr << "sculpt: cannot open a window (no display?). To run without one use\n"
                      "  sculpt --headless [--input MESH] --script OPS.json --output OUT [--screenshot OUT.png]\n"
-                     "  (meshes: .obj .ply .stl .gltf .glb, the format from the extension)\n"
+                     "  (meshes: .obj .ply .stl .gltf .glb .off, the format from the extension)\n"
                      "or start the window under a virtual display: xvfb-run -a sculpt [MESH]\n";
         return kExitNoDisplay;
     }
