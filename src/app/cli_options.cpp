@@ -1,6 +1,7 @@
 #include "app/cli_options.h"
 
 #include <cmath>
+#include <dlfcn.h>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -96,18 +97,33 @@ Status parseCommandLine(int argc, const char* const* argv, CliOptions& out) {
     return Status::success();
 }
 
-std::string defaultMeshPath(const char* argv0) {
+std::string bundledAssetsFolder(const char* argv0) {
     namespace fs = std::filesystem;
-    const fs::path source = fs::path(SCULPT_SOURCE_ASSETS) / "default.obj";
     std::error_code ec;
-    if (fs::exists(source, ec)) return source.string();
-    // An installed or moved binary: look beside it and one level up.
-    if (argv0) {
-        const fs::path exe = fs::absolute(argv0, ec).parent_path();
-        for (const fs::path& candidate : {exe / "assets" / "default.obj", exe.parent_path() / "assets" / "default.obj"})
-            if (fs::exists(candidate, ec)) return candidate.string();
+    // The file this code runs in: the Python module's .so (dladdr), else the executable (/proc/self/exe, or argv0).
+    fs::path self;
+    Dl_info info{};
+    if (dladdr(reinterpret_cast<void*>(&bundledAssetsFolder), &info) != 0 && info.dli_fname && *info.dli_fname) {
+        const fs::path object(info.dli_fname);
+        if (object.extension() == ".so") self = fs::absolute(object, ec);
     }
-    return source.string();
+    if (self.empty()) self = fs::read_symlink("/proc/self/exe", ec);
+    if (self.empty() && argv0) self = fs::absolute(argv0, ec);
+    // Installed (cmake --install, the Debian package, pip): PREFIX/share/dmffd-sculpt/assets, found from
+    // PREFIX/bin/sculpt or PREFIX/lib/python3/dist-packages/sculpt*.so (a venv: lib/python3.X/site-packages).
+    fs::path up = self.parent_path();
+    for (int level = 0; level < 4 && !up.empty(); ++level, up = up.parent_path()) {
+        const fs::path installed = up / "share" / "dmffd-sculpt" / "assets";
+        if (fs::exists(installed / "default.obj", ec)) return installed.string();
+    }
+    // A build tree or a moved binary: assets beside it or one level up; else the source tree's.
+    for (const fs::path& candidate : {self.parent_path() / "assets", self.parent_path().parent_path() / "assets"})
+        if (!self.empty() && fs::exists(candidate / "default.obj", ec)) return candidate.string();
+    return SCULPT_SOURCE_ASSETS;
+}
+
+std::string defaultMeshPath(const char* argv0) {
+    return (std::filesystem::path(bundledAssetsFolder(argv0)) / "default.obj").string();
 }
 
 }  // namespace sculpt::app

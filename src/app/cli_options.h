@@ -30,7 +30,13 @@ Status parseCommandLine(int argc, const char* const* argv, CliOptions& out);
 
 const char* usageText();
 
-// The bundled default mesh (assets/default.obj), found next to the source tree or the executable.
+// The folder of the bundled assets (default.obj, lattices/, examples/): an installed copy first
+// (PREFIX/share/dmffd-sculpt/assets, looked up from the executable or the Python module that runs this code),
+// then assets/ beside the binary or one level up (a build tree), then the source tree's. argv0 (may be null)
+// is used only where /proc/self/exe cannot be read.
+std::string bundledAssetsFolder(const char* argv0);
+
+// The bundled default mesh: bundledAssetsFolder(argv0)/default.obj.
 std::string defaultMeshPath(const char* argv0);
 
 }  // namespace sculpt::app

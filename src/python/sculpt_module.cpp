@@ -267,8 +267,18 @@ py::array engineView(py::object owner, const Matrix& rows) {
 // V (n x 3, float64 or anything numpy casts to it) and F (m x 3, integers) as an ObjMesh built in code.
 io::ObjMesh meshFromArrays(py::handle vertices, py::handle faces) {
     py::module_ np = py::module_::import("numpy");
-    py::array V = np.attr("asarray")(vertices);
-    py::array F = np.attr("asarray")(faces);
+    // A ragged list (rows of different lengths) is numpy's ValueError: named here as the argument it is.
+    const auto asArray = [&np](py::handle value, const char* what, const char* shape) {
+        try {
+            return py::array(np.attr("asarray")(value));
+        } catch (py::error_already_set& e) {
+            if (!e.matches(PyExc_ValueError) && !e.matches(PyExc_TypeError)) throw;
+            throw SculptError(std::string("Session: ") + what + " must be " + shape + " numbers, one row each (" +
+                              e.value().attr("__str__")().cast<std::string>() + ")");
+        }
+    };
+    py::array V = asArray(vertices, "V", "an n x 3 array of");
+    py::array F = asArray(faces, "F", "an m x 3 array of integer");
     auto shapeText = [](const py::array& a) { return std::string(py::str(py::tuple(a.attr("shape")))); };
     if (V.ndim() != 2 || V.shape(1) != 3) throw SculptError("Session: V must be n x 3 (got shape " + shapeText(V) + ")");
     if (F.ndim() != 2 || F.shape(1) != 3) throw SculptError("Session: F must be m x 3 (got shape " + shapeText(F) + ")");
@@ -279,8 +289,11 @@ io::ObjMesh meshFromArrays(py::handle vertices, py::handle faces) {
     if (faceKind != 'i' && faceKind != 'u' && !(F.shape(0) == 0))
         throw SculptError("Session: F must hold integers (got dtype " + std::string(py::str(F.dtype())) + ")");
     auto positions = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(V);
-    auto indices = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(F);
-    if (!positions || !indices) throw py::error_already_set();
+    // Unsigned 64-bit indices are read as such: a uint64 max is named as it is, not as the -1 it casts to.
+    const bool unsignedFaces = faceKind == 'u';
+    auto indices = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(unsignedFaces ? py::array() : F);
+    auto unsignedIndices = py::array_t<unsigned long long, py::array::c_style | py::array::forcecast>::ensure(unsignedFaces ? F : py::array());
+    if (!positions || (unsignedFaces ? !unsignedIndices : !indices)) throw py::error_already_set();
 
     io::ObjMesh mesh;
     const py::ssize_t n = V.shape(0), m = F.shape(0);
@@ -292,12 +305,14 @@ io::ObjMesh meshFromArrays(py::handle vertices, py::handle faces) {
         mesh.positions.data()[i] = p[i];
     }
     mesh.triangles.resize(m, 3);
-    const long long* f = indices.data();
     for (py::ssize_t i = 0; i < m * 3; ++i) {
-        if (f[i] < 0 || f[i] >= n)
-            throw SculptError("Session: F[" + std::to_string(i / 3) + "][" + std::to_string(i % 3) + "] = " + std::to_string(f[i]) +
+        const bool inRange = unsignedFaces ? unsignedIndices.data()[i] < static_cast<unsigned long long>(n)
+                                           : indices.data()[i] >= 0 && indices.data()[i] < n;
+        if (!inRange)
+            throw SculptError("Session: F[" + std::to_string(i / 3) + "][" + std::to_string(i % 3) + "] = " +
+                              (unsignedFaces ? std::to_string(unsignedIndices.data()[i]) : std::to_string(indices.data()[i])) +
                               " is out of range (V has " + std::to_string(n) + " vertices)");
-        mesh.triangles.data()[i] = static_cast<int>(f[i]);
+        mesh.triangles.data()[i] = static_cast<int>(unsignedFaces ? static_cast<long long>(unsignedIndices.data()[i]) : indices.data()[i]);
     }
     // One polygon per triangle, in the default group, without texture coordinates or normals (obj_mesh.h's
     // invariants); saving writes it from these arrays.

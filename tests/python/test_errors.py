@@ -92,6 +92,21 @@ def test_arrays_of_the_wrong_shape_or_type(sphere):
         bad = F.copy()
         bad[0, 1] = 9999
         sculpt.Session(V, bad)
+    # A ragged list is named as the argument it is, not as numpy's ValueError.
+    ragged = [list(row) for row in V[:4]]
+    ragged[2] = ragged[2][:2]
+    with pytest.raises(sculpt.Error, match=r"Session: V must be an n x 3 array of numbers, one row each"):
+        sculpt.Session(ragged, F)
+    ragged_faces = [list(row) for row in F[:4]]
+    ragged_faces[1] = ragged_faces[1] + [0]
+    with pytest.raises(sculpt.Error, match=r"Session: F must be an m x 3 array of integer numbers, one row each"):
+        sculpt.Session(V, ragged_faces)
+    # An index beyond the range of int (or of int64) is named as it is.
+    for value, dtype in [(np.iinfo(np.uint64).max, np.uint64), (2**40, np.int64), (2**32 + 1, np.uint64)]:
+        bad = F.astype(dtype)
+        bad[1, 2] = value
+        with pytest.raises(sculpt.Error, match=r"F\[1\]\[2\] = %d is out of range" % value):
+            sculpt.Session(V, bad)
     with pytest.raises(sculpt.Error, match=r"the mesh has no vertices"):
         sculpt.Session(np.zeros((0, 3)), np.zeros((0, 3), dtype=int))
     with pytest.raises(sculpt.Error, match=r"drag: sources and targets"):
