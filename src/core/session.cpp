@@ -821,6 +821,13 @@ Status Session::checkMovable(int idx) const {
         return Status::error("control point id " + std::to_string(idx) + " is outside the lattice (" + std::to_string(n) +
                              " control points)");
     if (lattice_.pinned[idx]) {
+        if (pinnedAsPartialBoundary(idx) && !inOuterLayers(lattice_, idx, settings_.pinLayers))
+            return Status::error("control point " + lattice_.controlPointName(idx) +
+                                 " is pinned: the lattice holds only part of the mesh, so its outer surface stays where it "
+                                 "is while the injectivity test is on (the vertices outside never move, and a moving "
+                                 "boundary would tear the mesh there); set the injectivity test off for a plain FFD, "
+                                 "as PyGeM computes it (every control point moves, the vertices outside stay), or set up "
+                                 "a lattice that holds the whole mesh");
         return Status::error("control point " + lattice_.controlPointName(idx) + " is pinned");
     }
     return Status::success();

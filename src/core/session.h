@@ -346,7 +346,11 @@ public:
     // frozen lattice is not a T-spline.
     std::vector<int> visibleTSplinePoints() const;
 
-    void setInjectivity(const InjectivitySettings& settings) { injectivity_ = settings; }
+    // The injectivity test of every later step. Off is a plain FFD (Sederberg & Parry, as PyGeM): a lattice set
+    // up from then on does not pin the boundary of a lattice that holds only part of the mesh
+    // (pinBoundaryIfPartial), so every control point can move and the vertices outside stay where they are. A
+    // test switched on pins that boundary again at once (what is already displaced stays).
+    void setInjectivity(const InjectivitySettings& settings);
     const InjectivitySettings& injectivity() const { return injectivity_; }
 
     // Moves each constraint's source (a point in the current deformed space inside the lattice) onto its
@@ -670,7 +674,11 @@ private:
     // never move, so a moving boundary would tear the mesh there and the deformation of space (identity
     // outside, the volume inside) would not be injective (Gain & Dodgson 2001, section 5: the boundary
     // condition; Coquillart 1990, 3.4 keeps the outer planes fixed for the same seam).
+    // Not with the injectivity test off (a plain FFD, setInjectivity).
     void pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding) const;
+    // True for a control point that only pinBoundaryIfPartial pins (not a pin layer): the reason a move of it is
+    // refused says so, and how to lift it.
+    bool pinnedAsPartialBoundary(int idx) const;
     // The pin a control point has before the user's pin edits: the pin layers, and the boundary a net lattice
     // that does not hold the whole mesh keeps (pinBoundaryIfPartial). pinToggles() are relative to this.
     bool basePinned(int idx) const;

@@ -19,8 +19,9 @@ Status checkTool(const LatticeTool& tool) {
 
 void Session::pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding) const {
     // A volume that is not one tensor product (a composite) keeps its outer surface always: the boundary
-    // overlap test (lattice_boundary.h) tessellates tensor lattices only.
+    // overlap test (lattice_boundary.h) tessellates tensor lattices only. A plain FFD (no test) pins nothing.
     const bool chunked = lattice.volume && !lattice.tensorNet();
+    if (injectivity_.mode == InjectivityMode::Off) return;
     if (!lattice.volume || (!chunked && embedding.insideCount() == static_cast<int>(positions_.rows()))) return;
     for (int idx = 0; idx < lattice.controlPointCount(); ++idx)
         if (lattice.volume->onOuterSurface(idx)) lattice.pinned[idx] = 1;
@@ -28,8 +29,19 @@ void Session::pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding)
 
 bool Session::basePinned(int idx) const {
     if (inOuterLayers(lattice_, idx, settings_.pinLayers)) return true;
-    return lattice_.volume && lattice_.volume->onOuterSurface(idx) &&
+    return pinnedAsPartialBoundary(idx);
+}
+
+bool Session::pinnedAsPartialBoundary(int idx) const {
+    return injectivity_.mode != InjectivityMode::Off && lattice_.volume && lattice_.volume->onOuterSurface(idx) &&
            (!lattice_.tensorNet() || embedding_.insideCount() < static_cast<int>(positions_.rows()));
+}
+
+void Session::setInjectivity(const InjectivitySettings& settings) {
+    const bool testing = injectivity_.mode != InjectivityMode::Off;
+    injectivity_ = settings;
+    if (!testing && settings.mode != InjectivityMode::Off && !dragActive_ && lattice_.controlPointCount() > 0)
+        pinBoundaryIfPartial(lattice_, embedding_);
 }
 
 std::vector<int> Session::weldGroupsOf(const std::vector<int>& ids) const {

@@ -245,13 +245,13 @@ Status localTransform(const tinygltf::Node& node, int index, Eigen::Matrix4d& ou
 }
 
 // A primitive placed by a node.
-struct Placement {
+struct GltfPlacement {
     int mesh = 0;
     Eigen::Matrix4d transform;
 };
 
-Status collectPlacements(const tinygltf::Model& model, int index, const Eigen::Matrix4d& parent, std::vector<char>& onPath,
-                         int depth, std::vector<Placement>& out, long long& skinJoints) {
+Status collectGltfPlacements(const tinygltf::Model& model, int index, const Eigen::Matrix4d& parent, std::vector<char>& onPath,
+                         int depth, std::vector<GltfPlacement>& out, long long& skinJoints) {
     if (index < 0 || static_cast<size_t>(index) >= model.nodes.size())
         return Status::error("a scene or node names node " + std::to_string(index) + ", which does not exist (" +
                              std::to_string(model.nodes.size()) + " nodes)");
@@ -270,7 +270,7 @@ Status collectPlacements(const tinygltf::Model& model, int index, const Eigen::M
     }
     onPath[static_cast<size_t>(index)] = 1;
     for (int child : node.children)
-        if (Status s = collectPlacements(model, child, transform, onPath, depth + 1, out, skinJoints); !s) return s;
+        if (Status s = collectGltfPlacements(model, child, transform, onPath, depth + 1, out, skinJoints); !s) return s;
     onPath[static_cast<size_t>(index)] = 0;
     return Status::success();
 }
@@ -363,18 +363,18 @@ Status readGltfDocument(const std::string& bytes, bool binary, const std::string
         for (size_t n = 0; n < model.nodes.size(); ++n)
             if (!isChild[n]) roots.push_back(static_cast<int>(n));
     }
-    std::vector<Placement> placements;
+    std::vector<GltfPlacement> placements;
     std::vector<char> onPath(model.nodes.size(), 0);
     long long skinJoints = 0;
     for (int root : roots)
-        if (Status s = collectPlacements(model, root, Eigen::Matrix4d::Identity(), onPath, 0, placements, skinJoints); !s) return failed(s);
+        if (Status s = collectGltfPlacements(model, root, Eigen::Matrix4d::Identity(), onPath, 0, placements, skinJoints); !s) return failed(s);
     std::vector<int> uses(model.meshes.size(), 0);
-    for (const Placement& p : placements) ++uses[static_cast<size_t>(p.mesh)];
+    for (const GltfPlacement& p : placements) ++uses[static_cast<size_t>(p.mesh)];
     const long long unplaced = std::count(uses.begin(), uses.end(), 0);
     if (unplaced > 0) notes.push_back(std::to_string(unplaced) + " mesh(es) no node of the scene places are not kept");
     if (std::any_of(uses.begin(), uses.end(), [](int u) { return u > 1; }))
         notes.push_back("meshes placed by several nodes are copied once per node");
-    if (std::any_of(placements.begin(), placements.end(), [](const Placement& p) { return !p.transform.isIdentity(0.0); }))
+    if (std::any_of(placements.begin(), placements.end(), [](const GltfPlacement& p) { return !p.transform.isIdentity(0.0); }))
         notes.push_back("node transforms are applied to the vertices (the node hierarchy is flattened)");
     if (!model.animations.empty()) notes.push_back(std::to_string(model.animations.size()) + " animation(s) are not kept");
     if (!model.materials.empty()) notes.push_back(std::to_string(model.materials.size()) + " material(s) and their textures are not kept");
@@ -386,11 +386,11 @@ Status readGltfDocument(const std::string& bytes, bool binary, const std::string
         int colourComponents = 0;
         std::vector<int> corners;  // 3 per kept triangle, local vertex numbers
         std::string name;
-        const Placement* placement = nullptr;
+        const GltfPlacement* placement = nullptr;
     };
     std::vector<Part> parts;
     long long lineOrPointPrimitives = 0, repeatedCorners = 0, extraSets = 0, morphs = 0;
-    for (const Placement& p : placements) {
+    for (const GltfPlacement& p : placements) {
         const tinygltf::Mesh& gltfMesh = model.meshes[static_cast<size_t>(p.mesh)];
         for (size_t pi = 0; pi < gltfMesh.primitives.size(); ++pi) {
             const tinygltf::Primitive& primitive = gltfMesh.primitives[pi];

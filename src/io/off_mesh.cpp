@@ -47,14 +47,14 @@ private:
     long long line_ = 0;
 };
 
-bool parseNumber(std::string_view token, double& out) {
+bool parseOffNumber(std::string_view token, double& out) {
     const char* first = token.data();
     if (!token.empty() && token[0] == '+') ++first;
     const auto [end, error] = std::from_chars(first, token.data() + token.size(), out);
     return error == std::errc() && end == token.data() + token.size() && std::isfinite(out);
 }
 
-bool parseIndex(std::string_view token, long long& out) {
+bool parseOffIndex(std::string_view token, long long& out) {
     const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), out);
     return error == std::errc() && end == token.data() + token.size();
 }
@@ -85,7 +85,7 @@ Status readOffDocument(const std::string& bytes, const std::string& name, ObjMes
         next = 0;
     }
     long long vertexCount = -1, faceCount = -1;
-    if (tokens.size() < next + 2 || !parseIndex(tokens[next], vertexCount) || !parseIndex(tokens[next + 1], faceCount) ||
+    if (tokens.size() < next + 2 || !parseOffIndex(tokens[next], vertexCount) || !parseOffIndex(tokens[next + 1], faceCount) ||
         vertexCount < 0 || faceCount < 0)
         return fail("the counts line must give the numbers of vertices and faces (and edges), as whole numbers");
     // Each vertex takes at least 6 bytes ("0 0 0\n"), each face 2 ("0\n"): a count beyond that is a file cut
@@ -113,7 +113,7 @@ Status readOffDocument(const std::string& bytes, const std::string& name, ObjMes
                                  " vertices, and it ends after " + std::to_string(v) + " (truncated?)");
         numbers.resize(tokens.size());
         for (size_t t = 0; t < tokens.size(); ++t)
-            if (!parseNumber(tokens[t], numbers[t]))
+            if (!parseOffNumber(tokens[t], numbers[t]))
                 return fail("vertex " + std::to_string(v) + ": '" + std::string(tokens[t].substr(0, 40)) + "' is not a finite number");
         // The colour entries lie between the normal and the texture coordinates: 0, 3 (RGB) or 4 (RGBA).
         const long long colourEntries = static_cast<long long>(numbers.size()) - fixed;
@@ -158,7 +158,7 @@ Status readOffDocument(const std::string& bytes, const std::string& name, ObjMes
             return Status::error(name + ": the file ends early: its header declares " + std::to_string(faceCount) +
                                  " faces, and it ends after " + std::to_string(f) + " (truncated?)");
         long long corners = -1;
-        if (!parseIndex(tokens[0], corners) || corners < 0)
+        if (!parseOffIndex(tokens[0], corners) || corners < 0)
             return fail("face " + std::to_string(f) + ": '" + std::string(tokens[0].substr(0, 40)) + "' is not a vertex count");
         if (static_cast<long long>(tokens.size()) - 1 < corners)
             return fail("face " + std::to_string(f) + " declares " + std::to_string(corners) + " vertices and lists " +
@@ -169,7 +169,7 @@ Status readOffDocument(const std::string& bytes, const std::string& name, ObjMes
                         " vertex indices (a face colour is 1, 3 or 4)");
         for (size_t t = static_cast<size_t>(corners) + 1; t < tokens.size(); ++t) {
             double unused = 0.0;
-            if (!parseNumber(tokens[t], unused))
+            if (!parseOffNumber(tokens[t], unused))
                 return fail("face " + std::to_string(f) + ": '" + std::string(tokens[t].substr(0, 40)) + "' is not a number");
         }
         faceColours += extra > 0;
@@ -179,7 +179,7 @@ Status readOffDocument(const std::string& bytes, const std::string& name, ObjMes
         }
         for (long long c = 1; c <= corners; ++c) {
             long long index = -1;
-            if (!parseIndex(tokens[static_cast<size_t>(c)], index) || index < 0 || index >= vertexCount)
+            if (!parseOffIndex(tokens[static_cast<size_t>(c)], index) || index < 0 || index >= vertexCount)
                 return fail("face " + std::to_string(f) + ": '" + std::string(tokens[static_cast<size_t>(c)].substr(0, 40)) +
                             "' is not a vertex index (0 to " + std::to_string(vertexCount - 1) + ")");
             mesh.cornerVertex.push_back(static_cast<int>(index));

@@ -35,6 +35,8 @@
 
 #include "app/cli_options.h"
 #include "app/screenshot_hook.h"
+#include "core/bernstein.h"
+#include "core/bernstein_box.h"
 #include "core/script.h"
 #include "core/session.h"
 #include "io/mesh_file.h"
@@ -372,6 +374,51 @@ using sculpt::python::PySession;
 using sculpt::python::SculptError;
 namespace sp = sculpt::python;
 
+namespace sculpt::python {
+namespace {
+
+using namespace pybind11::literals;
+
+// ---- FFD: PyGeM's pygem.FFD with its parameters, on the engine's Bernstein box (core/bernstein_box.h) ----
+
+// The parameters as PyGeM keeps them: numpy arrays the caller may change in place (ffd.array_mu_x[2, 0, 0] = 0.8).
+struct PyFfd {
+    py::array_t<long long> nControlPoints;
+    py::array boxOrigin, boxLength, rotAngle, muX, muY, muZ;
+};
+
+py::array floatArray(py::handle value) {
+    return py::module_::import("numpy").attr("asarray")(value, "dtype"_a = "float64");
+}
+
+// n_control_points set: the displacements become zeros of that shape, as in PyGeM.
+void setControlPoints(PyFfd& ffd, py::handle value) {
+    py::array_t<long long> n = py::module_::import("numpy").attr("array")(value, "dtype"_a = "int64");
+    if (n.ndim() != 1 || n.shape(0) != 3) throw SculptError("FFD: n_control_points must be 3 integers");
+    for (int a = 0; a < 3; ++a)
+        if (n.at(a) < 1 || n.at(a) > core::kMaxBernsteinDegree + 1)
+            throw SculptError("FFD: n_control_points[" + std::to_string(a) + "] is " + std::to_string(n.at(a)) + ": it must be 1 to " +
+                              std::to_string(core::kMaxBernsteinDegree + 1));
+    ffd.nControlPoints = n;
+    const py::tuple shape = py::make_tuple(n.at(0), n.at(1), n.at(2));
+    py::module_ np = py::module_::import("numpy");
+    ffd.muX = np.attr("zeros")(shape);
+    ffd.muY = np.attr("zeros")(shape);
+    ffd.muZ = np.attr("zeros")(shape);
+}
+
+// The vector parameter `what` as 3 floats.
+Eigen::Vector3d threeFloats(const py::array& value, const char* what) {
+    py::array_t<double, py::array::c_style | py::array::forcecast> a = floatArray(value);
+    if (a.size() != 3) throw SculptError(std::string("FFD: ") + what + " must be 3 numbers");
+    return Eigen::Vector3d(a.data()[0], a.data()[1], a.data()[2]);
+}
+
+}  // namespace
+}  // namespace sculpt::python
+
+using sculpt::python::PyFfd;
+
 PYBIND11_MODULE(sculpt, m) {
     m.doc() = R"doc(DMFFD Sculpt: direct-manipulation free-form deformation of triangle meshes.
 
@@ -394,6 +441,80 @@ Positions are world units (the mesh's own).
 )doc";
 
     py::register_exception<SculptError>(m, "Error", PyExc_ValueError);
+
+    py::class_<PyFfd>(m, "FFD", R"doc(Free-form deformation by a Bernstein box, with PyGeM's parameters and PyGeM's results.
+
+    ffd = sculpt.FFD([3, 2, 2])
+    ffd.box_origin = np.array([-20.0, -55.0, -45.0]); ffd.box_length = np.array([45.0, 90.0, 90.0])
+    ffd.rot_angle = np.array([0.0, 10.0, 15.0])              # degrees about x, y, z: R = Rx Ry Rz
+    ffd.array_mu_x[2, 0, 0] = 0.8                             # displacements in box lengths
+    new_points = ffd(points)                                  # n x 3; points outside the box do not move
+
+The same model as pygem.FFD (Sederberg & Parry 1986; PyGeM's box frame and rotation): a point inside the
+closed box moves by R diag(box_length) sum_ijk b_i(u) b_j(v) b_k(w) mu_ijk. It is a plain FFD: no
+injectivity test (a Session does that). Computed natively, in parallel over the points.)doc")
+        .def(py::init([](py::handle n) {
+                 PyFfd ffd;
+                 sculpt::python::setControlPoints(ffd, n.is_none() ? py::object(py::make_tuple(2, 2, 2)) : py::reinterpret_borrow<py::object>(n));
+                 ffd.boxOrigin = sculpt::python::floatArray(py::make_tuple(0.0, 0.0, 0.0));
+                 ffd.boxLength = sculpt::python::floatArray(py::make_tuple(1.0, 1.0, 1.0));
+                 ffd.rotAngle = sculpt::python::floatArray(py::make_tuple(0.0, 0.0, 0.0));
+                 return ffd;
+             }),
+             py::arg("n_control_points") = py::none())
+        .def_property("n_control_points", [](const PyFfd& f) { return f.nControlPoints; }, &sculpt::python::setControlPoints,
+                      "Control points per axis (3 integers); setting it resets the array_mu_* to zeros of that shape.")
+        .def_property("box_origin", [](const PyFfd& f) { return f.boxOrigin; }, [](PyFfd& f, py::handle v) { f.boxOrigin = sculpt::python::floatArray(v); },
+                      "The box corner of control point (0, 0, 0), world units.")
+        .def_property("box_length", [](const PyFfd& f) { return f.boxLength; }, [](PyFfd& f, py::handle v) { f.boxLength = sculpt::python::floatArray(v); },
+                      "The box's edge lengths along its own axes (> 0).")
+        .def_property("rot_angle", [](const PyFfd& f) { return f.rotAngle; }, [](PyFfd& f, py::handle v) { f.rotAngle = sculpt::python::floatArray(v); },
+                      "Rotation of the box about x, y and z in degrees (R = Rx Ry Rz, about box_origin).")
+        .def_property("array_mu_x", [](const PyFfd& f) { return f.muX; }, [](PyFfd& f, py::handle v) { f.muX = sculpt::python::floatArray(v); },
+                      "Displacements along the box's x axis, in box lengths: an n_control_points-shaped array.")
+        .def_property("array_mu_y", [](const PyFfd& f) { return f.muY; }, [](PyFfd& f, py::handle v) { f.muY = sculpt::python::floatArray(v); },
+                      "Displacements along the box's y axis, in box lengths.")
+        .def_property("array_mu_z", [](const PyFfd& f) { return f.muZ; }, [](PyFfd& f, py::handle v) { f.muZ = sculpt::python::floatArray(v); },
+                      "Displacements along the box's z axis, in box lengths.")
+        .def(
+            "__call__",
+            [](const PyFfd& f, py::handle points) {
+                sculpt::core::BernsteinBox box;
+                for (int a = 0; a < 3; ++a) box.controlPoints[static_cast<size_t>(a)] = static_cast<int>(f.nControlPoints.at(a));
+                box.origin = sculpt::python::threeFloats(f.boxOrigin, "box_origin");
+                box.lengths = sculpt::python::threeFloats(f.boxLength, "box_length");
+                box.rotationDegrees = sculpt::python::threeFloats(f.rotAngle, "rot_angle");
+                const py::array* mus[3] = {&f.muX, &f.muY, &f.muZ};
+                static const char* const names[3] = {"array_mu_x", "array_mu_y", "array_mu_z"};
+                const int n0 = box.controlPoints[0], n1 = box.controlPoints[1], n2 = box.controlPoints[2];
+                for (int a = 0; a < 3; ++a) {
+                    py::array_t<double, py::array::c_style | py::array::forcecast> mu = sculpt::python::floatArray(*mus[a]);
+                    if (mu.ndim() != 3 || mu.shape(0) != n0 || mu.shape(1) != n1 || mu.shape(2) != n2)
+                        throw SculptError(std::string("FFD: ") + names[a] + " must have the shape of n_control_points (" +
+                                          std::to_string(n0) + ", " + std::to_string(n1) + ", " + std::to_string(n2) + ")");
+                    // PyGeM's [i, j, k] (C order) to the engine's i + n0 (j + n1 k).
+                    std::vector<double>& out = box.mu[static_cast<size_t>(a)];
+                    out.resize(static_cast<size_t>(n0) * static_cast<size_t>(n1) * static_cast<size_t>(n2));
+                    for (int i = 0; i < n0; ++i)
+                        for (int j = 0; j < n1; ++j)
+                            for (int k = 0; k < n2; ++k) out[static_cast<size_t>(i + n0 * (j + n1 * k))] = mu.at(i, j, k);
+                }
+                py::array_t<double, py::array::c_style | py::array::forcecast> src = sculpt::python::floatArray(points);
+                if (src.ndim() != 2 || src.shape(1) != 3)
+                    throw SculptError("FFD: the points must be an n x 3 array (got shape " + std::string(py::str(py::tuple(src.attr("shape")))) + ")");
+                sculpt::Positions in(src.shape(0), 3), deformed;
+                std::copy(src.data(), src.data() + src.size(), in.data());
+                sculpt::Status status;
+                {
+                    py::gil_scoped_release release;
+                    status = sculpt::core::deformByBernsteinBox(box, in, deformed);
+                }
+                if (!status) throw SculptError("FFD: " + status.message);
+                py::array_t<double> result({static_cast<py::ssize_t>(deformed.rows()), static_cast<py::ssize_t>(3)});
+                std::copy(deformed.data(), deformed.data() + deformed.size(), result.mutable_data());
+                return result;
+            },
+            py::arg("src_pts"), "The points (n x 3) deformed: a new array; points outside the box are returned unchanged.");
 
     py::class_<PySession>(m, "Session", R"doc(One mesh, its lattice and its history (core::Session).
 
