@@ -18,6 +18,7 @@
 #include <Eigen/Geometry>
 
 #include "io/huge_pages.h"
+#include "io/load_checks.h"
 
 namespace sculpt::io {
 
@@ -506,13 +507,8 @@ Status readGltfDocument(const std::string& bytes, bool binary, const std::string
         vertexTotal += part.positions.size() / 3;
         faceTotal += part.corners.size() / 3;
     }
-    if (faceTotal == 0)
-        return Status::error(name + ": the file has no faces" +
-                             (lineOrPointPrimitives > 0 ? " (only lines and points: not a surface)"
-                              : vertexTotal > 0 ? " (" + std::to_string(vertexTotal) + " points: a point cloud is not a surface)"
-                                                : std::string()));
-    if (vertexTotal > static_cast<size_t>(INT32_MAX / 4))
-        return Status::error(name + ": " + std::to_string(vertexTotal) + " vertices are more than this program handles");
+    if (faceTotal == 0) return noSurfaceError(name, lineOrPointPrimitives > 0, vertexTotal);
+    if (Status s = checkVertexTotal(name, vertexTotal); !s) return s;
 
     ObjMesh mesh;
     mesh.groupNames = {std::string()};

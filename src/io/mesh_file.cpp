@@ -39,6 +39,7 @@
 #include "io/gltf_read.h"
 #include "io/huge_pages.h"
 #include "io/isolated_call.h"
+#include "io/load_checks.h"
 #include "io/off_mesh.h"
 #include "io/obj_scan.h"
 #include "io/obj_refine.h"
@@ -422,13 +423,9 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
         size_t lines = 0;
         for (const Placement& p : placements)
             for (unsigned f = 0; f < p.mesh->mNumFaces; ++f) lines += p.mesh->mFaces[f].mNumIndices == 2;
-        return Status::error(name + ": the file has no faces" +
-                             (lines > 0 ? " (only lines and points: not a surface)"
-                              : vertexTotal > 0 ? " (" + std::to_string(vertexTotal) + " points: a point cloud is not a surface)"
-                                                : std::string()));
+        return noSurfaceError(name, lines > 0, vertexTotal);
     }
-    if (vertexTotal > static_cast<size_t>(INT32_MAX / 4))
-        return Status::error(name + ": " + std::to_string(vertexTotal) + " vertices are more than this program handles");
+    if (Status s = checkVertexTotal(name, vertexTotal); !s) return s;
 
     ObjMesh mesh;
     mesh.groupNames = {std::string()};

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <string_view>
 
+#include "io/load_checks.h"
+
 namespace sculpt::io {
 
 namespace {
@@ -93,7 +95,7 @@ Status readOffDocument(const std::string& bytes, const std::string& name, ObjMes
     if (vertexCount > static_cast<long long>(bytes.size() / 6) || faceCount > static_cast<long long>(bytes.size() / 2))
         return fail("the header declares " + std::to_string(vertexCount) + " vertices and " + std::to_string(faceCount) +
                     " faces, more than the file's " + std::to_string(bytes.size()) + " bytes can hold (truncated?)");
-    if (vertexCount > INT32_MAX / 4) return fail(std::to_string(vertexCount) + " vertices are more than this program handles");
+    if (Status s = checkVertexTotal(name, static_cast<size_t>(vertexCount)); !s) return s;
 
     ObjMesh mesh;
     mesh.groupNames = {std::string()};
@@ -199,9 +201,7 @@ Status readOffDocument(const std::string& bytes, const std::string& name, ObjMes
     if (leftover > 0)
         notes.push_back(std::to_string(leftover) + " line(s) after the last face the header declares (from line " +
                         std::to_string(firstLeftover) + ") are not read");
-    if (mesh.faceCount() == 0)
-        return Status::error(name + ": the file has no faces" +
-                             (n > 0 ? " (" + std::to_string(n) + " points: a point cloud is not a surface)" : std::string()));
+    if (mesh.faceCount() == 0) return noSurfaceError(name, false, static_cast<size_t>(n));
     if (small > 0) notes.push_back(std::to_string(small) + " face(s) of fewer than 3 vertices (points, edges) are not kept");
     if (faceColours > 0) notes.push_back("face colours are not kept (" + std::to_string(faceColours) + " faces had one)");
     if (colours && !anyColour) notes.push_back("the header says COFF, but no vertex has a colour");

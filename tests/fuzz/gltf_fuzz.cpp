@@ -19,16 +19,14 @@
 #include <unordered_set>
 #include <vector>
 
+#include "fuzz_checks.h"
 #include "io/mesh_file.h"
 
 extern "C" size_t LLVMFuzzerMutate(uint8_t* data, size_t size, size_t maxSize);
 
 namespace {
 
-[[noreturn]] void fail(const char* what, const std::string& detail) {
-    std::fprintf(stderr, "gltf_fuzz invariant broken: %s\n%s\n", what, detail.c_str());
-    std::abort();
-}
+[[noreturn]] void fail(const char* what, const std::string& detail) { sculpt::fuzz::fail("gltf_fuzz", what, detail); }
 
 struct Glb {
     std::string json, bin;
@@ -173,15 +171,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     ObjMesh mesh;
     std::vector<std::string> warnings;
     const sculpt::Status loaded = loadMeshFromMemory(bytes, MeshFormat::Gltf, name, mesh, &warnings);
-    if (!loaded) {
-        if (loaded.message.rfind(name + ": ", 0) != 0) fail("error message does not name the file", loaded.message);
-        if (mesh.positions.size() != 0 || mesh.faceStart.size() != 0) fail("out was modified on failure", loaded.message);
-        return 0;
-    }
-    if (sculpt::Status s = checkObjMesh(mesh); !s) fail("loaded mesh is inconsistent", s.message);
-    if (!mesh.positions.allFinite()) fail("non-finite position loaded", name);
-    for (const std::string& w : warnings)
-        if (w.rfind(name + ": ", 0) != 0) fail("warning does not name the file", w);
+    if (!sculpt::fuzz::checkLoad("gltf_fuzz", loaded, name, mesh, warnings)) return 0;
     bool transformed = false;
     for (const std::string& w : warnings) transformed |= w.find("node transforms are applied") != std::string::npos;
     Glb g;

@@ -11,14 +11,12 @@
 #include <string>
 #include <vector>
 
+#include "fuzz_checks.h"
 #include "io/mesh_file.h"
 
 namespace {
 
-[[noreturn]] void fail(const char* what, const std::string& detail) {
-    std::fprintf(stderr, "mesh_fuzz invariant broken: %s\n%s\n", what, detail.c_str());
-    std::abort();
-}
+[[noreturn]] void fail(const char* what, const std::string& detail) { sculpt::fuzz::fail("mesh_fuzz", what, detail); }
 
 }  // namespace
 
@@ -40,15 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     ObjMesh mesh;
     std::vector<std::string> warnings;
     const sculpt::Status loaded = loadMeshFromMemory(bytes, format, name, mesh, &warnings);
-    if (!loaded) {
-        if (loaded.message.rfind(name + ": ", 0) != 0) fail("error message does not name the file", loaded.message);
-        if (mesh.positions.size() != 0 || mesh.faceStart.size() != 0) fail("out was modified on failure", loaded.message);
-        return 0;
-    }
-    if (sculpt::Status s = checkObjMesh(mesh); !s) fail("loaded mesh is inconsistent", s.message);
-    if (!mesh.positions.allFinite()) fail("non-finite position loaded", name);
-    for (const std::string& w : warnings)
-        if (w.rfind(name + ": ", 0) != 0) fail("warning does not name the file", w);
+    if (!sculpt::fuzz::checkLoad("mesh_fuzz", loaded, name, mesh, warnings)) return 0;
 
     // Every read runs assimp in a child process (a fork each): four encodings keep the fuzzer's pace up while
     // covering every writer (PLY both ways, with the byte swap; STL; glTF).
