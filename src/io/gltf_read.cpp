@@ -8,12 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
-#include <map>
-#include <set>
 
 #include <Eigen/Geometry>
 
@@ -287,20 +282,6 @@ bool noFileRead(std::vector<unsigned char>*, std::string* err, const std::string
     return false;
 }
 bool noFileWrite(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
-bool fileExists(const std::string& path, void*) {
-    std::error_code ec;
-    return std::filesystem::is_regular_file(path, ec);
-}
-bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-    std::ifstream in(path, std::ios::binary);
-    if (in) out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (!in && !in.eof()) {
-        if (err) *err += "'" + path + "' could not be read\n";
-        return false;
-    }
-    return true;
-}
-
 // The first few lines of tinygltf's error or warning text, as one line.
 std::string firstLines(const std::string& text) {
     std::string line;
@@ -327,12 +308,9 @@ Status readGltfDocument(const std::string& bytes, bool binary, const std::string
     tinygltf::Model model;
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&skipImage, nullptr);
-    // Debian's libtinygltf is built without file access of its own (TINYGLTF_NO_FS): files are read here.
-    if (baseDir == nullptr) {
-        loader.SetFsCallbacks({&noFileExists, &samePath, &noFileRead, &noFileWrite, nullptr});
-    } else {
-        loader.SetFsCallbacks({&fileExists, &samePath, &readWholeFile, &noFileWrite, nullptr});
-    }
+    // A file read from memory names no file it may open; from a path, tinygltf's own file access reads the
+    // buffers beside it.
+    if (baseDir == nullptr) loader.SetFsCallbacks({&noFileExists, &samePath, &noFileRead, &noFileWrite, nullptr});
     std::string err, warn;
     const std::string folder = baseDir != nullptr ? *baseDir : std::string();
     if (bytes.size() > std::numeric_limits<unsigned int>::max())
@@ -414,45 +392,36 @@ Status readGltfDocument(const std::string& bytes, bool binary, const std::string
             for (const auto& [key, accessor] : primitive.attributes)
                 if ((key.rfind("TEXCOORD_", 0) == 0 && key != "TEXCOORD_0") || (key.rfind("COLOR_", 0) == 0 && key != "COLOR_0")) ++extraSets;
             if (attribute("POSITION") < 0) return Status::error(name + ": " + what + " has no POSITION attribute");
-            size_t count = 0, other = 0;
+            size_t count = 0;
             int components = 0;
-            if (Status s = readAccessor(model, attribute("POSITION"), {"POSITION of " + what, {TINYGLTF_TYPE_VEC3}, kFloatLike}, count, components,
-                                        part.positions);
-                !s)
-                return failed(s);
-            const auto sameCount = [&](const char* key) {
-                return Status::error(name + ": accessor " + std::to_string(attribute(key)) + " (" + key + " of " + what + ") has " +
-                                     std::to_string(other) + " elements, POSITION " + std::to_string(count));
-            };
-            if (attribute("NORMAL") >= 0) {
-                if (Status s = readAccessor(model, attribute("NORMAL"), {"NORMAL of " + what, {TINYGLTF_TYPE_VEC3}, kFloatLike}, other, components,
-                                            part.normals);
+            // One vertex attribute into values: read and checked, every value finite, and (but POSITION itself)
+            // as many elements as POSITION has.
+            const auto readAttribute = [&](const char* key, std::vector<int> types, std::vector<double>& values,
+                                           int& valueComponents) -> Status {
+                const bool position = std::strcmp(key, "POSITION") == 0;
+                size_t elements = 0;
+                if (Status s = readAccessor(model, attribute(key), {std::string(key) + " of " + what, std::move(types), kFloatLike},
+                                            elements, valueComponents, values);
                     !s)
                     return failed(s);
-                if (other != count) return sameCount("NORMAL");
-            }
-            if (attribute("TEXCOORD_0") >= 0) {
-                if (Status s = readAccessor(model, attribute("TEXCOORD_0"), {"TEXCOORD_0 of " + what, {TINYGLTF_TYPE_VEC2}, kFloatLike}, other,
-                                            components, part.texcoords);
-                    !s)
-                    return failed(s);
-                if (other != count) return sameCount("TEXCOORD_0");
-            }
-            if (attribute("COLOR_0") >= 0) {
-                if (Status s = readAccessor(model, attribute("COLOR_0"),
-                                            {"COLOR_0 of " + what, {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4}, kFloatLike}, other,
-                                            part.colourComponents, part.colours);
-                    !s)
-                    return failed(s);
-                if (other != count) return sameCount("COLOR_0");
-            }
-            for (const auto& [values, key] : {std::pair<const std::vector<double>*, const char*>{&part.positions, "POSITION"},
-                                              {&part.normals, "NORMAL"}, {&part.texcoords, "TEXCOORD_0"}, {&part.colours, "COLOR_0"}})
-                for (size_t i = 0; i < values->size(); ++i)
-                    if (!std::isfinite((*values)[i]))
+                if (!position && elements != count)
+                    return Status::error(name + ": accessor " + std::to_string(attribute(key)) + " (" + key + " of " + what + ") has " +
+                                         std::to_string(elements) + " elements, POSITION " + std::to_string(count));
+                if (position) count = elements;
+                for (size_t i = 0; i < values.size(); ++i)
+                    if (!std::isfinite(values[i]))
                         return Status::error(name + ": " + key + " of " + what + " has a non-finite value (element " +
-                                             std::to_string(i / std::max<size_t>(1, key == std::string("COLOR_0") ? static_cast<size_t>(part.colourComponents)
-                                                                                              : key == std::string("TEXCOORD_0") ? 2 : 3)) + ")");
+                                             std::to_string(i / static_cast<size_t>(valueComponents)) + ")");
+                return Status::success();
+            };
+            if (Status s = readAttribute("POSITION", {TINYGLTF_TYPE_VEC3}, part.positions, components); !s) return s;
+            if (attribute("NORMAL") >= 0)
+                if (Status s = readAttribute("NORMAL", {TINYGLTF_TYPE_VEC3}, part.normals, components); !s) return s;
+            if (attribute("TEXCOORD_0") >= 0)
+                if (Status s = readAttribute("TEXCOORD_0", {TINYGLTF_TYPE_VEC2}, part.texcoords, components); !s) return s;
+            if (attribute("COLOR_0") >= 0)
+                if (Status s = readAttribute("COLOR_0", {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4}, part.colours, part.colourComponents); !s)
+                    return s;
             // The vertex sequence the mode reads (section 3.7.2.1 "Topology types").
             std::vector<double> indexValues;
             size_t sequence = count;

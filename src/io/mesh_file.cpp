@@ -807,12 +807,7 @@ Status importInReaderProcess(const std::string& bytes, const std::string* path, 
             encoding.binary = bytes.compare(0, 4, "glTF") == 0;
             if (Status s = checkGltf(bytes, name, encoding.binary); !s) return s;
             break;
-        case MeshFormat::Off: {
-            // "OFF BINARY" (any header word ending in OFF, then BINARY on the same line).
-            const size_t lineEnd = bytes.find('\n');
-            encoding.binary = bytes.substr(0, lineEnd == std::string::npos ? bytes.size() : lineEnd).find("BINARY") != std::string::npos;
-            break;
-        }
+        case MeshFormat::Off: break;  // ASCII only: readOffDocument refuses binary OFF
         case MeshFormat::Obj: return Status::error(name + ": OBJ is read by loadObj");
     }
     Status status;
@@ -824,7 +819,7 @@ Status importInReaderProcess(const std::string& bytes, const std::string* path, 
     // the program. The timeout allows 3 s plus 1 s per MB (a 1M-vertex GLB of 64 MB reads in about 1.2 s, the copy
     // back included).
     const std::string reader = "the " + std::string(meshFormatName(format)) + " reader (" +
-                               (format == MeshFormat::Gltf ? "tinygltf" : format == MeshFormat::Off ? "CGAL" : "assimp") + ")";
+                               (format == MeshFormat::Gltf ? "tinygltf" : format == MeshFormat::Off ? "ours" : "assimp") + ")";
     std::string payload;
     const double timeoutSeconds = 3.0 + static_cast<double>(bytes.size()) / 1e6;
     const Status isolated = runIsolated(
@@ -992,7 +987,6 @@ Status prepareSave(const ObjMesh& mesh, const Positions& deformed, const MeshEnc
                         std::string(meshFormatName(encoding.format)) + " stores one per vertex");
     if ((stl || off) && anyTexcoords)
         notes.push_back(std::string("texture coordinates are not written: ") + (stl ? "STL" : "OFF") + " has none");
-    if (off && encoding.binary) notes.push_back("written as ASCII OFF (the file was binary OFF)");
     if (stl && attributes.colours.rows() > 0) notes.push_back("vertex colours are not written: STL has none");
     if (stl) attributes.colours.resize(0, 4);
     // One group holding every face loses nothing but its name; several lose the split.

@@ -81,7 +81,7 @@ std::string meshEncodingText(const MeshEncoding& encoding) {
                                                                          : "PLY (binary, little-endian)";
         case MeshFormat::Stl: return encoding.binary ? "STL (binary)" : "STL (ASCII)";
         case MeshFormat::Gltf: return encoding.binary ? "glTF (.glb)" : "glTF (.gltf + .bin)";
-        case MeshFormat::Off: return encoding.binary ? "OFF (binary)" : "OFF";
+        case MeshFormat::Off: return "OFF";
     }
     return "?";
 }

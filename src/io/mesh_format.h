@@ -13,7 +13,7 @@ enum class MeshFormat { Obj, Ply, Stl, Gltf, Off };
 
 struct MeshEncoding {
     MeshFormat format = MeshFormat::Obj;
-    bool binary = false;     // PLY binary_*_endian, binary STL, .glb, OFF BINARY (read only); false: ASCII PLY/STL/OFF, .gltf + .bin, OBJ
+    bool binary = false;     // PLY binary_*_endian, binary STL, .glb; false: ASCII PLY/STL, .gltf + .bin, OBJ, OFF
     bool bigEndian = false;  // PLY binary_big_endian only
 };
 

@@ -5,7 +5,6 @@
 #include <charconv>
 #include <cmath>
 #include <cctype>
-#include <cstdio>
 #include <cstring>
 #include <string_view>
 
@@ -222,9 +221,11 @@ std::string writeOff(const ObjMesh& mesh, const Positions& deformed, const Verte
             const float c = std::clamp(colours(v, k), 0.0f, 1.0f);
             colourBytes &= static_cast<float>(std::lround(c * 255.0) / 255.0) == c;
         }
-    const auto put = [&](double x) {
-        const int length = std::snprintf(number, sizeof number, "%.17g", x);
-        out.append(number, static_cast<size_t>(length));
+    // std::to_chars: the shortest text that reads back to the same double, whatever the locale (as obj_write.cpp).
+    const auto put = [&](double x) -> std::string_view {
+        const size_t length = static_cast<size_t>(std::to_chars(number, number + sizeof number, x).ptr - number);
+        out.append(number, length);
+        return std::string_view(number, length);
     };
     for (Eigen::Index v = 0; v < deformed.rows(); ++v) {
         for (int k = 0; k < 3; ++k) {
@@ -242,9 +243,7 @@ std::string writeOff(const ObjMesh& mesh, const Positions& deformed, const Verte
             } else {
                 // 0-1, with a point so it reads back on that scale (readOffDocument's rule).
                 out += ' ';
-                const int length = std::snprintf(number, sizeof number, "%.9g", c);
-                out.append(number, static_cast<size_t>(length));
-                if (std::string_view(number, static_cast<size_t>(length)).find_first_of(".e") == std::string_view::npos) out += ".0";
+                if (put(c).find_first_of(".e") == std::string_view::npos) out += ".0";
             }
         }
         out += '\n';

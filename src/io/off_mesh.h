@@ -29,7 +29,7 @@ Status readOffDocument(const std::string& bytes, const std::string& name, ObjMes
 
 // The mesh as ASCII OFF: "OFF", or "COFF" when colours has rows (#V x 4, RGBA in [0, 1]: written as integers
 // 0-255 when every one is an 8-bit value, as CGAL and MeshLab read them, else as 0-1 numbers with a point), "NOFF"/"CNOFF" when normals has rows (#V x 3). Positions
-// (deformed, #V x 3) with 17 significant digits, so a double reads back exactly; faces as their polygons.
+// (deformed, #V x 3) as the shortest text that reads back to the same double; faces as their polygons.
 std::string writeOff(const ObjMesh& mesh, const Positions& deformed, const VertexColors& colours, const VertexNormals& normals);
 
 }  // namespace sculpt::io
