@@ -47,6 +47,12 @@ TriangleCorners corners(const Triangles& triangles, int t, PointOf pointOf) {
 }  // namespace
 
 void SelfIntersectionIndex::clear() {
+    partCount_ = 0;
+    partOfTriangle_.clear();
+    partOfVertex_.clear();
+    partSizes_.clear();
+    contactZone_.clear();
+    contactPartPairs_.clear();
     nodes_.clear();
     slotBoxes_.clear();
     leafTriangles_.clear();
@@ -68,8 +74,108 @@ void SelfIntersectionIndex::clear() {
     allDirty_ = false;
 }
 
+void SelfIntersectionIndex::buildParts(const Positions& positions, const Triangles& triangles) {
+    const int nv = static_cast<int>(positions.rows());
+    const int nt = static_cast<int>(triangles.rows());
+    // Union-find over the vertices: a triangle joins its corners, an exactly equal position joins its vertices.
+    std::vector<int> parent(static_cast<size_t>(nv));
+    std::iota(parent.begin(), parent.end(), 0);
+    const auto find = [&parent](int v) {
+        while (parent[static_cast<size_t>(v)] != v) v = parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
+        return v;
+    };
+    const auto unite = [&](int a, int b) {
+        a = find(a);
+        b = find(b);
+        if (a != b) parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
+    };
+    for (int t = 0; t < nt; ++t) {
+        unite(triangles(t, 0), triangles(t, 1));
+        unite(triangles(t, 0), triangles(t, 2));
+    }
+    std::vector<int> byPosition(static_cast<size_t>(nv));
+    std::iota(byPosition.begin(), byPosition.end(), 0);
+    const auto less = [&positions](int a, int b) {
+        for (int c = 0; c < 3; ++c)
+            if (positions(a, c) != positions(b, c)) return positions(a, c) < positions(b, c);
+        return false;
+    };
+    std::sort(byPosition.begin(), byPosition.end(), less);
+    for (size_t i = 1; i < byPosition.size(); ++i)
+        if (!less(byPosition[i - 1], byPosition[i])) unite(byPosition[i - 1], byPosition[i]);
+    std::vector<int> partOfRoot(static_cast<size_t>(nv), -1);
+    partOfTriangle_.assign(static_cast<size_t>(nt), 0);
+    partOfVertex_.assign(static_cast<size_t>(nv), -1);
+    partSizes_.clear();
+    for (int t = 0; t < nt; ++t) {
+        int& part = partOfRoot[static_cast<size_t>(find(triangles(t, 0)))];
+        if (part < 0) {
+            part = static_cast<int>(partSizes_.size());
+            partSizes_.push_back(0);
+        }
+        partOfTriangle_[static_cast<size_t>(t)] = part;
+        ++partSizes_[static_cast<size_t>(part)];
+    }
+    for (int v = 0; v < nv; ++v) partOfVertex_[static_cast<size_t>(v)] = partOfRoot[static_cast<size_t>(find(v))];
+    partCount_ = static_cast<int>(partSizes_.size());
+}
+
+SelfIntersectionIndex::LoadContacts SelfIntersectionIndex::findLoadContacts(const std::vector<TrianglePairHit>& pairs,
+                                                                             const Triangles& triangles) const {
+    LoadContacts contacts;
+    const size_t nt = partOfTriangle_.size();
+    std::vector<int> frontier;
+    std::vector<std::uint8_t> zone(nt, 0);
+    for (const TrianglePairHit& hit : pairs) {
+        // A part that crosses itself at load is in contact with itself: that contact may shift too.
+        contacts.partPairs.emplace_back(triangles(hit.first, 0), triangles(hit.second, 0));
+        for (int t : {hit.first, hit.second})
+            if (!zone[static_cast<size_t>(t)]) zone[static_cast<size_t>(t)] = 1, frontier.push_back(t);
+    }
+    if (contacts.partPairs.empty()) return contacts;
+    // Rings of triangles around the contact: those sharing a corner with the ring before.
+    for (int ring = 0; ring < kContactRings; ++ring) {
+        std::vector<int> next;
+        for (int t : frontier)
+            for (int k = 0; k < 3; ++k)
+                forEachTriangleOf(triangles(t, k), [&](int n) {
+                    if (!zone[static_cast<size_t>(n)]) zone[static_cast<size_t>(n)] = 1, next.push_back(n);
+                });
+        frontier = std::move(next);
+    }
+    contacts.zoneVertex.assign(partOfVertex_.size(), 0);
+    for (size_t t = 0; t < nt; ++t)
+        if (zone[t])
+            for (int k = 0; k < 3; ++k) contacts.zoneVertex[static_cast<size_t>(triangles(static_cast<Eigen::Index>(t), k))] = 1;
+    return contacts;
+}
+
+void SelfIntersectionIndex::setLoadContacts(const LoadContacts& contacts, const Triangles& triangles) {
+    contactZone_.clear();
+    contactPartPairs_.clear();
+    if (contacts.empty() || contacts.zoneVertex.size() != partOfVertex_.size()) return;
+    for (const auto& [u, v] : contacts.partPairs) {
+        const int pa = partOfVertex_[static_cast<size_t>(u)], pb = partOfVertex_[static_cast<size_t>(v)];
+        if (pa >= 0 && pb >= 0) contactPartPairs_.emplace_back(std::min(pa, pb), std::max(pa, pb));
+    }
+    std::sort(contactPartPairs_.begin(), contactPartPairs_.end());
+    contactPartPairs_.erase(std::unique(contactPartPairs_.begin(), contactPartPairs_.end()), contactPartPairs_.end());
+    contactZone_.assign(partOfTriangle_.size(), 0);
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+        contactZone_[static_cast<size_t>(t)] = contacts.zoneVertex[static_cast<size_t>(triangles(t, 0))] &&
+                                               contacts.zoneVertex[static_cast<size_t>(triangles(t, 1))] &&
+                                               contacts.zoneVertex[static_cast<size_t>(triangles(t, 2))];
+}
+
+bool SelfIntersectionIndex::shiftedLoadContact(int a, int b) const {
+    if (contactZone_.empty() || !contactZone_[static_cast<size_t>(a)] || !contactZone_[static_cast<size_t>(b)]) return false;
+    const int pa = partOfTriangle(a), pb = partOfTriangle(b);
+    return std::binary_search(contactPartPairs_.begin(), contactPartPairs_.end(), std::make_pair(std::min(pa, pb), std::max(pa, pb)));
+}
+
 void SelfIntersectionIndex::build(const Positions& positions, const Triangles& triangles) {
     clear();
+    buildParts(positions, triangles);
     const int nv = static_cast<int>(positions.rows());
     const int nt = static_cast<int>(triangles.rows());
     vertexTriangleStart_.assign(static_cast<size_t>(nv) + 1, 0);
@@ -606,8 +712,10 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
                     if (above == 3 || below == 3) continue;
                 }
                 if (!trianglesIntersect(corners(triangles, a, now), corners(triangles, b, now))) continue;
-                // It intersects now; it is new only if it did not before the move.
+                // It intersects now; it is new only if it did not before the move, and it is not a contact the
+                // mesh was loaded with, shifted to neighbouring triangles of the same two parts.
                 if (trianglesIntersect(corners(triangles, a, then), corners(triangles, b, then))) continue;
+                if (shiftedLoadContact(a, b)) continue;
 #pragma omp critical(sculpt_self_intersection_hit)
                 if (!found.load()) {
                     hit.first = std::min(a, b);

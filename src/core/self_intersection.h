@@ -30,7 +30,8 @@ struct TrianglePairHit {
     Eigen::Vector3d where = Eigen::Vector3d::Zero();
 };
 
-// Every intersecting pair of triangles of the mesh (what they share by vertex id does not count), sorted,
+// Every intersecting pair of triangles of the mesh (what they share by vertex id or by position does not count:
+// a triangle soup is not a crossing), sorted,
 // at most `limit` of them. positions: #V x 3; triangles: #T x 3 with ids in range (asserted). Parallel.
 std::vector<TrianglePairHit> findSelfIntersections(const Positions& positions, const Triangles& triangles,
                                                    size_t limit = static_cast<size_t>(-1));
@@ -68,6 +69,33 @@ public:
     // to build(). Refits the moved triangles first. Cost: the moved triangles times the triangles near each.
     Result findNewIntersection(const Positions& positions, const Triangles& triangles, const std::vector<int>& moved,
                                const Positions& before);
+
+    // Parts: the mesh's connected pieces (triangles joined by a shared vertex id or a shared position), numbered
+    // 0 .. partCount() - 1 in the order of their lowest triangle. A CAD assembly is many parts, a scan one.
+    int partCount() const { return partCount_; }
+    int partOfTriangle(int t) const { return partOfTriangle_[static_cast<size_t>(t)]; }
+    int partTriangleCount(int part) const { return partSizes_[static_cast<size_t>(part)]; }
+
+    // The contacts the mesh was loaded with (pairs: the intersecting pairs then, e.g. from allIntersections): two
+    // parts that touch or overlap at load (the parts of an assembly, modelled in contact), or a part that crosses
+    // itself, keep touching as they move. Afterwards a new intersecting pair of triangles of two parts (or one)
+    // in such a contact, both triangles within kContactRings rings of triangles of that contact, is the old
+    // contact shifted to neighbouring triangles, not a new crossing: findNewIntersection does not report it.
+    // Anything else still is (a crossing away from the contact). Cleared by build().
+    // The contacts are kept by vertex so that they outlive a rebuild (a refinement adds vertices, renumbers
+    // triangles): zoneVertex #V flags the corners of the contact's triangles and their rings; partPairs holds a
+    // vertex of each of two parts in contact.
+    static constexpr int kContactRings = 2;
+    struct LoadContacts {
+        std::vector<std::uint8_t> zoneVertex;
+        std::vector<std::pair<int, int>> partPairs;
+        bool empty() const { return partPairs.empty(); }
+    };
+    LoadContacts findLoadContacts(const std::vector<TrianglePairHit>& pairs, const Triangles& triangles) const;
+    // Applies contacts found on this mesh (or carried over a refinement: zoneVertex #V of the mesh built).
+    void setLoadContacts(const LoadContacts& contacts, const Triangles& triangles);
+    // Whether the new pair (a, b) is such a shifted contact.
+    bool shiftedLoadContact(int a, int b) const;
 
     // Every intersecting pair at `positions` (as findSelfIntersections), using this index (refitted first).
     std::vector<TrianglePairHit> allIntersections(const Positions& positions, const Triangles& triangles,
@@ -115,6 +143,11 @@ private:
     void refit(const Positions& positions, const Triangles& triangles);
     void refitLeaf(Node& node, const Positions& positions, const Triangles& triangles);
 
+    void buildParts(const Positions& positions, const Triangles& triangles);
+    int partCount_ = 0;
+    std::vector<int> partOfTriangle_, partOfVertex_, partSizes_;
+    std::vector<std::uint8_t> contactZone_;             // #T (or empty): within kContactRings of a load contact
+    std::vector<std::pair<int, int>> contactPartPairs_;  // sorted (lower, higher) parts in contact at load
     std::vector<Node> nodes_;
     std::vector<int> leafTriangles_;   // triangle ids in leaf order
     std::vector<Eigen::AlignedBox3d> slotBoxes_;  // their boxes, in the same order, as of the last refit

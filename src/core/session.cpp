@@ -203,8 +203,12 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
         }
         initialDegenerateTriangles_ = degenerateCount;
         initialIntersectingPairs_ = 0;
-        for (const TrianglePairHit& hit : meshIndex_.allIntersections(positions_, triangles_))
+        const std::vector<TrianglePairHit> initial = meshIndex_.allIntersections(positions_, triangles_);
+        for (const TrianglePairHit& hit : initial)
             initialIntersectingPairs_ += !degenerate[static_cast<size_t>(hit.first)] && !degenerate[static_cast<size_t>(hit.second)];
+        // Parts touching at load (an assembly's): their contact may shift as they move (self_intersection.h).
+        loadContacts_ = meshIndex_.findLoadContacts(initial, triangles_);
+        meshIndex_.setLoadContacts(loadContacts_, triangles_);
     }
     before_.resize(positions_.rows(), 3);
     history_.clear();
@@ -315,6 +319,16 @@ bool Session::noNewCrossing(const std::vector<int>& changed, StepFailure& failur
     if (!crossing.found) return true;
     failure.cause = StepFailure::Cause::Triangles;
     failure.technical = "triangles " + std::to_string(crossing.pair.first) + " and " + std::to_string(crossing.pair.second) + " would cross";
+    // On a mesh of several parts (an assembly), which two block it.
+    const int partA = meshIndex_.partOfTriangle(crossing.pair.first), partB = meshIndex_.partOfTriangle(crossing.pair.second);
+    if (meshIndex_.partCount() > 1) {
+        const auto named = [this](int part) {
+            return "part " + std::to_string(part + 1) + " (" + std::to_string(meshIndex_.partTriangleCount(part)) + " triangles)";
+        };
+        failure.parts = partA == partB ? named(partA) + " would pass through itself"
+                                       : named(std::min(partA, partB)) + " and " + named(std::max(partA, partB)) + " would cross";
+        failure.parts += " (of the mesh's " + std::to_string(meshIndex_.partCount()) + " parts)";
+    }
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (int k = 0; k < 3; ++k) centroid += before_.row(triangles_(crossing.pair.first, k)).transpose();  // where it is now
     failure.where = centroid / 3.0;
@@ -456,7 +470,8 @@ const char* stepFailureCauseName(StepFailure::Cause cause) {
 std::string stepFailureWords(const StepFailure& failure, bool drag) {
     const std::string near = failure.where.allFinite() ? " near " + shortVectorText(failure.where) : "";
     switch (failure.cause) {
-        case StepFailure::Cause::Triangles: return "the surface would pass through itself" + near;
+        case StepFailure::Cause::Triangles:
+            return (failure.parts.empty() ? std::string("the surface would pass through itself") : failure.parts) + near;
         case StepFailure::Cause::Boundary: return "the lattice's outer surface would fold onto itself" + near;
         case StepFailure::Cause::Lattice: return std::string("the ") + (drag ? "mesh" : "lattice") + " would fold over itself" + near;
         case StepFailure::Cause::Uncertified:

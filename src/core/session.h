@@ -117,6 +117,9 @@ struct StepFailure {
     // after escalating (conic to exact, deeper subdivision) and found no fold: not proven, not known to fold.
     enum class Cause { None, SourceLeft, Lattice, Uncertified, Boundary, Triangles } cause = Cause::None;
     std::string technical;  // e.g. "conic test fails in cell [2,4,1] (...)"
+    // Triangles, on a mesh of several parts: which block it, e.g. "part 2 (340 triangles) and part 5 (1200
+    // triangles) would cross (of the mesh's 12 parts)"; empty otherwise.
+    std::string parts;
     Eigen::Vector3d where = Eigen::Vector3d::Constant(NAN);  // world point near the failure (current shape)
 };
 // "lattice" (a fold), "uncertified", "boundary", "triangles", "source" or "" (OpReport::refusedBy).
@@ -405,6 +408,10 @@ public:
     Status updateControlDragPerPoint(const Eigen::MatrixX3d& offsets, OpReport& report);
     // Ends either kind of interactive drag; a drag that changed something becomes one history entry.
     void endDrag();
+    // Names the history entry the drag in progress will become (e.g. "rotate 12 control points about Z by 40 deg":
+    // a rotation or scale sent as per-point offsets is otherwise "move 12 control points"). Non-empty; fails
+    // when no drag is in progress. The recording and the shape are not affected.
+    Status setDragLabel(const std::string& label);
     // After the last brush stroke was baked into the rest shape (endDrag, a scripted drag with a radius): how
     // many of the vertices it moved now rest outside the cage's box. The cage does not hold them, so later
     // edits of it leave them where they are (a lattice set-up with more padding takes them in). 0 otherwise.
@@ -698,6 +705,8 @@ private:
     SelfIntersectionIndex meshIndex_;     // broad phase of the triangle check, refitted where vertices move
     Positions before_;                    // #V: the rows of the vertices a step moves, as they were before it
     int initialIntersectingPairs_ = 0;
+    // Parts touching at load and where (self_intersection.h), carried across refinements.
+    SelfIntersectionIndex::LoadContacts loadContacts_;
     int initialDegenerateTriangles_ = 0;
     void accumulateFrameJacobian(bool divide);
 

@@ -191,6 +191,14 @@ void Session::applyRefinement(RefinementRecord& record) {
     embedVertices(lattice_, rest_, embedding_);
     ++restVersion_;
     meshIndex_.build(positions_, triangles_);
+    if (!loadContacts_.empty()) {
+        // A split's midpoint is in the load contact's neighbourhood when both ends of its edge are.
+        loadContacts_.zoneVertex.resize(static_cast<size_t>(count), 0);
+        for (size_t k = 0; k < record.splits.size(); ++k)
+            loadContacts_.zoneVertex[static_cast<size_t>(first) + k] =
+                loadContacts_.zoneVertex[static_cast<size_t>(record.splits[k].a)] && loadContacts_.zoneVertex[static_cast<size_t>(record.splits[k].b)];
+        meshIndex_.setLoadContacts(loadContacts_, triangles_);
+    }
     lastMoved_.clear();
     lastMovedAll_ = true;
     ++topologyVersion_;
@@ -210,6 +218,10 @@ void Session::removeRefinement(const RefinementRecord& record) {
     embedVertices(lattice_, rest_, embedding_);
     ++restVersion_;
     meshIndex_.build(positions_, triangles_);
+    if (!loadContacts_.empty()) {
+        loadContacts_.zoneVertex.resize(static_cast<size_t>(count));
+        meshIndex_.setLoadContacts(loadContacts_, triangles_);
+    }
     lastMoved_.clear();
     lastMovedAll_ = true;
     ++topologyVersion_;

@@ -98,7 +98,7 @@ int quickDecision(const TriangleCorners& a, const TriangleCorners& b) {
     int shared = 0, wa = -1, wb = -1;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
-            if (a.vertex[i] >= 0 && a.vertex[i] == b.vertex[j]) ++shared, wa = i, wb = j;
+            if (a.vertex[i] == b.vertex[j]) ++shared, wa = i, wb = j;
     if (shared == 0) {
         // One triangle wholly on one side of the other's plane: they cannot meet.
         if (certifiedOneSide(a, b.point.data(), 3) || certifiedOneSide(b, a.point.data(), 3)) return 0;
@@ -115,7 +115,7 @@ int quickDecision(const TriangleCorners& a, const TriangleCorners& b) {
     if (shared == 2) {
         // Sharing an edge, they meet beyond it only when all four corners are coplanar.
         int ob = 0;
-        while (b.vertex[ob] == a.vertex[0] || b.vertex[ob] == a.vertex[1] || b.vertex[ob] == a.vertex[2]) ++ob;
+        while (ob < 2 && (b.vertex[ob] == a.vertex[0] || b.vertex[ob] == a.vertex[1] || b.vertex[ob] == a.vertex[2])) ++ob;
         if (certifiedOrientation(a.point[0], a.point[1], a.point[2], b.point[ob]) != 0) return 0;
         return -1;
     }
@@ -129,7 +129,7 @@ bool exactDecision(const TriangleCorners& a, const TriangleCorners& b) {
     int shared = 0;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
-            if (a.vertex[i] >= 0 && a.vertex[i] == b.vertex[j]) {
+            if (a.vertex[i] == b.vertex[j]) {
                 sharedA[i] = j;
                 ++shared;
                 break;
@@ -166,9 +166,27 @@ bool exactDecision(const TriangleCorners& a, const TriangleCorners& b) {
 
 }  // namespace
 
-bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& b) {
-    if (quickDecision(a, b) == 0) return false;
-    return exactDecision(a, b);
+bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& bIn) {
+    // Corners at the very same position are one vertex whatever their ids: the triangles of a soup (a file that
+    // stores each triangle's corners apart) or of a seam split for its normals or texture coordinates touch
+    // there as neighbours do, and only what they have in common beyond it counts.
+    TriangleCorners b = bIn;
+    for (int j = 0; j < 3; ++j) {
+        bool byId = false;
+        for (int i = 0; i < 3; ++i) byId = byId || (b.vertex[j] >= 0 && b.vertex[j] == a.vertex[i]);
+        for (int i = 0; i < 3 && !byId; ++i)
+            if (b.point[j] == a.point[i]) {
+                b.vertex[j] = a.vertex[i] >= 0 ? a.vertex[i] : -2 - i;  // -2 - i: a's corner i, when a has no ids
+                break;
+            }
+    }
+    TriangleCorners aIds = a;
+    for (int i = 0; i < 3; ++i)
+        if (aIds.vertex[i] < 0) aIds.vertex[i] = -2 - i;
+    for (int j = 0; j < 3; ++j)
+        if (b.vertex[j] == -1) b.vertex[j] = -10 - j;  // matches none of a's
+    if (quickDecision(aIds, b) == 0) return false;
+    return exactDecision(aIds, b);
 }
 
 bool triangleDegenerate(const TriangleCorners& t) {

@@ -15,13 +15,15 @@
 
 namespace sculpt::core {
 
-// One triangle: its corner positions and the mesh's vertex ids of those corners (ids decide what is shared).
+// One triangle: its corner positions and the mesh's vertex ids of those corners (ids, and equal positions, decide
+// what is shared; -1: no id).
 struct TriangleCorners {
     std::array<Eigen::Vector3d, 3> point;
     std::array<int, 3> vertex{-1, -1, -1};
 };
 
-// True if a and b have a common point other than their shared vertices/edge (by vertex id). A degenerate
+// True if a and b have a common point other than their shared vertices/edge: shared by vertex id, or by exactly
+// the same position (a triangle soup's neighbours, a seam's split vertices: they touch as neighbours do). A degenerate
 // triangle (collinear corners) is tested as its longest segment, a triangle collapsed to a point as that
 // point; a degenerate triangle that shares a vertex with the other is not counted (it touches the other
 // there, and has no interior to cross it with). The same three ids twice (a duplicated face) is not counted.

@@ -153,7 +153,7 @@ inline bool segmentMeetsTriangle(const ExactPoint& p, const ExactPoint& q, const
     return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
 }
 
-// Two triangles meet beyond what they share (by vertex id). Degenerate triangles are not counted (the test
+// Two triangles meet beyond what they share (by vertex id or by exactly equal position). Degenerate triangles are not counted (the test
 // meshes have none). Intersecting triangles have an edge of one meeting the other, coplanar or not.
 inline bool exactTrianglesIntersect(const std::array<Eigen::Vector3d, 3>& pa, const std::array<int, 3>& ia,
                                     const std::array<Eigen::Vector3d, 3>& pb, const std::array<int, 3>& ib) {
@@ -165,10 +165,14 @@ inline bool exactTrianglesIntersect(const std::array<Eigen::Vector3d, 3>& pa, co
         return true;
     };
     if (degenerate(A) || degenerate(B)) return false;
+    // Shared: the same vertex id, or exactly the same position (a soup's neighbours touch as neighbours do).
     std::vector<std::pair<int, int>> shared;  // corner of a, corner of b
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            if (ia[i] == ib[j]) shared.emplace_back(i, j);
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i)
+            if (ia[i] == ib[j] || pa[i] == pb[j]) {
+                shared.emplace_back(i, j);
+                break;
+            }
     if (shared.size() >= 3) return false;
     if (shared.size() == 2) {
         // Shared edge: they meet beyond it only when coplanar with the other corners on one side of it.
@@ -196,7 +200,7 @@ inline bool exactTrianglesIntersect(const std::array<Eigen::Vector3d, 3>& pa, co
 
 }  // namespace detail
 
-// The intersecting pairs of triangles (what two triangles share by vertex id does not count), exactly, as
+// The intersecting pairs of triangles (what two triangles share by vertex id or position does not count), exactly, as
 // sorted (lower, higher) id pairs. A uniform grid over the triangles' bounding boxes prunes pairs, so meshes
 // of a few thousand triangles take well under a second.
 inline std::vector<std::pair<int, int>> intersectingPairs(const Positions& positions, const Triangles& triangles) {

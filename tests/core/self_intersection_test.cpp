@@ -66,6 +66,68 @@ TEST_CASE("self_intersection: the engine's pair test agrees with an independent 
     CHECK(sharedCases > 5000);
 }
 
+// Issue: triangle soups are not crossings. Corners at the very same position are one vertex whatever their ids:
+// random pairs sharing a vertex or an edge by id give the same answer when the shared corners get ids of their
+// own, and a real mesh written as a soup (three vertices per triangle) has exactly the crossings of the mesh.
+TEST_CASE("self_intersection: triangles that share a position, not an id, touch as neighbours do", "[core][weld]") {
+    std::mt19937 rng(20261203);
+    int compared = 0, intersecting = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const int span = trial % 3 == 0 ? 2 : 4;
+        std::array<Eigen::Vector3d, 6> p;
+        for (auto& x : p) {
+            x = Eigen::Vector3d(test::randomInt(rng, -span, span), test::randomInt(rng, -span, span), test::randomInt(rng, -span, span));
+            if (trial % 5 == 1) x.z() = 0.0;
+        }
+        TriangleCorners a, b;
+        for (int k = 0; k < 3; ++k) {
+            a.point[k] = p[k];
+            a.vertex[k] = k;
+            b.point[k] = p[3 + k];
+            b.vertex[k] = 3 + k;
+        }
+        const int share = 1 + trial % 2;  // a vertex or an edge, by id
+        for (int k = 0; k < share; ++k) {
+            b.point[k] = a.point[k];
+            b.vertex[k] = a.vertex[k];
+        }
+        const bool byId = trianglesIntersect(a, b);
+        TriangleCorners apart = b;  // the same corners, ids of their own (a soup)
+        for (int k = 0; k < 3; ++k) apart.vertex[k] = 10 + k;
+        INFO("trial " << trial);
+        REQUIRE(trianglesIntersect(a, apart) == byId);
+        REQUIRE(trianglesIntersect(apart, a) == byId);
+        ++compared;
+        intersecting += byId;
+    }
+    CHECK(compared == 20000);
+    CHECK(intersecting > 500);
+    for (const char* name : {"elephant.off", "cow.off"}) {
+        Positions positions;
+        Triangles triangles;
+        std::string error;
+        REQUIRE(test::loadCgalMesh(name, positions, triangles, error));
+        Positions soup(3 * triangles.rows(), 3);
+        Triangles soupTriangles(triangles.rows(), 3);
+        for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+            for (int k = 0; k < 3; ++k) {
+                soup.row(3 * t + k) = positions.row(triangles(t, k));
+                soupTriangles(t, k) = static_cast<int>(3 * t + k);
+            }
+        const std::vector<TrianglePairHit> mesh = findSelfIntersections(positions, triangles);
+        const std::vector<TrianglePairHit> asSoup = findSelfIntersections(soup, soupTriangles);
+        INFO(name);
+        REQUIRE(asSoup.size() == mesh.size());
+        for (size_t h = 0; h < mesh.size(); ++h) {
+            CHECK(asSoup[h].first == mesh[h].first);
+            CHECK(asSoup[h].second == mesh[h].second);
+        }
+        Session session;
+        REQUIRE(session.setMesh(soup, soupTriangles, LatticeSettings{}));
+        CHECK(session.initialIntersectingPairs() == static_cast<int>(mesh.size()));
+    }
+}
+
 // Random soups of small triangles in a box: every intersecting pair, from the index, equals the brute force.
 TEST_CASE("self_intersection: the index finds exactly the intersecting pairs", "[core]") {
     std::mt19937 rng(7);
@@ -644,3 +706,93 @@ TEST_CASE("session: degenerate facets at load are counted apart from crossing pa
 }
 
 }  // namespace sculpt::core
+
+// Issue: a CAD assembly whose parts touch at load had every move refused for new crossings. Two spheres modelled
+// overlapping (parts of an assembly in contact): random drags shift their contact to neighbouring triangles and
+// apply; afterwards every crossing pair (by the independent exact test) is a load pair or a pair of the two parts
+// within kContactRings rings of the load contact (computed here by its own search), never a pair elsewhere; a
+// drag that pushes one part through the other is refused, and the reason names the two parts.
+TEST_CASE("session: parts touching at load keep their contact as it shifts, and crossing triangles of two parts are refused by name", "[core][parts]") {
+    Positions a, b;
+    Triangles ta, tb;
+    test::icosphere(3, 1.0, Eigen::Vector3d(-0.97, 0, 0), a, ta);
+    test::icosphere(3, 1.0, Eigen::Vector3d(0.97, 0, 0), b, tb);
+    Positions positions(a.rows() + b.rows(), 3);
+    positions << a, b;
+    Triangles triangles(ta.rows() + tb.rows(), 3);
+    triangles << ta, (tb.array() + static_cast<int>(a.rows())).matrix();
+    const std::vector<std::pair<int, int>> atLoad = test::intersectingPairs(positions, triangles);
+    REQUIRE_FALSE(atLoad.empty());
+    // The contact's neighbourhood, by its own search: triangles within kContactRings rings (sharing a corner).
+    const int nt = static_cast<int>(triangles.rows());
+    std::vector<std::vector<int>> ofVertex(static_cast<size_t>(positions.rows()));
+    for (int t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) ofVertex[static_cast<size_t>(triangles(t, k))].push_back(t);
+    std::vector<int> ring(static_cast<size_t>(nt), -1);
+    std::vector<int> frontier;
+    for (const auto& [x, y] : atLoad)
+        for (int t : {x, y})
+            if (ring[static_cast<size_t>(t)] < 0) ring[static_cast<size_t>(t)] = 0, frontier.push_back(t);
+    for (int r = 1; r <= SelfIntersectionIndex::kContactRings; ++r) {
+        std::vector<int> next;
+        for (int t : frontier)
+            for (int k = 0; k < 3; ++k)
+                for (int n : ofVertex[static_cast<size_t>(triangles(t, k))])
+                    if (ring[static_cast<size_t>(n)] < 0) ring[static_cast<size_t>(n)] = r, next.push_back(n);
+        frontier = std::move(next);
+    }
+    const int firstOfB = static_cast<int>(ta.rows());
+    LatticeSettings settings;
+    settings.resolution = {10, 6, 6};
+    Session session;
+    REQUIRE(session.setMesh(positions, triangles, settings).ok);
+    CHECK(session.initialIntersectingPairs() == static_cast<int>(atLoad.size()));
+    std::mt19937 rng(2026);
+    int applied = 0;
+    for (int d = 0; d < 24; ++d) {
+        const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
+        const Eigen::Vector3d target = session.positions().row(v).transpose() + test::randomVector(rng, -0.12, 0.12);
+        OpReport report;
+        REQUIRE(session.dragVertex(v, target, report).ok);
+        applied += report.status == OpStatus::Applied;
+    }
+    WARN(applied << " of 24 drags applied");
+    CHECK(applied >= 12);
+    std::set<std::pair<int, int>> load(atLoad.begin(), atLoad.end());
+    for (const auto& [x, y] : test::intersectingPairs(session.positions(), triangles)) {
+        if (load.count({x, y})) continue;
+        INFO("new pair " << x << ", " << y);
+        CHECK((x < firstOfB) != (y < firstOfB));  // between the two parts
+        CHECK(ring[static_cast<size_t>(x)] >= 0);
+        CHECK(ring[static_cast<size_t>(y)] >= 0);
+    }
+    // An injective map keeps apart what is apart; what can still cross are the straight triangles between moved
+    // vertices. Two coarse spheres a hair apart, squeezed together by random drags: every refusal for crossing
+    // triangles names the two parts.
+    Positions c, e;
+    Triangles tc, te;
+    test::icosphere(1, 1.0, Eigen::Vector3d(-1.01, 0, 0), c, tc);
+    test::icosphere(1, 1.0, Eigen::Vector3d(1.01, 0, 0), e, te);
+    Positions near(c.rows() + e.rows(), 3);
+    near << c, e;
+    Triangles nearTriangles(tc.rows() + te.rows(), 3);
+    nearTriangles << tc, (te.array() + static_cast<int>(c.rows())).matrix();
+    Session squeezed;
+    REQUIRE(squeezed.setMesh(near, nearTriangles, LatticeSettings{}).ok);
+    REQUIRE(squeezed.initialIntersectingPairs() == 0);
+    int named = 0;
+    for (int d = 0; d < 60; ++d) {
+        const int v = test::randomInt(rng, 0, static_cast<int>(near.rows()) - 1);
+        const Eigen::Vector3d from = squeezed.positions().row(v).transpose();
+        const Eigen::Vector3d target = from + Eigen::Vector3d(from.x() < 0 ? 0.5 : -0.5, 0, 0) + test::randomVector(rng, -0.1, 0.1);
+        OpReport report;
+        REQUIRE(squeezed.dragVertex(v, target, report).ok);
+        if (report.refusedBy != "triangles") continue;
+        INFO(report.reason);
+        CHECK(report.reason.find("part 1 (") != std::string::npos);
+        CHECK(report.reason.find("part 2 (") != std::string::npos);
+        ++named;
+    }
+    WARN(named << " of 60 squeezing drags stopped by crossing triangles, each naming the parts");
+    CHECK(named > 0);
+}
