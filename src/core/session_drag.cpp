@@ -404,6 +404,13 @@ void Session::applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& 
     }
 }
 
+Status Session::setDragLabel(const std::string& label) {
+    if (!dragActive_) return Status::error("no interactive drag is in progress");
+    if (label.empty()) return Status::error("a history entry needs a name");
+    dragOperation_.label = label;
+    return Status::success();
+}
+
 void Session::endDrag() {
     if (!dragActive_) return;
     dragActive_ = false;

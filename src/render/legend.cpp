@@ -76,14 +76,37 @@ std::string legendNumber(float value, bool reciprocal) {
     return reciprocal ? "1/" + std::string(text) : std::string(text);
 }
 
-std::vector<float> buildJacobianLegend(int width, int height, float pixelScale, float insetBottom, float range) {
-    const float unit = std::max(1.0f, std::round(2.0f * pixelScale));
+namespace {
+
+struct LegendLayout {
+    float unit;
+    int legendWidth, legendHeight, barTop, labelTop;
+};
+
+LegendLayout legendLayout(float pixelScale) {
+    LegendLayout l{};
+    l.unit = std::max(1.0f, std::round(2.0f * pixelScale));
     const int foldWidth = kSwatchGap + kSwatchSize + kSwatchLabelGap + textWidth(kFoldLabel);
     const int contentWidth = std::max(textWidth(kTitle), kBarWidth + foldWidth);
-    const int legendWidth = contentWidth + 2 * kPadding;
-    const int barTop = kPadding + kGlyphHeight + 3;
-    const int labelTop = barTop + kBarHeight + kTickHeight + 1;
-    const int legendHeight = labelTop + kGlyphHeight + kPadding;
+    l.legendWidth = contentWidth + 2 * kPadding;
+    l.barTop = kPadding + kGlyphHeight + 3;
+    l.labelTop = l.barTop + kBarHeight + kTickHeight + 1;
+    l.legendHeight = l.labelTop + kGlyphHeight + kPadding;
+    return l;
+}
+
+}  // namespace
+
+float jacobianLegendHeight(float pixelScale) {
+    const LegendLayout l = legendLayout(pixelScale);
+    return static_cast<float>(l.legendHeight + kMargin) * l.unit;
+}
+
+std::vector<float> buildJacobianLegend(int width, int height, float pixelScale, float insetBottom, float range) {
+    const LegendLayout layout = legendLayout(pixelScale);
+    const float unit = layout.unit;
+    const int legendWidth = layout.legendWidth, legendHeight = layout.legendHeight;
+    const int barTop = layout.barTop, labelTop = layout.labelTop;
     const float left = float(width) - (legendWidth + kMargin) * unit;
     const float top = float(height) - insetBottom - (legendHeight + kMargin) * unit;
     if (left < 0.0f || top < 0.0f) return {};

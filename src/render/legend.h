@@ -22,6 +22,10 @@ inline constexpr float kFillFold = 2.0f;         // the fold-over stripes
 // of max(1, round(2 * pixelScale)) window pixels). range > 1. Empty when the view is too small to hold it.
 std::vector<float> buildJacobianLegend(int width, int height, float pixelScale, float insetBottom, float range);
 
+// The pixels the legend takes above `insetBottom`, its margin included: a panel drawn over the view's bottom-right
+// corner ends this far above the status line to leave it in sight.
+float jacobianLegendHeight(float pixelScale);
+
 // Text of a map end: "2", "1/2", "1.5", "1/1.5" (three significant digits).
 std::string legendNumber(float value, bool reciprocal);
 

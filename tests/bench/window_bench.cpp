@@ -4,6 +4,8 @@
 #include <chrono>
 #include <limits>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <numeric>
 #include <vector>
 
@@ -185,6 +187,38 @@ void benchDragEngine(std::ostream& out, const char* name, const test::TestMesh& 
                      windowOpen ? "first frame failed" : windowOpen.message.c_str());
 }
 
+// The real program idle under Xvfb (issue: an idle window sleeps): `sculpt MESH` with
+// SCULPT_WINDOW_IDLE_SECONDS, which opens the mesh, waits until it is drawn, then measures the process's CPU
+// time and the frames drawn over that many seconds with no input.
+void benchIdleWindow(std::ostream& out, const char* name, const std::string& mesh, int seconds) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) {
+        printError(out, name, "xvfb-run is not installed (apt-get install xvfb xauth)");
+        return;
+    }
+    const std::string command = "SCULPT_WINDOW_IDLE_SECONDS=" + std::to_string(seconds) +
+                                " xvfb-run -a -s '-screen 0 1280x800x24' '" SCULPT_PROGRAM "' '" + mesh + "' 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) {
+        printError(out, name, "cannot run " + command);
+        return;
+    }
+    std::string output;
+    char buffer[512];
+    while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
+    pclose(pipe);
+    double measured = 0.0, share = 0.0;
+    long frames = -1;
+    const size_t at = output.find("sculpt: idle ");
+    if (at == std::string::npos ||
+        std::sscanf(output.c_str() + at, "sculpt: idle %lf s: %lf%% of one core, %ld frames drawn", &measured, &share,
+                    &frames) != 3) {
+        printError(out, name, "no measurement in the program's output: " + output);
+        return;
+    }
+    out << "{\"case\": \"" << name << "\", \"mesh\": \"" << jsonText(mesh) << "\", \"seconds\": " << measured
+        << ", \"core_share_percent\": " << share << ", \"frames_drawn\": " << frames << "}" << std::endl;
+}
+
 }  // namespace
 
 void runWindowBenchmarks(std::ostream& out, const std::vector<std::string>& filters) {
@@ -194,6 +228,17 @@ void runWindowBenchmarks(std::ostream& out, const std::vector<std::string>& filt
         benchDragFrames(out, "window_drag_250k", test::makeUvSphere(500, 501), 16);  // 250,002 vertices, 500,000 triangles
     if (wanted(filters, "window_drag_250k_whole"))
         benchDragFrames(out, "window_drag_250k_whole", test::makeUvSphere(500, 501), 16, false);
+    if (wanted(filters, "window_idle")) {
+        benchIdleWindow(out, "window_idle_default", SCULPT_SOURCE_DIR "/assets/default.obj", 10);
+        // CGAL's armadillo scan (26k vertices), where the polling loop took 1.7 cores.
+        const std::string folder = "/tmp/sculpt_bench_cgal";
+        const std::string extract = "mkdir -p " + folder + " && tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C " +
+                                    folder + " data/meshes/armadillo.off 2> /dev/null";
+        if (std::system(extract.c_str()) == 0)
+            benchIdleWindow(out, "window_idle_armadillo", folder + "/data/meshes/armadillo.off", 10);
+        else
+            printError(out, "window_idle_armadillo", "CGAL's data is not installed (libcgal-demo)");
+    }
     const bool engine8 = wanted(filters, "window_drag_1m_engine");
     const bool engine16 = wanted(filters, "window_drag_1m_engine_16");
     if (!engine8 && !engine16) return;

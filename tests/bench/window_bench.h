@@ -20,6 +20,9 @@ namespace sculpt::bench {
 //                            engine time per mouse move, and (where EGL exists) the sparse position upload
 //                            of the vertices it moved, as the next frame's syncGpu does.
 //   window_drag_1m_engine_16 the same on a 16^3 lattice (a more local drag).
+//   window_idle              the real program under Xvfb with no input, on the default mesh and CGAL's
+//                            armadillo: the share of one core the process uses and the frames it draws over
+//                            10 s once the mesh is shown (SCULPT_WINDOW_IDLE_SECONDS; target under 2%).
 // Without EGL at run time the frame case prints {"case": ..., "error": ...} and the engine cases skip the upload.
 void runWindowBenchmarks(std::ostream& out, const std::vector<std::string>& filters = {});
 

@@ -13,6 +13,7 @@
 #include "app/window/tool_commands.h"
 #include "io/png_image.h"
 #include "offscreen_window.h"
+#include "render/palette.h"
 #include "window_test_support.h"
 
 using namespace sculpt;
@@ -174,8 +175,8 @@ TEST_CASE("window tools: the lattice tool picks the control point under the curs
     const Positions points = core::controlPointPositions(state.session.lattice());
     const int n = static_cast<int>(points.rows());
     for (int trial = 0; trial < 30; ++trial) {
-        // Click on the projection of a random control point: the picked one is within the radius and no
-        // other marker is clearly nearer (brute force).
+        // Click on the projection of a random control point: the picked one is that point, or a marker drawn over
+        // it (within a marker's size on screen) and nearer the eye.
         const int target = std::uniform_int_distribution<int>(0, n - 1)(rng);
         double x = 0, y = 0;
         if (!app::projectToPixel(state.camera, kWidth, kHeight, points.row(target).transpose(), x, y)) continue;
@@ -185,7 +186,15 @@ TEST_CASE("window tools: the lattice tool picks the control point under the curs
         const int picked = state.tools.lattice.points.front();
         double px = 0, py = 0;
         REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, points.row(picked).transpose(), px, py));
-        CHECK(std::hypot(px - x, py - y) <= 1.0 + 1e-9);
+        CHECK(std::hypot(px - x, py - y) <= render::kControlPointSize + 1e-9);
+        if (picked != target) {
+            // Nearer the eye: less depth along the view direction (what the depth buffer orders by).
+            const glm::dvec3 e = state.camera.eye(), toward = state.camera.towardEye();
+            const auto depth = [&](int id) {
+                return -((points(id, 0) - e.x) * toward.x + (points(id, 1) - e.y) * toward.y + (points(id, 2) - e.z) * toward.z);
+            };
+            CHECK(depth(picked) <= depth(target) + 1e-12);
+        }
         CHECK(state.session.history().empty());  // a click without a move changes nothing
         // and says so: the point is selected, nothing is "Moving" (it said so once, after a mere click).
         INFO(state.status);
@@ -320,8 +329,10 @@ TEST_CASE("window tools: P pins the selection, a pinned selection cannot be drag
     REQUIRE(state.session.setPinned({under}, true).ok);
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, {});
     CHECK_FALSE(state.drag.active);
-    CHECK(state.statusIsError);
+    // Selecting a pinned point is what P needs: said, not an error.
+    CHECK_FALSE(state.statusIsError);
     CHECK(state.status.find("pinned") != std::string::npos);
+    CHECK(state.status.find("P unpins") != std::string::npos);
     sculptApp.onMouseMove({x + 20, y + 20, {}}, {});
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x + 20, y + 20, {}}, {});
     CHECK(state.session.history().empty());

@@ -4,7 +4,10 @@
 // a typed move is compared with the offset typed; cancel and undo with the start state.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <random>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -272,3 +275,93 @@ TEST_CASE("window transform: the locked axis is drawn through the pivot in its c
     WARN("transform frames written to " << dir << "/transform_*.png");
 }
 
+
+// Issue: a transform that would fold keeps its injective part, and the status line says what was applied in
+// words. Random selections of the default mesh's control points, typed scales, rotations and moves large enough
+// that many stop where the lattice would fold: Enter keeps exactly what the preview showed; the control points
+// are the pose the readout names (a rotation a rotation, a scale a scale, about the pivot), so the stop is a
+// pose, not a blend; the status and the history name it in words, never the edit field.
+TEST_CASE("window transform: a transform that would fold keeps what it showed and says so in words", "[gl][transform]") {
+    app::SculptApp sculptApp;
+    test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+    key(sculptApp, app::Key::Tab);
+    app::AppState& state = sculptApp.state();
+    const int n = state.session.lattice().controlPointCount();
+    const double diagonal = (state.session.positions().colwise().maxCoeff() - state.session.positions().colwise().minCoeff()).norm();
+    std::mt19937 random(303);
+    int stops = 0, refused = 0, full = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+        std::vector<int>& selection = state.tools.lattice.points;
+        selection.clear();
+        const int count = 1 + static_cast<int>(random() % 12);
+        for (int c = 0; c < count; ++c) selection.push_back(static_cast<int>(random() % static_cast<unsigned>(n)));
+        std::sort(selection.begin(), selection.end());
+        selection.erase(std::unique(selection.begin(), selection.end()), selection.end());
+        const int kind = static_cast<int>(random() % 3);  // scale, rotate, move
+        const int axis = static_cast<int>(random() % 3);
+        const app::Key axisKey = axis == 0 ? app::Key::X : axis == 1 ? app::Key::Y : app::Key::Z;
+        const std::string value = kind == 0 ? (random() % 2 ? "1.3" : "0.6") : kind == 1 ? "45" : "0.6";
+        const Positions cageBefore = state.session.cagePoints();
+        const Positions meshBefore = state.session.positions();
+        key(sculptApp, kind == 0 ? app::Key::S : kind == 1 ? app::Key::R : app::Key::G);
+        REQUIRE(state.transform.active);
+        key(sculptApp, axisKey);
+        type(sculptApp, value);
+        const app::TransformState shown = state.transform;
+        const std::string preview = state.status;
+        const Positions meshShown = state.session.positions();
+        const Positions cageShown = state.session.cagePoints();
+        INFO("trial " << trial << ": " << preview);
+        // The points stand in the pose the readout names: p = pivot + M (start - pivot), or start + offset.
+        const double pose = kind == 0 ? shown.applied.value : kind == 1 ? shown.applied.value : shown.applied.offset[axis];
+        for (size_t r = 0; r < shown.points.size(); ++r) {
+            const Eigen::Vector3d start = shown.starts.row(static_cast<Eigen::Index>(r)).transpose();
+            const Eigen::Vector3d d = start - shown.pivot;
+            Eigen::Vector3d expected = start;
+            if (kind == 0) expected[axis] = shown.pivot[axis] + pose * d[axis];
+            else if (kind == 1) expected = shown.pivot + Eigen::AngleAxisd(pose, Eigen::Vector3d::Unit(axis)) * d;
+            else expected[axis] += pose;
+            REQUIRE((cageShown.row(shown.points[r]).transpose() - expected).norm() <= 1e-9 * diagonal);
+        }
+        const bool moved = (meshShown - meshBefore).cwiseAbs().maxCoeff() > 0.0;
+        CHECK((preview.find("(stopped at") != std::string::npos) == (shown.stopped && moved));
+        CHECK((preview.find("refused") != std::string::npos) == (shown.stopped && !moved));
+        key(sculptApp, app::Key::Enter);
+        CHECK_FALSE(state.transform.active);
+        // What the preview showed is what Enter keeps, to the bit.
+        CHECK((state.session.positions() - meshShown).cwiseAbs().maxCoeff() == 0.0);
+        CHECK((state.session.cagePoints() - cageShown).cwiseAbs().maxCoeff() == 0.0);
+        const std::string& status = state.status;
+        INFO(status);
+        CHECK(status.find('[') == std::string::npos);
+        CHECK(status.find('|') == std::string::npos);
+        if (!moved) {
+            CHECK(status.rfind("Nothing moved", 0) == 0);
+            ++refused;
+            continue;
+        }
+        shown.stopped ? ++stops : ++full;
+        const char* verbs[3] = {"Scaled ", "Rotated ", "Moved "};
+        CHECK(status.rfind(verbs[kind], 0) == 0);
+        CHECK(status.find(std::string(kind == 1 ? "about " : "along ") + "XYZ"[axis] + " by ") != std::string::npos);
+        CHECK((status.find("stopped") != std::string::npos) == shown.stopped);
+        // The number said is the pose applied (printed to 4 significant digits).
+        const size_t by = status.find(" by ");
+        REQUIRE(by != std::string::npos);
+        const double said = std::strtod(status.c_str() + by + 4, nullptr);
+        const double appliedValue = kind == 1 ? pose * 180.0 / kPi : pose;
+        CHECK(std::abs(said - appliedValue) <= 1e-3 * std::max(1.0, std::abs(appliedValue)));
+        // The history names it for what it was.
+        const std::string& label = state.session.history()[static_cast<size_t>(state.session.historyCursor() - 1)].label;
+        const char* names[3] = {"scale ", "rotate ", "move "};
+        CHECK(label.rfind(names[kind], 0) == 0);
+        std::string words = status.substr(by, status.find_first_of("(:", by) - by);
+        while (!words.empty() && words.back() == ' ') words.pop_back();
+        CHECK(label.find(words) != std::string::npos);
+        key(sculptApp, app::Key::Z, controlKey());
+        REQUIRE((state.session.cagePoints() - cageBefore).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+    }
+    WARN(full << " transforms applied in full, " << stops << " stopped short, " << refused << " refused");
+    CHECK(stops > 0);
+    CHECK(full > 0);
+}

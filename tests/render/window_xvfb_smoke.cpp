@@ -3,10 +3,14 @@
 //         xvfb-run -a -s "-screen 0 1280x800x24" SCULPT
 // (90 frames, a scripted drag on the default mesh, a screenshot of the last frame; glfw_main.cpp) and checks
 // the exit code, that the PNG was written at the window's size, and that it is a picture (not one colour).
+// Then the idle window (issue: an idle window sleeps): SCULPT_WINDOW_IDLE_SECONDS=2 opens the default mesh, waits
+// until it is drawn, measures two seconds with no input and closes; at most a couple of frames may be drawn in
+// them (a polling loop draws hundreds). Its CPU share is a speed figure: sculpt_bench window_idle reports it.
 //
 // Usage: window_xvfb_smoke SCULPT_EXECUTABLE OUT.png
 // Exit: 0 passed, 1 failed, 77 skipped (no xvfb-run; ctest's SKIP_RETURN_CODE).
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
@@ -79,6 +83,30 @@ int main(int argc, char** argv) {
     for (size_t p = 0; p + 3 < rgba.size() && colours.size() < 1000; p += 4)
         colours.insert(std::uint32_t(rgba[p]) << 16 | std::uint32_t(rgba[p + 1]) << 8 | rgba[p + 2]);
     if (colours.size() < 64) return fail("screenshot has only " + std::to_string(colours.size()) + " colours");
-    std::printf("window_xvfb_smoke: passed (%s: %d x %d, >= %zu colours)\n", png.c_str(), width, height, colours.size());
+    std::printf("window_xvfb_smoke: screenshot passed (%s: %d x %d, >= %zu colours)\n", png.c_str(), width, height,
+                colours.size());
+
+    const std::string idle = sanitizer + "SCULPT_WINDOW_IDLE_SECONDS=2 xvfb-run -a -s '-screen 0 1280x800x24' " +
+                             shellQuoted(sculpt) + " 2>&1";
+    std::printf("window_xvfb_smoke: %s\n", idle.c_str());
+    std::fflush(stdout);
+    FILE* pipe = popen(idle.c_str(), "r");
+    if (!pipe) return fail("cannot run the idle window");
+    std::string output;
+    char buffer[512];
+    while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
+    const int idleStatus = pclose(pipe);
+    std::printf("%s", output.c_str());
+    if (idleStatus == -1 || !WIFEXITED(idleStatus) || WEXITSTATUS(idleStatus) != 0)
+        return fail("the idle window did not exit cleanly");
+    const size_t at = output.find("sculpt: idle ");
+    double seconds = 0.0, share = 0.0;
+    long frames = -1;
+    if (at == std::string::npos ||
+        std::sscanf(output.c_str() + at, "sculpt: idle %lf s: %lf%% of one core, %ld frames drawn", &seconds, &share,
+                    &frames) != 3)
+        return fail("the idle window printed no measurement");
+    if (frames > 2) return fail("the idle window drew " + std::to_string(frames) + " frames with no input");
+    std::printf("window_xvfb_smoke: passed (idle: %ld frames in %.1f s, %.2f%% of one core)\n", frames, seconds, share);
     return 0;
 }

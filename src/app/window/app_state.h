@@ -156,6 +156,11 @@ struct AppState {
     bool modified = false;  // unsaved changes (kept current by FileCommands::poll, file_commands.h)
     int framebufferWidth = 0, framebufferHeight = 0;
     float statusLineHeight = 0.0f;  // pixels, as last drawn: the scene's det J legend sits above it
+    // The history panel: the current entry and the count it last scrolled to, and whether the current entry was
+    // in the list's view in the last frame that did not scroll (tests read it).
+    int historyShownCursor = -1, historyShownCount = -1, historyScrollFrames = 0;
+    bool historyCurrentVisible = false;
+    float legendHeight = 0.0f;      // framebuffer pixels the det J legend takes above the status line; 0: not drawn
 
     std::string status = "Left-drag on the mesh to sculpt. Middle-drag or Alt+left-drag orbits, Shift+middle "
                          "pans, wheel zooms, Home frames. F sets the brush radius.";

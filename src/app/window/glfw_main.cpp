@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <cstdlib>
 #include <iostream>
@@ -19,6 +20,7 @@
 #include <imgui_impl_glfw.h>
 
 #include "app/cli_options.h"
+#include "app/frame_pacer.h"
 #include "app/headless.h"
 #include "app/window/key_event_queue.h"
 #include "app/window/sculpt_app.h"
@@ -38,7 +40,11 @@ struct WindowContext {
     SculptApp* app = nullptr;
     GLFWwindow* window = nullptr;
     KeyEventQueue keys;  // key events on their way to ImGui's GLFW callback, one state change per key and frame
+    FramePacer pacer;    // when to draw: after input, while something runs; otherwise the loop sleeps
 };
+
+// Every event the window gets may change what is drawn: the next frames are drawn (frame_pacer.h).
+void noteActivity(GLFWwindow* window) { static_cast<WindowContext*>(glfwGetWindowUserPointer(window))->pacer.noteActivity(); }
 
 SculptApp& appOf(GLFWwindow* window) { return *static_cast<WindowContext*>(glfwGetWindowUserPointer(window))->app; }
 
@@ -94,6 +100,7 @@ void flushMove(GLFWwindow* window) {
 }
 
 void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
+    noteActivity(window);
     flushMove(window);
     MouseButtonEvent event;
     if (button == GLFW_MOUSE_BUTTON_LEFT) event.button = MouseButton::Left;
@@ -109,6 +116,7 @@ void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
 }
 
 void onCursorPos(GLFWwindow* window, double x, double y) {
+    noteActivity(window);
     MouseMoveEvent event;
     event.x = x;
     event.y = y;
@@ -118,6 +126,7 @@ void onCursorPos(GLFWwindow* window, double x, double y) {
 }
 
 void onScroll(GLFWwindow* window, double dx, double dy) {
+    noteActivity(window);
     flushMove(window);
     double x = 0.0, y = 0.0;
     glfwGetCursorPos(window, &x, &y);
@@ -167,24 +176,51 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) 
 
 // Installed over ImGui's own key callback: the event reaches it (and through it onKey above) via the queue.
 void onKeyQueued(GLFWwindow* window, int key, int scancode, int action, int mods) {
+    noteActivity(window);
     auto* context = static_cast<WindowContext*>(glfwGetWindowUserPointer(window));
     context->keys.push(key, action != GLFW_REPEAT, [=] { ImGui_ImplGlfw_KeyCallback(window, key, scancode, action, mods); });
 }
 
 void onFramebufferSize(GLFWwindow* window, int width, int height) {
+    noteActivity(window);
     appOf(window).onFramebufferSize({width, height});
 }
 
 // The close button never closes by itself: the app asks about unsaved changes and the loop ends only once
 // it approves (SculptApp::quitApproved).
 void onWindowClose(GLFWwindow* window) {
+    noteActivity(window);
     glfwSetWindowShouldClose(window, GLFW_FALSE);
     appOf(window).requestQuit();
 }
 
 void onDrop(GLFWwindow* window, int count, const char** paths) {
+    noteActivity(window);
     flushMove(window);
     appOf(window).onDropFiles(std::vector<std::string>(paths, paths + count));
+}
+
+// The window was uncovered or must be redrawn for another reason the system knows; typed characters (ImGui's
+// own callback reads them) and the cursor entering or leaving, focus: each may change what is drawn.
+void onRefresh(GLFWwindow* window) { noteActivity(window); }
+void onChar(GLFWwindow* window, unsigned int codepoint) {
+    noteActivity(window);
+    ImGui_ImplGlfw_CharCallback(window, codepoint);
+}
+void onCursorEnter(GLFWwindow* window, int entered) {
+    noteActivity(window);
+    ImGui_ImplGlfw_CursorEnterCallback(window, entered);
+}
+void onFocus(GLFWwindow* window, int focused) {
+    noteActivity(window);
+    ImGui_ImplGlfw_WindowFocusCallback(window, focused);
+}
+
+// CPU time of the whole process (every thread: the worker, llvmpipe's), seconds.
+double processCpuSeconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 int envInt(const char* name, int fallback) {
@@ -265,6 +301,11 @@ int runWindow(const std::string& meshPath) {
     createUiContext(scaleX);
     ImGui_ImplGlfw_InitForOpenGL(window, true);  // chains its callbacks to ours (onKey included)
     glfwSetKeyCallback(window, onKeyQueued);
+    // Installed over ImGui's own (which they call): they wake the frame pacer too.
+    glfwSetCharCallback(window, onChar);
+    glfwSetCursorEnterCallback(window, onCursorEnter);
+    glfwSetWindowFocusCallback(window, onFocus);
+    glfwSetWindowRefreshCallback(window, onRefresh);
 
     int exitCode = kExitOk;
     if (Status s = app.initGraphics(reinterpret_cast<render::GlGetProc>(glfwGetProcAddress)); !s) {
@@ -290,12 +331,43 @@ int runWindow(const std::string& meshPath) {
     double dragSeconds = 0.0;
     auto last = std::chrono::steady_clock::now();
     std::string title;
+    // SCULPT_WINDOW_IDLE_SECONDS=N: once the mesh is open and its first frames drawn, measure N seconds with no
+    // input (the process's CPU time, the frames drawn), print them and close (the benchmark's window_idle).
+    const double idleSeconds = envInt("SCULPT_WINDOW_IDLE_SECONDS", 0);
+    bool idleStarted = false;
+    double idleCpuStart = 0.0;
+    long idleFramesStart = 0;
+    std::chrono::steady_clock::time_point idleStart;
+    FramePacer& pacer = context.pacer;
     while (exitCode == kExitOk && !glfwWindowShouldClose(window) && !app.quitApproved()) {
-        // note: while a load or save runs on the worker thread the scene does not change; drawing at most
-        // ~15 frames a second (progress popup included) leaves the cores to the worker (llvmpipe renders on
-        // the CPU: at full rate a 1M-vertex load took 4x as long as without a window).
-        if (app.files().busy() && !autoDrag) glfwWaitEventsTimeout(1.0 / 15.0);
-        else glfwPollEvents();
+        // The window draws when something changes (frame_pacer.h). note: while a load or save runs on the
+        // worker thread the scene does not change; at most ~15 frames a second (its progress popup) leave the
+        // cores to the worker (llvmpipe renders on the CPU: at full rate a 1M-vertex load took 4x as long).
+        FrameNeeds needs = app.frameNeeds();
+        needs.everyFrame = needs.everyFrame || maxFrames > 0 || autoDrag;
+        double deadline = 0.0;
+        if (idleSeconds > 0.0 && !idleStarted && !app.files().busy() && !pacer.settling()) {
+            idleStarted = true;
+            idleStart = std::chrono::steady_clock::now();
+            idleCpuStart = processCpuSeconds();
+            idleFramesStart = pacer.framesDrawn();
+        }
+        if (idleStarted) {
+            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - idleStart).count();
+            if (elapsed >= idleSeconds) {
+                std::printf("sculpt: idle %.1f s: %.2f%% of one core, %ld frames drawn\n", elapsed,
+                            100.0 * (processCpuSeconds() - idleCpuStart) / elapsed, pacer.framesDrawn() - idleFramesStart);
+                std::fflush(stdout);
+                break;
+            }
+            deadline = idleSeconds - elapsed;
+        }
+        const FramePacer::Plan plan = pacer.plan(needs, deadline);
+        if (plan.wait == FramePacer::Wait::Poll) glfwPollEvents();
+        else if (plan.wait == FramePacer::Wait::Timeout) glfwWaitEventsTimeout(plan.seconds);
+        else glfwWaitEvents();
+        // Woken only for the measurement's end, with nothing new to draw: no frame.
+        if (plan.wait == FramePacer::Wait::Timeout && needs.withinSeconds <= 0.0 && !pacer.settling()) continue;
         flushMove(window);
         if (app.windowTitle() != title) {  // "name*" while there are unsaved changes
             title = app.windowTitle();
@@ -322,6 +394,9 @@ int runWindow(const std::string& meshPath) {
         }
         ImGui_ImplGlfw_NewFrame();
         if (Status s = app.renderFrame(width, height); !s) std::cerr << "sculpt: draw: " << s.message << "\n";
+        pacer.frameDrawn();
+        // Keys held back for this frame reach ImGui and the app now: the frames after must see them.
+        if (!context.keys.empty()) pacer.noteActivity();
         context.keys.frameDone();
         ++frame;
         const bool lastFrame = maxFrames > 0 && frame >= maxFrames;

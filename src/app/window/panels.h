@@ -40,5 +40,11 @@ ImVec2 framebufferToUi(const AppState& state, double x, double y);
 
 // Width of the sidebar in pixels (scaled with the font), so the viewport knows what is covered.
 float sidebarWidth();
+// The gap between a side panel and the view's edges (UI pixels).
+float panelMargin();
+// The tallest a side panel may be (UI pixels) below the menu bar: it ends above the status line as last drawn (a
+// wrapped message makes it taller) and, on the right (rightSide), above the det J legend while it is shown. A
+// panel with more content scrolls.
+float panelMaxHeight(const AppState& state, bool rightSide);
 
 }  // namespace sculpt::app

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "app/frame_pacer.h"
 #include "app/window/app_state.h"
 #include "app/window/file_commands.h"
 #include "app/window/input_events.h"
@@ -56,6 +57,10 @@ public:
     // Files dropped on the window: the first .obj or .json opens (after the unsaved-changes prompt).
     void onDropFiles(const std::vector<std::string>& paths);
     std::string windowTitle() const { return files_.windowTitle(state_); }
+    // What the next frames need when no input comes (frame_pacer.h): a frame every 1/15 s while a load or save
+    // runs (its progress popup), every 0.4 s while a text field has the caret (it blinks); otherwise none, and
+    // the window sleeps until an event.
+    FrameNeeds frameNeeds() const;
 
     // What Dear ImGui claims right now (the current context; none: nothing). Keyboard: also while any item is
     // active or wants text, since io.WantCaptureKeyboard is computed at NewFrame from the frame before and
@@ -87,6 +92,9 @@ private:
     void updateHint(double x, double y);
     void finishBoxSelection();
     double pickRadius() const;
+    // The control point a click at (x, y) picks (-1: none): of the drawn markers under the cursor, a free one before
+    // a pinned one, then the nearest the eye (controlPointAtPixel). points: the cage as drawn (cagePoints).
+    int controlPointUnderCursor(const Positions& points, double x, double y) const;
     render::ConstraintView constraintView() const;
     // The sculpt brush (brush_tool.cpp): F / Shift+F resizing, the circle under the cursor, and the brush a
     // drag grabbing `at` gets (its radius in world units there).

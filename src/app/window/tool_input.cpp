@@ -12,6 +12,7 @@
 #include "app/window/tool_commands.h"
 #include "app/window/tspline_commands.h"
 #include "app/window/wording.h"
+#include "render/palette.h"
 
 namespace sculpt::app {
 namespace {
@@ -42,6 +43,13 @@ bool surfaceParameters(const core::Session& session, const SurfaceHandle& handle
 }  // namespace
 
 double SculptApp::pickRadius() const { return kPickRadius * static_cast<double>(renderer_.pixelScale()); }
+
+int SculptApp::controlPointUnderCursor(const Positions& points, double x, double y) const {
+    // Markers closer than a marker's size overlap on screen: there a free point wins, then the front one (tools.h).
+    const double overlap = render::kControlPointSize * static_cast<double>(renderer_.pixelScale());
+    return controlPointAtPixel(points, shownControlPoints(state_), state_.camera, state_.framebufferWidth,
+                               state_.framebufferHeight, x, y, pickRadius(), state_.session.lattice().pinned, overlap);
+}
 
 // ---- commands shared with the panels (tool_commands.h) ------------------------------------------------------
 
@@ -367,8 +375,7 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
     clampLatticeSelection(state_);
     LatticeSelection& selection = state_.tools.lattice;
     const Positions points = session.cagePoints();
-    const int hit = controlPointAtPixel(points, shownControlPoints(state_), state_.camera, state_.framebufferWidth,
-                                        state_.framebufferHeight, event.x, event.y, pickRadius());
+    const int hit = controlPointUnderCursor(points, event.x, event.y);
     const bool shift = event.modifiers.shift;
     if (hit < 0) {  // on empty space: a selection rectangle
         selection.boxActive = true;
@@ -391,7 +398,12 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
     for (int id : selection.points)
         if (!session.lattice().pinned[static_cast<size_t>(id)]) movable.push_back(id);
     if (movable.empty()) {
-        setStatus(state_, "The selected control points are pinned; press P to unpin them.", true);
+        // Selecting a pinned point is what P needs: said, not an error.
+        setStatus(state_, selection.points.size() == 1
+                              ? "Selected control point " + session.lattice().controlPointName(selection.points.front()) +
+                                    ": it is pinned and holds still; P unpins it."
+                              : "The selected control points are all pinned and hold still; P unpins them.",
+                  false);
         return;
     }
     if (Status s = session.beginControlDrag(movable); !s) {
@@ -459,6 +471,7 @@ void SculptApp::moveTool(double x, double y) {
 void SculptApp::updateHint(double x, double y) {
     const core::Session& session = state_.session;
     ToolState& tools = state_.tools;
+    tools.lattice.hovered = -1;
     if (!session.hasMesh() || state_.navigation != Navigation::None) {
         tools.hint.clear();
         return;
@@ -483,9 +496,13 @@ void SculptApp::updateHint(double x, double y) {
                          " Shift+click: add handle. Ctrl+click: add pin. Tab: lattice tool.";
     } else {
         // note: the hover test projects every control point; at 64^3 that is ~2 ms, acceptable for a hint.
-        const int hit = controlPointAtPixel(session.cagePoints(), shownControlPoints(state_),
-                                            state_.camera, width, height, x, y, pickRadius());
-        tools.hint = hit >= 0 ? "Control point: click selects, Shift+click toggles, drag moves the selection, P pins."
+        const Positions points = session.cagePoints();
+        const int hit = controlPointUnderCursor(points, x, y);
+        tools.lattice.hovered = hit;
+        if (hit >= 0) tools.lattice.hoveredAt = points.row(hit).transpose();
+        const bool pinned = hit >= 0 && session.lattice().pinned[static_cast<size_t>(hit)];
+        tools.hint = hit >= 0 ? "Control point " + session.lattice().controlPointName(hit) +
+                                    (pinned ? " (pinned): click selects, P unpins." : ": click selects, Shift+click toggles, drag moves the selection, P pins.")
                               : "Drag: box select (Shift adds). Click: clear selection. A: select all. Tab: sculpt tool.";
     }
 }

@@ -67,11 +67,17 @@ int handleAtPixel(const ToolState& tools, const Positions& positions, const Tria
 }
 
 int controlPointAtPixel(const Positions& controlPoints, const std::vector<std::uint8_t>& shown,
-                        const render::Camera& camera, int width, int height, double x, double y, double radius) {
+                        const render::Camera& camera, int width, int height, double x, double y, double radius,
+                        const std::vector<std::uint8_t>& pinned, double overlap) {
     if (width <= 0 || height <= 0) return -1;
     const ClipProjection projection(camera, width, height);
-    int best = -1;
-    double bestDistance = std::numeric_limits<double>::infinity(), bestDepth = std::numeric_limits<double>::infinity();
+    struct Candidate {
+        int id;
+        double distance, depth;
+        bool pinned;
+    };
+    std::vector<Candidate> near;
+    double nearest = std::numeric_limits<double>::infinity();
     for (Eigen::Index p = 0; p < controlPoints.rows(); ++p) {
         if (!shown.empty() && !shown[static_cast<size_t>(p)]) continue;
         const glm::dvec4 clip = projection.toClip(controlPoints.row(p).transpose());
@@ -79,14 +85,20 @@ int controlPointAtPixel(const Positions& controlPoints, const std::vector<std::u
         if (!clipToPixel(clip, width, height, px, py)) continue;
         const double distance = std::hypot(px - x, py - y);
         if (distance > radius) continue;
-        // note: markers closer than a pixel to each other are one target to the user; the front one wins. The
-        // depth is NDC z: in an orthographic view clip.w is 1 for every point.
-        const double depth = clip.z / clip.w;
-        const bool nearer = distance < bestDistance - 1.0 || (distance <= bestDistance + 1.0 && depth < bestDepth);
-        if (best < 0 || nearer) {
-            best = static_cast<int>(p);
-            bestDistance = distance;
-            bestDepth = depth;
+        // note: the depth is NDC z: in an orthographic view clip.w is 1 for every point.
+        const bool isPinned = !pinned.empty() && pinned[static_cast<size_t>(p)] != 0;
+        near.push_back({static_cast<int>(p), distance, clip.z / clip.w, isPinned});
+        nearest = std::min(nearest, distance);
+    }
+    int best = -1;
+    const Candidate* chosen = nullptr;
+    for (const Candidate& c : near) {
+        if (c.distance > nearest + overlap) continue;  // not under the cursor: another marker is
+        const bool better = !chosen || (chosen->pinned && !c.pinned) ||
+                            (chosen->pinned == c.pinned && (c.depth < chosen->depth || (c.depth == chosen->depth && c.distance < chosen->distance)));
+        if (better) {
+            chosen = &c;
+            best = c.id;
         }
     }
     return best;

@@ -37,6 +37,10 @@ struct LatticeSelection {
     bool boxActive = false;   // a rectangle selection is being dragged
     bool boxAdditive = false; // Shift held when it began: add to the selection instead of replacing it
     double boxX0 = 0.0, boxY0 = 0.0, boxX1 = 0.0, boxY1 = 0.0;  // framebuffer pixels
+    // The control point a click would pick where the cursor is (-1: none), ringed before the click, and where
+    // it is drawn (world).
+    int hovered = -1;
+    Eigen::Vector3d hoveredAt = Eigen::Vector3d::Zero();
 };
 
 // The sculpt tool's brush (core/brush.h), as in Blender's sculpt mode: a radius on screen (framebuffer pixels,
@@ -90,11 +94,15 @@ bool projectToPixel(const render::Camera& camera, int width, int height, const E
 int handleAtPixel(const ToolState& tools, const Positions& positions, const Triangles& triangles,
                   const render::Camera& camera, int width, int height, double x, double y, double radius);
 
-// Control point (id) whose marker is nearest to pixel (x, y) within `radius` pixels (the one nearest the eye
-// among equally near markers), or -1. controlPoints #P x 3; shown: empty (all), or #P flags, and only points
-// flagged nonzero (those the lattice overlay draws) count.
+// The control point (id) a click at pixel (x, y) picks, or -1: of the markers within `radius` pixels, those that
+// overlap the nearest on screen (within `overlap` pixels of its distance: one target to the user) are under the
+// cursor; among them a free point wins over a pinned one (pinned: empty, none pinned, or #P flags), then the one
+// nearest the eye. So on a lattice of any shape a click on a visible free point never picks the pinned outer one
+// drawn over or behind it. controlPoints #P x 3; shown: empty (all), or #P flags, and only points flagged nonzero
+// (those the lattice overlay draws) count. radius, overlap >= 0.
 int controlPointAtPixel(const Positions& controlPoints, const std::vector<std::uint8_t>& shown,
-                        const render::Camera& camera, int width, int height, double x, double y, double radius);
+                        const render::Camera& camera, int width, int height, double x, double y, double radius,
+                        const std::vector<std::uint8_t>& pinned = {}, double overlap = 1.0);
 
 // Control points (of those `shown`, as above) whose projection lies inside the pixel rectangle (any two
 // opposite corners), sorted.

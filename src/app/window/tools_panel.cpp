@@ -220,11 +220,11 @@ void drawSetupSection(AppState& state) {
 
 void drawToolsWindow(AppState& state, FileCommands* files) {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
-    const float margin = 0.6f * ImGui::GetFontSize();
+    const float margin = panelMargin();
     const float width = toolsWindowWidth();
-    const float statusHeight = ImGui::GetFrameHeightWithSpacing() + 2.0f * ImGui::GetStyle().WindowPadding.y;
     ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - width - margin, viewport->WorkPos.y + margin));
-    ImGui::SetNextWindowSizeConstraints(ImVec2(width, 0.0f), ImVec2(width, std::max(0.0f, viewport->WorkSize.y - statusHeight - 2.0f * margin)));
+    // Above the status line and the det J legend in the corner below it: what is longer scrolls.
+    ImGui::SetNextWindowSizeConstraints(ImVec2(width, 0.0f), ImVec2(width, panelMaxHeight(state, true)));
     ImGui::SetNextWindowBgAlpha(0.92f);
     ImGui::Begin("Tools###tools", nullptr,
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
@@ -254,6 +254,13 @@ void drawToolsWindow(AppState& state, FileCommands* files) {
 
     // The selection rectangle of the lattice tool, over the 3D view.
     const LatticeSelection& selection = state.tools.lattice;
+    // The control point a click would pick, ringed before the click.
+    if (state.tools.mode == ToolMode::Lattice && selection.hovered >= 0 && !state.drag.active && !selection.boxActive) {
+        double px = 0.0, py = 0.0;
+        if (projectToPixel(state.camera, state.framebufferWidth, state.framebufferHeight, selection.hoveredAt, px, py))
+            ImGui::GetForegroundDrawList()->AddCircle(framebufferToUi(state, px, py), 0.55f * ImGui::GetFontSize(),
+                                                      IM_COL32(255, 255, 255, 230), 0, 2.0f);
+    }
     if (selection.boxActive) {
         const ImVec2 a = framebufferToUi(state, selection.boxX0, selection.boxY0);
         const ImVec2 b = framebufferToUi(state, selection.boxX1, selection.boxY1);

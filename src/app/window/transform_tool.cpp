@@ -67,66 +67,106 @@ double typedValue(const TransformState& t) {
 }
 
 std::string typedText(const TransformState& t) { return std::string("[") + (t.negate ? "-" : "") + t.digits + "|]"; }
+// The typed value in words: "45 deg", "-0.5".
+std::string typedValueText(const TransformState& t) {
+    return (t.negate ? "-" : "") + t.digits + (t.kind == TransformKind::Rotate ? " deg" : "");
+}
 
 using Pose = TransformState::Pose;
 
-// The pose the cursor and the typed value ask for; sets the readout.
-Pose requestedPose(AppState& state) {
-    TransformState& t = state.transform;
+// The pose the cursor and the typed value ask for.
+Pose requestedPose(const AppState& state) {
+    const TransformState& t = state.transform;
     Pose pose;
     pose.axis = t.axis;
     const double typed = typedValue(t);
     const bool typing = !t.digits.empty();
     const double sign = t.negate ? -1.0 : 1.0;
-    const std::string axisName = t.axis >= 0 ? std::string(" ") + kAxisNames[t.axis] : std::string();
     switch (t.kind) {
         case TransformKind::Move:
             if (typing) {
                 // note: as in Blender, a typed value without an axis goes along X.
                 pose.offset = typed * Eigen::Vector3d::Unit(std::max(t.axis, 0));
-                t.readout = "Move" + (t.axis >= 0 ? axisName : std::string(" X")) + ": " + typedText(t);
             } else if (t.axis >= 0) {
                 double s0 = 0.0, s1 = 0.0;
                 if (cursorAlongAxis(state, t.startX, t.startY, s0) && cursorAlongAxis(state, t.cursorX, t.cursorY, s1))
                     pose.offset = sign * (s1 - s0) * Eigen::Vector3d::Unit(t.axis);
-                t.readout = "Move" + axisName + ": " + number(pose.offset[t.axis]);
             } else {
                 Eigen::Vector3d a, b;
                 if (cursorOnViewPlane(state, t.startX, t.startY, a) && cursorOnViewPlane(state, t.cursorX, t.cursorY, b))
                     pose.offset = sign * (b - a);
-                t.readout = "Move: " + number(pose.offset.x()) + ", " + number(pose.offset.y()) + ", " +
-                            number(pose.offset.z()) + " (" + number(pose.offset.norm()) + ")";
             }
             break;
-        case TransformKind::Rotate: {
-            const std::string about = t.axis >= 0 ? axisName : std::string(" (view axis)");
+        case TransformKind::Rotate:
             if (typing) {
                 pose.value = typed * kPi / 180.0;  // right-handed about the axis
-                t.readout = "Rotate" + about + ": " + typedText(t) + " deg";
             } else {
                 // Turned the way the cursor turns on the screen: a locked axis may point away from the eye.
                 const bool away = t.axis >= 0 && Eigen::Vector3d::Unit(t.axis).dot(t.viewAxis) < 0.0;
                 pose.value = sign * t.screenAngle * (away ? -1.0 : 1.0);
-                t.readout = "Rotate" + about + ": " + number(pose.value * 180.0 / kPi) + " deg";
             }
             break;
-        }
         case TransformKind::Scale:
             pose.value = 1.0;
             if (typing) {
                 pose.value = typed;
-                t.readout = "Scale" + axisName + ": " + typedText(t);
             } else {
                 double px = 0.0, py = 0.0;
                 if (pivotPixel(state, px, py)) {
                     const double from = std::max(std::hypot(t.startX - px, t.startY - py), 1.0);
                     pose.value = sign * std::hypot(t.cursorX - px, t.cursorY - py) / from;
                 }
-                t.readout = "Scale" + axisName + ": " + number(pose.value);
             }
             break;
     }
     return pose;
+}
+
+// "Move Y", "Rotate (view axis)", "Scale": the head of the readout.
+std::string headOf(const TransformState& t) {
+    const std::string axisName = t.axis >= 0 ? std::string(" ") + kAxisNames[t.axis] : std::string();
+    switch (t.kind) {
+        case TransformKind::Move: return "Move" + (t.axis < 0 && !t.digits.empty() ? std::string(" X") : axisName);
+        case TransformKind::Rotate: return "Rotate" + (t.axis >= 0 ? axisName : std::string(" (view axis)"));
+        case TransformKind::Scale: return "Scale" + axisName;
+    }
+    return {};
+}
+
+// A pose's value as the readout shows it: "0.5", "0.1, 0, 0.3 (0.316)", "40 deg", "1.14".
+std::string valueOf(const TransformState& t, const Pose& pose) {
+    switch (t.kind) {
+        case TransformKind::Move: {
+            const int axis = t.axis >= 0 ? t.axis : -1;
+            if (axis >= 0) return number(pose.offset[axis]);
+            return number(pose.offset.x()) + ", " + number(pose.offset.y()) + ", " + number(pose.offset.z()) + " (" +
+                   number(pose.offset.norm()) + ")";
+        }
+        case TransformKind::Rotate: return number(pose.value * 180.0 / kPi) + " deg";
+        case TransformKind::Scale: return number(pose.value);
+    }
+    return {};
+}
+
+// A pose in words, for the history and the status line: "along Y by 0.5", "by (0.1, 0, 0.3)", "about Z by 40 deg",
+// "about the view axis by 40 deg", "along X by 1.14", "by 1.14".
+std::string poseWords(const TransformState& t, const Pose& pose) {
+    const std::string along = pose.axis >= 0 ? std::string("along ") + kAxisNames[pose.axis] + " " : std::string();
+    switch (t.kind) {
+        case TransformKind::Move:
+            if (pose.axis >= 0) return along + "by " + number(pose.offset[pose.axis]);
+            return "by (" + number(pose.offset.x()) + ", " + number(pose.offset.y()) + ", " + number(pose.offset.z()) + ")";
+        case TransformKind::Rotate:
+            return std::string("about ") + (pose.axis >= 0 ? kAxisNames[pose.axis] : "the view axis") + " by " +
+                   number(pose.value * 180.0 / kPi) + " deg";
+        case TransformKind::Scale: return along + "by " + number(pose.value);
+    }
+    return {};
+}
+
+bool sameGeometry(const TransformState& t, const Pose& a, const Pose& b) {
+    if (t.kind == TransformKind::Move) return a.offset == b.offset;
+    return a.value == b.value && (a.axis == b.axis || a.value == (t.kind == TransformKind::Rotate ? 0.0 : 1.0));
 }
 
 // Each moving point's offset from its start in this pose.
@@ -179,7 +219,31 @@ std::vector<Pose> pathBetween(TransformKind kind, const Pose& from, const Pose& 
     return path;
 }
 
-// Asks the session for the transform as it now stands and says so on the status line.
+// The pose a fraction f of the way from `from` to `to` (a step of pathBetween: both on one axis, or `from` the
+// identity).
+Pose blend(TransformKind kind, const Pose& from, const Pose& to, double f) {
+    Pose pose = to;
+    if (kind == TransformKind::Move) pose.offset = from.offset + f * (to.offset - from.offset);
+    else pose.value = from.value + f * (to.value - from.value);
+    return pose;
+}
+
+// Sends one pose to the session; the report is the status line's.
+Status sendPose(AppState& state, const Pose& pose, core::OpReport& report) {
+    Status s = state.session.updateControlDragPerPoint(offsetsOf(state.transform, pose), report);
+    if (!s) return s;
+    if (report.status == core::OpStatus::Applied) noteSessionMoved(state);
+    state.hasReport = true;
+    state.lastReport = report;
+    state.stats.solveMs = report.wallMs;
+    return s;
+}
+
+// Asks the session for the transform as it now stands, along the path from the pose applied, and keeps in
+// t.applied the pose the lattice really is in: a step that would fold stops where the session stopped it (a move
+// or scale moves each point linearly with its value, so the stop is the pose a fraction of the step on; a
+// rotation's straight step is not a rotation, so the points are put on the rotation of that angle, or back on
+// the step's start where that would fold). What is shown is what Enter keeps.
 void applyTransform(AppState& state) {
     TransformState& t = state.transform;
     const Pose wanted = requestedPose(state);
@@ -192,19 +256,39 @@ void applyTransform(AppState& state) {
         note = "  (0 would flatten the points: type on)";
     } else {
         t.stopped = false;
+        Pose reached = t.applied;
         for (const Pose& pose : pathBetween(t.kind, t.applied, wanted)) {
             core::OpReport report;
-            s = state.session.updateControlDragPerPoint(offsetsOf(t, pose), report);
+            s = sendPose(state, pose, report);
             if (!s) break;
-            if (report.status == core::OpStatus::Applied) noteSessionMoved(state);
-            state.hasReport = true;
-            state.lastReport = report;
-            state.stats.solveMs = report.wallMs;
-            t.stopped = report.fractionApplied < 1.0;
+            if (report.fractionApplied >= 1.0 || report.status == core::OpStatus::NoOp) {
+                reached = pose;
+                continue;
+            }
+            t.stopped = true;
+            const double f = std::max(0.0, report.fractionApplied);
+            const Pose partial = blend(t.kind, reached, pose, f);
+            if (t.kind != TransformKind::Rotate || f == 0.0) {
+                reached = partial;
+            } else {
+                core::OpReport onRotation;
+                if (Status r = sendPose(state, partial, onRotation); r && onRotation.fractionApplied >= 1.0) {
+                    reached = partial;
+                } else {
+                    core::OpReport back;
+                    if (Status b = sendPose(state, reached, back); !b) s = b;
+                }
+            }
+            break;
         }
-        if (s) t.applied = wanted;
-        if (t.stopped) note = "  (stopped where the lattice would fold)";
+        if (s) t.applied = reached;
     }
+    const Pose identity{t.axis, t.kind == TransformKind::Scale ? 1.0 : 0.0, Eigen::Vector3d::Zero()};
+    t.readout = headOf(t) + ": " + (t.digits.empty() && !t.negate ? valueOf(t, t.applied) : typedText(t) + (t.kind == TransformKind::Rotate ? " deg" : ""));
+    if (s && t.stopped)
+        note = sameGeometry(t, t.applied, identity)
+                   ? "  (refused: the lattice would fold at once; nothing moved)"
+                   : "  (stopped at " + valueOf(t, t.applied) + " where the lattice would fold)";
     std::string text = t.readout + (s ? note : "  (" + s.message + ")");
     text += "   X Y Z: axis, type a value, Enter or click: confirm, Esc or right-click: cancel";
     setStatus(state, text, !s);
@@ -296,9 +380,15 @@ void transformKey(AppState& state, const KeyEvent& event) {
 }
 
 void confirmTransform(AppState& state) {
-    if (!state.transform.active) return;
-    const std::string readout = state.transform.readout;
-    const size_t moved = state.transform.points.size();
+    TransformState& t = state.transform;
+    if (!t.active) return;
+    const std::string verb = t.kind == TransformKind::Move ? "move" : t.kind == TransformKind::Rotate ? "rotate" : "scale";
+    const std::string words = poseWords(t, t.applied);
+    const std::string points = countOf(t.points.size(), "control point");
+    const bool stopped = t.stopped;
+    const std::string typed = t.digits.empty() ? std::string() : typedValueText(t);
+    if (Status named = state.session.setDragLabel(verb + " " + points + " " + words); !named)
+        setStatus(state, "Cannot name the history entry: " + named.message, true);
     // note: the journal, not the history's size: after an undo a new entry replaces the redo branch.
     const size_t before = state.session.journal().size();
     state.session.endDrag();
@@ -306,9 +396,15 @@ void confirmTransform(AppState& state) {
     state.transform = TransformState{};
     state.drag = DragState{};
     state.gpu.fields = true;
-    setStatus(state, recorded ? readout + ": " + countOf(moved, "control point") + " moved, one undo step."
-                              : readout + ": nothing moved.",
-              false);
+    std::string text;
+    if (recorded) {
+        text = std::string(verb == "move" ? "Moved " : verb == "rotate" ? "Rotated " : "Scaled ") + points + " " + words;
+        if (stopped) text += " (stopped there: further, the lattice would fold" + (typed.empty() ? std::string() : "; " + typed + " was typed") + ")";
+        text += ": one undo step.";
+    } else {
+        text = stopped ? "Nothing moved: the lattice would fold at once." : "Nothing moved.";
+    }
+    setStatus(state, text, false);
 }
 
 void cancelTransform(AppState& state) {
