@@ -23,10 +23,11 @@ bool parseInt(const std::string& text, int& out) {
 const char* usageText() {
     return "usage:\n"
            "  sculpt [MESH.obj | SESSION.json]       open the interactive window (on a mesh, or a saved session)\n"
-           "  sculpt --headless [--input MESH.obj] --script OPS.json --output OUT.obj\n"
+           "  sculpt --headless [--input MESH.obj] [--weld] --script OPS.json --output OUT.obj\n"
            "         [--report REPORT.json] [--save-session SESSION.json] [--screenshot OUT.png [--size WxH]\n"
            "         [--camera yaw,pitch,distance] [--overlay jacobian|affected|lattice|wireframe|colors]...]\n"
            "         [--gl-backend auto|osmesa|egl]\n"
+           "  --weld: vertices at exactly the same position become one on load (a triangle soup made one surface)\n"
            "exit codes: 0 success, 2 bad input (nothing written), 3 output could not be written, 1 internal error\n";
 }
 
@@ -43,6 +44,7 @@ Status parseCommandLine(int argc, const char* const* argv, CliOptions& out) {
         Status s;
         if (arg == "--headless") o.headless = true;
         else if (arg == "-h" || arg == "--help") o.help = true;
+        else if (arg == "--weld") o.weld = true;
         else if (arg == "--input") s = value(o.input);
         else if (arg == "--script") s = value(o.script);
         else if (arg == "--output") s = value(o.output);

@@ -14,6 +14,7 @@ struct CliOptions {
     bool headless = false;
     bool help = false;
     std::string input;        // mesh; empty = the bundled default mesh
+    bool weld = false;        // --weld: coincident vertices welded on load (io/mesh_weld.h); a script's "weld" too
     std::string script;       // OPS.json (headless)
     std::string output;       // OUT.obj (headless)
     std::string report;       // REPORT.json (optional)

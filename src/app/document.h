@@ -38,6 +38,7 @@ struct Document {
     std::string sessionPath;         // the last session file opened or saved
     std::shared_ptr<const io::ObjMesh> mesh;  // polygons, groups, texture coordinates of the source, kept for
                                               // a faithful save; shared read-only with background saves
+    bool welded = false;             // its coincident vertices were welded on load (a saved session says so)
     HistoryMark saved;               // the history when last loaded or saved
 };
 

@@ -9,6 +9,7 @@
 #include "core/session.h"
 #include "io/atomic_file.h"
 #include "io/mesh_file.h"
+#include "io/mesh_weld.h"
 #include "io/script_json.h"
 
 namespace sculpt::app {
@@ -36,6 +37,16 @@ int runHeadless(const CliOptions& options, const char* argv0) {
         return kExitBadInput;
     }
     for (const std::string& w : warnings) std::cerr << "sculpt: warning: " << w << "\n";
+    const bool weld = options.weld || script.weldMesh;
+    if (weld) {
+        const io::WeldReport welded = io::weldCoincidentVertices(mesh);
+        if (welded.verticesAfter < welded.verticesBefore)
+            std::printf("welded %s: %d vertices at %d positions\n", input.c_str(), welded.verticesBefore, welded.verticesAfter);
+    } else if (const io::WeldReport coincident = io::countCoincidentVertices(mesh.positions);
+               coincident.verticesAfter < coincident.verticesBefore) {
+        std::cerr << "sculpt: warning: " << input << ": " << coincident.verticesBefore - coincident.verticesAfter
+                  << " vertices lie exactly on another (a triangle soup or split seams); --weld joins them\n";
+    }
     const double loadMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loadStart).count();
 
@@ -98,6 +109,7 @@ int runHeadless(const CliOptions& options, const char* argv0) {
     if (!options.saveSession.empty()) {
         core::Script recorded = core::recordSession(session);
         recorded.mesh = io::scriptRelativeMeshPath(input, options.saveSession);
+        recorded.weldMesh = weld;
         if (Status s = io::writeFileAtomically(options.saveSession, io::scriptToJson(recorded)); !s) {
             std::cerr << "sculpt: " << s.message << "\n";
             return kExitWriteFailed;

@@ -66,6 +66,9 @@ struct Script {
     // fingerprint, ops with recorded steps are replayed exactly (Session::replayOperation); on any other mesh
     // the ops are decided again for that mesh (Coquillart's recording operator).
     std::string meshFingerprint;
+    // The mesh's coincident vertices are welded on load (io/mesh_weld.h) before the ops run: a session recorded
+    // on a welded mesh names its vertices as welded ("weld": true in the JSON; the command line's --weld).
+    bool weldMesh = false;
     LatticeSettings lattice;
     InjectivitySettings injectivity;  // applies to every operation of the script
     std::vector<ScriptOp> ops;

@@ -40,6 +40,7 @@
 #include "io/huge_pages.h"
 #include "io/isolated_call.h"
 #include "io/load_checks.h"
+#include "io/mesh_weld.h"
 #include "io/off_mesh.h"
 #include "io/obj_scan.h"
 #include "io/obj_refine.h"
@@ -360,40 +361,6 @@ Status collectPlacements(const aiScene& scene, const aiNode& node, const aiMatri
     return Status::success();
 }
 
-// Welds vertices at identical positions (STL stores every facet's corners apart; -0 and 0 are one position): the
-// first use keeps its number.
-void weldIdenticalPositions(ObjMesh& mesh) {
-    struct Key {
-        double x, y, z;
-        bool operator==(const Key& o) const { return std::memcmp(this, &o, sizeof(Key)) == 0; }
-    };
-    struct KeyHash {
-        size_t operator()(const Key& k) const {
-            uint64_t h = 1469598103934665603ull;
-            const unsigned char* p = reinterpret_cast<const unsigned char*>(&k);
-            for (size_t i = 0; i < sizeof(Key); ++i) h = (h ^ p[i]) * 1099511628211ull;
-            return static_cast<size_t>(h);
-        }
-    };
-    const Eigen::Index n = mesh.positions.rows();
-    std::unordered_map<Key, int, KeyHash> index;
-    index.reserve(static_cast<size_t>(n));
-    std::vector<int> remap(static_cast<size_t>(n));
-    Positions welded(n, 3);
-    int count = 0;
-    for (Eigen::Index v = 0; v < n; ++v) {
-        // + 0.0 turns -0.0 into +0.0: a writer may print a shared corner as "-0" in one facet and "0" in another.
-        const Key key{mesh.positions(v, 0) + 0.0, mesh.positions(v, 1) + 0.0, mesh.positions(v, 2) + 0.0};
-        const auto [it, inserted] = index.emplace(key, count);
-        if (inserted) welded.row(count++) = mesh.positions.row(v);
-        remap[static_cast<size_t>(v)] = it->second;
-    }
-    mesh.positions = welded.topRows(count);
-    for (int& c : mesh.cornerVertex) c = remap[static_cast<size_t>(c)];
-    mesh.vertexNormals.resize(0, 3);
-    mesh.vertexColors.resize(0, 4);
-}
-
 // The scene assimp read, as an ObjMesh (see mesh_file.h for what is kept).
 Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std::string& name, ObjMesh& out,
                    std::vector<std::string>& notes) {
@@ -539,7 +506,7 @@ Status sceneToMesh(const aiScene& scene, const MeshEncoding& encoding, const std
 // The part of a load that runs in the caller's process, on what sceneToMesh made (faces, no triangles yet):
 // STL welding, the unused-vertex note, triangulation and the final consistency check.
 Status finishMesh(ObjMesh& mesh, const MeshEncoding& encoding, const std::string& name, std::vector<std::string>& notes) {
-    if (encoding.format == MeshFormat::Stl) weldIdenticalPositions(mesh);
+    if (encoding.format == MeshFormat::Stl) weldCoincidentVertices(mesh);  // STL stores every facet's corners apart
     std::vector<char> used(static_cast<size_t>(mesh.positions.rows()), 0);
     for (int c : mesh.cornerVertex)
         if (c >= 0 && c < mesh.positions.rows()) used[static_cast<size_t>(c)] = 1;

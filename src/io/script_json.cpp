@@ -658,7 +658,11 @@ Status parseScript(const std::string& text, const std::string& displayName, core
     if (Status s = parseJsonText(text, displayName, root); !s) return s;
     try {
         core::Script script;
-        allowOnly(root, "", {"mesh", "mesh_fingerprint", "lattice", "ops", "injectivity"});
+        allowOnly(root, "", {"mesh", "mesh_fingerprint", "weld", "lattice", "ops", "injectivity"});
+        if (root.contains("weld")) {
+            if (!root["weld"].is_boolean()) fail("weld", "expected true or false");
+            script.weldMesh = root["weld"].get<bool>();
+        }
         if (root.contains("mesh_fingerprint")) {
             if (!root["mesh_fingerprint"].is_string()) fail("mesh_fingerprint", "expected a string");
             script.meshFingerprint = root["mesh_fingerprint"].get<std::string>();
@@ -786,6 +790,7 @@ std::string scriptToJson(const core::Script& script) {
     json root;
     if (!script.mesh.empty()) root["mesh"] = script.mesh;
     if (!script.meshFingerprint.empty()) root["mesh_fingerprint"] = script.meshFingerprint;
+    if (script.weldMesh) root["weld"] = true;
     root["lattice"] = latticeJson(script.lattice);
     root["injectivity"] = injectivityJson(script.injectivity);
     json ops = json::array();

@@ -204,3 +204,60 @@ TEST_CASE("headless: PLY in, glTF out, and a session that names the PLY replays 
                dir.file("out.fbx")}) == app::kExitBadInput);
     CHECK_FALSE(fs::exists(dir.file("out.fbx")));
 }
+
+// Issue: triangle soups. A real mesh (CGAL's) written as a soup (three vertices per triangle, shuffled corners
+// apart) loads as disconnected triangles: without --weld the program warns and keeps them; with --weld (or a
+// script's "weld": true) it welds them back to exactly the original surface, vertices in the order of first use,
+// and a session saved from it says "weld" and replays on the soup to the same vertices.
+TEST_CASE("headless: --weld joins a triangle soup into the surface it came from, and a saved session welds again", "[app][weld]") {
+    TempDir dir;
+    std::mt19937 random(31);
+    // A closed surface: an icosahedron refined by midpoints (every vertex shared by 5 or 6 triangles).
+    io::ObjMesh source;
+    REQUIRE(io::loadObj(SCULPT_SOURCE_DIR "/assets/default.obj", source).ok);
+    const Positions& p = source.positions;
+    const Triangles& t = source.triangles;
+    std::string soup;
+    for (Eigen::Index f = 0; f < t.rows(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            char line[128];
+            std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", p(t(f, k), 0), p(t(f, k), 1), p(t(f, k), 2));
+            soup += line;
+        }
+    for (Eigen::Index f = 0; f < t.rows(); ++f)
+        soup += "f " + std::to_string(3 * f + 1) + " " + std::to_string(3 * f + 2) + " " + std::to_string(3 * f + 3) + "\n";
+    writeText(dir.file("soup.obj"), soup);
+    const int vertex = static_cast<int>(random() % static_cast<unsigned>(p.rows()));
+    writeText(dir.file("ops.json"), R"({"ops": [ {"op": "drag_vertex", "vertex": )" + std::to_string(vertex) +
+                                        R"(, "target": [0.1, 0.2, 0.3]} ]})");
+    // Without --weld: kept as a soup of 3 #T vertices.
+    REQUIRE(run({"--headless", "--input", dir.file("soup.obj"), "--script", dir.file("ops.json"), "--output", dir.file("kept.obj")}) == app::kExitOk);
+    io::ObjMesh kept;
+    REQUIRE(io::loadObj(dir.file("kept.obj"), kept).ok);
+    CHECK(kept.positions.rows() == 3 * t.rows());
+    // With --weld: the original surface, each vertex once, in the order the soup first uses it.
+    REQUIRE(run({"--headless", "--input", dir.file("soup.obj"), "--weld", "--script", dir.file("ops.json"), "--output",
+                 dir.file("welded.obj"), "--save-session", dir.file("session.json")}) == app::kExitOk);
+    io::ObjMesh welded;
+    REQUIRE(io::loadObj(dir.file("welded.obj"), welded).ok);
+    REQUIRE(welded.positions.rows() == p.rows());
+    REQUIRE(welded.triangles.rows() == t.rows());
+    std::vector<int> order;  // first use of each original vertex in the soup
+    std::vector<char> seen(static_cast<size_t>(p.rows()), 0);
+    for (Eigen::Index f = 0; f < t.rows(); ++f)
+        for (int k = 0; k < 3; ++k)
+            if (!seen[static_cast<size_t>(t(f, k))]) seen[static_cast<size_t>(t(f, k))] = 1, order.push_back(t(f, k));
+    // Same connectivity: welded triangle f is original triangle f renumbered by first use.
+    std::vector<int> number(static_cast<size_t>(p.rows()));
+    for (size_t w = 0; w < order.size(); ++w) number[static_cast<size_t>(order[w])] = static_cast<int>(w);
+    for (Eigen::Index f = 0; f < t.rows(); ++f)
+        for (int k = 0; k < 3; ++k) REQUIRE(welded.triangles(f, k) == number[static_cast<size_t>(t(f, k))]);
+    // The saved session welds the soup again and replays to the same vertices.
+    const auto session = nlohmann::json::parse(readText(dir.file("session.json")));
+    CHECK(session["weld"] == true);
+    REQUIRE(run({"--headless", "--input", dir.file("soup.obj"), "--script", dir.file("session.json"), "--output",
+                 dir.file("replayed.obj")}) == app::kExitOk);
+    io::ObjMesh replayed;
+    REQUIRE(io::loadObj(dir.file("replayed.obj"), replayed).ok);
+    CHECK(replayed.positions == welded.positions);
+}

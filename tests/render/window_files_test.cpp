@@ -575,3 +575,80 @@ TEST_CASE("window files: screenshot of the 3D view, and the menu bar and dialog 
     const size_t top = 4 * (static_cast<size_t>(4) * kWidth + (kWidth - 300));
     CHECK(pixel(prompt, kWidth - 300, 4)[2] + 15 < rgba[top + 2]);
 }
+
+// Issue: triangle soups. A PLY soup (every triangle with corners of its own, as Wuson.ply) loads as it is, with the
+// status line saying how many vertices lie on others and offering the weld; with File > Weld coincident vertices
+// on open it loads as one surface (each position once, in the order of first use), and a session saved from it
+// says so and opens welded again, replaying to the same vertices.
+TEST_CASE("window files: a triangle soup is offered the weld, and welded on open it is one surface a session reopens", "[gl][weld]") {
+    TempFolder folder;
+    io::ObjMesh source;
+    REQUIRE(io::loadObj(defaultMesh(), source).ok);
+    io::ObjMesh soup;
+    const Eigen::Index nt = source.triangles.rows();
+    soup.positions.resize(3 * nt, 3);
+    soup.triangles.resize(nt, 3);
+    soup.faceStart.push_back(0);
+    soup.groupNames = {""};
+    for (Eigen::Index t = 0; t < nt; ++t) {
+        for (int k = 0; k < 3; ++k) {
+            soup.positions.row(3 * t + k) = source.positions.row(source.triangles(t, k));
+            soup.triangles(t, k) = static_cast<int>(3 * t + k);
+            soup.cornerVertex.push_back(static_cast<int>(3 * t + k));
+            soup.cornerTexcoord.push_back(-1);
+            soup.cornerNormal.push_back(-1);
+        }
+        soup.faceStart.push_back(static_cast<int>(3 * (t + 1)));
+        soup.faceGroup.push_back(0);
+        soup.faceMaterial.push_back(-1);
+        soup.triangleFace.push_back(static_cast<int>(t));
+    }
+    const std::string path = folder.file("soup.ply");
+    std::vector<std::string> warnings;
+    REQUIRE(io::saveMesh(path, soup, soup.positions, &warnings).ok);
+
+    app::SculptApp kept;
+    REQUIRE(kept.loadMesh(path).ok);
+    CHECK(kept.state().session.positions().rows() == 3 * nt);
+    INFO(kept.state().status);
+    CHECK(kept.state().status.find("vertices lie exactly on another") != std::string::npos);
+    CHECK(kept.state().status.find("File > Weld coincident vertices on open") != std::string::npos);
+    CHECK(kept.state().status.find("crosses itself") == std::string::npos);  // a soup is not a crossing
+
+    app::SculptApp welded;
+    welded.files().setWeldOnOpen(true);
+    REQUIRE(welded.loadMesh(path).ok);
+    app::AppState& state = welded.state();
+    INFO(state.status);
+    CHECK(state.status.find("Welded") != std::string::npos);
+    REQUIRE(state.session.positions().rows() == source.positions.rows());
+    // Each position once: the welded vertices are the source's, in the order the soup first uses them.
+    std::vector<char> seen(static_cast<size_t>(source.positions.rows()), 0);
+    Eigen::Index next = 0;
+    for (Eigen::Index t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const int v = source.triangles(t, k);
+            if (seen[static_cast<size_t>(v)]) continue;
+            seen[static_cast<size_t>(v)] = 1;
+            // PLY stores single precision: compare with the float the file holds.
+            for (int c = 0; c < 3; ++c)
+                REQUIRE(state.session.positions()(next, c) == static_cast<double>(static_cast<float>(source.positions(v, c))));
+            ++next;
+        }
+    welded.onFramebufferSize({kWidth, kHeight});
+    app::frameMesh(state);
+    dragUp(welded);
+    REQUIRE(state.session.historyCursor() == 1);
+    const Positions after = state.session.positions();
+    REQUIRE(welded.files().startSaveSession(state, folder.file("session.json")));
+    welded.files().finishJob(state);
+    core::Script script;
+    REQUIRE(io::loadScript(folder.file("session.json"), script).ok);
+    CHECK(script.weldMesh);
+    app::SculptApp reopened;  // weld off: the session's own flag welds
+    REQUIRE(reopened.files().startOpen(reopened.state(), folder.file("session.json")));
+    reopened.files().finishJob(reopened.state());
+    INFO(reopened.state().status);
+    REQUIRE(reopened.state().session.positions().rows() == after.rows());
+    CHECK(reopened.state().session.positions() == after);
+}

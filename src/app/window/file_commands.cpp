@@ -14,6 +14,7 @@
 #include "core/script.h"
 #include "io/atomic_file.h"
 #include "io/mesh_file.h"
+#include "io/mesh_weld.h"
 #include "io/png_image.h"
 #include "io/script_json.h"
 #include "render/framebuffer_readback.h"
@@ -37,6 +38,8 @@ struct JobResult {
     std::string meshPath;                     // loads: the OBJ the session starts from
     std::vector<std::string> warnings;
     int opsReplayed = 0, opsRejected = 0, screenshotsSkipped = 0;
+    bool welded = false;        // loads: the mesh's coincident vertices were welded
+    io::WeldReport weld;        // loads: welded, or (not welded) what a weld would join
 };
 
 struct FileCommands::Job {
@@ -91,12 +94,23 @@ std::string warningsText(const std::vector<std::string>& warnings) {
 Status cancelledStatus(const std::string& path) { return Status::error(path + ": loading cancelled"); }
 
 
+// Welds the loaded mesh when asked; otherwise counts what a weld would join (the status line offers it).
+void weldOrCount(io::ObjMesh& mesh, bool weld, JobResult& result) {
+    result.welded = weld;
+    if (weld) {
+        result.weld = io::weldCoincidentVertices(mesh);
+        return;
+    }
+    result.weld = io::countCoincidentVertices(mesh.positions);
+}
+
 JobResult loadMeshWork(const std::string& path, const core::LatticeSettings& settings,
-                       const core::InjectivitySettings& injectivity, bool trackJacobian, JobProgress& progress) {
+                       const core::InjectivitySettings& injectivity, bool trackJacobian, bool weld, JobProgress& progress) {
     JobResult result;
     io::ObjMesh mesh;
     result.status = io::loadMesh(path, mesh, &result.warnings, &progress.obj);
     if (!result.status) return result;
+    weldOrCount(mesh, weld, result);
     if (progress.cancelled()) {
         result.status = cancelledStatus(path);
         return result;
@@ -135,6 +149,7 @@ JobResult openSessionWork(const std::string& path, const std::string& fallbackMe
         result.status = Status::error(path + ": its mesh: " + s.message);
         return result;
     }
+    weldOrCount(mesh, script.weldMesh, result);  // as it was recorded
     progress.phase = static_cast<int>(JobPhase::Embedding);
     core::Session& session = result.session;
     if (Status s = session.setMesh(mesh.positions, mesh.triangles, script.lattice); !s) {
@@ -200,7 +215,7 @@ Status FileCommands::loadMeshNow(AppState& state, const std::string& path) {
     if (busy()) return Status::error("another file operation is running");
     JobProgress progress;
     JobResult result = loadMeshWork(path, settingsForNewMesh(state.session), state.session.injectivity(),
-                                    state.overlays.jacobian, progress);
+                                    state.overlays.jacobian, weldOnOpen_, progress);
     if (!result.status) return result.status;
     Job job;
     job.kind = JobKind::LoadMesh;
@@ -228,9 +243,9 @@ bool FileCommands::startOpen(AppState& state, const std::string& path) {
     } else {
         const core::LatticeSettings settings = settingsForNewMesh(state.session);
         const core::InjectivitySettings injectivity = state.session.injectivity();
-        const bool track = state.overlays.jacobian;
-        startJob(state, JobKind::LoadMesh, path, [path, settings, injectivity, track](JobProgress& progress) {
-            return loadMeshWork(path, settings, injectivity, track, progress);
+        const bool track = state.overlays.jacobian, weld = weldOnOpen_;
+        startJob(state, JobKind::LoadMesh, path, [path, settings, injectivity, track, weld](JobProgress& progress) {
+            return loadMeshWork(path, settings, injectivity, track, weld, progress);
         });
     }
     setStatus(state, "Opening " + shown + "...", false);
@@ -284,6 +299,7 @@ bool FileCommands::startSave(AppState& state, JobKind kind, const std::string& p
         });
     } else {
         core::Script script = core::recordSession(state.session);
+        script.weldMesh = document_.welded;
         // The session replays from the undeformed source. If that file was overwritten by a save, the session
         // brings its own copy of the undeformed mesh, written next to it.
         std::string basePath;
@@ -453,6 +469,7 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             document_.sourcePath = result.meshPath;
             document_.meshPath = result.meshPath;
             document_.mesh = std::move(result.mesh);
+            document_.welded = result.welded;
             if (session) document_.sessionPath = job.path;
             document_.saved = markHistory(state.session);
             const core::Session& s = state.session;
@@ -466,6 +483,15 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             text += " in " + took + ".";
             if (s.initialDegenerateTriangles() > 0)
                 text += " " + countOf(static_cast<size_t>(s.initialDegenerateTriangles()), "degenerate (zero-area) facet") + " in the file.";
+            const io::WeldReport& weld = result.weld;
+            const int joined = weld.verticesBefore - weld.verticesAfter;
+            if (result.welded && joined > 0)
+                text += " Welded " + countOf(static_cast<size_t>(weld.verticesBefore), "vertex", "vertices") + " at " +
+                        countOf(static_cast<size_t>(weld.verticesAfter), "position") + " into one surface.";
+            else if (!result.welded && joined > 0)
+                text += " " + countOf(static_cast<size_t>(joined), "vertex lies", "vertices lie") +
+                        " exactly on another (a triangle soup or split seams: drawn faceted, in parts); "
+                        "File > Weld coincident vertices on open joins them.";
             if (s.initialIntersectingPairs() > 0)
                 text += " The mesh already crosses itself (" + std::to_string(s.initialIntersectingPairs()) +
                         " triangle pairs); only new crossings are refused.";
@@ -746,6 +772,12 @@ void FileCommands::drawMenuBar(AppState& state) {
         if (ImGui::MenuItem("Save session...", nullptr, false, idle && hasMesh)) saveSession(state);
         ImGui::Separator();
         if (ImGui::MenuItem("Save screenshot...", nullptr, false, idle && hasMesh)) saveScreenshot(state);
+        ImGui::Separator();
+        ImGui::MenuItem("Weld coincident vertices on open", nullptr, &weldOnOpen_);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("Corners at exactly the same position become one vertex when a mesh is opened: a triangle\n"
+                              "soup (every triangle with corners of its own) is one smooth surface. Saved meshes keep\n"
+                              "the vertices in the file's order, the welded ones once. A session remembers it.");
         ImGui::Separator();
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) requestQuit(state);
         ImGui::EndMenu();

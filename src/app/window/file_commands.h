@@ -109,6 +109,9 @@ public:
     void finishJob(AppState& state);
     bool busy() const;
     bool loading() const;  // busy with a load (what Cancel stops)
+    // File > Weld coincident vertices on open (io/mesh_weld.h): the next meshes opened are welded; off at start.
+    bool weldOnOpen() const { return weldOnOpen_; }
+    void setWeldOnOpen(bool weld) { weldOnOpen_ = weld; }
     void cancelJob();
     float jobFraction() const;
     std::string jobLabel() const;
@@ -134,6 +137,7 @@ public:
     void drawModals(AppState& state);
 
 private:
+    bool weldOnOpen_ = false;
     enum class JobKind { LoadMesh, OpenSession, SaveMesh, SaveSession, SaveScreenshot };
     enum class DialogPurpose { OpenMesh, OpenSession, SaveMeshAs, SaveSession, SaveScreenshot, OpenLattice, SaveLattice };
     struct Job;
