@@ -78,13 +78,12 @@ TEST_CASE("window layout: no panel hides the det J legend or reaches under the s
             state.tools.lattice.points = {state.session.lattice().controlPointCount() / 2};
             const bool wasLattice = state.tools.mode == app::ToolMode::Lattice;
             if (!wasLattice) key(sculptApp, app::Key::Tab);
-            for (int step = 0; step < 14; ++step) {
+            for (int step = 0; step < 12; ++step) {
                 key(sculptApp, app::Key::G);
                 key(sculptApp, app::Key::X);
                 for (app::Key k : {app::Key::Digit0, app::Key::Period, app::Key::Digit0, static_cast<app::Key>(static_cast<int>(app::Key::Digit0) + 2)})
                     key(sculptApp, k);
                 key(sculptApp, app::Key::Enter);
-                REQUIRE(window.frame().ok);
                 REQUIRE(state.session.historyCursor() == step + 1);
             }
             if (!wasLattice) key(sculptApp, app::Key::Tab);
@@ -106,7 +105,7 @@ TEST_CASE("window layout: no panel hides the det J legend or reaches under the s
             checkReachable("###tools");
             // The history list shows its current entry, after new steps and after undoing most of them.
             CHECK(state.historyCurrentVisible);
-            for (int u = 0; u < 12; ++u) key(sculptApp, app::Key::Z, [] { app::Modifiers m; m.control = true; return m; }());
+            for (int u = 0; u < 10; ++u) key(sculptApp, app::Key::Z, [] { app::Modifiers m; m.control = true; return m; }());
             for (int f = 0; f < 3; ++f) REQUIRE(window.frame().ok);
             CHECK(state.session.historyCursor() == 2);
             CHECK(state.historyCurrentVisible);

@@ -18,6 +18,7 @@
 #include "io/png_image.h"
 #include "offscreen_window.h"
 #include "window_test_support.h"
+#include "../test_scale.h"
 
 using namespace sculpt;
 
@@ -290,7 +291,8 @@ TEST_CASE("window transform: a transform that would fold keeps what it showed an
     const double diagonal = (state.session.positions().colwise().maxCoeff() - state.session.positions().colwise().minCoeff()).norm();
     std::mt19937 random(303);
     int stops = 0, refused = 0, full = 0;
-    for (int trial = 0; trial < 40; ++trial) {
+    const int trials = test::scaledCount(40, 12);
+    for (int trial = 0; trial < trials; ++trial) {
         std::vector<int>& selection = state.tools.lattice.points;
         selection.clear();
         const int count = 1 + static_cast<int>(random() % 12);
