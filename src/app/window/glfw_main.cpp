@@ -18,6 +18,7 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
+#include <imgui_internal.h>
 
 #include "app/cli_options.h"
 #include "app/frame_pacer.h"
@@ -339,6 +340,8 @@ int runWindow(const std::string& meshPath) {
     long idleFramesStart = 0;
     std::chrono::steady_clock::time_point idleStart;
     FramePacer& pacer = context.pacer;
+    bool wasBusy = false;
+    int popupsBefore = 0;
     while (exitCode == kExitOk && !glfwWindowShouldClose(window) && !app.quitApproved()) {
         // The window draws when something changes (frame_pacer.h). note: while a load or save runs on the
         // worker thread the scene does not change; at most ~15 frames a second (its progress popup) leave the
@@ -395,6 +398,13 @@ int runWindow(const std::string& meshPath) {
         ImGui_ImplGlfw_NewFrame();
         if (Status s = app.renderFrame(width, height); !s) std::cerr << "sculpt: draw: " << s.message << "\n";
         pacer.frameDrawn();
+        // A job that ended or a popup that opened or closed in this frame (a prompt answered, a progress popup
+        // done) changed what the next frames show without an event: they are drawn too.
+        const bool busyNow = app.files().busy();
+        const int popupsNow = ImGui::GetCurrentContext() ? ImGui::GetCurrentContext()->OpenPopupStack.Size : 0;
+        if (busyNow != wasBusy || popupsNow != popupsBefore) pacer.noteActivity();
+        wasBusy = busyNow;
+        popupsBefore = popupsNow;
         // Keys held back for this frame reach ImGui and the app now: the frames after must see them.
         if (!context.keys.empty()) pacer.noteActivity();
         context.keys.frameDone();
