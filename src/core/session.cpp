@@ -461,6 +461,7 @@ const char* stepFailureCauseName(StepFailure::Cause cause) {
         case StepFailure::Cause::Boundary: return "boundary";
         case StepFailure::Cause::Lattice: return "lattice";
         case StepFailure::Cause::Uncertified: return "uncertified";
+        case StepFailure::Cause::MirrorPlane: return "symmetry";
         case StepFailure::Cause::SourceLeft: return "source";
         case StepFailure::Cause::None: break;
     }
@@ -476,6 +477,9 @@ std::string stepFailureWords(const StepFailure& failure, bool drag) {
         case StepFailure::Cause::Lattice: return std::string("the ") + (drag ? "mesh" : "lattice") + " would fold over itself" + near;
         case StepFailure::Cause::Uncertified:
             return "the deformation could not be certified free of folds" + near + " (no fold was found there; the tests stayed undecided)";
+        case StepFailure::Cause::MirrorPlane:
+            return "the grabbed point would meet its mirror image at the " + failure.plane +
+                   " symmetry plane (a symmetric deformation keeps each side of the plane on its side)";
         case StepFailure::Cause::SourceLeft:
         case StepFailure::Cause::None: break;
     }
@@ -488,6 +492,7 @@ std::string stepStopWords(StepFailure::Cause cause) {
         case StepFailure::Cause::Boundary: return "where the lattice's outer surface would fold onto itself";
         case StepFailure::Cause::Lattice: return "where the lattice would fold";
         case StepFailure::Cause::Uncertified: return "where the deformation could no longer be certified";
+        case StepFailure::Cause::MirrorPlane: return "where the grabbed point meets its mirror image";
         case StepFailure::Cause::SourceLeft:
         case StepFailure::Cause::None: break;
     }
@@ -501,6 +506,7 @@ std::string stepFailureAdvice(StepFailure::Cause cause) {
         case StepFailure::Cause::Lattice: return "try a smaller move or a finer lattice";
         case StepFailure::Cause::Uncertified:
             return "the move may well be injective: try it in smaller moves, a finer lattice there, or the exact test";
+        case StepFailure::Cause::MirrorPlane: return "pull along the plane or away from it, or turn symmetry off for this stroke";
         case StepFailure::Cause::SourceLeft:
         case StepFailure::Cause::None: break;
     }

@@ -115,14 +115,19 @@ struct TSplineSetup {
 struct StepFailure {
     // Lattice: a point with det J <= 0 was evaluated (a fold). Uncertified: the injectivity tests stayed undecided
     // after escalating (conic to exact, deeper subdivision) and found no fold: not proven, not known to fold.
-    enum class Cause { None, SourceLeft, Lattice, Uncertified, Boundary, Triangles } cause = Cause::None;
+    // MirrorPlane: a symmetric stroke's pull would carry the grabbed point onto or across a mirror plane, where it
+    // meets its own mirror image (an injective symmetric deformation keeps each side of the plane on its side),
+    // so the fold or crossing found there cannot be avoided; `technical` keeps what the test found.
+    enum class Cause { None, SourceLeft, Lattice, Uncertified, Boundary, Triangles, MirrorPlane } cause = Cause::None;
     std::string technical;  // e.g. "conic test fails in cell [2,4,1] (...)"
     // Triangles, on a mesh of several parts: which block it, e.g. "part 2 (340 triangles) and part 5 (1200
     // triangles) would cross (of the mesh's 12 parts)"; empty otherwise.
     std::string parts;
+    std::string plane;  // MirrorPlane: which plane, "X", "Y" or "Z"
     Eigen::Vector3d where = Eigen::Vector3d::Constant(NAN);  // world point near the failure (current shape)
 };
-// "lattice" (a fold), "uncertified", "boundary", "triangles", "source" or "" (OpReport::refusedBy).
+// "lattice" (a fold), "uncertified", "boundary", "triangles", "symmetry" (MirrorPlane), "source" or ""
+// (OpReport::refusedBy).
 const char* stepFailureCauseName(StepFailure::Cause cause);
 // Where a move stopped short, e.g. "where the lattice would fold", "where the deformation could no longer be
 // certified" (report reasons: "stopped " + this).

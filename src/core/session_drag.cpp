@@ -3,6 +3,7 @@
 // al. 2001, section 4: increments of one drag add up to one control displacement per lattice), tested and
 // subdivided like any operation (Gain & Dodgson 2001, Appendix), and the whole drag is one history entry.
 #include <algorithm>
+#include <cmath>
 
 #include "core/session.h"
 #include "core/session_internal.h"
@@ -298,6 +299,25 @@ void Session::updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport
         pulls.push_back({dragMirror_[e].source, dragPulled_[e] ? Eigen::Vector3d(targets[e] - dragMirror_[e].source) : Eigen::Vector3d::Zero()});
     StepFailure failure;
     const double share = applyBrushPulls(pulls, dragBrush_, dragOperation_.steps, report, failure);
+    if (share < 1.0 && dragBrush_.symmetry.any() &&
+        (failure.cause == StepFailure::Cause::Lattice || failure.cause == StepFailure::Cause::Triangles ||
+         failure.cause == StepFailure::Cause::Uncertified)) {
+        // A pull that carries its grabbed point onto or across a mirror plane meets the point's own mirror image
+        // there: no injective symmetric deformation does that, so the stop is the symmetry's, not the mesh's.
+        const double merge = mirrorMergeDistance(dragBrush_);
+        for (size_t e = 0; e < pulls.size() && failure.cause != StepFailure::Cause::MirrorPlane; ++e) {
+            if (!pulls[e].moving()) continue;
+            for (int a = 0; a < 3; ++a) {
+                if (!dragBrush_.symmetry.mirror[static_cast<size_t>(a)]) continue;
+                const double from = pulls[e].source[a] - symmetryCentre_[a], to = from + pulls[e].pull[a];
+                if (std::abs(from) > merge && (to == 0.0 || (to > 0.0) != (from > 0.0))) {
+                    failure.cause = StepFailure::Cause::MirrorPlane;
+                    failure.plane = std::string(1, static_cast<char>('X' + a));
+                    break;
+                }
+            }
+        }
+    }
     for (size_t e = 0; e < dragMirror_.size(); ++e)
         dragSourceWorld_[e] = strokeReached_[e];
     for (size_t e = 0; e < dragMirror_.size(); ++e)

@@ -180,6 +180,63 @@ TEST_CASE("brush: with symmetry the mirror images land on the mirrored targets, 
     CHECK(checked >= 20);
 }
 
+TEST_CASE("brush: a symmetric pull onto or across its mirror plane stops as the symmetry's, named in words, and other stops keep their cause", "[core]") {
+    // An injective deformation that is the identity far away and commutes with the mirror keeps each side of the
+    // plane on its side, so a grabbed point pulled onto the plane meets its own image: the stop is the symmetry's.
+    std::mt19937 rng(41);
+    const Eigen::Vector3d centre(0.3, 0.2, -0.5);
+    const Mesh mesh = sphereMesh(3, 1.0, centre);
+    int acrossStopped = 0, otherStopped = 0, strokes = 0;
+    for (int trial = 0; trial < 24; ++trial) {
+        Session session;
+        REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
+        BrushSettings brush;
+        brush.symmetry.mirror[0] = true;
+        brush.radius = std::uniform_real_distribution<double>(0.08, 0.2)(rng) * mesh.diagonal;
+        brush.falloff = randomFalloff(rng);
+        // A vertex off the plane x = centre.x (farther than the merge distance), near it or far from it.
+        int vertex = -1;
+        for (int attempt = 0; attempt < 1000 && vertex < 0; ++attempt) {
+            const int v = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
+            const double offPlane = std::abs(mesh.positions(v, 0) - centre.x());
+            if (offPlane > 0.05 && offPlane < (trial % 2 ? 0.3 : 0.9)) vertex = v;
+        }
+        REQUIRE(vertex >= 0);
+        const Eigen::Vector3d source = mesh.positions.row(vertex).transpose();
+        const double side = source.x() > centre.x() ? 1.0 : -1.0;
+        // Across the plane (toward it, past it) on even trials; along it, or away from it, on odd ones.
+        Eigen::Vector3d pull = test::randomVector(rng, -1.0, 1.0);
+        const double offPlane = std::abs(source.x() - centre.x());
+        pull.x() = trial % 2 == 0 ? -side * offPlane * std::uniform_real_distribution<double>(1.0, 2.5)(rng) : side * std::abs(pull.x()) * 0.3;
+        if (trial % 2 == 0) pull.y() *= 0.3 * offPlane, pull.z() *= 0.3 * offPlane;
+        else pull *= brush.radius / pull.norm();
+        const bool across = (source.x() + pull.x() - centre.x()) * side <= 0.0;
+        OpReport report;
+        REQUIRE(session.dragVertex(vertex, source + pull, report, brush).ok);
+        ++strokes;
+        const bool stopped = report.status != OpStatus::Applied || report.fractionApplied < 1.0;
+        INFO("trial " << trial << " across " << across << " refused_by " << report.refusedBy << ": " << report.reason);
+        if (report.refusedBy == "symmetry") {
+            CHECK(across);
+            CHECK(stopped);
+            CHECK(report.reason.find("meet its mirror image at the X symmetry plane") != std::string::npos);
+        }
+        if (stopped && across) {
+            CHECK(report.refusedBy == "symmetry");
+            ++acrossStopped;
+        }
+        if (stopped && !across) {
+            CHECK(report.refusedBy != "symmetry");
+            ++otherStopped;
+        }
+        // Whatever stopped it, the grabbed point stays on its side of the plane.
+        CHECK((session.positions()(vertex, 0) - centre.x()) * side > 0.0);
+    }
+    CHECK(strokes == 24);
+    CHECK(acrossStopped + otherStopped <= strokes);
+    CHECK(acrossStopped >= 8);  // every pull across the plane stops short of it (12 asked)
+}
+
 TEST_CASE("brush: a point on the mirror plane is one constraint moving in the plane", "[core]") {
     std::vector<MirroredConstraint> mirrored = mirrorConstraints({Eigen::Vector3d(0.0, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)}, {}, Symmetry{{true, false, false}},
                                                                  Eigen::Vector3d::Zero(), 1e-6);

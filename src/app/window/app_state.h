@@ -81,9 +81,9 @@ struct DragState {
     std::vector<int> constraintHandles;    // Surface: per constraint, its handle (ToolState::handles) or -1
     int moves = 0, refused = 0;                             // updates, and how many were rejected
     // Updates that did not go all the way, by what stopped them (OpReport::refusedBy: "lattice" a fold,
-    // "uncertified" undecided tests, "triangles" a crossing, "boundary", anything else), applied short or
-    // refused (status line).
-    int stoppedShort = 0, byFold = 0, byUncertified = 0, byCrossing = 0, byBoundary = 0, byOther = 0;
+    // "uncertified" undecided tests, "triangles" a crossing, "boundary", "symmetry" a grabbed point pulled onto
+    // its mirror plane, anything else), applied short or refused (status line).
+    int stoppedShort = 0, byFold = 0, byUncertified = 0, byCrossing = 0, byBoundary = 0, byMirror = 0, byOther = 0;
     double brushRadius = 0.0;  // Surface: the brush radius of this drag in world units (0: the whole cage)
     int grabbedConstraint = 0; // Surface: the constraint the cursor carries (the brush circle follows it)
 };

@@ -305,6 +305,7 @@ void SculptApp::updateSculpt(double x, double y) {
            : by == "uncertified" ? drag.byUncertified
            : by == "triangles"   ? drag.byCrossing
            : by == "boundary"    ? drag.byBoundary
+           : by == "symmetry"    ? drag.byMirror
                                  : drag.byOther);
     }
     reportOperation(state_, report, s,
@@ -334,6 +335,7 @@ void SculptApp::endSculpt() {
         if (finished.byUncertified > 0) causes.push_back(std::to_string(finished.byUncertified) + " where it could not be certified (no fold found)");
         if (finished.byCrossing > 0) causes.push_back(std::to_string(finished.byCrossing) + " where the surface would cross itself");
         if (finished.byBoundary > 0) causes.push_back(std::to_string(finished.byBoundary) + " where the lattice boundary would overlap");
+        if (finished.byMirror > 0) causes.push_back(std::to_string(finished.byMirror) + " where the grabbed point would meet its mirror image");
         if (finished.byOther > 0) causes.push_back(std::to_string(finished.byOther) + " for another reason");
         text += ", " + parts[0] + (parts.size() > 1 ? " and " + parts[1] : std::string());
         for (size_t c = 0; c < causes.size(); ++c) text += (c == 0 ? ": " : ", ") + causes[c];
