@@ -20,7 +20,7 @@ out vec4 fragColor;
 
 #include "jacobian_colors.glsl"
 
-// sRGB colours of the affected-region map (see the colour legend in the README); the material is kClay.
+// sRGB colours of the affected-region map (see "Colours in pictures" in docs/engine.md); the material is kClay.
 const vec3 kHighlight = vec3(0.10, 0.85, 0.45);  // affected region: green
 const vec3 kHighlightLine = vec3(0.02, 0.30, 0.14); // its boundary and half-weight iso-lines: dark green
 

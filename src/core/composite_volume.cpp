@@ -1,6 +1,10 @@
 // Composite lattices (Coquillart 1990, 3.1.2, 3.1.4): elementary lattices welded into one control volume.
 #include "core/composite_volume.h"
 
+#include <Eigen/Geometry>
+
+#include "core/volume_kinds.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -255,6 +259,27 @@ std::vector<std::array<Eigen::Vector3d, 2>> CompositeVolume::chunkEdgeLines() co
             lines.push_back(line);
         }
     return lines;
+}
+
+Status CompositeVolume::placed(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size,
+                               std::shared_ptr<const Volume>& out) const {
+    // Each part by the composite's similarity: the part's own placement (its centre to the image of its
+    // centre, its diagonal scaled alike) is exactly that similarity restricted to it.
+    if (Status s = checkPlacement(point, normal, size); !s) return s;
+    const Eigen::Matrix3d rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal.normalized()).toRotationMatrix();
+    const Eigen::Vector3d centre = restBounds().center();
+    const double scale = size / restBounds().diagonal().norm();
+    std::vector<std::shared_ptr<const LatticeNet>> parts;
+    for (const auto& block : blocks()) {
+        LatticeNet part;
+        const Eigen::Vector3d at = point + scale * (rotation * (block->bounds.center() - centre));
+        if (Status s = placeLatticeNet(*block, at, normal, scale * block->diagonal(), part); !s) return s;
+        parts.push_back(std::make_shared<const LatticeNet>(std::move(part)));
+    }
+    std::shared_ptr<const CompositeVolume> moved;
+    if (Status s = CompositeVolume::make(std::move(parts), moved); !s) return s;
+    out = std::move(moved);
+    return Status::success();
 }
 
 }  // namespace sculpt::core

@@ -41,6 +41,8 @@ public:
 
     // ---- Volume ----
     const std::string& kindName() const override { return kind_; }
+    // Each part by the composite's similarity (placeLatticeNet per part).
+    Status placed(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size, std::shared_ptr<const Volume>& out) const override;
     int controlPointCount() const override { return static_cast<int>(rest_.rows()); }
     const Positions& restControlPoints() const override { return rest_; }
     const std::vector<double>& controlWeights() const override { return weights_; }

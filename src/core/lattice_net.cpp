@@ -854,4 +854,11 @@ std::vector<std::array<Eigen::Vector3d, 2>> LatticeNet::chunkEdgeLines() const {
     return lines;
 }
 
+Status LatticeNet::placed(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size, std::shared_ptr<const Volume>& out) const {
+    LatticeNet moved;
+    if (Status s = placeLatticeNet(*this, point, normal, size, moved); !s) return s;
+    out = std::make_shared<const LatticeNet>(std::move(moved));
+    return Status::success();
+}
+
 }  // namespace sculpt::core

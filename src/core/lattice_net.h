@@ -118,6 +118,8 @@ struct LatticeNet final : Volume {
     void chunksAlong(int chunk, int axis, std::vector<int>& row, bool& closed) const override;
     std::vector<std::array<Eigen::Vector3d, 2>> chunkEdgeLines() const override;
     const LatticeNet* tensorNet() const override { return this; }
+    // placeLatticeNet, below.
+    Status placed(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size, std::shared_ptr<const Volume>& out) const override;
 };
 
 // Validates the raw fields (counts, degrees, multiplicities or knot vectors, rest #slots x 3 finite, weights > 0

@@ -156,7 +156,7 @@ struct WeightUndo {
 
 // The sculpting-by-weights tools (Song & Yang 2005 sec. 1 and 6, after Noble & Gordon 1999) as the user asked
 // for them (what a recording writes and a replay on another mesh decides again). Exact definitions:
-// Session::sculptWeights and README "Sculpting by weights".
+// Session::sculptWeights and docs/tsplines.md "Sculpting by weights".
 struct WeightToolSettings {
     enum class Tool { SetWeights, Hammer, Crimp };
     Tool tool = Tool::SetWeights;

@@ -3,6 +3,10 @@
 // volumes (sec. 4, 6) and the proof that a rest volume does not fold: tspline_rest.cpp.
 #include "core/tspline_volume.h"
 
+#include <Eigen/Geometry>
+
+#include "core/volume_kinds.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -745,5 +749,19 @@ private:
 }  // namespace
 
 std::unique_ptr<Volume::Locator> TSplineVolume::locatorFor(const Positions& points) const { return std::make_unique<TSplineLocator>(*this, points); }
+
+Status TSplineVolume::placed(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size,
+                             std::shared_ptr<const Volume>& out) const {
+    if (Status s = checkPlacement(point, normal, size); !s) return s;
+    const Eigen::Matrix3d rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal.normalized()).toRotationMatrix();
+    const Eigen::Vector3d centre = restBounds().center();
+    const double scale = size / restBounds().diagonal().norm();
+    Positions points = restControlPoints();
+    for (Eigen::Index s = 0; s < points.rows(); ++s) points.row(s) = (point + scale * (rotation * (points.row(s).transpose() - centre))).transpose();
+    std::shared_ptr<const TSplineVolume> moved;
+    if (Status s = TSplineVolume::make(sharedBasis(), std::move(points), controlWeights(), moved); !s) return s;
+    out = std::move(moved);
+    return Status::success();
+}
 
 }  // namespace sculpt::core

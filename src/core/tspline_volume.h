@@ -119,6 +119,8 @@ public:
 
     // ---- Volume ----
     const std::string& kindName() const override { return kind_; }
+    // The similarity applied to every control point; the T-lattice (parameter space) and weights are kept.
+    Status placed(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size, std::shared_ptr<const Volume>& out) const override;
     int controlPointCount() const override { return static_cast<int>(rest_.rows()); }
     const Positions& restControlPoints() const override { return rest_; }
     const std::vector<double>& controlWeights() const override { return weights_; }

@@ -39,6 +39,7 @@
 
 #include "core/bspline_basis.h"
 #include "core/mesh_types.h"
+#include "core/status.h"
 
 namespace sculpt::core {
 
@@ -157,6 +158,13 @@ public:
 
     // This volume as one tensor-product net, or null.
     virtual const LatticeNet* tensorNet() const { return nullptr; }
+
+    // The positioning command (Coquillart 1990, 3.2) for this kind: the same similarity for every control point,
+    // which moves the centre of restBounds() to `point`, turns its own z axis onto `normal` (the shortest
+    // rotation) and scales the bounds' diagonal to `size`; weights, welds and the parameter space are kept. The
+    // arguments are checked by placeVolume (volume_kinds.h), the one caller. A kind that cannot be placed keeps
+    // this default: an error naming the kind.
+    virtual Status placed(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size, std::shared_ptr<const Volume>& out) const;
 };
 
 // One Newton step of freezing (Coquillart 1990, 3.3; Song & Yang 2005, sec. 5): dt with dQ/dt dt = residual, by

@@ -1,4 +1,5 @@
-// Operations on a lattice of any kind that have to know the kinds (volume.h): placing a lattice tool.
+// Operations on a lattice of any kind (volume.h): placing a lattice tool, through each kind's Volume::placed
+// (a new kind places itself in its own files; nothing here names the kinds).
 #pragma once
 
 #include <memory>
@@ -17,5 +18,9 @@ namespace sculpt::core {
 // know; `out` is then untouched.
 Status placeVolume(const Volume& tool, const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size,
                    std::shared_ptr<const Volume>& out);
+
+// The checks every similarity placement makes: a finite point, a finite non-zero normal, a size finite and > 0;
+// the message names what is wrong.
+Status checkPlacement(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size);
 
 }  // namespace sculpt::core

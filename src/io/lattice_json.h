@@ -1,6 +1,6 @@
 // Lattice tools as JSON (Coquillart 1990, 3.1-3.2: lattices are tools kept in a library, apart from any
 // mesh). One format serves the library files (*.lattice.json), the scripts' "lattice" objects and the
-// recordings (README "Lattice files").
+// recordings (docs/lattices.md).
 //
 // A lattice object is either a predefined shape, decided when read:
 //   {"kind": "parallelepiped", "origin": [x,y,z], "edges": [[..],[..],[..]], "chunks": [3], "degree": [3]}

@@ -1,4 +1,4 @@
-// OPS.json scripts and REPORT.json reports (README "Script format").
+// OPS.json scripts and REPORT.json reports (docs/scripting.md, "Script format").
 #pragma once
 
 #include <string>

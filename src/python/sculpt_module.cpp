@@ -1,7 +1,7 @@
 // The Python module `sculpt` (pybind11): a session over the engine, driven by the script commands.
 //
 // Every command goes through the same path as a line of an OPS.json script: the Python arguments become that
-// op's JSON object (field names as in README "Script format"), io::parseScript reads and checks it, and
+// op's JSON object (field names as in docs/scripting.md "Script format"), io::parseScript reads and checks it, and
 // core::runScriptOp runs it, the function the window's commands and the command line go through. So a
 // Python call accepts what a script accepts, refuses what it refuses with the same message, and returns the
 // same report fields as the command line's REPORT.json (io::reportToJson). Mesh files go through the OBJ
@@ -423,7 +423,7 @@ PYBIND11_MODULE(sculpt, m) {
     m.doc() = R"doc(DMFFD Sculpt: direct-manipulation free-form deformation of triangle meshes.
 
 A Session holds one mesh in a NURBS control lattice and its undoable history. Its commands are the ops of
-the command line's OPS.json scripts (README "Script format"): same fields, same checks, same messages, and
+the command line's OPS.json scripts (docs/scripting.md "Script format"): same fields, same checks, same messages, and
 each returns that op's report as the command line's REPORT.json writes it (a dict: status "applied" /
 "rejected" / "no-op", reason, residuals, max_residual, rank_deficient, injectivity, refused_by, sub_steps,
 depth_reached, fraction_applied, control_points_changed, vertices_moved, times in ms).

@@ -1,5 +1,5 @@
 // The renderer's colours and screen-space sizes for everything that is not the mesh surface (the surface's
-// material and colour maps are in shaders/mesh.frag). The README's colour legend describes these.
+// material and colour maps are in shaders/mesh.frag). docs/engine.md, "Colours in pictures", describes these.
 // Colours are sRGB + alpha in [0, 1]; sizes are pixels at pixel scale 1 (a 1280 x 800 screenshot).
 #pragma once
 

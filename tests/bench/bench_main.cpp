@@ -1,4 +1,4 @@
-// sculpt_bench: speed of the engine's hot paths (README "Benchmark"). One JSON line per case, median of
+// sculpt_bench: speed of the engine's hot paths (docs/benchmarks.md). One JSON line per case, median of
 // >= 10 runs. Not a test: nothing here asserts a time.
 //
 // Usage: sculpt_bench [case-name-substring ...]   (no argument: every case)
@@ -609,7 +609,7 @@ void benchBrush() {
             computeVertexNormals(positions, triangles, normals);
             const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
             // Crossings at load (CGAL's camel has 20): the product lets such a contact shift within two rings of its
-            // triangles (README, "Parts in contact"); a new pair there is counted apart, any other is a crossing.
+            // triangles (docs/formats.md, "Parts in contact"); a new pair there is counted apart, any other is a crossing.
             const std::vector<std::pair<int, int>> loadPairs = test::intersectingPairs(positions, triangles);
             const size_t initialPairs = loadPairs.size();
             std::vector<std::uint8_t> contactZone(static_cast<size_t>(triangles.rows()), 0);

@@ -61,7 +61,7 @@ TEST_CASE("brush detail: after a stroke, moving the whole cage rigidly moves the
             INFO(mesh.name << " trial " << trial);
             Session session;
             // A cage with room for the spike: a vertex pulled out of the cage's box is outside the cage, which
-            // carries only what it holds (README, "The brush").
+            // carries only what it holds (docs/window.md, "The brush").
             LatticeSettings cage;
             cage.padding = 0.4;
             REQUIRE(session.setMesh(mesh.positions, mesh.triangles, cage).ok);

@@ -114,7 +114,7 @@ TEST_CASE("brush: a drag with radius r pulls the grabbed point as far as asked a
             INFO("level " << level << " trial " << trial << " radius " << brush.radius << " pull " << length / brush.radius << " radii, falloff "
                           << brushFalloffName(brush.falloff) << ": " << report.reason);
             REQUIRE(report.status == OpStatus::Applied);
-            // Medium's steep rim makes long pulls stop short sooner (README, "The brush"); smooth and sharp go all the way.
+            // Medium's steep rim makes long pulls stop short sooner (docs/window.md, "The brush"); smooth and sharp go all the way.
             if (brush.falloff != BrushFalloff::Medium) {
                 ++counted;
                 full += report.fractionApplied == 1.0;

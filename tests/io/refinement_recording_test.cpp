@@ -50,7 +50,7 @@ void raise(Session& session, const std::vector<int>& ids, double height) {
 }  // namespace
 
 TEST_CASE("refinement recording: a session with refinements replays to the same vertices and triangles bitwise", "[refine]") {
-    // Control-point edits in the cage (what replays bit for bit, README "Recording"), an explicit refine, the
+    // Control-point edits in the cage (what replays bit for bit, docs/scripting.md "Recording"), an explicit refine, the
     // automatic option, undo and redo.
     Positions positions(6, 3);
     positions << 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 1, 1, 0, 2, 1, 0;
@@ -104,7 +104,7 @@ TEST_CASE("refinement recording: a session with refinements replays to the same 
 }
 
 TEST_CASE("refinement recording: random drags and refinements replay to the same triangles, vertices to 1e-12", "[refine]") {
-    // Subdivided drags replay one step per lattice and round differently in the last bits (README
+    // Subdivided drags replay one step per lattice and round differently in the last bits (docs/scripting.md,
     // "Recording"); the refinements on top of them split the same edges.
     std::mt19937 rng(4242);
     for (int trial = 0; trial < 4; ++trial) {

@@ -289,10 +289,10 @@ TEST_CASE("weights: the crimp keeps the peak height and scales the width at half
         for (int v : bump.vertices)
             if (h[static_cast<size_t>(v)] > h[static_cast<size_t>(peak)]) peak = v;
         const double height = h[static_cast<size_t>(peak)];
-        // Widths on the surface as it is before the crimp (README: which surface points the bump lifts).
+        // Widths on the surface as it is before the crimp (docs/tsplines.md: which surface points the bump lifts).
         const Positions restBefore = session.restPositions();
         const double widthBefore = sampledWidth(session, restBefore, bump.vertices, h, 0.5 * height);
-        // Within the reach of one control point's weight (README: about x0.9 to x1.9 here).
+        // Within the reach of one control point's weight (docs/tsplines.md: about x0.9 to x1.9 here).
         const double factors[4] = {0.93, 1.4, 0.91, 1.75};
         const double factor = factors[trial];
         const OpReport report = applyTool(session, crimp(peak, factor));

@@ -176,6 +176,36 @@ TEST_CASE("window brush: with X symmetry the mirror image of the grabbed point f
     CHECK(state.session.history().front().label.find("symmetric in x") != std::string::npos);
 }
 
+TEST_CASE("window brush: a symmetric stroke dragged across its mirror plane stops before it, and the status line says it met its mirror image", "[gl]") {
+    app::SculptApp sculptApp;
+    test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+    app::AppState& state = sculptApp.state();
+    state.tools.brush.settings.symmetry.mirror[0] = true;
+    const Eigen::Vector3d centre = state.session.symmetryCentre();
+    // Grab left of the middle of the view and drag right, across the plane x = centre.x, in 20 px moves.
+    const double cx = 0.5 * kWidth - 120.0, cy = 0.5 * kHeight - 40.0;
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
+    REQUIRE(state.drag.active);
+    const Eigen::Vector3d start = state.drag.planePoint;
+    REQUIRE(start.x() < centre.x());
+    int bySymmetry = 0, across = 0;
+    for (int m = 1; m <= 12; ++m) {
+        move(sculptApp, cx + 20.0 * m, cy);
+        across += state.drag.targets.front().x() >= centre.x();
+        if (state.lastReport.refusedBy == "symmetry") {
+            ++bySymmetry;
+            CHECK(state.lastReport.reason.find("meet its mirror image at the X symmetry plane") != std::string::npos);
+        }
+        // Wherever the cursor is, the grabbed point (the first source; its mirror image follows) stays on its side.
+        CHECK((state.session.dragSources().front().x() - centre.x()) * (start.x() - centre.x()) > 0.0);
+    }
+    sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx + 240.0, cy, {}}, {});
+    REQUIRE(across > 0);
+    CHECK(bySymmetry == across);  // every move whose target was across the plane stopped as the symmetry's
+    INFO(state.status);
+    CHECK(state.status.find(std::to_string(bySymmetry) + " where the grabbed point would meet its mirror image") != std::string::npos);
+}
+
 TEST_CASE("window brush: the affected-region overlay shows what a finished stroke moved, baked as it is", "[gl]") {
     // After a stroke its layers are baked into the rest shape and gone; the overlay places its regions again.
     const test::TestMesh mesh = test::makeIcosphere(4);

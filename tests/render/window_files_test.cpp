@@ -135,7 +135,7 @@ struct UiFrames {
 }  // namespace
 
 TEST_CASE("window files: opening an OBJ runs in the background while frames keep being drawn", "[gl]") {
-    // SCULPT_FILES_TEST_GRID=1000 measures the 1M-vertex case (README "Files"); the default keeps the test short.
+    // SCULPT_FILES_TEST_GRID=1000 measures the 1M-vertex case (docs/window.md, "Files"); the default keeps the test short.
     const char* gridEnv = std::getenv("SCULPT_FILES_TEST_GRID");
     const int n = gridEnv && *gridEnv ? std::atoi(gridEnv) : 300;
     TempFolder folder;
