@@ -265,15 +265,12 @@ Status CompositeVolume::placed(const Eigen::Vector3d& point, const Eigen::Vector
                                std::shared_ptr<const Volume>& out) const {
     // Each part by the composite's similarity: the part's own placement (its centre to the image of its
     // centre, its diagonal scaled alike) is exactly that similarity restricted to it.
-    if (Status s = checkPlacement(point, normal, size); !s) return s;
-    const Eigen::Matrix3d rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal.normalized()).toRotationMatrix();
-    const Eigen::Vector3d centre = restBounds().center();
-    const double scale = size / restBounds().diagonal().norm();
+    PlacementSimilarity similarity;
+    if (Status s = placementSimilarity(restBounds(), point, normal, size, similarity); !s) return s;
     std::vector<std::shared_ptr<const LatticeNet>> parts;
     for (const auto& block : blocks()) {
         LatticeNet part;
-        const Eigen::Vector3d at = point + scale * (rotation * (block->bounds.center() - centre));
-        if (Status s = placeLatticeNet(*block, at, normal, scale * block->diagonal(), part); !s) return s;
+        if (Status s = placeLatticeNet(*block, similarity(block->bounds.center()), normal, similarity.scale * block->diagonal(), part); !s) return s;
         parts.push_back(std::make_shared<const LatticeNet>(std::move(part)));
     }
     std::shared_ptr<const CompositeVolume> moved;

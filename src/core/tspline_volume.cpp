@@ -752,12 +752,10 @@ std::unique_ptr<Volume::Locator> TSplineVolume::locatorFor(const Positions& poin
 
 Status TSplineVolume::placed(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size,
                              std::shared_ptr<const Volume>& out) const {
-    if (Status s = checkPlacement(point, normal, size); !s) return s;
-    const Eigen::Matrix3d rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal.normalized()).toRotationMatrix();
-    const Eigen::Vector3d centre = restBounds().center();
-    const double scale = size / restBounds().diagonal().norm();
+    PlacementSimilarity similarity;
+    if (Status s = placementSimilarity(restBounds(), point, normal, size, similarity); !s) return s;
     Positions points = restControlPoints();
-    for (Eigen::Index s = 0; s < points.rows(); ++s) points.row(s) = (point + scale * (rotation * (points.row(s).transpose() - centre))).transpose();
+    for (Eigen::Index s = 0; s < points.rows(); ++s) points.row(s) = similarity(points.row(s).transpose()).transpose();
     std::shared_ptr<const TSplineVolume> moved;
     if (Status s = TSplineVolume::make(sharedBasis(), std::move(points), controlWeights(), moved); !s) return s;
     out = std::move(moved);

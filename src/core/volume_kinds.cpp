@@ -9,10 +9,15 @@ Status Volume::placed(const Eigen::Vector3d&, const Eigen::Vector3d&, double, st
     return Status::error("placing a " + kindName() + " lattice is not supported");
 }
 
-Status checkPlacement(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size) {
+Status placementSimilarity(const Eigen::AlignedBox3d& bounds, const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size,
+                           PlacementSimilarity& out) {
     if (!point.allFinite() || !normal.allFinite() || !(normal.norm() > 0.0))
         return Status::error("placing a lattice needs a finite point and a non-zero normal");
     if (!(size > 0.0) || !std::isfinite(size)) return Status::error("placing a lattice needs a size that is finite and > 0");
+    out.rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal.normalized()).toRotationMatrix();
+    out.from = bounds.center();
+    out.to = point;
+    out.scale = size / bounds.diagonal().norm();
     return Status::success();
 }
 

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "core/status.h"
 #include "core/volume.h"
@@ -19,8 +20,18 @@ namespace sculpt::core {
 Status placeVolume(const Volume& tool, const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size,
                    std::shared_ptr<const Volume>& out);
 
-// The checks every similarity placement makes: a finite point, a finite non-zero normal, a size finite and > 0;
-// the message names what is wrong.
-Status checkPlacement(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size);
+// The similarity of the positioning command: x -> to + scale * rotation (x - from), which takes the centre of
+// `bounds` (a volume's rest bounds) to `point`, its z axis onto `normal` (the shortest rotation) and its
+// diagonal to `size`.
+struct PlacementSimilarity {
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
+    double scale = 1.0;
+    Eigen::Vector3d operator()(const Eigen::Vector3d& x) const { return to + scale * (rotation * (x - from)); }
+};
+// Fails, naming what is wrong, on a point that is not finite, a normal that is zero or not finite, or a size that
+// is not finite and > 0 (`out` untouched).
+Status placementSimilarity(const Eigen::AlignedBox3d& bounds, const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size,
+                           PlacementSimilarity& out);
 
 }  // namespace sculpt::core
