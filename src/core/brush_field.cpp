@@ -16,6 +16,22 @@ double segmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const
     return (x - (a + s * ab)).norm();
 }
 
+Eigen::Vector3d sharedPullDirection(const std::vector<BrushPull>& pulls) {
+    std::vector<Eigen::Vector3d> directions;
+    for (const BrushPull& p : pulls)
+        if (p.moving()) directions.push_back(p.pull.normalized());
+    if (directions.empty()) return Eigen::Vector3d::Zero();
+    if (directions.size() == 1) return directions.front();
+    constexpr double kCosine = 0.9063077870366499;  // cos 25 degrees
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (size_t a = 0; a < directions.size(); ++a) {
+        for (size_t b = a + 1; b < directions.size(); ++b)
+            if (directions[a].dot(directions[b]) < kCosine) return Eigen::Vector3d::Zero();
+        sum += directions[a];
+    }
+    return sum.normalized();
+}
+
 double brushFieldSlope(double pullLength, double radius) {
     // At most 0.7 (det J >= 0.3: margin for the spline's smoothing); steeper only where the ramp must end within 1.25 radius of the segment.
     return std::max(0.7, pullLength / (pullLength + 0.75 * radius));
@@ -87,8 +103,9 @@ Status pullRegionLattice(const std::vector<BrushPull>& pulls, double radius, Reg
     // of the field's samples at the Greville points are means of the field's own derivative along the pull:
     // det J = 1 + e . grad(u . e) keeps the field's bound for every falloff, however steep across the pull.
     // The box is also no larger than the capsule's: |d| + 2.5 r long, 2.5 r wide.
-    if (moving.size() == 1) {
-        const Eigen::Vector3d e = moving.front()->pull.normalized();
+    // Several pulls sharing a direction (mirror images along the plane): turned to it alike.
+    if (const Eigen::Vector3d shared = sharedPullDirection(pulls); shared.squaredNorm() > 0.0) {
+        const Eigen::Vector3d e = moving.size() == 1 ? Eigen::Vector3d(moving.front()->pull.normalized()) : shared;
         const Eigen::Vector3d u = e.unitOrthogonal(), v = e.cross(u);
         region.axes.row(0) = u.transpose();
         region.axes.row(1) = v.transpose();
@@ -179,10 +196,17 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
     for (size_t p = 0; p < pulls.size(); ++p)
         if (pulls[p].moving()) moving.push_back(p);
     const size_t m = moving.size();
+    // Several pulls with a shared direction e: each field is taken along e (the pull's part along it), so
+    // every one keeps its slope bound along the one axis the region is turned to.
+    const Eigen::Vector3d shared = m > 1 ? sharedPullDirection(pulls) : Eigen::Vector3d::Zero();
+    const bool joint = shared.squaredNorm() > 0.0;
     std::vector<Eigen::VectorXd> fields(m, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(free.size())));
-    for (size_t k = 0; k < m; ++k)
+    for (size_t k = 0; k < m; ++k) {
+        const BrushPull& p = pulls[moving[k]];
+        const BrushPull along{p.source, joint ? Eigen::Vector3d(p.pull.dot(shared) * shared) : p.pull};
         for (size_t c = 0; c < free.size(); ++c)
-            fields[k][static_cast<Eigen::Index>(c)] = brushFieldWeight(pulls[moving[k]], radius, falloff, region.restControlPoint(free[c]));
+            fields[k][static_cast<Eigen::Index>(c)] = brushFieldWeight(along, radius, falloff, region.restControlPoint(free[c]));
+    }
     std::vector<int> slot(static_cast<size_t>(n), -1);
     for (size_t c = 0; c < free.size(); ++c) slot[static_cast<size_t>(free[c])] = static_cast<int>(c);
     // value[i][k]: field k's spline at constrained source i (partition of unity: the quasi-interpolant's value).
@@ -206,13 +230,40 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
             a(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = value[row][k] * pulls[moving[k]].pull.dot(e);
         b[static_cast<Eigen::Index>(i)] = pulls[moving[i]].pull.norm();
     }
-    Eigen::VectorXd scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(m));
-    const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
-    if (m > 0 && lu.rank() == static_cast<Eigen::Index>(m)) scale = lu.solve(b);
-    if (!scale.allFinite()) scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(m));
     Positions dense = Positions::Zero(static_cast<Eigen::Index>(free.size()), 3);
-    for (size_t k = 0; k < m; ++k)
-        dense += (scale[static_cast<Eigen::Index>(k)] * fields[k]) * pulls[moving[k]].pull.transpose();
+    if (joint) {
+        // One field along the shared direction: the largest pull share at each point (max keeps every pull's
+        // slope bound along e; a sum would add them). Each source's own pull is met where its field is largest;
+        // what is across e and what the neighbour's field adds are left to the correction below.
+        Eigen::VectorXd along = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(free.size()));
+        for (size_t c = 0; c < free.size(); ++c)
+            for (size_t k = 0; k < m; ++k)
+                along[static_cast<Eigen::Index>(c)] = std::max(along[static_cast<Eigen::Index>(c)], fields[k][static_cast<Eigen::Index>(c)] * pulls[moving[k]].pull.dot(shared));
+        // One scale for the field (the quasi-interpolant lowers a peak), least squares over the moving sources'
+        // pulls along e: mirror images are met exactly by it, the rest by the correction.
+        double num = 0.0, den = 0.0;
+        for (size_t i = 0; i < m; ++i) {
+            const size_t row = static_cast<size_t>(std::find(constrained.begin(), constrained.end(), moving[i]) - constrained.begin());
+            SupportWeights support;
+            supportWeights(region, params[row], support);
+            double atSource = 0.0;
+            for (int s = 0; s < support.count; ++s) {
+                const int c = slot[static_cast<size_t>(support.index[s])];
+                if (c >= 0) atSource += support.weight[s] * along[c];
+            }
+            num += atSource * pulls[moving[i]].pull.dot(shared);
+            den += atSource * atSource;
+        }
+        const double scale = den > 0.0 && std::isfinite(num / den) ? num / den : 1.0;
+        for (size_t c = 0; c < free.size(); ++c) dense.row(static_cast<Eigen::Index>(c)) = (scale * along[static_cast<Eigen::Index>(c)]) * shared.transpose();
+    } else {
+        Eigen::VectorXd scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(m));
+        const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
+        if (m > 0 && lu.rank() == static_cast<Eigen::Index>(m)) scale = lu.solve(b);
+        if (!scale.allFinite()) scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(m));
+        for (size_t k = 0; k < m; ++k)
+            dense += (scale[static_cast<Eigen::Index>(k)] * fields[k]) * pulls[moving[k]].pull.transpose();
+    }
     // What the scales leave (held sources, crossing regions): the minimum-norm correction (Hu et al. eq. 12).
     const auto sourceResiduals = [&](Eigen::MatrixX3d& rows) {
         rows.resize(static_cast<Eigen::Index>(constrained.size()), 3);

@@ -57,17 +57,26 @@ double brushFieldSlope(double pullLength, double radius);
 // phi(x) above, in [0, 1]: the share of the pull that the point x moves. radius > 0.
 double brushFieldWeight(const BrushPull& pull, double radius, BrushFalloff falloff, const Eigen::Vector3d& x);
 
+// The direction several moving pulls share, when every two of them are within 25 degrees of each other
+// (mirror images of a pull along, or nearly along, the mirror plane): the unit sum of their directions; one
+// moving pull: its own direction; zero otherwise. A field along it with the share u(x) = max_k |d_k| phi_k(x)
+// keeps each pull's slope bound, so det J = 1 + e . grad u >= 1 - max_k k_k > 0 (brushFieldDelta): images
+// within reach of each other are pulled by one field instead of holding each other back.
+Eigen::Vector3d sharedPullDirection(const std::vector<BrushPull>& pulls);
+
 // Distance from x to the segment from a to b (a == b: to the point).
 double segmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
 // The region lattice of a stroke: a cubic box lattice around every moving pull's capsule (its segment grown
-// by 1.25 radius), whose free control points are those with the whole basis support within 1.25 radius of one
-// moving pull's segment. Fails on no moving pull, non-finite input, or a radius that is not finite and > 0.
+// by 1.25 radius), turned so that its w axis is the pulls' shared direction where they have one
+// (sharedPullDirection), whose free control points are those with the whole basis support within 1.25 radius
+// of one moving pull's segment. Fails on no moving pull, non-finite input, or a radius that is not finite and > 0.
 Status pullRegionLattice(const std::vector<BrushPull>& pulls, double radius, RegionLattice& out);
 
 // The control displacement of the stroke in `region` (made from pullRegionLattice's placement, every point
 // but the free ones pinned): the fields of the moving pulls at the free control points' rest (Greville)
-// positions, scaled per pull so each moving source lands on source + pull, then corrected by the minimum-norm
+// positions, scaled per pull so each moving source lands on source + pull (several pulls with a shared
+// direction e: one field along e, max_k |d_k| phi_k, unscaled), then corrected by the minimum-norm
 // solution (Hu et al. 2001, eq. 7 / 12) for what the scales leave: the held sources' displacement and the
 // cross-talk of overlapping regions. residual: the largest distance of a source from its target afterwards
 // (world units; 0 up to rounding unless the free points cannot reach a source).

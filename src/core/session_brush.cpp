@@ -49,6 +49,26 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
     std::vector<Eigen::Vector3d> where;  // each grabbed image, where the layers entered so far put it
     // One layer per moving image, each a field along its own pull (brush_field.h), so every layer is proven by
     // the directional bound and undone along its line; the images already placed are held where they are.
+    // Images whose pulls share a direction (mirror images of a pull along the plane) are pulled by one field in
+    // one layer instead: held inside each other's region, near the plane, they would bend each other's field
+    // into a fold at once.
+    // (Apart, out of each other's reach, they keep a layer each: each moves exactly along its own pull.)
+    int movingCount = 0;
+    bool withinReach = false;
+    for (size_t a = 0; a < pulls.size(); ++a) {
+        if (!pulls[a].moving()) continue;
+        ++movingCount;
+        for (size_t b = a + 1; b < pulls.size() && !withinReach; ++b) {
+            if (!pulls[b].moving()) continue;
+            // The two capsules (segments grown by the reach) overlap: segment distance < 2 reaches, sampled.
+            for (int t = 0; t <= 16 && !withinReach; ++t) {
+                const Eigen::Vector3d x = pulls[a].source + (t / 16.0) * pulls[a].pull;
+                withinReach = segmentDistance(x, pulls[b].source, pulls[b].source + pulls[b].pull) < 2.0 * kBrushReach * brush.radius;
+            }
+        }
+    }
+    const bool jointPossible = movingCount > 1 && withinReach && sharedPullDirection(pulls).squaredNorm() > 0.0;
+    bool joint = false;  // the mode `attempt` uses
     const auto attempt = [&](double share) {
         where.clear();
         for (const BrushPull& p : pulls) where.push_back(p.source);
@@ -67,7 +87,8 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
             if (!pulls[k].moving()) continue;
             std::vector<BrushPull> local;
             for (size_t j = 0; j < pulls.size(); ++j)
-                local.push_back(j == k ? BrushPull{where[k], pulls[k].source + share * pulls[k].pull - where[k]} : BrushPull{where[j], Eigen::Vector3d::Zero()});
+                local.push_back(j == k || (joint && pulls[j].moving()) ? BrushPull{where[j], pulls[j].source + share * pulls[j].pull - where[j]}
+                                                                       : BrushPull{where[j], Eigen::Vector3d::Zero()});
             if (!local[k].moving()) continue;
             RegionLattice region;
             if (Status s = pullRegionLattice(local, brush.radius, region); !s) return fail(s);
@@ -100,6 +121,7 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
             for (size_t j = 0; j < local.size(); ++j) step.constraints.push_back({local[j].source, local[j].source + local[j].pull});
             steps.push_back(std::move(step));
             ++entered;
+            if (joint) break;  // every image is in this one layer
         }
         return true;
     };
@@ -117,9 +139,12 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
                 break;
             }
     if (moving) {
+        StepFailure first;
         if (attempt(1.0)) {
             share = 1.0;
-        } else if (failure.cause != StepFailure::Cause::SourceLeft) {
+        } else if (first = failure, jointPossible && failure.cause != StepFailure::Cause::SourceLeft && (joint = true, attempt(1.0))) {
+            share = 1.0;  // one layer per image folded; one field for both carries it
+        } else if (joint = false, failure = first, failure.cause != StepFailure::Cause::SourceLeft) {
             // The last injective point along the pull (to 1/64 of it; from a hint, to 1/8 of what is left past
             // it), as a control-point edit stops.
             const StepFailure stopped = failure;
@@ -151,6 +176,34 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
             failure = stopped;
             if (kept) share = lo;
             else if (lo > 0.0 && attempt(lo)) share = lo;
+            if (jointPossible && share < 1.0) {
+                // One field for the images may carry them further than a layer each (never less: the layers
+                // each found stay unless the field passes beyond them).
+                popLayers(steps.size(), &moved);
+                steps.clear();
+                joint = true;
+                double jointLo = share, jointHi = 1.0;
+                bool jointKept = false;
+                for (int iteration = 0; iteration < 4; ++iteration) {
+                    const double mid = 0.5 * (jointLo + jointHi);
+                    if (attempt(mid)) {
+                        jointLo = mid;
+                        jointKept = iteration + 1 == 4;
+                        if (jointKept) break;
+                        popLayers(steps.size(), &moved);
+                        steps.clear();
+                    } else {
+                        jointHi = mid;
+                    }
+                }
+                if (!jointKept && !(jointLo > share && attempt(jointLo))) {
+                    joint = false;
+                    jointLo = share;
+                    if (share > 0.0 && !attempt(share)) share = 0.0;  // passed before: cannot happen
+                }
+                share = jointLo;
+                failure = stopped;
+            }
         }
     }
     if (share == 0.0 && hadStep && moving) {

@@ -237,6 +237,63 @@ TEST_CASE("brush: a symmetric pull onto or across its mirror plane stops as the 
     CHECK(acrossStopped >= 8);  // every pull across the plane stops short of it (12 asked)
 }
 
+TEST_CASE("brush: mirror images near the plane pulled along it move as one field, as far as the stroke without symmetry", "[core]") {
+    // Images within each other's reach, a hair off the plane: one layer each, each holding the other inside its
+    // region, folded at once (a new user: 3 px off the camel's spine, 8% of a 100 px pull). With the pulls
+    // sharing a direction, one field carries both (brush_field.h, sharedPullDirection).
+    std::mt19937 rng(57);
+    const Eigen::Vector3d centre(0.3, 0.2, -0.5);
+    const Mesh mesh = sphereMesh(4, 1.0, centre);
+    int full = 0, trials = 0;
+    for (int trial = 0; trial < 12; ++trial) {
+        BrushSettings brush;
+        brush.symmetry.mirror[0] = true;
+        brush.radius = std::uniform_real_distribution<double>(0.08, 0.15)(rng) * mesh.diagonal;
+        brush.falloff = randomFalloff(rng);
+        // Off the plane x = centre.x by more than the merge distance and less than a tenth of the radius.
+        const double merge = 0.25 * brush.radius / kBrushFieldSpansPerRadius;
+        int vertex = -1;
+        for (int attempt = 0; attempt < 5000 && vertex < 0; ++attempt) {
+            const int v = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
+            const double offPlane = std::abs(mesh.positions(v, 0) - centre.x());
+            if (offPlane > 2.0 * merge && offPlane < 0.1 * brush.radius) vertex = v;
+        }
+        if (vertex < 0) continue;
+        const Eigen::Vector3d source = mesh.positions.row(vertex).transpose();
+        // Along the plane: outward (the sphere's normal, its x part dropped) or sideways in the plane.
+        Eigen::Vector3d normal = (source - centre).normalized();
+        normal.x() = 0.0;
+        const Eigen::Vector3d inPlane = trial % 2 ? normal.normalized() : Eigen::Vector3d::UnitX().cross(normal).normalized();
+        const Eigen::Vector3d target = source + std::uniform_real_distribution<double>(0.5, 1.5)(rng) * brush.radius * inPlane;
+        Session alone, mirrored;
+        REQUIRE(alone.setMesh(mesh.positions, mesh.triangles).ok);
+        REQUIRE(mirrored.setMesh(mesh.positions, mesh.triangles).ok);
+        OpReport withoutSymmetry, withSymmetry;
+        BrushSettings single = brush;
+        single.symmetry = Symmetry{};
+        REQUIRE(alone.dragVertex(vertex, target, withoutSymmetry, single).ok);
+        REQUIRE(mirrored.dragVertex(vertex, target, withSymmetry, brush).ok);
+        if (withoutSymmetry.status != OpStatus::Applied || withoutSymmetry.fractionApplied < 1.0) continue;
+        ++trials;
+        INFO("trial " << trial << ": " << withSymmetry.reason);
+        CHECK(withSymmetry.status == OpStatus::Applied);
+        CHECK(withSymmetry.fractionApplied == 1.0);
+        if (withSymmetry.status != OpStatus::Applied || withSymmetry.fractionApplied < 1.0) continue;
+        ++full;
+        // The grabbed point and its mirror image land exactly.
+        CHECK((mirrored.positions().row(vertex).transpose() - target).norm() <= 1e-9 * mesh.diagonal);
+        double distance = 0.0;
+        const int image = nearestVertex(mesh.positions, reflectPoint(source, 1, centre), &distance);
+        REQUIRE(distance <= 1e-12 * mesh.diagonal);
+        CHECK((mirrored.positions().row(image).transpose() - reflectPoint(target, 1, centre)).norm() <= 1e-9 * mesh.diagonal);
+        // Undo is exact.
+        REQUIRE(mirrored.undo(withSymmetry).ok);
+        CHECK((mirrored.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+    }
+    CHECK(trials >= 6);
+    CHECK(full == trials);
+}
+
 TEST_CASE("brush: a point on the mirror plane is one constraint moving in the plane", "[core]") {
     std::vector<MirroredConstraint> mirrored = mirrorConstraints({Eigen::Vector3d(0.0, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)}, {}, Symmetry{{true, false, false}},
                                                                  Eigen::Vector3d::Zero(), 1e-6);
