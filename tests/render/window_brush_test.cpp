@@ -51,7 +51,13 @@ TEST_CASE("window brush: F and a mouse move set the radius, Shift+F the strength
 
     press(sculptApp, app::Key::F);
     REQUIRE(brush.resize == app::BrushTool::Resize::Radius);
+    // The circle is drawn round the centre the radius is measured from, one radius left of the cursor, so the
+    // cursor sits on its rim (it was drawn round the cursor).
+    REQUIRE(brush.hover);
+    CHECK((pixelOf(state, brush.hoverPoint) - Eigen::Vector2d(brush.centreX, brush.centreY)).norm() < 1.0);
+    CHECK(brush.centreX == Approx(cx - start));
     move(sculptApp, cx + 50.0, cy);  // the centre sits one radius left of where F was pressed
+    CHECK((pixelOf(state, brush.hoverPoint) - Eigen::Vector2d(brush.centreX, brush.centreY)).norm() < 1.0);
     CHECK(brush.radiusPixels == Approx(start + 50.0));
     click(sculptApp, cx + 50.0, cy);
     CHECK(brush.resize == app::BrushTool::Resize::None);

@@ -75,6 +75,16 @@ bool SculptApp::brushKey(const KeyEvent& event) {
     const double length = strength ? brush.settings.strength * kStrengthPixels : brush.radiusPixels;
     brush.centreX = state_.cursorX - length;
     brush.centreY = state_.cursorY;
+    // The circle is drawn round that centre, so the cursor sits on its rim as the radius follows it (a new
+    // user found it drawn round the cursor while the radius was measured from a point one radius left).
+    Eigen::Vector3d centre, normal;
+    if (!strength && surfaceUnderPixel(brush.centreX, brush.centreY, centre, normal)) {
+        brush.hover = true;
+        brush.hoverPoint = centre;
+        brush.hoverNormal = normal;
+        brush.hoverRadius = brushForDrag(centre).radius;
+        state_.gpu.fields = true;
+    }
     brush.limited = brush.limited || !strength;
     setStatus(state_, strength ? "Move the mouse to set the brush strength; click or Enter keeps it, Esc cancels."
                                : "Move the mouse to set the brush radius; click or Enter keeps it, Esc cancels.",
@@ -105,6 +115,22 @@ bool SculptApp::brushMouseButton(const MouseButtonEvent& event) {
     return true;
 }
 
+bool SculptApp::surfaceUnderPixel(double x, double y, Eigen::Vector3d& point, Eigen::Vector3d& normal) const {
+    const core::Session& session = state_.session;
+    Ray ray;
+    if (!session.hasMesh() || !rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, x, y, ray)) return false;
+    const SurfaceHit hit = intersectMesh(ray, session.positions(), session.triangles());
+    if (hit.triangle < 0) return false;
+    const Eigen::Vector3d a = session.positions().row(session.triangles()(hit.triangle, 0)).transpose();
+    const Eigen::Vector3d b = session.positions().row(session.triangles()(hit.triangle, 1)).transpose();
+    const Eigen::Vector3d c = session.positions().row(session.triangles()(hit.triangle, 2)).transpose();
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    if (!(n.norm() > 0.0)) return false;
+    point = hit.point;
+    normal = n.normalized();
+    return true;
+}
+
 void SculptApp::updateBrushHover(double x, double y) {
     BrushTool& brush = state_.tools.brush;
     const core::Session& session = state_.session;
@@ -115,18 +141,11 @@ void SculptApp::updateBrushHover(double x, double y) {
         if (brush.resize != BrushTool::Resize::None) {
             brush.hover = wasShown;
         } else {
-            Ray ray;
-            if (rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, x, y, ray)) {
-                const SurfaceHit hit = intersectMesh(ray, session.positions(), session.triangles());
-                if (hit.triangle >= 0) {
-                    const Eigen::Vector3d a = session.positions().row(session.triangles()(hit.triangle, 0)).transpose();
-                    const Eigen::Vector3d b = session.positions().row(session.triangles()(hit.triangle, 1)).transpose();
-                    const Eigen::Vector3d c = session.positions().row(session.triangles()(hit.triangle, 2)).transpose();
-                    const Eigen::Vector3d n = (b - a).cross(c - a);
-                    brush.hover = n.norm() > 0.0;
-                    brush.hoverPoint = hit.point;
-                    brush.hoverNormal = brush.hover ? n.normalized() : Eigen::Vector3d::UnitZ();
-                }
+            Eigen::Vector3d point, normal;
+            brush.hover = surfaceUnderPixel(x, y, point, normal);
+            if (brush.hover) {
+                brush.hoverPoint = point;
+                brush.hoverNormal = normal;
             }
         }
         if (brush.hover) brush.hoverRadius = brushForDrag(brush.hoverPoint).radius;

@@ -102,6 +102,8 @@ private:
     bool brushMouseButton(const MouseButtonEvent& event);
     bool brushMouseMove(double x, double y);
     void updateBrushHover(double x, double y);
+    // The mesh surface under pixel (x, y): the point and the triangle's unit normal; false if none.
+    bool surfaceUnderPixel(double x, double y, Eigen::Vector3d& point, Eigen::Vector3d& normal) const;
     core::BrushSettings brushForDrag(const Eigen::Vector3d& at) const;
     void syncGpu();
     void drawUi();
