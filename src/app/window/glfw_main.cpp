@@ -342,6 +342,7 @@ int runWindow(const std::string& meshPath) {
     FramePacer& pacer = context.pacer;
     bool wasBusy = false;
     int popupsBefore = 0;
+    ImGuiID topPopupBefore = 0;
     while (exitCode == kExitOk && !glfwWindowShouldClose(window) && !app.quitApproved()) {
         // The window draws when something changes (frame_pacer.h). note: while a load or save runs on the
         // worker thread the scene does not change; at most ~15 frames a second (its progress popup) leave the
@@ -401,10 +402,17 @@ int runWindow(const std::string& meshPath) {
         // A job that ended or a popup that opened or closed in this frame (a prompt answered, a progress popup
         // done) changed what the next frames show without an event: they are drawn too.
         const bool busyNow = app.files().busy();
-        const int popupsNow = ImGui::GetCurrentContext() ? ImGui::GetCurrentContext()->OpenPopupStack.Size : 0;
-        if (busyNow != wasBusy || popupsNow != popupsBefore) pacer.noteActivity();
+        // One prompt can give way to another in the same frame ("Don't save" closes the prompt and opens the file
+        // dialog: a new user saw the empty prompt stay for seconds), so the top popup counts, not only how many;
+        // and a modal's dimmed background fades in over frames of its own.
+        const ImGuiContext* imgui = ImGui::GetCurrentContext();
+        const int popupsNow = imgui ? imgui->OpenPopupStack.Size : 0;
+        const ImGuiID topPopupNow = popupsNow > 0 ? imgui->OpenPopupStack.back().PopupId : 0;
+        const bool fading = imgui && imgui->DimBgRatio > 0.0f && imgui->DimBgRatio < 1.0f;
+        if (busyNow != wasBusy || popupsNow != popupsBefore || topPopupNow != topPopupBefore || fading) pacer.noteActivity();
         wasBusy = busyNow;
         popupsBefore = popupsNow;
+        topPopupBefore = topPopupNow;
         // Keys held back for this frame reach ImGui and the app now: the frames after must see them.
         if (!context.keys.empty()) pacer.noteActivity();
         context.keys.frameDone();
