@@ -421,6 +421,11 @@ public:
     // many of the vertices it moved now rest outside the cage's box. The cage does not hold them, so later
     // edits of it leave them where they are (a lattice set-up with more padding takes them in). 0 otherwise.
     int strokeVerticesOutsideCage() const { return strokeOutsideCage_; }
+    // Vertices left behind by the cage: those resting outside its box (which it never moves) that share a
+    // triangle with a vertex inside it that the cage has moved from its rest point (a spike pulled out of the
+    // box, whose base then moved with a cage edit). The window names them after a drag. O(vertices outside the
+    // box x their triangles); 0 for a lattice of another kind (its volume holds what it deforms).
+    int verticesLeftOutsideCage() const;
     // Ends the drag in progress by undoing what it applied (its inverse manipulation, step by step), leaving
     // the shape and the history as they were before beginDrag. No drag in progress: NoOp.
     Status cancelDrag(OpReport& report);

@@ -472,6 +472,33 @@ double cageJacobianAt(const Lattice& cage, const Eigen::Vector3d& rest) {
 
 }  // namespace
 
+int Session::verticesLeftOutsideCage() const {
+    if (lattice_.volume || triangles_.rows() == 0) return 0;
+    const int n = static_cast<int>(rest_.rows());
+    std::vector<std::uint8_t> outside(static_cast<size_t>(n), 0);
+    bool any = false;
+    for (int v = 0; v < n; ++v) any = (outside[static_cast<size_t>(v)] = outsideBox(lattice_, rest_.row(v).transpose())) || any;
+    if (!any) return 0;
+    // An inside corner the cage moved: its cage image differs from its rest point.
+    const auto cageMoved = [&](int u) {
+        Eigen::Vector3d t;
+        return restParameters(lattice_, rest_.row(u).transpose(), t) && displacementAt(lattice_, t).squaredNorm() > 0.0;
+    };
+    std::vector<std::uint8_t> left(static_cast<size_t>(n), 0);
+    for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+        int outsideCorners = 0;
+        for (int k = 0; k < 3; ++k) outsideCorners += outside[static_cast<size_t>(triangles_(f, k))];
+        if (outsideCorners == 0 || outsideCorners == 3) continue;  // the cage's seam runs through mixed triangles only
+        bool movedInside = false;
+        for (int k = 0; k < 3 && !movedInside; ++k)
+            movedInside = !outside[static_cast<size_t>(triangles_(f, k))] && cageMoved(triangles_(f, k));
+        if (!movedInside) continue;
+        for (int k = 0; k < 3; ++k)
+            if (outside[static_cast<size_t>(triangles_(f, k))]) left[static_cast<size_t>(triangles_(f, k))] = 1;
+    }
+    return static_cast<int>(std::count(left.begin(), left.end(), std::uint8_t{1}));
+}
+
 bool Session::bakeLayers(const std::vector<Step>& steps) {
     // Only an operation's own layers (fresh-frame steps since its last baked step): layers an earlier operation
     // could not bake stay after the cage, and so then do these.

@@ -278,6 +278,27 @@ TEST_CASE("brush detail: a stroke says how many of its vertices it pulled out of
             INFO(mesh.name << " trial " << trial);
             CHECK(session.strokeVerticesOutsideCage() == outside);
             strokesOut += outside > 0;
+            // The cage has not moved: nothing is left behind yet.
+            CHECK(session.verticesLeftOutsideCage() == 0);
+            if (outside == 0) continue;
+            // A translation of the cage moves what it holds; the vertices outside its box stay, and those next to
+            // moved ones are counted: independently, the unmoved corners of triangles with a moved corner.
+            const Positions before = session.positions();
+            const std::vector<int> ids = unpinned(session.lattice());
+            const Eigen::Vector3d by = 0.03 * mesh.diagonal * test::randomVector(rng, -1.0, 1.0).normalized();
+            REQUIRE(session.moveControlPoints(ids, by.transpose().replicate(static_cast<Eigen::Index>(ids.size()), 1), true, report).ok);
+            if (report.status != OpStatus::Applied || report.fractionApplied < 1.0) continue;
+            std::vector<std::uint8_t> left(static_cast<size_t>(mesh.positions.rows()), 0);
+            for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
+                bool anyMoved = false;
+                for (int k = 0; k < 3; ++k) anyMoved = anyMoved || session.positions().row(mesh.triangles(f, k)) != before.row(mesh.triangles(f, k));
+                if (!anyMoved) continue;
+                for (int k = 0; k < 3; ++k)
+                    if (session.positions().row(mesh.triangles(f, k)) == before.row(mesh.triangles(f, k))) left[static_cast<size_t>(mesh.triangles(f, k))] = 1;
+            }
+            const int expected = static_cast<int>(std::count(left.begin(), left.end(), std::uint8_t{1}));
+            CHECK(expected > 0);
+            CHECK(session.verticesLeftOutsideCage() == expected);
         }
     }
     CHECK(strokesOut >= 3);  // long pulls leave the 5% padding

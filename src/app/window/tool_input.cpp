@@ -351,6 +351,10 @@ void SculptApp::endSculpt() {
         text += " " + countOf(static_cast<size_t>(outside), "vertex", "vertices") + " of the stroke now " + (outside == 1 ? "lies" : "lie") +
                 " outside the lattice's box: later lattice edits do not carry " + (outside == 1 ? "it" : "them") +
                 " (Lattice set-up with more padding takes them in).";
+    else if (const int left = recorded && finished.brushRadius == 0.0 ? state_.session.verticesLeftOutsideCage() : 0; left > 0)
+        text += " " + countOf(static_cast<size_t>(left), "vertex", "vertices") + " outside the lattice's box stayed where " +
+                (left == 1 ? "it was" : "they were") + " while the surface next to " + (left == 1 ? "it" : "them") +
+                " moved: the lattice moves only what lies in its box (Lattice set-up with more padding takes them in).";
     if (finished.refused > 0 && state_.hasReport && state_.lastReport.status == core::OpStatus::Rejected) {
         std::string why = state_.lastReport.reason.empty() ? state_.lastReport.injectivity : state_.lastReport.reason;
         if (why.rfind("refused: ", 0) == 0) why.erase(0, 9);  // "Last move refused: refused: ..." said it twice
