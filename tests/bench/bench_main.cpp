@@ -758,7 +758,14 @@ int main(int argc, char** argv) {
     benchCertification();
     benchBrush();
 #ifdef SCULPT_BENCH_RENDER
-    if (wanted("render") || wanted("upload") || wanted("full_update")) sculpt::render::runRenderBenchmarks(std::cout);
+    // The group runs for its name or any of its cases' names ("render_100k" starts with "render").
+    const auto wantedGroup = [](const std::string& prefix) {
+        if (wanted(prefix)) return true;
+        for (const std::string& f : gFilters)
+            if (f.rfind(prefix, 0) == 0) return true;
+        return false;
+    };
+    if (wantedGroup("render") || wantedGroup("upload") || wantedGroup("full_update")) sculpt::render::runRenderBenchmarks(std::cout);
     if (wanted("gpu_drag_1m") || wanted("gpu_drag_10m"))
         sculpt::render::runGpuDragBenchmarks(std::cout, wanted("gpu_drag_10m"));
 #endif
