@@ -3,6 +3,7 @@
 #include "core/lattice_net.h"
 
 #include "core/bernstein.h"
+#include "core/volume_kinds.h"
 
 #include <algorithm>
 #include <cmath>
@@ -509,14 +510,10 @@ bool freezePoint(const LatticeNet& net, const Positions& points, const ChunkInde
 
 Status placeLatticeNet(const LatticeNet& tool, const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size,
                        LatticeNet& out) {
-    if (!point.allFinite() || !normal.allFinite() || !(normal.norm() > 0.0)) return Status::error("placing a lattice needs a finite point and a non-zero normal");
-    if (!finitePositive(size)) return Status::error("placing a lattice needs a size that is finite and > 0");
-    const Eigen::Matrix3d rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal.normalized()).toRotationMatrix();
-    const Eigen::Vector3d centre = tool.bounds.center();
-    const double scale = size / tool.diagonal();
+    PlacementSimilarity similarity;
+    if (Status s = placementSimilarity(tool.bounds, point, normal, size, similarity); !s) return s;
     LatticeNet net = rawNetFields(tool);
-    for (Eigen::Index s = 0; s < tool.rest.rows(); ++s)
-        net.rest.row(s) = (point + scale * (rotation * (tool.rest.row(s).transpose() - centre))).transpose();
+    for (Eigen::Index s = 0; s < tool.rest.rows(); ++s) net.rest.row(s) = similarity(tool.rest.row(s).transpose()).transpose();
     // note: welded points coincide before the similarity, so they coincide after it up to rounding; make them
     // exactly equal again.
     for (const auto& group : tool.weldGroups)
