@@ -2,6 +2,7 @@
 // from where the stroke began to where the grabbed points are asked to be, or by the largest share of that
 // pull that passes every check; the stroke is one history entry with one injective step.
 #include <algorithm>
+#include <utility>
 
 #include "core/brush_field.h"
 #include "core/session.h"
@@ -138,72 +139,69 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
                 hint = (strokeReached_[k] - pulls[k].source).dot(pulls[k].pull) / pulls[k].pull.squaredNorm();
                 break;
             }
+    const auto clearStroke = [&] {
+        popLayers(steps.size(), &moved);
+        steps.clear();
+    };
+    // Bisection on the share between lo (passes, or 0) and hi (fails), `iterations` trials: the last passing
+    // share, and whether its layers are in place (the last trial passed); otherwise none are.
+    const auto lastPassing = [&](double lo, double hi, int iterations) {
+        bool kept = false;
+        for (int iteration = 0; iteration < iterations; ++iteration) {
+            const double mid = 0.5 * (lo + hi);
+            if (attempt(mid)) {
+                lo = mid;
+                kept = iteration + 1 == iterations;
+                if (kept) break;
+                clearStroke();
+            } else {
+                hi = mid;
+            }
+        }
+        return std::make_pair(lo, kept);
+    };
     if (moving) {
-        StepFailure first;
         if (attempt(1.0)) {
             share = 1.0;
-        } else if (first = failure, jointPossible && failure.cause != StepFailure::Cause::SourceLeft && (joint = true, attempt(1.0))) {
-            share = 1.0;  // one layer per image folded; one field for both carries it
-        } else if (joint = false, failure = first, failure.cause != StepFailure::Cause::SourceLeft) {
-            // The last injective point along the pull (to 1/64 of it; from a hint, to 1/8 of what is left past
-            // it), as a control-point edit stops.
+        } else if (failure.cause != StepFailure::Cause::SourceLeft) {
             const StepFailure stopped = failure;
-            double lo = 0.0, hi = 1.0;
-            int iterations = 6;
-            if (hint > 1.0 / 64.0 && hint < 1.0 - 1.0 / 64.0) {
-                if (attempt(hint)) {
-                    lo = hint;
-                    iterations = 3;
-                    popLayers(steps.size(), &moved);
-                    steps.clear();
-                } else {
-                    hi = hint;
+            // One layer per image folded; one field for the images may carry the whole pull.
+            joint = jointPossible;
+            if (joint && attempt(1.0)) {
+                share = 1.0;
+            } else {
+                joint = false;
+                // The last injective point along the pull (to 1/64 of it; from a hint, to 1/8 of what is left
+                // past it), as a control-point edit stops.
+                double lo = 0.0, hi = 1.0;
+                int iterations = 6;
+                if (hint > 1.0 / 64.0 && hint < 1.0 - 1.0 / 64.0) {
+                    if (attempt(hint)) {
+                        lo = hint;
+                        iterations = 3;
+                        clearStroke();
+                    } else {
+                        hi = hint;
+                    }
                 }
-            }
-            bool kept = false;  // the last trial passed: its layers stay, no trial again
-            for (int iteration = 0; iteration < iterations; ++iteration) {
-                const double mid = 0.5 * (lo + hi);
-                if (attempt(mid)) {
-                    lo = mid;
-                    kept = iteration + 1 == iterations;
-                    if (kept) break;
-                    popLayers(steps.size(), &moved);
-                    steps.clear();
-                } else {
-                    hi = mid;
+                const auto [found, kept] = lastPassing(lo, hi, iterations);
+                if (kept) share = found;
+                else if (found > 0.0 && attempt(found)) share = found;
+                if (jointPossible && share < 1.0) {
+                    // One field for the images may carry them further than a layer each (never less: the layers
+                    // each found stay unless the field passes beyond them).
+                    clearStroke();
+                    joint = true;
+                    const auto [jointFound, jointKept] = lastPassing(share, 1.0, 4);
+                    if (jointKept || (jointFound > share && attempt(jointFound))) {
+                        share = jointFound;
+                    } else {
+                        joint = false;
+                        if (share > 0.0 && !attempt(share)) share = 0.0;  // passed before: cannot happen
+                    }
                 }
             }
             failure = stopped;
-            if (kept) share = lo;
-            else if (lo > 0.0 && attempt(lo)) share = lo;
-            if (jointPossible && share < 1.0) {
-                // One field for the images may carry them further than a layer each (never less: the layers
-                // each found stay unless the field passes beyond them).
-                popLayers(steps.size(), &moved);
-                steps.clear();
-                joint = true;
-                double jointLo = share, jointHi = 1.0;
-                bool jointKept = false;
-                for (int iteration = 0; iteration < 4; ++iteration) {
-                    const double mid = 0.5 * (jointLo + jointHi);
-                    if (attempt(mid)) {
-                        jointLo = mid;
-                        jointKept = iteration + 1 == 4;
-                        if (jointKept) break;
-                        popLayers(steps.size(), &moved);
-                        steps.clear();
-                    } else {
-                        jointHi = mid;
-                    }
-                }
-                if (!jointKept && !(jointLo > share && attempt(jointLo))) {
-                    joint = false;
-                    jointLo = share;
-                    if (share > 0.0 && !attempt(share)) share = 0.0;  // passed before: cannot happen
-                }
-                share = jointLo;
-                failure = stopped;
-            }
         }
     }
     if (share == 0.0 && hadStep && moving) {
