@@ -209,27 +209,21 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
     }
     std::vector<int> slot(static_cast<size_t>(n), -1);
     for (size_t c = 0; c < free.size(); ++c) slot[static_cast<size_t>(free[c])] = static_cast<int>(c);
-    // value[i][k]: field k's spline at constrained source i (partition of unity: the quasi-interpolant's value).
-    std::vector<std::vector<double>> value(constrained.size(), std::vector<double>(m, 0.0));
-    for (size_t i = 0; i < constrained.size(); ++i) {
-        SupportWeights support;
-        supportWeights(region, params[i], support);
-        for (int s = 0; s < support.count; ++s) {
-            const int c = slot[static_cast<size_t>(support.index[s])];
-            if (c < 0) continue;
-            for (size_t k = 0; k < m; ++k) value[i][k] += support.weight[s] * fields[k][c];
+    // The basis at each constrained source (once: the scales and the correction read it), and each moving
+    // pull's row among the constrained sources.
+    std::vector<SupportWeights> supports(constrained.size());
+    for (size_t i = 0; i < constrained.size(); ++i) supportWeights(region, params[i], supports[i]);
+    std::vector<size_t> rowOf(m);
+    for (size_t i = 0; i < m; ++i)
+        rowOf[i] = static_cast<size_t>(std::find(constrained.begin(), constrained.end(), moving[i]) - constrained.begin());
+    // The spline of free-point coefficients `coefficient(c)` at constrained source i, summed onto `sum` (a zero).
+    const auto splineAt = [&](size_t i, auto sum, const auto& coefficient) {
+        for (int s = 0; s < supports[i].count; ++s) {
+            const int c = slot[static_cast<size_t>(supports[i].index[s])];
+            if (c >= 0) sum += supports[i].weight[s] * coefficient(c);
         }
-    }
-    // Scales: each moving source's displacement along its own pull equals the pull's length.
-    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
-    Eigen::VectorXd b(static_cast<Eigen::Index>(m));
-    for (size_t i = 0; i < m; ++i) {
-        const size_t row = static_cast<size_t>(std::find(constrained.begin(), constrained.end(), moving[i]) - constrained.begin());
-        const Eigen::Vector3d e = pulls[moving[i]].pull.normalized();
-        for (size_t k = 0; k < m; ++k)
-            a(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = value[row][k] * pulls[moving[k]].pull.dot(e);
-        b[static_cast<Eigen::Index>(i)] = pulls[moving[i]].pull.norm();
-    }
+        return sum;
+    };
     Positions dense = Positions::Zero(static_cast<Eigen::Index>(free.size()), 3);
     if (joint) {
         // One field along the shared direction: the largest pull share at each point (max keeps every pull's
@@ -243,20 +237,24 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
         // pulls along e: mirror images are met exactly by it, the rest by the correction.
         double num = 0.0, den = 0.0;
         for (size_t i = 0; i < m; ++i) {
-            const size_t row = static_cast<size_t>(std::find(constrained.begin(), constrained.end(), moving[i]) - constrained.begin());
-            SupportWeights support;
-            supportWeights(region, params[row], support);
-            double atSource = 0.0;
-            for (int s = 0; s < support.count; ++s) {
-                const int c = slot[static_cast<size_t>(support.index[s])];
-                if (c >= 0) atSource += support.weight[s] * along[c];
-            }
+            const double atSource = splineAt(rowOf[i], 0.0, [&](int c) { return along[c]; });
             num += atSource * pulls[moving[i]].pull.dot(shared);
             den += atSource * atSource;
         }
         const double scale = den > 0.0 && std::isfinite(num / den) ? num / den : 1.0;
         for (size_t c = 0; c < free.size(); ++c) dense.row(static_cast<Eigen::Index>(c)) = (scale * along[static_cast<Eigen::Index>(c)]) * shared.transpose();
     } else {
+        // Scales: each moving source's displacement along its own pull equals the pull's length; field k's
+        // spline at a source is the quasi-interpolant's value (partition of unity).
+        Eigen::MatrixXd a = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+        Eigen::VectorXd b(static_cast<Eigen::Index>(m));
+        for (size_t i = 0; i < m; ++i) {
+            const Eigen::Vector3d e = pulls[moving[i]].pull.normalized();
+            for (size_t k = 0; k < m; ++k)
+                a(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
+                    splineAt(rowOf[i], 0.0, [&](int c) { return fields[k][c]; }) * pulls[moving[k]].pull.dot(e);
+            b[static_cast<Eigen::Index>(i)] = pulls[moving[i]].pull.norm();
+        }
         Eigen::VectorXd scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(m));
         const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
         if (m > 0 && lu.rank() == static_cast<Eigen::Index>(m)) scale = lu.solve(b);
@@ -268,13 +266,7 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
     const auto sourceResiduals = [&](Eigen::MatrixX3d& rows) {
         rows.resize(static_cast<Eigen::Index>(constrained.size()), 3);
         for (size_t i = 0; i < constrained.size(); ++i) {
-            SupportWeights support;
-            supportWeights(region, params[i], support);
-            Eigen::Vector3d moved = Eigen::Vector3d::Zero();
-            for (int s = 0; s < support.count; ++s) {
-                const int c = slot[static_cast<size_t>(support.index[s])];
-                if (c >= 0) moved += support.weight[s] * dense.row(c).transpose();
-            }
+            const Eigen::Vector3d moved = splineAt(i, Eigen::Vector3d(Eigen::Vector3d::Zero()), [&](int c) { return Eigen::Vector3d(dense.row(c).transpose()); });
             rows.row(static_cast<Eigen::Index>(i)) = (pulls[constrained[i]].pull - moved).transpose();
         }
     };

@@ -423,8 +423,9 @@ public:
     int strokeVerticesOutsideCage() const { return strokeOutsideCage_; }
     // Vertices left behind by the cage: those resting outside its box (which it never moves) that share a
     // triangle with a vertex inside it that the cage has moved from its rest point (a spike pulled out of the
-    // box, whose base then moved with a cage edit). The window names them after a drag. O(vertices outside the
-    // box x their triangles); 0 for a lattice of another kind (its volume holds what it deforms).
+    // box, whose base then moved with a cage edit). The window names them after a drag. One pass over the
+    // vertices and the triangles, evaluating the cage only at corners of triangles the box's boundary cuts; 0
+    // for a lattice of another kind (its volume holds what it deforms).
     int verticesLeftOutsideCage() const;
     // Ends the drag in progress by undoing what it applied (its inverse manipulation, step by step), leaving
     // the shape and the history as they were before beginDrag. No drag in progress: NoOp.
