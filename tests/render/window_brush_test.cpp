@@ -58,6 +58,17 @@ TEST_CASE("window brush: F and a mouse move set the radius, Shift+F the strength
     CHECK(brush.centreX == Approx(cx - start));
     move(sculptApp, cx + 50.0, cy);  // the centre sits one radius left of where F was pressed
     CHECK((pixelOf(state, brush.hoverPoint) - Eigen::Vector2d(brush.centreX, brush.centreY)).norm() < 1.0);
+    // It faces the eye, so its rim passes under the cursor (on the tilted surface it fell short of it).
+    {
+        const Eigen::Vector3d n = brush.hoverNormal.normalized();
+        const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+        double nearest = INFINITY;
+        for (int k = 0; k < 360; ++k) {
+            const Eigen::Vector3d rim = brush.hoverPoint + brush.hoverRadius * (std::cos(k * M_PI / 180.0) * u + std::sin(k * M_PI / 180.0) * v);
+            nearest = std::min(nearest, (pixelOf(state, rim) - Eigen::Vector2d(cx + 50.0, cy)).norm());
+        }
+        CHECK(nearest < 3.0);
+    }
     CHECK(brush.radiusPixels == Approx(start + 50.0));
     click(sculptApp, cx + 50.0, cy);
     CHECK(brush.resize == app::BrushTool::Resize::None);

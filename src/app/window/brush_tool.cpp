@@ -75,13 +75,15 @@ bool SculptApp::brushKey(const KeyEvent& event) {
     const double length = strength ? brush.settings.strength * kStrengthPixels : brush.radiusPixels;
     brush.centreX = state_.cursorX - length;
     brush.centreY = state_.cursorY;
-    // The circle is drawn round that centre, so the cursor sits on its rim as the radius follows it (a new
-    // user found it drawn round the cursor while the radius was measured from a point one radius left).
+    // The circle is drawn round that centre, facing the eye (as Blender draws it while resizing), so the
+    // cursor sits on its rim as the radius follows it: a new user found it drawn round the cursor while the
+    // radius was measured from a point one radius left, and then, lying on the tilted surface, short of it.
     Eigen::Vector3d centre, normal;
     if (!strength && surfaceUnderPixel(brush.centreX, brush.centreY, centre, normal)) {
+        const glm::dvec3 eye = state_.camera.towardEye();
         brush.hover = true;
         brush.hoverPoint = centre;
-        brush.hoverNormal = normal;
+        brush.hoverNormal = Eigen::Vector3d(eye.x, eye.y, eye.z).normalized();
         brush.hoverRadius = brushForDrag(centre).radius;
         state_.gpu.fields = true;
     }
