@@ -43,10 +43,22 @@ render::GlBackend testBackend() {
 }  // namespace
 
 render::OffscreenRenderer& glTestRenderer() {
-    static std::unique_ptr<render::OffscreenRenderer> renderer;
-    static Status creation = render::OffscreenRenderer::create(testBackend(), renderer);
-    INFO("creating the offscreen GL renderer: " << creation.message);
-    REQUIRE(creation.ok);
+    // note: one object made by create(), so its construction completes after OSMesa registered its own exit
+    // handler (on its first context) and it is destroyed before that handler frees OSMesa's state. A static
+    // unique_ptr constructed before create() was destroyed after it: a use after free at exit, whenever no
+    // OSMesa context had been made before this one (a run starting with the EGL window tests).
+    struct Created {
+        std::unique_ptr<render::OffscreenRenderer> renderer;
+        Status status = Status::success();
+    };
+    static Created created = [] {
+        Created c;
+        c.status = render::OffscreenRenderer::create(testBackend(), c.renderer);
+        return c;
+    }();
+    INFO("creating the offscreen GL renderer: " << created.status.message);
+    REQUIRE(created.status.ok);
+    render::OffscreenRenderer* renderer = created.renderer.get();
     const Status current = renderer->makeCurrent();
     INFO(current.message);
     REQUIRE(current.ok);

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -323,13 +324,19 @@ int runWindow(const std::string& meshPath) {
     app.onFramebufferSize({width, height});
 
     const int maxFrames = envInt("SCULPT_WINDOW_FRAMES", 0);
+    // An engine step (a drag's move, a transform, undo) that takes longer than a frame at 30 Hz goes on drawing
+    // the last applied frame with its progress (engine_job.h). SCULPT_ENGINE_WAIT_MS sets the wait; a scripted
+    // run (SCULPT_WINDOW_FRAMES) waits for every step unless it is set, so its frames are the same on any machine.
+    const int waitMs = envInt("SCULPT_ENGINE_WAIT_MS", maxFrames > 0 ? -1 : 33);
+    app.setEngineWait(waitMs < 0 ? std::numeric_limits<double>::infinity() : waitMs / 1000.0);
+    app.setEngineWake([] { glfwPostEmptyEvent(); });
     // The mesh (or session) given on the command line opens like File > Open. A scripted run (the test
     // hooks below) waits for it, so its frames and its drag see the mesh.
     if (app.files().startOpen(app.state(), meshPath) && maxFrames > 0) app.files().finishJob(app.state());
     const char* screenshot = std::getenv("SCULPT_WINDOW_SCREENSHOT");
     const bool autoDrag = envInt("SCULPT_WINDOW_AUTODRAG", 0) != 0;
-    int frame = 0, dragFrames = 0;
-    double dragSeconds = 0.0;
+    int frame = 0, dragFrames = 0, busyFrames = 0;
+    double dragSeconds = 0.0, longestBusyGap = 0.0;
     auto last = std::chrono::steady_clock::now();
     std::string title;
     // SCULPT_WINDOW_IDLE_SECONDS=N: once the mesh is open and its first frames drawn, measure N seconds with no
@@ -373,7 +380,7 @@ int runWindow(const std::string& meshPath) {
         // Woken only for the measurement's end, with nothing new to draw: no frame.
         if (plan.wait == FramePacer::Wait::Timeout && needs.withinSeconds <= 0.0 && !pacer.settling()) continue;
         flushMove(window);
-        if (app.windowTitle() != title) {  // "name*" while there are unsaved changes
+        if (!app.engineBusy() && app.windowTitle() != title) {  // "name*" while there are unsaved changes
             title = app.windowTitle();
             glfwSetWindowTitle(window, title.c_str());
         }
@@ -401,7 +408,7 @@ int runWindow(const std::string& meshPath) {
         pacer.frameDrawn();
         // A job that ended or a popup that opened or closed in this frame (a prompt answered, a progress popup
         // done) changed what the next frames show without an event: they are drawn too.
-        const bool busyNow = app.files().busy();
+        const bool busyNow = app.files().busy() || app.engineBusy();
         // One prompt can give way to another in the same frame ("Don't save" closes the prompt and opens the file
         // dialog: a new user saw the empty prompt stay for seconds), so the top popup counts, not only how many;
         // and a modal's dimmed background fades in over frames of its own.
@@ -426,13 +433,21 @@ int runWindow(const std::string& meshPath) {
         }
         glfwSwapBuffers(window);
         const auto now = std::chrono::steady_clock::now();
-        if (app.state().drag.active) {
-            dragSeconds += std::chrono::duration<double>(now - last).count();
+        const double gap = std::chrono::duration<double>(now - last).count();
+        if (app.engineBusy()) {  // a frame drawn while the engine worked (the state is the worker's)
+            ++busyFrames;
+            longestBusyGap = std::max(longestBusyGap, gap);
+        } else if (app.state().drag.active) {
+            dragSeconds += gap;
             ++dragFrames;
         }
         last = now;
         if (lastFrame) glfwSetWindowShouldClose(window, GLFW_TRUE);
     }
+    app.waitForEngine();
+    if (autoDrag && busyFrames > 0)
+        std::printf("sculpt: autodrag %d frames drawn while the engine worked, longest gap between them %.1f ms\n",
+                    busyFrames, 1000.0 * longestBusyGap);
     if (autoDrag && dragFrames > 0)
         std::printf("sculpt: autodrag %d frames while dragging, %.1f fps (%.1f ms per frame), %d vertices, %d triangles\n",
                     dragFrames, dragFrames / dragSeconds, 1000.0 * dragSeconds / dragFrames,

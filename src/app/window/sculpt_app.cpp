@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include <imgui.h>
@@ -66,17 +67,47 @@ CaptureFlags SculptApp::uiCaptureAt(double x, double y) {
 Status SculptApp::loadMesh(const std::string& path) { return files_.loadMeshNow(state_, path); }
 
 void SculptApp::onDropFiles(const std::vector<std::string>& paths) {
+    HeldInput held;
+    held.kind = HeldInput::Kind::Drop;
+    held.paths = paths;
+    if (holdInput(held)) return;
     for (const std::string& path : paths)
         if (io::isMeshPath(path) || hasExtension(path, {".json"})) return files_.openPath(state_, path);
     if (!paths.empty()) setStatus(state_, std::string("Drop a mesh (") + io::meshExtensionList() + ") or a .json session to open it.", true);
 }
 
+void SculptApp::requestQuit() {
+    HeldInput held;
+    held.kind = HeldInput::Kind::Quit;
+    if (!holdInput(held)) files_.requestQuit(state_);
+}
+
 void SculptApp::onFramebufferSize(const FramebufferSizeEvent& event) {
+    HeldInput held;
+    held.kind = HeldInput::Kind::Size;
+    held.size = event;
+    if (holdInput(held)) return;
     state_.framebufferWidth = std::max(event.width, 0);
     state_.framebufferHeight = std::max(event.height, 0);
 }
 
 void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags capture) {
+    HeldInput held;
+    held.kind = HeldInput::Kind::Button;
+    held.button = event;
+    held.capture = capture;
+    if (holdInput(held)) return;
+    // What may take the engine long: a transform's confirm or cancel, a drag's end (its steps are recorded,
+    // a brush stroke's layers baked).
+    const bool left = event.button == MouseButton::Left;
+    if (state_.transform.active && event.action == ButtonAction::Press)
+        return runEngineStep("Finishing the transform", [this, event, capture] { handleMouseButton(event, capture); });
+    if (state_.drag.active && left && event.action == ButtonAction::Release)
+        return runEngineStep("Finishing the drag", [this, event, capture] { handleMouseButton(event, capture); });
+    handleMouseButton(event, capture);
+}
+
+void SculptApp::handleMouseButton(const MouseButtonEvent& event, CaptureFlags capture) {
     state_.cursorX = event.x;
     state_.cursorY = event.y;
     if (state_.transform.active) {  // G / R / S running: a left click confirms, a right click cancels, anywhere
@@ -105,7 +136,20 @@ void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags captur
     }
 }
 
-void SculptApp::onMouseMove(const MouseMoveEvent& event, CaptureFlags /*capture*/) {
+void SculptApp::onMouseMove(const MouseMoveEvent& event, CaptureFlags capture) {
+    HeldInput held;
+    held.kind = HeldInput::Kind::Move;
+    held.move = event;
+    held.capture = capture;
+    if (holdInput(held)) return;
+    // A drag's move or a transform's new pose: the engine solves and certifies it.
+    if (state_.drag.active || state_.transform.active)
+        return runEngineStep(state_.transform.active ? "Certifying the transform" : "Certifying the move",
+                             [this, event, capture] { handleMouseMove(event, capture); });
+    handleMouseMove(event, capture);
+}
+
+void SculptApp::handleMouseMove(const MouseMoveEvent& event, CaptureFlags /*capture*/) {
     // note: moves are ours while a drag or orbit we started is in progress, wherever the cursor is (ImGui
     // does not claim a mouse button pressed outside its windows); otherwise moves only track the cursor.
     const double dx = event.x - state_.cursorX, dy = event.y - state_.cursorY;
@@ -124,11 +168,36 @@ void SculptApp::onMouseMove(const MouseMoveEvent& event, CaptureFlags /*capture*
 }
 
 void SculptApp::onScroll(const ScrollEvent& event, CaptureFlags capture) {
+    HeldInput held;
+    held.kind = HeldInput::Kind::Scroll;
+    held.scroll = event;
+    held.capture = capture;
+    if (holdInput(held)) return;
     if (capture.mouse || state_.transform.active) return;
     zoomView(state_, state_.cursorX, state_.cursorY, event.dy);
 }
 
 void SculptApp::onKey(const KeyEvent& event, CaptureFlags capture) {
+    HeldInput held;
+    held.kind = HeldInput::Kind::Key;
+    held.key = event;
+    held.capture = capture;
+    if (holdInput(held)) return;
+    // A transform's keys (typed values, axes, Enter, Esc), Esc during a drag, undo and redo: engine steps.
+    const bool taken = capture.keyboard || event.action == KeyAction::Release;
+    const bool shortcut = shortcutModifier(event.modifiers);
+    const bool undoRedo = shortcut && (event.key == Key::Z || event.key == Key::Y);
+    if (!taken && (state_.transform.active || state_.drag.active || undoRedo)) {
+        const std::string what = state_.transform.active ? "Certifying the transform"
+                               : state_.drag.active      ? "Finishing the drag"
+                               : event.key == Key::Y || event.modifiers.shift ? "Redoing"
+                                                                              : "Undoing";
+        return runEngineStep(what, [this, event, capture] { handleKey(event, capture); });
+    }
+    handleKey(event, capture);
+}
+
+void SculptApp::handleKey(const KeyEvent& event, CaptureFlags capture) {
     if (capture.keyboard || event.action == KeyAction::Release) return;
     if (state_.transform.active) return transformKey(state_, event);  // every key, until confirmed or cancelled
     if (files_.onKey(state_, event)) return;  // Ctrl+O / S / Shift+S / Q, or ignored while files are busy
@@ -172,6 +241,8 @@ Status SculptApp::initGraphics(render::GlGetProc getProc) {
 }
 
 void SculptApp::releaseGraphics() {
+    waitForEngine();
+    freeFramePicture();
     if (imguiBackendReady_) ImGui_ImplOpenGL3_Shutdown();
     imguiBackendReady_ = false;
     renderer_.release();
@@ -310,6 +381,7 @@ void SculptApp::syncGpu() {
 
 Status SculptApp::renderFrame(int width, int height) {
     if (width <= 0 || height <= 0) return Status::success();  // minimised: nothing to draw, nothing to divide by
+    if (pollEngine()) return drawBusyFrame(width, height);    // the state is the worker's
     if (state_.framebufferWidth != width || state_.framebufferHeight != height)
         onFramebufferSize({width, height});
     files_.poll(state_);  // installs a finished background load before the upload below
@@ -354,7 +426,161 @@ Status SculptApp::renderFrame(int width, int height) {
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     }
+    keepFramePicture(options);
     state_.stats.renderMs = millisecondsSince(start);
+    return drawn;
+}
+
+// ---- engine steps off the main thread (engine_job.h) -------------------------------------------------------
+
+SculptApp::~SculptApp() {
+    job_.collect();  // the worker owns state_ until it returns
+    freeFramePicture();
+}
+
+bool SculptApp::holdInput(const HeldInput& input) {
+    if (replaying_ || (!job_.running() && heldInput_.empty())) return false;
+    if (input.kind == HeldInput::Kind::Move && !heldInput_.empty() && heldInput_.back().kind == HeldInput::Kind::Move)
+        heldInput_.back() = input;
+    else
+        heldInput_.push_back(input);
+    return true;
+}
+
+void SculptApp::dispatch(const HeldInput& input) {
+    switch (input.kind) {
+        case HeldInput::Kind::Button: onMouseButton(input.button, input.capture); break;
+        case HeldInput::Kind::Move: onMouseMove(input.move, input.capture); break;
+        case HeldInput::Kind::Scroll: onScroll(input.scroll, input.capture); break;
+        case HeldInput::Kind::Key: onKey(input.key, input.capture); break;
+        case HeldInput::Kind::Drop: onDropFiles(input.paths); break;
+        case HeldInput::Kind::Quit: requestQuit(); break;
+        case HeldInput::Kind::Size: onFramebufferSize(input.size); break;
+    }
+}
+
+void SculptApp::runEngineStep(std::string what, std::function<void()> step) {
+    auto work = [this, step = std::move(step)] {
+        if (stepHook_) stepHook_();
+        step();
+    };
+    if (job_.start(std::move(work), std::move(what), engineWaitSeconds_, engineWake_)) finishEngineStep();
+}
+
+void SculptApp::finishEngineStep() {
+    const std::string what = job_.what();
+    if (const std::string error = job_.collect(); !error.empty())
+        setStatus(state_, what + " stopped with an error: " + error + ". Undo takes back what it changed.", true);
+    state_.gpu.fields = true;
+}
+
+bool SculptApp::pollEngine() {
+    if (job_.running()) {
+        if (!job_.finished()) return true;
+        finishEngineStep();
+    }
+    // The held input, in order, until one starts a step that is still running.
+    while (!heldInput_.empty() && !job_.running()) {
+        const HeldInput input = heldInput_.front();
+        heldInput_.pop_front();
+        replaying_ = true;
+        dispatch(input);
+        replaying_ = false;
+    }
+    return job_.running();
+}
+
+void SculptApp::waitForEngine() {
+    while (job_.running() || !heldInput_.empty()) {
+        if (job_.running()) finishEngineStep();  // collect() waits for the worker
+        pollEngine();
+    }
+}
+
+std::string SculptApp::engineProgress() const {
+    const double seconds = job_.elapsedSeconds();
+    if (!job_.running() || seconds < kProgressDelaySeconds) return {};
+    char text[160];
+    std::snprintf(text, sizeof text, "%s... %.1f s", job_.what().c_str(), seconds);
+    return text;
+}
+
+void SculptApp::freeFramePicture() {
+    for (ImDrawList* list : lastUi_) IM_DELETE(list);
+    lastUi_.clear();
+    haveFramePicture_ = false;
+}
+
+void SculptApp::keepFramePicture(const render::DrawOptions& options) {
+    freeFramePicture();
+    lastCamera_ = state_.camera;
+    lastOptions_ = options;
+    lastStatusLineHeight_ = state_.statusLineHeight;
+    if (imguiBackendReady_ && ImGui::GetCurrentContext()) {
+        if (const ImDrawData* data = ImGui::GetDrawData(); data && data->Valid) {
+            for (int l = 0; l < data->CmdListsCount; ++l) lastUi_.push_back(data->CmdLists[l]->CloneOutput());
+            lastUiPos_ = data->DisplayPos;
+            lastUiSize_ = data->DisplaySize;
+            lastUiScale_ = data->FramebufferScale;
+        }
+    }
+    haveFramePicture_ = true;
+}
+
+Status SculptApp::drawBusyFrame(int width, int height) {
+    // Nothing here reads state_: the scene is what the GPU holds from the last applied frame, drawn with that
+    // frame's camera and options, and the UI is that frame's draw lists.
+    Status drawn = renderer_.draw(lastCamera_, lastOptions_, width, height);
+    if (!imguiBackendReady_ || !ImGui::GetCurrentContext() || !haveFramePicture_) return drawn;
+    ImGui_ImplOpenGL3_NewFrame();
+    // The progress box (drawn outside a Dear ImGui frame, so the panels keep what they were: a click held
+    // meanwhile is judged against the windows the user saw), bottom centre above the status line.
+    ImDrawList progress(ImGui::GetDrawListSharedData());
+    progress._ResetForNewFrame();
+    const std::string text = engineProgress();
+    progressBox_ = ImVec4(0.0f, 0.0f, 0.0f, 0.0f);
+    if (!text.empty()) {
+        const float w = static_cast<float>(width), h = static_cast<float>(height);
+        ImFont* font = ImGui::GetFont();
+        const float size = ImGui::GetFontSize();
+        const std::string note = "The view shows the last applied shape; input waits its turn.";
+        const ImVec2 first = font->CalcTextSizeA(size, w, 0.0f, text.c_str());
+        const ImVec2 second = font->CalcTextSizeA(size, w, 0.0f, note.c_str());
+        const float pad = 0.6f * size, barHeight = 0.35f * size;
+        const float boxW = std::max(first.x, second.x) + 2.0f * pad;
+        const float boxH = first.y + second.y + barHeight + 4.0f * pad;
+        const ImVec2 lo(std::round(0.5f * (w - boxW)), std::round(h - lastStatusLineHeight_ - boxH - size));
+        const ImVec2 hi(lo.x + boxW, lo.y + boxH);
+        progressBox_ = ImVec4(lo.x, lo.y, hi.x, hi.y);
+        progress.PushTextureID(ImGui::GetIO().Fonts->TexID);
+        progress.PushClipRect(ImVec2(0.0f, 0.0f), ImVec2(w, h));
+        progress.AddRectFilled(lo, hi, IM_COL32(32, 34, 38, 240), 0.25f * size);
+        progress.AddRect(lo, hi, IM_COL32(96, 100, 108, 255), 0.25f * size);
+        progress.AddText(font, size, ImVec2(lo.x + pad, lo.y + pad), IM_COL32(235, 235, 235, 255), text.c_str());
+        progress.AddText(font, size, ImVec2(lo.x + pad, lo.y + 2.0f * pad + first.y), IM_COL32(170, 174, 180, 255), note.c_str());
+        // An indeterminate bar: a segment sweeping the track once a second.
+        const ImVec2 track(lo.x + pad, hi.y - pad - barHeight), trackEnd(hi.x - pad, hi.y - pad);
+        const float span = trackEnd.x - track.x, segment = 0.25f * span;
+        const float phase = static_cast<float>(std::fmod(job_.elapsedSeconds(), 1.0));
+        const float x0 = track.x + phase * (span + segment) - segment;
+        progress.AddRectFilled(track, trackEnd, IM_COL32(60, 63, 70, 255));
+        progress.AddRectFilled(ImVec2(std::max(track.x, x0), track.y), ImVec2(std::min(trackEnd.x, x0 + segment), trackEnd.y),
+                               IM_COL32(66, 150, 250, 255));
+    }
+    std::vector<ImDrawList*> lists = lastUi_;
+    if (!progress.VtxBuffer.empty()) lists.push_back(&progress);
+    ImDrawData data;
+    data.Valid = true;
+    data.CmdLists = lists.data();
+    data.CmdListsCount = static_cast<int>(lists.size());
+    for (const ImDrawList* list : lists) {
+        data.TotalVtxCount += list->VtxBuffer.Size;
+        data.TotalIdxCount += list->IdxBuffer.Size;
+    }
+    data.DisplayPos = lastUiPos_;
+    data.DisplaySize = lastUiSize_;
+    data.FramebufferScale = lastUiScale_;
+    ImGui_ImplOpenGL3_RenderDrawData(&data);
     return drawn;
 }
 
@@ -364,6 +590,8 @@ FrameNeeds SculptApp::frameNeeds() const {
         needs.withinSeconds = needs.withinSeconds > 0.0 ? std::min(needs.withinSeconds, seconds) : seconds;
     };
     if (files_.busy()) within(1.0 / 15.0);
+    // An engine step on the worker: its progress moves (the worker wakes the loop when it ends).
+    if (job_.running()) within(1.0 / 20.0);
     // Dear ImGui's caret is on for 0.8 s of every 1.2 s.
     if (ImGui::GetCurrentContext() && ImGui::GetIO().WantTextInput) within(0.4);
     return needs;

@@ -13,12 +13,17 @@
 
 #include <chrono>
 #include <cstdint>
-
+#include <deque>
+#include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
+#include <imgui.h>
+
 #include "app/frame_pacer.h"
 #include "app/window/app_state.h"
+#include "app/window/engine_job.h"
 #include "app/window/file_commands.h"
 #include "app/window/input_events.h"
 #include "core/status.h"
@@ -29,6 +34,11 @@ namespace sculpt::app {
 
 class SculptApp {
 public:
+    SculptApp() = default;
+    ~SculptApp();
+    SculptApp(const SculptApp&) = delete;
+    SculptApp& operator=(const SculptApp&) = delete;
+
     // Loads an OBJ into the session (new lattice, empty history) and frames it. On failure nothing changes.
     Status loadMesh(const std::string& path);
 
@@ -52,7 +62,7 @@ public:
     // Files (file_commands.h): menu bar, dialogs, unsaved-changes prompts, background loads and saves.
     FileCommands& files() { return files_; }
     // The window's close button: asks about unsaved changes; the loop ends once quitApproved().
-    void requestQuit() { files_.requestQuit(state_); }
+    void requestQuit();
     bool quitApproved() const { return files_.quitApproved(); }
     // Files dropped on the window: the first .obj or .json opens (after the unsaved-changes prompt).
     void onDropFiles(const std::vector<std::string>& paths);
@@ -73,11 +83,64 @@ public:
     // clicked) onto the mesh was taken for the panel's and lost, and one from the mesh onto a panel sculpted.
     static CaptureFlags uiCaptureAt(double x, double y);
 
+    // Engine steps off the main thread (engine_job.h): a drag's move, a transform's pose, undo and redo, a
+    // drag's end. seconds: how long the event that starts a step waits for it before the window draws the
+    // step's progress instead. Infinity (the default, and the tests' unless they set it): every step runs on
+    // the calling thread as a plain call. The window sets 1/30 s.
+    void setEngineWait(double seconds) { engineWaitSeconds_ = seconds; }
+    // Called on the worker as a step ends (the window posts an empty event: its loop may be asleep).
+    void setEngineWake(std::function<void()> wake) { engineWake_ = std::move(wake); }
+    // A step runs on the worker: until this is false the state (state(), the session) is the worker's; the
+    // frames meanwhile show the last applied one, and events wait in order (moves coalesced) for their turn.
+    bool engineBusy() const { return job_.running(); }
+    size_t heldInputCount() const { return heldInput_.size(); }
+    // Waits for the running step, then runs the held input (and the steps it starts) to the end.
+    void waitForEngine();
+    // What a busy frame shows: "Certifying the move... 1.2 s" (nothing while no step runs or for the first
+    // kProgressDelaySeconds of one: a quick step does not flash a box).
+    static constexpr double kProgressDelaySeconds = 0.15;
+    std::string engineProgress() const;
+    // Where the last busy frame drew the progress box, pixels (x0, y0, x1, y1); all 0 when it drew none.
+    ImVec4 progressBox() const { return progressBox_; }
+    // Tests: called on the worker before each step's work (a test holds a step there to look at the window).
+    void setEngineStepHook(std::function<void()> hook) { stepHook_ = std::move(hook); }
+
     AppState& state() { return state_; }
     const AppState& state() const { return state_; }
     render::Renderer& renderer() { return renderer_; }
 
 private:
+    // Input held back while a step runs (engineBusy), replayed in order when it ends.
+    struct HeldInput {
+        enum class Kind { Button, Move, Scroll, Key, Drop, Quit, Size } kind = Kind::Move;
+        MouseButtonEvent button;
+        MouseMoveEvent move;
+        ScrollEvent scroll;
+        KeyEvent key;
+        FramebufferSizeEvent size;
+        std::vector<std::string> paths;
+        CaptureFlags capture;
+    };
+    // Holds `input` if a step runs or earlier input still waits; true if held. A move replaces a move held
+    // last (a stroke update rebuilds the stroke up to the cursor: the moves in between change nothing).
+    bool holdInput(const HeldInput& input);
+    void dispatch(const HeldInput& input);
+    // The handlers proper, run when the input's turn comes.
+    void handleMouseButton(const MouseButtonEvent& event, CaptureFlags capture);
+    void handleMouseMove(const MouseMoveEvent& event, CaptureFlags capture);
+    void handleKey(const KeyEvent& event, CaptureFlags capture);
+    // Runs `step` as an engine step (on the worker unless the wait is infinite), named `what` in the progress.
+    void runEngineStep(std::string what, std::function<void()> step);
+    // Collects a finished step (its error, if it threw, goes to the status line).
+    void finishEngineStep();
+    // Collects a finished step and replays the held input; true while a step still runs.
+    bool pollEngine();
+    // A frame while a step runs: the last applied scene and UI, and the progress over them.
+    Status drawBusyFrame(int width, int height);
+    // Keeps a copy of the frame just drawn (its camera, its options, its UI's draw lists) for drawBusyFrame.
+    void keepFramePicture(const render::DrawOptions& options);
+    void freeFramePicture();
+
     // The editing tools (tool_input.cpp).
     void pressSculpt(const MouseButtonEvent& event);
     void pressLattice(const MouseButtonEvent& event);
@@ -119,6 +182,22 @@ private:
     std::chrono::steady_clock::time_point frameStart_;
     DeformationPath framePath_ = DeformationPath::Cpu;
     bool imguiBackendReady_ = false;
+
+    // The last frame drawn from applied state (drawBusyFrame draws it again).
+    render::Camera lastCamera_;
+    render::DrawOptions lastOptions_;
+    std::vector<ImDrawList*> lastUi_;  // owned copies (ImDrawList::CloneOutput)
+    ImVec2 lastUiPos_, lastUiSize_, lastUiScale_;
+    float lastStatusLineHeight_ = 0.0f;
+    ImVec4 progressBox_{0.0f, 0.0f, 0.0f, 0.0f};
+    bool haveFramePicture_ = false;
+
+    double engineWaitSeconds_ = std::numeric_limits<double>::infinity();
+    std::function<void()> engineWake_, stepHook_;
+    std::deque<HeldInput> heldInput_;
+    bool replaying_ = false;
+    // Last: destroyed first, so a running step ends before the state it owns is freed.
+    EngineJob job_;
 };
 
 }  // namespace sculpt::app
