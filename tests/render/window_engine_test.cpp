@@ -17,6 +17,7 @@
 
 #include "app/window/picking.h"
 #include "app/window/sculpt_app.h"
+#include "app/window/app_state.h"
 #include "io/png_image.h"
 #include "offscreen_window.h"
 #include "render/render_target.h"
@@ -203,7 +204,21 @@ TEST_CASE("window engine: while a drag's move is certified on the worker the win
             requireSameResult(sculptApp, reference);
         }
     }
-    CHECK(!sculptApp.state().session.history().empty());  // the strokes did something to compare
+    REQUIRE(!sculptApp.state().session.history().empty());  // the strokes did something to compare
+
+    // The history panel's Undo (or the Edit menu's) asks during the frame; the step runs after it, on the worker.
+    gate.close();
+    app::requestHistoryStep(sculptApp.state(), -1);
+    render::Rgba8Image asked, held;
+    REQUIRE(window.frame(&asked).ok);
+    REQUIRE(gate.waitArrived(++stepsSeen));
+    CHECK(sculptApp.engineBusy());
+    REQUIRE(window.frame(&held).ok);
+    CHECK(differingOutside(asked, held, sculptApp.progressBox()) == 0);
+    gate.open();
+    drawUntilIdle(window, sculptApp);
+    reference.onKey(press(app::Key::Z, true), {});
+    requireSameResult(sculptApp, reference);
 }
 
 TEST_CASE("window engine: a typed rotation held on the worker keeps the applied readout on screen, takes its keys in order and ends as the synchronous one", "[gl]") {

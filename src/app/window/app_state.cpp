@@ -111,6 +111,16 @@ void jumpToHistory(AppState& state, int cursor) {
     }
 }
 
+void requestHistoryStep(AppState& state, int step) {
+    const int from = state.historyRequest >= 0 ? state.historyRequest : state.session.historyCursor();
+    requestHistoryJump(state, from + step);
+}
+
+void requestHistoryJump(AppState& state, int cursor) {
+    if (state.drag.active) return;
+    state.historyRequest = std::clamp(cursor, 0, static_cast<int>(state.session.history().size()));
+}
+
 void setInjectivityCommand(AppState& state, const core::InjectivitySettings& settings) {
     state.session.setInjectivity(settings);
     setStatus(state, std::string("Injectivity check: ") + core::injectivityModeName(settings.mode) +

@@ -160,6 +160,9 @@ struct AppState {
     // in the list's view in the last frame that did not scroll (tests read it).
     int historyShownCursor = -1, historyShownCount = -1, historyScrollFrames = 0;
     bool historyCurrentVisible = false;
+    // The history position a panel or the Edit menu asked for (-1: none): the app goes there after the frame, as
+    // an engine step (engine_job.h), not in the middle of drawing the panels.
+    int historyRequest = -1;
     float legendHeight = 0.0f;      // framebuffer pixels the det J legend takes above the status line; 0: not drawn
 
     std::string status = "Left-drag on the mesh to sculpt. Middle-drag or Alt+left-drag orbits, Shift+middle "
@@ -204,6 +207,9 @@ void undoCommand(AppState& state);
 void redoCommand(AppState& state);
 // Undoes or redoes until historyCursor() == cursor (clamped to [0, history size]).
 void jumpToHistory(AppState& state, int cursor);
+// Asks for one undo (-1) or redo (+1) step, or a jump to `cursor`, from the panels (historyRequest).
+void requestHistoryStep(AppState& state, int step);
+void requestHistoryJump(AppState& state, int cursor);
 void setInjectivityCommand(AppState& state, const core::InjectivitySettings& settings);
 void setOverlays(AppState& state, const Overlays& overlays);
 // The overlays of a tool (the Overlays panel shows the current tool's).

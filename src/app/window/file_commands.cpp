@@ -786,8 +786,8 @@ void FileCommands::drawMenuBar(AppState& state) {
         const int cursor = state.session.historyCursor();
         const int count = static_cast<int>(state.session.history().size());
         const bool canEdit = idle && !state.drag.active;
-        if (ImGui::MenuItem("Undo", "Ctrl+Z", false, canEdit && cursor > 0)) undoCommand(state);
-        if (ImGui::MenuItem("Redo", "Ctrl+Shift+Z", false, canEdit && cursor < count)) redoCommand(state);
+        if (ImGui::MenuItem("Undo", "Ctrl+Z", false, canEdit && cursor > 0)) requestHistoryStep(state, -1);
+        if (ImGui::MenuItem("Redo", "Ctrl+Shift+Z", false, canEdit && cursor < count)) requestHistoryStep(state, +1);
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("View")) {

@@ -38,11 +38,11 @@ void drawHistoryPanel(AppState& state) {
     const int count = static_cast<int>(session.history().size());
     const float half = 0.5f * (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x);
     ImGui::BeginDisabled(cursor == 0 || state.drag.active);
-    if (ImGui::Button("Undo", ImVec2(half, 0.0f))) undoCommand(state);
+    if (ImGui::Button("Undo", ImVec2(half, 0.0f))) requestHistoryStep(state, -1);
     ImGui::EndDisabled();
     ImGui::SameLine();
     ImGui::BeginDisabled(cursor == count || state.drag.active);
-    if (ImGui::Button("Redo", ImVec2(half, 0.0f))) redoCommand(state);
+    if (ImGui::Button("Redo", ImVec2(half, 0.0f))) requestHistoryStep(state, +1);
     ImGui::EndDisabled();
 
     // Each entry wraps to the list's width (a long name is never cut off), and the list scrolls to the current
@@ -91,7 +91,7 @@ void drawHistoryPanel(AppState& state) {
             }
         }
         ImGui::EndListBox();
-        if (jumpTo >= 0 && !state.drag.active) jumpToHistory(state, jumpTo);
+        if (jumpTo >= 0) requestHistoryJump(state, jumpTo);
     }
     ImGui::TextDisabled("Ctrl+Z undo, Ctrl+Shift+Z / Ctrl+Y redo");
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <utility>
 
 #include <imgui.h>
 #include <imgui_impl_opengl3.h>
@@ -428,6 +429,12 @@ Status SculptApp::renderFrame(int width, int height) {
     }
     keepFramePicture(options);
     state_.stats.renderMs = millisecondsSince(start);
+    // Undo, redo or a history entry clicked in this frame: an engine step, now that the frame is drawn.
+    if (const int target = std::exchange(state_.historyRequest, -1); target >= 0 && target != state_.session.historyCursor()) {
+        const int from = state_.session.historyCursor();
+        runEngineStep(target == from - 1 ? "Undoing" : target == from + 1 ? "Redoing" : "Going to history step " + std::to_string(target),
+                      [this, target] { jumpToHistory(state_, target); });
+    }
     return drawn;
 }
 
