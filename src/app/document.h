@@ -10,7 +10,7 @@
 #include <memory>
 #include <string>
 
-#include "core/session.h"
+#include "core/session/session.h"
 #include "io/obj_mesh.h"
 
 namespace sculpt::app {

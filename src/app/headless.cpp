@@ -5,8 +5,8 @@
 #include <iostream>
 
 #include "app/screenshot_hook.h"
-#include "core/script.h"
-#include "core/session.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
 #include "io/atomic_file.h"
 #include "io/mesh_file.h"
 #include "io/mesh_weld.h"

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <utility>
 
-#include "core/cage_view.h"
-#include "core/embedding.h"
-#include "core/injectivity.h"
-#include "core/tspline_view.h"
+#include "core/volume/cage_view.h"
+#include "core/volume/embedding.h"
+#include "core/injectivity/injectivity.h"
+#include "core/tspline/tspline_view.h"
 
 namespace sculpt::app {
 

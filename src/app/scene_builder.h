@@ -1,14 +1,14 @@
 // What the renderer draws for a session: the mesh, the lattice, the last drag's constraints and the
 // optional per-vertex fields (det J, affected region). Shared by the headless screenshots and the window.
 // A frozen lattice of any shape is drawn by its control net (each weld group once), its curved chunk edges
-// (core/cage_view.h), and the lattice tools not frozen by their rest chunk edges. A frozen weighted T-spline
+// (core/volume/cage_view.h), and the lattice tools not frozen by their rest chunk edges. A frozen weighted T-spline
 // (Song & Yang 2005, Fig. 10) shows only the control points of its non-empty cells, and its T-junctions.
 #pragma once
 
 #include <memory>
 #include <vector>
 
-#include "core/session.h"
+#include "core/session/session.h"
 #include "io/mesh_file.h"
 #include "render/scene.h"
 
@@ -26,7 +26,7 @@ struct SceneRequest {
     int curveSamplesPerSpan = 8;
     bool latticeTools = true;
     // The control points drawn of a lattice of any shape (one flag each); empty: computed here (each weld group
-    // once; of a frozen T-spline only those of non-empty cells, core/tspline_view.h). The window passes the
+    // once; of a frozen T-spline only those of non-empty cells, core/tspline/tspline_view.h). The window passes the
     // points its lattice tool picks, which it keeps cached.
     std::vector<std::uint8_t> drawnControlPoints;
 };

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "app/cli_options.h"
-#include "core/session.h"
+#include "core/session/session.h"
 #include "core/status.h"
 #include "io/obj_mesh.h"
 

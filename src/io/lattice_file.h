@@ -8,7 +8,7 @@
 #include <string>
 
 #include "core/status.h"
-#include "core/volume.h"
+#include "core/volume/volume.h"
 
 namespace sculpt::io {
 

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "core/composite_volume.h"
-#include "core/tspline_volume.h"
+#include "core/volume/composite_volume.h"
+#include "core/tspline/tspline_volume.h"
 #include "io/atomic_file.h"
 #include "io/json_fields.h"
 #include "io/json_text.h"
@@ -249,7 +249,7 @@ Status writeLatticeFile(const std::string& path, const LatticeFile& file) { retu
 
 namespace {
 
-// A weighted T-spline volume (Song & Yang 2005; core/tspline_volume.h): {"kind": "tspline", "root": [Ru, Rv, Rw],
+// A weighted T-spline volume (Song & Yang 2005; core/tspline/tspline_volume.h): {"kind": "tspline", "root": [Ru, Rv, Rw],
 // "root_knots": [[0, .., 1] x 3] (optional; absent or [] = uniform along that axis), "cells": [[level, i, j, k], ...] (the T-lattice's
 // octree leaves), "points": [[x,y,z], ...] and "weights": [...] (one per anchor, in the volume's id order)}.
 VolumeFormat tsplineVolumeFormat() {
@@ -300,7 +300,7 @@ VolumeFormat tsplineVolumeFormat() {
         return Status::success();
     };
     format.write = [](const core::Volume& volume, json& out) {
-        const auto* made = dynamic_cast<const core::TSplineVolume*>(&volume);
+        const core::TSplineVolume* made = volume.tsplineVolume();
         if (!made) return false;
         const core::TLattice& lattice = made->lattice();
         json cells = json::array();
@@ -354,7 +354,7 @@ std::vector<VolumeFormat>& volumeFormats() {
             return Status::success();
         };
         composite.write = [](const core::Volume& volume, json& out) {
-            const auto* made = dynamic_cast<const core::CompositeVolume*>(&volume);
+            const core::CompositeVolume* made = volume.compositeVolume();
             if (!made) return false;
             json parts = json::array();
             for (const auto& block : made->blocks()) parts.push_back(latticeNetJson(*block));

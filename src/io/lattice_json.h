@@ -32,7 +32,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/lattice_net.h"
+#include "core/volume/lattice_net.h"
 #include "core/status.h"
 #include "io/lattice_file.h"
 
@@ -45,7 +45,7 @@ nlohmann::json latticeNetJson(const core::LatticeNet& net);
 
 // The library files (LatticeFile, readLatticeFile, writeLatticeFile) are declared in io/lattice_file.h.
 
-// ---- volume kinds (core/volume.h) -------------------------------------------------------------------------
+// ---- volume kinds (core/volume/volume.h) -------------------------------------------------------------------------
 // Every lattice kind has a JSON form; a kind added to the engine registers its reader and writer here, and
 // the scripts, recordings and library files then carry it with no other change. LatticeNet (every "kind"
 // above) is registered from the start.

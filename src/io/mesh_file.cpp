@@ -24,7 +24,7 @@
 #include <functional>
 #include <new>
 
-#include "core/vertex_normals.h"
+#include "core/deform/vertex_normals.h"
 #include "io/atomic_file.h"
 #include "io/mesh_file_internal.h"
 #include "io/off_mesh.h"

@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "core/refinement.h"
+#include "core/deform/refinement.h"
 #include "io/obj_mesh.h"
 
 namespace sculpt::io {

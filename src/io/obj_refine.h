@@ -1,4 +1,4 @@
-// An OBJ mesh carried over to the mesh the engine refined (core/refinement.h): the same polygons where
+// An OBJ mesh carried over to the mesh the engine refined (core/deform/refinement.h): the same polygons where
 // nothing was split, the refined triangles where something was, and texture coordinates interpolated at
 // every split.
 #pragma once
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/refinement.h"
+#include "core/deform/refinement.h"
 #include "io/obj_mesh.h"
 
 namespace sculpt::io {

@@ -13,7 +13,7 @@
 
 #include <omp.h>
 
-#include "core/vertex_normals.h"
+#include "core/deform/vertex_normals.h"
 #include "io/atomic_file.h"
 #include "io/huge_pages.h"
 #include "io/obj_mesh.h"

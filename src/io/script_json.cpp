@@ -1,6 +1,6 @@
 #include "io/script_json.h"
 
-#include "core/volume_kinds.h"
+#include "core/volume/volume_kinds.h"
 
 #include <sys/stat.h>
 
@@ -49,16 +49,6 @@ core::BrushSettings parseBrush(const json& j, const std::string& path) {
     return brush;
 }
 
-bool brushUsed(const core::BrushSettings& brush) { return brush.active() || brush.symmetry.any() || brush.strength != 1.0; }
-
-void addBrushJson(json& j, const core::BrushSettings& brush) {
-    if (!brushUsed(brush)) return;
-    j["radius"] = brush.radius;
-    j["strength"] = brush.strength;
-    j["falloff"] = core::brushFalloffName(brush.falloff);
-    j["symmetry"] = core::symmetryText(brush.symmetry);
-}
-
 core::LatticeSettings parseLattice(const json& j, const std::string& path) {
     core::LatticeSettings s;
     if (j.is_object() && j.contains("kind")) {
@@ -89,7 +79,6 @@ core::LatticeSettings parseLattice(const json& j, const std::string& path) {
     if (Status status = core::validateLatticeSettings(s); !status) fail(path, status.message);
     return s;
 }
-
 
 std::vector<core::PointConstraint> parseConstraints(const json& list, const std::string& path, bool allowEmpty) {
     if (!list.is_array() || (!allowEmpty && list.empty())) fail(path, allowEmpty ? "expected an array" : "expected a non-empty array");
@@ -341,7 +330,7 @@ int parseEditAxis(const json& j, const std::string& path) {
     return axis;
 }
 
-// edit_lattice's "edits" (core/lattice_edit.h): {"move": {"points": [slot, ...], "offset": [x,y,z]}},
+// edit_lattice's "edits" (core/volume/lattice_edit.h): {"move": {"points": [slot, ...], "offset": [x,y,z]}},
 // {"merge": [slot, slot, ...]}, {"refine": {"axis": a}}, {"insert": {"axis": a, "at": u, "times": m}},
 // {"remove": {"axis": a, "index": i}}.
 std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path) {
@@ -388,22 +377,6 @@ std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path) {
         edits.push_back(std::move(edit));
     }
     return edits;
-}
-
-json editsJson(const std::vector<core::NetEdit>& edits) {
-    json out = json::array();
-    for (const core::NetEdit& edit : edits) switch (edit.kind) {
-            case core::NetEdit::Kind::Move:
-                out.push_back({{"move", {{"points", edit.slots}, {"offset", vectorJson(edit.offset)}}}});
-                break;
-            case core::NetEdit::Kind::Merge: out.push_back({{"merge", edit.slots}}); break;
-            case core::NetEdit::Kind::Refine: out.push_back({{"refine", {{"axis", edit.axis}}}}); break;
-            case core::NetEdit::Kind::Insert:
-                out.push_back({{"insert", {{"axis", edit.axis}, {"at", edit.at}, {"times", edit.times}}}});
-                break;
-            case core::NetEdit::Kind::Remove: out.push_back({{"remove", {{"axis", edit.axis}, {"index", edit.index}}}}); break;
-        }
-    return out;
 }
 
 core::ScriptOp parseOp(const json& j, const std::string& path) {
@@ -626,8 +599,6 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
     return op;
 }
 
-
-
 }  // namespace
 
 Status readTextFile(const std::string& path, std::string& out) {
@@ -706,200 +677,6 @@ Status parseScript(const std::string& text, const std::string& displayName, core
     }
 }
 
-namespace {
-
-json injectivityJson(const core::InjectivitySettings& s) {
-    return {{"mode", core::injectivityModeName(s.mode)}, {"max_depth", s.maxDepth}, {"triangles", s.checkTriangles}};
-}
-
-json latticeJson(const core::LatticeSettings& s) {
-    if (s.volume) {
-        json j = volumeJson(*s.volume);
-        j["pin_layers"] = s.pinLayers;
-        return j;
-    }
-    json j = {{"resolution", s.resolution}, {"degree", s.degree}, {"padding", s.padding}, {"pin_layers", s.pinLayers}};
-    j["region"] = s.hasRegion ? json{{"min", vectorJson(s.regionMin)}, {"max", vectorJson(s.regionMax)}} : json(nullptr);
-    return j;
-}
-
-json constraintsJson(const std::vector<core::PointConstraint>& list) {
-    json out = json::array();
-    for (const core::PointConstraint& c : list) out.push_back({{"source", vectorJson(c.source)}, {"target", vectorJson(c.target)}});
-    return out;
-}
-
-json rowsJson(const Eigen::MatrixX3d& rows) {
-    json out = json::array();
-    for (Eigen::Index r = 0; r < rows.rows(); ++r) out.push_back(vectorJson(rows.row(r).transpose()));
-    return out;
-}
-
-// Doubles are written in the shortest form that reads back to the same bits, so a replay is exact.
-json appliedJson(const core::Operation& operation) {
-    json j;
-    switch (operation.kind) {
-        case core::OperationKind::Drag: j["kind"] = "drag"; break;
-        case core::OperationKind::ControlPointEdit: j["kind"] = "control_point_edit"; break;
-        case core::OperationKind::LatticeSetup: j["kind"] = "lattice_setup"; break;
-        case core::OperationKind::LatticeTools: j["kind"] = "lattice_tools"; break;  // never recorded as applied
-        case core::OperationKind::Refine: j["kind"] = "refine"; break;
-        case core::OperationKind::WeightEdit: j["kind"] = "weight_edit"; break;
-    }
-    j["label"] = operation.label;
-    j["interactive"] = operation.interactive;
-    j["depth"] = operation.depthReached;
-    if (brushUsed(operation.brush)) {
-        json brush;
-        addBrushJson(brush, operation.brush);
-        j["brush"] = brush;
-    }
-    if (!operation.constraints.empty()) j["constraints"] = constraintsJson(operation.constraints);
-    if (!operation.controlPoints.empty()) {
-        j["control_points"] = operation.controlPoints;
-        j["offsets"] = rowsJson(operation.offsets);
-    }
-    if (operation.kind == core::OperationKind::LatticeSetup) j["lattice"] = latticeJson(operation.settings);
-    if (operation.frozenBefore >= 0 || operation.frozenAfter >= 0) j["frozen"] = {operation.frozenBefore, operation.frozenAfter};
-    json steps = json::array();
-    for (const core::Step& step : operation.steps) {
-        json k = {{"lattice", latticeJson(step.settings)}, {"indices", step.delta.indices}, {"deltas", rowsJson(step.delta.deltas)}};
-        if (step.freshFrame) k["new_layer"] = true;
-        if (step.newCage) k["new_cage"] = true;
-        if (step.region) k["region_free"] = step.regionFree;
-        if (step.baked) k["baked"] = true;
-        if (step.freshFrame || step.newCage)
-            k["frame"] = {{"min", vectorJson(step.frameMin)}, {"max", vectorJson(step.frameMax)}, {"pins_kept", step.framePinsKept}};
-        if (step.freshFrame && step.frameAxes != Eigen::Matrix3d::Identity()) k["frame"]["axes"] = rowsJson(step.frameAxes);
-        if (!step.constraints.empty()) k["constraints"] = constraintsJson(step.constraints);
-        if (!step.weights.empty()) k["weights"] = {{"ids", step.weights.ids}, {"before", step.weights.before}, {"after", step.weights.after}};
-        steps.push_back(k);
-    }
-    j["steps"] = steps;
-    if (!operation.refinement.empty()) {
-        json splits = json::array();
-        for (const core::EdgeSplit& split : operation.refinement.splits) splits.push_back(json::array({split.a, split.b}));
-        j["refinement"] = {{"tolerance", operation.refinement.tolerance}, {"splits", splits}};
-    }
-    return j;
-}
-
-}  // namespace
-
-std::string scriptToJson(const core::Script& script) {
-    json root;
-    if (!script.mesh.empty()) root["mesh"] = script.mesh;
-    if (!script.meshFingerprint.empty()) root["mesh_fingerprint"] = script.meshFingerprint;
-    if (script.weldMesh) root["weld"] = true;
-    root["lattice"] = latticeJson(script.lattice);
-    root["injectivity"] = injectivityJson(script.injectivity);
-    json ops = json::array();
-    for (const core::ScriptOp& op : script.ops) {
-        json j;
-        j["op"] = core::scriptOpName(op.kind);
-        switch (op.kind) {
-            case core::ScriptOp::Kind::Drag:
-                j["constraints"] = constraintsJson(op.constraints);
-                addBrushJson(j, op.brush);
-                break;
-            case core::ScriptOp::Kind::DragVertex:
-                j["vertex"] = op.vertex;
-                j["target"] = vectorJson(op.target);
-                addBrushJson(j, op.brush);
-                break;
-            case core::ScriptOp::Kind::MoveControlPoint: {
-                json ids = json::array(), values = json::array();
-                for (size_t c = 0; c < op.controlPoints.size(); ++c) {
-                    ids.push_back(op.controlPoints[c]);
-                    values.push_back(vectorJson(op.values.row(static_cast<Eigen::Index>(c)).transpose()));
-                }
-                j["indices"] = ids;
-                j[op.relative ? "by" : "to"] = values;
-                break;
-            }
-            case core::ScriptOp::Kind::SetupLattice:
-                if (op.hasSettings) j["lattice"] = latticeJson(op.settings);
-                break;
-            case core::ScriptOp::Kind::SetPins:
-                j["pin"] = op.controlPoints;
-                j["unpin"] = op.unpinned;
-                break;
-            case core::ScriptOp::Kind::BeginGroup:
-                if (!op.label.empty()) j["label"] = op.label;
-                break;
-            case core::ScriptOp::Kind::EndGroup: break;
-            case core::ScriptOp::Kind::Group:
-                j["first"] = op.groupFirst;
-                if (!op.label.empty()) j["label"] = op.label;
-                break;
-            case core::ScriptOp::Kind::Screenshot: j["path"] = op.path; break;
-            case core::ScriptOp::Kind::AddLattice:
-            case core::ScriptOp::Kind::EditLattice:
-                if (op.kind == core::ScriptOp::Kind::EditLattice) j["index"] = op.toolIndex;
-                if (!op.tool.name.empty()) j["name"] = op.tool.name;
-                if (op.tool.volume) j["lattice"] = volumeJson(*op.tool.volume);
-                if (!op.netEdits.empty()) j["edits"] = editsJson(op.netEdits);
-                break;
-            case core::ScriptOp::Kind::RemoveLattice: j["index"] = op.toolIndex; break;
-            case core::ScriptOp::Kind::Freeze:
-                j["index"] = op.toolIndex;
-                j["pin_layers"] = op.pinLayers;
-                break;
-            case core::ScriptOp::Kind::Unfreeze: break;
-            case core::ScriptOp::Kind::SetupTSpline: {
-                const core::TSplineSetup& setup = op.tspline;
-                j["depth"] = setup.octree.octree.depth;
-                j["weight_ratio"] = setup.octree.weightRatio;
-                j["root"] = setup.octree.octree.rootCount;
-                if (setup.hasRegion) j["region"] = {{"min", vectorJson(setup.regionMin)}, {"max", vectorJson(setup.regionMax)}};
-                if (!setup.name.empty()) j["name"] = setup.name;
-                j["freeze"] = setup.freeze;
-                break;
-            }
-            case core::ScriptOp::Kind::SubdivideCells: {
-                j["index"] = op.toolIndex;
-                if (!op.cells.empty()) j["cells"] = op.cells;
-                if (!op.cellPoints.empty()) {
-                    json points = json::array();
-                    for (const Eigen::Vector3d& p : op.cellPoints) points.push_back(vectorJson(p));
-                    j["at"] = points;
-                }
-                j["balance"] = op.balance;
-                break;
-            }
-            case core::ScriptOp::Kind::SetWeights:
-                j["ids"] = op.weightTool.ids;
-                j["weights"] = op.weightTool.weights;
-                break;
-            case core::ScriptOp::Kind::Hammer:
-            case core::ScriptOp::Kind::Crimp:
-                j["vertex"] = op.weightTool.vertex;
-                if (op.weightTool.controlPoint >= 0) j["control_point"] = op.weightTool.controlPoint;
-                if (op.weightTool.radius > 0.0) j["radius"] = op.weightTool.radius;
-                if (op.kind == core::ScriptOp::Kind::Crimp) j["width_factor"] = op.weightTool.widthFactor;
-                else if (op.weightTool.hasHeight) j["height"] = op.weightTool.height;
-                else j["scale"] = op.weightTool.scale;
-                break;
-            case core::ScriptOp::Kind::Refine:
-                if (op.tolerance > 0.0) j["tolerance"] = op.tolerance;
-                break;
-            case core::ScriptOp::Kind::SetRefinement:
-                j["automatic"] = op.refinement.automatic;
-                j["tolerance"] = op.refinement.options.tolerance;
-                j["max_rounds"] = op.refinement.options.maxRounds;
-                j["max_vertices"] = op.refinement.options.maxVertices;
-                break;
-            case core::ScriptOp::Kind::Undo:
-            case core::ScriptOp::Kind::Redo: break;
-        }
-        if (op.hasApplied) j["applied"] = appliedJson(op.applied);
-        if (op.cancelled) j["cancelled"] = true;
-        ops.push_back(j);
-    }
-    root["ops"] = ops;
-    return root.dump(2) + "\n";
-}
-
 std::string resolveScriptMesh(const core::Script& script, const std::string& scriptPath) {
     namespace fs = std::filesystem;
     if (script.mesh.empty()) return {};
@@ -923,60 +700,6 @@ Status loadScript(const std::string& path, core::Script& out) {
     std::string text;
     if (Status s = readTextFile(path, text); !s) return s;
     return parseScript(text, path, out);
-}
-
-std::string reportToJson(const core::ScriptReport& report, const core::Session& session, const ReportContext& context) {
-    json root;
-    root["input"] = context.input;
-    root["script"] = context.script;
-    root["output"] = context.output;
-    root["vertices"] = context.vertexCount;
-    root["triangles"] = context.triangleCount;
-    root["bbox_diagonal"] = context.diagonal;
-    const core::Lattice& lattice = session.lattice();
-    root["lattice"] = {{"resolution", lattice.count},
-                       {"degree", lattice.degree},
-                       {"box_min", vectorJson(lattice.boxMin)},
-                       {"box_max", vectorJson(lattice.boxMax)}};
-    json ops = json::array();
-    for (size_t i = 0; i < report.ops.size(); ++i) {
-        const core::OpReport& r = report.ops[i];
-        json op;
-        op["index"] = i;
-        op["op"] = r.op;
-        op["status"] = core::opStatusName(r.status);
-        if (!r.reason.empty()) op["reason"] = r.reason;
-        if (!r.residuals.empty()) {
-            op["residuals"] = r.residuals;
-            double worst = 0.0;
-            for (double v : r.residuals) worst = std::max(worst, v);
-            op["max_residual"] = worst;
-            op["rank_deficient"] = r.rankDeficient;
-        }
-        if (!r.injectivity.empty()) op["injectivity"] = r.injectivity;
-        op["sub_steps"] = r.subSteps;
-        op["depth_reached"] = r.depthReached;
-        op["injectivity_ms"] = r.injectivityMs;
-        if (!r.refusedBy.empty()) op["refused_by"] = r.refusedBy;
-        op["triangle_check_ms"] = r.triangleCheckMs;
-        if (r.fractionApplied < 1.0) op["fraction_applied"] = r.fractionApplied;
-        op["control_points_changed"] = r.controlPointsChanged;
-        op["vertices_moved"] = r.verticesMoved;
-        if (r.verticesAdded > 0 || r.deviation > 0.0) {
-            op["vertices_added"] = r.verticesAdded;
-            op["triangles_added"] = r.trianglesAdded;
-            op["max_deviation"] = r.deviation;
-        }
-        op["wall_ms"] = r.wallMs;
-        ops.push_back(op);
-    }
-    root["ops"] = ops;
-    root["history"] = {{"entries", session.history().size()}, {"cursor", session.historyCursor()},
-                       {"bytes", session.historyBytes()}, {"lattice_frames", session.frameDepth() + 1}};
-    root["injectivity"] = injectivityJson(session.injectivity());
-    root["self_intersecting_pairs_at_load"] = session.initialIntersectingPairs();
-    root["degenerate_triangles_at_load"] = session.initialDegenerateTriangles();
-    return root.dump(2) + "\n";
 }
 
 }  // namespace sculpt::io

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "core/script.h"
+#include "core/session/script.h"
 #include "core/status.h"
 
 namespace sculpt::io {

@@ -35,10 +35,10 @@
 
 #include "app/cli_options.h"
 #include "app/screenshot_hook.h"
-#include "core/bernstein.h"
-#include "core/bernstein_box.h"
-#include "core/script.h"
-#include "core/session.h"
+#include "core/spline/bernstein.h"
+#include "core/spline/bernstein_box.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
 #include "io/mesh_file.h"
 #include "io/script_json.h"
 
@@ -379,7 +379,7 @@ namespace {
 
 using namespace pybind11::literals;
 
-// ---- FFD: PyGeM's pygem.FFD with its parameters, on the engine's Bernstein box (core/bernstein_box.h) ----
+// ---- FFD: PyGeM's pygem.FFD with its parameters, on the engine's Bernstein box (core/spline/bernstein_box.h) ----
 
 // The parameters as PyGeM keeps them: numpy arrays the caller may change in place (ffd.array_mu_x[2, 0, 0] = 0.8).
 struct PyFfd {

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "core/embedding.h"
-#include "core/lattice.h"
+#include "core/volume/embedding.h"
+#include "core/volume/lattice.h"
 #include "core/mesh_types.h"
 #include "core/status.h"
 #include "render/camera.h"
@@ -68,7 +68,7 @@ public:
     // Instead of deformed positions, the vertex shader evaluates the session's map x = L_k(...L_1(C(X0))) and
     // the normal cof(J) n0 (shaders/mesh.vert): the cage C(X0) = X0 + sum R_ijk(t) delta_ijk (Hu et al. 2001,
     // eq. 1-2) from the rest positions and each vertex's cell and local coordinates (uploaded once), then each
-    // layer L (core/session.h: a brush region, a subdivision step) y -> y + sum R(t(y)) delta with t(y) its box's
+    // layer L (core/session/session.h: a brush region, a subdivision step) y -> y + sum R(t(y)) delta with t(y) its box's
     // linear map, as Session::pushThroughLayers does. Per frame only the control displacements go up (a few KB).
     // Empty string when the GPU can evaluate these lattices: box lattices (no volume), polynomial or rational,
     // the cage and up to 1024 layers. Otherwise why not (the CPU path, updatePositions, takes every kind).

@@ -10,7 +10,7 @@
 #include "../io/io_test_support.h"
 #include "app/document.h"
 #include "app/file_browser.h"
-#include "core/script.h"
+#include "core/session/script.h"
 #include "io/script_json.h"
 
 using namespace sculpt;

@@ -23,14 +23,14 @@
 #include "io_bench.h"
 #include "tspline_bench.h"
 #include "injectivity_bench.h"
-#include "core/bernstein_box.h"
-#include "core/injectivity.h"
-#include "core/direct_manipulation.h"
-#include "core/embedding.h"
-#include "core/lattice.h"
-#include "core/self_intersection.h"
-#include "core/session.h"
-#include "core/vertex_normals.h"
+#include "core/spline/bernstein_box.h"
+#include "core/injectivity/injectivity.h"
+#include "core/deform/direct_manipulation.h"
+#include "core/volume/embedding.h"
+#include "core/volume/lattice.h"
+#include "core/injectivity/self_intersection.h"
+#include "core/session/session.h"
+#include "core/deform/vertex_normals.h"
 #include "../core/cgal_meshes.h"
 #include "../core/mesh_fixtures.h"
 #include "subdivided_scan.h"
@@ -226,7 +226,7 @@ void benchParameters(const Positions& points) {
 }
 
 // PyGeM's FFD (pygem.FFD, test_ffd_sphere_mod's 3x2x2 box, rotated) of 1M points by the native Bernstein box
-// (core/bernstein_box.h), what the Python module's sculpt.FFD runs; PyGeM takes 3.9 s for 1M points here.
+// (core/spline/bernstein_box.h), what the Python module's sculpt.FFD runs; PyGeM takes 3.9 s for 1M points here.
 void benchBernsteinBox(const Positions& points) {
     if (!wanted("box_ffd_1m")) return;
     BernsteinBox box;

@@ -8,10 +8,10 @@
 #include <random>
 
 #include "bench_support.h"
-#include "core/embedding.h"
-#include "core/lattice.h"
-#include "core/lattice_net.h"
-#include "core/session.h"
+#include "core/volume/embedding.h"
+#include "core/volume/lattice.h"
+#include "core/volume/lattice_net.h"
+#include "core/session/session.h"
 
 namespace sculpt::bench {
 

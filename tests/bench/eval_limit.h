@@ -2,8 +2,8 @@
 // lattice can go on this machine, to hold the engine's evaluateAll against in the same run.
 #pragma once
 
-#include "core/embedding.h"
-#include "core/lattice.h"
+#include "core/volume/embedding.h"
+#include "core/volume/lattice.h"
 
 namespace sculpt::bench {
 

@@ -10,11 +10,11 @@
 #include <random>
 
 #include "bench_support.h"
-#include "core/direct_manipulation.h"
-#include "core/embedding.h"
-#include "core/injectivity.h"
-#include "core/lattice.h"
-#include "core/lattice_net.h"
+#include "core/deform/direct_manipulation.h"
+#include "core/volume/embedding.h"
+#include "core/injectivity/injectivity.h"
+#include "core/volume/lattice.h"
+#include "core/volume/lattice_net.h"
 
 namespace sculpt::bench {
 

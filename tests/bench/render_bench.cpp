@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "../render/test_meshes.h"
-#include "core/embedding.h"
-#include "core/lattice.h"
-#include "core/vertex_normals.h"
+#include "core/volume/embedding.h"
+#include "core/volume/lattice.h"
+#include "core/deform/vertex_normals.h"
 #include "render/offscreen_renderer.h"
 
 namespace sculpt::render {

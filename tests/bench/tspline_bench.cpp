@@ -8,10 +8,10 @@
 #include <random>
 
 #include "bench_support.h"
-#include "core/embedding.h"
-#include "core/lattice.h"
-#include "core/session.h"
-#include "core/tspline_volume.h"
+#include "core/volume/embedding.h"
+#include "core/volume/lattice.h"
+#include "core/session/session.h"
+#include "core/tspline/tspline_volume.h"
 #include "io/obj_mesh.h"
 
 namespace sculpt::bench {

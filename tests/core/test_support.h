@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "core/lattice.h"
+#include "core/volume/lattice.h"
 #include "core/mesh_types.h"
 
 namespace sculpt::test {

@@ -9,8 +9,8 @@
 
 #include "../core/mesh_fixtures.h"
 #include "../core/test_support.h"
-#include "core/script.h"
-#include "core/session.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
 #include "io/script_json.h"
 #include "replay_support.h"
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/script.h"
+#include "core/session/script.h"
 #include "io/json_text.h"
 #include "io/lattice_json.h"
 #include "io/script_json.h"

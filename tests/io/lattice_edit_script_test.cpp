@@ -1,4 +1,4 @@
-// edit_lattice's "edits" (Coquillart 1990, 3.1.4; core/lattice_edit.h in scripts): edits apply in order to the
+// edit_lattice's "edits" (Coquillart 1990, 3.1.4; core/volume/lattice_edit.h in scripts): edits apply in order to the
 // tool's current net and keep its name, bad edits are refused with the field path or the reason and change
 // nothing, and a session with edits, recorded and replayed through its JSON text, gives the same mesh and
 // lattice list bit for bit.
@@ -9,10 +9,10 @@
 #include <random>
 
 #include "../core/mesh_fixtures.h"
-#include "core/lattice.h"
-#include "core/lattice_edit.h"
-#include "core/script.h"
-#include "core/session.h"
+#include "core/volume/lattice.h"
+#include "core/volume/lattice_edit.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
 #include "io/lattice_json.h"
 #include "io/script_json.h"
 #include "replay_support.h"

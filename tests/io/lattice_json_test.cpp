@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <random>
 
-#include "core/lattice.h"
-#include "core/volume_kinds.h"
+#include "core/volume/lattice.h"
+#include "core/volume/volume_kinds.h"
 #include "io/lattice_json.h"
 
 using namespace sculpt;

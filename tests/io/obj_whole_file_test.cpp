@@ -12,8 +12,8 @@
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 
-#include "core/script.h"
-#include "core/session.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
 #include "io/obj_mesh.h"
 #include "io/script_json.h"
 #include "io_test_support.h"

@@ -7,8 +7,8 @@
 
 #include "../core/refinement_checks.h"
 #include "../core/test_support.h"
-#include "core/script.h"
-#include "core/session.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
 #include "io/obj_mesh.h"
 #include "io/obj_refine.h"
 #include "io/script_json.h"

@@ -3,8 +3,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/script.h"
-#include "core/session.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
 #include "io/script_json.h"
 
 namespace sculpt::test {

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "../core/mesh_fixtures.h"
-#include "core/script.h"
-#include "core/session.h"
-#include "core/tspline_volume.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
+#include "core/tspline/tspline_volume.h"
 #include "io/lattice_json.h"
 #include "io/script_json.h"
 #include "replay_support.h"

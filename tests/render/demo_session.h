@@ -8,8 +8,8 @@
 #include <catch2/catch.hpp>
 
 #include "app/scene_builder.h"
-#include "core/script.h"
-#include "core/session.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
 #include "io/obj_mesh.h"
 #include "io/script_json.h"
 #include "gl_test_support.h"

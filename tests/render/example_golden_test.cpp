@@ -7,9 +7,9 @@
 #include <catch2/catch.hpp>
 
 #include "app/scene_builder.h"
-#include "core/script.h"
-#include "core/session.h"
-#include "core/tspline_volume.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
+#include "core/tspline/tspline_volume.h"
 #include "gl_test_support.h"
 #include "io/obj_mesh.h"
 #include "io/script_json.h"

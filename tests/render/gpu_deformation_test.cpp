@@ -13,12 +13,12 @@
 #include <Eigen/Geometry>
 
 #include "app/scene_builder.h"
-#include "core/embedding.h"
-#include "core/lattice.h"
-#include "core/lattice_net.h"
-#include "core/script.h"
-#include "core/session.h"
-#include "core/vertex_normals.h"
+#include "core/volume/embedding.h"
+#include "core/volume/lattice.h"
+#include "core/volume/lattice_net.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
+#include "core/deform/vertex_normals.h"
 #include "demo_session.h"
 #include "gl_test_support.h"
 #include "io/obj_mesh.h"
@@ -343,7 +343,7 @@ TEST_CASE("GPU deformation: layers after the cage compose as the engine's, rando
             for (int i = 0; i < layer.controlPointCount(); ++i)
                 if (core::inOuterLayers(layer, i, 1)) layer.displacement.row(i).setZero();
             if (k % 3 == 1) {
-                // Turned about its centre, as a brush stroke's layer is turned to its pull (core/lattice.h).
+                // Turned about its centre, as a brush stroke's layer is turned to its pull (core/volume/lattice.h).
                 std::uniform_real_distribution<double> unit(-1.0, 1.0);
                 Eigen::Quaterniond turn(unit(rng), unit(rng), unit(rng), unit(rng));
                 turn.normalize();

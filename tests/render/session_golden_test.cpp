@@ -3,8 +3,8 @@
 #include <catch2/catch.hpp>
 
 #include "app/scene_builder.h"
-#include "core/script.h"
-#include "core/session.h"
+#include "core/session/script.h"
+#include "core/session/session.h"
 #include "demo_session.h"
 #include "gl_test_support.h"
 #include "io/obj_mesh.h"

@@ -8,8 +8,8 @@
 
 #include "app/window/sculpt_app.h"
 #include "app/window/tools.h"
-#include "core/brush.h"
-#include "core/brush_field.h"
+#include "core/deform/brush.h"
+#include "core/deform/brush_field.h"
 #include "app/scene_builder.h"
 #include "test_meshes.h"
 #include "window_test_support.h"

@@ -29,12 +29,14 @@ namespace {
 
 constexpr int kWidth = 960, kHeight = 600;
 
-// Holds the worker at the start of each step while closed; counts the steps that reached it.
+// Holds the worker at the start of each step while closed; counts the steps that reached it. allow(n) lets n
+// more steps through while closed.
 class Gate {
 public:
     void close() {
         const std::lock_guard<std::mutex> lock(mutex_);
         open_ = false;
+        permits_ = 0;
     }
     void open() {
         {
@@ -43,11 +45,19 @@ public:
         }
         changed_.notify_all();
     }
+    void allow(int steps) {
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            permits_ += steps;
+        }
+        changed_.notify_all();
+    }
     void pass() {  // on the worker
         std::unique_lock<std::mutex> lock(mutex_);
         ++arrived_;
         changed_.notify_all();
-        changed_.wait(lock, [this] { return open_; });
+        changed_.wait(lock, [this] { return open_ || permits_ > 0; });
+        if (!open_) --permits_;
     }
     // Waits (at most 60 s) until `count` steps have reached the gate in all.
     bool waitArrived(int count) {
@@ -63,6 +73,7 @@ private:
     std::mutex mutex_;
     std::condition_variable changed_;
     bool open_ = true;
+    int permits_ = 0;
     int arrived_ = 0;
 };
 
@@ -265,4 +276,57 @@ TEST_CASE("window engine: a typed rotation held on the worker keeps the applied 
         CHECK(sculptApp.state().status == reference.state().status);
         CHECK(sculptApp.state().status.rfind("Rotated ", 0) == 0);
     }
+}
+
+TEST_CASE("window engine: each step's result is drawn before the input held meanwhile starts the next step", "[gl]") {
+    app::SculptApp sculptApp, reference;
+    test::OffscreenWindow window;
+    if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kHeight)) return;
+    test::loadDefaultMesh(reference, kWidth, kHeight);
+    Gate gate;
+    sculptApp.setEngineStepHook([&gate] { gate.pass(); });
+    sculptApp.setEngineWait(0.0);
+    const double x0 = 0.5 * kWidth, y0 = 0.5 * kHeight;
+    const app::MouseButtonEvent down{app::MouseButton::Left, app::ButtonAction::Press, x0, y0, {}};
+    sculptApp.onMouseButton(down, {});
+    reference.onMouseButton(down, {});
+    REQUIRE(sculptApp.state().drag.active);
+    render::Rgba8Image before, shown;
+    REQUIRE(window.frame(&before).ok);
+    // A stroke of moves that each outlast the wait: every move arrives while the step before it runs.
+    gate.close();
+    int arrived = 0;
+    for (int m = 1; m <= 5; ++m) {
+        CAPTURE(m);
+        const Positions appliedBefore = reference.state().session.positions();  // moves 1 .. m-1
+        const app::MouseMoveEvent move{x0, y0 - 12.0 * m, {}};
+        sculptApp.onMouseMove(move, {});
+        reference.onMouseMove(move, {});
+        if (m == 1) {
+            REQUIRE(gate.waitArrived(++arrived));  // the first move's step waits at the gate
+            continue;
+        }
+        CHECK(sculptApp.heldInputCount() == 1);  // this move waits for the step of the one before
+        gate.allow(1);  // that step runs to its end; the next waits at the gate again
+        // Frames until the held move has started its step: the frame that collected the step before it drew
+        // that step's result, and the held move started only after it.
+        const auto start = std::chrono::steady_clock::now();
+        while (gate.arrived() < arrived + 1) {
+            REQUIRE(window.frame(&shown).ok);
+            REQUIRE(std::chrono::steady_clock::now() - start < std::chrono::seconds(60));
+        }
+        ++arrived;
+        // The worker waits at the gate before touching anything: the state is that of moves 1 .. m-1, and the
+        // frame drawn before this step started shows it (the stroke grew since the frame before).
+        CHECK(sculptApp.state().session.positions() == appliedBefore);
+        CHECK(differingOutside(before, shown, {0.0f, 0.0f, 0.0f, 0.0f}) > 0);
+        before = shown;
+    }
+    gate.open();
+    drawUntilIdle(window, sculptApp);
+    const app::MouseButtonEvent up{app::MouseButton::Left, app::ButtonAction::Release, x0, y0 - 60.0, {}};
+    sculptApp.onMouseButton(up, {});
+    reference.onMouseButton(up, {});
+    drawUntilIdle(window, sculptApp);
+    requireSameResult(sculptApp, reference);
 }

@@ -24,7 +24,7 @@
 #include "app/window/panels.h"
 #include "app/window/sculpt_app.h"
 #include "app/window/ui_style.h"
-#include "core/script.h"
+#include "core/session/script.h"
 #include "gl_test_support.h"
 #include "offscreen_window.h"
 #include "io/mesh_file.h"

@@ -22,7 +22,7 @@
 #include "app/window/picking.h"
 #include "app/window/sculpt_app.h"
 #include "app/window/tools.h"
-#include "core/lattice_net.h"
+#include "core/volume/lattice_net.h"
 #include "gl_test_support.h"
 #include "io/lattice_file.h"
 #include "io/png_image.h"

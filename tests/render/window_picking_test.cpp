@@ -16,7 +16,7 @@
 #include "app/window/sculpt_app.h"
 #include "app/window/tools.h"
 #include "app/window/view_navigation.h"
-#include "core/lattice_net.h"
+#include "core/volume/lattice_net.h"
 #include "render/palette.h"
 #include "window_test_support.h"
 

@@ -17,6 +17,7 @@
 #include "app/window/tool_commands.h"
 #include "io/png_image.h"
 #include "offscreen_window.h"
+#include "test_meshes.h"
 #include "window_test_support.h"
 #include "../test_scale.h"
 
@@ -366,4 +367,60 @@ TEST_CASE("window transform: a transform that would fold keeps what it showed an
     WARN(full << " transforms applied in full, " << stops << " stopped short, " << refused << " refused");
     CHECK(stops > 0);
     CHECK(full > 0);
+}
+
+// A new user's trip: a typed transform stopped by crossing triangles said "the lattice would fold", while a
+// mouse drag of the same points named the parts. Two separate spheres, a cage set up around the left one only
+// (a region), every control point moved by a typed G along +X: a translation, injective at any distance, so
+// only the triangle check stops it where the left sphere meets the right one. The preview, the confirmed status
+// and the history name the crossing, never a fold; the result has no crossing pair.
+TEST_CASE("window transform: a transform stopped by crossing triangles says so, not that the lattice would fold", "[gl][transform]") {
+    app::SculptApp sculptApp;
+    sculptApp.onFramebufferSize({kWidth, kHeight});
+    app::AppState& state = sculptApp.state();
+    Positions left, right;
+    Triangles leftTriangles, rightTriangles;
+    test::icosphere(2, 0.4, Eigen::Vector3d(-0.5, 0.0, 0.0), left, leftTriangles);
+    test::icosphere(2, 0.4, Eigen::Vector3d(0.5, 0.0, 0.0), right, rightTriangles);
+    Positions positions(left.rows() + right.rows(), 3);
+    positions << left, right;
+    Triangles triangles(leftTriangles.rows() + rightTriangles.rows(), 3);
+    triangles << leftTriangles, rightTriangles.array() + static_cast<int>(left.rows());
+    core::LatticeSettings settings;
+    settings.pinLayers = 0;
+    settings.hasRegion = true;
+    settings.regionMin = Eigen::Vector3d(-0.95, -0.45, -0.45);
+    settings.regionMax = Eigen::Vector3d(-0.05, 0.45, 0.45);
+    REQUIRE(app::setMesh(state, positions, triangles, "two spheres", settings).ok);
+    app::frameMesh(state);
+    key(sculptApp, app::Key::Tab);
+    std::mt19937 random(77);
+    for (int trial = 0; trial < 4; ++trial) {
+        CAPTURE(trial);
+        core::InjectivitySettings injectivity = state.session.injectivity();
+        injectivity.mode = trial % 2 == 0 ? core::InjectivityMode::Conic : core::InjectivityMode::Exact;
+        state.session.setInjectivity(injectivity);
+        key(sculptApp, app::Key::A);
+        REQUIRE(state.tools.lattice.points.size() == static_cast<size_t>(state.session.lattice().controlPointCount()));
+        const Positions before = state.session.positions();
+        // Far enough that the spheres (0.2 apart) overlap: 0.5 to 1.4.
+        const int tenths = 5 + static_cast<int>(random() % 10);
+        const std::string distance = std::to_string(tenths / 10) + "." + std::to_string(tenths % 10);
+        key(sculptApp, app::Key::G);
+        key(sculptApp, app::Key::X);
+        type(sculptApp, distance);
+        INFO(distance << ": " << state.status);
+        REQUIRE(state.transform.stopped);
+        INFO(state.status);
+        CHECK(state.transform.stopCause == "triangles");
+        CHECK(state.status.find("where the surface would cross itself") != std::string::npos);
+        CHECK(state.status.find("lattice would fold") == std::string::npos);
+        key(sculptApp, app::Key::Enter);
+        INFO(state.status);
+        CHECK(state.status.find("the surface would cross itself") != std::string::npos);
+        CHECK(state.status.find("lattice would fold") == std::string::npos);
+        CHECK(test::selfIntersectingPairs(state.session.positions(), state.session.triangles()) == 0);
+        if (state.session.historyCursor() > 0) key(sculptApp, app::Key::Z, controlKey());
+        CHECK((state.session.positions() - before).cwiseAbs().maxCoeff() < 1e-12);  // undo: exact to rounding
+    }
 }

@@ -5,7 +5,7 @@
 
 #include "app/window/sculpt_app.h"
 #include "app/window/tools.h"
-#include "core/script.h"
+#include "core/session/script.h"
 #include "window_test_support.h"
 
 using namespace sculpt;

@@ -5,7 +5,7 @@
 
 #include "app/window/tspline_commands.h"
 #include "app/window/wording.h"
-#include "core/tspline_view.h"
+#include "core/tspline/tspline_view.h"
 #include "render/overlay_geometry.h"
 
 namespace sculpt::app {

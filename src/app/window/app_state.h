@@ -14,7 +14,7 @@
 #include "app/window/tools.h"
 #include "app/window/transform_tool.h"
 #include "app/deformation_path.h"
-#include "core/session.h"
+#include "core/session/session.h"
 #include "render/camera.h"
 #include "render/scene.h"
 
@@ -95,7 +95,7 @@ enum class Navigation { None, Orbit, Pan };
 struct LatticeLibraryEntry {
     std::string path;
     std::string name;
-    std::shared_ptr<const core::Volume> volume;  // any kind (core/volume.h)
+    std::shared_ptr<const core::Volume> volume;  // any kind (core/volume/volume.h)
 };
 
 // The Lattices panel's view state (lattices_panel.cpp); the lattice tools themselves live in the Session.

@@ -1,4 +1,4 @@
-// The sculpt tool's brush (tools.h BrushTool, core/brush.h), with Blender's keys: F and a mouse move sets
+// The sculpt tool's brush (tools.h BrushTool, core/deform/brush.h), with Blender's keys: F and a mouse move sets
 // the radius, Shift+F the strength; a click or Enter keeps the value, Esc or a right click cancels. The
 // circle is drawn on the surface under the cursor, at the radius a drag grabbing there would get.
 #include <algorithm>

@@ -1,6 +1,6 @@
 #include "app/window/lattice_commands.h"
 
-#include "core/volume_kinds.h"
+#include "core/volume/volume_kinds.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -15,8 +15,8 @@
 #include "app/cli_options.h"
 #include "app/file_browser.h"
 #include "app/window/picking.h"
-#include "core/script.h"
-#include "core/tspline_view.h"
+#include "core/session/script.h"
+#include "core/tspline/tspline_view.h"
 #include "io/lattice_file.h"
 #include "render/camera.h"
 

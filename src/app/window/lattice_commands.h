@@ -1,6 +1,6 @@
 // Commands of the Lattices panel (lattices of any shape, Coquillart 1990 "EFFD", seed 004, 3.1-3.4). Each is
 // the session command a script's op issues (add_lattice with "place", edit_lattice, remove_lattice, freeze,
-// unfreeze: src/core/script.cpp), so every change is a history operation (undoable, recorded in sessions);
+// unfreeze: src/core/session/script.cpp), so every change is a history operation (undoable, recorded in sessions);
 // like the commands of app_state.h each keeps the status line and the pending GPU update in step.
 #pragma once
 
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "app/window/app_state.h"
-#include "core/lattice_edit.h"
+#include "core/volume/lattice_edit.h"
 #include "core/status.h"
 
 namespace sculpt::app {
@@ -53,7 +53,7 @@ void placeLatticeCommand(AppState& state, const core::Volume& volume, const std:
 void freezeLatticeCommand(AppState& state, int index, int pinLayers);
 void unfreezeLatticeCommand(AppState& state);
 void removeLatticeToolCommand(AppState& state, int index);
-// edit_lattice with "edits" (core/lattice_edit.h) on tool `index`, which must not be frozen: the script op
+// edit_lattice with "edits" (core/volume/lattice_edit.h) on tool `index`, which must not be frozen: the script op
 // itself (core::runScriptOp), one history operation. `what` names it on the status line ("Inserted a knot
 // at u = 0.3 in cylinder"); a refusal gives its reason there.
 void editLatticeNetCommand(AppState& state, int index, const std::vector<core::NetEdit>& edits, const std::string& what);

@@ -12,7 +12,7 @@
 #include <imgui_internal.h>
 
 #include "app/scene_builder.h"
-#include "core/cage_view.h"
+#include "core/volume/cage_view.h"
 #include "app/window/lattice_commands.h"
 #include "app/window/panels.h"
 #include "app/window/picking.h"
@@ -435,6 +435,7 @@ Status SculptApp::renderFrame(int width, int height) {
         runEngineStep(target == from - 1 ? "Undoing" : target == from + 1 ? "Redoing" : "Going to history step " + std::to_string(target),
                       [this, target] { jumpToHistory(state_, target); });
     }
+    if (!job_.running()) replayHeldInput();  // input held while the last step ran, now that its result is drawn
     return drawn;
 }
 
@@ -482,11 +483,16 @@ void SculptApp::finishEngineStep() {
 }
 
 bool SculptApp::pollEngine() {
-    if (job_.running()) {
-        if (!job_.finished()) return true;
-        finishEngineStep();
-    }
-    // The held input, in order, until one starts a step that is still running.
+    if (!job_.running()) return false;
+    if (!job_.finished()) return true;
+    finishEngineStep();
+    return false;  // this frame shows what the step applied; the held input runs after it (replayHeldInput)
+}
+
+void SculptApp::replayHeldInput() {
+    // The held input, in order, until one starts a step that is still running. note: only after a frame drawn
+    // from the applied state: replayed at once, a stroke whose every move outlasts the wait chained step after
+    // step, and the window showed the frame from before the stroke until the mouse stopped.
     while (!heldInput_.empty() && !job_.running()) {
         const HeldInput input = heldInput_.front();
         heldInput_.pop_front();
@@ -494,13 +500,12 @@ bool SculptApp::pollEngine() {
         dispatch(input);
         replaying_ = false;
     }
-    return job_.running();
 }
 
 void SculptApp::waitForEngine() {
     while (job_.running() || !heldInput_.empty()) {
         if (job_.running()) finishEngineStep();  // collect() waits for the worker
-        pollEngine();
+        replayHeldInput();
     }
 }
 
@@ -599,6 +604,7 @@ FrameNeeds SculptApp::frameNeeds() const {
     if (files_.busy()) within(1.0 / 15.0);
     // An engine step on the worker: its progress moves (the worker wakes the loop when it ends).
     if (job_.running()) within(1.0 / 20.0);
+    if (!heldInput_.empty()) within(1.0 / 60.0);  // a step just ended: its frame, then the input that waited
     // Dear ImGui's caret is on for 0.8 s of every 1.2 s.
     if (ImGui::GetCurrentContext() && ImGui::GetIO().WantTextInput) within(0.4);
     return needs;

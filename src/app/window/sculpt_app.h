@@ -133,8 +133,11 @@ private:
     void runEngineStep(std::string what, std::function<void()> step);
     // Collects a finished step (its error, if it threw, goes to the status line).
     void finishEngineStep();
-    // Collects a finished step and replays the held input; true while a step still runs.
+    // Collects a finished step; true while a step still runs (then the frame is a busy one).
     bool pollEngine();
+    // Runs the held input in order until one starts a step that still runs; called after a frame that showed
+    // the last step's result.
+    void replayHeldInput();
     // A frame while a step runs: the last applied scene and UI, and the progress over them.
     Status drawBusyFrame(int width, int height);
     // Keeps a copy of the frame just drawn (its camera, its options, its UI's draw lists) for drawBusyFrame.

@@ -3,7 +3,7 @@
 #include <imgui.h>
 
 #include "app/window/panels.h"
-#include "core/tspline_view.h"
+#include "core/tspline/tspline_view.h"
 
 namespace sculpt::app {
 

@@ -16,8 +16,8 @@
 
 #include <Eigen/Core>
 
-#include "core/brush.h"
-#include "core/lattice.h"
+#include "core/deform/brush.h"
+#include "core/volume/lattice.h"
 #include "core/mesh_types.h"
 #include "render/camera.h"
 
@@ -43,7 +43,7 @@ struct LatticeSelection {
     Eigen::Vector3d hoveredAt = Eigen::Vector3d::Zero();
 };
 
-// The sculpt tool's brush (core/brush.h), as in Blender's sculpt mode: a radius on screen (framebuffer pixels,
+// The sculpt tool's brush (core/deform/brush.h), as in Blender's sculpt mode: a radius on screen (framebuffer pixels,
 // turned into world units at the grabbed point when a drag begins), a strength, a falloff and X/Y/Z symmetry.
 struct BrushTool {
     bool limited = true;           // false: a drag moves the whole cage (no radius)

@@ -256,6 +256,8 @@ void applyTransform(AppState& state) {
         note = "  (0 would flatten the points: type on)";
     } else {
         t.stopped = false;
+        t.stopCause.clear();
+        t.stopReason.clear();
         Pose reached = t.applied;
         for (const Pose& pose : pathBetween(t.kind, t.applied, wanted)) {
             core::OpReport report;
@@ -266,6 +268,8 @@ void applyTransform(AppState& state) {
                 continue;
             }
             t.stopped = true;
+            t.stopCause = report.refusedBy;
+            t.stopReason = report.reason;
             const double f = std::max(0.0, report.fractionApplied);
             const Pose partial = blend(t.kind, reached, pose, f);
             if (t.kind != TransformKind::Rotate || f == 0.0) {
@@ -287,8 +291,8 @@ void applyTransform(AppState& state) {
     t.readout = headOf(t) + ": " + (t.digits.empty() && !t.negate ? valueOf(t, t.applied) : typedText(t) + (t.kind == TransformKind::Rotate ? " deg" : ""));
     if (s && t.stopped)
         note = sameGeometry(t, t.applied, identity)
-                   ? "  (refused: the lattice would fold at once; nothing moved)"
-                   : "  (stopped at " + valueOf(t, t.applied) + " where the lattice would fold)";
+                   ? "  (refused: " + stopCauseWords(t.stopCause) + " at once; nothing moved)"
+                   : "  (stopped at " + valueOf(t, t.applied) + " where " + stopCauseWords(t.stopCause) + ")";
     std::string text = t.readout + (s ? note : "  (" + s.message + ")");
     text += "   X Y Z: axis, type a value, Enter or click: confirm, Esc or right-click: cancel";
     setStatus(state, text, !s);
@@ -386,6 +390,9 @@ void confirmTransform(AppState& state) {
     const std::string words = poseWords(t, t.applied);
     const std::string points = countOf(t.points.size(), "control point");
     const bool stopped = t.stopped;
+    const std::string why = stopCauseWords(t.stopCause);
+    std::string detail = t.stopReason;  // the engine's own words: which parts cross, which cell folds
+    if (detail.rfind("refused: ", 0) == 0) detail.erase(0, 9);
     const std::string typed = t.digits.empty() ? std::string() : typedValueText(t);
     if (Status named = state.session.setDragLabel(verb + " " + points + " " + words); !named)
         setStatus(state, "Cannot name the history entry: " + named.message, true);
@@ -399,10 +406,10 @@ void confirmTransform(AppState& state) {
     std::string text;
     if (recorded) {
         text = std::string(verb == "move" ? "Moved " : verb == "rotate" ? "Rotated " : "Scaled ") + points + " " + words;
-        if (stopped) text += " (stopped there: further, the lattice would fold" + (typed.empty() ? std::string() : "; " + typed + " was typed") + ")";
+        if (stopped) text += " (stopped there: further, " + why + (typed.empty() ? std::string() : "; " + typed + " was typed") + ")";
         text += ": one undo step.";
     } else {
-        text = stopped ? "Nothing moved: the lattice would fold at once." : "Nothing moved.";
+        text = stopped ? "Nothing moved: " + why + " at once" + (detail.empty() ? std::string(".") : " (" + detail + ").") : "Nothing moved.";
     }
     setStatus(state, text, false);
 }

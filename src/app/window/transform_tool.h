@@ -48,7 +48,9 @@ struct TransformState {
     double cursorX = 0.0, cursorY = 0.0;   // the cursor now
     double screenAngle = 0.0;  // Rotate: the cursor's turn about the pivot since the start, radians, CCW on screen
     std::string readout;       // "Move Z: 0.5", the head of the status line
-    bool stopped = false;      // the last update stopped short where the lattice would fold
+    bool stopped = false;      // the last update stopped short (refused further by the engine)
+    std::string stopCause;     //   OpReport::refusedBy of that stop ("lattice", "triangles", ...)
+    std::string stopReason;    //   and the engine's words for it (OpReport::reason)
     // What was last asked of the session: Move an offset, Rotate an angle (radians) about `axis` (-1: the view
     // axis), Scale a factor along `axis` (-1: all three).
     struct Pose {

@@ -1,6 +1,6 @@
 // The T-spline section's commands (Song & Yang 2005, seed 002): sec. 4 / sec. 6 steps 1-3 (setup_tspline),
 // sec. 6 step 2 / Fig. 11 (cells chosen on the mesh, subdivide_cells), and what the window draws and picks of
-// a T-spline (Fig. 9-10, core/tspline_view.h). Every change is a script op run through core::runScriptOp.
+// a T-spline (Fig. 9-10, core/tspline/tspline_view.h). Every change is a script op run through core::runScriptOp.
 #include "app/window/tspline_commands.h"
 
 #include <algorithm>
@@ -10,8 +10,8 @@
 #include "app/window/picking.h"
 #include "app/window/tool_commands.h"
 #include "app/window/tools.h"
-#include "core/script.h"
-#include "core/tspline_volume.h"
+#include "core/session/script.h"
+#include "core/tspline/tspline_volume.h"
 
 namespace sculpt::app {
 namespace {

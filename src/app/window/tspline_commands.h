@@ -2,14 +2,14 @@
 // change is the script op itself run through core::runScriptOp (setup_tspline, subdivide_cells, and unfreeze /
 // freeze around a subdivision of the frozen tool), so the window does what a script does and every op is a
 // history operation; like the commands of app_state.h each keeps the status line and the GPU update in step.
-// Also what the window draws and picks of T-splines (Fig. 9-11), from core/tspline_view.h.
+// Also what the window draws and picks of T-splines (Fig. 9-11), from core/tspline/tspline_view.h.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
 #include "app/window/app_state.h"
-#include "core/tspline_view.h"
+#include "core/tspline/tspline_view.h"
 #include "render/scene.h"
 
 namespace sculpt::app {

@@ -10,7 +10,7 @@
 #include "app/window/panel_items.h"
 #include "app/window/panels.h"
 #include "app/window/tspline_commands.h"
-#include "core/tspline_volume.h"
+#include "core/tspline/tspline_volume.h"
 
 namespace sculpt::app {
 
@@ -114,7 +114,7 @@ void drawTSplineSection(AppState& state) {
     // ---- sculpting by weights (sec. 1 and 6: the hammer and crimp of Noble & Gordon; script ops "hammer" and
     // "crimp"): what a click on the mesh does in the sculpt tool ----
     BrushTool& brush = state.tools.brush;
-    const bool frozen = state.session.frozenTool() >= 0 && dynamic_cast<const core::TSplineVolume*>(state.session.lattice().volume.get());
+    const bool frozen = state.session.frozenTool() >= 0 && state.session.lattice().volume && state.session.lattice().volume->tsplineVolume();
     if (!frozen) brush.kind = BrushTool::Kind::Drag;
     int kind = static_cast<int>(brush.kind);
     ImGui::BeginDisabled(!frozen);

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "app/window/tool_commands.h"
-#include "core/script.h"
+#include "core/session/script.h"
 
 namespace sculpt::app {
 

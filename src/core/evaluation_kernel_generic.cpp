@@ -1,4 +1,0 @@
-#define SCULPT_KERNEL_NAME evaluateCellsGeneric
-#define SCULPT_INCREMENT_NAME incrementCellsGeneric
-#define SCULPT_CELL_ORDER_NAME evaluateInCellOrderGeneric
-#include "core/evaluation_kernel.inl"

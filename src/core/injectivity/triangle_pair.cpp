@@ -1,0 +1,196 @@
+// Exact triangle-pair intersection for the mesh self-intersection check, on CGAL's exact predicates.
+// The case analysis (shared edge: coplanar and folded; shared vertex: an opposite edge pierces the other
+// triangle; otherwise any common point) follows CGAL Polygon_mesh_processing's do_faces_intersect. It lives
+// in its own translation unit because CGAL's headers are slow to compile.
+#include "core/injectivity/triangle_pair.h"
+
+#include <cmath>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/intersections.h>
+
+namespace sculpt::core {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Segment = Kernel::Segment_3;
+using Triangle = Kernel::Triangle_3;
+
+Point toPoint(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
+
+// A triangle as the simplest primitive that has its point set: triangle, segment (collinear corners) or point.
+struct Primitive {
+    enum class Kind { Dot, Line, Area } kind = Kind::Area;
+    Point p[3];
+};
+
+Primitive classify(const TriangleCorners& t) {
+    Primitive out;
+    for (int c = 0; c < 3; ++c) out.p[c] = toPoint(t.point[c]);
+    if (!CGAL::collinear(out.p[0], out.p[1], out.p[2])) return out;
+    if (out.p[0] == out.p[1] && out.p[1] == out.p[2]) {
+        out.kind = Primitive::Kind::Dot;
+        return out;
+    }
+    // Collinear: the segment between the two corners farthest apart holds the third.
+    out.kind = Primitive::Kind::Line;
+    int far0 = 0, far1 = 1;
+    double best = -1.0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = i + 1; j < 3; ++j) {
+            const double d = (t.point[i] - t.point[j]).squaredNorm();
+            if (d > best) best = d, far0 = i, far1 = j;
+        }
+    const Point a = out.p[far0], b = out.p[far1];
+    out.p[0] = a;
+    out.p[1] = b;
+    return out;
+}
+
+bool primitivesIntersect(const Primitive& a, const Primitive& b) {
+    using K = Primitive::Kind;
+    if (a.kind == K::Dot && b.kind == K::Dot) return a.p[0] == b.p[0];
+    if (a.kind == K::Dot || b.kind == K::Dot) {
+        const Primitive& point = a.kind == K::Dot ? a : b;
+        const Primitive& other = a.kind == K::Dot ? b : a;
+        if (other.kind == K::Line) return Segment(other.p[0], other.p[1]).has_on(point.p[0]);
+        return Triangle(other.p[0], other.p[1], other.p[2]).has_on(point.p[0]);
+    }
+    if (a.kind == K::Line && b.kind == K::Line)
+        return CGAL::do_intersect(Segment(a.p[0], a.p[1]), Segment(b.p[0], b.p[1]));
+    if (a.kind == K::Line) return CGAL::do_intersect(Segment(a.p[0], a.p[1]), Triangle(b.p[0], b.p[1], b.p[2]));
+    if (b.kind == K::Line) return CGAL::do_intersect(Segment(b.p[0], b.p[1]), Triangle(a.p[0], a.p[1], a.p[2]));
+    return CGAL::do_intersect(Triangle(a.p[0], a.p[1], a.p[2]), Triangle(b.p[0], b.p[1], b.p[2]));
+}
+
+// The sign of orient3d(a, b, c, d) where plain double arithmetic certifies it, 0 where it cannot: Shewchuk's
+// static error bound for the determinant computed from the input coordinates (Shewchuk 1997, "Adaptive
+// precision floating-point arithmetic and fast robust geometric predicates", o3derrboundA). Most pairs the
+// broad phase hands over are decided here; the rest go to CGAL's exact predicates.
+int certifiedOrientation(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+    const Eigen::Vector3d ad = a - d, bd = b - d, cd = c - d;
+    const double bc = bd.y() * cd.z() - bd.z() * cd.y(), ca = cd.y() * ad.z() - cd.z() * ad.y(), ab = ad.y() * bd.z() - ad.z() * bd.y();
+    const double det = ad.x() * bc + bd.x() * ca + cd.x() * ab;
+    const double permanent = (std::abs(bd.y() * cd.z()) + std::abs(bd.z() * cd.y())) * std::abs(ad.x()) +
+                             (std::abs(cd.y() * ad.z()) + std::abs(cd.z() * ad.y())) * std::abs(bd.x()) +
+                             (std::abs(ad.y() * bd.z()) + std::abs(ad.z() * bd.y())) * std::abs(cd.x());
+    constexpr double kBound = 7.7715611723761027e-16;  // (7 + 56 eps) eps, eps = 2^-53
+    if (det > kBound * permanent) return 1;
+    if (-det > kBound * permanent) return -1;
+    return 0;
+}
+
+// True when the points p[i] (i in `which`) are certified strictly on one side of triangle t's plane.
+bool certifiedOneSide(const TriangleCorners& t, const Eigen::Vector3d* points, int count) {
+    int first = 0;
+    for (int i = 0; i < count; ++i) {
+        const int o = certifiedOrientation(t.point[0], t.point[1], t.point[2], points[i]);
+        if (o == 0 || (i > 0 && o != first)) return false;
+        first = o;
+    }
+    return true;
+}
+
+// 0: certainly no intersection beyond what they share, -1: not decided by the filter.
+int quickDecision(const TriangleCorners& a, const TriangleCorners& b) {
+    int shared = 0, wa = -1, wb = -1;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (a.vertex[i] == b.vertex[j]) ++shared, wa = i, wb = j;
+    if (shared == 0) {
+        // One triangle wholly on one side of the other's plane: they cannot meet.
+        if (certifiedOneSide(a, b.point.data(), 3) || certifiedOneSide(b, a.point.data(), 3)) return 0;
+        return -1;
+    }
+    if (shared == 1) {
+        // Each edge opposite the shared vertex must miss the other triangle (see below): certainly so when it
+        // lies strictly on one side of that triangle's plane.
+        const Eigen::Vector3d oppositeB[2] = {b.point[(wb + 1) % 3], b.point[(wb + 2) % 3]};
+        const Eigen::Vector3d oppositeA[2] = {a.point[(wa + 1) % 3], a.point[(wa + 2) % 3]};
+        if (certifiedOneSide(a, oppositeB, 2) && certifiedOneSide(b, oppositeA, 2)) return 0;
+        return -1;
+    }
+    if (shared == 2) {
+        // Sharing an edge, they meet beyond it only when all four corners are coplanar.
+        int ob = 0;
+        while (ob < 2 && (b.vertex[ob] == a.vertex[0] || b.vertex[ob] == a.vertex[1] || b.vertex[ob] == a.vertex[2])) ++ob;
+        if (certifiedOrientation(a.point[0], a.point[1], a.point[2], b.point[ob]) != 0) return 0;
+        return -1;
+    }
+    return 0;  // the same face twice
+}
+
+// The full case analysis on CGAL's exact predicates.
+bool exactDecision(const TriangleCorners& a, const TriangleCorners& b) {
+    // Which corners the two share, by vertex id: sharedA[i] = the corner of b with a's vertex i, or -1.
+    int sharedA[3] = {-1, -1, -1};
+    int shared = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (a.vertex[i] == b.vertex[j]) {
+                sharedA[i] = j;
+                ++shared;
+                break;
+            }
+    if (shared == 0) return primitivesIntersect(classify(a), classify(b));
+    if (shared == 3) return false;  // the same face twice
+    const Primitive pa = classify(a), pb = classify(b);
+    if (pa.kind != Primitive::Kind::Area || pb.kind != Primitive::Kind::Area) return false;
+
+    if (shared == 2) {
+        // Shared edge (u, v): the two can only meet beyond it if they lie in one plane, folded onto the same
+        // side of the edge.
+        int ua = -1, va = -1, oa = -1;
+        for (int i = 0; i < 3; ++i) {
+            if (sharedA[i] < 0) oa = i;
+            else if (ua < 0) ua = i;
+            else va = i;
+        }
+        int ob = 0;
+        while (ob == sharedA[ua] || ob == sharedA[va]) ++ob;
+        const Point u = pa.p[ua], v = pa.p[va], x = pa.p[oa], y = pb.p[ob];
+        return CGAL::coplanar(u, v, x, y) && CGAL::coplanar_orientation(u, v, x, y) == CGAL::POSITIVE;
+    }
+    // Shared vertex w: their intersection is convex and holds w, so it holds more than w exactly when the
+    // edge opposite w of one triangle meets the other triangle.
+    int wa = 0;
+    while (sharedA[wa] < 0) ++wa;
+    const int wb = sharedA[wa];
+    const Segment oppositeA(pa.p[(wa + 1) % 3], pa.p[(wa + 2) % 3]);
+    const Segment oppositeB(pb.p[(wb + 1) % 3], pb.p[(wb + 2) % 3]);
+    return CGAL::do_intersect(oppositeB, Triangle(pa.p[0], pa.p[1], pa.p[2])) ||
+           CGAL::do_intersect(oppositeA, Triangle(pb.p[0], pb.p[1], pb.p[2]));
+}
+
+}  // namespace
+
+bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& bIn) {
+    // Corners at the very same position are one vertex whatever their ids: the triangles of a soup (a file that
+    // stores each triangle's corners apart) or of a seam split for its normals or texture coordinates touch
+    // there as neighbours do, and only what they have in common beyond it counts.
+    TriangleCorners b = bIn;
+    for (int j = 0; j < 3; ++j) {
+        bool byId = false;
+        for (int i = 0; i < 3; ++i) byId = byId || (b.vertex[j] >= 0 && b.vertex[j] == a.vertex[i]);
+        for (int i = 0; i < 3 && !byId; ++i)
+            if (b.point[j] == a.point[i]) {
+                b.vertex[j] = a.vertex[i] >= 0 ? a.vertex[i] : -2 - i;  // -2 - i: a's corner i, when a has no ids
+                break;
+            }
+    }
+    TriangleCorners aIds = a;
+    for (int i = 0; i < 3; ++i)
+        if (aIds.vertex[i] < 0) aIds.vertex[i] = -2 - i;
+    for (int j = 0; j < 3; ++j)
+        if (b.vertex[j] == -1) b.vertex[j] = -10 - j;  // matches none of a's
+    if (quickDecision(aIds, b) == 0) return false;
+    return exactDecision(aIds, b);
+}
+
+bool triangleDegenerate(const TriangleCorners& t) {
+    return CGAL::collinear(toPoint(t.point[0]), toPoint(t.point[1]), toPoint(t.point[2]));
+}
+
+}  // namespace sculpt::core

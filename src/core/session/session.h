@@ -1,0 +1,579 @@
+// Session: the engine's document. One mesh, the lattice it is embedded in, and the history of manipulations.
+// Every user action (window or script) is one of the commands below; the GUI keeps no engine state.
+//
+// Positions follow design.md's data flow: rest positions X0 at lattice set-up, x = X0 + sum R delta,
+// re-evaluated only for the cells whose support contains a changed control point.
+//
+// The cage and its layers. The lattice the user set up (the "cage") is the user's object (design.md): it is
+// never replaced behind their back. Deformations that need a lattice of their own are *layers* applied after
+// the cage, in order: the mesh shown is  x = L_k( ... L_1( C(X0) ) ),  C the cage's FFD of the rest positions.
+// - Adaptive subdivision (Gain & Dodgson 2001, section 8, Appendix): an operation that fails the injectivity
+//   test is split into two halves applied one after another, recursively up to the maximum depth; each half
+//   after the first is applied in a fresh regular lattice around the mesh the earlier steps produced (a new
+//   layer), so the composition of injective steps is injective. If the depth is exhausted the operation is
+//   rejected and nothing changes.
+// - A brush drag (brush.h) is solved in a region-of-interest lattice around the grabbed point (a layer).
+// Every operation starts in the cage: a drag is solved there through the layers (its source and target are
+// traced back through them by Newton's method), and a control-point edit moves the cage's points as they are
+// shown, carried through the layers (cagePoints()). Setting up a new lattice freezes the cage with its layers
+// (a "frame") and puts a fresh cage around the mesh.
+//
+// Undo is the inverse manipulation: in the cage it subtracts the step's control displacement (Hu et al. 2001,
+// section 4: the group inverse omega(S, -rho)) and carries the change through the layers; a step that made a
+// layer removes it, which recomputes the vertices it moved from the layers below; leaving a frozen frame
+// inverts its injective FFDs per vertex by Newton's method (injectivity is what makes the inverse exist). The
+// history holds operations and small lattices, never copies of the mesh.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/deform/brush.h"
+#include "core/deform/brush_field.h"
+#include "core/deform/direct_manipulation.h"
+#include "core/volume/embedding.h"
+#include "core/injectivity/injectivity.h"
+#include "core/volume/lattice.h"
+#include "core/mesh_types.h"
+#include "core/session/operation.h"
+#include "core/deform/refinement.h"
+#include "core/injectivity/self_intersection.h"
+#include "core/status.h"
+#include "core/tspline/tspline_volume.h"
+
+namespace sculpt::core {
+class Session {
+public:
+    // Replaces the mesh (rest = current positions) and embeds it in a new lattice with `settings`; clears
+    // the history. On failure nothing changes.
+    Status setMesh(const Positions& positions, const Triangles& triangles, const LatticeSettings& settings = {});
+
+    // Puts a fresh lattice with new settings around the current (deformed) mesh, as an undoable operation.
+    Status setupLattice(const LatticeSettings& settings, OpReport& report);
+
+    // ---- lattices of any shape (Coquillart 1990, EFFD; session_lattices.cpp) ----
+    // The list of lattice tools associated with the mesh; each change is a history operation (undoable,
+    // recorded). A tool that is frozen cannot be edited or removed (unfreeze it first).
+    const std::vector<LatticeTool>& latticeTools() const { return tools_; }
+    // The frozen tool, -1 when the box lattice is the cage.
+    int frozenTool() const { return frozenTool_; }
+    Status addLatticeTool(const LatticeTool& tool, OpReport& report);
+    Status editLatticeTool(int index, const LatticeTool& tool, OpReport& report);
+    Status removeLatticeTool(int index, OpReport& report);
+    // Freezing (3.3): the tool becomes the cage. Every vertex inside it gets its parameters by Newton's
+    // method, vertices outside every chunk do not move; drags, control-point moves, pins and undo then work
+    // on its basis functions (3.4). The box lattice and any earlier deformation are frozen underneath (a
+    // lattice set-up: undo returns to them). pinLayers: outer layers of points kept fixed, counted from the
+    // tool's boundary faces (3.4: two fixed planes give a C1 seam where the lattice crosses the surface).
+    Status freezeLattice(int index, int pinLayers, OpReport& report);
+    // Unfreezing: the deformation stays and a box lattice with the session's first settings is put around
+    // the mesh again. NoOp when no tool is frozen.
+    Status unfreezeLattice(OpReport& report);
+
+    // ---- weighted T-spline tools (Song & Yang 2005, seed 002; session_tspline.cpp) ----
+    // Sec. 4 / sec. 6 steps 1-3: the octree T-spline volume of the current mesh's vertices inside the region
+    // (makeOctreeTSplineVolumeInBox: cells holding a vertex subdivided down to the depth, 2:1-balanced, weights
+    // ratio : 1), added as a lattice tool (addLatticeTool) and, with setup.freeze, frozen (freezeLattice, no pin
+    // layers): two history operations, each undone on its own; recordings write the tool explicitly. Errors
+    // (depth or root out of range, weight ratio not finite and > 0, an empty or non-finite region, a region
+    // holding no vertex, a drag in progress) use the script's field names and change nothing.
+    Status setupTSpline(const TSplineSetup& setup, OpReport& report);
+    // Sec. 6 step 2 / Fig. 11: local octree subdivision of T-spline tool `index` (not frozen) as an edit of the
+    // tool (editLatticeTool: a history operation, recorded with the resulting tool). The cells: the ids in
+    // `cells` plus the leaf cells holding the world points `at` (the rest volume's parameters of each point,
+    // as picking gives them); then the 2:1 balance if `balance`. The control points are placed again at the
+    // Greville points of the finer lattice and the weights are set again from the mesh as in setupTSpline
+    // (subdivideTSplineVolume). Refused, changing nothing: a frozen tool, a tool that is not a T-spline, a cell
+    // id out of range, a point outside the tool, no cell at all, points moved one by one.
+    Status subdivideTSplineCells(int index, const std::vector<int>& cells, const std::vector<Eigen::Vector3d>& at, bool balance,
+                                 OpReport& report);
+
+    // ---- sculpting by weights (Song & Yang 2005 sec. 1 and 6; session_weights.cpp, weight_sculpt.h) ----
+    // One history operation on the frozen weighted T-spline; the mesh is Q(P; W)(t) at its frozen parameters
+    // (eq. 5), so a weight change moves it. Heights are measured along the bump direction n from the rest
+    // surface under the current weights (restPositions()), i.e. H_v = n . (x_v - X0_v) = n . sum R_s(t_v) delta_s.
+    //  * SetWeights: the weights of `ids` become `weights`.
+    //  * Hammer: the bump of the control points S (WeightToolSettings) at the picked vertex p is
+    //    b(t) = sum_{s in S} R_s(t) delta_s and n = b(t_p) / |b(t_p)|. The displacements of S are scaled by one
+    //    factor so that H_p becomes `height` (or H_p + (scale - 1) n.b(t_p)): b's shape is kept exactly. With
+    //    no bump yet (b(t_p) = 0), n is the vertex normal and every point of S moves by the same mu n.
+    //  * Crimp: the weights of S are multiplied by one factor beta and their displacements scaled by lambda(beta)
+    //    so that H_p stays; beta is found (bisection on log beta) so that the equivalent diameter 2 sqrt(A / pi)
+    //    of the rest surface where H >= H_p / 2 (linear within triangles) is widthFactor times what it was.
+    // Checked like a control-point move (injectivity of the cells reached, the rest volume under the new
+    // weights, no new triangle crossing); a change that fails is Rejected and changes nothing. Errors (change
+    // nothing): no frozen T-spline, ids, vertex or control point out of range, a hidden control point, a
+    // weight or factor not finite and > 0, a crimp without a bump, a width that no weight reaches.
+    Status sculptWeights(const WeightToolSettings& settings, OpReport& report);
+    // The control points a sculpting tool acts on, its bump direction n and the heights H_v of the vertices in
+    // their support (as sculptWeights computes them), for the window and tests. Errors as sculptWeights.
+    struct Bump {
+        std::vector<int> controlPoints;
+        Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+        std::vector<int> vertices;
+        std::vector<double> heights;
+        double width = 0.0;  // the equivalent diameter at half the picked vertex's height (0 without a bump)
+    };
+    Status bumpAt(const WeightToolSettings& settings, Bump& out) const;
+    // Control points of the frozen T-spline's non-empty cells (nonEmptyTSplineCells of restPositions(), less the
+    // boundary copies): the ones shown and picked (Song & Yang 2005, Fig. 10; tspline_view.h); empty when the
+    // frozen lattice is not a T-spline.
+    std::vector<int> visibleTSplinePoints() const;
+
+    // The injectivity test of every later step. Off is a plain FFD (Sederberg & Parry, as PyGeM): a lattice set
+    // up from then on does not pin the boundary of a lattice that holds only part of the mesh
+    // (pinBoundaryIfPartial), so every control point can move and the vertices outside stay where they are. A
+    // test switched on pins that boundary again at once (what is already displaced stays).
+    void setInjectivity(const InjectivitySettings& settings);
+    const InjectivitySettings& injectivity() const { return injectivity_; }
+
+    // Moves each constraint's source (a point in the current deformed space inside the lattice) onto its
+    // target with the least lattice change (Hu et al. 2001 eq. 7 / 12), subdivided into injective steps as
+    // needed. Bad input (empty list, non-finite coordinates, a source outside the lattice) returns an error
+    // and changes nothing; an operation that cannot be made injective is reported Rejected and changes nothing.
+    // With a brush (brush.h): the targets are scaled by its strength, mirror images are added for its
+    // symmetry (planes through symmetryCentre()), and with a radius the drag is solved in a region-of-interest
+    // lattice (a layer) that moves nothing farther than 1.25 radius from a source. A bad brush is an error.
+    Status drag(const std::vector<PointConstraint>& constraints, OpReport& report, const BrushSettings& brush = {});
+    // Drags a mesh vertex to target.
+    Status dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report, const BrushSettings& brush = {});
+    // Moves control points (ids as Lattice::index) to absolute positions, or by offsets when relative.
+    // values: #indices x 3. Pinned points, ids out of range or non-finite values are errors.
+    // validateBrush, and a radius within 1000 x the mesh's diagonal (the error names the radius that reaches
+    // every vertex).
+    Status checkBrush(const BrushSettings& brush) const;
+    Status moveControlPoints(const std::vector<int>& indices, const Eigen::MatrixX3d& values, bool relative,
+                             OpReport& report);
+    // Makes the operations history()[first, historyCursor()) one history entry (an interactive operation made
+    // of their steps, undone and redone as one), e.g. a replayed interactive drag; operations that change the
+    // lattice tools or freeze / unfreeze one are kept whole as the entry's `parts`. The cursor must be at the
+    // end of the history. label empty: the first operation's.
+    Status groupOperations(int first, const std::string& label);
+    // Applies a recorded operation exactly as it was applied when recorded: its steps (fresh frames and
+    // control displacements), no solve and no test, and pushes it onto the history. For a replay on the mesh
+    // the recording was made on (same meshFingerprint). cancelled: the steps of an interactive drag that was
+    // taken back, applied and taken back again (nothing is pushed). Fails, changing nothing, on a step whose
+    // control point ids or settings do not fit.
+    Status replayOperation(const Operation& operation, bool cancelled, OpReport& report);
+    // Undo / redo the last operation; with nothing to undo or redo, report.status = NoOp (not an error).
+    Status undo(OpReport& report);
+    Status redo(OpReport& report);
+
+    // Interactive drag: the sources are fixed at begin, every update moves them towards new targets by an
+    // incremental manipulation (subdivided or refused like any other), and endDrag() records the whole drag
+    // as one history entry.
+    Status beginDrag(const std::vector<Eigen::Vector3d>& sourceParams);
+    // The same from world points of the current shape, with a brush (strength, symmetry, region; see drag).
+    // held: per source, true for one that stays put (a pin): not mirrored, and with a radius left out when it
+    // lies outside the brush's region (nothing moves there). updateDrag then takes one target per source.
+    Status beginDragAt(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held, const BrushSettings& brush);
+    Status updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
+    // Interactive control-point drag: the points (not pinned) move together, each update by the offset since
+    // beginControlDrag; tested and subdivided like any control-point edit, recorded as one history entry.
+    Status beginControlDrag(const std::vector<int>& indices);
+    Status updateControlDrag(const Eigen::Vector3d& offset, OpReport& report);
+    // The same drag with an offset per point (a rotation or scale about a pivot moves each point differently):
+    // offsets #points x 3, row r for the r-th smallest id given to beginControlDrag, each since
+    // beginControlDrag. The whole change is one move, stopped like updateControlDrag at the last injective
+    // position along it (each point the same fraction of its way).
+    Status updateControlDragPerPoint(const Eigen::MatrixX3d& offsets, OpReport& report);
+    // Ends either kind of interactive drag; a drag that changed something becomes one history entry.
+    void endDrag();
+    // Names the history entry the drag in progress will become (e.g. "rotate 12 control points about Z by 40 deg":
+    // a rotation or scale sent as per-point offsets is otherwise "move 12 control points"). Non-empty; fails
+    // when no drag is in progress. The recording and the shape are not affected.
+    Status setDragLabel(const std::string& label);
+    // After the last brush stroke was baked into the rest shape (endDrag, a scripted drag with a radius): how
+    // many of the vertices it moved now rest outside the cage's box. The cage does not hold them, so later
+    // edits of it leave them where they are (a lattice set-up with more padding takes them in). 0 otherwise.
+    int strokeVerticesOutsideCage() const { return strokeOutsideCage_; }
+    // Vertices left behind by the cage: those resting outside its box (which it never moves) that share a
+    // triangle with a vertex inside it that the cage has moved from its rest point (a spike pulled out of the
+    // box, whose base then moved with a cage edit). The window names them after a drag. One pass over the
+    // vertices and the triangles, evaluating the cage only at corners of triangles the box's boundary cuts; 0
+    // for a lattice of another kind (its volume holds what it deforms).
+    int verticesLeftOutsideCage() const;
+    // Ends the drag in progress by undoing what it applied (its inverse manipulation, step by step), leaving
+    // the shape and the history as they were before beginDrag. No drag in progress: NoOp.
+    Status cancelDrag(OpReport& report);
+    bool dragging() const { return dragActive_; }
+    // Current world positions of the sources of the drag in progress (with symmetry, the mirror images too).
+    std::vector<Eigen::Vector3d> dragSources() const;
+    // Current world positions of the sources as given to beginDragAt (without mirror images; a held source
+    // left out of a brush drag stays where it was), or dragSources() after beginDrag.
+    std::vector<Eigen::Vector3d> dragUserSources() const;
+    // The plane centre of symmetric drags: the centre of the mesh's bounding box when it was set.
+    Eigen::Vector3d symmetryCentre() const { return symmetryCentre_; }
+
+    // Keeps, per vertex, the product of the det J of every frozen frame (the Jacobian of the total
+    // deformation since the mesh was set is that times the current lattice's det J). Costs a det J per vertex
+    // moved in a frame when the frame is frozen or left, so it is off unless a view asks for it.
+    void setTrackJacobian(bool track);
+    // det J of the whole deformation since setMesh at every vertex (1 = unchanged, <= 0 would be a fold).
+    // Tracking must be on for frames frozen before now to count.
+    std::vector<double> totalJacobianDeterminants() const;
+
+    // Pins or unpins control points (ids as Lattice::index). Not an operation on the shape; each operation
+    // keeps the pins it was applied with (Operation::pinToggles) so recordings replay it the same way.
+    Status setPinned(const std::vector<int>& indices, bool pinned);
+    // The control points whose pin differs from the settings' pin layers (the user's pins and unpins), sorted.
+    std::vector<int> pinToggles() const;
+    // Pins exactly the settings' pin layers, with the listed control points flipped. Bad ids change nothing.
+    Status setPinToggles(const std::vector<int>& toggled);
+
+    // Cage parameters of a point of the current (deformed) shape, e.g. a picked surface point (traced back
+    // through the layers). Fails for a point outside the cage.
+    Status parametersOfCurrentPoint(const Eigen::Vector3d& point, Eigen::Vector3d& params) const;
+    // Lattice parameters of a vertex (from its rest position: exact). Fails if the vertex is outside the box.
+    Status parametersOfVertex(int vertex, Eigen::Vector3d& params) const;
+    // Where the point with cage parameters t currently is: X0(t) + sum R(t) delta, carried through the layers.
+    Eigen::Vector3d currentImage(const Eigen::Vector3d& params) const;
+    // The cage's control points as the user sees them: Q_ijk carried through the layers (#P x 3, rows by
+    // Lattice::index). Without layers, controlPointPositions(lattice()).
+    Positions cagePoints() const;
+    const std::vector<Layer>& layers() const { return layers_; }
+
+    bool hasMesh() const { return rest_.rows() > 0; }
+    const Positions& positions() const { return positions_; }
+    const Positions& restPositions() const { return rest_; }
+    const Positions& originalPositions() const { return original_; }
+    const Triangles& triangles() const { return triangles_; }
+    const Lattice& lattice() const { return lattice_; }  // the cage
+    const LatticeSettings& latticeSettings() const { return settings_; }
+    const LatticeSettings& initialSettings() const { return initialSettings_; }
+    // The box of the lattice the session started with (for recordings that replay on other meshes).
+    Eigen::Vector3d initialBoxMin() const { return initialBoxMin_; }
+    Eigen::Vector3d initialBoxMax() const { return initialBoxMax_; }
+    const Embedding& embedding() const { return embedding_; }
+    const std::vector<Operation>& history() const { return history_; }
+    // Every command since setMesh, in order (what recordSession writes).
+    const std::vector<JournalEntry>& journal() const { return journal_; }
+    // A hash of the mesh as set (positions bit for bit and triangles), naming it in recordings: a replay on
+    // the mesh with this fingerprint repeats the recorded steps exactly.
+    const std::string& meshFingerprint() const { return meshFingerprint_; }
+    int historyCursor() const { return cursor_; }  // entries [0, cursor) are applied
+    // Lattices composed after the first one: frozen cages and layers.
+    int frameDepth() const { return static_cast<int>(frames_.size() + layers_.size()); }
+    // Bytes held by the history (operations and frozen frames), not counting the mesh itself.
+    size_t historyBytes() const;
+    // Vertices whose position the last command changed (for sparse normal and buffer updates); when
+    // lastMovedAll() is true every vertex may have changed (a frame was entered or left).
+    const std::vector<int>& lastMovedVertices() const { return lastMoved_; }
+    bool lastMovedAll() const { return lastMovedAll_; }
+    // Intersecting triangle pairs the mesh had when it was set (a self-intersecting input; these never count
+    // against an operation). Counted once by setMesh.
+    // Pairs with a degenerate (zero-area) triangle in them are not counted there: those facets are counted
+    // apart, by initialDegenerateTriangles.
+    int initialIntersectingPairs() const { return initialIntersectingPairs_; }
+    // Triangles with no area (collinear or coincident corners, decided exactly) the mesh had when it was set.
+    int initialDegenerateTriangles() const { return initialDegenerateTriangles_; }
+
+private:
+    // A drag being subdivided: world-space sources and targets.
+    struct Manipulation {
+        std::vector<Eigen::Vector3d> sources, targets;
+    };
+    // State kept while an operation is being applied, so a rejection restores everything bitwise.
+    struct Snapshot {
+        bool saved = false;
+        Positions positions, cageOut;
+        Lattice cage;
+        size_t layerCount = 0;
+        bool layerActive = false;
+        Lattice activeLayer;        // with layerActive: the newest layer's lattice
+        Embedding layerEmbedding;   // with layerActive
+    };
+    struct Progress {
+        explicit Progress(Snapshot& scratch) : snapshot(scratch) { snapshot.saved = false; }
+        Operation* operation = nullptr;
+        bool appliedInCurrentFrame = false;  // a step of this operation already changed the active lattice
+        bool pendingFreshFrame = false;      // a layer was entered and no step has been applied in it yet
+        Step pendingFrame;                   // that layer's placement (Step::frameMin, frameMax, ...)
+        Snapshot& snapshot;  // the session's scratch_, reused so large copies do not fault in fresh pages
+        StepFailure failure;                                        // the last step that failed
+        StepFailure firstFailure;                                   // what first made it subdivide
+        double injectivityMs = 0.0;
+        double triangleMs = 0.0;
+        std::vector<int> moved;
+        bool movedAll = false;
+    };
+
+    // Reports an operation applied in one step that moved the vertices `moved` (in any order, repeats allowed):
+    // they become lastMoved_, and the report says applied, injective (or not checked), 1 step, their count.
+    void reportSingleStep(std::vector<int> moved, OpReport& report);
+    // The injectivity test (Gain & Dodgson 2001) of `cells` of `lattice` in the session's mode: true when
+    // certified, the checks are off, or `cells` is empty; else `failure` names the cell (a tensor net's [i,j,k],
+    // another volume's chunk) and where it is. The test's time is added to injectivityMs.
+    bool certifyCells(const Lattice& lattice, const std::vector<int>& cells, StepFailure& failure, double& injectivityMs) const;
+    // No triangle among the vertices `changed` crosses one it did not cross at the rows of before_ (the
+    // positions before the step at those vertices): true, or `failure` names the pair and where it was.
+    // The time is added to injectivityMs and triangleMs.
+    bool noNewCrossing(const std::vector<int>& changed, StepFailure& failure, double& injectivityMs, double& triangleMs);
+    // Applies delta to the lattice and the mesh if every check passes: the injectivity test of the cells it
+    // reaches (Gain & Dodgson 2001), the free boundary's self-overlap, and no new crossing of triangles;
+    // otherwise leaves lattice and positions bitwise as they were and says why. Moved vertices are appended
+    // to `moved`. keep = false: a probe; everything is put back even when the checks pass. The checks' time is
+    // added to injectivityMs, the triangle check's share also to triangleMs.
+    bool tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure, double& injectivityMs,
+                  double& triangleMs, bool keep = true);
+    // The largest fraction s in [0, 1] of `delta` (to 1/1024) that passes tryDelta, applied (bisection on the move:
+    // design.md "The cage is the user's object": a control-point edit stops at the injective limit).
+    double applyLargestInjectiveFraction(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure,
+                                         double& injectivityMs, double& triangleMs);
+    // The index of the triangle check learns which vertices moved (nullptr: all of them).
+    void positionsChanged(const std::vector<int>* vertices);
+    // The lattice steps are solved in: the cage, or the newest layer while the operation that made it runs.
+    Lattice& activeLattice() { return layerActive_ ? layers_.back().lattice : lattice_; }
+    const Lattice& activeLattice() const { return layerActive_ ? layers_.back().lattice : lattice_; }
+    const Embedding& activeEmbedding() const { return layerActive_ ? layerEmbedding_ : embedding_; }
+    // What the active lattice's evaluation writes: the cage's output under layers, else the positions.
+    Positions& activeOutput() { return cageUnderLayers() ? cageOut_ : positions_; }
+    bool cageUnderLayers() const { return !layerActive_ && !layers_.empty(); }
+    // The active lattice's image of its rest point with parameters t (before any layer above it).
+    Eigen::Vector3d activeImage(const Eigen::Vector3d& params) const;
+    // A point of the current shape in the active lattice's output space (traced back through the layers when
+    // the cage is active); false where no layer point maps there.
+    bool toActiveSpace(const Eigen::Vector3d& point, Eigen::Vector3d& out) const;
+    // x carried through layers [first, end).
+    Eigen::Vector3d pushThroughLayers(Eigen::Vector3d x, size_t first = 0) const;
+    // The point that layers [0, count) carry onto y (Newton per layer, last first); false if there is none.
+    bool pullThroughLayers(const Eigen::Vector3d& y, Eigen::Vector3d& x, size_t count) const;
+    // positions_[v] = cageOut_[v] carried through every layer, for the listed vertices.
+    void refreshLayerOutput(const std::vector<int>& vertices);
+    // Puts a new layer after the others and makes it active: a recorded one (redo, replay, or a brush region
+    // placed by applyBrushPulls), or a fresh regular lattice with the cage's settings around the mesh the active
+    // lattice deforms. placed: its placement for the step that will be applied in it.
+    Status enterLayer(Progress* progress, Step* placed, const Step* recorded);
+    // Where the newest `count` layers can move anything (deformationBounds of each, together).
+    void newestLayersBounds(size_t count, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const;
+    // Removes the newest layer: the vertices it moved get their positions from the layers below.
+    void popLayer(std::vector<int>* moved) { popLayers(1, moved); }
+    // Removes the newest `count` layers at once: the vertices they moved are carried once through the layers
+    // left, not once per layer removed (undoing a 10-step subdivided drag: no layer left to carry them through,
+    // where popping one by one took 9 + 8 + ... + 1 layer evaluations per vertex).
+    void popLayers(size_t count, std::vector<int>* moved);
+    // Detail travels with the surface (issue "Sculpting as a sculptor expects", point 1): the layers' change
+    // becomes part of the rest shape the cage deforms. Every vertex a layer moved gets the cage parameters of
+    // where it is now (Newton's method, locateDeformedPoint: the cage is injective, so they exist) and the
+    // rest point there; the layers are removed and the mesh keeps its positions. A later edit of the cage
+    // then carries the sculpted detail with the surface. Returns false (nothing changed) if a moved vertex has
+    // no preimage in the cage; the caller marks the operation's last step baked.
+    bool bakeLayers(const std::vector<Step>& steps);
+    // The same for every layer there is (redo and replay of a step recorded baked); outside: Step::bakedOutside.
+    bool bakeAllLayers(std::vector<int>* outside = nullptr);
+    // bakeAllLayers if `step` was baked; bakeLastStep: for an operation's last step (after its refinement).
+    void bakeAfter(const Step& step);
+    void bakeLastStep(const Operation& operation);
+    // The inverse, before the baked step steps[last] is undone: the layers of steps (first, last] are put back
+    // after the cage and each vertex they moved gets its rest point back (through the layers' inverse, then
+    // the cage's, both by Newton), so the state is as it was before bakeLayers.
+    void unbakeLayers(const std::vector<Step>& steps, size_t last);
+    void saveSnapshot(Snapshot& snapshot);
+    // Multiplies (or divides) frozenJacobian_ by the det J of the layers at each vertex (when tracking).
+    void accumulateLayersJacobian(bool divide);
+    bool injectSubdiv(Manipulation& m, int depth, Progress& progress);
+    // A reason no deformation could do this drag (its sources cannot move, or a target outside a lattice whose
+    // boundary is pinned), in the user's words with what to do; empty if there is none.
+    std::string unreachableDragCause(const Manipulation& m) const;
+    bool tryStep(Manipulation& m, int depth, Progress& progress);
+    // Freezes the cage with its layers and puts a fresh cage with `settings` around the mesh (a set-up);
+    // `placed` gets its placement. recorded: place it as that step recorded (redo, replay).
+    void enterNewCage(const LatticeSettings& settings, Step* placed, const Step* recorded = nullptr);
+    void leaveCage();
+    // Applies a step's weight change and control displacement to the frozen T-spline, the rest mesh (rebased so
+    // it stays Q0(t) under the new weights) and the output, recording in step.weightUndo what it overwrote.
+    Status applyWeightStep(const Step& step, std::vector<int>* moved);
+    void revertWeightStep(const Step& step, std::vector<int>* moved);
+    // A recorded weight change fits the frozen lattice: a T-spline, ids in range, `before` its weights bitwise.
+    Status checkRecordedWeights(const WeightChange& change) const;
+    // The bump of sculptWeights' tools (session_weights.cpp): the control points, direction, sums and heights.
+    Status weightBump(const WeightToolSettings& settings, WeightBump& out) const;
+    Status applyWeightTool(const WeightToolSettings& settings, Step step, const std::string& label, OpReport& report);
+    void restoreSnapshot(Snapshot& snapshot);
+    Status runManipulation(Manipulation m, Operation operation, OpReport& report);
+    // The drag state beginDragAt's two ways (a stroke, a solved drag) share: the operation, its label, the mirror.
+    void startMirroredDrag(const std::string& label, const std::vector<Eigen::Vector3d>& sources, std::vector<MirroredConstraint> mirror,
+                           const BrushSettings& brush);
+    // How close two mirrored sources must come to count as one (mirrorConstraints).
+    double mirrorMergeDistance(const BrushSettings& brush) const;
+    // Keeps the first `userConstraints` residuals (the constraints the user gave) and judges the fit on them.
+    void trimResiduals(OpReport& report, size_t userConstraints) const;
+    // One increment of an interactive drag: `delta` in the current frame when that is injective, otherwise m
+    // subdivided; merged into dragOperation_. Returns false (report says why, nothing changed) if rejected.
+    bool applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report);
+    // One update of a brush stroke (session_brush.cpp): `steps` (the stroke's steps: a layer per moving grabbed
+    // image, each its own pull; or none) is replaced by
+    // the pull field for `pulls` (brush_field.h; each from where the stroke began), or by the largest share of
+    // it, to 1/64, that passes every check; with no share passing, the stroke stays as it was. Returns the
+    // share applied (0: none of this pull); failure: what stopped it when below 1. Sets lastMoved_.
+    double applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps, OpReport& report,
+                           StepFailure& failure);
+    // A brush drag's update: the stroke's pulls towards `targets` (one per dragMirror_ entry), with the report.
+    void updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
+    std::vector<Eigen::Vector3d> strokeReached_;  // applyBrushPulls: where each grabbed image is now
+    int strokeOutsideCage_ = 0;                    // strokeVerticesOutsideCage()
+    // Adds an increment applied in the current frame to the interactive operation's last step (or a new one).
+    void mergeInteractiveStep(const ControlDelta& delta);
+    // A control point a user edit may move: inside the lattice and not pinned (the error names it).
+    Status checkMovable(int idx) const;
+    // Adds sign * delta to the lattice and re-evaluates the affected cells; moved vertices are appended.
+    void applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved);
+    void pushOperation(Operation operation);
+    // Undoes the steps last to first (their inverse manipulations), appending what moved to lastMoved_. A run of
+    // fresh-frame steps (an adaptive subdivision's sub-steps, one layer each) is popped at once (popLayers).
+    void undoSteps(const std::vector<Step>& steps);
+    // The same, after clearing lastMoved_.
+    void revertSteps(const std::vector<Step>& steps);
+    // An operation's steps and its tool / frozen-tool change, forwards (redo) or backwards (undo); a group's
+    // parts in order (reverse order backwards). Refinements are not touched.
+    void undoOperationBody(const Operation& operation);
+    void redoOperationBody(const Operation& operation);
+    // How many vertices the last command moved (all of them when a frame was entered or left).
+    int movedCount() const;
+    // lastMoved_ = the vertices whose rows differ from `before` (undo, redo).
+    void countChangedVertices(const Positions& before);
+    void redoStep(const Step& step);
+
+    Positions original_, rest_, positions_;
+    Triangles triangles_;
+    LatticeSettings settings_, initialSettings_;
+    Eigen::Vector3d initialBoxMin_ = Eigen::Vector3d::Zero(), initialBoxMax_ = Eigen::Vector3d::Zero();
+    InjectivitySettings injectivity_;
+    Snapshot scratch_;
+    IncrementScratch increment_;
+    Lattice lattice_;
+    Embedding embedding_;
+    std::vector<Layer> layers_;
+    Positions cageOut_;            // with layers: the cage's image of rest_ (the first layer's input)
+    bool layerActive_ = false;     // steps are solved in layers_.back() (only during the operation that made it)
+    Embedding layerEmbedding_;     // with layerActive_: that layer's input (the mesh when it was made) embedded
+    Positions beforeCage_;         // #V: rows of cageOut_ a step changes, as they were before it
+    Eigen::Vector3d symmetryCentre_ = Eigen::Vector3d::Zero();
+    std::vector<FrozenFrame> frames_;
+    std::vector<Operation> history_;
+    int cursor_ = 0;
+    std::vector<LatticeTool> tools_;
+    int frozenTool_ = -1;
+    // A net lattice that does not hold every vertex keeps its boundary faces pinned: the vertices outside it
+    // never move, so a moving boundary would tear the mesh there and the deformation of space (identity
+    // outside, the volume inside) would not be injective (Gain & Dodgson 2001, section 5: the boundary
+    // condition; Coquillart 1990, 3.4 keeps the outer planes fixed for the same seam).
+    // Not with the injectivity test off (a plain FFD, setInjectivity).
+    void pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding) const;
+    // True for a control point that only pinBoundaryIfPartial pins (not a pin layer): the reason a move of it is
+    // refused says so, and how to lift it.
+    bool pinnedAsPartialBoundary(int idx) const;
+    // The pin a control point has before the user's pin edits: the pin layers, and the boundary a net lattice
+    // that does not hold the whole mesh keeps (pinBoundaryIfPartial). pinToggles() are relative to this.
+    bool basePinned(int idx) const;
+    // The ids with every slot of their weld groups added (sorted, unique): a welded point pins as one.
+    std::vector<int> weldGroupsOf(const std::vector<int>& ids) const;
+    // Applies (forward) or takes back a LatticeTools operation's change of the list.
+    void applyToolChange(const Operation& operation, bool forward);
+    // Applies a new LatticeTools operation and pushes it onto the history.
+    Status pushToolChange(Operation operation, OpReport& report);
+    std::vector<JournalEntry> journal_;
+    std::string meshFingerprint_;
+    void journalPins();
+    std::vector<int> lastMoved_;
+    bool lastMovedAll_ = false;
+    bool trackJacobian_ = false;
+    std::vector<double> frozenJacobian_;  // #V, product of the frozen frames' det J (when tracking)
+    SelfIntersectionIndex meshIndex_;     // broad phase of the triangle check, refitted where vertices move
+    Positions before_;                    // #V: the rows of the vertices a step moves, as they were before it
+    int initialIntersectingPairs_ = 0;
+    // Parts touching at load and where (self_intersection.h), carried across refinements.
+    SelfIntersectionIndex::LoadContacts loadContacts_;
+    int initialDegenerateTriangles_ = 0;
+    void accumulateFrameJacobian(bool divide);
+
+    bool dragActive_ = false;
+    DirectManipulationData dragData_;
+    Operation dragOperation_;
+    std::vector<Eigen::Vector3d> dragSourceWorld_;  // where the drag's sources currently are
+    std::vector<Eigen::Vector3d> dragParams_;       // their parameters in the active lattice
+    bool dragAppliedInFrame_ = false;
+    // With a brush or symmetry (beginDragAt): the user's sources at the start, what each solved constraint
+    // follows, and the brush.
+    bool dragMirrored_ = false;
+    std::vector<Eigen::Vector3d> dragUserStarts_;
+    std::vector<MirroredConstraint> dragMirror_;
+    std::vector<bool> dragPulled_;  // a stroke's, per constraint of dragMirror_: pulled (not held)
+    // While applyBrushPulls runs: the vertices its regions can reach (ascending), the only ones a region layer
+    // entered then embeds (a stroke's region holds thousands of a million vertices).
+    const std::vector<int>* layerCandidates_ = nullptr;
+    BrushSettings dragBrush_;
+    // The cage's points as shown when a control-point drag began (with layers: the drag moves those).
+    Positions dragControlStart_;
+    // Adds an increment's control delta (per point, in the cage) for an interactive control-point drag.
+    void applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& shownOffsets, OpReport& report);
+
+    // ---- Refinement where the surface stretches (session_refine.cpp, refinement.h) --------------------------
+    // Coquillart 1990 section 3.4: triangles whose image strays from flat are split at their rest-space edge
+    // midpoints, each new vertex put where the deformation takes that rest point. A topology change is an
+    // operation like any other: undo removes exactly the vertices and triangles it added (the others come back
+    // bitwise, in their order), redo and replay split the same edges again. Only the cage and its layers are
+    // followed: frozen frames are part of the rest mesh (restPositions(), the mesh when the cage was set up).
+public:
+    // Where the current deformation puts a point of rest space (restPositions()'s space): the cage's FFD
+    // (X0 + sum R(t(X0)) delta inside its box, X0 outside), then the layers. A vertex v is at
+    // imageOfRestPoint(restPositions().row(v)) up to rounding. Thread-safe (const).
+    Eigen::Vector3d imageOfRestPoint(const Eigen::Vector3d& rest) const;
+    // Splits the triangles whose image strays from their flat triangle by more than tolerance times the
+    // current bounding-box diagonal (refineMesh, with the limits of refinement().options), as one undoable
+    // operation (OperationKind::Refine). Bad tolerance (<= 0, not finite) or a drag in progress: an error,
+    // nothing changes. Nothing over the tolerance: NoOp. With the triangle check on (InjectivitySettings), a
+    // refinement that would make two triangles cross that did not before is Rejected and changes nothing.
+    // report: verticesAdded, trianglesAdded, deviation; reason says when a limit stopped it short.
+    Status refine(double tolerance, OpReport& report);
+    // The refinement setting. automatic: every applied drag or control-point edit (interactive ones when they
+    // end) is followed by a refinement with these options, in the same history entry. Not an operation on
+    // the shape; journaled so recordings keep it. Bad options: an error, nothing changes.
+    Status setRefinement(const RefinementSettings& settings);
+    const RefinementSettings& refinement() const { return refinement_; }
+    // The splits of the applied history entries, in order: the mesh as set, split by these (applyEdgeSplits),
+    // is triangles(). What a writer needs to carry per-corner data (texture coordinates) over.
+    std::vector<EdgeSplit> appliedSplits() const;
+    // Changes whenever triangles() does (a refinement applied or taken back): a view re-uploads the mesh.
+    int topologyVersion() const { return topologyVersion_; }
+    // Changes whenever restPositions() or their embedding in the cage change (a mesh set, a lattice set up, a
+    // frame entered or left, a refinement, a weight edit that moves the rest surface): a view that deforms the
+    // rest mesh itself (the renderer's GPU path) uploads it again. Within one session only: compare it
+    // together with the session's identity.
+    std::uint64_t restVersion() const { return restVersion_; }
+
+private:
+    std::uint64_t restVersion_ = 0;
+    // Plans (refineMesh) and applies a refinement with `options`; fills record and report. False if nothing
+    // was applied (nothing over the tolerance, or refused by the triangle check: report says so).
+    bool refineNow(const RefinementOptions& options, RefinementRecord& record, OpReport& report);
+    // An applied drag or edit about to be pushed: refined when the setting is automatic (report may be null).
+    void refineAfterEdit(Operation& operation, OpReport* report);
+    // Splits record.splits (filling record.halvings) and brings every per-vertex array along.
+    void applyRefinement(RefinementRecord& record);
+    // The inverse of applyRefinement (no-op for an empty record).
+    void removeRefinement(const RefinementRecord& record);
+    // Re-applies an operation's recorded refinement after its steps (redo, replay; no-op when empty).
+    void reapplyRefinement(Operation& operation) { if (!operation.refinement.empty()) applyRefinement(operation.refinement); }
+    // A group redoes its steps, then its refinements: none may come before a lattice set-up in it (whose rest
+    // positions would then lack the refined vertices' images).
+    Status checkGroupRefinement(int first) const;
+    // A recorded refinement fits the mesh as it is now (replay); cancelled drags have none.
+    Status checkRecordedRefinement(const Operation& operation, bool cancelled) const;
+    RefinementSettings refinement_;
+    int topologyVersion_ = 0;
+    // ---- end of refinement ----------------------------------------------------------------------------------
+};
+
+// Inverts an injective lattice deformation per point: finds X with X + sum R(t(X)) delta = y for each row y of
+// `deformed` (Newton from X = y; a point whose displacement is exactly zero is its own preimage, which keeps
+// untouched vertices bitwise identical). Points outside the box are unchanged. Parallel.
+// rest: resized to match; reusing the same buffer avoids faulting in fresh pages on every undo.
+void invertDeformation(const Lattice& lattice, const Positions& deformed, Positions& rest);
+
+}  // namespace sculpt::core

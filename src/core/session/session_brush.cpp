@@ -1,0 +1,238 @@
+// Session: the brush's stroke (brush_field.h). Every update replaces the stroke's one layer by the pull field
+// from where the stroke began to where the grabbed points are asked to be, or by the largest share of that
+// pull that passes every check; the stroke is one history entry with one injective step.
+#include <algorithm>
+#include <utility>
+
+#include "core/deform/brush_field.h"
+#include "core/session/session.h"
+#include "core/session/session_internal.h"
+
+namespace sculpt::core {
+
+using detail::Clock;
+using detail::millisecondsSince;
+
+double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps,
+                                OpReport& report, StepFailure& failure) {
+    std::vector<int> moved;
+    const bool hadStep = !steps.empty();
+    // Only vertices in the last step's box or within reach of the new pulls can change: their rows as they are,
+    // so the report counts the vertices whose position this update changed (trials taken back do not count).
+    Eigen::Vector3d reachLo = Eigen::Vector3d::Constant(INFINITY), reachHi = Eigen::Vector3d::Constant(-INFINITY);
+    for (const Step& step : steps) {
+        Eigen::Vector3d lo, hi;
+        turnedBoxBounds(step.frameAxes, step.frameMin, step.frameMax, lo, hi);
+        reachLo = reachLo.cwiseMin(lo);
+        reachHi = reachHi.cwiseMax(hi);
+    }
+    for (const BrushPull& p : pulls) {
+        if (!p.moving()) continue;
+        // (a hair wider than the reach: the free supports reach it up to the ties pullRegionLattice counts in)
+        const Eigen::Vector3d reach = Eigen::Vector3d::Constant(kBrushReach * brush.radius * (1.0 + 1e-6));
+        reachLo = reachLo.cwiseMin(p.source.cwiseMin(p.source + p.pull) - reach);
+        reachHi = reachHi.cwiseMax(p.source.cwiseMax(p.source + p.pull) + reach);
+    }
+    std::vector<int> candidates;
+    for (Eigen::Index v = 0; v < positions_.rows(); ++v)
+        if ((positions_.row(v).transpose().array() >= reachLo.array()).all() && (positions_.row(v).transpose().array() <= reachHi.array()).all())
+            candidates.push_back(static_cast<int>(v));
+    layerCandidates_ = &candidates;
+    Positions rowsBefore(static_cast<Eigen::Index>(candidates.size()), 3);
+    for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = positions_.row(candidates[c]);
+    std::vector<Step> previous;
+    if (hadStep) {
+        previous = steps;
+        popLayers(steps.size(), &moved);  // the stroke's layers are the newest: back to where the stroke began
+        steps.clear();
+    }
+    double residual = 0.0;
+    std::vector<Eigen::Vector3d> where;  // each grabbed image, where the layers entered so far put it
+    // One layer per moving image, each a field along its own pull (brush_field.h), so every layer is proven by
+    // the directional bound and undone along its line; the images already placed are held where they are.
+    // Images whose pulls share a direction (mirror images of a pull along the plane) are pulled by one field in
+    // one layer instead: held inside each other's region, near the plane, they would bend each other's field
+    // into a fold at once.
+    // (Apart, out of each other's reach, they keep a layer each: each moves exactly along its own pull.)
+    int movingCount = 0;
+    bool withinReach = false;
+    for (size_t a = 0; a < pulls.size(); ++a) {
+        if (!pulls[a].moving()) continue;
+        ++movingCount;
+        for (size_t b = a + 1; b < pulls.size() && !withinReach; ++b) {
+            if (!pulls[b].moving()) continue;
+            // The two capsules (segments grown by the reach) overlap: segment distance < 2 reaches, sampled.
+            for (int t = 0; t <= 16 && !withinReach; ++t) {
+                const Eigen::Vector3d x = pulls[a].source + (t / 16.0) * pulls[a].pull;
+                withinReach = segmentDistance(x, pulls[b].source, pulls[b].source + pulls[b].pull) < 2.0 * kBrushReach * brush.radius;
+            }
+        }
+    }
+    const bool jointPossible = movingCount > 1 && withinReach && sharedPullDirection(pulls).squaredNorm() > 0.0;
+    bool joint = false;  // the mode `attempt` uses
+    const auto attempt = [&](double share) {
+        where.clear();
+        for (const BrushPull& p : pulls) where.push_back(p.source);
+        residual = 0.0;
+        size_t entered = 0;
+        const auto fail = [&](const Status& s) {
+            if (!s) {
+                failure.cause = StepFailure::Cause::SourceLeft;
+                failure.technical = s.message;
+            }
+            popLayers(entered, &moved);
+            steps.resize(steps.size() - entered);
+            return false;
+        };
+        for (size_t k = 0; k < pulls.size(); ++k) {
+            if (!pulls[k].moving()) continue;
+            std::vector<BrushPull> local;
+            for (size_t j = 0; j < pulls.size(); ++j)
+                local.push_back(j == k || (joint && pulls[j].moving()) ? BrushPull{where[j], pulls[j].source + share * pulls[j].pull - where[j]}
+                                                                       : BrushPull{where[j], Eigen::Vector3d::Zero()});
+            if (!local[k].moving()) continue;
+            RegionLattice region;
+            if (Status s = pullRegionLattice(local, brush.radius, region); !s) return fail(s);
+            Step step;
+            step.freshFrame = true;
+            step.region = true;
+            step.settings = region.settings;
+            step.frameMin = region.boxMin;
+            step.frameMax = region.boxMax;
+            step.frameAxes = region.axes;
+            step.regionFree = std::move(region.freePoints);
+            if (Status s = enterLayer(nullptr, nullptr, &step); !s) return fail(s);
+            double miss = 0.0;
+            Status solved = brushFieldDelta(layers_.back().lattice, local, brush.radius, brush.falloff, step.delta, miss);
+            if (!solved) {
+                popLayer(nullptr);
+                return fail(solved);
+            }
+            if (!tryDelta(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs)) {
+                popLayer(nullptr);
+                return fail(Status::success());
+            }
+            layerActive_ = false;
+            residual = std::max(residual, miss);
+            const Lattice& layer = layers_.back().lattice;
+            for (Eigen::Vector3d& w : where) {
+                Eigen::Vector3d t;
+                if (restParameters(layer, w, t)) w += displacementAt(layer, t);
+            }
+            for (size_t j = 0; j < local.size(); ++j) step.constraints.push_back({local[j].source, local[j].source + local[j].pull});
+            steps.push_back(std::move(step));
+            ++entered;
+            if (joint) break;  // every image is in this one layer
+        }
+        return true;
+    };
+    double share = 0.0;
+    bool moving = false;
+    for (const BrushPull& p : pulls) moving = moving || p.moving();
+    // Where the last update of this stroke left the first pulled image, as a share of this pull: a stroke
+    // that keeps stopping short stops near there again, so the search starts there (a mouse move costs
+    // five trials instead of eight; the first update of a stroke, a scripted drag's only one, searches all).
+    double hint = 0.0;
+    if (hadStep && strokeReached_.size() == pulls.size())
+        for (size_t k = 0; k < pulls.size(); ++k)
+            if (pulls[k].moving()) {
+                hint = (strokeReached_[k] - pulls[k].source).dot(pulls[k].pull) / pulls[k].pull.squaredNorm();
+                break;
+            }
+    const auto clearStroke = [&] {
+        popLayers(steps.size(), &moved);
+        steps.clear();
+    };
+    // Bisection on the share between lo (passes, or 0) and hi (fails), `iterations` trials: the last passing
+    // share, and whether its layers are in place (the last trial passed); otherwise none are.
+    const auto lastPassing = [&](double lo, double hi, int iterations) {
+        bool kept = false;
+        for (int iteration = 0; iteration < iterations; ++iteration) {
+            const double mid = 0.5 * (lo + hi);
+            if (attempt(mid)) {
+                lo = mid;
+                kept = iteration + 1 == iterations;
+                if (kept) break;
+                clearStroke();
+            } else {
+                hi = mid;
+            }
+        }
+        return std::make_pair(lo, kept);
+    };
+    if (moving) {
+        if (attempt(1.0)) {
+            share = 1.0;
+        } else if (failure.cause != StepFailure::Cause::SourceLeft) {
+            const StepFailure stopped = failure;
+            // One layer per image folded; one field for the images may carry the whole pull.
+            joint = jointPossible;
+            if (joint && attempt(1.0)) {
+                share = 1.0;
+            } else {
+                joint = false;
+                // The last injective point along the pull (to 1/64 of it; from a hint, to 1/8 of what is left
+                // past it), as a control-point edit stops.
+                double lo = 0.0, hi = 1.0;
+                int iterations = 6;
+                if (hint > 1.0 / 64.0 && hint < 1.0 - 1.0 / 64.0) {
+                    if (attempt(hint)) {
+                        lo = hint;
+                        iterations = 3;
+                        clearStroke();
+                    } else {
+                        hi = hint;
+                    }
+                }
+                const auto [found, kept] = lastPassing(lo, hi, iterations);
+                if (kept) share = found;
+                else if (found > 0.0 && attempt(found)) share = found;
+                if (jointPossible && share < 1.0) {
+                    // One field for the images may carry them further than a layer each (never less: the layers
+                    // each found stay unless the field passes beyond them).
+                    clearStroke();
+                    joint = true;
+                    const auto [jointFound, jointKept] = lastPassing(share, 1.0, 4);
+                    if (jointKept || (jointFound > share && attempt(jointFound))) {
+                        share = jointFound;
+                    } else {
+                        joint = false;
+                        if (share > 0.0 && !attempt(share)) share = 0.0;  // passed before: cannot happen
+                    }
+                }
+            }
+            failure = stopped;
+        }
+    }
+    if (share == 0.0 && hadStep && moving) {
+        // Nothing of this pull passes: the stroke stays where the last update left it (already certified).
+        for (const Step& step : previous) {
+            enterLayer(nullptr, nullptr, &step);
+            applyDelta(step.delta, 1.0, &moved);
+            layerActive_ = false;
+        }
+        steps = previous;
+    }
+    // Where the grabbed images are now: the last layer's constraints hold every image's place.
+    strokeReached_.clear();
+    if (!steps.empty())
+        for (const PointConstraint& c : steps.back().constraints) strokeReached_.push_back(c.target);
+    else
+        for (const BrushPull& p : pulls) strokeReached_.push_back(p.source);
+    // Held points (pins inside the region) and crossing regions are met by the minimum-norm correction; where
+    // the free control points cannot, the report says so.
+    if (share > 0.0 && residual > 1e-9 * brush.radius) {
+        report.rankDeficient = true;
+        report.reason = "the held points and the pull ask more than the brush's region can give (largest miss " + std::to_string(residual) +
+                        "): met as closely as possible";
+    }
+    (void)moved;
+    layerCandidates_ = nullptr;
+    lastMoved_.clear();
+    for (size_t c = 0; c < candidates.size(); ++c)
+        if (positions_.row(candidates[c]) != rowsBefore.row(static_cast<Eigen::Index>(c))) lastMoved_.push_back(candidates[c]);
+    lastMovedAll_ = false;
+    return share;
+}
+
+}  // namespace sculpt::core

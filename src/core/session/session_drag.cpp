@@ -1,0 +1,470 @@
+// Session: interactive drags, on the surface (with a brush and symmetry) and of control points. The sources
+// are fixed at the start, every update moves them towards new targets by an incremental manipulation (Hu et
+// al. 2001, section 4: increments of one drag add up to one control displacement per lattice), tested and
+// subdivided like any operation (Gain & Dodgson 2001, Appendix), and the whole drag is one history entry.
+#include <algorithm>
+#include <cmath>
+
+#include "core/session/session.h"
+#include "core/session/session_internal.h"
+
+namespace sculpt::core {
+
+using detail::Clock;
+using detail::mergeDelta;
+using detail::millisecondsSince;
+using detail::vectorText;
+
+namespace {
+
+std::string dragLabel(size_t constraints) {
+    return constraints == 1 ? "drag" : "drag (" + std::to_string(constraints) + " points)";
+}
+
+}  // namespace
+
+Status Session::beginDrag(const std::vector<Eigen::Vector3d>& sourceParams) {
+    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (dragActive_) return Status::error("an interactive drag is already in progress");
+    if (sourceParams.empty()) return Status::error("a drag needs at least one source");
+    for (size_t f = 0; f < sourceParams.size(); ++f)
+        if (!sourceParams[f].allFinite() || (sourceParams[f].array() < 0.0).any() || (sourceParams[f].array() > 1.0).any())
+            return Status::error("constraint " + std::to_string(f) + " source is outside the lattice");
+    layerActive_ = false;  // cage parameters
+    DirectManipulationData data;
+    if (Status s = precomputeDirectManipulation(lattice_, sourceParams, data); !s) return s;
+    dragData_ = std::move(data);
+    dragOperation_ = Operation{};
+    dragOperation_.kind = OperationKind::Drag;
+    dragOperation_.interactive = true;
+    dragOperation_.label = dragLabel(sourceParams.size());
+    dragSourceWorld_.clear();
+    for (const Eigen::Vector3d& t : sourceParams) {
+        dragSourceWorld_.push_back(currentImage(t));
+        dragOperation_.constraints.push_back({dragSourceWorld_.back(), dragSourceWorld_.back()});
+    }
+    dragParams_ = sourceParams;
+    dragAppliedInFrame_ = false;
+    dragMirrored_ = false;
+    dragBrush_ = BrushSettings{};
+    dragActive_ = true;
+    return Status::success();
+}
+
+void Session::startMirroredDrag(const std::string& label, const std::vector<Eigen::Vector3d>& sources, std::vector<MirroredConstraint> mirror,
+                                const BrushSettings& brush) {
+    dragOperation_ = Operation{};
+    dragOperation_.kind = OperationKind::Drag;
+    dragOperation_.interactive = true;
+    dragOperation_.label = label;
+    if (brush.symmetry.any()) dragOperation_.label += ", symmetric in " + symmetryText(brush.symmetry);
+    dragOperation_.brush = brush;
+    for (const Eigen::Vector3d& source : sources) dragOperation_.constraints.push_back({source, source});
+    dragAppliedInFrame_ = false;
+    dragMirrored_ = true;
+    dragUserStarts_ = sources;
+    dragMirror_ = std::move(mirror);
+    dragBrush_ = brush;
+    dragActive_ = true;
+}
+
+Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held, const BrushSettings& brush) {
+    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (dragActive_) return Status::error("an interactive drag is already in progress");
+    if (sources.empty()) return Status::error("a drag needs at least one source");
+    if (Status s = checkBrush(brush); !s) return s;
+    for (size_t f = 0; f < sources.size(); ++f)
+        if (!sources[f].allFinite()) return Status::error("constraint " + std::to_string(f) + " source has non-finite coordinates");
+    layerActive_ = false;
+    const auto isHeld = [&](size_t f) { return f < held.size() && held[f]; };
+    std::vector<MirroredConstraint> mirror = mirrorConstraints(sources, held, brush.symmetry, symmetryCentre_, mirrorMergeDistance(brush));
+    if (brush.active()) {
+        // A stroke (session_brush.cpp): no lattice is solved at the start; every update places the pull field.
+        std::vector<bool> moving;
+        for (const MirroredConstraint& c : mirror) moving.push_back(!isHeld(static_cast<size_t>(c.images.front().first)));
+        if (std::find(moving.begin(), moving.end(), true) == moving.end()) return Status::error("every source of the drag is held");
+        dragSourceWorld_.clear();
+        for (const MirroredConstraint& c : mirror) dragSourceWorld_.push_back(c.source);
+        dragParams_.clear();
+        dragPulled_ = std::move(moving);
+        startMirroredDrag("brush " + dragLabel(sources.size()), sources, std::move(mirror), brush);
+        return Status::success();
+    }
+    std::vector<Eigen::Vector3d> params(mirror.size());
+    Status located = Status::success();
+    for (size_t e = 0; e < mirror.size() && located; ++e) {
+        located = parametersOfCurrentPoint(mirror[e].source, params[e]);
+        if (!located) located = Status::error((mirror[e].images.front().second == 0 ? "constraint " + std::to_string(mirror[e].images.front().first)
+                                                                                    : std::string("the mirror image of a constraint")) +
+                                              " source: " + located.message);
+    }
+    DirectManipulationData data;
+    if (located) located = precomputeDirectManipulation(activeLattice(), params, data);
+    if (!located) return located;
+    dragData_ = std::move(data);
+    dragSourceWorld_.clear();
+    for (const Eigen::Vector3d& t : params) dragSourceWorld_.push_back(currentImage(t));
+    dragParams_ = std::move(params);
+    startMirroredDrag(dragLabel(sources.size()), sources, std::move(mirror), brush);
+    return Status::success();
+}
+
+Status Session::beginControlDrag(const std::vector<int>& indices) {
+    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (dragActive_) return Status::error("an interactive drag is already in progress");
+    if (indices.empty()) return Status::error("no control point given");
+    std::vector<int> sorted = indices;
+    std::sort(sorted.begin(), sorted.end());
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    for (int idx : sorted)
+        if (Status s = checkMovable(idx); !s) return s;
+    layerActive_ = false;
+    dragOperation_ = Operation{};
+    dragOperation_.kind = OperationKind::ControlPointEdit;
+    dragOperation_.interactive = true;
+    dragOperation_.label = sorted.size() == 1 ? "move control point" : "move " + std::to_string(sorted.size()) + " control points";
+    dragOperation_.controlPoints = sorted;
+    dragOperation_.offsets = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(sorted.size()), 3);
+    dragControlStart_.resize(static_cast<Eigen::Index>(sorted.size()), 3);
+    for (size_t c = 0; c < sorted.size(); ++c)
+        dragControlStart_.row(static_cast<Eigen::Index>(c)) = pushThroughLayers(lattice_.controlPoint(sorted[c])).transpose();
+    dragSourceWorld_.clear();
+    dragParams_.clear();
+    dragAppliedInFrame_ = false;
+    dragMirrored_ = false;
+    dragActive_ = true;
+    return Status::success();
+}
+
+std::vector<Eigen::Vector3d> Session::dragSources() const { return dragSourceWorld_; }
+
+std::vector<Eigen::Vector3d> Session::dragUserSources() const {
+    if (!dragMirrored_) return dragSourceWorld_;
+    std::vector<Eigen::Vector3d> sources = dragUserStarts_;
+    for (size_t e = 0; e < dragMirror_.size(); ++e)
+        if (dragMirror_[e].images.front().second == 0) sources[static_cast<size_t>(dragMirror_[e].images.front().first)] = dragSourceWorld_[e];
+    return sources;
+}
+
+void Session::mergeInteractiveStep(const ControlDelta& delta) {
+    if (!dragOperation_.steps.empty() && dragAppliedInFrame_) {
+        mergeDelta(dragOperation_.steps.back().delta, delta);
+    } else {
+        Step step;
+        step.settings = settings_;
+        step.delta = delta;
+        for (const Eigen::Vector3d& source : dragSourceWorld_) step.constraints.push_back({source, source});
+        dragOperation_.steps.push_back(std::move(step));
+    }
+    dragAppliedInFrame_ = true;
+}
+
+bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report) {
+    // Fast path: the whole increment as one change of the active lattice (the group property of Hu et al.
+    // 2001, section 4, makes a drag's increments add up to one control displacement per lattice).
+    StepFailure failure;
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    if (tryDelta(delta, &lastMoved_, failure, report.injectivityMs, report.triangleCheckMs)) {
+        mergeInteractiveStep(delta);
+        for (size_t f = 0; f < dragParams_.size(); ++f) dragOperation_.steps.back().constraints[f].target = currentImage(dragParams_[f]);
+        report.subSteps = 1;
+        return true;
+    }
+    // Not injective as one step: subdivide this increment like any operation (Gain & Dodgson 2001, Appendix,
+    // InjectSubdiv); it may enter new layers.
+    Operation increments;
+    Progress progress(scratch_);
+    progress.operation = &increments;
+    progress.appliedInCurrentFrame = dragAppliedInFrame_;
+    progress.firstFailure = failure;
+    const bool ok = injectSubdiv(m, 0, progress);
+    report.injectivityMs += progress.injectivityMs;
+    report.triangleCheckMs += progress.triangleMs;
+    if (!ok) {
+        restoreSnapshot(progress.snapshot);
+        std::sort(progress.moved.begin(), progress.moved.end());
+        progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
+        lastMoved_ = std::move(progress.moved);
+        report.status = OpStatus::Rejected;
+        report.refusedBy = stepFailureCauseName(progress.failure.cause);
+        report.reason = "Refused: " + stepFailureWords(progress.failure, true) + ". The drag stays at the last valid position; " +
+                        stepFailureAdvice(progress.failure.cause) + ".";
+        report.injectivity = "rejected: " + progress.failure.technical;
+        return false;
+    }
+    for (Step& step : increments.steps) {
+        if (!step.freshFrame && !dragOperation_.steps.empty() && dragAppliedInFrame_) {
+            mergeDelta(dragOperation_.steps.back().delta, step.delta);
+            for (size_t f = 0; f < step.constraints.size(); ++f)
+                dragOperation_.steps.back().constraints[f].target = step.constraints[f].target;
+        } else {
+            dragOperation_.steps.push_back(std::move(step));
+        }
+        dragAppliedInFrame_ = true;
+    }
+    dragOperation_.depthReached = std::max(dragOperation_.depthReached, increments.depthReached);
+    std::sort(progress.moved.begin(), progress.moved.end());
+    progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
+    lastMoved_ = std::move(progress.moved);
+    lastMovedAll_ = progress.movedAll;
+    report.subSteps = static_cast<int>(increments.steps.size());
+    report.depthReached = increments.depthReached;
+    report.refusedBy = stepFailureCauseName(failure.cause);
+    return true;
+}
+
+Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "drag";
+    if (!dragActive_ || dragOperation_.kind != OperationKind::Drag) return Status::error("no interactive drag is in progress");
+    const size_t expected = dragMirrored_ ? dragUserStarts_.size() : dragSourceWorld_.size();
+    if (userTargets.size() != expected) return Status::error("drag target count changed");
+    for (const Eigen::Vector3d& t : userTargets)
+        if (!t.allFinite()) return Status::error("drag target has non-finite coordinates");
+    // With a brush or symmetry: the strength scales each move from where it began, and the mirror images
+    // follow the mirrored targets.
+    std::vector<Eigen::Vector3d> targets = userTargets;
+    if (dragMirrored_) {
+        std::vector<Eigen::Vector3d> scaled(userTargets.size());
+        for (size_t u = 0; u < userTargets.size(); ++u)
+            scaled[u] = dragUserStarts_[u] + dragBrush_.strength * (userTargets[u] - dragUserStarts_[u]);
+        targets.clear();
+        for (const MirroredConstraint& c : dragMirror_) targets.push_back(mirroredTarget(c, scaled, dragUserStarts_));
+    }
+
+    if (dragMirrored_ && dragBrush_.active()) {
+        updateStroke(targets, report);
+        report.wallMs = millisecondsSince(start);
+        return Status::success();
+    }
+    Eigen::MatrixX3d increment(static_cast<Eigen::Index>(targets.size()), 3);
+    for (size_t f = 0; f < targets.size(); ++f) {
+        Eigen::Vector3d target;
+        if (!toActiveSpace(targets[f], target)) {
+            report.status = OpStatus::Rejected;
+            report.reason = "Refused: the target " + vectorText(targets[f]) + " is not the image of any point inside the lattice.";
+            return Status::success();
+        }
+        increment.row(static_cast<Eigen::Index>(f)) = (target - activeImage(dragParams_[f])).transpose();
+    }
+    if ((increment.array() == 0.0).all()) {
+        report.status = OpStatus::NoOp;
+        report.reason = "the sources are already there";
+        return Status::success();
+    }
+    // One incremental manipulation omega(S, increment) with the factorisation made at begin (eq. 7 / 12).
+    const DirectManipulationResult solved = solveDirectManipulation(dragData_, increment);
+    Manipulation m;
+    for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));
+    m.targets = targets;
+
+    const int framesBefore = frameDepth();
+    if (!applyInteractiveIncrement(solved.delta, m, report)) {
+        report.wallMs = millisecondsSince(start);
+        return Status::success();
+    }
+    if (report.subSteps == 1 && frameDepth() == framesBefore) {
+        report.residuals = solved.residuals;
+        report.rankDeficient = solved.rankDeficient;
+        if (dragMirrored_) trimResiduals(report, dragUserStarts_.size());
+    } else {
+        // The active lattice may have changed: the sources' parameters are re-found where the steps left them.
+        for (size_t f = 0; f < m.sources.size(); ++f) parametersOfCurrentPoint(m.sources[f], dragParams_[f]);
+        DirectManipulationData data;
+        precomputeDirectManipulation(activeLattice(), dragParams_, data);
+        dragData_ = std::move(data);
+    }
+    for (size_t f = 0; f < targets.size(); ++f) dragSourceWorld_[f] = currentImage(dragParams_[f]);
+    if (dragMirrored_) {
+        for (size_t e = 0; e < dragMirror_.size(); ++e)
+            if (dragMirror_[e].images.front().second == 0)
+                dragOperation_.constraints[static_cast<size_t>(dragMirror_[e].images.front().first)].target = dragSourceWorld_[e];
+    } else {
+        for (size_t f = 0; f < targets.size(); ++f) dragOperation_.constraints[f].target = dragSourceWorld_[f];
+    }
+    report.status = OpStatus::Applied;
+    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    report.controlPointsChanged = static_cast<int>(solved.delta.indices.size());
+    report.verticesMoved = movedCount();
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+void Session::updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport& report) {
+    // Every pull from where the stroke began (brush_field.h): the region follows it, however long.
+    std::vector<BrushPull> pulls;
+    for (size_t e = 0; e < dragMirror_.size(); ++e)
+        pulls.push_back({dragMirror_[e].source, dragPulled_[e] ? Eigen::Vector3d(targets[e] - dragMirror_[e].source) : Eigen::Vector3d::Zero()});
+    StepFailure failure;
+    const double share = applyBrushPulls(pulls, dragBrush_, dragOperation_.steps, report, failure);
+    if (share < 1.0 && dragBrush_.symmetry.any() &&
+        (failure.cause == StepFailure::Cause::Lattice || failure.cause == StepFailure::Cause::Triangles ||
+         failure.cause == StepFailure::Cause::Uncertified)) {
+        // A pull that carries its grabbed point onto or across a mirror plane meets the point's own mirror image
+        // there: no injective symmetric deformation does that, so the stop is the symmetry's, not the mesh's.
+        const double merge = mirrorMergeDistance(dragBrush_);
+        for (size_t e = 0; e < pulls.size() && failure.cause != StepFailure::Cause::MirrorPlane; ++e) {
+            if (!pulls[e].moving()) continue;
+            for (int a = 0; a < 3; ++a) {
+                if (!dragBrush_.symmetry.mirror[static_cast<size_t>(a)]) continue;
+                const double from = pulls[e].source[a] - symmetryCentre_[a], to = from + pulls[e].pull[a];
+                if (std::abs(from) > merge && (to == 0.0 || (to > 0.0) != (from > 0.0))) {
+                    failure.cause = StepFailure::Cause::MirrorPlane;
+                    failure.plane = std::string(1, static_cast<char>('X' + a));
+                    break;
+                }
+            }
+        }
+    }
+    for (size_t e = 0; e < dragMirror_.size(); ++e)
+        dragSourceWorld_[e] = strokeReached_[e];
+    for (size_t e = 0; e < dragMirror_.size(); ++e)
+        if (dragMirror_[e].images.front().second == 0)
+            dragOperation_.constraints[static_cast<size_t>(dragMirror_[e].images.front().first)].target = dragSourceWorld_[e];
+    report.fractionApplied = share;
+    report.subSteps = static_cast<int>(dragOperation_.steps.size());
+    report.controlPointsChanged = 0;
+    for (const Step& step : dragOperation_.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
+    report.verticesMoved = movedCount();
+    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    for (size_t e = 0; e < dragMirror_.size(); ++e)
+        if (dragMirror_[e].images.front().second == 0) report.residuals.push_back((dragSourceWorld_[e] - targets[e]).norm());
+    if (share == 1.0) {
+        report.status = OpStatus::Applied;
+        return;
+    }
+    report.refusedBy = stepFailureCauseName(failure.cause);
+    if (share > 0.0) {
+        report.status = OpStatus::Applied;
+        report.reason = "Stopped at " + detail::percentText(share) + " of the pull, the last injective point: beyond it " +
+                        stepFailureWords(failure, true) + " (" + stepFailureAdvice(failure.cause) + ").";
+        return;
+    }
+    report.status = OpStatus::Rejected;
+    report.reason = failure.cause == StepFailure::Cause::SourceLeft
+                        ? "Refused: " + failure.technical + "."
+                        : "Refused: " + stepFailureWords(failure, true) + ". The stroke stays where it was; " + stepFailureAdvice(failure.cause) + ".";
+    report.injectivity = "rejected: " + failure.technical;
+}
+
+Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& report) {
+    // Every point moves by the same offset since the drag began.
+    const Eigen::Index count = static_cast<Eigen::Index>(dragOperation_.controlPoints.size());
+    return updateControlDragPerPoint(offset.transpose().replicate(std::max<Eigen::Index>(count, 1), 1), report);
+}
+
+Status Session::updateControlDragPerPoint(const Eigen::MatrixX3d& offsets, OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "move_control_point";
+    if (!dragActive_ || dragOperation_.kind != OperationKind::ControlPointEdit)
+        return Status::error("no interactive control-point drag is in progress");
+    if (!offsets.allFinite()) return Status::error("control point move has non-finite coordinates");
+    const std::vector<int>& ids = dragOperation_.controlPoints;
+    const Eigen::Index count = static_cast<Eigen::Index>(ids.size());
+    if (offsets.rows() != count)
+        return Status::error("control point move has " + std::to_string(offsets.rows()) + " offsets for " + std::to_string(count) + " points");
+    // Offsets as shown since the drag began; this update adds what is still missing.
+    const Eigen::MatrixX3d shownIncrement = offsets - dragOperation_.offsets;
+    if ((shownIncrement.array() == 0.0).all()) {
+        report.status = OpStatus::NoOp;
+        report.reason = "the control points are already there";
+        return Status::success();
+    }
+    ControlDelta delta;
+    delta.indices = ids;
+    if (layers_.empty()) {
+        delta.deltas = shownIncrement;
+    } else {
+        // Under layers the points follow the cursor as shown: each cage point goes where the layers take it
+        // onto its shown start plus its offset.
+        delta.deltas.resize(count, 3);
+        for (Eigen::Index c = 0; c < count; ++c) {
+            const Eigen::Vector3d shownTarget = dragControlStart_.row(c).transpose() + offsets.row(c).transpose();
+            Eigen::Vector3d cageTarget;
+            if (!pullThroughLayers(shownTarget, cageTarget, layers_.size())) {
+                report.status = OpStatus::Rejected;
+                report.reason = "Refused: no point of the lattice's layers maps onto " + vectorText(shownTarget) + ".";
+                return Status::success();
+            }
+            delta.deltas.row(c) = (cageTarget - lattice_.controlPoint(ids[static_cast<size_t>(c)])).transpose();
+        }
+    }
+    applyControlDragDelta(std::move(delta), shownIncrement, report);
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+void Session::applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& shownOffsets, OpReport& report) {
+    // The points follow up to the last injective position and stop there (design.md "The cage is the user's
+    // object"): never a fresh lattice. A later update that moves back lets them follow again.
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    expandWelds(lattice_, delta);  // a welded point moves as one (Coquillart 1990, 3.1.2)
+    StepFailure failure;
+    const double fraction = applyLargestInjectiveFraction(delta, &lastMoved_, failure, report.injectivityMs, report.triangleCheckMs);
+    report.fractionApplied = fraction;
+    if (fraction > 0.0) {
+        delta.deltas *= fraction;
+        mergeInteractiveStep(delta);
+        dragOperation_.offsets += fraction * shownOffsets;
+    }
+    std::sort(lastMoved_.begin(), lastMoved_.end());
+    lastMoved_.erase(std::unique(lastMoved_.begin(), lastMoved_.end()), lastMoved_.end());
+    report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    report.controlPointsChanged = fraction > 0.0 ? static_cast<int>(delta.indices.size()) : 0;
+    report.verticesMoved = movedCount();
+    report.subSteps = fraction > 0.0 ? 1 : 0;
+    report.status = fraction > 0.0 ? OpStatus::Applied : OpStatus::Rejected;
+    if (fraction < 1.0) {
+        report.refusedBy = stepFailureCauseName(failure.cause);
+        report.reason = "Stopped " + stepStopWords(failure.cause) + ": moving further, " + stepFailureWords(failure, false) + ".";
+    }
+}
+
+Status Session::setDragLabel(const std::string& label) {
+    if (!dragActive_) return Status::error("no interactive drag is in progress");
+    if (label.empty()) return Status::error("a history entry needs a name");
+    dragOperation_.label = label;
+    return Status::success();
+}
+
+void Session::endDrag() {
+    if (!dragActive_) return;
+    dragActive_ = false;
+    layerActive_ = false;  // the next operation starts in the cage
+    strokeOutsideCage_ = 0;
+    if (!dragOperation_.steps.empty()) {
+        refineAfterEdit(dragOperation_, nullptr);
+        if (bakeLayers(dragOperation_.steps)) dragOperation_.steps.back().baked = true;  // the detail travels with the surface
+        pushOperation(std::move(dragOperation_));
+    }
+    dragOperation_ = Operation{};
+}
+
+Status Session::cancelDrag(OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "cancel_drag";
+    if (!dragActive_) {
+        report.status = OpStatus::NoOp;
+        report.reason = "no drag in progress";
+        return Status::success();
+    }
+    dragActive_ = false;
+    revertSteps(dragOperation_.steps);
+    layerActive_ = false;
+    // Taking it back is an inverse manipulation, exact only up to rounding: the replay repeats it.
+    if (!dragOperation_.steps.empty()) journal_.push_back(JournalEntry{JournalEntry::Kind::CancelledDrag, dragOperation_, 0, {}, {}, {}});
+    report.status = dragOperation_.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;
+    report.reason = dragOperation_.steps.empty() ? "the drag had not moved anything" : "the drag was taken back";
+    report.subSteps = static_cast<int>(dragOperation_.steps.size());
+    report.verticesMoved = movedCount();
+    dragOperation_ = Operation{};
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+}  // namespace sculpt::core

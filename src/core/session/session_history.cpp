@@ -1,0 +1,380 @@
+// Session history: the operation list, undo and redo as inverse manipulations (Hu et al. 2001, section 4;
+// design.md "What undo means"), grouping, pins as journal entries, and replaying an operation from the
+// journal (recordings).
+#include "core/session/session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "core/injectivity/injectivity.h"
+#include "core/session/session_internal.h"
+
+namespace sculpt::core {
+
+using detail::Clock;
+using detail::mergeDelta;
+using detail::millisecondsSince;
+using detail::vectorText;
+
+void Session::pushOperation(Operation operation) {
+    history_.resize(cursor_);  // a new operation after undo drops the redo branch
+    // note: pins only change between operations, and fresh frames of the same settings inherit them, so the
+    // pins at the end of the operation are the ones every one of its steps was solved with.
+    if (operation.kind != OperationKind::LatticeSetup) operation.pinToggles = pinToggles();
+    JournalEntry entry;
+    entry.operation = operation;
+    journal_.push_back(std::move(entry));
+    history_.push_back(std::move(operation));
+    cursor_ = static_cast<int>(history_.size());
+}
+
+size_t Session::historyBytes() const {
+    auto deltaBytes = [](const ControlDelta& d) {
+        return d.indices.capacity() * sizeof(int) + static_cast<size_t>(d.deltas.size()) * sizeof(double);
+    };
+    auto operationBytes = [&](const Operation& op) {
+        size_t bytes = op.label.capacity() + op.constraints.capacity() * sizeof(PointConstraint) + op.controlPoints.capacity() * sizeof(int) +
+                       static_cast<size_t>(op.offsets.size()) * sizeof(double) + op.steps.capacity() * sizeof(Step);
+        for (const Step& step : op.steps) bytes += deltaBytes(step.delta);
+        bytes += op.refinement.splits.capacity() * sizeof(EdgeSplit) + op.refinement.halvings.capacity() * sizeof(TriangleHalving);
+        return bytes;
+    };
+    size_t bytes = history_.capacity() * sizeof(Operation) + frames_.capacity() * sizeof(FrozenFrame) + journal_.capacity() * sizeof(JournalEntry);
+    for (const Operation& op : history_) bytes += operationBytes(op);
+    for (const JournalEntry& entry : journal_) bytes += operationBytes(entry.operation) + entry.pinToggles.capacity() * sizeof(int);
+    for (const FrozenFrame& frame : frames_) bytes += deltaBytes(frame.displacement) + frame.pinToggles.capacity() * sizeof(int);
+    return bytes;
+}
+
+void Session::undoSteps(const std::vector<Step>& steps) {
+    // A step in a layer of its own (a fresh frame): the layer and everything it did go, and the layers below give
+    // the positions. A run of them (an adaptive subdivision's sub-steps) goes at once.
+    const auto isLayer = [](const Step& step) { return step.weights.empty() && step.freshFrame; };
+    for (size_t i = steps.size(); i-- > 0;) {
+        const Step& step = steps[i];
+        if (step.baked) unbakeLayers(steps, i);  // the layers it put into the rest shape come back first
+        if (isLayer(step)) {
+            size_t run = 1;  // steps[i - run + 1 .. i] are layers, popped together (not across another bake)
+            while (run <= i && isLayer(steps[i - run]) && !steps[i - run].baked) ++run;
+            popLayers(run, &lastMoved_);
+            i -= run - 1;
+            continue;
+        }
+        layerActive_ = false;
+        if (!step.weights.empty()) {  // a weight change (and the displacement with it) in the cage
+            revertWeightStep(step, &lastMoved_);
+            continue;
+        }
+        applyDelta(step.delta, -1.0, &lastMoved_);  // the inverse manipulation in the cage (omega(S, -rho))
+        if (step.newCage) leaveCage();              // inverse of the frozen cage's injective FFD
+    }
+}
+
+void Session::revertSteps(const std::vector<Step>& steps) {
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    undoSteps(steps);
+}
+
+void Session::countChangedVertices(const Positions& before) {
+    // The vertices whose positions differ (a refinement's added or removed vertices count as changed), so undo
+    // and redo of one operation report the same count, never more than the mesh has.
+    if (lastMovedAll_) return;
+    const Eigen::Index common = std::min(before.rows(), positions_.rows());
+    lastMoved_.clear();
+    for (Eigen::Index v = 0; v < common; ++v)
+        if (positions_.row(v) != before.row(v)) lastMoved_.push_back(static_cast<int>(v));
+    for (Eigen::Index v = common; v < positions_.rows(); ++v) lastMoved_.push_back(static_cast<int>(v));
+}
+
+int Session::movedCount() const {
+    return lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+}
+
+void Session::redoStep(const Step& step) {
+    if (!step.weights.empty()) {
+        layerActive_ = false;
+        applyWeightStep(step, &lastMoved_);
+        return;
+    }
+    if (step.newCage) enterNewCage(step.settings, nullptr, &step);
+    else if (step.freshFrame) enterLayer(nullptr, nullptr, &step);
+    else layerActive_ = false;  // a step without a lattice of its own is in the cage
+    applyDelta(step.delta, 1.0, &lastMoved_);
+}
+
+void Session::bakeAfter(const Step& step) {
+    if (!step.baked) return;
+    layerActive_ = false;
+    bakeAllLayers(&step.bakedOutside);
+}
+
+void Session::bakeLastStep(const Operation& operation) {
+    if (!operation.steps.empty()) bakeAfter(operation.steps.back());
+}
+
+void Session::undoOperationBody(const Operation& operation) {
+    if (!operation.parts.empty()) {
+        for (auto part = operation.parts.rbegin(); part != operation.parts.rend(); ++part) undoOperationBody(*part);
+        return;
+    }
+    layerActive_ = false;
+    undoSteps(operation.steps);
+    if (operation.kind == OperationKind::LatticeTools) applyToolChange(operation, false);
+    if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) frozenTool_ = operation.frozenBefore;
+}
+
+void Session::redoOperationBody(const Operation& operation) {
+    for (const Operation& part : operation.parts) {
+        redoOperationBody(part);
+        bakeLastStep(part);
+    }
+    // A step baked within the operation (a group's) is baked again where it was; the last one after the
+    // refinement (redo, replay), as the operation did it.
+    for (size_t k = 0; k < operation.steps.size(); ++k) {
+        redoStep(operation.steps[k]);
+        if (k + 1 < operation.steps.size()) bakeAfter(operation.steps[k]);
+    }
+    if (operation.parts.empty() && operation.kind == OperationKind::LatticeTools) applyToolChange(operation, true);
+    if (operation.parts.empty() && (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup))
+        frozenTool_ = operation.frozenAfter;
+    layerActive_ = false;
+}
+
+Status Session::groupOperations(int first, const std::string& label) {
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (cursor_ != static_cast<int>(history_.size())) return Status::error("a group must end at the last operation");
+    if (first < 0 || first > cursor_) return Status::error("the group's first operation is outside the history");
+    if (cursor_ == first) return Status::success();  // an empty group
+    if (Status s = checkGroupRefinement(first); !s) return s;
+    bool keepWhole = false;  // tools added, removed or edited, or the frozen one changed: see Operation::parts
+    for (int i = first; i < cursor_; ++i) {
+        const Operation& op = history_[static_cast<size_t>(i)];
+        keepWhole = keepWhole || op.kind == OperationKind::LatticeTools || !op.parts.empty() ||
+                    (op.kind == OperationKind::LatticeSetup && op.frozenBefore != op.frozenAfter);
+    }
+    Operation merged;
+    if (keepWhole) {
+        merged.kind = OperationKind::LatticeTools;
+        merged.frozenBefore = history_[static_cast<size_t>(first)].frozenBefore;
+        merged.frozenAfter = frozenTool_;
+        merged.label = label.empty() ? history_[static_cast<size_t>(first)].label : label;
+    } else {
+        merged.kind = OperationKind::LatticeSetup;
+        const Operation* firstEdit = nullptr;
+        const Operation* lastEdit = nullptr;
+        for (int i = first; i < cursor_; ++i) {
+            const Operation& op = history_[static_cast<size_t>(i)];
+            if (op.kind == OperationKind::LatticeSetup || op.kind == OperationKind::Refine) continue;
+            if (firstEdit && op.kind != firstEdit->kind) return Status::error("a group mixes drags and control-point edits");
+            if (!firstEdit) firstEdit = &op;
+            lastEdit = &op;
+        }
+        if (firstEdit) {
+            merged.kind = firstEdit->kind;
+            merged.pinToggles = firstEdit->pinToggles;
+            merged.controlPoints = firstEdit->controlPoints;
+            merged.offsets = firstEdit->offsets;
+            merged.constraints = firstEdit->constraints;
+            merged.weightTool = firstEdit->weightTool;
+            // From where the first edit took its sources to where the last one put them.
+            if (lastEdit->constraints.size() == merged.constraints.size())
+                for (size_t c = 0; c < merged.constraints.size(); ++c) merged.constraints[c].target = lastEdit->constraints[c].target;
+        } else {
+            merged.settings = history_[static_cast<size_t>(cursor_ - 1)].settings;
+            if (history_[static_cast<size_t>(cursor_ - 1)].kind == OperationKind::Refine) merged.kind = OperationKind::Refine;
+        }
+        merged.interactive = true;
+        merged.label = label.empty() ? (firstEdit ? firstEdit->label : history_[static_cast<size_t>(first)].label) : label;
+    }
+    for (int i = first; i < cursor_; ++i) {
+        Operation& op = history_[static_cast<size_t>(i)];
+        merged.depthReached = std::max(merged.depthReached, op.depthReached);
+        // The refinements, in order, are one sequence of splits (undone before the steps, redone after them).
+        for (const EdgeSplit& split : op.refinement.splits) merged.refinement.splits.push_back(split);
+        for (const TriangleHalving& halving : op.refinement.halvings) merged.refinement.halvings.push_back(halving);
+        if (!op.refinement.empty()) merged.refinement.tolerance = op.refinement.tolerance;
+        if (keepWhole) {
+            op.refinement = RefinementRecord{};
+            merged.parts.push_back(std::move(op));
+            continue;
+        }
+        for (Step& step : op.steps) {
+            // A fresh frame that moved nothing followed by a step in it is one step, as the interactive
+            // operation that was recorded had it (same undo: the delta, then leaving the frame).
+            if (!merged.steps.empty() && merged.steps.back().newCage && merged.steps.back().delta.indices.empty() &&
+                !step.freshFrame && !step.newCage && step.weights.empty()) {
+                Step& combined = merged.steps.back();
+                combined.delta = std::move(step.delta);
+                combined.constraints = std::move(step.constraints);
+                continue;
+            }
+            merged.steps.push_back(std::move(step));
+        }
+    }
+    history_.resize(static_cast<size_t>(first));
+    history_.push_back(std::move(merged));
+    cursor_ = static_cast<int>(history_.size());
+    journal_.push_back(JournalEntry{JournalEntry::Kind::Group, {}, first, history_.back().label, {}, {}});
+    return Status::success();
+}
+
+Status Session::undo(OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "undo";
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (cursor_ == 0) {
+        report.status = OpStatus::NoOp;
+        report.reason = "nothing to undo";
+        return Status::success();
+    }
+    const Operation& operation = history_[--cursor_];
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    const Positions before = positions_;  // to count what changed (not kept: the history holds no mesh)
+    undoOperationBody(operation);
+    removeRefinement(operation.refinement);
+    countChangedVertices(before);
+    journal_.push_back(JournalEntry{JournalEntry::Kind::Undo, {}, 0, {}, {}, {}});
+    report.status = OpStatus::Applied;
+    report.reason = "undid " + operation.label;
+    report.subSteps = static_cast<int>(operation.steps.size());
+    report.controlPointsChanged = 0;
+    for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
+    report.verticesMoved = movedCount();
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+Status Session::redo(OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "redo";
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (cursor_ == static_cast<int>(history_.size())) {
+        report.status = OpStatus::NoOp;
+        report.reason = "nothing to redo";
+        return Status::success();
+    }
+    const Operation& operation = history_[cursor_++];
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    const Positions before = positions_;
+    redoOperationBody(operation);
+    reapplyRefinement(history_[static_cast<size_t>(cursor_ - 1)]);
+    bakeLastStep(operation);
+    countChangedVertices(before);
+    journal_.push_back(JournalEntry{JournalEntry::Kind::Redo, {}, 0, {}, {}, {}});
+    report.status = OpStatus::Applied;
+    report.reason = "redid " + operation.label;
+    report.subSteps = static_cast<int>(operation.steps.size());
+    for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
+    report.verticesMoved = movedCount();
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+std::vector<int> Session::pinToggles() const {
+    std::vector<int> toggled;
+    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
+        if (basePinned(idx) != static_cast<bool>(lattice_.pinned[idx])) toggled.push_back(idx);
+    return toggled;
+}
+
+Status Session::setPinToggles(const std::vector<int>& toggled) {
+    const int n = lattice_.controlPointCount();
+    for (int idx : toggled)
+        if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    for (int idx = 0; idx < n; ++idx) lattice_.pinned[idx] = basePinned(idx) ? 1 : 0;
+    // A welded point is one control point: a toggle of any of its slots toggles the group once.
+    for (int idx : weldGroupsOf(toggled)) lattice_.pinned[idx] ^= 1;
+    pinBoundaryIfPartial(lattice_, embedding_);
+    journalPins();
+    return Status::success();
+}
+
+Status Session::setPinned(const std::vector<int>& indices, bool pinned) {
+    const int n = lattice_.controlPointCount();
+    for (int idx : indices)
+        if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
+    for (int idx : weldGroupsOf(indices)) lattice_.pinned[idx] = pinned ? 1 : 0;
+    pinBoundaryIfPartial(lattice_, embedding_);
+    journalPins();
+    return Status::success();
+}
+
+void Session::journalPins() {
+    JournalEntry entry{JournalEntry::Kind::Pins, {}, 0, {}, pinToggles(), settings_};
+    // Consecutive pin changes: only where they ended counts.
+    if (!journal_.empty() && journal_.back().kind == JournalEntry::Kind::Pins) journal_.back() = std::move(entry);
+    else journal_.push_back(std::move(entry));
+}
+
+Status Session::replayOperation(const Operation& operation, bool cancelled, OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "replay";
+    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (operation.steps.empty() && operation.kind != OperationKind::Refine) return Status::error("the recorded operation has no steps");
+    if (Status s = checkRecordedRefinement(operation, cancelled); !s) return s;
+    // Every step must fit the lattice it will be applied in: its own where it makes one (a layer or a new
+    // cage), else the cage.
+    LatticeSettings cageSettings = settings_;
+    for (size_t k = 0; k < operation.steps.size(); ++k) {
+        const Step& step = operation.steps[k];
+        LatticeSettings settings = cageSettings;
+        if (step.freshFrame || step.newCage) {
+            if (Status s = validateLatticeSettings(step.settings); !s) return Status::error("step " + std::to_string(k) + ": " + s.message);
+            if (!step.frameMin.allFinite() || !step.frameMax.allFinite() || !(step.frameMin.array() < step.frameMax.array()).all())
+                return Status::error("step " + std::to_string(k) + ": the lattice box must be finite with min < max on every axis");
+            if (Lattice probe; !turnBoxLattice(probe, step.frameAxes))
+                return Status::error("step " + std::to_string(k) + ": a layer's box axes must be orthonormal and right-handed");
+            settings = step.settings;
+            if (step.newCage) cageSettings = step.settings;
+        }
+        const std::array<int, 3> counts = latticeCounts(settings);
+        const int count = counts[0] * counts[1] * counts[2];
+        for (int idx : step.regionFree)
+            if (idx < 0 || idx >= count) return Status::error("step " + std::to_string(k) + ": free control point id " + std::to_string(idx) + " is outside the lattice");
+        if (static_cast<Eigen::Index>(step.delta.indices.size()) != step.delta.deltas.rows())
+            return Status::error("step " + std::to_string(k) + ": control point ids and displacements differ in count");
+        for (int idx : step.delta.indices)
+            if (idx < 0 || idx >= count) return Status::error("step " + std::to_string(k) + ": control point id " + std::to_string(idx) + " is outside the lattice");
+        if (!step.delta.deltas.allFinite()) return Status::error("step " + std::to_string(k) + ": non-finite displacement");
+        if (!step.weights.empty())
+            if (Status s = checkRecordedWeights(step.weights); !s) return Status::error("step " + std::to_string(k) + ": " + s.message);
+    }
+    lastMoved_.clear();
+    lastMovedAll_ = false;
+    for (size_t k = 0; k < operation.steps.size(); ++k) {
+        redoStep(operation.steps[k]);
+        if (k + 1 < operation.steps.size() && !cancelled) bakeAfter(operation.steps[k]);
+    }
+    if (operation.kind == OperationKind::LatticeSetup && !cancelled) frozenTool_ = operation.frozenAfter;
+    layerActive_ = false;
+    report.status = OpStatus::Applied;
+    report.subSteps = static_cast<int>(operation.steps.size());
+    report.depthReached = operation.depthReached;
+    report.injectivity = "as recorded";
+    for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
+    if (cancelled) {
+        revertSteps(operation.steps);
+        journal_.push_back(JournalEntry{JournalEntry::Kind::CancelledDrag, operation, 0, {}, {}, {}});
+        report.reason = "replayed the steps of a drag that was taken back, and took them back";
+    } else {
+        pushOperation(operation);
+        reapplyRefinement(history_.back());
+        bakeLastStep(history_.back());
+        report.reason = "replayed " + operation.label + " as recorded (" + std::to_string(report.subSteps) + " steps)";
+    }
+    report.verticesMoved = movedCount();
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+}  // namespace sculpt::core

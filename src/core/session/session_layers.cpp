@@ -1,0 +1,630 @@
+// Session: the cage, its layers and the frozen frames (session.h, "The cage and its layers"), with the
+// det J bookkeeping of the whole composition and the snapshots that let a rejected operation change nothing.
+#include <algorithm>
+#include <cstdint>
+
+#include "core/injectivity/injectivity.h"
+#include "core/session/session.h"
+
+namespace sculpt::core {
+
+namespace {
+
+// A step's record of the lattice it put in place (a layer, or with newCage a cage), for redo and replay.
+void recordPlacement(Step& step, bool newCage, const LatticeSettings& settings, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                     bool pinsKept) {
+    step.newCage = newCage;
+    step.freshFrame = !newCage;
+    step.settings = settings;
+    step.frameMin = lo;
+    step.frameMax = hi;
+    step.framePinsKept = pinsKept;
+    step.frameAxes.setIdentity();
+}
+
+}  // namespace
+
+// ---- composition through the layers ---------------------------------------------------------------------
+
+Eigen::Vector3d Session::pushThroughLayers(Eigen::Vector3d x, size_t first) const {
+    for (size_t k = first; k < layers_.size(); ++k) {
+        Eigen::Vector3d t;
+        if (restParameters(layers_[k].lattice, x, t)) x += displacementAt(layers_[k].lattice, t);
+    }
+    return x;
+}
+
+bool Session::pullThroughLayers(const Eigen::Vector3d& y, Eigen::Vector3d& x, size_t count) const {
+    Eigen::Vector3d point = y;
+    for (size_t k = count; k-- > 0;) {
+        const Lattice& layer = layers_[k].lattice;
+        // Only the box and the hull of its control points can hold an image of the box (convex hull property).
+        Eigen::Vector3d lo, hi;
+        deformationBounds(layer, lo, hi);
+        Eigen::Vector3d restParams;
+        const bool inBox = restParameters(layer, point, restParams);
+        if (!((point.array() >= lo.array()).all() && (point.array() <= hi.array()).all())) continue;  // the identity there
+        Eigen::Vector3d params;
+        if (locateDeformedPoint(layer, point, params)) {
+            point = restPoint(layer, params);
+            continue;
+        }
+        // Outside the box a layer is the identity: a point there no box point reaches is its own preimage.
+        if (inBox) return false;
+    }
+    x = point;
+    return true;
+}
+
+void Session::refreshLayerOutput(const std::vector<int>& vertices) {
+    const int count = static_cast<int>(vertices.size());
+#pragma omp parallel for schedule(static) if (count > 4096)
+    for (int c = 0; c < count; ++c) {
+        const int v = vertices[static_cast<size_t>(c)];
+        positions_.row(v) = pushThroughLayers(cageOut_.row(v).transpose()).transpose();
+    }
+}
+
+Eigen::Vector3d Session::activeImage(const Eigen::Vector3d& params) const {
+    const Lattice& lattice = activeLattice();
+    return restPoint(lattice, params) + displacementAt(lattice, params);
+}
+
+bool Session::toActiveSpace(const Eigen::Vector3d& point, Eigen::Vector3d& out) const {
+    if (!cageUnderLayers()) {
+        out = point;
+        return true;
+    }
+    return pullThroughLayers(point, out, layers_.size());
+}
+
+Eigen::Vector3d Session::currentImage(const Eigen::Vector3d& params) const {
+    const Eigen::Vector3d x = activeImage(params);
+    return cageUnderLayers() ? pushThroughLayers(x) : x;
+}
+
+Positions Session::cagePoints() const {
+    Positions points = controlPointPositions(lattice_);
+    if (!layers_.empty())
+        for (Eigen::Index p = 0; p < points.rows(); ++p) points.row(p) = pushThroughLayers(points.row(p).transpose()).transpose();
+    return points;
+}
+
+// ---- layers ---------------------------------------------------------------------------------------------
+
+Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorded) {
+    Layer layer;
+    LatticeSettings settings = settings_;
+    Eigen::Vector3d lo, hi;
+    bool pinsKept = false, region = false;
+    std::vector<int> free;
+    if (recorded) {
+        settings = recorded->settings;
+        lo = recorded->frameMin;
+        hi = recorded->frameMax;
+        pinsKept = recorded->framePinsKept;
+        region = recorded->region;
+        free = recorded->regionFree;
+    } else {
+        // Adaptive subdivision: a fresh regular lattice with the cage's settings in the active lattice's box,
+        // grown to contain the mesh it deforms as that is now. It depends only on the mesh and the settings,
+        // so a replay reproduces it. Only the vertices the active lattice deforms count: a lattice around a
+        // region of the mesh never grows to take in the rest of it.
+        const Lattice& active = activeLattice();
+        const Embedding& embedding = activeEmbedding();
+        lo = active.boxMin;
+        hi = active.boxMax;
+        if (embedding.insideCount() > 0) {
+            Eigen::Vector3d boundsLo = Eigen::Vector3d::Constant(INFINITY), boundsHi = Eigen::Vector3d::Constant(-INFINITY);
+            for (int v : embedding.order) {
+                boundsLo = boundsLo.cwiseMin(positions_.row(v).transpose());
+                boundsHi = boundsHi.cwiseMax(positions_.row(v).transpose());
+            }
+            // note: a fixed margin, not the cage's padding: a recording replays the cage in its exact box with
+            // padding 0, and the layers must come out the same.
+            const double pad = 0.05 * (boundsHi - boundsLo).norm();
+            for (int a = 0; a < 3; ++a) {
+                if (boundsLo[a] < lo[a]) lo[a] = boundsLo[a] - pad;
+                if (boundsHi[a] > hi[a]) hi[a] = boundsHi[a] + pad;
+            }
+        }
+        pinsKept = true;
+    }
+    if (Status s = makeLatticeInBox(settings, lo, hi, layer.lattice); !s) return s;
+    if (recorded)  // a brush region is turned to its pull
+        if (Status s = turnBoxLattice(layer.lattice, recorded->frameAxes); !s) return s;
+    if (region) pinAllBut(layer.lattice, free);
+    else if (pinsKept)
+        for (int idx : pinToggles()) layer.lattice.pinned[static_cast<size_t>(idx)] ^= 1;
+    if (placed) {
+        recordPlacement(*placed, false, settings, lo, hi, pinsKept);
+        placed->region = region;
+        placed->regionFree = free;
+    }
+    if (layers_.empty()) cageOut_ = positions_;
+    layer.settings = settings;
+    layers_.push_back(std::move(layer));
+    if (region && layerCandidates_) embedVertices(layers_.back().lattice, positions_, layerEmbedding_, *layerCandidates_);
+    else embedVertices(layers_.back().lattice, positions_, layerEmbedding_);
+    pinBoundaryIfPartial(layers_.back().lattice, layerEmbedding_);
+    layerActive_ = true;
+    if (progress) {
+        progress->appliedInCurrentFrame = false;
+        progress->pendingFreshFrame = true;  // the next step applied belongs to this layer
+    }
+    return Status::success();
+}
+
+void Session::newestLayersBounds(size_t count, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
+    lo = Eigen::Vector3d::Constant(INFINITY);
+    hi = Eigen::Vector3d::Constant(-INFINITY);
+    for (size_t k = layers_.size() - std::min(count, layers_.size()); k < layers_.size(); ++k) {
+        Eigen::Vector3d layerLo, layerHi;
+        deformationBounds(layers_[k].lattice, layerLo, layerHi);
+        lo = lo.cwiseMin(layerLo);
+        hi = hi.cwiseMax(layerHi);
+    }
+}
+
+void Session::popLayers(size_t count, std::vector<int>* moved) {
+    // Only where a layer could have put a vertex can a position change: its box and the hull of its control
+    // points (convex hull property of the B-spline volume). A vertex outside that region of the newest layer
+    // is where the layer below left it, so outside the union of the removed layers' regions nothing changes.
+    count = std::min(count, layers_.size());
+    if (count == 0) return;
+    Eigen::Vector3d lo, hi;
+    newestLayersBounds(count, lo, hi);
+    layers_.resize(layers_.size() - count);
+    layerActive_ = false;
+    const int n = static_cast<int>(positions_.rows());
+    std::vector<std::uint8_t> changed(static_cast<size_t>(n), 0);
+#pragma omp parallel for schedule(static) if (n > 4096)
+    for (int v = 0; v < n; ++v) {
+        const Eigen::Vector3d y = positions_.row(v).transpose();
+        if (!((y.array() >= lo.array()).all() && (y.array() <= hi.array()).all())) continue;
+        const Eigen::Vector3d x = pushThroughLayers(cageOut_.row(v).transpose());
+        if (x != y) {
+            positions_.row(v) = x.transpose();
+            changed[static_cast<size_t>(v)] = 1;
+        }
+    }
+    std::vector<int> list;
+    for (int v = 0; v < n; ++v)
+        if (changed[static_cast<size_t>(v)]) list.push_back(v);
+    positionsChanged(&list);
+    if (moved) moved->insert(moved->end(), list.begin(), list.end());
+    if (layers_.empty()) cageOut_.resize(0, 3);
+}
+
+// ---- frames (lattice set-ups) ---------------------------------------------------------------------------
+
+void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const Step* recorded) {
+    if (trackJacobian_) {
+        accumulateFrameJacobian(false);
+        accumulateLayersJacobian(false);
+    }
+    // Freeze the cage compactly: its box, its non-zero control displacements, its pin edits, its layers.
+    FrozenFrame frozen;
+    frozen.settings = settings_;
+    frozen.boxMin = lattice_.boxMin;
+    frozen.boxMax = lattice_.boxMax;
+    frozen.displacement.indices = displacedControlPoints(lattice_);
+    frozen.displacement.deltas.resize(static_cast<Eigen::Index>(frozen.displacement.indices.size()), 3);
+    for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
+        frozen.displacement.deltas.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(frozen.displacement.indices[c]);
+    frozen.pinToggles = pinToggles();
+    frozen.layers = std::move(layers_);
+    layers_.clear();
+    cageOut_.resize(0, 3);
+    layerActive_ = false;
+
+    // The new cage is placed as a set-up places it, around the mesh as it is now; with the same settings
+    // (same control point ids) it keeps the user's pin edits.
+    Eigen::Vector3d lo, hi;
+    bool pinsKept = sameLatticeSettings(settings, settings_);
+    if (recorded) {
+        lo = recorded->frameMin;
+        hi = recorded->frameMax;
+        pinsKept = recorded->framePinsKept;
+    } else {
+        latticeBox(settings, positions_, lo, hi);
+    }
+    if (placed) recordPlacement(*placed, true, settings, lo, hi, pinsKept);
+    Lattice fresh;
+    makeLatticeInBox(settings, lo, hi, fresh);
+    if (pinsKept)
+        for (int idx : frozen.pinToggles) fresh.pinned[static_cast<size_t>(idx)] ^= 1;
+    frames_.push_back(std::move(frozen));
+    settings_ = settings;
+    lattice_ = std::move(fresh);
+    rest_ = positions_;
+    embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
+    pinBoundaryIfPartial(lattice_, embedding_);
+    lastMovedAll_ = true;
+}
+
+void Session::leaveCage() {
+    // The cage being left is (up to rounding) undeformed again and its layers are gone: the mesh is its rest
+    // state, which is what the frozen cage and its layers produced. Invert those to get their rest state.
+    FrozenFrame frozen = std::move(frames_.back());
+    frames_.pop_back();
+    positions_ = rest_;
+    Lattice previous;
+    makeLatticeInBox(frozen.settings, frozen.boxMin, frozen.boxMax, previous);
+    for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
+        previous.displacement.row(frozen.displacement.indices[c]) = frozen.displacement.deltas.row(static_cast<Eigen::Index>(c));
+    for (int idx : frozen.pinToggles) previous.pinned[static_cast<size_t>(idx)] ^= 1;
+    lattice_ = std::move(previous);
+    settings_ = frozen.settings;
+    layers_ = std::move(frozen.layers);
+    layerActive_ = false;
+    positionsChanged(nullptr);
+    if (layers_.empty()) {
+        invertDeformation(lattice_, positions_, rest_);
+    } else {
+        Positions input = positions_, preimage;
+        for (size_t k = layers_.size(); k-- > 0;) {
+            invertDeformation(layers_[k].lattice, input, preimage);
+            input.swap(preimage);
+        }
+        cageOut_ = std::move(input);
+        invertDeformation(lattice_, cageOut_, rest_);
+    }
+    embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
+    pinBoundaryIfPartial(lattice_, embedding_);
+    if (trackJacobian_) {
+        accumulateFrameJacobian(true);
+        accumulateLayersJacobian(true);
+    }
+    lastMovedAll_ = true;
+}
+
+// ---- snapshots ------------------------------------------------------------------------------------------
+
+void Session::saveSnapshot(Snapshot& snapshot) {
+    if (snapshot.saved) return;
+    snapshot.saved = true;
+    snapshot.positions = positions_;
+    snapshot.cageOut = cageOut_;
+    snapshot.cage = lattice_;
+    snapshot.layerCount = layers_.size();
+    snapshot.layerActive = layerActive_;
+    if (layerActive_) {
+        snapshot.activeLayer = layers_.back().lattice;
+        snapshot.layerEmbedding = layerEmbedding_;
+    }
+}
+
+void Session::restoreSnapshot(Snapshot& snapshot) {
+    if (!snapshot.saved) return;
+    layers_.erase(layers_.begin() + static_cast<std::ptrdiff_t>(snapshot.layerCount), layers_.end());
+    layerActive_ = snapshot.layerActive;
+    if (layerActive_) {
+        layers_.back().lattice = snapshot.activeLayer;
+        layerEmbedding_ = snapshot.layerEmbedding;
+    }
+    lattice_ = snapshot.cage;
+    positions_ = snapshot.positions;
+    cageOut_ = snapshot.cageOut;
+    positionsChanged(nullptr);
+}
+
+// ---- det J of the whole deformation ---------------------------------------------------------------------
+
+void Session::setTrackJacobian(bool track) {
+    if (track && !trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(rest_.rows()), 1.0);
+    if (!track) frozenJacobian_.clear();
+    trackJacobian_ = track;
+}
+
+void Session::accumulateFrameJacobian(bool divide) {
+    // Only vertices in cells reached by a non-zero control displacement have det J != 1 in this frame.
+    const std::vector<int> cells = cellsInfluencedBy(lattice_, displacedControlPoints(lattice_));
+    const int cellCount = static_cast<int>(cells.size());
+#pragma omp parallel for schedule(dynamic, 4) if (cellCount > 64)
+    for (int c = 0; c < cellCount; ++c) {
+        const int cell = cells[static_cast<size_t>(c)];
+        for (int s = embedding_.cellStart[cell]; s < embedding_.cellStart[cell + 1]; ++s) {
+            const double det = jacobianDeterminant(lattice_, embeddedParameters(lattice_, embedding_, cell, s));
+            double& product = frozenJacobian_[static_cast<size_t>(embedding_.order[s])];
+            product = divide ? product / det : product * det;
+        }
+    }
+}
+
+namespace {
+
+// The product of the layers' det J along the path of a point from the cage's output (chain rule).
+double layersJacobian(const std::vector<Layer>& layers, Eigen::Vector3d x) {
+    double product = 1.0;
+    for (const Layer& layer : layers) {
+        Eigen::Vector3d t, displacement;
+        Eigen::Matrix3d jacobian;
+        if (!restParameters(layer.lattice, x, t)) continue;
+        deformationJacobian(layer.lattice, t, displacement, jacobian);
+        product *= jacobian.determinant();
+        x += displacement;
+    }
+    return product;
+}
+
+}  // namespace
+
+void Session::accumulateLayersJacobian(bool divide) {
+    if (layers_.empty()) return;
+    const int n = static_cast<int>(cageOut_.rows());
+#pragma omp parallel for schedule(static) if (n > 4096)
+    for (int v = 0; v < n; ++v) {
+        const double det = layersJacobian(layers_, cageOut_.row(v).transpose());
+        double& product = frozenJacobian_[static_cast<size_t>(v)];
+        product = divide ? product / det : product * det;
+    }
+}
+
+std::vector<double> Session::totalJacobianDeterminants() const {
+    std::vector<double> det;
+    vertexJacobianDeterminants(lattice_, rest_, det);
+    if (trackJacobian_)
+        for (size_t v = 0; v < det.size(); ++v) det[v] *= frozenJacobian_[v];
+    if (!layers_.empty()) {
+        const int n = static_cast<int>(cageOut_.rows());
+#pragma omp parallel for schedule(static) if (n > 4096)
+        for (int v = 0; v < n; ++v) det[static_cast<size_t>(v)] *= layersJacobian(layers_, cageOut_.row(v).transpose());
+    }
+    return det;
+}
+
+// ---- baking layers into the rest shape -----------------------------------------------------------------
+
+namespace {
+
+// The rest point the cage carries onto y: X0 with C(X0) = y (Newton, tight tolerance first), or, outside the box,
+// y itself (the cage leaves every point outside its box where it is; a vertex there is never embedded). Once
+// the cage's boundary has moved, a point outside the box can have both; `outsideFirst` picks the one on the
+// side the vertex's rest point was on, so baking and unbaking a vertex keep it on its side. False if none.
+bool cagePreimage(const Lattice& cage, const Eigen::Vector3d& y, bool outsideFirst, Eigen::Vector3d& rest) {
+    const bool outside = !cage.volume && ((y.array() < cage.boxMin.array()).any() || (y.array() > cage.boxMax.array()).any());
+    if (outside && outsideFirst) {
+        rest = y;
+        return true;
+    }
+    Eigen::Vector3d t;
+    if (locateDeformedPoint(cage, y, t, 1e-15) || locateDeformedPoint(cage, y, t, 1e-12)) {
+        rest = restPoint(cage, t);
+        return true;
+    }
+    if (outside) {
+        rest = y;
+        return true;
+    }
+    return false;
+}
+
+bool outsideBox(const Lattice& cage, const Eigen::Vector3d& rest) {
+    return !cage.volume && ((rest.array() < cage.boxMin.array()).any() || (rest.array() > cage.boxMax.array()).any());
+}
+
+// The unit direction every displaced control point of `lattice` moves along, or zero if they do not share one
+// (a brush stroke's pull field has one: brush_field.h).
+Eigen::Vector3d sharedDirection(const Lattice& lattice) {
+    double largest = 0.0;
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    const std::vector<int> displaced = displacedControlPoints(lattice);
+    for (int idx : displaced) {
+        const double norm = lattice.displacement.row(idx).norm();
+        if (norm > largest) {
+            largest = norm;
+            e = lattice.displacement.row(idx).transpose() / norm;
+        }
+    }
+    for (int idx : displaced) {
+        const Eigen::Vector3d d = lattice.displacement.row(idx).transpose();
+        if ((d - d.dot(e) * e).norm() > 1e-12 * largest) return Eigen::Vector3d::Zero();
+    }
+    return e;
+}
+
+// The preimage x of y under a layer that moves every point along e: x = y - lambda e with
+// g(lambda) = lambda - e . u(y - lambda e) = 0, and g' = 1 + e . grad(u . e) = det J > 0 (the field is
+// injective), so g is increasing and a safeguarded Newton iteration on the bracket [-M, M] (M: the largest
+// control displacement, which bounds u by the convex hull property) always converges.
+bool invertParallelLayer(const Lattice& layer, const Eigen::Vector3d& e, double bound, const Eigen::Vector3d& y, Eigen::Vector3d& x) {
+    const auto g = [&](double lambda, double* slope) {
+        const Eigen::Vector3d p = y - lambda * e;
+        Eigen::Vector3d t;
+        if (!restParameters(layer, p, t)) {
+            if (slope) *slope = 1.0;
+            return lambda;
+        }
+        Eigen::Vector3d displacement;
+        Eigen::Matrix3d jacobian;
+        deformationJacobian(layer, t, displacement, jacobian);
+        if (slope) *slope = e.dot(jacobian * e);
+        return lambda - e.dot(displacement);
+    };
+    double lo = -bound, hi = bound, lambda = 0.0, previous = INFINITY;
+    for (int iteration = 0; iteration < 200; ++iteration) {
+        double slope = 1.0;
+        const double value = g(lambda, &slope);
+        if (value == 0.0) break;
+        (value < 0.0 ? lo : hi) = lambda;
+        double next = lambda - value / slope;
+        // Newton where it converges; bisection where it leaves the bracket or does not halve |g| (it can cycle
+        // between the steep and the flat side of the root).
+        if (!(next > lo && next < hi) || !std::isfinite(next) || std::abs(value) > 0.5 * previous) next = 0.5 * (lo + hi);
+        previous = std::abs(value);
+        if (std::abs(next - lambda) <= 1e-17 * std::max(1.0, bound) || hi - lo <= 4e-16 * std::max(1.0, bound)) {
+            lambda = next;
+            break;
+        }
+        lambda = next;
+    }
+    x = y - lambda * e;
+    return std::isfinite(lambda) && std::abs(g(lambda, nullptr)) <= 1e-12 * std::max(1.0, bound);
+}
+
+double cageJacobianAt(const Lattice& cage, const Eigen::Vector3d& rest) {
+    Eigen::Vector3d t;
+    return restParameters(cage, rest, t) ? jacobianDeterminant(cage, t) : 1.0;
+}
+
+}  // namespace
+
+int Session::verticesLeftOutsideCage() const {
+    if (lattice_.volume || triangles_.rows() == 0) return 0;
+    const int n = static_cast<int>(rest_.rows());
+    std::vector<std::uint8_t> outside(static_cast<size_t>(n), 0);
+    bool any = false;
+    for (int v = 0; v < n; ++v) any = (outside[static_cast<size_t>(v)] = outsideBox(lattice_, rest_.row(v).transpose())) || any;
+    if (!any) return 0;
+    // An inside corner the cage moved: its cage image differs from its rest point.
+    const auto cageMoved = [&](int u) {
+        Eigen::Vector3d t;
+        return restParameters(lattice_, rest_.row(u).transpose(), t) && displacementAt(lattice_, t).squaredNorm() > 0.0;
+    };
+    std::vector<std::uint8_t> left(static_cast<size_t>(n), 0);
+    for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+        int outsideCorners = 0;
+        for (int k = 0; k < 3; ++k) outsideCorners += outside[static_cast<size_t>(triangles_(f, k))];
+        if (outsideCorners == 0 || outsideCorners == 3) continue;  // the cage's seam runs through mixed triangles only
+        bool movedInside = false;
+        for (int k = 0; k < 3 && !movedInside; ++k)
+            movedInside = !outside[static_cast<size_t>(triangles_(f, k))] && cageMoved(triangles_(f, k));
+        if (!movedInside) continue;
+        for (int k = 0; k < 3; ++k)
+            if (outside[static_cast<size_t>(triangles_(f, k))]) left[static_cast<size_t>(triangles_(f, k))] = 1;
+    }
+    return static_cast<int>(std::count(left.begin(), left.end(), std::uint8_t{1}));
+}
+
+bool Session::bakeLayers(const std::vector<Step>& steps) {
+    // Only an operation's own layers (fresh-frame steps since its last baked step): layers an earlier operation
+    // could not bake stay after the cage, and so then do these.
+    // note: brush strokes only. An adaptive subdivision's fresh lattices stay after the cage: they grow to hold
+    // the mesh as the drag carries it out of the cage's box, and baked, those vertices would rest outside the
+    // cage, which would then no longer carry them (a large drag on the default mesh: 604 of its vertices).
+    size_t own = 0;
+    for (size_t k = steps.size(); k-- > 0 && (k + 1 == steps.size() || !steps[k].baked);) {
+        if (steps[k].freshFrame && !steps[k].region) return false;
+        own += steps[k].freshFrame && steps[k].weights.empty();
+    }
+    if (own != layers_.size()) return false;
+    return bakeAllLayers(&steps.back().bakedOutside);
+}
+
+bool Session::bakeAllLayers(std::vector<int>* outside) {
+    if (layers_.empty() || layerActive_) return false;
+    const int n = static_cast<int>(positions_.rows());
+    // Exactly the vertices some layer moved: their output differs from the cage's.
+    std::vector<int> moved;
+    for (int v = 0; v < n; ++v)
+        if (positions_.row(v) != cageOut_.row(v)) moved.push_back(v);
+    Positions rest(static_cast<Eigen::Index>(moved.size()), 3);
+    bool ok = true;
+    const int count = static_cast<int>(moved.size());
+#pragma omp parallel for schedule(static) if (count > 2048) reduction(&& : ok)
+    for (int c = 0; c < count; ++c) {
+        Eigen::Vector3d x = Eigen::Vector3d::Zero();
+        const int v = moved[static_cast<size_t>(c)];
+        const bool found = cagePreimage(lattice_, positions_.row(v).transpose(), outsideBox(lattice_, rest_.row(v).transpose()), x);
+        ok = ok && found;
+        rest.row(c) = x.transpose();
+    }
+    if (!ok) return false;  // the layers stay after the cage, as before
+    if (trackJacobian_) {
+        // The det J map multiplies the cage's det J at the rest point by frozenJacobian_: keep the product.
+        for (int c = 0; c < count; ++c) {
+            const int v = moved[static_cast<size_t>(c)];
+            const double before = cageJacobianAt(lattice_, rest_.row(v).transpose()) * layersJacobian(layers_, cageOut_.row(v).transpose());
+            const double after = cageJacobianAt(lattice_, rest.row(c).transpose());
+            frozenJacobian_[static_cast<size_t>(v)] *= before / after;
+        }
+    }
+    if (outside) {
+        outside->clear();
+        for (int v : moved)
+            if (outsideBox(lattice_, rest_.row(v).transpose())) outside->push_back(v);
+    }
+    strokeOutsideCage_ = 0;
+    for (int c = 0; c < count; ++c) {
+        rest_.row(moved[static_cast<size_t>(c)]) = rest.row(c);
+        strokeOutsideCage_ += outsideBox(lattice_, rest.row(c).transpose());
+    }
+    layers_.clear();
+    cageOut_.resize(0, 3);
+    embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
+    return true;
+}
+
+void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
+    // The layers baked at steps[last]: the fresh-frame steps after the previous baked one.
+    size_t first = last;
+    while (first > 0 && !steps[first - 1].baked) --first;
+    layerActive_ = false;
+    for (size_t k = first; k <= last; ++k) {
+        if (!steps[k].freshFrame || !steps[k].weights.empty()) continue;
+        enterLayer(nullptr, nullptr, &steps[k]);
+        applyControlDelta(layers_.back().lattice, steps[k].delta, 1.0);
+        layerActive_ = false;
+    }
+    if (layers_.empty()) return;
+    if (cageOut_.rows() != positions_.rows()) cageOut_ = positions_;
+    Eigen::Vector3d lo, hi;
+    newestLayersBounds(layers_.size(), lo, hi);
+    // A stroke's layer moves along one line: inverted along it (always converges); other layers by Newton.
+    std::vector<Eigen::Vector3d> directions;
+    std::vector<double> bounds;
+    for (const Layer& layer : layers_) {
+        directions.push_back(sharedDirection(layer.lattice));
+        bounds.push_back(layer.lattice.displacement.rowwise().norm().maxCoeff() * (1.0 + 1e-9));
+    }
+    const auto invert = [&](const Eigen::Vector3d& y, Eigen::Vector3d& x) {
+        x = y;
+        for (size_t k = layers_.size(); k-- > 0;) {
+            const Lattice& layer = layers_[k].lattice;
+            Eigen::Vector3d below = x;
+            if (directions[k].squaredNorm() > 0.0) {
+                if (!invertParallelLayer(layer, directions[k], bounds[k], x, below)) return false;
+            } else {
+                // Newton to the last bit (undo is exact to 1e-12 x diagonal over many strokes); outside the region
+                // of the box and the displaced control points' hull, the layer is the identity.
+                Eigen::Vector3d regionLo, regionHi, params;
+                deformationBounds(layer, regionLo, regionHi);
+                if ((x.array() >= regionLo.array()).all() && (x.array() <= regionHi.array()).all()) {
+                    if (locateDeformedPoint(layer, x, params, 1e-15) || locateDeformedPoint(layer, x, params)) below = restPoint(layer, params);
+                    else if (restParameters(layer, x, params)) return false;
+                }
+            }
+            // A point the layer left where it was (no displacement at its preimage) comes back as itself bitwise,
+            // not moved by Newton's last bits.
+            Eigen::Vector3d at;
+            const bool fixed = (below - x).norm() <= 1e-14 * layer.diagonal() && restParameters(layer, below, at) && displacementAt(layer, at).isZero(0.0);
+            if (!fixed) x = below;
+        }
+        return true;
+    };
+    const int n = static_cast<int>(positions_.rows());
+#pragma omp parallel for schedule(static) if (n > 4096)
+    for (int v = 0; v < n; ++v) {
+        const Eigen::Vector3d y = positions_.row(v).transpose();
+        if (!((y.array() >= lo.array()).all() && (y.array() <= hi.array()).all())) continue;
+        Eigen::Vector3d x = y, rest = y;
+        const bool inverted = invert(y, x);
+        const bool wasOutside = std::binary_search(steps[last].bakedOutside.begin(), steps[last].bakedOutside.end(), v);
+        if (!inverted || x == y || !cagePreimage(lattice_, x, wasOutside, rest)) continue;
+        if (trackJacobian_) {
+            const double baked = cageJacobianAt(lattice_, rest_.row(v).transpose());
+            const double unbaked = cageJacobianAt(lattice_, rest) * layersJacobian(layers_, x);
+            frozenJacobian_[static_cast<size_t>(v)] *= baked / unbaked;
+        }
+        rest_.row(v) = rest.transpose();
+        cageOut_.row(v) = x.transpose();
+    }
+    embedVertices(lattice_, rest_, embedding_);
+    ++restVersion_;
+}
+
+}  // namespace sculpt::core

@@ -1,0 +1,4 @@
+#define SCULPT_KERNEL_NAME evaluateCellsGeneric
+#define SCULPT_INCREMENT_NAME incrementCellsGeneric
+#define SCULPT_CELL_ORDER_NAME evaluateInCellOrderGeneric
+#include "core/spline/evaluation_kernel.inl"

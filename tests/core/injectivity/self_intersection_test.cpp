@@ -1,0 +1,395 @@
+// The triangle-mesh check (issue: "the promise holds on the mesh itself"): the engine's exact pair test and
+// its BVH against an independent rational-arithmetic brute force. Sessions of strong drags checked the same
+// way: tests/core/session/session_crossing_test.cpp.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <set>
+
+#include "core/volume/lattice_boundary.h"
+#include "core/injectivity/self_intersection.h"
+#include "core/session/session.h"
+#include "core/injectivity/triangle_pair.h"
+#include "../cgal_meshes.h"
+#include "../mesh_fixtures.h"
+#include "../test_support.h"
+#include "../../test_scale.h"
+
+using namespace sculpt;
+using namespace sculpt::core;
+
+namespace {
+
+// Random triangle pairs on a small integer grid: coplanar, touching and collinear configurations are common,
+// so the exact case analysis is exercised, not just generic positions. Some share a vertex or an edge.
+TEST_CASE("self_intersection: the engine's pair test agrees with an independent exact test", "[core]") {
+    std::mt19937 rng(20261129);
+    int intersecting = 0, sharedCases = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const int span = trial % 3 == 0 ? 2 : 4;
+        std::array<Eigen::Vector3d, 6> p;
+        for (auto& x : p) {
+            x = Eigen::Vector3d(test::randomInt(rng, -span, span), test::randomInt(rng, -span, span), test::randomInt(rng, -span, span));
+            if (trial % 5 == 1) x.z() = 0.0;  // coplanar pairs
+            if (trial % 7 == 2) x *= 1e-9;    // any scale
+        }
+        std::array<int, 3> ia{0, 1, 2}, ib{3, 4, 5};
+        const int share = trial % 4;  // 0: none, 1: a vertex, 2: an edge
+        if (share == 1 || share == 2) {
+            ib[0] = 0;
+            p[3] = p[0];
+            ++sharedCases;
+        }
+        if (share == 2) {
+            ib[1] = 1;
+            p[4] = p[1];
+        }
+        TriangleCorners a, b;
+        for (int k = 0; k < 3; ++k) {
+            a.point[k] = p[k];
+            a.vertex[k] = ia[k];
+            b.point[k] = p[3 + k];
+            b.vertex[k] = ib[k];
+        }
+        const bool degenerate = ((p[1] - p[0]).cross(p[2] - p[0])).squaredNorm() == 0.0 || ((p[4] - p[3]).cross(p[5] - p[3])).squaredNorm() == 0.0;
+        if (degenerate) continue;  // the reference does not define those
+        const bool expected = test::detail::exactTrianglesIntersect({p[0], p[1], p[2]}, ia, {p[3], p[4], p[5]}, ib);
+        INFO("trial " << trial);
+        REQUIRE(trianglesIntersect(a, b) == expected);
+        REQUIRE(trianglesIntersect(b, a) == expected);
+        intersecting += expected;
+    }
+    CHECK(intersecting > 1000);  // both answers were well represented
+    CHECK(sharedCases > 5000);
+}
+
+// Issue: triangle soups are not crossings. Corners at the very same position are one vertex whatever their ids:
+// random pairs sharing a vertex or an edge by id give the same answer when the shared corners get ids of their
+// own, and a real mesh written as a soup (three vertices per triangle) has exactly the crossings of the mesh.
+TEST_CASE("self_intersection: triangles that share a position, not an id, touch as neighbours do", "[core][weld]") {
+    std::mt19937 rng(20261203);
+    int compared = 0, intersecting = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const int span = trial % 3 == 0 ? 2 : 4;
+        std::array<Eigen::Vector3d, 6> p;
+        for (auto& x : p) {
+            x = Eigen::Vector3d(test::randomInt(rng, -span, span), test::randomInt(rng, -span, span), test::randomInt(rng, -span, span));
+            if (trial % 5 == 1) x.z() = 0.0;
+        }
+        TriangleCorners a, b;
+        for (int k = 0; k < 3; ++k) {
+            a.point[k] = p[k];
+            a.vertex[k] = k;
+            b.point[k] = p[3 + k];
+            b.vertex[k] = 3 + k;
+        }
+        const int share = 1 + trial % 2;  // a vertex or an edge, by id
+        for (int k = 0; k < share; ++k) {
+            b.point[k] = a.point[k];
+            b.vertex[k] = a.vertex[k];
+        }
+        const bool byId = trianglesIntersect(a, b);
+        TriangleCorners apart = b;  // the same corners, ids of their own (a soup)
+        for (int k = 0; k < 3; ++k) apart.vertex[k] = 10 + k;
+        INFO("trial " << trial);
+        REQUIRE(trianglesIntersect(a, apart) == byId);
+        REQUIRE(trianglesIntersect(apart, a) == byId);
+        ++compared;
+        intersecting += byId;
+    }
+    CHECK(compared == 20000);
+    CHECK(intersecting > 500);
+    for (const char* name : {"elephant.off", "cow.off"}) {
+        Positions positions;
+        Triangles triangles;
+        std::string error;
+        REQUIRE(test::loadCgalMesh(name, positions, triangles, error));
+        Positions soup(3 * triangles.rows(), 3);
+        Triangles soupTriangles(triangles.rows(), 3);
+        for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+            for (int k = 0; k < 3; ++k) {
+                soup.row(3 * t + k) = positions.row(triangles(t, k));
+                soupTriangles(t, k) = static_cast<int>(3 * t + k);
+            }
+        const std::vector<TrianglePairHit> mesh = findSelfIntersections(positions, triangles);
+        const std::vector<TrianglePairHit> asSoup = findSelfIntersections(soup, soupTriangles);
+        INFO(name);
+        REQUIRE(asSoup.size() == mesh.size());
+        for (size_t h = 0; h < mesh.size(); ++h) {
+            CHECK(asSoup[h].first == mesh[h].first);
+            CHECK(asSoup[h].second == mesh[h].second);
+        }
+        Session session;
+        REQUIRE(session.setMesh(soup, soupTriangles, LatticeSettings{}));
+        CHECK(session.initialIntersectingPairs() == static_cast<int>(mesh.size()));
+    }
+}
+
+// Random soups of small triangles in a box: every intersecting pair, from the index, equals the brute force.
+TEST_CASE("self_intersection: the index finds exactly the intersecting pairs", "[core]") {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 12; ++trial) {
+        const int n = test::randomInt(rng, 20, 600);
+        const double scale = std::pow(10.0, test::randomInt(rng, -6, 6));
+        Positions positions(3 * n, 3);
+        Triangles triangles(n, 3);
+        for (int t = 0; t < n; ++t) {
+            const Eigen::Vector3d corner = test::randomVector(rng, 0.0, 1.0);
+            for (int k = 0; k < 3; ++k) {
+                positions.row(3 * t + k) = (scale * (corner + test::randomVector(rng, -0.08, 0.08))).transpose();
+                triangles(t, k) = 3 * t + k;
+            }
+        }
+        // Weld a few corners so shared vertices occur.
+        for (int t = 1; t < n; t += 5) triangles(t, 0) = triangles(t - 1, 1);
+        const std::vector<std::pair<int, int>> expected = test::intersectingPairs(positions, triangles);
+        const std::vector<TrianglePairHit> hits = findSelfIntersections(positions, triangles);
+        std::vector<std::pair<int, int>> found;
+        for (const TrianglePairHit& h : hits) found.emplace_back(h.first, h.second);
+        INFO("trial " << trial << ", " << n << " triangles");
+        REQUIRE(found == expected);
+        CHECK(findSelfIntersections(positions, triangles, 1).size() == std::min<size_t>(1, expected.size()));
+    }
+}
+
+// Moving random vertices of a sphere: findNewIntersection reports a pair exactly when the brute force finds a
+// pair after the move that was not there before; the index stays right over many successive moves.
+// 150 moves in three runs of 50 (each from the undeformed sphere, with its own seed), so ctest runs them side by side.
+static void runMovesAgainstBruteForce(unsigned seed, int moveCount) {
+    std::mt19937 rng(seed);
+    Positions positions;
+    Triangles triangles;
+    test::icosphere(2, 1.0, Eigen::Vector3d(0.3, 0.1, -0.2), positions, triangles);
+    SelfIntersectionIndex index;
+    index.build(positions, triangles);
+    std::set<std::pair<int, int>> current;
+    int newCount = 0;
+    const int moves = test::scaledCount(moveCount, 20);
+    for (int move = 0; move < moves; ++move) {
+        const Positions before = positions;
+        std::vector<int> moved;
+        const int count = test::randomInt(rng, 1, 6);
+        for (int m = 0; m < count; ++m) {
+            const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
+            if (std::find(moved.begin(), moved.end(), v) != moved.end()) continue;
+            moved.push_back(v);
+            positions.row(v) += test::randomVector(rng, -0.5, 0.5).transpose();
+        }
+        const SelfIntersectionIndex::Result result = index.findNewIntersection(positions, triangles, moved, before);
+        const std::vector<std::pair<int, int>> after = test::intersectingPairs(positions, triangles);
+        bool expectNew = false;
+        for (const auto& pair : after) expectNew = expectNew || !current.count(pair);
+        INFO("move " << move);
+        REQUIRE(result.found == expectNew);
+        if (result.found) {
+            REQUIRE(std::find(after.begin(), after.end(), std::make_pair(result.pair.first, result.pair.second)) != after.end());
+            REQUIRE_FALSE(current.count({result.pair.first, result.pair.second}));
+            ++newCount;
+        }
+        current = std::set<std::pair<int, int>>(after.begin(), after.end());
+    }
+    INFO(newCount << " of " << moves << " moves made a new pair");
+    CHECK(newCount * 15 > moves);  // the moves are strong enough to make new pairs often
+}
+
+TEST_CASE("self_intersection: new pairs after a move match the brute force, over many moves, part 1 of 3", "[core]") {
+    runMovesAgainstBruteForce(11, 50);
+}
+TEST_CASE("self_intersection: new pairs after a move match the brute force, over many moves, part 2 of 3", "[core]") {
+    runMovesAgainstBruteForce(12, 50);
+}
+TEST_CASE("self_intersection: new pairs after a move match the brute force, over many moves, part 3 of 3", "[core]") {
+    runMovesAgainstBruteForce(13, 50);
+}
+
+// Random global and local steps on CGAL's real meshes (issue "Certification that decides", point 5): the check with
+// its pruning (the dual traversal, and pairs at a vertex whose star is still embedded not tested) reports a new
+// pair exactly when the brute force (a grid and an exact test of every near pair) finds one. Global steps move every
+// vertex along smooth waves of random frequency; local ones shake the vertices near one vertex by up to a few edge
+// lengths, which often crosses triangles.
+TEST_CASE("self_intersection: the pruned check finds every new crossing the brute force finds, on real meshes", "[core]") {
+    int newCount = 0, quietCount = 0;
+    long long proven = 0, patches = 0;
+    for (const char* name : {"elephant.off", "cow.off", "blobby.off"}) {
+        Positions positions;
+        Triangles triangles;
+        std::string error;
+        REQUIRE(test::loadCgalMesh(name, positions, triangles, error));
+        const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+        double edge = 0.0;
+        for (int t = 0; t < triangles.rows(); ++t) edge += (positions.row(triangles(t, 0)) - positions.row(triangles(t, 1))).norm();
+        edge /= static_cast<double>(triangles.rows());
+        std::mt19937 rng(2819);
+        SelfIntersectionIndex index;
+        index.build(positions, triangles);
+        const std::vector<std::pair<int, int>> initial = test::intersectingPairs(positions, triangles);
+        std::set<std::pair<int, int>> current(initial.begin(), initial.end());
+        const int steps = test::scaledCount(30, 12);
+        for (int step = 0; step < steps; ++step) {
+            const Positions before = positions;
+            std::vector<int> moved;
+            const bool global = step % 2 == 0;
+            if (global) {
+                const double amplitude = std::exp(std::uniform_real_distribution<double>(std::log(1e-3), std::log(3e-2))(rng)) * diagonal;
+                const Eigen::Vector3d frequency = test::randomVector(rng, 1.0, 12.0) / diagonal, phase = test::randomVector(rng, 0.0, 6.3);
+                for (int v = 0; v < positions.rows(); ++v) {
+                    const Eigen::Vector3d x = positions.row(v).transpose();
+                    positions.row(v) += amplitude * Eigen::RowVector3d(std::sin(frequency.y() * x.y() + phase.x()), std::sin(frequency.z() * x.z() + phase.y()),
+                                                                        std::sin(frequency.x() * x.x() + phase.z()));
+                    moved.push_back(v);
+                }
+            } else {
+                const int centre = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
+                const double radius = std::uniform_real_distribution<double>(1.0, 4.0)(rng) * edge;
+                const double shake = std::uniform_real_distribution<double>(0.1, 2.0)(rng) * edge;
+                for (int v = 0; v < positions.rows(); ++v)
+                    if ((before.row(v) - before.row(centre)).norm() <= radius) {
+                        positions.row(v) += shake * test::randomVector(rng, -1.0, 1.0).transpose();
+                        moved.push_back(v);
+                    }
+            }
+            const SelfIntersectionIndex::Result result = index.findNewIntersection(positions, triangles, moved, before);
+            proven += result.pairsProvenByStar;
+            patches += result.patchesProven;
+            const std::vector<std::pair<int, int>> after = test::intersectingPairs(positions, triangles);
+            bool expectNew = false;
+            for (const auto& pair : after) expectNew = expectNew || !current.count(pair);
+            INFO(name << ", step " << step << (global ? " (global)" : " (local)") << ", " << moved.size() << " vertices moved");
+            REQUIRE(result.found == expectNew);
+            if (result.found) {
+                REQUIRE(std::find(after.begin(), after.end(), std::make_pair(result.pair.first, result.pair.second)) != after.end());
+                REQUIRE_FALSE(current.count({result.pair.first, result.pair.second}));
+                ++newCount;
+            } else {
+                ++quietCount;
+            }
+            current = std::set<std::pair<int, int>>(after.begin(), after.end());
+        }
+    }
+    INFO(newCount << " steps made a new pair, " << quietCount << " did not; " << proven << " pairs proven by their stars, "
+                   << patches << " patches proven whole");
+    CHECK(newCount >= 5);
+    CHECK(quietCount >= 5);
+    CHECK(proven > 0);
+    CHECK(patches > 0);
+}
+
+// The patch certificate (a hierarchy node proven a height field as a whole) on open sheets, where the root itself has
+// a boundary and can be proven: random grid sheets of several sizes, jittered in the plane so their triangles and
+// boundaries are irregular, then moved by smooth waves (height fields stay), by folds that lay a band of the sheet
+// back over itself, by coils whose ends overlap (every triangle positive, the boundary winding twice), and by shakes of
+// a few vertices; and rippled coils of a strip, whose overlapping ends only the boundary's winding reveals. After every move the check reports a new pair exactly when the
+// brute force finds one, and whole patches are proven on the smooth moves.
+TEST_CASE("self_intersection: sheets proven whole as height fields, and folded ones not, against the brute force", "[core]") {
+    std::mt19937 rng(20261202);
+    int newCount = 0, quietCount = 0;
+    long long patchTriangles = 0;
+    for (const int size : {9, 16, 23, 40}) {
+        Positions positions((size + 1) * (size + 1), 3);
+        for (int i = 0; i <= size; ++i)
+            for (int j = 0; j <= size; ++j) {
+                const double jitter = 0.3 / size;
+                const double x = double(i) / size + jitter * std::uniform_real_distribution<double>(-1, 1)(rng);
+                const double y = double(j) / size + jitter * std::uniform_real_distribution<double>(-1, 1)(rng);
+                positions.row(i * (size + 1) + j) << x, y, 0.1 * x * y + 0.05 * x * x;  // curved: few coplanar pairs
+            }
+        Triangles triangles(2 * size * size, 3);
+        for (int i = 0, t = 0; i < size; ++i)
+            for (int j = 0; j < size; ++j) {
+                const int a = i * (size + 1) + j, b = a + 1, c = a + size + 1, d = c + 1;
+                const bool flip = (i + j) % 3 == 0;  // both diagonals occur
+                if (flip) triangles.row(t++) << a, c, b, triangles.row(t++) << b, c, d;
+                else triangles.row(t++) << a, d, b, triangles.row(t++) << a, c, d;
+            }
+        SelfIntersectionIndex index;
+        index.build(positions, triangles);
+        const Positions rest = positions;
+        std::set<std::pair<int, int>> current;
+        for (int step = 0; step < 24; ++step) {
+            // Each step's shape is made from the flat sheet; what moved is what differs from the step before.
+            const Positions before = positions;
+            positions = rest;
+            const int kind = step % 4;
+            if (kind == 0) {  // smooth waves: still a height field over the plane
+                const double amplitude = std::uniform_real_distribution<double>(0.01, 0.2)(rng);
+                const Eigen::Vector3d frequency = test::randomVector(rng, 1.0, 9.0), phase = test::randomVector(rng, 0.0, 6.3);
+                for (int v = 0; v < positions.rows(); ++v)
+                    positions(v, 2) = amplitude * std::sin(frequency.x() * rest(v, 0) + phase.x()) * std::cos(frequency.y() * rest(v, 1) + phase.y());
+            } else if (kind == 1) {  // a fold: the band beyond a line is turned over about it, laid just above the rest
+                const double at = std::uniform_real_distribution<double>(0.3, 0.7)(rng);
+                const double lift = std::uniform_real_distribution<double>(-0.02, 0.02)(rng);
+                for (int v = 0; v < positions.rows(); ++v)
+                    if (rest(v, 0) > at) positions.row(v) << 2.0 * at - rest(v, 0), rest(v, 1), lift * (rest(v, 0) - at);
+            } else if (kind == 3) {  // a coil: the sheet wound 1.1 to 1.4 turns round an axis, every triangle still
+                                     // positive along it, the ends overlapping and crossing, or a little apart
+                const double turns = std::uniform_real_distribution<double>(1.1, 1.4)(rng);
+                const bool apart = step % 8 != 3;
+                for (int v = 0; v < positions.rows(); ++v) {
+                    const double angle = 2.0 * M_PI * turns * rest(v, 0), radius = 0.4 + 0.5 * rest(v, 1);
+                    // Crossing: a ripple of 7.5 waves a turn, so the overlapping ends meet transversally (not coplanar).
+                    positions.row(v) << radius * std::cos(angle), radius * std::sin(angle), apart ? 0.02 * angle : 0.01 * std::sin(7.5 * angle);
+                }
+            } else {  // shakes of a few vertices by up to two edge lengths
+                for (int m = 0; m < 4; ++m)
+                    positions.row(test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1)) +=
+                        (2.0 / size) * test::randomVector(rng, -1.0, 1.0).transpose();
+            }
+            std::vector<int> moved;
+            for (int v = 0; v < positions.rows(); ++v)
+                if (positions.row(v) != before.row(v)) moved.push_back(v);
+            const SelfIntersectionIndex::Result result = index.findNewIntersection(positions, triangles, moved, before);
+            if (kind == 0) patchTriangles += result.trianglesInProvenPatches;
+            const std::vector<std::pair<int, int>> after = test::intersectingPairs(positions, triangles);
+            bool expectNew = false;
+            for (const auto& pair : after) expectNew = expectNew || !current.count(pair);
+            INFO(size << "^2 sheet, step " << step << " (kind " << kind << "), " << moved.size() << " vertices moved, "
+                      << result.patchesProven << " patches proven");
+            REQUIRE(result.found == expectNew);
+            if (result.found) {
+                REQUIRE(std::find(after.begin(), after.end(), std::make_pair(result.pair.first, result.pair.second)) != after.end());
+                ++newCount;
+            } else {
+                ++quietCount;
+            }
+            current = std::set<std::pair<int, int>>(after.begin(), after.end());
+        }
+    }
+    // A strip wound 1.1 to 1.5 turns into a rippled coil: every triangle keeps its orientation along the axis, so only
+    // the boundary's winding (twice round the overlap) tells that the ends cross.
+    for (int trial = 0; trial < 6; ++trial) {
+        const int columns = 240 + 40 * trial, rows = 3;
+        Positions positions((columns + 1) * (rows + 1), 3);
+        for (int i = 0; i <= columns; ++i)
+            for (int j = 0; j <= rows; ++j) positions.row(i * (rows + 1) + j) << double(i) / columns, 0.2 * j / rows, 0.0;
+        Triangles triangles(2 * columns * rows, 3);
+        for (int i = 0, t = 0; i < columns; ++i)
+            for (int j = 0; j < rows; ++j) {
+                const int a = i * (rows + 1) + j, b = a + 1, c = a + rows + 1, d = c + 1;
+                triangles.row(t++) << a, c, d, triangles.row(t++) << a, d, b;
+            }
+        SelfIntersectionIndex index;
+        index.build(positions, triangles);
+        const Positions before = positions;
+        const double turns = std::uniform_real_distribution<double>(1.1, 1.5)(rng);
+        std::vector<int> moved;
+        for (int v = 0; v < positions.rows(); ++v) {
+            const double angle = 2.0 * M_PI * turns * before(v, 0), radius = 0.5 + before(v, 1);
+            positions.row(v) << radius * std::cos(angle), radius * std::sin(angle), 0.01 * std::sin(7.5 * angle);
+            moved.push_back(v);
+        }
+        const SelfIntersectionIndex::Result result = index.findNewIntersection(positions, triangles, moved, before);
+        INFO("coil of " << turns << " turns, " << columns << " columns: " << result.patchesProven << " patches proven");
+        REQUIRE_FALSE(test::intersectingPairs(positions, triangles).empty());
+        REQUIRE(result.found);
+        ++newCount;
+    }
+    INFO(newCount << " moves made a new pair, " << quietCount << " did not; " << patchTriangles << " triangles in proven patches");
+    CHECK(newCount >= 8);
+    CHECK(quietCount >= 8);
+    CHECK(patchTriangles > 0);
+}
+
+}  // namespace

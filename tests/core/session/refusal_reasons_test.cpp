@@ -1,0 +1,132 @@
+// issue 9 item 6: rejections and shortened moves say why, in the user's terms, with what to do; otherwise
+// where on the mesh the fold would be.
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include "core/session/session.h"
+#include "../mesh_fixtures.h"
+#include "../test_support.h"
+
+using namespace sculpt;
+using namespace sculpt::core;
+
+namespace {
+
+bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+Session sphereSession(const LatticeSettings& settings, InjectivityMode mode) {
+    Positions positions;
+    Triangles triangles;
+    test::icosphere(2, 1.0, Eigen::Vector3d(0.2, 0.1, -0.3), positions, triangles);
+    Session session;
+    REQUIRE(session.setMesh(positions, triangles, settings).ok);
+    session.setInjectivity({mode, 5});
+    return session;
+}
+
+TEST_CASE("refusals: a target outside a lattice whose outer layer is pinned says so and what to do", "[core]") {
+    std::mt19937 rng(3);
+    for (int trial = 0; trial < 10; ++trial) {
+        LatticeSettings settings;
+        settings.pinLayers = 1 + trial % 2;
+        Session session = sphereSession(settings, trial % 2 ? InjectivityMode::Exact : InjectivityMode::Conic);
+        const int v = test::randomInt(rng, 0, static_cast<int>(session.positions().rows()) - 1);
+        const Eigen::Vector3d from = session.positions().row(v).transpose();
+        // Outside the box along the vertex's own direction from the centre.
+        const Eigen::Vector3d centre = 0.5 * (session.lattice().boxMin + session.lattice().boxMax);
+        const Eigen::Vector3d target = centre + (from - centre).normalized() * session.lattice().diagonal();
+        const Positions before = session.positions();
+        OpReport report;
+        REQUIRE(session.dragVertex(v, target, report).ok);
+        REQUIRE(report.status == OpStatus::Rejected);
+        INFO(report.reason);
+        CHECK(mentions(report.reason, "outside the lattice"));
+        CHECK(mentions(report.reason, "pinned"));
+        CHECK(mentions(report.reason, "unpin"));
+        CHECK(mentions(report.reason, "enlarge the region"));
+        CHECK(session.positions() == before);
+        CHECK(session.history().empty());
+    }
+}
+
+TEST_CASE("refusals: a point only pinned control points can move says so", "[core]") {
+    LatticeSettings settings;
+    settings.resolution = {5, 5, 5};
+    Session session = sphereSession(settings, InjectivityMode::Conic);
+    std::vector<int> all(static_cast<size_t>(session.lattice().controlPointCount()));
+    for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+    REQUIRE(session.setPinned(all, true).ok);
+    OpReport report;
+    REQUIRE(session.dragVertex(4, session.positions().row(4).transpose() + Eigen::Vector3d(0.0, 0.1, 0.0), report).ok);
+    REQUIRE(report.status == OpStatus::Rejected);
+    INFO(report.reason);
+    CHECK(mentions(report.reason, "is pinned"));
+    CHECK(mentions(report.reason, "unpin"));
+    CHECK(report.refusedBy == "setup");
+}
+
+TEST_CASE("refusals: constraints that contradict each other are met as closely as possible, and it says so", "[core]") {
+    Session session = sphereSession({}, InjectivityMode::Off);
+    const Eigen::Vector3d p = session.positions().row(7).transpose();
+    OpReport report;
+    // One point asked to go two places.
+    REQUIRE(session.drag({{p, p + Eigen::Vector3d(0.1, 0, 0)}, {p, p - Eigen::Vector3d(0.1, 0, 0)}}, report).ok);
+    REQUIRE(report.status == OpStatus::Applied);
+    INFO(report.reason);
+    CHECK(report.rankDeficient);
+    CHECK(mentions(report.reason, "contradict"));
+    CHECK(mentions(report.reason, "largest miss"));
+}
+
+TEST_CASE("refusals: a refused fold says where on the mesh it would be", "[core]") {
+    Session session = sphereSession({}, InjectivityMode::Exact);
+    session.setInjectivity({InjectivityMode::Exact, 0});  // no subdivision: the first failing step decides
+    const int v = 11;
+    const Eigen::Vector3d from = session.positions().row(v).transpose();
+    OpReport report;
+    REQUIRE(session.dragVertex(v, from - 1.8 * (from - Eigen::Vector3d(0.2, 0.1, -0.3)), report).ok);
+    REQUIRE(report.status == OpStatus::Rejected);
+    INFO(report.reason);
+    CHECK(mentions(report.reason, "near ("));
+    CHECK(mentions(report.reason, "would"));
+    CHECK_FALSE(report.refusedBy.empty());
+    CHECK_FALSE(mentions(report.reason, "hodograph"));  // the technical detail stays in report.injectivity
+}
+
+// The issue's case: a 3x3x3 quadratic lattice, the bottom-centre control point moved up 10 box heights. It
+// stops at the injective limit, in this lattice (no fresh frame), and the report says where it ended.
+TEST_CASE("refusals: a control-point edit that had to stop short says where the point ended", "[core]") {
+    for (InjectivityMode mode : {InjectivityMode::Conic, InjectivityMode::Exact}) {
+        LatticeSettings settings;
+        settings.resolution = {3, 3, 3};
+        settings.degree = {2, 2, 2};
+        Session session = sphereSession(settings, mode);
+        const Lattice& lattice = session.lattice();
+        const int idx = lattice.index(1, 1, 0);
+        const Eigen::Vector3d start = lattice.controlPoint(idx);
+        const double height = lattice.boxMax.z() - lattice.boxMin.z();
+        Eigen::MatrixX3d offset(1, 3);
+        offset << 0.0, 0.0, 10.0 * height;
+        OpReport report;
+        REQUIRE(session.moveControlPoints({idx}, offset, true, report).ok);
+        INFO(injectivityModeName(mode) << ": " << report.reason);
+        REQUIRE(report.status == OpStatus::Applied);
+        REQUIRE(report.fractionApplied > 0.0);
+        REQUIRE(report.fractionApplied < 1.0);
+        const Eigen::Vector3d ended = session.lattice().controlPoint(idx);
+        CHECK((ended - (start + report.fractionApplied * offset.row(0).transpose())).norm() <= 1e-12 * lattice.diagonal());
+        CHECK(mentions(report.reason, "stopped where the lattice would fold"));
+        CHECK(mentions(report.reason, "ended at"));
+        CHECK(session.frameDepth() == 0);  // the cage stays the user's: no fresh lattice
+        CHECK(session.history().size() == 1);
+        // A little further is not injective any more (to the bisection's resolution).
+        OpReport further;
+        Eigen::MatrixX3d more(1, 3);
+        more << 0.0, 0.0, 0.01 * 10.0 * height;
+        REQUIRE(session.moveControlPoints({idx}, more, true, further).ok);
+        CHECK(further.fractionApplied < 1.0);
+    }
+}
+
+}  // namespace
