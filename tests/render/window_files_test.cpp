@@ -20,6 +20,7 @@
 #include <stdlib.h>
 
 #include <imgui.h>
+#include <imgui_internal.h>
 
 #include "app/window/panels.h"
 #include "app/window/sculpt_app.h"
@@ -651,4 +652,64 @@ TEST_CASE("window files: a triangle soup is offered the weld, and welded on open
     INFO(reopened.state().status);
     REQUIRE(reopened.state().session.positions().rows() == after.rows());
     CHECK(reopened.state().session.positions() == after);
+}
+
+// A new user's trip: a load with four warnings said "4 warnings, first: ..." and nothing in the window showed
+// the other three. Now every warning is in the status line's tooltip. Random OBJ files (fixed seed) with
+// several kinds of warning (line elements, statements the sculptor does not use, unused vertices, faces that
+// repeat a vertex): the tooltip shown when the pointer is over the status line lists exactly what the reader
+// warned about, and the next status clears it.
+TEST_CASE("window files: every warning of a load is listed in the status line's tooltip", "[gl]") {
+    app::SculptApp sculptApp;
+    test::OffscreenWindow window;
+    if (!window.open(sculptApp, kWidth, kHeight, 0)) return;
+    TempFolder folder;
+    std::mt19937 random(11);
+    for (int trial = 0; trial < 4; ++trial) {
+        CAPTURE(trial);
+        const int n = 4 + trial;
+        std::string text;
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) text += "v " + std::to_string(i) + " " + std::to_string(j) + " " + std::to_string((i * j) % 3) + "\n";
+        for (int j = 0; j + 1 < n; ++j)
+            for (int i = 0; i + 1 < n; ++i) {
+                const int a = j * n + i + 1, b = a + 1, c = a + n, d = c + 1;
+                text += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(d) + "\nf " + std::to_string(a) + " " +
+                        std::to_string(d) + " " + std::to_string(c) + "\n";
+            }
+        // Some of the warnings the reader gives, chosen at random (at least two).
+        const unsigned mask = 1u + static_cast<unsigned>(random() % 3u);  // line elements, unused statements, or both
+        int kinds = 1;
+        text += "v 9 9 9\n";  // an unused vertex
+        if (mask & 1u) text += "l 1 2\n", ++kinds;
+        if (mask & 2u) text += "bevel on\n", ++kinds;
+        const std::string path = folder.file("warned" + std::to_string(trial) + ".obj");
+        std::ofstream(path, std::ios::binary) << text;
+        std::vector<std::string> expected;
+        io::ObjMesh mesh;
+        REQUIRE(io::loadMesh(path, mesh, &expected).ok);  // what the reader itself says, independently
+        REQUIRE(expected.size() == static_cast<size_t>(kinds));
+
+        REQUIRE(sculptApp.loadMesh(path).ok);
+        app::AppState& state = sculptApp.state();
+        INFO(state.status);
+        CHECK(state.statusDetails == expected);
+        CHECK(state.status.find(std::to_string(kinds) + " warnings (point here for all), first: " + expected.front()) != std::string::npos);
+        // The pointer over the status line: the tooltip lists them (one bullet each).
+        ImGuiIO& io = ImGui::GetIO();
+        for (int f = 0; f < 3; ++f) {  // the tooltip appears, then takes its size a frame later
+            io.MousePos = ImVec2(40.0f, static_cast<float>(kHeight) - 0.5f * state.statusLineHeight);
+            REQUIRE(window.frame().ok);
+        }
+        const ImGuiWindow* tooltip = ImGui::FindWindowByName("##Tooltip_00");
+        REQUIRE(tooltip != nullptr);
+        CHECK(tooltip->Active);
+        CHECK(tooltip->Size.y > static_cast<float>(kinds) * ImGui::GetFontSize());  // a line for each
+        // Away from the status line: no tooltip; a new status: no details.
+        io.MousePos = ImVec2(0.5f * kWidth, 0.5f * kHeight);
+        REQUIRE(window.frame().ok);
+        CHECK(!ImGui::FindWindowByName("##Tooltip_00")->Active);
+        app::setStatus(state, "something else", false);
+        CHECK(state.statusDetails.empty());
+    }
 }

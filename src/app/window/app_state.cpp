@@ -55,6 +55,7 @@ void noteSessionMoved(AppState& state) {
 void setStatus(AppState& state, const std::string& text, bool isError) {
     state.status = text;
     state.statusIsError = isError;
+    state.statusDetails.clear();
 }
 
 void reportOperation(AppState& state, const core::OpReport& report, const Status& status, const std::string& named) {

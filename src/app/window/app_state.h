@@ -168,6 +168,8 @@ struct AppState {
     std::string status = "Left-drag on the mesh to sculpt. Middle-drag or Alt+left-drag orbits, Shift+middle "
                          "pans, wheel zooms, Home frames. F sets the brush radius.";
     bool statusIsError = false;
+    // Lines the status stands for in full (every warning of a load or save): its tooltip. setStatus clears them.
+    std::vector<std::string> statusDetails;
     bool hasReport = false;
     core::OpReport lastReport;
 

@@ -48,9 +48,12 @@ core::LatticeSettings settingsForNewMesh(const core::Session& session) {
     return settings;
 }
 
-// " 2 warnings, first: ..." after a load's or a save's status line; "" without warnings.
+// " 2 warnings (point here for all), first: ..." after a load's or a save's status line; "" without warnings.
+// The status line's tooltip lists them all (AppState::statusDetails).
 std::string warningsText(const std::vector<std::string>& warnings) {
-    return warnings.empty() ? std::string() : " " + countOf(warnings.size(), "warning") + ", first: " + warnings.front();
+    if (warnings.empty()) return {};
+    if (warnings.size() == 1) return " Warning: " + warnings.front();
+    return " " + countOf(warnings.size(), "warning") + " (point here for all), first: " + warnings.front();
 }
 
 // --- Worker side: these run on the job's thread and touch nothing but their arguments.
@@ -446,6 +449,7 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
                 text += " The mesh already crosses itself (" + std::to_string(s.initialIntersectingPairs()) +
                         " triangle pairs); only new crossings are refused.";
             setStatus(state, text + warningsText(result.warnings), false);
+            state.statusDetails = result.warnings;
             break;
         }
         case JobKind::SaveMesh:
@@ -457,6 +461,7 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             setStatus(state, "Saved " + name + " (" + countOf(static_cast<size_t>(state.session.positions().rows()), "vertex", "vertices") + ") in " +
                                  took + "." + warningsText(result.warnings),
                       false);
+            state.statusDetails = result.warnings;
             break;
         case JobKind::SaveSession:
             document_.sessionPath = job.path;

@@ -29,10 +29,18 @@ void drawStatusLine(AppState& state) {
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextUnformatted(state.status.c_str());
     ImGui::PopTextWrapPos();
-    // The test's own words (which cell, which cones) for whoever wants them, on hover.
-    if (ImGui::IsItemHovered() && state.hasReport && state.lastReport.status == core::OpStatus::Rejected &&
-        !state.lastReport.injectivity.empty())
+    // Every line the status stands for (all of a load's warnings), or the test's own words for a refusal (which
+    // cell, which cones), for whoever wants them, on hover.
+    if (ImGui::IsItemHovered() && !state.statusDetails.empty()) {
+        ImGui::BeginTooltip();
+        ImGui::PushTextWrapPos(0.6f * viewport->Size.x);
+        for (const std::string& line : state.statusDetails) ImGui::BulletText("%s", line.c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::EndTooltip();
+    } else if (ImGui::IsItemHovered() && state.hasReport && state.lastReport.status == core::OpStatus::Rejected &&
+               !state.lastReport.injectivity.empty()) {
         ImGui::SetTooltip("%s", state.lastReport.injectivity.c_str());
+    }
     // What the cursor would do where it is, right-aligned, when there is room for it.
     if (oneLine && !state.tools.hint.empty()) {
         const float hintWidth = ImGui::CalcTextSize(state.tools.hint.c_str()).x;
