@@ -14,6 +14,8 @@
 #include <memory>
 #include <string>
 
+#include <random>
+
 #include <imgui.h>
 
 #include "app/window/picking.h"
@@ -272,4 +274,26 @@ TEST_CASE("window: full frames with the UI render offscreen, drag updates are sp
               std::abs(centre[2] - background[2]) > 30);
 
     CHECK(sculptApp.renderFrame(0, 0).ok);
+}
+
+// A new user saw "Frame rate 0.7 fps" on an idle window: the window draws on change, so the gap before a frame
+// can be seconds of sleep. The rate is of frames that follow each other; after a gap the panel says idle.
+TEST_CASE("window: the frame rate counts frames drawn one after another, and a frame after sleeping is idle", "[gl]") {
+    app::SculptApp sculptApp;
+    test::OffscreenWindow window;
+    if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kHeight)) return;
+    ImGuiIO& io = ImGui::GetIO();
+    const app::FrameStats& stats = sculptApp.state().stats;
+    std::mt19937 random(5);
+    for (int trial = 0; trial < 5; ++trial) {
+        const float interval = std::uniform_real_distribution<float>(0.004f, 0.2f)(random);
+        io.DeltaTime = 1.5f + static_cast<float>(trial);  // seconds asleep before this frame
+        REQUIRE(window.frame().ok);
+        CHECK(stats.afterIdle);
+        io.DeltaTime = interval;
+        for (int f = 0; f < 80; ++f) REQUIRE(window.frame().ok);
+        CHECK(!stats.afterIdle);
+        CHECK(stats.frameMs == Approx(1000.0 * interval).epsilon(0.01));  // the sleep is not in the average
+    }
+    io.DeltaTime = 1.0f / 60.0f;
 }

@@ -52,6 +52,12 @@ struct FrameStats {
     double updateMs = 0.0;  // last GPU update (positions, normals, overlays)
     double renderMs = 0.0;  // CPU time of the last frame's draw calls (scene + UI)
     int lastUploadVertices = 0;
+    // The frame rate while frames follow each other (a drag, an orbit): an average of frame intervals under
+    // kIdleGapSeconds. After a longer gap the window had slept (it draws on change), and the panel says so
+    // instead of a rate averaged over the sleep (a new user saw "0.7 fps" on an idle window).
+    static constexpr double kIdleGapSeconds = 0.25;
+    double frameMs = 0.0;
+    bool afterIdle = true;
     // Which path deforms the mesh on screen, in a few words (DeformationPathChooser::label), and the measurements
     // or the reason behind it (its tooltip).
     std::string deformationPath = "CPU";

@@ -421,6 +421,11 @@ Status SculptApp::renderFrame(int width, int height) {
     }
     files_.afterSceneDrawn(state_, width, height);  // a requested screenshot: the scene without the UI
     if (imguiBackendReady_ && ImGui::GetCurrentContext()) {
+        // The frame rate of frames drawn one after another; a longer gap was the window asleep.
+        const double gap = ImGui::GetIO().DeltaTime;
+        FrameStats& stats = state_.stats;
+        stats.afterIdle = gap > FrameStats::kIdleGapSeconds;
+        if (!stats.afterIdle) stats.frameMs = stats.frameMs > 0.0 ? 0.9 * stats.frameMs + 100.0 * gap : 1000.0 * gap;
         ImGui_ImplOpenGL3_NewFrame();
         ImGui::NewFrame();
         drawUi();

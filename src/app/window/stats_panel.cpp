@@ -59,8 +59,10 @@ void drawStatsPanel(AppState& state) {
             row("Upload to GPU", "%.2f ms (%d vtx)", state.stats.updateMs, state.stats.lastUploadVertices);
             uploadTooltip();
             row("Draw calls", "%.2f ms", state.stats.renderMs);
-            const float fps = ImGui::GetIO().Framerate;
-            row("Frame rate", "%.1f fps (%.1f ms)", fps, fps > 0.0f ? 1000.0f / fps : 0.0f);
+            if (state.stats.afterIdle || state.stats.frameMs <= 0.0)
+                row("Frame rate", "%s", "idle (draws on change)");
+            else
+                row("Frame rate", "%.1f fps (%.1f ms)", 1000.0 / state.stats.frameMs, state.stats.frameMs);
         }
         row("Deformed on", "%s", state.stats.deformationPath.c_str());
         if (ImGui::IsItemHovered())

@@ -331,10 +331,11 @@ void SculptApp::endSculpt() {
     if (finished.refused > 0) parts.push_back(std::to_string(finished.refused) + " refused");
     if (!parts.empty()) {
         std::vector<std::string> causes;
-        if (finished.byFold > 0) causes.push_back(std::to_string(finished.byFold) + " where the mesh would fold");
-        if (finished.byUncertified > 0) causes.push_back(std::to_string(finished.byUncertified) + " where it could not be certified (no fold found)");
-        if (finished.byCrossing > 0) causes.push_back(std::to_string(finished.byCrossing) + " where the surface would cross itself");
-        if (finished.byBoundary > 0) causes.push_back(std::to_string(finished.byBoundary) + " where the lattice boundary would overlap");
+        // note: the words of stopCauseWords, as the status of each move and of a transform say them.
+        if (finished.byFold > 0) causes.push_back(std::to_string(finished.byFold) + " where " + stopCauseWords("lattice"));
+        if (finished.byUncertified > 0) causes.push_back(std::to_string(finished.byUncertified) + " where " + stopCauseWords("uncertified"));
+        if (finished.byCrossing > 0) causes.push_back(std::to_string(finished.byCrossing) + " where " + stopCauseWords("triangles"));
+        if (finished.byBoundary > 0) causes.push_back(std::to_string(finished.byBoundary) + " where " + stopCauseWords("boundary"));
         if (finished.byMirror > 0) causes.push_back(std::to_string(finished.byMirror) + " where the grabbed point would meet its mirror image");
         if (finished.byOther > 0) causes.push_back(std::to_string(finished.byOther) + " for another reason");
         text += ", " + parts[0] + (parts.size() > 1 ? " and " + parts[1] : std::string());
