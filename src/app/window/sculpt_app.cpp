@@ -547,7 +547,11 @@ void SculptApp::keepFramePicture(const render::DrawOptions& options) {
 Status SculptApp::drawBusyFrame(int width, int height) {
     // Nothing here reads state_: the scene is what the GPU holds from the last applied frame, drawn with that
     // frame's camera and options, and the UI is that frame's draw lists.
-    Status drawn = renderer_.draw(lastCamera_, lastOptions_, width, height);
+    // note: a large mesh as its decimated proxy, as during a drag: a full 832k-triangle frame took ~0.5 s on
+    // llvmpipe, so the first busy frames of a step came late and the box showed up only after them.
+    render::DrawOptions options = lastOptions_;
+    options.proxy = true;
+    Status drawn = renderer_.draw(lastCamera_, options, width, height);
     if (!imguiBackendReady_ || !ImGui::GetCurrentContext() || !haveFramePicture_) return drawn;
     ImGui_ImplOpenGL3_NewFrame();
     // The progress box (drawn outside a Dear ImGui frame, so the panels keep what they were: a click held

@@ -59,7 +59,10 @@ void drawStatsPanel(AppState& state) {
             row("Upload to GPU", "%.2f ms (%d vtx)", state.stats.updateMs, state.stats.lastUploadVertices);
             uploadTooltip();
             row("Draw calls", "%.2f ms", state.stats.renderMs);
-            if (state.stats.afterIdle || state.stats.frameMs <= 0.0)
+            // Only while frames follow each other by themselves (a drag, an orbit, a transform): the last frame before
+            // the window sleeps cannot know it is the last, and its rate would stay on screen.
+            const bool moving = state.drag.active || state.transform.active || state.navigation != Navigation::None;
+            if (!moving || state.stats.afterIdle || state.stats.frameMs <= 0.0)
                 row("Frame rate", "%s", "idle (draws on change)");
             else
                 row("Frame rate", "%.1f fps (%.1f ms)", 1000.0 / state.stats.frameMs, state.stats.frameMs);

@@ -362,10 +362,14 @@ private:
     // where it is now (Newton's method, locateDeformedPoint: the cage is injective, so they exist) and the
     // rest point there; the layers are removed and the mesh keeps its positions. A later edit of the cage
     // then carries the sculpted detail with the surface. Returns false (nothing changed) if a moved vertex has
-    // no preimage in the cage; the caller marks the operation's last step baked.
+    // no preimage in the cage; the caller marks the operation's last step baked. An adaptive subdivision's fresh
+    // lattices (Gain & Dodgson 2001, section 8) are baked too, but only when every vertex they moved rests
+    // inside the cage's box afterwards: their lattices grow with the mesh a large drag carries out of the box,
+    // and a vertex resting outside would no longer be carried by the cage (then they stay after it).
     bool bakeLayers(const std::vector<Step>& steps);
     // The same for every layer there is (redo and replay of a step recorded baked); outside: Step::bakedOutside.
-    bool bakeAllLayers(std::vector<int>* outside = nullptr);
+    // allowOutside = false: refused (false, nothing changed) if a moved vertex would rest outside the cage's box.
+    bool bakeAllLayers(std::vector<int>* outside = nullptr, bool allowOutside = true);
     // bakeAllLayers if `step` was baked; bakeLastStep: for an operation's last step (after its refinement).
     void bakeAfter(const Step& step);
     void bakeLastStep(const Operation& operation);

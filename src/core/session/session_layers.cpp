@@ -502,19 +502,20 @@ int Session::verticesLeftOutsideCage() const {
 bool Session::bakeLayers(const std::vector<Step>& steps) {
     // Only an operation's own layers (fresh-frame steps since its last baked step): layers an earlier operation
     // could not bake stay after the cage, and so then do these.
-    // note: brush strokes only. An adaptive subdivision's fresh lattices stay after the cage: they grow to hold
-    // the mesh as the drag carries it out of the cage's box, and baked, those vertices would rest outside the
-    // cage, which would then no longer carry them (a large drag on the default mesh: 604 of its vertices).
+    // note: an adaptive subdivision's fresh lattices grow to hold the mesh as the drag carries it out of the cage's
+    // box; baked, such vertices would rest outside the cage, which would then no longer carry them (a large drag
+    // on the default mesh: 604 of its vertices). Those stay after the cage; the others are baked.
     size_t own = 0;
+    bool subdivision = false;
     for (size_t k = steps.size(); k-- > 0 && (k + 1 == steps.size() || !steps[k].baked);) {
-        if (steps[k].freshFrame && !steps[k].region) return false;
+        subdivision = subdivision || (steps[k].freshFrame && !steps[k].region);
         own += steps[k].freshFrame && steps[k].weights.empty();
     }
     if (own != layers_.size()) return false;
-    return bakeAllLayers(&steps.back().bakedOutside);
+    return bakeAllLayers(&steps.back().bakedOutside, !subdivision);
 }
 
-bool Session::bakeAllLayers(std::vector<int>* outside) {
+bool Session::bakeAllLayers(std::vector<int>* outside, bool allowOutside) {
     if (layers_.empty() || layerActive_) return false;
     const int n = static_cast<int>(positions_.rows());
     // Exactly the vertices some layer moved: their output differs from the cage's.
@@ -533,6 +534,9 @@ bool Session::bakeAllLayers(std::vector<int>* outside) {
         rest.row(c) = x.transpose();
     }
     if (!ok) return false;  // the layers stay after the cage, as before
+    if (!allowOutside)
+        for (int c = 0; c < count; ++c)
+            if (outsideBox(lattice_, rest.row(c).transpose())) return false;
     if (trackJacobian_) {
         // The det J map multiplies the cage's det J at the rest point by frozenJacobian_: keep the product.
         for (int c = 0; c < count; ++c) {

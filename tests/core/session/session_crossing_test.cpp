@@ -290,7 +290,10 @@ TEST_CASE("session: under pinch drags the composed map does not fold, only strai
         INFO("drag " << d << ": smallest det J of the composed map " << smallest);
         REQUIRE(smallest > 0.0);
     }
-    CHECK(session.frameDepth() > 10);  // many fresh frames were composed
+    // Many fresh frames were composed: as layers after the cage, or baked into the rest shape (a subdivided drag
+    // whose vertices rest inside the cage's box), with the tracked det J carrying their product either way.
+    WARN(steps << " steps in 20 drags, " << session.frameDepth() << " lattice frames left after the cage");
+    CHECK(steps > 30);
     CHECK(test::selfIntersectingPairs(session.positions(), triangles) > 0);
 }
 
@@ -413,9 +416,12 @@ TEST_CASE("session: parts touching at load keep their contact as it shifts, and 
         CHECK(ring[static_cast<size_t>(x)] >= 0);
         CHECK(ring[static_cast<size_t>(y)] >= 0);
     }
-    // An injective map keeps apart what is apart; what can still cross are the straight triangles between moved
-    // vertices. Two coarse spheres a hair apart, squeezed together by random drags: every refusal for crossing
-    // triangles names the two parts.
+    // An injective map keeps apart what is apart, so within one cage two parts cross only where straight triangles
+    // between moved vertices do (rare, and fewer still since a subdivided drag's steps are baked into the rest
+    // shape). A cage around one part only carries it into the other, which does not give way: two coarse spheres
+    // a hair apart, the cage set up around the left one, all its control points moved toward the right one by
+    // random vectors. Each move stops (or is refused) where the triangles of the two parts would cross, and the
+    // reason names the two parts; nothing crosses.
     Positions c, e;
     Triangles tc, te;
     test::icosphere(1, 1.0, Eigen::Vector3d(-1.01, 0, 0), c, tc);
@@ -424,22 +430,29 @@ TEST_CASE("session: parts touching at load keep their contact as it shifts, and 
     near << c, e;
     Triangles nearTriangles(tc.rows() + te.rows(), 3);
     nearTriangles << tc, (te.array() + static_cast<int>(c.rows())).matrix();
+    LatticeSettings leftOnly;
+    leftOnly.hasRegion = true;
+    leftOnly.regionMin = Eigen::Vector3d(-2.05, -1.05, -1.05);
+    leftOnly.regionMax = Eigen::Vector3d(-0.005, 1.05, 1.05);
+    leftOnly.padding = 0.0;
+    leftOnly.pinLayers = 0;
     Session squeezed;
-    REQUIRE(squeezed.setMesh(near, nearTriangles, LatticeSettings{}).ok);
+    REQUIRE(squeezed.setMesh(near, nearTriangles, leftOnly).ok);
     REQUIRE(squeezed.initialIntersectingPairs() == 0);
+    std::vector<int> all(static_cast<size_t>(squeezed.lattice().controlPointCount()));
+    std::iota(all.begin(), all.end(), 0);
     int named = 0;
-    for (int d = 0; d < 60; ++d) {
-        const int v = test::randomInt(rng, 0, static_cast<int>(near.rows()) - 1);
-        const Eigen::Vector3d from = squeezed.positions().row(v).transpose();
-        const Eigen::Vector3d target = from + Eigen::Vector3d(from.x() < 0 ? 0.5 : -0.5, 0, 0) + test::randomVector(rng, -0.1, 0.1);
+    for (int d = 0; d < 8; ++d) {
+        const Eigen::Vector3d by = Eigen::Vector3d(0.3 + 0.1 * d, 0, 0) + test::randomVector(rng, -0.1, 0.1);
         OpReport report;
-        REQUIRE(squeezed.dragVertex(v, target, report).ok);
-        if (report.refusedBy != "triangles") continue;
-        INFO(report.reason);
+        REQUIRE(squeezed.moveControlPoints(all, by.transpose().replicate(static_cast<Eigen::Index>(all.size()), 1), true, report).ok);
+        INFO("move " << d << ": " << report.reason);
+        CHECK(report.refusedBy == "triangles");
         CHECK(report.reason.find("part 1 (") != std::string::npos);
         CHECK(report.reason.find("part 2 (") != std::string::npos);
-        ++named;
+        named += report.refusedBy == "triangles";
+        CHECK(test::selfIntersectingPairs(squeezed.positions(), nearTriangles) == 0);
+        if (report.status == OpStatus::Applied) REQUIRE(squeezed.undo(report).ok);
     }
-    WARN(named << " of 60 squeezing drags stopped by crossing triangles, each naming the parts");
-    CHECK(named > 0);
+    CHECK(named == 8);
 }
