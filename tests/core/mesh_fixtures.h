@@ -50,6 +50,21 @@ inline void icosphere(int levels, double radius, const Eigen::Vector3d& centre, 
     for (size_t i = 0; i < f.size(); ++i) triangles.row(static_cast<Eigen::Index>(i)) << f[i][0], f[i][1], f[i][2];
 }
 
+// Two icospheres of the same level and radius as one mesh of two parts (an assembly): the first around `first`,
+// its vertices and triangles before the second's. Returns the first triangle of the second part.
+inline int twoIcospheres(int levels, double radius, const Eigen::Vector3d& first, const Eigen::Vector3d& second, Positions& positions,
+                         Triangles& triangles) {
+    Positions a, b;
+    Triangles ta, tb;
+    icosphere(levels, radius, first, a, ta);
+    icosphere(levels, radius, second, b, tb);
+    positions.resize(a.rows() + b.rows(), 3);
+    positions << a, b;
+    triangles.resize(ta.rows() + tb.rows(), 3);
+    triangles << ta, (tb.array() + static_cast<int>(a.rows())).matrix();
+    return static_cast<int>(ta.rows());
+}
+
 namespace detail {
 
 // Exact predicates: every double is a rational, so the signs below are exact. Each sign is first computed in

@@ -125,6 +125,22 @@ void requireSameResult(const app::SculptApp& busy, const app::SculptApp& referen
     CHECK(busy.state().transform.active == reference.state().transform.active);
 }
 
+// The default mesh in a window's app and in a reference app; every step of the window's app runs on the worker
+// (no wait) and is held at the gate while it is closed. The gate outlives the apps (declared first).
+struct HeldWindow {
+    Gate gate;
+    app::SculptApp sculptApp, reference;
+    test::OffscreenWindow window;
+    ~HeldWindow() { gate.open(); }  // a test that stopped with the gate closed: its step ends, the window closes
+    bool open() {
+        if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kHeight)) return false;
+        test::loadDefaultMesh(reference, kWidth, kHeight);
+        sculptApp.setEngineStepHook([this] { gate.pass(); });
+        sculptApp.setEngineWait(0.0);
+        return true;
+    }
+};
+
 app::KeyEvent press(app::Key key, bool control = false, bool shift = false) {
     app::KeyEvent event;
     event.key = key;
@@ -136,13 +152,11 @@ app::KeyEvent press(app::Key key, bool control = false, bool shift = false) {
 }  // namespace
 
 TEST_CASE("window engine: while a drag's move is certified on the worker the window draws the last applied frame and its progress, input waits, and the result is the synchronous one", "[gl]") {
-    app::SculptApp sculptApp, reference;
-    test::OffscreenWindow window;
-    if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kHeight)) return;
-    test::loadDefaultMesh(reference, kWidth, kHeight);
-    Gate gate;
-    sculptApp.setEngineStepHook([&gate] { gate.pass(); });
-    sculptApp.setEngineWait(0.0);  // every step on the worker, however quick
+    HeldWindow fixture;
+    if (!fixture.open()) return;
+    app::SculptApp &sculptApp = fixture.sculptApp, &reference = fixture.reference;
+    test::OffscreenWindow& window = fixture.window;
+    Gate& gate = fixture.gate;
     REQUIRE(window.frame().ok);
 
     std::mt19937 random(20261205);
@@ -233,13 +247,11 @@ TEST_CASE("window engine: while a drag's move is certified on the worker the win
 }
 
 TEST_CASE("window engine: a typed rotation held on the worker keeps the applied readout on screen, takes its keys in order and ends as the synchronous one", "[gl]") {
-    app::SculptApp sculptApp, reference;
-    test::OffscreenWindow window;
-    if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kHeight)) return;
-    test::loadDefaultMesh(reference, kWidth, kHeight);
-    Gate gate;
-    sculptApp.setEngineStepHook([&gate] { gate.pass(); });
-    sculptApp.setEngineWait(0.0);
+    HeldWindow fixture;
+    if (!fixture.open()) return;
+    app::SculptApp &sculptApp = fixture.sculptApp, &reference = fixture.reference;
+    test::OffscreenWindow& window = fixture.window;
+    Gate& gate = fixture.gate;
     for (app::SculptApp* a : {&sculptApp, &reference}) {
         a->onKey(press(app::Key::Tab), {});
         a->onKey(press(app::Key::A), {});
@@ -279,13 +291,11 @@ TEST_CASE("window engine: a typed rotation held on the worker keeps the applied 
 }
 
 TEST_CASE("window engine: each step's result is drawn before the input held meanwhile starts the next step", "[gl]") {
-    app::SculptApp sculptApp, reference;
-    test::OffscreenWindow window;
-    if (!test::openWindowWithDefaultMesh(window, sculptApp, kWidth, kHeight)) return;
-    test::loadDefaultMesh(reference, kWidth, kHeight);
-    Gate gate;
-    sculptApp.setEngineStepHook([&gate] { gate.pass(); });
-    sculptApp.setEngineWait(0.0);
+    HeldWindow fixture;
+    if (!fixture.open()) return;
+    app::SculptApp &sculptApp = fixture.sculptApp, &reference = fixture.reference;
+    test::OffscreenWindow& window = fixture.window;
+    Gate& gate = fixture.gate;
     const double x0 = 0.5 * kWidth, y0 = 0.5 * kHeight;
     const app::MouseButtonEvent down{app::MouseButton::Left, app::ButtonAction::Press, x0, y0, {}};
     sculptApp.onMouseButton(down, {});

@@ -378,14 +378,9 @@ TEST_CASE("window transform: a transform stopped by crossing triangles says so, 
     app::SculptApp sculptApp;
     sculptApp.onFramebufferSize({kWidth, kHeight});
     app::AppState& state = sculptApp.state();
-    Positions left, right;
-    Triangles leftTriangles, rightTriangles;
-    test::icosphere(2, 0.4, Eigen::Vector3d(-0.5, 0.0, 0.0), left, leftTriangles);
-    test::icosphere(2, 0.4, Eigen::Vector3d(0.5, 0.0, 0.0), right, rightTriangles);
-    Positions positions(left.rows() + right.rows(), 3);
-    positions << left, right;
-    Triangles triangles(leftTriangles.rows() + rightTriangles.rows(), 3);
-    triangles << leftTriangles, rightTriangles.array() + static_cast<int>(left.rows());
+    Positions positions;
+    Triangles triangles;
+    test::twoIcospheres(2, 0.4, Eigen::Vector3d(-0.5, 0.0, 0.0), Eigen::Vector3d(0.5, 0.0, 0.0), positions, triangles);
     core::LatticeSettings settings;
     settings.pinLayers = 0;
     settings.hasRegion = true;

@@ -68,36 +68,24 @@ CaptureFlags SculptApp::uiCaptureAt(double x, double y) {
 Status SculptApp::loadMesh(const std::string& path) { return files_.loadMeshNow(state_, path); }
 
 void SculptApp::onDropFiles(const std::vector<std::string>& paths) {
-    HeldInput held;
-    held.kind = HeldInput::Kind::Drop;
-    held.paths = paths;
-    if (holdInput(held)) return;
+    if (holdInput(HeldInput(paths))) return;
     for (const std::string& path : paths)
         if (io::isMeshPath(path) || hasExtension(path, {".json"})) return files_.openPath(state_, path);
     if (!paths.empty()) setStatus(state_, std::string("Drop a mesh (") + io::meshExtensionList() + ") or a .json session to open it.", true);
 }
 
 void SculptApp::requestQuit() {
-    HeldInput held;
-    held.kind = HeldInput::Kind::Quit;
-    if (!holdInput(held)) files_.requestQuit(state_);
+    if (!holdInput(HeldInput())) files_.requestQuit(state_);
 }
 
 void SculptApp::onFramebufferSize(const FramebufferSizeEvent& event) {
-    HeldInput held;
-    held.kind = HeldInput::Kind::Size;
-    held.size = event;
-    if (holdInput(held)) return;
+    if (holdInput(HeldInput(event))) return;
     state_.framebufferWidth = std::max(event.width, 0);
     state_.framebufferHeight = std::max(event.height, 0);
 }
 
 void SculptApp::onMouseButton(const MouseButtonEvent& event, CaptureFlags capture) {
-    HeldInput held;
-    held.kind = HeldInput::Kind::Button;
-    held.button = event;
-    held.capture = capture;
-    if (holdInput(held)) return;
+    if (holdInput(HeldInput(event, capture))) return;
     // What may take the engine long: a transform's confirm or cancel, a drag's end (its steps are recorded,
     // a brush stroke's layers baked).
     const bool left = event.button == MouseButton::Left;
@@ -138,11 +126,7 @@ void SculptApp::handleMouseButton(const MouseButtonEvent& event, CaptureFlags ca
 }
 
 void SculptApp::onMouseMove(const MouseMoveEvent& event, CaptureFlags capture) {
-    HeldInput held;
-    held.kind = HeldInput::Kind::Move;
-    held.move = event;
-    held.capture = capture;
-    if (holdInput(held)) return;
+    if (holdInput(HeldInput(event, capture))) return;
     // A drag's move or a transform's new pose: the engine solves and certifies it.
     if (state_.drag.active || state_.transform.active)
         return runEngineStep(state_.transform.active ? "Certifying the transform" : "Certifying the move",
@@ -169,21 +153,13 @@ void SculptApp::handleMouseMove(const MouseMoveEvent& event, CaptureFlags /*capt
 }
 
 void SculptApp::onScroll(const ScrollEvent& event, CaptureFlags capture) {
-    HeldInput held;
-    held.kind = HeldInput::Kind::Scroll;
-    held.scroll = event;
-    held.capture = capture;
-    if (holdInput(held)) return;
+    if (holdInput(HeldInput(event, capture))) return;
     if (capture.mouse || state_.transform.active) return;
     zoomView(state_, state_.cursorX, state_.cursorY, event.dy);
 }
 
 void SculptApp::onKey(const KeyEvent& event, CaptureFlags capture) {
-    HeldInput held;
-    held.kind = HeldInput::Kind::Key;
-    held.key = event;
-    held.capture = capture;
-    if (holdInput(held)) return;
+    if (holdInput(HeldInput(event, capture))) return;
     // A transform's keys (typed values, axes, Enter, Esc), Esc during a drag, undo and redo: engine steps.
     const bool taken = capture.keyboard || event.action == KeyAction::Release;
     const bool shortcut = shortcutModifier(event.modifiers);

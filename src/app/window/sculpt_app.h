@@ -112,7 +112,14 @@ public:
 private:
     // Input held back while a step runs (engineBusy), replayed in order when it ends.
     struct HeldInput {
-        enum class Kind { Button, Move, Scroll, Key, Drop, Quit, Size } kind = Kind::Move;
+        enum class Kind { Button, Move, Scroll, Key, Drop, Quit, Size } kind = Kind::Quit;
+        HeldInput() = default;  // Quit
+        HeldInput(const MouseButtonEvent& e, CaptureFlags c) : kind(Kind::Button), button(e), capture(c) {}
+        HeldInput(const MouseMoveEvent& e, CaptureFlags c) : kind(Kind::Move), move(e), capture(c) {}
+        HeldInput(const ScrollEvent& e, CaptureFlags c) : kind(Kind::Scroll), scroll(e), capture(c) {}
+        HeldInput(const KeyEvent& e, CaptureFlags c) : kind(Kind::Key), key(e), capture(c) {}
+        explicit HeldInput(const FramebufferSizeEvent& e) : kind(Kind::Size), size(e) {}
+        explicit HeldInput(std::vector<std::string> dropped) : kind(Kind::Drop), paths(std::move(dropped)) {}
         MouseButtonEvent button;
         MouseMoveEvent move;
         ScrollEvent scroll;

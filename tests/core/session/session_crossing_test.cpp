@@ -379,19 +379,13 @@ TEST_CASE("session: degenerate facets at load are counted apart from crossing pa
 // within kContactRings rings of the load contact (computed here by its own search), never a pair elsewhere; a
 // drag that pushes one part through the other is refused, and the reason names the two parts.
 TEST_CASE("session: parts touching at load keep their contact as it shifts, and crossing triangles of two parts are refused by name", "[core][parts]") {
-    Positions a, b;
-    Triangles ta, tb;
-    test::icosphere(3, 1.0, Eigen::Vector3d(-0.97, 0, 0), a, ta);
-    test::icosphere(3, 1.0, Eigen::Vector3d(0.97, 0, 0), b, tb);
-    Positions positions(a.rows() + b.rows(), 3);
-    positions << a, b;
-    Triangles triangles(ta.rows() + tb.rows(), 3);
-    triangles << ta, (tb.array() + static_cast<int>(a.rows())).matrix();
+    Positions positions;
+    Triangles triangles;
+    const int firstOfB = test::twoIcospheres(3, 1.0, Eigen::Vector3d(-0.97, 0, 0), Eigen::Vector3d(0.97, 0, 0), positions, triangles);
     const std::vector<std::pair<int, int>> atLoad = test::intersectingPairs(positions, triangles);
     REQUIRE_FALSE(atLoad.empty());
     // The contact's neighbourhood, by its own search: triangles within kContactRings rings (sharing a corner).
     const std::vector<int> ring = loadContactRings(positions, triangles, atLoad);
-    const int firstOfB = static_cast<int>(ta.rows());
     LatticeSettings settings;
     settings.resolution = {10, 6, 6};
     Session session;
@@ -422,14 +416,9 @@ TEST_CASE("session: parts touching at load keep their contact as it shifts, and 
     // a hair apart, the cage set up around the left one, all its control points moved toward the right one by
     // random vectors. Each move stops (or is refused) where the triangles of the two parts would cross, and the
     // reason names the two parts; nothing crosses.
-    Positions c, e;
-    Triangles tc, te;
-    test::icosphere(1, 1.0, Eigen::Vector3d(-1.01, 0, 0), c, tc);
-    test::icosphere(1, 1.0, Eigen::Vector3d(1.01, 0, 0), e, te);
-    Positions near(c.rows() + e.rows(), 3);
-    near << c, e;
-    Triangles nearTriangles(tc.rows() + te.rows(), 3);
-    nearTriangles << tc, (te.array() + static_cast<int>(c.rows())).matrix();
+    Positions near;
+    Triangles nearTriangles;
+    test::twoIcospheres(1, 1.0, Eigen::Vector3d(-1.01, 0, 0), Eigen::Vector3d(1.01, 0, 0), near, nearTriangles);
     LatticeSettings leftOnly;
     leftOnly.hasRegion = true;
     leftOnly.regionMin = Eigen::Vector3d(-2.05, -1.05, -1.05);
