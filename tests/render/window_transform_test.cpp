@@ -410,10 +410,13 @@ TEST_CASE("window transform: a transform stopped by crossing triangles says so, 
         CHECK(state.transform.stopCause == "triangles");
         CHECK(state.status.find("where the surface would cross itself") != std::string::npos);
         CHECK(state.status.find("lattice would fold") == std::string::npos);
+        CHECK(state.status.find("part 1 (") != std::string::npos);  // which parts would cross
+        CHECK(state.status.find("part 2 (") != std::string::npos);
         key(sculptApp, app::Key::Enter);
         INFO(state.status);
         CHECK(state.status.find("the surface would cross itself") != std::string::npos);
         CHECK(state.status.find("lattice would fold") == std::string::npos);
+        CHECK(state.status.find("part 2 (") != std::string::npos);
         CHECK(test::selfIntersectingPairs(state.session.positions(), state.session.triangles()) == 0);
         if (state.session.historyCursor() > 0) key(sculptApp, app::Key::Z, controlKey());
         CHECK((state.session.positions() - before).cwiseAbs().maxCoeff() < 1e-12);  // undo: exact to rounding

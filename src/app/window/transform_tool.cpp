@@ -228,6 +228,23 @@ Pose blend(TransformKind kind, const Pose& from, const Pose& to, double f) {
     return pose;
 }
 
+// Which parts would cross, from a stopped move's reason (Session::updateControlDrag: "Stopped where ...: moving
+// further, part 1 (80 triangles) would pass through part 2 (80 triangles) near (...).", or moveControlPoints'
+// "... (beyond it part 1 ...); control point ..."); "" for any other stop.
+std::string crossingParts(const TransformState& t) {
+    if (t.stopCause != "triangles") return {};
+    const std::string& reason = t.stopReason;
+    for (const std::string lead : {"moving further, ", "(beyond it "}) {
+        size_t start = reason.find(lead);
+        if (start == std::string::npos) continue;
+        start += lead.size();
+        size_t end = reason.find("); control point", start);
+        if (end == std::string::npos) end = reason.size() - (!reason.empty() && reason.back() == '.' ? 1 : 0);
+        return end > start ? reason.substr(start, end - start) : std::string();
+    }
+    return {};
+}
+
 // Sends one pose to the session; the report is the status line's.
 Status sendPose(AppState& state, const Pose& pose, core::OpReport& report) {
     Status s = state.session.updateControlDragPerPoint(offsetsOf(state.transform, pose), report);
@@ -292,7 +309,8 @@ void applyTransform(AppState& state) {
     if (s && t.stopped)
         note = sameGeometry(t, t.applied, identity)
                    ? "  (refused: " + stopCauseWords(t.stopCause) + " at once; nothing moved)"
-                   : "  (stopped at " + valueOf(t, t.applied) + " where " + stopCauseWords(t.stopCause) + ")";
+                   : "  (stopped at " + valueOf(t, t.applied) + " where " + stopCauseWords(t.stopCause) +
+                         (crossingParts(t).empty() ? std::string() : ": " + crossingParts(t)) + ")";
     std::string text = t.readout + (s ? note : "  (" + s.message + ")");
     text += "   X Y Z: axis, type a value, Enter or click: confirm, Esc or right-click: cancel";
     setStatus(state, text, !s);
@@ -390,7 +408,8 @@ void confirmTransform(AppState& state) {
     const std::string words = poseWords(t, t.applied);
     const std::string points = countOf(t.points.size(), "control point");
     const bool stopped = t.stopped;
-    const std::string why = stopCauseWords(t.stopCause);
+    const std::string parts = crossingParts(t);
+    const std::string why = stopCauseWords(t.stopCause) + (parts.empty() ? std::string() : ": " + parts);
     std::string detail = t.stopReason;  // the engine's own words: which parts cross, which cell folds
     if (detail.rfind("refused: ", 0) == 0) detail.erase(0, 9);
     const std::string typed = t.digits.empty() ? std::string() : typedValueText(t);
