@@ -449,6 +449,9 @@ void SculptApp::dispatch(const HeldInput& input) {
 }
 
 void SculptApp::runEngineStep(std::string what, std::function<void()> step) {
+    // note: input is held while a step runs, so none should be running here; if one were, it ends first rather
+    // than this step being dropped (EngineJob::start refuses a second job).
+    if (job_.running()) finishEngineStep();
     auto work = [this, step = std::move(step)] {
         if (stepHook_) stepHook_();
         step();
