@@ -219,7 +219,7 @@ Status SculptApp::initGraphics(render::GlGetProc getProc) {
 
 void SculptApp::releaseGraphics() {
     waitForEngine();
-    freeFramePicture();
+    freeUiPicture();
     if (imguiBackendReady_) ImGui_ImplOpenGL3_Shutdown();
     imguiBackendReady_ = false;
     renderer_.release();
@@ -408,7 +408,7 @@ Status SculptApp::renderFrame(int width, int height) {
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     }
-    keepFramePicture(options);
+    keepFrameView(options);
     state_.stats.renderMs = millisecondsSince(start);
     // Undo, redo or a history entry clicked in this frame: an engine step, now that the frame is drawn.
     if (const int target = std::exchange(state_.historyRequest, -1); target >= 0 && target != state_.session.historyCursor()) {
@@ -424,7 +424,7 @@ Status SculptApp::renderFrame(int width, int height) {
 
 SculptApp::~SculptApp() {
     job_.collect();  // the worker owns state_ until it returns
-    freeFramePicture();
+    freeUiPicture();
 }
 
 bool SculptApp::holdInput(const HeldInput& input) {
@@ -457,10 +457,12 @@ void SculptApp::runEngineStep(std::string what, std::function<void()> step) {
         step();
     };
     if (job_.start(std::move(work), std::move(what), engineWaitSeconds_, engineWake_)) finishEngineStep();
+    else keepUiPicture();  // it runs on: the busy frames draw the last frame's UI again
 }
 
 void SculptApp::finishEngineStep() {
     const std::string what = job_.what();
+    freeUiPicture();
     if (const std::string error = job_.collect(); !error.empty())
         setStatus(state_, what + " stopped with an error: " + error + ". Undo takes back what it changed.", true);
     state_.gpu.fields = true;
@@ -501,26 +503,29 @@ std::string SculptApp::engineProgress() const {
     return text;
 }
 
-void SculptApp::freeFramePicture() {
+void SculptApp::freeUiPicture() {
     for (ImDrawList* list : lastUi_) IM_DELETE(list);
     lastUi_.clear();
-    haveFramePicture_ = false;
 }
 
-void SculptApp::keepFramePicture(const render::DrawOptions& options) {
-    freeFramePicture();
+void SculptApp::keepFrameView(const render::DrawOptions& options) {
     lastCamera_ = state_.camera;
     lastOptions_ = options;
     lastStatusLineHeight_ = state_.statusLineHeight;
-    if (imguiBackendReady_ && ImGui::GetCurrentContext()) {
-        if (const ImDrawData* data = ImGui::GetDrawData(); data && data->Valid) {
-            for (int l = 0; l < data->CmdListsCount; ++l) lastUi_.push_back(data->CmdLists[l]->CloneOutput());
-            lastUiPos_ = data->DisplayPos;
-            lastUiSize_ = data->DisplaySize;
-            lastUiScale_ = data->FramebufferScale;
-        }
+    haveFrameView_ = true;
+}
+
+void SculptApp::keepUiPicture() {
+    // note: only when a step goes on past its wait, not every frame: Dear ImGui keeps the last frame's draw data
+    // until its next NewFrame, and every step starts after a frame's Render (between frames, or at its end).
+    freeUiPicture();
+    if (!imguiBackendReady_ || !ImGui::GetCurrentContext()) return;
+    if (const ImDrawData* data = ImGui::GetDrawData(); data && data->Valid) {
+        for (int l = 0; l < data->CmdListsCount; ++l) lastUi_.push_back(data->CmdLists[l]->CloneOutput());
+        lastUiPos_ = data->DisplayPos;
+        lastUiSize_ = data->DisplaySize;
+        lastUiScale_ = data->FramebufferScale;
     }
-    haveFramePicture_ = true;
 }
 
 Status SculptApp::drawBusyFrame(int width, int height) {
@@ -531,7 +536,7 @@ Status SculptApp::drawBusyFrame(int width, int height) {
     render::DrawOptions options = lastOptions_;
     options.proxy = true;
     Status drawn = renderer_.draw(lastCamera_, options, width, height);
-    if (!imguiBackendReady_ || !ImGui::GetCurrentContext() || !haveFramePicture_) return drawn;
+    if (!imguiBackendReady_ || !ImGui::GetCurrentContext() || !haveFrameView_) return drawn;
     ImGui_ImplOpenGL3_NewFrame();
     // The progress box (drawn outside a Dear ImGui frame, so the panels keep what they were: a click held
     // meanwhile is judged against the windows the user saw), bottom centre above the status line.

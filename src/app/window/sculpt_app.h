@@ -147,9 +147,11 @@ private:
     void replayHeldInput();
     // A frame while a step runs: the last applied scene and UI, and the progress over them.
     Status drawBusyFrame(int width, int height);
-    // Keeps a copy of the frame just drawn (its camera, its options, its UI's draw lists) for drawBusyFrame.
-    void keepFramePicture(const render::DrawOptions& options);
-    void freeFramePicture();
+    // Keeps what drawBusyFrame draws again: the frame just drawn's camera, options and status line height (every
+    // frame, a few bytes), and its UI's draw lists (keepUiPicture, copied when a step runs on past its wait).
+    void keepFrameView(const render::DrawOptions& options);
+    void keepUiPicture();
+    void freeUiPicture();
 
     // The editing tools (tool_input.cpp).
     void pressSculpt(const MouseButtonEvent& event);
@@ -200,7 +202,7 @@ private:
     ImVec2 lastUiPos_, lastUiSize_, lastUiScale_;
     float lastStatusLineHeight_ = 0.0f;
     ImVec4 progressBox_{0.0f, 0.0f, 0.0f, 0.0f};
-    bool haveFramePicture_ = false;
+    bool haveFrameView_ = false;
 
     double engineWaitSeconds_ = std::numeric_limits<double>::infinity();
     std::function<void()> engineWake_, stepHook_;
