@@ -228,22 +228,8 @@ Pose blend(TransformKind kind, const Pose& from, const Pose& to, double f) {
     return pose;
 }
 
-// Which parts would cross, from a stopped move's reason (Session::updateControlDrag: "Stopped where ...: moving
-// further, part 1 (80 triangles) would pass through part 2 (80 triangles) near (...).", or moveControlPoints'
-// "... (beyond it part 1 ...); control point ..."); "" for any other stop.
-std::string crossingParts(const TransformState& t) {
-    if (t.stopCause != "triangles") return {};
-    const std::string& reason = t.stopReason;
-    for (const std::string lead : {"moving further, ", "(beyond it "}) {
-        size_t start = reason.find(lead);
-        if (start == std::string::npos) continue;
-        start += lead.size();
-        size_t end = reason.find("); control point", start);
-        if (end == std::string::npos) end = reason.size() - (!reason.empty() && reason.back() == '.' ? 1 : 0);
-        return end > start ? reason.substr(start, end - start) : std::string();
-    }
-    return {};
-}
+// Which parts would cross, in the engine's words, when crossing triangles stopped the transform; "" otherwise.
+std::string crossingParts(const TransformState& t) { return t.stopCause == "triangles" ? t.stopWords : std::string(); }
 
 // Sends one pose to the session; the report is the status line's.
 Status sendPose(AppState& state, const Pose& pose, core::OpReport& report) {
@@ -274,7 +260,7 @@ void applyTransform(AppState& state) {
     } else {
         t.stopped = false;
         t.stopCause.clear();
-        t.stopReason.clear();
+        t.stopWords.clear();
         Pose reached = t.applied;
         for (const Pose& pose : pathBetween(t.kind, t.applied, wanted)) {
             core::OpReport report;
@@ -286,7 +272,7 @@ void applyTransform(AppState& state) {
             }
             t.stopped = true;
             t.stopCause = report.refusedBy;
-            t.stopReason = report.reason;
+            t.stopWords = report.failureWords;
             const double f = std::max(0.0, report.fractionApplied);
             const Pose partial = blend(t.kind, reached, pose, f);
             if (t.kind != TransformKind::Rotate || f == 0.0) {
@@ -306,11 +292,13 @@ void applyTransform(AppState& state) {
     }
     const Pose identity{t.axis, t.kind == TransformKind::Scale ? 1.0 : 0.0, Eigen::Vector3d::Zero()};
     t.readout = headOf(t) + ": " + (t.digits.empty() && !t.negate ? valueOf(t, t.applied) : typedText(t) + (t.kind == TransformKind::Rotate ? " deg" : ""));
+    const std::string parts = crossingParts(t);
     if (s && t.stopped)
         note = sameGeometry(t, t.applied, identity)
-                   ? "  (refused: " + stopCauseWords(t.stopCause) + " at once; nothing moved)"
+                   ? "  (refused: " + stopCauseWords(t.stopCause) + " at once" + (parts.empty() ? std::string() : " (" + parts + ")") +
+                         "; nothing moved)"
                    : "  (stopped at " + valueOf(t, t.applied) + " where " + stopCauseWords(t.stopCause) +
-                         (crossingParts(t).empty() ? std::string() : ": " + crossingParts(t)) + ")";
+                         (parts.empty() ? std::string() : ": " + parts) + ")";
     std::string text = t.readout + (s ? note : "  (" + s.message + ")");
     text += "   X Y Z: axis, type a value, Enter or click: confirm, Esc or right-click: cancel";
     setStatus(state, text, !s);
@@ -409,9 +397,7 @@ void confirmTransform(AppState& state) {
     const std::string points = countOf(t.points.size(), "control point");
     const bool stopped = t.stopped;
     const std::string parts = crossingParts(t);
-    const std::string why = stopCauseWords(t.stopCause) + (parts.empty() ? std::string() : ": " + parts);
-    std::string detail = t.stopReason;  // the engine's own words: which parts cross, which cell folds
-    if (detail.rfind("refused: ", 0) == 0) detail.erase(0, 9);
+    const std::string why = stopCauseWords(t.stopCause);
     const std::string typed = t.digits.empty() ? std::string() : typedValueText(t);
     if (Status named = state.session.setDragLabel(verb + " " + points + " " + words); !named)
         setStatus(state, "Cannot name the history entry: " + named.message, true);
@@ -425,10 +411,10 @@ void confirmTransform(AppState& state) {
     std::string text;
     if (recorded) {
         text = std::string(verb == "move" ? "Moved " : verb == "rotate" ? "Rotated " : "Scaled ") + points + " " + words;
-        if (stopped) text += " (stopped there: further, " + why + (typed.empty() ? std::string() : "; " + typed + " was typed") + ")";
+        if (stopped) text += " (stopped there: further, " + why + (parts.empty() ? std::string() : ": " + parts) + (typed.empty() ? std::string() : "; " + typed + " was typed") + ")";
         text += ": one undo step.";
     } else {
-        text = stopped ? "Nothing moved: " + why + " at once" + (detail.empty() ? std::string(".") : " (" + detail + ").") : "Nothing moved.";
+        text = stopped ? "Nothing moved: " + why + " at once" + (parts.empty() ? std::string(".") : " (" + parts + ").") : "Nothing moved.";
     }
     setStatus(state, text, false);
 }

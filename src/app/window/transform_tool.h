@@ -50,7 +50,7 @@ struct TransformState {
     std::string readout;       // "Move Z: 0.5", the head of the status line
     bool stopped = false;      // the last update stopped short (refused further by the engine)
     std::string stopCause;     //   OpReport::refusedBy of that stop ("lattice", "triangles", ...)
-    std::string stopReason;    //   and the engine's words for it (OpReport::reason)
+    std::string stopWords;     //   and what the engine found there (OpReport::failureWords)
     // What was last asked of the session: Move an offset, Rotate an angle (radians) about `axis` (-1: the view
     // axis), Scale a factor along `axis` (-1: all three).
     struct Pose {

@@ -51,6 +51,10 @@ struct OpReport {
     // What stopped a step (or made the operation subdivide): "lattice" (det J test), "boundary" (the free
     // lattice boundary would overlap itself), "triangles" (two triangles would cross), or empty.
     std::string refusedBy;
+    // What the test found there, in words (stepFailureWords): "part 1 (80 triangles) and part 2 (80 triangles)
+    // would cross (of the mesh's 2 parts) near (...)", "the lattice would fold over itself near (...)"; the
+    // window quotes it (a transform's stop names the parts). Empty with refusedBy.
+    std::string failureWords;
     double triangleCheckMs = 0.0;    // the triangle check's share of the time
     // A control-point edit stopped short of where it was asked, at the last injective position along the
     // move: the fraction of the move applied (1 = all of it).

@@ -567,8 +567,8 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     report.fractionApplied = fraction;
     if (fraction == 0.0) {
         report.status = OpStatus::Rejected;
-        report.refusedBy = stepFailureCauseName(failure.cause);
-        report.reason = "refused: even a small part of this move, " + stepFailureWords(failure, false) + "; nothing was changed (" +
+        detail::noteFailure(report, failure, false);
+        report.reason = "refused: even a small part of this move, " + report.failureWords + "; nothing was changed (" +
                         stepFailureAdvice(failure.cause) + ")";
         report.injectivity = "rejected: " + failure.technical;
         report.wallMs = millisecondsSince(start);
@@ -582,8 +582,8 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     reportSingleStep(std::move(moved), report);
     report.controlPointsChanged = static_cast<int>(delta.indices.size());
     if (fraction < 1.0) {
-        report.refusedBy = stepFailureCauseName(failure.cause);
-        report.reason = "stopped " + stepStopWords(failure.cause) + ": moved " + percentText(fraction) + " of the way (beyond it " + stepFailureWords(failure, false) +
+        detail::noteFailure(report, failure, false);
+        report.reason = "stopped " + stepStopWords(failure.cause) + ": moved " + percentText(fraction) + " of the way (beyond it " + report.failureWords +
                         "); control point " + lattice_.controlPointName(delta.indices.front()) + " ended at " +
                         vectorText(lattice_.controlPoint(delta.indices.front()));
     }

@@ -372,11 +372,11 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
         lastMoved_ = std::move(progress.moved);
         lastMovedAll_ = false;
         report.status = OpStatus::Rejected;
-        report.refusedBy = stepFailureCauseName(progress.failure.cause);
+        detail::noteFailure(report, progress.failure, true);
         if (progress.failure.cause == StepFailure::Cause::SourceLeft) {
             report.reason = progress.failure.technical + "; nothing was changed";
         } else {
-            report.reason = "refused: " + stepFailureWords(progress.failure, true) + ", even split into up to " +
+            report.reason = "refused: " + report.failureWords + ", even split into up to " +
                             std::to_string(1 << injectivity_.maxDepth) + " steps; nothing was changed (" +
                             stepFailureAdvice(progress.failure.cause) + ")";
         }
@@ -394,9 +394,8 @@ Status Session::runManipulation(Manipulation m, Operation operation, OpReport& r
     report.subSteps = static_cast<int>(operation.steps.size());
     if (report.subSteps > 1) {
         // Say why it had to be split: what the move in one step would have done.
-        report.refusedBy = stepFailureCauseName(progress.firstFailure.cause);
-        report.reason = "subdivided into " + std::to_string(report.subSteps) + " injective steps: in one step " +
-                        stepFailureWords(progress.firstFailure, true);
+        detail::noteFailure(report, progress.firstFailure, true);
+        report.reason = "subdivided into " + std::to_string(report.subSteps) + " injective steps: in one step " + report.failureWords;
     }
     std::vector<int> changed;
     for (const Step& step : operation.steps) changed.insert(changed.end(), step.delta.indices.begin(), step.delta.indices.end());

@@ -187,8 +187,8 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
         progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
         lastMoved_ = std::move(progress.moved);
         report.status = OpStatus::Rejected;
-        report.refusedBy = stepFailureCauseName(progress.failure.cause);
-        report.reason = "Refused: " + stepFailureWords(progress.failure, true) + ". The drag stays at the last valid position; " +
+        detail::noteFailure(report, progress.failure, true);
+        report.reason = "Refused: " + report.failureWords + ". The drag stays at the last valid position; " +
                         stepFailureAdvice(progress.failure.cause) + ".";
         report.injectivity = "rejected: " + progress.failure.technical;
         return false;
@@ -210,7 +210,7 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
     lastMovedAll_ = progress.movedAll;
     report.subSteps = static_cast<int>(increments.steps.size());
     report.depthReached = increments.depthReached;
-    report.refusedBy = stepFailureCauseName(failure.cause);
+    detail::noteFailure(report, failure, true);
     return true;
 }
 
@@ -335,17 +335,17 @@ void Session::updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport
         report.status = OpStatus::Applied;
         return;
     }
-    report.refusedBy = stepFailureCauseName(failure.cause);
+    detail::noteFailure(report, failure, true);
     if (share > 0.0) {
         report.status = OpStatus::Applied;
         report.reason = "Stopped at " + detail::percentText(share) + " of the pull, the last injective point: beyond it " +
-                        stepFailureWords(failure, true) + " (" + stepFailureAdvice(failure.cause) + ").";
+                        report.failureWords + " (" + stepFailureAdvice(failure.cause) + ").";
         return;
     }
     report.status = OpStatus::Rejected;
     report.reason = failure.cause == StepFailure::Cause::SourceLeft
                         ? "Refused: " + failure.technical + "."
-                        : "Refused: " + stepFailureWords(failure, true) + ". The stroke stays where it was; " + stepFailureAdvice(failure.cause) + ".";
+                        : "Refused: " + report.failureWords + ". The stroke stays where it was; " + stepFailureAdvice(failure.cause) + ".";
     report.injectivity = "rejected: " + failure.technical;
 }
 
@@ -419,8 +419,8 @@ void Session::applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& 
     report.subSteps = fraction > 0.0 ? 1 : 0;
     report.status = fraction > 0.0 ? OpStatus::Applied : OpStatus::Rejected;
     if (fraction < 1.0) {
-        report.refusedBy = stepFailureCauseName(failure.cause);
-        report.reason = "Stopped " + stepStopWords(failure.cause) + ": moving further, " + stepFailureWords(failure, false) + ".";
+        detail::noteFailure(report, failure, false);
+        report.reason = "Stopped " + stepStopWords(failure.cause) + ": moving further, " + report.failureWords + ".";
     }
 }
 

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "core/deform/direct_manipulation.h"
+#include "core/session/operation.h"
 
 namespace sculpt::core::detail {
 
@@ -20,5 +21,12 @@ std::string vectorText(const Eigen::Vector3d& v);
 std::string percentText(double fraction);
 // Adds b into a (sorted unions of control point ids).
 void mergeDelta(ControlDelta& a, const ControlDelta& b);
+
+// An operation stopped or refused by a step that failed: its cause (OpReport::refusedBy) and what the test found
+// (OpReport::failureWords; drag: the words for a drag, "mesh" rather than "lattice").
+inline void noteFailure(OpReport& report, const StepFailure& failure, bool drag) {
+    report.refusedBy = stepFailureCauseName(failure.cause);
+    report.failureWords = stepFailureWords(failure, drag);
+}
 
 }  // namespace sculpt::core::detail

@@ -384,9 +384,9 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
     }
     if (!applied) {
         report.status = OpStatus::Rejected;
-        report.refusedBy = stepFailureCauseName(failure.cause);
+        detail::noteFailure(report, failure, false);
         report.reason = "refused: " + std::string(step.weights.empty() ? "even a small part of " : "") + "this " + label + ", " +
-                        stepFailureWords(failure, false) + "; nothing was changed (" + weightToolAdvice(failure.cause, step.weights.empty()) + ")";
+                        report.failureWords + "; nothing was changed (" + weightToolAdvice(failure.cause, step.weights.empty()) + ")";
         report.injectivity = "rejected: " + failure.technical;
         return Status::success();
     }
@@ -401,8 +401,8 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
     report.reason = label + ": " + std::to_string(report.verticesMoved) + " vertices moved";
     report.fractionApplied = fraction;
     if (fraction < 1.0) {
-        report.refusedBy = stepFailureCauseName(failure.cause);
-        report.reason += "; stopped at " + percentText(fraction) + " of the change asked (beyond it " + stepFailureWords(failure, false) + "; " +
+        detail::noteFailure(report, failure, false);
+        report.reason += "; stopped at " + percentText(fraction) + " of the change asked (beyond it " + report.failureWords + "; " +
                          weightToolAdvice(failure.cause, true) + ")";
     }
     return Status::success();
