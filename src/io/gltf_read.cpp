@@ -461,7 +461,10 @@ Status readGltfDocument(const std::string& bytes, bool binary, const std::string
                     c[1] = vertexAt(t + 2);
                     c[2] = vertexAt(0);
                 }
-                if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) {
+                // A strip or fan repeats a vertex to join its runs: those triangles are joins, not faces. A triangle
+                // list's triangle is a face the file holds, kept as every other reader keeps it (a save of a mesh
+                // with such a face must load back as the same mesh).
+                if (primitive.mode != TINYGLTF_MODE_TRIANGLES && (c[0] == c[1] || c[1] == c[2] || c[0] == c[2])) {
                     ++repeatedCorners;
                     continue;
                 }
@@ -552,7 +555,7 @@ Status readGltfDocument(const std::string& bytes, bool binary, const std::string
     if (lineOrPointPrimitives > 0)
         notes.push_back(std::to_string(lineOrPointPrimitives) + " point or line primitive(s) are not kept (not a surface)");
     if (repeatedCorners > 0)
-        notes.push_back(std::to_string(repeatedCorners) + " triangle(s) whose corners repeat a vertex (no area) are not kept");
+        notes.push_back(std::to_string(repeatedCorners) + " strip or fan triangle(s) whose corners repeat a vertex (joins, no area) are not kept");
     if (extraSets > 0) notes.push_back("only the first colour and texture coordinate sets are kept");
     if (morphs > 0) notes.push_back(std::to_string(morphs) + " morph target(s) are not kept");
     out = std::move(mesh);

@@ -22,7 +22,7 @@ namespace sculpt::io {
 // transforms (matrix or T * R * S) applied to positions and, inverse-transposed, to normals. Kept per vertex:
 // POSITION, NORMAL, TEXCOORD_0 (v flipped to OBJ's convention, which runs up the image), COLOR_0 (RGB or RGBA;
 // float or normalized integers). Triangles, strips and fans become triangle faces; point and line primitives,
-// triangles whose corners repeat a vertex (strip joins), materials, skins, morph targets, animations and the
+// strip and fan triangles whose corners repeat a vertex (joins; a triangle list's are kept), materials, skins, morph targets, animations and the
 // second colour and texture sets are not kept, and each is named in notes. Several placed primitives become
 // groups named after their meshes.
 // Fails with "name: what is wrong" (out untouched) for anything the file breaks: an accessor, view or buffer

@@ -20,6 +20,7 @@
 #include "io/isolated_call.h"
 #include "io/mesh_file.h"
 #include "io/obj_refine.h"
+#include "../fuzz/fuzz_checks.h"
 #include "io_test_support.h"
 #include "mesh_formats_support.h"
 
@@ -100,7 +101,8 @@ TEST_CASE("mesh formats: the meshes and point clouds of CGAL's data", "[io][form
 }
 
 // The fuzz seed corpus (tests/fuzz/corpus_mesh) and what the fuzzer found (tests/io/data/fuzz_regressions_mesh,
-// filled by tests/fuzz/run_fuzz.sh): each loads into a consistent mesh or fails with a message naming the file.
+// filled by tests/fuzz/run_fuzz.sh), read as mesh_fuzz reads them: each loads into a consistent mesh or fails
+// with a message naming the file, and what loads survives mesh_fuzz's save and load in every encoding.
 TEST_CASE("mesh formats: fuzz corpus and regressions load cleanly or fail with a message", "[io][formats]") {
     int files = 0;
     for (const char* folder : {"/tests/fuzz/corpus_mesh", "/tests/fuzz/corpus_gltf", "/tests/io/data/fuzz_regressions_mesh"}) {
@@ -108,17 +110,16 @@ TEST_CASE("mesh formats: fuzz corpus and regressions load cleanly or fail with a
         if (!std::filesystem::exists(dir)) continue;
         for (const auto& entry : std::filesystem::directory_iterator(dir)) {
             const std::string bytes = test::readBytes(entry.path().string());
-            // The fuzz target's choice of reader.
-            const MeshFormat format = bytes.compare(0, 3, "ply") == 0 ? MeshFormat::Ply
-                                      : bytes.compare(0, 4, "glTF") == 0 || bytes.compare(0, 1, "{") == 0 ? MeshFormat::Gltf
-                                                                                                           : MeshFormat::Stl;
+            std::string name;
+            const MeshFormat format = fuzz::formatOfBytes(bytes, name);
             ObjMesh mesh;
-            const Status s = loadMeshFromMemory(bytes, format, "input", mesh);
+            const Status s = loadMeshFromMemory(bytes, format, name, mesh);
             INFO(entry.path() << ": " << s.message);
             if (s.ok) {
                 CHECK(checkObjMesh(mesh).ok);
+                CHECK(fuzz::roundTripBreak(mesh) == "");
             } else {
-                CHECK(s.message.rfind("input: ", 0) == 0);
+                CHECK(s.message.rfind(name + ": ", 0) == 0);
             }
             ++files;
         }

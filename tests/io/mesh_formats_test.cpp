@@ -196,6 +196,47 @@ TEST_CASE("mesh formats: glTF and GLB keep vertices, triangles, colours, normals
     }
 }
 
+// mesh_fuzz found a binary STL whose facets each had two corners at one point: welded, every triangle repeated a
+// vertex, and the GLB it saved loaded back as "no faces" (the glTF reader dropped such triangles as strip joins).
+// A loaded mesh's triangles that repeat a vertex (no area) are faces the file held: every encoding writes them and
+// reads them back, in order. Random spheres (fixed seed, several sizes) with a random share of their triangles
+// collapsed that way, up to all of them.
+TEST_CASE("mesh formats: triangles that repeat a vertex survive a save and load in every encoding", "[io][formats]") {
+    TempFolder folder("repeated_corners");
+    std::mt19937 rng(4242);
+    const MeshEncoding encodings[] = {{MeshFormat::Obj, false, false}, {MeshFormat::Ply, false, false}, {MeshFormat::Ply, true, true},
+                                      {MeshFormat::Gltf, false, false}, {MeshFormat::Gltf, true, false}, {MeshFormat::Off, false, false},
+                                      {MeshFormat::Stl, true, false}, {MeshFormat::Stl, false, false}};
+    const char* names[] = {"m.obj", "m.ply", "m.ply", "m.gltf", "m.glb", "m.off", "m.stl", "m.stl"};
+    for (int size = 3; size <= 15; size += 4) {
+        for (const double share : {0.1, 0.5, 1.0}) {
+            ObjMesh mesh = randomSphere(rng, size, size + 1, false, false, false, false);
+            std::uniform_real_distribution<double> unit(0.0, 1.0);
+            for (int f = 0; f < mesh.faceCount(); ++f) {
+                if (share < 1.0 && unit(rng) >= share) continue;
+                const int to = static_cast<int>(rng() % 3u), from = (to + 1 + static_cast<int>(rng() % 2u)) % 3;  // another corner
+                mesh.cornerVertex[static_cast<size_t>(mesh.faceStart[f] + to)] = mesh.cornerVertex[static_cast<size_t>(mesh.faceStart[f] + from)];
+            }
+            triangulateObjFaces(mesh);
+            REQUIRE(checkObjMesh(mesh).ok);
+            for (size_t e = 0; e < std::size(encodings); ++e) {
+                INFO("size " << size << ", share " << share << ", " << meshEncodingText(encodings[e]));
+                const ObjMesh back = roundTrip(folder, names[e], mesh, mesh.positions, encodings[e]);
+                REQUIRE(back.triangles.rows() == mesh.triangles.rows());
+                if (encodings[e].format == MeshFormat::Stl) {
+                    // Welded by position: each triangle repeats a corner exactly where the one written did.
+                    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+                        for (int k = 0; k < 3; ++k)
+                            CHECK((back.triangles(t, k) == back.triangles(t, (k + 1) % 3)) ==
+                                  (mesh.triangles(t, k) == mesh.triangles(t, (k + 1) % 3)));
+                } else {
+                    CHECK(trianglesOf(back) == trianglesOf(mesh));
+                }
+            }
+        }
+    }
+}
+
 TEST_CASE("mesh formats: what a format cannot hold is named in a warning, never dropped in silence", "[io][formats]") {
     TempFolder folder("formats_notes");
     std::mt19937 rng(5);
