@@ -636,10 +636,10 @@ void benchBrush() {
             session.setMesh(positions, triangles);
             std::mt19937 rng(2026);
             std::uniform_real_distribution<double> unit(0.0, 1.0);
-            int full = 0, stopped = 0, refused = 0, crossings = 0, unrestored = 0;
+            int full = 0, stopped = 0, refused = 0, crossings = 0, unrestored = 0, shapeCrosses = 0;
             std::map<std::string, int> stoppedBy;  // what stopped or refused a stroke: "triangles", "lattice", ...
             int fullByKind[3] = {0, 0, 0}, strokesByKind[3] = {0, 0, 0};
-            std::vector<double> profiles, moveMs;
+            std::vector<double> profiles, moveMs, reachedOfShapeLimit;
             for (int stroke = 0; stroke < 100; ++stroke) {
                 BrushSettings brush;
                 brush.radius = (0.03 + 0.12 * unit(rng)) * diagonal;
@@ -656,8 +656,43 @@ void benchBrush() {
                 session.dragVertex(v, source + pull * direction, report, brush);
                 moveMs.push_back(report.wallMs);
                 ++strokesByKind[kind];
-                if (report.status != OpStatus::Applied || report.fractionApplied < 1.0)
+                if (report.status != OpStatus::Applied || report.fractionApplied < 1.0) {
                     ++stoppedBy[report.refusedBy.empty() ? std::string("other") : report.refusedBy];
+                    // How hard was it? The falloff shape moves each vertex by the falloff of its rest distance
+                    // from the grabbed point (and from its mirror image), as the profile below measures, and
+                    // nothing else: where its triangles cross at the target (a part pushed into another), the
+                    // pull cannot be carried without moving what lies ahead, which the brush's field does
+                    // (brush_field.h) up to where the mesh's triangles, too coarse for the bend, would cross.
+                    // Reported: how many stops are such strokes, and how far the brush got compared with where
+                    // the falloff shape first crosses.
+                    const Eigen::Vector3d centre = 0.5 * (positions.colwise().minCoeff() + positions.colwise().maxCoeff()).transpose();
+                    const auto falloffShapeCrosses = [&](double share) {
+                        Positions shape = positions;
+                        for (int mask = 0; mask <= (brush.symmetry.any() ? 1 : 0); ++mask) {
+                            const Eigen::Vector3d grab = reflectPoint(source, mask, centre);
+                            const Eigen::Vector3d move = reflectPoint(source + share * pull * direction, mask, centre) - grab;
+                            for (Eigen::Index r = 0; r < positions.rows(); ++r) {
+                                const double rho = (positions.row(r).transpose() - grab).norm();
+                                if (rho < brush.radius) shape.row(r) += brushProfile(brush.falloff, rho / brush.radius) * move.transpose();
+                            }
+                        }
+                        for (const std::pair<int, int>& pair : test::intersectingPairs(shape, triangles))
+                            if (!atLoad.count(pair) && !(contactZone[static_cast<size_t>(pair.first)] && contactZone[static_cast<size_t>(pair.second)]))
+                                return true;
+                        return false;
+                    };
+                    const bool crosses = falloffShapeCrosses(1.0);
+                    shapeCrosses += crosses;
+                    if (crosses) {
+                        // Where the falloff shape first crosses (to 1/64 of the pull): the share the brush reached, of it.
+                        double lo = 0.0, hi = 1.0;
+                        for (int iteration = 0; iteration < 6; ++iteration) (falloffShapeCrosses(0.5 * (lo + hi)) ? hi : lo) = 0.5 * (lo + hi);
+                        const double reached = report.status == OpStatus::Applied ? report.fractionApplied : 0.0;
+                        if (hi > 0.0) reachedOfShapeLimit.push_back(reached / hi);
+                    }
+                    if (getenv("SCULPT_BENCH_VERBOSE"))
+                        std::fprintf(stderr, "  %s stroke %d: the falloff shape at the target %s\n", name, stroke, crosses ? "crosses itself" : "is crossing-free");
+                }
                 if (getenv("SCULPT_BENCH_VERBOSE") && (report.status != OpStatus::Applied || report.fractionApplied < 1.0))
                     std::fprintf(stderr, "  %s stroke %d kind %d pull %.2f r radius %.3f diag falloff %d sym %d: %s %.3f by %s (%s)\n", name,
                                  stroke, kind, pull / brush.radius, brush.radius / diagonal, stroke / 3 % 3, brush.symmetry.any() ? 1 : 0,
@@ -698,11 +733,12 @@ void benchBrush() {
             }
             std::string by;
             for (const auto& [what, count] : stoppedBy) by += (by.empty() ? "" : ", ") + ("\"" + what + "\": " + std::to_string(count));
-            char extra[800];
+            char extra[900];
             std::snprintf(extra, sizeof extra,
-                          "\"mesh\": \"%s\", \"applied_in_full\": %d, \"stopped_short\": %d, \"refused\": %d, \"profile_rms_median\": %.3f, "
+                          "\"mesh\": \"%s\", \"applied_in_full\": %d, \"stopped_short\": %d, \"refused\": %d, \"falloff_shape_crosses_at_target\": %d, \"applied_in_full_of_the_rest\": %.3f, \"reached_of_falloff_shape_limit_median\": %.2f, \"profile_rms_median\": %.3f, "
                           "\"profiles\": %zu, \"crossing_pairs\": %d, \"shifted_load_contact_pairs\": %d, \"full_normal_tangent_inward\": [\"%d/%d\", \"%d/%d\", \"%d/%d\"], \"stopped_by\": {%s}, \"not_restored\": %d",
-                          name, full, stopped, refused, profiles.empty() ? NAN : bench::median(profiles), profiles.size(), crossings, shiftedContacts,
+                          name, full, stopped, refused, shapeCrosses, full / std::max(1.0, 100.0 - shapeCrosses),
+                          reachedOfShapeLimit.empty() ? NAN : bench::median(reachedOfShapeLimit), profiles.empty() ? NAN : bench::median(profiles), profiles.size(), crossings, shiftedContacts,
                           fullByKind[0], strokesByKind[0], fullByKind[1], strokesByKind[1], fullByKind[2], strokesByKind[2], by.c_str(), unrestored);
             bench::printCase("strokes_real", positions.rows(), bench::median(moveMs), extra);
         }

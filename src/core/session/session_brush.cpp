@@ -68,7 +68,10 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
             }
         }
     }
-    const bool jointPossible = movingCount > 1 && withinReach && sharedPullDirection(pulls).squaredNorm() > 0.0;
+    // Images within each other's reach whose pulls part (a normal pull beside the mirror plane) have no shared
+    // direction: their one layer sums the scaled fields (brushFieldDelta), which no bound proves injective, so
+    // it is tried only after the layers each failed, and the injectivity test decides it as every layer.
+    const bool jointPossible = movingCount > 1 && withinReach;
     bool joint = false;  // the mode `attempt` uses
     const auto attempt = [&](double share) {
         where.clear();
