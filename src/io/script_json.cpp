@@ -1,5 +1,7 @@
 #include "io/script_json.h"
 
+#include "core/session/script_ops.h"
+
 #include "core/volume/volume_kinds.h"
 
 #include <sys/stat.h>
@@ -383,218 +385,220 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
     if (!j.is_object()) fail(path, "expected an object");
     if (!j.contains("op") || !j["op"].is_string()) fail(path + ".op", "expected a string");
     const std::string name = j["op"].get<std::string>();
+    // The op's entry in the table (core/session/script_ops.h) names its kind and every field it may have.
+    const core::ScriptOpInfo* info = core::findScriptOp(name);
+    if (!info) fail(path + ".op", "unknown op \"" + name + "\" (known: " + core::scriptOpNames() + ")");
+    const std::set<std::string> allowed(info->fields.begin(), info->fields.end());
+    for (auto it = j.begin(); it != j.end(); ++it)
+        if (it.key() != "op" && !allowed.count(it.key())) fail(path + "." + it.key(), "unknown field");
     core::ScriptOp op;
-    if (name == "drag") {
-        allowOnly(j, path, {"op", "constraints", "applied", "cancelled", "radius", "strength", "falloff", "symmetry"});
-        op.kind = core::ScriptOp::Kind::Drag;
-        op.constraints = parseConstraints(required(j, "constraints", path), path + ".constraints", false);
-        op.brush = parseBrush(j, path);
-        parseRecorded(j, path, op);
-    } else if (name == "drag_vertex") {
-        allowOnly(j, path, {"op", "vertex", "target", "radius", "strength", "falloff", "symmetry"});
-        op.kind = core::ScriptOp::Kind::DragVertex;
-        op.vertex = integer(required(j, "vertex", path), path + ".vertex");
-        op.target = vector3(required(j, "target", path), path + ".target");
-        op.brush = parseBrush(j, path);
-    } else if (name == "move_control_point") {
-        allowOnly(j, path, {"op", "index", "indices", "to", "by", "applied", "cancelled"});
-        op.kind = core::ScriptOp::Kind::MoveControlPoint;
-        parseRecorded(j, path, op);
-        if (j.contains("to") == j.contains("by")) fail(path, "needs exactly one of \"to\" and \"by\"");
-        if (j.contains("index") == j.contains("indices")) fail(path, "needs exactly one of \"index\" and \"indices\"");
-        op.relative = j.contains("by");
-        const char* valueKey = op.relative ? "by" : "to";
-        if (j.contains("index")) {
-            op.controlPoints.push_back(int3(j["index"], path + ".index"));
-            op.values = vector3(j[valueKey], path + "." + valueKey).transpose();
-        } else {
-            const json& ids = j["indices"];
-            if (!ids.is_array() || ids.empty()) fail(path + ".indices", "expected a non-empty array of [i,j,k]");
-            for (size_t c = 0; c < ids.size(); ++c)
-                op.controlPoints.push_back(int3(ids[c], path + ".indices[" + std::to_string(c) + "]"));
-            const json& values = j[valueKey];
-            const std::string vp = path + "." + valueKey;
-            op.values.resize(static_cast<Eigen::Index>(ids.size()), 3);
-            if (values.is_array() && values.size() == 3 && values[0].is_number()) {
-                // One offset/position for every listed point.
-                const Eigen::Vector3d v = vector3(values, vp);
-                for (Eigen::Index c = 0; c < op.values.rows(); ++c) op.values.row(c) = v.transpose();
+    op.kind = info->kind;
+    using K = core::ScriptOp::Kind;
+    switch (op.kind) {
+        case K::Drag: {
+            op.constraints = parseConstraints(required(j, "constraints", path), path + ".constraints", false);
+            op.brush = parseBrush(j, path);
+            parseRecorded(j, path, op);
+            break;
+        }
+        case K::DragVertex: {
+            op.vertex = integer(required(j, "vertex", path), path + ".vertex");
+            op.target = vector3(required(j, "target", path), path + ".target");
+            op.brush = parseBrush(j, path);
+            break;
+        }
+        case K::MoveControlPoint: {
+            parseRecorded(j, path, op);
+            if (j.contains("to") == j.contains("by")) fail(path, "needs exactly one of \"to\" and \"by\"");
+            if (j.contains("index") == j.contains("indices")) fail(path, "needs exactly one of \"index\" and \"indices\"");
+            op.relative = j.contains("by");
+            const char* valueKey = op.relative ? "by" : "to";
+            if (j.contains("index")) {
+                op.controlPoints.push_back(int3(j["index"], path + ".index"));
+                op.values = vector3(j[valueKey], path + "." + valueKey).transpose();
             } else {
-                if (!values.is_array() || values.size() != ids.size())
-                    fail(vp, "expected one [x,y,z] per index, or a single [x,y,z]");
+                const json& ids = j["indices"];
+                if (!ids.is_array() || ids.empty()) fail(path + ".indices", "expected a non-empty array of [i,j,k]");
                 for (size_t c = 0; c < ids.size(); ++c)
-                    op.values.row(static_cast<Eigen::Index>(c)) = vector3(values[c], vp + "[" + std::to_string(c) + "]").transpose();
+                    op.controlPoints.push_back(int3(ids[c], path + ".indices[" + std::to_string(c) + "]"));
+                const json& values = j[valueKey];
+                const std::string vp = path + "." + valueKey;
+                op.values.resize(static_cast<Eigen::Index>(ids.size()), 3);
+                if (values.is_array() && values.size() == 3 && values[0].is_number()) {
+                    // One offset/position for every listed point.
+                    const Eigen::Vector3d v = vector3(values, vp);
+                    for (Eigen::Index c = 0; c < op.values.rows(); ++c) op.values.row(c) = v.transpose();
+                } else {
+                    if (!values.is_array() || values.size() != ids.size())
+                        fail(vp, "expected one [x,y,z] per index, or a single [x,y,z]");
+                    for (size_t c = 0; c < ids.size(); ++c)
+                        op.values.row(static_cast<Eigen::Index>(c)) = vector3(values[c], vp + "[" + std::to_string(c) + "]").transpose();
+                }
             }
+            break;
         }
-    } else if (name == "setup_lattice") {
-        allowOnly(j, path, {"op", "lattice", "applied"});
-        op.kind = core::ScriptOp::Kind::SetupLattice;
-        parseRecorded(j, path, op);
-        if (j.contains("lattice") && !j["lattice"].is_null()) {
-            op.hasSettings = true;
-            op.settings = parseLattice(j["lattice"], path + ".lattice");
-        }
-    } else if (name == "set_pins") {
-        allowOnly(j, path, {"op", "pin", "unpin"});
-        op.kind = core::ScriptOp::Kind::SetPins;
-        for (const char* key : {"pin", "unpin"}) {
-            if (!j.contains(key)) continue;
-            const json& ids = j[key];
-            const std::string kp = path + "." + key;
-            if (!ids.is_array()) fail(kp, "expected an array of [i,j,k]");
-            auto& list = std::string(key) == "pin" ? op.controlPoints : op.unpinned;
-            for (size_t c = 0; c < ids.size(); ++c) list.push_back(int3(ids[c], kp + "[" + std::to_string(c) + "]"));
-        }
-    } else if (name == "add_lattice" || name == "edit_lattice") {
-        op.kind = name == "add_lattice" ? core::ScriptOp::Kind::AddLattice : core::ScriptOp::Kind::EditLattice;
-        const bool edit = op.kind == core::ScriptOp::Kind::EditLattice;
-        if (edit) allowOnly(j, path, {"op", "name", "lattice", "file", "place", "index", "edits"});
-        else allowOnly(j, path, {"op", "name", "lattice", "file", "place", "index"});
-        if (edit) op.toolIndex = integer(required(j, "index", path), path + ".index");
-        else if (j.contains("index")) fail(path + ".index", "add_lattice appends to the list; it takes no index");
-        if (edit && j.contains("edits")) op.netEdits = parseEdits(j["edits"], path + ".edits");
-        op.tool = parseTool(j, path, edit);
-    } else if (name == "remove_lattice") {
-        allowOnly(j, path, {"op", "index"});
-        op.kind = core::ScriptOp::Kind::RemoveLattice;
-        op.toolIndex = integer(required(j, "index", path), path + ".index");
-    } else if (name == "freeze") {
-        allowOnly(j, path, {"op", "index", "pin_layers", "applied"});
-        op.kind = core::ScriptOp::Kind::Freeze;
-        op.toolIndex = integer(required(j, "index", path), path + ".index");
-        if (j.contains("pin_layers")) op.pinLayers = integer(j["pin_layers"], path + ".pin_layers");
-        if (op.pinLayers < 0 || op.pinLayers > 3) fail(path + ".pin_layers", "expected 0 to 3");
-        parseRecorded(j, path, op);
-    } else if (name == "unfreeze") {
-        allowOnly(j, path, {"op", "applied"});
-        op.kind = core::ScriptOp::Kind::Unfreeze;
-        parseRecorded(j, path, op);
-    } else if (name == "setup_tspline") {
-        // Song & Yang 2005, sec. 4 / sec. 6 steps 1-3 (core::Session::setupTSpline).
-        allowOnly(j, path, {"op", "depth", "weight_ratio", "region", "root", "name", "freeze"});
-        op.kind = core::ScriptOp::Kind::SetupTSpline;
-        core::TSplineSetup& setup = op.tspline;
-        setup.octree.octree.depth = integer(required(j, "depth", path), path + ".depth");
-        if (setup.octree.octree.depth < 1 || setup.octree.octree.depth > core::kMaxTSplineSetupDepth)
-            fail(path + ".depth", "expected 1 to " + std::to_string(core::kMaxTSplineSetupDepth) + " levels of octree subdivision");
-        if (j.contains("weight_ratio")) {
-            setup.octree.weightRatio = number(j["weight_ratio"], path + ".weight_ratio");
-            if (!(setup.octree.weightRatio > 0.0)) fail(path + ".weight_ratio", "expected a number > 0 (heavy : light weights)");
-        }
-        if (j.contains("root")) {
-            setup.octree.octree.rootCount = int3(j["root"], path + ".root");
-            for (int a = 0; a < 3; ++a)
-                if (setup.octree.octree.rootCount[a] < 1 || setup.octree.octree.rootCount[a] > core::kMaxTSplineSetupRootCells)
-                    fail(path + ".root[" + std::to_string(a) + "]", "expected 1 to " + std::to_string(core::kMaxTSplineSetupRootCells) + " root cells");
-        }
-        if (j.contains("region") && !j["region"].is_null()) {
-            const json& r = j["region"];
-            const std::string rp = path + ".region";
-            allowOnly(r, rp, {"min", "max"});
-            setup.hasRegion = true;
-            setup.regionMin = vector3(required(r, "min", rp), rp + ".min");
-            setup.regionMax = vector3(required(r, "max", rp), rp + ".max");
-            if (!(setup.regionMin.array() < setup.regionMax.array()).all()) fail(rp, "\"min\" must be below \"max\" on every axis");
-        }
-        if (j.contains("name")) setup.name = text(j["name"], path + ".name");
-        if (j.contains("freeze")) {
-            if (!j["freeze"].is_boolean()) fail(path + ".freeze", "expected true or false");
-            setup.freeze = j["freeze"].get<bool>();
-        }
-    } else if (name == "subdivide_cells") {
-        // Song & Yang 2005, sec. 6 step 2 / Fig. 11 (core::Session::subdivideTSplineCells).
-        allowOnly(j, path, {"op", "index", "cells", "at", "balance"});
-        op.kind = core::ScriptOp::Kind::SubdivideCells;
-        op.toolIndex = integer(required(j, "index", path), path + ".index");
-        if (!j.contains("cells") && !j.contains("at")) fail(path, "needs \"cells\" (cell ids) or \"at\" (points whose cells are subdivided)");
-        if (j.contains("cells")) {
-            op.cells = intList(j["cells"], path + ".cells");
-            for (size_t c = 0; c < op.cells.size(); ++c)
-                if (op.cells[c] < 0) fail(path + ".cells[" + std::to_string(c) + "]", "expected a cell id >= 0");
-        }
-        if (j.contains("at")) {
-            const Eigen::MatrixX3d points = vectorRows(j["at"], path + ".at");
-            for (Eigen::Index p = 0; p < points.rows(); ++p) op.cellPoints.push_back(points.row(p).transpose());
-        }
-        if (op.cells.empty() && op.cellPoints.empty()) fail(path, "\"cells\" and \"at\" name no cell");
-        if (j.contains("balance")) {
-            if (!j["balance"].is_boolean()) fail(path + ".balance", "expected true or false");
-            op.balance = j["balance"].get<bool>();
-        }
-    } else if (name == "set_weights" || name == "hammer" || name == "crimp") {
-        // Sculpting by weights (Song & Yang 2005 sec. 1 and 6; core::Session::sculptWeights).
-        core::WeightToolSettings& tool = op.weightTool;
-        if (name == "set_weights") {
-            allowOnly(j, path, {"op", "ids", "weights", "applied"});
-            op.kind = core::ScriptOp::Kind::SetWeights;
-            tool.tool = core::WeightToolSettings::Tool::SetWeights;
-            tool.ids = intList(required(j, "ids", path), path + ".ids");
-            tool.weights = numberList(required(j, "weights", path), path + ".weights");
-            if (tool.ids.size() != tool.weights.size()) fail(path + ".weights", "expected one weight per id");
-            for (size_t c = 0; c < tool.weights.size(); ++c)
-                if (!(tool.weights[c] > 0.0)) fail(path + ".weights[" + std::to_string(c) + "]", "expected a weight > 0");
-        } else {
-            const bool hammer = name == "hammer";
-            if (hammer) allowOnly(j, path, {"op", "vertex", "control_point", "radius", "height", "scale", "applied"});
-            else allowOnly(j, path, {"op", "vertex", "control_point", "radius", "width_factor", "applied"});
-            op.kind = hammer ? core::ScriptOp::Kind::Hammer : core::ScriptOp::Kind::Crimp;
-            tool.tool = hammer ? core::WeightToolSettings::Tool::Hammer : core::WeightToolSettings::Tool::Crimp;
-            tool.vertex = integer(required(j, "vertex", path), path + ".vertex");
-            if (j.contains("control_point")) tool.controlPoint = integer(j["control_point"], path + ".control_point");
-            if (j.contains("radius")) {
-                tool.radius = number(j["radius"], path + ".radius");
-                if (tool.radius < 0.0) fail(path + ".radius", "expected a distance >= 0");
+        case K::SetupLattice: {
+            parseRecorded(j, path, op);
+            if (j.contains("lattice") && !j["lattice"].is_null()) {
+                op.hasSettings = true;
+                op.settings = parseLattice(j["lattice"], path + ".lattice");
             }
-            if (hammer) {
-                if (j.contains("height") == j.contains("scale")) fail(path, "needs one of \"height\" (the vertex's height after) or \"scale\" (of the bump)");
-                tool.hasHeight = j.contains("height");
-                if (tool.hasHeight) tool.height = number(j["height"], path + ".height");
-                else tool.scale = number(j["scale"], path + ".scale");
+            break;
+        }
+        case K::SetPins: {
+            for (const char* key : {"pin", "unpin"}) {
+                if (!j.contains(key)) continue;
+                const json& ids = j[key];
+                const std::string kp = path + "." + key;
+                if (!ids.is_array()) fail(kp, "expected an array of [i,j,k]");
+                auto& list = std::string(key) == "pin" ? op.controlPoints : op.unpinned;
+                for (size_t c = 0; c < ids.size(); ++c) list.push_back(int3(ids[c], kp + "[" + std::to_string(c) + "]"));
+            }
+            break;
+        }
+        case K::AddLattice:
+        case K::EditLattice: {
+            const bool edit = op.kind == core::ScriptOp::Kind::EditLattice;
+            if (edit) op.toolIndex = integer(required(j, "index", path), path + ".index");
+            else if (j.contains("index")) fail(path + ".index", "add_lattice appends to the list; it takes no index");
+            if (edit && j.contains("edits")) op.netEdits = parseEdits(j["edits"], path + ".edits");
+            op.tool = parseTool(j, path, edit);
+            break;
+        }
+        case K::RemoveLattice: {
+            op.toolIndex = integer(required(j, "index", path), path + ".index");
+            break;
+        }
+        case K::Freeze: {
+            op.toolIndex = integer(required(j, "index", path), path + ".index");
+            if (j.contains("pin_layers")) op.pinLayers = integer(j["pin_layers"], path + ".pin_layers");
+            if (op.pinLayers < 0 || op.pinLayers > 3) fail(path + ".pin_layers", "expected 0 to 3");
+            parseRecorded(j, path, op);
+            break;
+        }
+        case K::Unfreeze: {
+            parseRecorded(j, path, op);
+            break;
+        }
+        case K::SetupTSpline: {
+            // Song & Yang 2005, sec. 4 / sec. 6 steps 1-3 (core::Session::setupTSpline).
+            core::TSplineSetup& setup = op.tspline;
+            setup.octree.octree.depth = integer(required(j, "depth", path), path + ".depth");
+            if (setup.octree.octree.depth < 1 || setup.octree.octree.depth > core::kMaxTSplineSetupDepth)
+                fail(path + ".depth", "expected 1 to " + std::to_string(core::kMaxTSplineSetupDepth) + " levels of octree subdivision");
+            if (j.contains("weight_ratio")) {
+                setup.octree.weightRatio = number(j["weight_ratio"], path + ".weight_ratio");
+                if (!(setup.octree.weightRatio > 0.0)) fail(path + ".weight_ratio", "expected a number > 0 (heavy : light weights)");
+            }
+            if (j.contains("root")) {
+                setup.octree.octree.rootCount = int3(j["root"], path + ".root");
+                for (int a = 0; a < 3; ++a)
+                    if (setup.octree.octree.rootCount[a] < 1 || setup.octree.octree.rootCount[a] > core::kMaxTSplineSetupRootCells)
+                        fail(path + ".root[" + std::to_string(a) + "]", "expected 1 to " + std::to_string(core::kMaxTSplineSetupRootCells) + " root cells");
+            }
+            if (j.contains("region") && !j["region"].is_null()) {
+                const json& r = j["region"];
+                const std::string rp = path + ".region";
+                allowOnly(r, rp, {"min", "max"});
+                setup.hasRegion = true;
+                setup.regionMin = vector3(required(r, "min", rp), rp + ".min");
+                setup.regionMax = vector3(required(r, "max", rp), rp + ".max");
+                if (!(setup.regionMin.array() < setup.regionMax.array()).all()) fail(rp, "\"min\" must be below \"max\" on every axis");
+            }
+            if (j.contains("name")) setup.name = text(j["name"], path + ".name");
+            if (j.contains("freeze")) {
+                if (!j["freeze"].is_boolean()) fail(path + ".freeze", "expected true or false");
+                setup.freeze = j["freeze"].get<bool>();
+            }
+            break;
+        }
+        case K::SubdivideCells: {
+            // Song & Yang 2005, sec. 6 step 2 / Fig. 11 (core::Session::subdivideTSplineCells).
+            op.toolIndex = integer(required(j, "index", path), path + ".index");
+            if (!j.contains("cells") && !j.contains("at")) fail(path, "needs \"cells\" (cell ids) or \"at\" (points whose cells are subdivided)");
+            if (j.contains("cells")) {
+                op.cells = intList(j["cells"], path + ".cells");
+                for (size_t c = 0; c < op.cells.size(); ++c)
+                    if (op.cells[c] < 0) fail(path + ".cells[" + std::to_string(c) + "]", "expected a cell id >= 0");
+            }
+            if (j.contains("at")) {
+                const Eigen::MatrixX3d points = vectorRows(j["at"], path + ".at");
+                for (Eigen::Index p = 0; p < points.rows(); ++p) op.cellPoints.push_back(points.row(p).transpose());
+            }
+            if (op.cells.empty() && op.cellPoints.empty()) fail(path, "\"cells\" and \"at\" name no cell");
+            if (j.contains("balance")) {
+                if (!j["balance"].is_boolean()) fail(path + ".balance", "expected true or false");
+                op.balance = j["balance"].get<bool>();
+            }
+            break;
+        }
+        case K::SetWeights:
+        case K::Hammer:
+        case K::Crimp: {
+            // Sculpting by weights (Song & Yang 2005 sec. 1 and 6; core::Session::sculptWeights).
+            core::WeightToolSettings& tool = op.weightTool;
+            if (op.kind == K::SetWeights) {
+                tool.tool = core::WeightToolSettings::Tool::SetWeights;
+                tool.ids = intList(required(j, "ids", path), path + ".ids");
+                tool.weights = numberList(required(j, "weights", path), path + ".weights");
+                if (tool.ids.size() != tool.weights.size()) fail(path + ".weights", "expected one weight per id");
+                for (size_t c = 0; c < tool.weights.size(); ++c)
+                    if (!(tool.weights[c] > 0.0)) fail(path + ".weights[" + std::to_string(c) + "]", "expected a weight > 0");
             } else {
-                tool.widthFactor = number(required(j, "width_factor", path), path + ".width_factor");
-                if (!(tool.widthFactor > 0.0)) fail(path + ".width_factor", "expected a factor > 0");
+                const bool hammer = op.kind == K::Hammer;
+                    tool.tool = hammer ? core::WeightToolSettings::Tool::Hammer : core::WeightToolSettings::Tool::Crimp;
+                tool.vertex = integer(required(j, "vertex", path), path + ".vertex");
+                if (j.contains("control_point")) tool.controlPoint = integer(j["control_point"], path + ".control_point");
+                if (j.contains("radius")) {
+                    tool.radius = number(j["radius"], path + ".radius");
+                    if (tool.radius < 0.0) fail(path + ".radius", "expected a distance >= 0");
+                }
+                if (hammer) {
+                    if (j.contains("height") == j.contains("scale")) fail(path, "needs one of \"height\" (the vertex's height after) or \"scale\" (of the bump)");
+                    tool.hasHeight = j.contains("height");
+                    if (tool.hasHeight) tool.height = number(j["height"], path + ".height");
+                    else tool.scale = number(j["scale"], path + ".scale");
+                } else {
+                    tool.widthFactor = number(required(j, "width_factor", path), path + ".width_factor");
+                    if (!(tool.widthFactor > 0.0)) fail(path + ".width_factor", "expected a factor > 0");
+                }
             }
+            parseRecorded(j, path, op);
+            break;
         }
-        parseRecorded(j, path, op);
-    } else if (name == "begin_group") {
-        allowOnly(j, path, {"op", "label"});
-        op.kind = core::ScriptOp::Kind::BeginGroup;
-        if (j.contains("label")) {
-            if (!j["label"].is_string()) fail(path + ".label", "expected a string");
-            op.label = j["label"].get<std::string>();
+        case K::BeginGroup: {
+            if (j.contains("label")) {
+                if (!j["label"].is_string()) fail(path + ".label", "expected a string");
+                op.label = j["label"].get<std::string>();
+            }
+            break;
         }
-    } else if (name == "end_group") {
-        allowOnly(j, path, {"op"});
-        op.kind = core::ScriptOp::Kind::EndGroup;
-    } else if (name == "group") {
-        allowOnly(j, path, {"op", "first", "label"});
-        op.kind = core::ScriptOp::Kind::Group;
-        op.groupFirst = integer(required(j, "first", path), path + ".first");
-        if (j.contains("label")) {
-            if (!j["label"].is_string()) fail(path + ".label", "expected a string");
-            op.label = j["label"].get<std::string>();
+        case K::EndGroup: break;
+        case K::Group: {
+            op.groupFirst = integer(required(j, "first", path), path + ".first");
+            if (j.contains("label")) {
+                if (!j["label"].is_string()) fail(path + ".label", "expected a string");
+                op.label = j["label"].get<std::string>();
+            }
+            break;
         }
-    } else if (name == "refine") {
-        allowOnly(j, path, {"op", "tolerance", "applied"});
-        op.kind = core::ScriptOp::Kind::Refine;
-        if (j.contains("tolerance")) op.tolerance = tolerance(j["tolerance"], path + ".tolerance");
-        parseRecorded(j, path, op);
-    } else if (name == "set_refinement") {
-        allowOnly(j, path, {"op", "automatic", "tolerance", "max_rounds", "max_vertices"});
-        op.kind = core::ScriptOp::Kind::SetRefinement;
-        op.refinement = parseRefinementSettings(j, path);
-    } else if (name == "undo" || name == "redo") {
-        allowOnly(j, path, {"op"});
-        op.kind = name == "undo" ? core::ScriptOp::Kind::Undo : core::ScriptOp::Kind::Redo;
-    } else if (name == "screenshot") {
-        allowOnly(j, path, {"op", "path"});
-        op.kind = core::ScriptOp::Kind::Screenshot;
-        const json& p = required(j, "path", path);
-        if (!p.is_string() || p.get<std::string>().empty()) fail(path + ".path", "expected a file path");
-        op.path = p.get<std::string>();
-    } else {
-        fail(path + ".op", "unknown op \"" + name +
-                               "\" (known: drag, drag_vertex, move_control_point, setup_lattice, set_pins, add_lattice, edit_lattice, remove_lattice, freeze, unfreeze, setup_tspline, subdivide_cells, set_weights, hammer, crimp, begin_group, end_group, group, refine, set_refinement, undo, redo, screenshot)");
+        case K::Refine: {
+            if (j.contains("tolerance")) op.tolerance = tolerance(j["tolerance"], path + ".tolerance");
+            parseRecorded(j, path, op);
+            break;
+        }
+        case K::SetRefinement: {
+            op.refinement = parseRefinementSettings(j, path);
+            break;
+        }
+        case K::Undo:
+        case K::Redo: break;
+        case K::Screenshot: {
+            const json& p = required(j, "path", path);
+            if (!p.is_string() || p.get<std::string>().empty()) fail(path + ".path", "expected a file path");
+            op.path = p.get<std::string>();
+            break;
+        }
     }
     return op;
 }

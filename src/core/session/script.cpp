@@ -1,37 +1,64 @@
 #include "core/session/script.h"
+#include "core/session/script_ops.h"
 
 #include <algorithm>
 #include <chrono>
 
 namespace sculpt::core {
 
+const std::vector<ScriptOpInfo>& scriptOps() {
+    using K = ScriptOp::Kind;
+    static const std::vector<ScriptOpInfo> table = {
+        {K::Drag, "drag", {"constraints", "radius", "strength", "falloff", "symmetry", "applied", "cancelled"}},
+        {K::DragVertex, "drag_vertex", {"vertex", "target", "radius", "strength", "falloff", "symmetry"}},
+        {K::MoveControlPoint, "move_control_point", {"index", "indices", "to", "by", "applied", "cancelled"}},
+        {K::SetupLattice, "setup_lattice", {"lattice", "applied"}},
+        {K::SetPins, "set_pins", {"pin", "unpin"}},
+        {K::BeginGroup, "begin_group", {"label"}},
+        {K::EndGroup, "end_group", {}},
+        {K::Group, "group", {"first", "label"}},
+        {K::Refine, "refine", {"tolerance", "applied"}},
+        {K::SetRefinement, "set_refinement", {"automatic", "tolerance", "max_rounds", "max_vertices"}},
+        {K::Undo, "undo", {}},
+        {K::Redo, "redo", {}},
+        {K::Screenshot, "screenshot", {"path"}},
+        // "index" is read only to say that add_lattice takes none.
+        {K::AddLattice, "add_lattice", {"name", "lattice", "file", "place", "index"}},
+        {K::EditLattice, "edit_lattice", {"index", "name", "lattice", "file", "place", "edits"}},
+        {K::RemoveLattice, "remove_lattice", {"index"}},
+        {K::Freeze, "freeze", {"index", "pin_layers", "applied"}},
+        {K::Unfreeze, "unfreeze", {"applied"}},
+        {K::SetupTSpline, "setup_tspline", {"depth", "weight_ratio", "region", "root", "name", "freeze"}},
+        {K::SubdivideCells, "subdivide_cells", {"index", "cells", "at", "balance"}},
+        {K::SetWeights, "set_weights", {"ids", "weights", "applied"}},
+        {K::Hammer, "hammer", {"vertex", "control_point", "radius", "height", "scale", "applied"}},
+        {K::Crimp, "crimp", {"vertex", "control_point", "radius", "width_factor", "applied"}},
+    };
+    return table;
+}
+
+const ScriptOpInfo& scriptOpInfo(ScriptOp::Kind kind) {
+    for (const ScriptOpInfo& info : scriptOps())
+        if (info.kind == kind) return info;
+    static const ScriptOpInfo none{};  // not reached: the table has every kind (tested)
+    return none;
+}
+
+const ScriptOpInfo* findScriptOp(const std::string& name) {
+    for (const ScriptOpInfo& info : scriptOps())
+        if (name == info.name) return &info;
+    return nullptr;
+}
+
+std::string scriptOpNames() {
+    std::string names;
+    for (const ScriptOpInfo& info : scriptOps()) names += (names.empty() ? "" : ", ") + std::string(info.name);
+    return names;
+}
+
 const char* scriptOpName(ScriptOp::Kind kind) {
-    switch (kind) {
-        case ScriptOp::Kind::Drag: return "drag";
-        case ScriptOp::Kind::DragVertex: return "drag_vertex";
-        case ScriptOp::Kind::MoveControlPoint: return "move_control_point";
-        case ScriptOp::Kind::Undo: return "undo";
-        case ScriptOp::Kind::Redo: return "redo";
-        case ScriptOp::Kind::Screenshot: return "screenshot";
-        case ScriptOp::Kind::SetupLattice: return "setup_lattice";
-        case ScriptOp::Kind::SetPins: return "set_pins";
-        case ScriptOp::Kind::BeginGroup: return "begin_group";
-        case ScriptOp::Kind::EndGroup: return "end_group";
-        case ScriptOp::Kind::Group: return "group";
-        case ScriptOp::Kind::AddLattice: return "add_lattice";
-        case ScriptOp::Kind::EditLattice: return "edit_lattice";
-        case ScriptOp::Kind::RemoveLattice: return "remove_lattice";
-        case ScriptOp::Kind::Freeze: return "freeze";
-        case ScriptOp::Kind::Unfreeze: return "unfreeze";
-        case ScriptOp::Kind::Refine: return "refine";
-        case ScriptOp::Kind::SetRefinement: return "set_refinement";
-        case ScriptOp::Kind::SetupTSpline: return "setup_tspline";
-        case ScriptOp::Kind::SubdivideCells: return "subdivide_cells";
-        case ScriptOp::Kind::SetWeights: return "set_weights";
-        case ScriptOp::Kind::Hammer: return "hammer";
-        case ScriptOp::Kind::Crimp: return "crimp";
-    }
-    return "?";
+    const char* name = scriptOpInfo(kind).name;
+    return *name ? name : "?";
 }
 
 namespace {

@@ -1,0 +1,162 @@
+// The table of script ops (core/session/script_ops.h) against what uses it: the reader takes exactly the
+// fields an entry lists, the writer writes no other, and the docs' op reference (docs/scripting.md "Every op"
+// and the page each row points to) names every op and every field.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/session/script.h"
+#include "core/session/script_ops.h"
+#include "core/volume/lattice_net.h"
+#include "io/script_json.h"
+
+using namespace sculpt;
+using json = nlohmann::json;
+
+namespace {
+
+std::string readDoc(const std::string& name) {
+    std::ifstream in(std::string(SCULPT_SOURCE_DIR) + "/docs/" + name);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+Status parseOne(const json& op, core::Script& script) {
+    const json root = {{"ops", json::array({op})}};
+    return io::parseScript(root.dump(), "ops.json", script);
+}
+
+constexpr int kKinds = static_cast<int>(core::ScriptOp::Kind::Crimp) + 1;
+
+}  // namespace
+
+TEST_CASE("script ops: one table entry per kind, and the reader takes exactly the fields it lists", "[io][script]") {
+    const std::vector<core::ScriptOpInfo>& table = core::scriptOps();
+    REQUIRE(table.size() == static_cast<size_t>(kKinds));
+    std::set<std::string> names;
+    for (int k = 0; k < kKinds; ++k) {
+        const core::ScriptOpInfo& info = core::scriptOpInfo(static_cast<core::ScriptOp::Kind>(k));
+        INFO("kind " << k << " " << info.name);
+        CHECK(static_cast<int>(info.kind) == k);
+        CHECK(std::string(core::scriptOpName(info.kind)) == info.name);
+        CHECK(core::findScriptOp(info.name) == &info);
+        CHECK(names.insert(info.name).second);
+        // A field the entry does not list is refused, named.
+        core::Script script;
+        Status s = parseOne({{"op", info.name}, {"no_such_field", 1}}, script);
+        CHECK(!s.ok);
+        CHECK(s.message.find("ops[0].no_such_field: unknown field") != std::string::npos);
+        // Each listed field is one the reader knows: given a value of no type any field takes, the error is
+        // about that value (or a field missing), never that the field is unknown.
+        for (const char* field : info.fields) {
+            INFO("field " << field);
+            core::Script other;
+            s = parseOne({{"op", info.name}, {field, json::object({{"no", "such"}})}}, other);
+            CHECK(s.message.find("ops[0]." + std::string(field) + ": unknown field") == std::string::npos);
+        }
+    }
+    // A name no op has: refused, naming every op from the table.
+    core::Script script;
+    const Status s = parseOne({{"op", "sculpt_everything"}}, script);
+    CHECK(!s.ok);
+    CHECK(s.message.find("unknown op \"sculpt_everything\" (known: " + core::scriptOpNames() + ")") != std::string::npos);
+}
+
+TEST_CASE("script ops: the writer writes only fields the table lists, and reads back what it wrote", "[io][script]") {
+    core::Script script;
+    for (int k = 0; k < kKinds; ++k) {
+        core::ScriptOp op;
+        op.kind = static_cast<core::ScriptOp::Kind>(k);
+        // Values the reader accepts for every kind's required fields.
+        op.constraints = {core::PointConstraint{Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(0.1, 0.4, 0.3)}};
+        op.controlPoints = {{1, 1, 1}};
+        op.values = Eigen::RowVector3d(0.0, 0.1, 0.0);
+        op.relative = true;
+        op.path = "shot.png";
+        op.tspline.octree.octree.depth = 2;
+        op.toolIndex = 0;
+        op.cells = {0};
+        op.weightTool.ids = {0};
+        op.weightTool.weights = {2.0};
+        op.weightTool.scale = 1.5;
+        op.weightTool.widthFactor = 0.5;
+        op.refinement.options.tolerance = 0.01;
+        op.vertex = 3;
+        if (op.kind == core::ScriptOp::Kind::AddLattice || op.kind == core::ScriptOp::Kind::EditLattice) {
+            core::LatticeNet net;
+            REQUIRE(core::makeParallelepipedNet(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), {1, 1, 1}, {1, 1, 1}, net).ok);
+            op.tool.volume = std::make_shared<const core::LatticeNet>(std::move(net));
+            op.tool.name = "box";
+        }
+        script.ops.push_back(op);
+    }
+    const std::string text = io::scriptToJson(script);
+    const json written = json::parse(text);
+    REQUIRE(written["ops"].size() == static_cast<size_t>(kKinds));
+    for (int k = 0; k < kKinds; ++k) {
+        const core::ScriptOpInfo& info = core::scriptOpInfo(static_cast<core::ScriptOp::Kind>(k));
+        const json& op = written["ops"][static_cast<size_t>(k)];
+        INFO(info.name << ": " << op.dump());
+        CHECK(op["op"] == info.name);
+        const std::set<std::string> allowed(info.fields.begin(), info.fields.end());
+        for (auto it = op.begin(); it != op.end(); ++it)
+            if (it.key() != "op") CHECK(allowed.count(it.key()) == 1);
+    }
+    core::Script back;
+    const Status s = io::parseScript(text, "written.json", back);
+    INFO(s.message);
+    REQUIRE(s.ok);
+    REQUIRE(back.ops.size() == script.ops.size());
+    for (size_t i = 0; i < back.ops.size(); ++i) CHECK(back.ops[i].kind == script.ops[i].kind);
+}
+
+TEST_CASE("script ops: the docs' op reference names every op of the table and every field of each", "[io][script]") {
+    const std::string reference = readDoc("scripting.md");
+    const size_t from = reference.find("## Every op"), to = reference.find("## Script format");
+    REQUIRE(from != std::string::npos);
+    REQUIRE(to != std::string::npos);
+    const std::string table = reference.substr(from, to - from);
+    // The recording fields are described once, for every op that has them, in scripting.md's recording bullet.
+    const size_t applied = reference.find("`\"applied\"` on"), cancelled = reference.find("`\"cancelled\": true` on");
+    REQUIRE(applied != std::string::npos);
+    REQUIRE(cancelled != std::string::npos);
+    const std::string appliedOps = reference.substr(applied, reference.find(" (the", applied) - applied);
+    const std::string cancelledOps = reference.substr(cancelled, reference.find("taken back", cancelled) - cancelled);
+    std::set<std::string> listed;
+    std::istringstream lines(table);
+    const std::regex row(R"(^\| (`[a-z_]+`(, `[a-z_]+`)*) \| [^|]+ \| \[[^\]]+\]\(([a-z_]*\.md)?[^)]*\) \|$)");
+    int rows = 0;
+    for (std::string line; std::getline(lines, line);) {
+        std::smatch match;
+        if (!std::regex_match(line, match, row)) continue;
+        ++rows;
+        const std::string page = match[3].matched ? match[3].str() : std::string("scripting.md");
+        const std::string text = readDoc(page);
+        REQUIRE(!text.empty());
+        const std::regex name("`([a-z_]+)`");
+        const std::string names = match[1].str();
+        for (auto it = std::sregex_iterator(names.begin(), names.end(), name); it != std::sregex_iterator(); ++it) {
+            const std::string op = (*it)[1].str();
+            INFO("op " << op << " (described in " << page << ")");
+            CHECK(listed.insert(op).second);  // one row each
+            const core::ScriptOpInfo* info = core::findScriptOp(op);
+            REQUIRE(info != nullptr);  // the docs name no op the program lacks
+            for (const char* field : info->fields) {
+                INFO("field " << field);
+                if (std::string(field) == "applied") CHECK(appliedOps.find("`" + op + "`") != std::string::npos);
+                else if (std::string(field) == "cancelled") CHECK(cancelledOps.find("`" + op + "`") != std::string::npos);
+                else CHECK((text.find("`" + std::string(field) + "`") != std::string::npos || text.find("\"" + std::string(field) + "\"") != std::string::npos));
+            }
+        }
+    }
+    CHECK(rows >= 8);
+    // Every op of the table has its row.
+    for (const core::ScriptOpInfo& info : core::scriptOps()) CHECK(listed.count(info.name) == 1);
+}
