@@ -366,16 +366,46 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
         report.wallMs = millisecondsSince(start);
         return Status::success();
     }
-    Operation operation;
-    operation.kind = OperationKind::Drag;
-    operation.label = constraints.size() == 1 ? "drag" : "drag (" + std::to_string(constraints.size()) + " points)";
-    if (brush.symmetry.any()) operation.label += ", symmetric in " + symmetryText(brush.symmetry);
-    operation.constraints = constraints;
-    operation.brush = brush;
-    const Status status = runManipulation(std::move(m), std::move(operation), report);
+    // The window's drag with one update (session_drag.cpp): one increment solved in the cage through its
+    // layers (Hu et al. 2001, eq. 12), applied when injective, otherwise subdivided (Gain & Dodgson 2001,
+    // Appendix) or refused whole, as every move of a drag in the window.
+    std::vector<Eigen::Vector3d> userTargets;
+    for (const PointConstraint& c : constraints) userTargets.push_back(c.target);
+    if (Status s = beginDragAt(sources, {}, brush); !s) return s;
+    dragOperation_.interactive = false;
+    dragOperation_.constraints = constraints;  // as asked: a replay on another mesh decides them again
+    const Status updated = updateDrag(userTargets, report);
+    if (!updated || report.status != OpStatus::Applied) {
+        finishDrag(nullptr);  // nothing applied: nothing is pushed
+        report.op = "drag";
+        report.subSteps = 0;
+        report.wallMs = millisecondsSince(start);
+        return updated;
+    }
+    if (report.subSteps > 1)  // why it had to be split: what the move in one step would have done
+        report.reason = "subdivided into " + std::to_string(report.subSteps) + " injective steps: in one step " + report.failureWords;
+    std::vector<int> changed;
+    for (const Step& step : dragOperation_.steps) changed.insert(changed.end(), step.delta.indices.begin(), step.delta.indices.end());
+    std::sort(changed.begin(), changed.end());
+    report.controlPointsChanged = static_cast<int>(std::unique(changed.begin(), changed.end()) - changed.begin());
+    // Each constraint's miss (its mirror images' too), as the targets were asked.
+    report.residuals.clear();
+    report.rankDeficient = false;
+    double worst = 0.0;
+    for (size_t f = 0; f < m.targets.size(); ++f) {
+        report.residuals.push_back((m.targets[f] - dragSourceWorld_[f]).norm());
+        worst = std::max(worst, report.residuals.back());
+    }
+    if (worst > 1e-9 * lattice_.diagonal()) {
+        report.rankDeficient = true;
+        report.reason = "the constraints contradict each other or ask more than the free control points can give (largest miss " +
+                        std::to_string(worst) + "): met as closely as possible; use fewer constraints, unpin points, or a finer lattice";
+    }
+    finishDrag(&report);
+    report.op = "drag";
     trimResiduals(report, constraints.size());
     report.wallMs = millisecondsSince(start);
-    return status;
+    return Status::success();
 }
 
 std::string Session::unreachableDragCause(const Manipulation& m) const {

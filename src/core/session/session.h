@@ -400,6 +400,9 @@ private:
     Status applyWeightTool(const WeightToolSettings& settings, Step step, const std::string& label, OpReport& report);
     void restoreSnapshot(Snapshot& snapshot);
     Status runManipulation(Manipulation m, Operation operation, OpReport& report);
+    // endDrag's work: the drag's operation, refined when the setting is automatic (what the refinement did
+    // goes to report when not null), its layers baked, pushed as one history entry when it changed something.
+    void finishDrag(OpReport* report);
     // The drag state beginDragAt's two ways (a stroke, a solved drag) share: the operation, its label, the mirror.
     void startMirroredDrag(const std::string& label, const std::vector<Eigen::Vector3d>& sources, std::vector<MirroredConstraint> mirror,
                            const BrushSettings& brush);

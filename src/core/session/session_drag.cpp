@@ -188,8 +188,14 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
         lastMoved_ = std::move(progress.moved);
         report.status = OpStatus::Rejected;
         detail::noteFailure(report, progress.failure, true);
-        report.reason = "Refused: " + report.failureWords + ". The drag stays at the last valid position; " +
-                        stepFailureAdvice(progress.failure.cause) + ".";
+        if (dragOperation_.interactive)
+            report.reason = "Refused: " + report.failureWords + ". The drag stays at the last valid position; " +
+                            stepFailureAdvice(progress.failure.cause) + ".";
+        else if (progress.failure.cause == StepFailure::Cause::SourceLeft)  // a scripted drag (its one move)
+            report.reason = progress.failure.technical + "; nothing was changed";
+        else
+            report.reason = "refused: " + report.failureWords + ", even split into up to " + std::to_string(1 << injectivity_.maxDepth) +
+                            " steps; nothing was changed (" + stepFailureAdvice(progress.failure.cause) + ")";
         report.injectivity = "rejected: " + progress.failure.technical;
         return false;
     }
@@ -431,13 +437,15 @@ Status Session::setDragLabel(const std::string& label) {
     return Status::success();
 }
 
-void Session::endDrag() {
+void Session::endDrag() { finishDrag(nullptr); }
+
+void Session::finishDrag(OpReport* report) {
     if (!dragActive_) return;
     dragActive_ = false;
     layerActive_ = false;  // the next operation starts in the cage
     strokeOutsideCage_ = 0;
     if (!dragOperation_.steps.empty()) {
-        refineAfterEdit(dragOperation_, nullptr);
+        refineAfterEdit(dragOperation_, report);
         if (bakeLayers(dragOperation_.steps)) dragOperation_.steps.back().baked = true;  // the detail travels with the surface
         pushOperation(std::move(dragOperation_));
     }
