@@ -388,12 +388,14 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     for (const Step& step : dragOperation_.steps) changed.insert(changed.end(), step.delta.indices.begin(), step.delta.indices.end());
     std::sort(changed.begin(), changed.end());
     report.controlPointsChanged = static_cast<int>(std::unique(changed.begin(), changed.end()) - changed.begin());
-    // Each constraint's miss (its mirror images' too), as the targets were asked.
+    // Each constraint's miss (its mirror images' too), as the targets were asked: from where the last step put
+    // each source (evaluated at the parameters that step solved for, not found again by Newton's method).
     report.residuals.clear();
     report.rankDeficient = false;
     double worst = 0.0;
+    const std::vector<PointConstraint>& reached = dragOperation_.steps.back().constraints;
     for (size_t f = 0; f < m.targets.size(); ++f) {
-        report.residuals.push_back((m.targets[f] - dragSourceWorld_[f]).norm());
+        report.residuals.push_back((m.targets[f] - (f < reached.size() ? reached[f].target : dragSourceWorld_[f])).norm());
         worst = std::max(worst, report.residuals.back());
     }
     if (worst > 1e-9 * lattice_.diagonal()) {

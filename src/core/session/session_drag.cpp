@@ -187,6 +187,7 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
         progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
         lastMoved_ = std::move(progress.moved);
         report.status = OpStatus::Rejected;
+        report.depthReached = increments.depthReached;
         detail::noteFailure(report, progress.failure, true);
         if (dragOperation_.interactive)
             report.reason = "Refused: " + report.failureWords + ". The drag stays at the last valid position; " +
@@ -200,7 +201,9 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
         return false;
     }
     for (Step& step : increments.steps) {
-        if (!step.freshFrame && !dragOperation_.steps.empty() && dragAppliedInFrame_) {
+        // A window drag's increments in one frame add up to one step (Hu et al. 2001, section 4); a scripted
+        // drag keeps each injective step as InjectSubdiv made it (its recording lists them).
+        if (dragOperation_.interactive && !step.freshFrame && !dragOperation_.steps.empty() && dragAppliedInFrame_) {
             mergeDelta(dragOperation_.steps.back().delta, step.delta);
             for (size_t f = 0; f < step.constraints.size(); ++f)
                 dragOperation_.steps.back().constraints[f].target = step.constraints[f].target;
