@@ -446,3 +446,66 @@ TEST_CASE("subdivision: after a subdivided drag, moving the whole cage rigidly m
     CHECK(subdivided >= 6);
     CHECK(baked >= subdivided / 2);
 }
+
+// One drag path (the issue "A house a newcomer can live in", point 2): a scripted drag is the window's drag with
+// one update. Random drags (fixed seed) of one to three points on an icosphere, with and without symmetry and
+// strength, under both tests, many of them subdivided or refused: Session::drag and beginDragAt + updateDrag +
+// endDrag give the same status, the same sub-steps and the same vertices bit for bit, and one undo takes each
+// back exactly.
+TEST_CASE("one drag path: a scripted drag and the window's drag of one update give the same result", "[core]") {
+    std::mt19937 rng(404);
+    Positions sphere;
+    Triangles triangles;
+    test::icosphere(3, 1.0, Eigen::Vector3d(0.1, -0.2, 0.3), sphere, triangles);
+    int subdivided = 0, refused = 0, applied = 0;
+    for (const InjectivityMode mode : {InjectivityMode::Exact, InjectivityMode::Conic}) {
+        LatticeSettings settings;
+        settings.resolution = {6, 6, 6};
+        Session scripted, window;
+        REQUIRE(scripted.setMesh(sphere, triangles, settings).ok);
+        REQUIRE(window.setMesh(sphere, triangles, settings).ok);
+        scripted.setInjectivity({mode, 5});
+        window.setInjectivity({mode, 5});
+        const double diagonal = scripted.lattice().diagonal();
+        for (int trial = 0; trial < 25; ++trial) {
+            std::vector<PointConstraint> constraints;
+            const int count = test::randomInt(rng, 1, 3);
+            for (int c = 0; c < count; ++c) {
+                const Eigen::Vector3d source = scripted.positions().row(test::randomInt(rng, 0, static_cast<int>(sphere.rows()) - 1)).transpose();
+                constraints.push_back({source, source + std::uniform_real_distribution<double>(0.05, 0.4)(rng) * diagonal * test::randomVector(rng, -1, 1).normalized()});
+            }
+            BrushSettings brush;
+            if (trial % 3 == 1) brush.symmetry.mirror[0] = true;
+            if (trial % 4 == 2) brush.strength = 0.5;
+            OpReport byScript, byWindow;
+            REQUIRE(scripted.drag(constraints, byScript, brush).ok);
+            std::vector<Eigen::Vector3d> sources, targets;
+            for (const PointConstraint& c : constraints) sources.push_back(c.source), targets.push_back(c.target);
+            const Status begun = window.beginDragAt(sources, {}, brush);
+            INFO("trial " << trial << ": " << byScript.reason << "; window: " << begun.message);
+            if (!begun) {  // what the script refuses before any work, the window's drag does not begin
+                CHECK(byScript.status == OpStatus::Rejected);
+                continue;
+            }
+            REQUIRE(window.updateDrag(targets, byWindow).ok);
+            window.endDrag();
+            INFO("trial " << trial << ": " << byScript.reason << " / " << byWindow.reason);
+            REQUIRE(byScript.status == byWindow.status);
+            CHECK(byScript.subSteps == byWindow.subSteps);
+            REQUIRE(scripted.positions() == window.positions());
+            REQUIRE(scripted.historyCursor() == window.historyCursor());
+            applied += byScript.status == OpStatus::Applied;
+            refused += byScript.status == OpStatus::Rejected;
+            subdivided += byScript.subSteps > 1;
+            if (byScript.status != OpStatus::Applied || trial % 2) continue;
+            const Positions before = scripted.positions();
+            OpReport undone;
+            REQUIRE(scripted.undo(undone).ok);
+            REQUIRE(window.undo(undone).ok);
+            CHECK(scripted.positions() == window.positions());
+        }
+    }
+    CHECK(applied >= 10);
+    CHECK(subdivided >= 3);
+    CHECK(refused >= 1);
+}
