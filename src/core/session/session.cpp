@@ -206,8 +206,6 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     }
     before_.resize(positions_.rows(), 3);
     history_.clear();
-    cursor_ = 0;
-    journal_.clear();
     meshFingerprint_ = fingerprint(original_, triangles_);
     lastMoved_.clear();
     lastMovedAll_ = true;

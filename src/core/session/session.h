@@ -40,6 +40,7 @@
 #include "core/injectivity/injectivity.h"
 #include "core/volume/lattice.h"
 #include "core/mesh_types.h"
+#include "core/session/history.h"
 #include "core/session/operation.h"
 #include "core/deform/refinement.h"
 #include "core/injectivity/self_intersection.h"
@@ -250,13 +251,13 @@ public:
     Eigen::Vector3d initialBoxMin() const { return initialBoxMin_; }
     Eigen::Vector3d initialBoxMax() const { return initialBoxMax_; }
     const Embedding& embedding() const { return embedding_; }
-    const std::vector<Operation>& history() const { return history_; }
+    const std::vector<Operation>& history() const { return history_.entries(); }
     // Every command since setMesh, in order (what recordSession writes).
-    const std::vector<JournalEntry>& journal() const { return journal_; }
+    const std::vector<JournalEntry>& journal() const { return history_.journal(); }
     // A hash of the mesh as set (positions bit for bit and triangles), naming it in recordings: a replay on
     // the mesh with this fingerprint repeats the recorded steps exactly.
     const std::string& meshFingerprint() const { return meshFingerprint_; }
-    int historyCursor() const { return cursor_; }  // entries [0, cursor) are applied
+    int historyCursor() const { return history_.cursor(); }  // entries [0, cursor) are applied
     // Lattices composed after the first one: frozen cages and layers.
     int frameDepth() const { return static_cast<int>(frames_.size() + layers_.size()); }
     // Bytes held by the history (operations and frozen frames), not counting the mesh itself.
@@ -462,8 +463,7 @@ private:
     Positions beforeCage_;         // #V: rows of cageOut_ a step changes, as they were before it
     Eigen::Vector3d symmetryCentre_ = Eigen::Vector3d::Zero();
     std::vector<FrozenFrame> frames_;
-    std::vector<Operation> history_;
-    int cursor_ = 0;
+    History history_;  // the operations and the journal (history.h)
     std::vector<LatticeTool> tools_;
     int frozenTool_ = -1;
     // A net lattice that does not hold every vertex keeps its boundary faces pinned: the vertices outside it
@@ -484,7 +484,6 @@ private:
     void applyToolChange(const Operation& operation, bool forward);
     // Applies a new LatticeTools operation and pushes it onto the history.
     Status pushToolChange(Operation operation, OpReport& report);
-    std::vector<JournalEntry> journal_;
     std::string meshFingerprint_;
     void journalPins();
     std::vector<int> lastMoved_;

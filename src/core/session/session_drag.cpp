@@ -468,7 +468,7 @@ Status Session::cancelDrag(OpReport& report) {
     revertSteps(dragOperation_.steps);
     layerActive_ = false;
     // Taking it back is an inverse manipulation, exact only up to rounding: the replay repeats it.
-    if (!dragOperation_.steps.empty()) journal_.push_back(JournalEntry{JournalEntry::Kind::CancelledDrag, dragOperation_, 0, {}, {}, {}});
+    if (!dragOperation_.steps.empty()) history_.note(JournalEntry{JournalEntry::Kind::CancelledDrag, dragOperation_, 0, {}, {}, {}}, false);
     report.status = dragOperation_.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;
     report.reason = dragOperation_.steps.empty() ? "the drag had not moved anything" : "the drag was taken back";
     report.subSteps = static_cast<int>(dragOperation_.steps.size());

@@ -19,15 +19,10 @@ using detail::millisecondsSince;
 using detail::vectorText;
 
 void Session::pushOperation(Operation operation) {
-    history_.resize(cursor_);  // a new operation after undo drops the redo branch
     // note: pins only change between operations, and fresh frames of the same settings inherit them, so the
     // pins at the end of the operation are the ones every one of its steps was solved with.
     if (operation.kind != OperationKind::LatticeSetup) operation.pinToggles = pinToggles();
-    JournalEntry entry;
-    entry.operation = operation;
-    journal_.push_back(std::move(entry));
-    history_.push_back(std::move(operation));
-    cursor_ = static_cast<int>(history_.size());
+    history_.push(std::move(operation));
 }
 
 size_t Session::historyBytes() const {
@@ -41,9 +36,10 @@ size_t Session::historyBytes() const {
         bytes += op.refinement.splits.capacity() * sizeof(EdgeSplit) + op.refinement.halvings.capacity() * sizeof(TriangleHalving);
         return bytes;
     };
-    size_t bytes = history_.capacity() * sizeof(Operation) + frames_.capacity() * sizeof(FrozenFrame) + journal_.capacity() * sizeof(JournalEntry);
-    for (const Operation& op : history_) bytes += operationBytes(op);
-    for (const JournalEntry& entry : journal_) bytes += operationBytes(entry.operation) + entry.pinToggles.capacity() * sizeof(int);
+    size_t bytes = history_.entries().capacity() * sizeof(Operation) + frames_.capacity() * sizeof(FrozenFrame) +
+                   history_.journal().capacity() * sizeof(JournalEntry);
+    for (const Operation& op : history_.entries()) bytes += operationBytes(op);
+    for (const JournalEntry& entry : history_.journal()) bytes += operationBytes(entry.operation) + entry.pinToggles.capacity() * sizeof(int);
     for (const FrozenFrame& frame : frames_) bytes += deltaBytes(frame.displacement) + frame.pinToggles.capacity() * sizeof(int);
     return bytes;
 }
@@ -145,28 +141,29 @@ void Session::redoOperationBody(const Operation& operation) {
 
 Status Session::groupOperations(int first, const std::string& label) {
     if (dragActive_) return Status::error("an interactive drag is in progress");
-    if (cursor_ != static_cast<int>(history_.size())) return Status::error("a group must end at the last operation");
-    if (first < 0 || first > cursor_) return Status::error("the group's first operation is outside the history");
-    if (cursor_ == first) return Status::success();  // an empty group
+    if (!history_.atEnd()) return Status::error("a group must end at the last operation");
+    const int cursor = history_.cursor();
+    if (first < 0 || first > cursor) return Status::error("the group's first operation is outside the history");
+    if (cursor == first) return Status::success();  // an empty group
     if (Status s = checkGroupRefinement(first); !s) return s;
     bool keepWhole = false;  // tools added, removed or edited, or the frozen one changed: see Operation::parts
-    for (int i = first; i < cursor_; ++i) {
-        const Operation& op = history_[static_cast<size_t>(i)];
+    for (int i = first; i < cursor; ++i) {
+        const Operation& op = history_.entry(i);
         keepWhole = keepWhole || op.kind == OperationKind::LatticeTools || !op.parts.empty() ||
                     (op.kind == OperationKind::LatticeSetup && op.frozenBefore != op.frozenAfter);
     }
     Operation merged;
     if (keepWhole) {
         merged.kind = OperationKind::LatticeTools;
-        merged.frozenBefore = history_[static_cast<size_t>(first)].frozenBefore;
+        merged.frozenBefore = history_.entry(first).frozenBefore;
         merged.frozenAfter = frozenTool_;
-        merged.label = label.empty() ? history_[static_cast<size_t>(first)].label : label;
+        merged.label = label.empty() ? history_.entry(first).label : label;
     } else {
         merged.kind = OperationKind::LatticeSetup;
         const Operation* firstEdit = nullptr;
         const Operation* lastEdit = nullptr;
-        for (int i = first; i < cursor_; ++i) {
-            const Operation& op = history_[static_cast<size_t>(i)];
+        for (int i = first; i < cursor; ++i) {
+            const Operation& op = history_.entry(i);
             if (op.kind == OperationKind::LatticeSetup || op.kind == OperationKind::Refine) continue;
             if (firstEdit && op.kind != firstEdit->kind) return Status::error("a group mixes drags and control-point edits");
             if (!firstEdit) firstEdit = &op;
@@ -183,14 +180,14 @@ Status Session::groupOperations(int first, const std::string& label) {
             if (lastEdit->constraints.size() == merged.constraints.size())
                 for (size_t c = 0; c < merged.constraints.size(); ++c) merged.constraints[c].target = lastEdit->constraints[c].target;
         } else {
-            merged.settings = history_[static_cast<size_t>(cursor_ - 1)].settings;
-            if (history_[static_cast<size_t>(cursor_ - 1)].kind == OperationKind::Refine) merged.kind = OperationKind::Refine;
+            merged.settings = history_.entry(cursor - 1).settings;
+            if (history_.entry(cursor - 1).kind == OperationKind::Refine) merged.kind = OperationKind::Refine;
         }
         merged.interactive = true;
-        merged.label = label.empty() ? (firstEdit ? firstEdit->label : history_[static_cast<size_t>(first)].label) : label;
+        merged.label = label.empty() ? (firstEdit ? firstEdit->label : history_.entry(first).label) : label;
     }
-    for (int i = first; i < cursor_; ++i) {
-        Operation& op = history_[static_cast<size_t>(i)];
+    for (int i = first; i < cursor; ++i) {
+        Operation& op = history_.entry(i);
         merged.depthReached = std::max(merged.depthReached, op.depthReached);
         // The refinements, in order, are one sequence of splits (undone before the steps, redone after them).
         for (const EdgeSplit& split : op.refinement.splits) merged.refinement.splits.push_back(split);
@@ -214,10 +211,7 @@ Status Session::groupOperations(int first, const std::string& label) {
             merged.steps.push_back(std::move(step));
         }
     }
-    history_.resize(static_cast<size_t>(first));
-    history_.push_back(std::move(merged));
-    cursor_ = static_cast<int>(history_.size());
-    journal_.push_back(JournalEntry{JournalEntry::Kind::Group, {}, first, history_.back().label, {}, {}});
+    history_.replaceTail(first, std::move(merged));
     return Status::success();
 }
 
@@ -226,19 +220,18 @@ Status Session::undo(OpReport& report) {
     report = OpReport{};
     report.op = "undo";
     if (dragActive_) return Status::error("an interactive drag is in progress");
-    if (cursor_ == 0) {
+    if (history_.cursor() == 0) {
         report.status = OpStatus::NoOp;
         report.reason = "nothing to undo";
         return Status::success();
     }
-    const Operation& operation = history_[--cursor_];
+    const Operation& operation = history_.stepBack();
     lastMoved_.clear();
     lastMovedAll_ = false;
     const Positions before = positions_;  // to count what changed (not kept: the history holds no mesh)
     undoOperationBody(operation);
     removeRefinement(operation.refinement);
     countChangedVertices(before);
-    journal_.push_back(JournalEntry{JournalEntry::Kind::Undo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
     report.subSteps = static_cast<int>(operation.steps.size());
@@ -254,20 +247,19 @@ Status Session::redo(OpReport& report) {
     report = OpReport{};
     report.op = "redo";
     if (dragActive_) return Status::error("an interactive drag is in progress");
-    if (cursor_ == static_cast<int>(history_.size())) {
+    if (history_.atEnd()) {
         report.status = OpStatus::NoOp;
         report.reason = "nothing to redo";
         return Status::success();
     }
-    const Operation& operation = history_[cursor_++];
+    const Operation& operation = history_.stepForward();
     lastMoved_.clear();
     lastMovedAll_ = false;
     const Positions before = positions_;
     redoOperationBody(operation);
-    reapplyRefinement(history_[static_cast<size_t>(cursor_ - 1)]);
+    reapplyRefinement(history_.entry(history_.cursor() - 1));  // fills the record's halvings again
     bakeLastStep(operation);
     countChangedVertices(before);
-    journal_.push_back(JournalEntry{JournalEntry::Kind::Redo, {}, 0, {}, {}, {}});
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;
     report.subSteps = static_cast<int>(operation.steps.size());
@@ -308,10 +300,8 @@ Status Session::setPinned(const std::vector<int>& indices, bool pinned) {
 }
 
 void Session::journalPins() {
-    JournalEntry entry{JournalEntry::Kind::Pins, {}, 0, {}, pinToggles(), settings_};
     // Consecutive pin changes: only where they ended counts.
-    if (!journal_.empty() && journal_.back().kind == JournalEntry::Kind::Pins) journal_.back() = std::move(entry);
-    else journal_.push_back(std::move(entry));
+    history_.note(JournalEntry{JournalEntry::Kind::Pins, {}, 0, {}, pinToggles(), settings_}, true);
 }
 
 Status Session::replayOperation(const Operation& operation, bool cancelled, OpReport& report) {
@@ -364,12 +354,12 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
     if (cancelled) {
         revertSteps(operation.steps);
-        journal_.push_back(JournalEntry{JournalEntry::Kind::CancelledDrag, operation, 0, {}, {}, {}});
+        history_.note(JournalEntry{JournalEntry::Kind::CancelledDrag, operation, 0, {}, {}, {}}, false);
         report.reason = "replayed the steps of a drag that was taken back, and took them back";
     } else {
         pushOperation(operation);
-        reapplyRefinement(history_.back());
-        bakeLastStep(history_.back());
+        reapplyRefinement(history_.last());
+        bakeLastStep(history_.last());
         report.reason = "replayed " + operation.label + " as recorded (" + std::to_string(report.subSteps) + " steps)";
     }
     report.verticesMoved = movedCount();

@@ -151,13 +151,13 @@ Status Session::freezeLattice(int index, int pinLayers, OpReport& report) {
     report.op = "freeze";
     if (report.status != OpStatus::Applied) return Status::success();
     frozenTool_ = index;
-    Operation& operation = history_.back();
+    Operation& operation = history_.last();
     operation.label = "freeze lattice " + tools_[static_cast<size_t>(index)].name;
     operation.frozenBefore = before;
     operation.frozenAfter = index;
-    journal_.back().operation.label = operation.label;
-    journal_.back().operation.frozenBefore = before;
-    journal_.back().operation.frozenAfter = index;
+    history_.lastJournaled().label = operation.label;
+    history_.lastJournaled().frozenBefore = before;
+    history_.lastJournaled().frozenAfter = index;
     int inside = embedding_.insideCount();
     report.reason = "froze " + std::to_string(inside) + " of " + std::to_string(positions_.rows()) + " vertices in lattice " +
                     tools_[static_cast<size_t>(index)].name;
@@ -179,13 +179,13 @@ Status Session::unfreezeLattice(OpReport& report) {
     report.op = "unfreeze";
     if (report.status != OpStatus::Applied) return Status::success();
     frozenTool_ = -1;
-    Operation& operation = history_.back();
+    Operation& operation = history_.last();
     operation.label = "unfreeze lattice " + tools_[static_cast<size_t>(before)].name;
     operation.frozenBefore = before;
     operation.frozenAfter = -1;
-    journal_.back().operation.label = operation.label;
-    journal_.back().operation.frozenBefore = before;
-    journal_.back().operation.frozenAfter = -1;
+    history_.lastJournaled().label = operation.label;
+    history_.lastJournaled().frozenBefore = before;
+    history_.lastJournaled().frozenAfter = -1;
     return Status::success();
 }
 

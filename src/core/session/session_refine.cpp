@@ -45,16 +45,14 @@ Status Session::setRefinement(const RefinementSettings& settings) {
     JournalEntry entry;
     entry.kind = JournalEntry::Kind::Refinement;
     entry.refinement = settings;
-    // Consecutive changes: only where they ended counts.
-    if (!journal_.empty() && journal_.back().kind == JournalEntry::Kind::Refinement) journal_.back() = std::move(entry);
-    else journal_.push_back(std::move(entry));
+    history_.note(std::move(entry), true);  // consecutive changes: only where they ended counts
     return Status::success();
 }
 
 std::vector<EdgeSplit> Session::appliedSplits() const {
     std::vector<EdgeSplit> splits;
-    for (int i = 0; i < cursor_; ++i) {
-        const RefinementRecord& record = history_[static_cast<size_t>(i)].refinement;
+    for (int i = 0; i < history_.cursor(); ++i) {
+        const RefinementRecord& record = history_.entries()[static_cast<size_t>(i)].refinement;
         splits.insert(splits.end(), record.splits.begin(), record.splits.end());
     }
     return splits;
@@ -229,8 +227,8 @@ void Session::removeRefinement(const RefinementRecord& record) {
 
 Status Session::checkGroupRefinement(int first) const {
     bool refined = false;
-    for (int i = first; i < cursor_; ++i) {
-        const Operation& op = history_[static_cast<size_t>(i)];
+    for (int i = first; i < history_.cursor(); ++i) {
+        const Operation& op = history_.entries()[static_cast<size_t>(i)];
         for (const Step& step : op.steps)
             if (refined && step.newCage) return Status::error("a group cannot hold a lattice set-up after a refinement");
         refined = refined || !op.refinement.empty();

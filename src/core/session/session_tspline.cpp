@@ -56,7 +56,7 @@ Status Session::setupTSpline(const TSplineSetup& setup, OpReport& report) {
     if (Status s = makeOctreeTSplineVolumeInBox(positions_, region, octree, volume, &weights); !s) return s;
     const std::string name = setup.name.empty() ? std::string("tspline") : setup.name;
     const int index = static_cast<int>(tools_.size());
-    const int firstOperation = cursor_;
+    const int firstOperation = history_.cursor();
     OpReport added;
     if (Status s = addLatticeTool({name, volume}, added); !s) return s;
     // The heavy points are those at the largest weight (sec. 4's non-empty cells); the weights fall off from
@@ -140,9 +140,9 @@ Status Session::subdivideTSplineCells(int index, const std::vector<int>& cells, 
     const int pointsBefore = tspline->controlPointCount();
     if (Status s = editLatticeTool(index, {name, finer}, report); !s) return s;
     report.op = "subdivide_cells";
-    Operation& operation = history_.back();
+    Operation& operation = history_.last();
     operation.label = "subdivide " + std::to_string(chosen.size()) + (chosen.size() == 1 ? " cell" : " cells") + " of lattice " + name;
-    journal_.back().operation.label = operation.label;
+    history_.lastJournaled().label = operation.label;
     report.reason = "lattice " + name + ": " + std::to_string(before) + " -> " + std::to_string(finer->lattice().cells.size()) + " cells, " +
                     std::to_string(pointsBefore) + " -> " + std::to_string(finer->controlPointCount()) + " control points";
     if (weights.ratioReduced) report.reason += " [" + weights.message + "]";
