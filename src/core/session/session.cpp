@@ -160,7 +160,7 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
                                      std::to_string(positions.rows()) + " vertices)");
     Lattice lattice;
     if (Status s = makeLattice(settings, positions, lattice); !s) return s;
-    dragActive_ = false;
+    drag_.active = false;
     original_ = positions;
     rest_ = positions;
     positions_ = positions;
@@ -293,7 +293,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     report = OpReport{};
     report.op = "drag";
     if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     if (constraints.empty()) return Status::error("drag has no constraints");
     if (Status s = checkBrush(brush); !s) return s;
     layerActive_ = false;
@@ -370,8 +370,8 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     std::vector<Eigen::Vector3d> userTargets;
     for (const PointConstraint& c : constraints) userTargets.push_back(c.target);
     if (Status s = beginDragAt(sources, {}, brush); !s) return s;
-    dragOperation_.interactive = false;
-    dragOperation_.constraints = constraints;  // as asked: a replay on another mesh decides them again
+    drag_.operation.interactive = false;
+    drag_.operation.constraints = constraints;  // as asked: a replay on another mesh decides them again
     const Status updated = updateDrag(userTargets, report);
     if (!updated || report.status != OpStatus::Applied) {
         finishDrag(nullptr);  // nothing applied: nothing is pushed
@@ -383,7 +383,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     if (report.subSteps > 1)  // why it had to be split: what the move in one step would have done
         report.reason = "subdivided into " + std::to_string(report.subSteps) + " injective steps: in one step " + report.failureWords;
     std::vector<int> changed;
-    for (const Step& step : dragOperation_.steps) changed.insert(changed.end(), step.delta.indices.begin(), step.delta.indices.end());
+    for (const Step& step : drag_.operation.steps) changed.insert(changed.end(), step.delta.indices.begin(), step.delta.indices.end());
     std::sort(changed.begin(), changed.end());
     report.controlPointsChanged = static_cast<int>(std::unique(changed.begin(), changed.end()) - changed.begin());
     // Each constraint's miss (its mirror images' too), as the targets were asked: from where the last step put
@@ -391,9 +391,9 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     report.residuals.clear();
     report.rankDeficient = false;
     double worst = 0.0;
-    const std::vector<PointConstraint>& reached = dragOperation_.steps.back().constraints;
+    const std::vector<PointConstraint>& reached = drag_.operation.steps.back().constraints;
     for (size_t f = 0; f < m.targets.size(); ++f) {
-        report.residuals.push_back((m.targets[f] - (f < reached.size() ? reached[f].target : dragSourceWorld_[f])).norm());
+        report.residuals.push_back((m.targets[f] - (f < reached.size() ? reached[f].target : drag_.sourceWorld[f])).norm());
         worst = std::max(worst, report.residuals.back());
     }
     if (worst > 1e-9 * lattice_.diagonal()) {
@@ -498,7 +498,7 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     report = OpReport{};
     report.op = "move_control_point";
     if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     if (indices.empty()) return Status::error("no control point given");
     if (static_cast<Eigen::Index>(indices.size()) != values.rows())
         return Status::error("control point ids and values differ in count");
@@ -628,7 +628,7 @@ Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) 
     report = OpReport{};
     report.op = "setup_lattice";
     if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     Eigen::Vector3d lo, hi;
     if (Status s = latticeBox(settings, positions_, lo, hi); !s) return s;
     Operation operation;

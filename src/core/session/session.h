@@ -40,6 +40,7 @@
 #include "core/injectivity/injectivity.h"
 #include "core/volume/lattice.h"
 #include "core/mesh_types.h"
+#include "core/session/drag_state.h"
 #include "core/session/history.h"
 #include "core/session/operation.h"
 #include "core/deform/refinement.h"
@@ -202,7 +203,7 @@ public:
     // Ends the drag in progress by undoing what it applied (its inverse manipulation, step by step), leaving
     // the shape and the history as they were before beginDrag. No drag in progress: NoOp.
     Status cancelDrag(OpReport& report);
-    bool dragging() const { return dragActive_; }
+    bool dragging() const { return drag_.active; }
     // Current world positions of the sources of the drag in progress (with symmetry, the mirror images too).
     std::vector<Eigen::Vector3d> dragSources() const;
     // Current world positions of the sources as given to beginDragAt (without mirror images; a held source
@@ -412,7 +413,7 @@ private:
     // Keeps the first `userConstraints` residuals (the constraints the user gave) and judges the fit on them.
     void trimResiduals(OpReport& report, size_t userConstraints) const;
     // One increment of an interactive drag: `delta` in the current frame when that is injective, otherwise m
-    // subdivided; merged into dragOperation_. Returns false (report says why, nothing changed) if rejected.
+    // subdivided; merged into drag_.operation. Returns false (report says why, nothing changed) if rejected.
     bool applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report);
     // One update of a brush stroke (session_brush.cpp): `steps` (the stroke's steps: a layer per moving grabbed
     // image, each its own pull; or none) is replaced by
@@ -421,9 +422,8 @@ private:
     // share applied (0: none of this pull); failure: what stopped it when below 1. Sets lastMoved_.
     double applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps, OpReport& report,
                            StepFailure& failure);
-    // A brush drag's update: the stroke's pulls towards `targets` (one per dragMirror_ entry), with the report.
+    // A brush drag's update: the stroke's pulls towards `targets` (one per drag_.mirror entry), with the report.
     void updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
-    std::vector<Eigen::Vector3d> strokeReached_;  // applyBrushPulls: where each grabbed image is now
     int strokeOutsideCage_ = 0;                    // strokeVerticesOutsideCage()
     // Adds an increment applied in the current frame to the interactive operation's last step (or a new one).
     void mergeInteractiveStep(const ControlDelta& delta);
@@ -498,24 +498,10 @@ private:
     int initialDegenerateTriangles_ = 0;
     void accumulateFrameJacobian(bool divide);
 
-    bool dragActive_ = false;
-    DirectManipulationData dragData_;
-    Operation dragOperation_;
-    std::vector<Eigen::Vector3d> dragSourceWorld_;  // where the drag's sources currently are
-    std::vector<Eigen::Vector3d> dragParams_;       // their parameters in the active lattice
-    bool dragAppliedInFrame_ = false;
-    // With a brush or symmetry (beginDragAt): the user's sources at the start, what each solved constraint
-    // follows, and the brush.
-    bool dragMirrored_ = false;
-    std::vector<Eigen::Vector3d> dragUserStarts_;
-    std::vector<MirroredConstraint> dragMirror_;
-    std::vector<bool> dragPulled_;  // a stroke's, per constraint of dragMirror_: pulled (not held)
+    DragState drag_;  // the drag in progress (drag_state.h)
     // While applyBrushPulls runs: the vertices its regions can reach (ascending), the only ones a region layer
     // entered then embeds (a stroke's region holds thousands of a million vertices).
     const std::vector<int>* layerCandidates_ = nullptr;
-    BrushSettings dragBrush_;
-    // The cage's points as shown when a control-point drag began (with layers: the drag moves those).
-    Positions dragControlStart_;
     // Adds an increment's control delta (per point, in the cage) for an interactive control-point drag.
     void applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& shownOffsets, OpReport& report);
 

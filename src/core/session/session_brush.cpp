@@ -136,10 +136,10 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
     // that keeps stopping short stops near there again, so the search starts there (a mouse move costs
     // five trials instead of eight; the first update of a stroke, a scripted drag's only one, searches all).
     double hint = 0.0;
-    if (hadStep && strokeReached_.size() == pulls.size())
+    if (hadStep && drag_.strokeReached.size() == pulls.size())
         for (size_t k = 0; k < pulls.size(); ++k)
             if (pulls[k].moving()) {
-                hint = (strokeReached_[k] - pulls[k].source).dot(pulls[k].pull) / pulls[k].pull.squaredNorm();
+                hint = (drag_.strokeReached[k] - pulls[k].source).dot(pulls[k].pull) / pulls[k].pull.squaredNorm();
                 break;
             }
     const auto clearStroke = [&] {
@@ -217,11 +217,11 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
         steps = previous;
     }
     // Where the grabbed images are now: the last layer's constraints hold every image's place.
-    strokeReached_.clear();
+    drag_.strokeReached.clear();
     if (!steps.empty())
-        for (const PointConstraint& c : steps.back().constraints) strokeReached_.push_back(c.target);
+        for (const PointConstraint& c : steps.back().constraints) drag_.strokeReached.push_back(c.target);
     else
-        for (const BrushPull& p : pulls) strokeReached_.push_back(p.source);
+        for (const BrushPull& p : pulls) drag_.strokeReached.push_back(p.source);
     // Held points (pins inside the region) and crossing regions are met by the minimum-norm correction; where
     // the free control points cannot, the report says so.
     if (share > 0.0 && residual > 1e-9 * brush.radius) {

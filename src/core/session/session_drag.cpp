@@ -25,7 +25,7 @@ std::string dragLabel(size_t constraints) {
 
 Status Session::beginDrag(const std::vector<Eigen::Vector3d>& sourceParams) {
     if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is already in progress");
+    if (drag_.active) return Status::error("an interactive drag is already in progress");
     if (sourceParams.empty()) return Status::error("a drag needs at least one source");
     for (size_t f = 0; f < sourceParams.size(); ++f)
         if (!sourceParams[f].allFinite() || (sourceParams[f].array() < 0.0).any() || (sourceParams[f].array() > 1.0).any())
@@ -33,44 +33,44 @@ Status Session::beginDrag(const std::vector<Eigen::Vector3d>& sourceParams) {
     layerActive_ = false;  // cage parameters
     DirectManipulationData data;
     if (Status s = precomputeDirectManipulation(lattice_, sourceParams, data); !s) return s;
-    dragData_ = std::move(data);
-    dragOperation_ = Operation{};
-    dragOperation_.kind = OperationKind::Drag;
-    dragOperation_.interactive = true;
-    dragOperation_.label = dragLabel(sourceParams.size());
-    dragSourceWorld_.clear();
+    drag_.data = std::move(data);
+    drag_.operation = Operation{};
+    drag_.operation.kind = OperationKind::Drag;
+    drag_.operation.interactive = true;
+    drag_.operation.label = dragLabel(sourceParams.size());
+    drag_.sourceWorld.clear();
     for (const Eigen::Vector3d& t : sourceParams) {
-        dragSourceWorld_.push_back(currentImage(t));
-        dragOperation_.constraints.push_back({dragSourceWorld_.back(), dragSourceWorld_.back()});
+        drag_.sourceWorld.push_back(currentImage(t));
+        drag_.operation.constraints.push_back({drag_.sourceWorld.back(), drag_.sourceWorld.back()});
     }
-    dragParams_ = sourceParams;
-    dragAppliedInFrame_ = false;
-    dragMirrored_ = false;
-    dragBrush_ = BrushSettings{};
-    dragActive_ = true;
+    drag_.params = sourceParams;
+    drag_.appliedInFrame = false;
+    drag_.mirrored = false;
+    drag_.brush = BrushSettings{};
+    drag_.active = true;
     return Status::success();
 }
 
 void Session::startMirroredDrag(const std::string& label, const std::vector<Eigen::Vector3d>& sources, std::vector<MirroredConstraint> mirror,
                                 const BrushSettings& brush) {
-    dragOperation_ = Operation{};
-    dragOperation_.kind = OperationKind::Drag;
-    dragOperation_.interactive = true;
-    dragOperation_.label = label;
-    if (brush.symmetry.any()) dragOperation_.label += ", symmetric in " + symmetryText(brush.symmetry);
-    dragOperation_.brush = brush;
-    for (const Eigen::Vector3d& source : sources) dragOperation_.constraints.push_back({source, source});
-    dragAppliedInFrame_ = false;
-    dragMirrored_ = true;
-    dragUserStarts_ = sources;
-    dragMirror_ = std::move(mirror);
-    dragBrush_ = brush;
-    dragActive_ = true;
+    drag_.operation = Operation{};
+    drag_.operation.kind = OperationKind::Drag;
+    drag_.operation.interactive = true;
+    drag_.operation.label = label;
+    if (brush.symmetry.any()) drag_.operation.label += ", symmetric in " + symmetryText(brush.symmetry);
+    drag_.operation.brush = brush;
+    for (const Eigen::Vector3d& source : sources) drag_.operation.constraints.push_back({source, source});
+    drag_.appliedInFrame = false;
+    drag_.mirrored = true;
+    drag_.userStarts = sources;
+    drag_.mirror = std::move(mirror);
+    drag_.brush = brush;
+    drag_.active = true;
 }
 
 Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held, const BrushSettings& brush) {
     if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is already in progress");
+    if (drag_.active) return Status::error("an interactive drag is already in progress");
     if (sources.empty()) return Status::error("a drag needs at least one source");
     if (Status s = checkBrush(brush); !s) return s;
     for (size_t f = 0; f < sources.size(); ++f)
@@ -83,10 +83,10 @@ Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const s
         std::vector<bool> moving;
         for (const MirroredConstraint& c : mirror) moving.push_back(!isHeld(static_cast<size_t>(c.images.front().first)));
         if (std::find(moving.begin(), moving.end(), true) == moving.end()) return Status::error("every source of the drag is held");
-        dragSourceWorld_.clear();
-        for (const MirroredConstraint& c : mirror) dragSourceWorld_.push_back(c.source);
-        dragParams_.clear();
-        dragPulled_ = std::move(moving);
+        drag_.sourceWorld.clear();
+        for (const MirroredConstraint& c : mirror) drag_.sourceWorld.push_back(c.source);
+        drag_.params.clear();
+        drag_.pulled = std::move(moving);
         startMirroredDrag("brush " + dragLabel(sources.size()), sources, std::move(mirror), brush);
         return Status::success();
     }
@@ -101,17 +101,17 @@ Status Session::beginDragAt(const std::vector<Eigen::Vector3d>& sources, const s
     DirectManipulationData data;
     if (located) located = precomputeDirectManipulation(activeLattice(), params, data);
     if (!located) return located;
-    dragData_ = std::move(data);
-    dragSourceWorld_.clear();
-    for (const Eigen::Vector3d& t : params) dragSourceWorld_.push_back(currentImage(t));
-    dragParams_ = std::move(params);
+    drag_.data = std::move(data);
+    drag_.sourceWorld.clear();
+    for (const Eigen::Vector3d& t : params) drag_.sourceWorld.push_back(currentImage(t));
+    drag_.params = std::move(params);
     startMirroredDrag(dragLabel(sources.size()), sources, std::move(mirror), brush);
     return Status::success();
 }
 
 Status Session::beginControlDrag(const std::vector<int>& indices) {
     if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is already in progress");
+    if (drag_.active) return Status::error("an interactive drag is already in progress");
     if (indices.empty()) return Status::error("no control point given");
     std::vector<int> sorted = indices;
     std::sort(sorted.begin(), sorted.end());
@@ -119,44 +119,44 @@ Status Session::beginControlDrag(const std::vector<int>& indices) {
     for (int idx : sorted)
         if (Status s = checkMovable(idx); !s) return s;
     layerActive_ = false;
-    dragOperation_ = Operation{};
-    dragOperation_.kind = OperationKind::ControlPointEdit;
-    dragOperation_.interactive = true;
-    dragOperation_.label = sorted.size() == 1 ? "move control point" : "move " + std::to_string(sorted.size()) + " control points";
-    dragOperation_.controlPoints = sorted;
-    dragOperation_.offsets = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(sorted.size()), 3);
-    dragControlStart_.resize(static_cast<Eigen::Index>(sorted.size()), 3);
+    drag_.operation = Operation{};
+    drag_.operation.kind = OperationKind::ControlPointEdit;
+    drag_.operation.interactive = true;
+    drag_.operation.label = sorted.size() == 1 ? "move control point" : "move " + std::to_string(sorted.size()) + " control points";
+    drag_.operation.controlPoints = sorted;
+    drag_.operation.offsets = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(sorted.size()), 3);
+    drag_.controlStart.resize(static_cast<Eigen::Index>(sorted.size()), 3);
     for (size_t c = 0; c < sorted.size(); ++c)
-        dragControlStart_.row(static_cast<Eigen::Index>(c)) = pushThroughLayers(lattice_.controlPoint(sorted[c])).transpose();
-    dragSourceWorld_.clear();
-    dragParams_.clear();
-    dragAppliedInFrame_ = false;
-    dragMirrored_ = false;
-    dragActive_ = true;
+        drag_.controlStart.row(static_cast<Eigen::Index>(c)) = pushThroughLayers(lattice_.controlPoint(sorted[c])).transpose();
+    drag_.sourceWorld.clear();
+    drag_.params.clear();
+    drag_.appliedInFrame = false;
+    drag_.mirrored = false;
+    drag_.active = true;
     return Status::success();
 }
 
-std::vector<Eigen::Vector3d> Session::dragSources() const { return dragSourceWorld_; }
+std::vector<Eigen::Vector3d> Session::dragSources() const { return drag_.sourceWorld; }
 
 std::vector<Eigen::Vector3d> Session::dragUserSources() const {
-    if (!dragMirrored_) return dragSourceWorld_;
-    std::vector<Eigen::Vector3d> sources = dragUserStarts_;
-    for (size_t e = 0; e < dragMirror_.size(); ++e)
-        if (dragMirror_[e].images.front().second == 0) sources[static_cast<size_t>(dragMirror_[e].images.front().first)] = dragSourceWorld_[e];
+    if (!drag_.mirrored) return drag_.sourceWorld;
+    std::vector<Eigen::Vector3d> sources = drag_.userStarts;
+    for (size_t e = 0; e < drag_.mirror.size(); ++e)
+        if (drag_.mirror[e].images.front().second == 0) sources[static_cast<size_t>(drag_.mirror[e].images.front().first)] = drag_.sourceWorld[e];
     return sources;
 }
 
 void Session::mergeInteractiveStep(const ControlDelta& delta) {
-    if (!dragOperation_.steps.empty() && dragAppliedInFrame_) {
-        mergeDelta(dragOperation_.steps.back().delta, delta);
+    if (!drag_.operation.steps.empty() && drag_.appliedInFrame) {
+        mergeDelta(drag_.operation.steps.back().delta, delta);
     } else {
         Step step;
         step.settings = settings_;
         step.delta = delta;
-        for (const Eigen::Vector3d& source : dragSourceWorld_) step.constraints.push_back({source, source});
-        dragOperation_.steps.push_back(std::move(step));
+        for (const Eigen::Vector3d& source : drag_.sourceWorld) step.constraints.push_back({source, source});
+        drag_.operation.steps.push_back(std::move(step));
     }
-    dragAppliedInFrame_ = true;
+    drag_.appliedInFrame = true;
 }
 
 bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report) {
@@ -167,7 +167,7 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
     lastMovedAll_ = false;
     if (tryDelta(delta, &lastMoved_, failure, report.injectivityMs, report.triangleCheckMs)) {
         mergeInteractiveStep(delta);
-        for (size_t f = 0; f < dragParams_.size(); ++f) dragOperation_.steps.back().constraints[f].target = currentImage(dragParams_[f]);
+        for (size_t f = 0; f < drag_.params.size(); ++f) drag_.operation.steps.back().constraints[f].target = currentImage(drag_.params[f]);
         report.subSteps = 1;
         return true;
     }
@@ -176,7 +176,7 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
     Operation increments;
     Progress progress(scratch_);
     progress.operation = &increments;
-    progress.appliedInCurrentFrame = dragAppliedInFrame_;
+    progress.appliedInCurrentFrame = drag_.appliedInFrame;
     progress.firstFailure = failure;
     const bool ok = injectSubdiv(m, 0, progress);
     report.injectivityMs += progress.injectivityMs;
@@ -189,7 +189,7 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
         report.status = OpStatus::Rejected;
         report.depthReached = increments.depthReached;
         detail::noteFailure(report, progress.failure, true);
-        if (dragOperation_.interactive)
+        if (drag_.operation.interactive)
             report.reason = "Refused: " + report.failureWords + ". The drag stays at the last valid position; " +
                             stepFailureAdvice(progress.failure.cause) + ".";
         else if (progress.failure.cause == StepFailure::Cause::SourceLeft)  // a scripted drag (its one move)
@@ -203,16 +203,16 @@ bool Session::applyInteractiveIncrement(const ControlDelta& delta, Manipulation&
     for (Step& step : increments.steps) {
         // A window drag's increments in one frame add up to one step (Hu et al. 2001, section 4); a scripted
         // drag keeps each injective step as InjectSubdiv made it (its recording lists them).
-        if (dragOperation_.interactive && !step.freshFrame && !dragOperation_.steps.empty() && dragAppliedInFrame_) {
-            mergeDelta(dragOperation_.steps.back().delta, step.delta);
+        if (drag_.operation.interactive && !step.freshFrame && !drag_.operation.steps.empty() && drag_.appliedInFrame) {
+            mergeDelta(drag_.operation.steps.back().delta, step.delta);
             for (size_t f = 0; f < step.constraints.size(); ++f)
-                dragOperation_.steps.back().constraints[f].target = step.constraints[f].target;
+                drag_.operation.steps.back().constraints[f].target = step.constraints[f].target;
         } else {
-            dragOperation_.steps.push_back(std::move(step));
+            drag_.operation.steps.push_back(std::move(step));
         }
-        dragAppliedInFrame_ = true;
+        drag_.appliedInFrame = true;
     }
-    dragOperation_.depthReached = std::max(dragOperation_.depthReached, increments.depthReached);
+    drag_.operation.depthReached = std::max(drag_.operation.depthReached, increments.depthReached);
     std::sort(progress.moved.begin(), progress.moved.end());
     progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
     lastMoved_ = std::move(progress.moved);
@@ -227,23 +227,23 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "drag";
-    if (!dragActive_ || dragOperation_.kind != OperationKind::Drag) return Status::error("no interactive drag is in progress");
-    const size_t expected = dragMirrored_ ? dragUserStarts_.size() : dragSourceWorld_.size();
+    if (!drag_.active || drag_.operation.kind != OperationKind::Drag) return Status::error("no interactive drag is in progress");
+    const size_t expected = drag_.mirrored ? drag_.userStarts.size() : drag_.sourceWorld.size();
     if (userTargets.size() != expected) return Status::error("drag target count changed");
     for (const Eigen::Vector3d& t : userTargets)
         if (!t.allFinite()) return Status::error("drag target has non-finite coordinates");
     // With a brush or symmetry: the strength scales each move from where it began, and the mirror images
     // follow the mirrored targets.
     std::vector<Eigen::Vector3d> targets = userTargets;
-    if (dragMirrored_) {
+    if (drag_.mirrored) {
         std::vector<Eigen::Vector3d> scaled(userTargets.size());
         for (size_t u = 0; u < userTargets.size(); ++u)
-            scaled[u] = dragUserStarts_[u] + dragBrush_.strength * (userTargets[u] - dragUserStarts_[u]);
+            scaled[u] = drag_.userStarts[u] + drag_.brush.strength * (userTargets[u] - drag_.userStarts[u]);
         targets.clear();
-        for (const MirroredConstraint& c : dragMirror_) targets.push_back(mirroredTarget(c, scaled, dragUserStarts_));
+        for (const MirroredConstraint& c : drag_.mirror) targets.push_back(mirroredTarget(c, scaled, drag_.userStarts));
     }
 
-    if (dragMirrored_ && dragBrush_.active()) {
+    if (drag_.mirrored && drag_.brush.active()) {
         updateStroke(targets, report);
         report.wallMs = millisecondsSince(start);
         return Status::success();
@@ -256,7 +256,7 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
             report.reason = "Refused: the target " + vectorText(targets[f]) + " is not the image of any point inside the lattice.";
             return Status::success();
         }
-        increment.row(static_cast<Eigen::Index>(f)) = (target - activeImage(dragParams_[f])).transpose();
+        increment.row(static_cast<Eigen::Index>(f)) = (target - activeImage(drag_.params[f])).transpose();
     }
     if ((increment.array() == 0.0).all()) {
         report.status = OpStatus::NoOp;
@@ -264,9 +264,9 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
         return Status::success();
     }
     // One incremental manipulation omega(S, increment) with the factorisation made at begin (eq. 7 / 12).
-    const DirectManipulationResult solved = solveDirectManipulation(dragData_, increment);
+    const DirectManipulationResult solved = solveDirectManipulation(drag_.data, increment);
     Manipulation m;
-    for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(dragParams_[f]));
+    for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(currentImage(drag_.params[f]));
     m.targets = targets;
 
     const int framesBefore = frameDepth();
@@ -277,21 +277,21 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
     if (report.subSteps == 1 && frameDepth() == framesBefore) {
         report.residuals = solved.residuals;
         report.rankDeficient = solved.rankDeficient;
-        if (dragMirrored_) trimResiduals(report, dragUserStarts_.size());
+        if (drag_.mirrored) trimResiduals(report, drag_.userStarts.size());
     } else {
         // The active lattice may have changed: the sources' parameters are re-found where the steps left them.
-        for (size_t f = 0; f < m.sources.size(); ++f) parametersOfCurrentPoint(m.sources[f], dragParams_[f]);
+        for (size_t f = 0; f < m.sources.size(); ++f) parametersOfCurrentPoint(m.sources[f], drag_.params[f]);
         DirectManipulationData data;
-        precomputeDirectManipulation(activeLattice(), dragParams_, data);
-        dragData_ = std::move(data);
+        precomputeDirectManipulation(activeLattice(), drag_.params, data);
+        drag_.data = std::move(data);
     }
-    for (size_t f = 0; f < targets.size(); ++f) dragSourceWorld_[f] = currentImage(dragParams_[f]);
-    if (dragMirrored_) {
-        for (size_t e = 0; e < dragMirror_.size(); ++e)
-            if (dragMirror_[e].images.front().second == 0)
-                dragOperation_.constraints[static_cast<size_t>(dragMirror_[e].images.front().first)].target = dragSourceWorld_[e];
+    for (size_t f = 0; f < targets.size(); ++f) drag_.sourceWorld[f] = currentImage(drag_.params[f]);
+    if (drag_.mirrored) {
+        for (size_t e = 0; e < drag_.mirror.size(); ++e)
+            if (drag_.mirror[e].images.front().second == 0)
+                drag_.operation.constraints[static_cast<size_t>(drag_.mirror[e].images.front().first)].target = drag_.sourceWorld[e];
     } else {
-        for (size_t f = 0; f < targets.size(); ++f) dragOperation_.constraints[f].target = dragSourceWorld_[f];
+        for (size_t f = 0; f < targets.size(); ++f) drag_.operation.constraints[f].target = drag_.sourceWorld[f];
     }
     report.status = OpStatus::Applied;
     report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
@@ -304,20 +304,20 @@ Status Session::updateDrag(const std::vector<Eigen::Vector3d>& userTargets, OpRe
 void Session::updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport& report) {
     // Every pull from where the stroke began (brush_field.h): the region follows it, however long.
     std::vector<BrushPull> pulls;
-    for (size_t e = 0; e < dragMirror_.size(); ++e)
-        pulls.push_back({dragMirror_[e].source, dragPulled_[e] ? Eigen::Vector3d(targets[e] - dragMirror_[e].source) : Eigen::Vector3d::Zero()});
+    for (size_t e = 0; e < drag_.mirror.size(); ++e)
+        pulls.push_back({drag_.mirror[e].source, drag_.pulled[e] ? Eigen::Vector3d(targets[e] - drag_.mirror[e].source) : Eigen::Vector3d::Zero()});
     StepFailure failure;
-    const double share = applyBrushPulls(pulls, dragBrush_, dragOperation_.steps, report, failure);
-    if (share < 1.0 && dragBrush_.symmetry.any() &&
+    const double share = applyBrushPulls(pulls, drag_.brush, drag_.operation.steps, report, failure);
+    if (share < 1.0 && drag_.brush.symmetry.any() &&
         (failure.cause == StepFailure::Cause::Lattice || failure.cause == StepFailure::Cause::Triangles ||
          failure.cause == StepFailure::Cause::Uncertified)) {
         // A pull that carries its grabbed point onto or across a mirror plane meets the point's own mirror image
         // there: no injective symmetric deformation does that, so the stop is the symmetry's, not the mesh's.
-        const double merge = mirrorMergeDistance(dragBrush_);
+        const double merge = mirrorMergeDistance(drag_.brush);
         for (size_t e = 0; e < pulls.size() && failure.cause != StepFailure::Cause::MirrorPlane; ++e) {
             if (!pulls[e].moving()) continue;
             for (int a = 0; a < 3; ++a) {
-                if (!dragBrush_.symmetry.mirror[static_cast<size_t>(a)]) continue;
+                if (!drag_.brush.symmetry.mirror[static_cast<size_t>(a)]) continue;
                 const double from = pulls[e].source[a] - symmetryCentre_[a], to = from + pulls[e].pull[a];
                 if (std::abs(from) > merge && (to == 0.0 || (to > 0.0) != (from > 0.0))) {
                     failure.cause = StepFailure::Cause::MirrorPlane;
@@ -327,19 +327,19 @@ void Session::updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport
             }
         }
     }
-    for (size_t e = 0; e < dragMirror_.size(); ++e)
-        dragSourceWorld_[e] = strokeReached_[e];
-    for (size_t e = 0; e < dragMirror_.size(); ++e)
-        if (dragMirror_[e].images.front().second == 0)
-            dragOperation_.constraints[static_cast<size_t>(dragMirror_[e].images.front().first)].target = dragSourceWorld_[e];
+    for (size_t e = 0; e < drag_.mirror.size(); ++e)
+        drag_.sourceWorld[e] = drag_.strokeReached[e];
+    for (size_t e = 0; e < drag_.mirror.size(); ++e)
+        if (drag_.mirror[e].images.front().second == 0)
+            drag_.operation.constraints[static_cast<size_t>(drag_.mirror[e].images.front().first)].target = drag_.sourceWorld[e];
     report.fractionApplied = share;
-    report.subSteps = static_cast<int>(dragOperation_.steps.size());
+    report.subSteps = static_cast<int>(drag_.operation.steps.size());
     report.controlPointsChanged = 0;
-    for (const Step& step : dragOperation_.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
+    for (const Step& step : drag_.operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
     report.verticesMoved = movedCount();
     report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
-    for (size_t e = 0; e < dragMirror_.size(); ++e)
-        if (dragMirror_[e].images.front().second == 0) report.residuals.push_back((dragSourceWorld_[e] - targets[e]).norm());
+    for (size_t e = 0; e < drag_.mirror.size(); ++e)
+        if (drag_.mirror[e].images.front().second == 0) report.residuals.push_back((drag_.sourceWorld[e] - targets[e]).norm());
     if (share == 1.0) {
         report.status = OpStatus::Applied;
         return;
@@ -360,7 +360,7 @@ void Session::updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport
 
 Status Session::updateControlDrag(const Eigen::Vector3d& offset, OpReport& report) {
     // Every point moves by the same offset since the drag began.
-    const Eigen::Index count = static_cast<Eigen::Index>(dragOperation_.controlPoints.size());
+    const Eigen::Index count = static_cast<Eigen::Index>(drag_.operation.controlPoints.size());
     return updateControlDragPerPoint(offset.transpose().replicate(std::max<Eigen::Index>(count, 1), 1), report);
 }
 
@@ -368,15 +368,15 @@ Status Session::updateControlDragPerPoint(const Eigen::MatrixX3d& offsets, OpRep
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "move_control_point";
-    if (!dragActive_ || dragOperation_.kind != OperationKind::ControlPointEdit)
+    if (!drag_.active || drag_.operation.kind != OperationKind::ControlPointEdit)
         return Status::error("no interactive control-point drag is in progress");
     if (!offsets.allFinite()) return Status::error("control point move has non-finite coordinates");
-    const std::vector<int>& ids = dragOperation_.controlPoints;
+    const std::vector<int>& ids = drag_.operation.controlPoints;
     const Eigen::Index count = static_cast<Eigen::Index>(ids.size());
     if (offsets.rows() != count)
         return Status::error("control point move has " + std::to_string(offsets.rows()) + " offsets for " + std::to_string(count) + " points");
     // Offsets as shown since the drag began; this update adds what is still missing.
-    const Eigen::MatrixX3d shownIncrement = offsets - dragOperation_.offsets;
+    const Eigen::MatrixX3d shownIncrement = offsets - drag_.operation.offsets;
     if ((shownIncrement.array() == 0.0).all()) {
         report.status = OpStatus::NoOp;
         report.reason = "the control points are already there";
@@ -391,7 +391,7 @@ Status Session::updateControlDragPerPoint(const Eigen::MatrixX3d& offsets, OpRep
         // onto its shown start plus its offset.
         delta.deltas.resize(count, 3);
         for (Eigen::Index c = 0; c < count; ++c) {
-            const Eigen::Vector3d shownTarget = dragControlStart_.row(c).transpose() + offsets.row(c).transpose();
+            const Eigen::Vector3d shownTarget = drag_.controlStart.row(c).transpose() + offsets.row(c).transpose();
             Eigen::Vector3d cageTarget;
             if (!pullThroughLayers(shownTarget, cageTarget, layers_.size())) {
                 report.status = OpStatus::Rejected;
@@ -418,7 +418,7 @@ void Session::applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& 
     if (fraction > 0.0) {
         delta.deltas *= fraction;
         mergeInteractiveStep(delta);
-        dragOperation_.offsets += fraction * shownOffsets;
+        drag_.operation.offsets += fraction * shownOffsets;
     }
     std::sort(lastMoved_.begin(), lastMoved_.end());
     lastMoved_.erase(std::unique(lastMoved_.begin(), lastMoved_.end()), lastMoved_.end());
@@ -434,46 +434,46 @@ void Session::applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& 
 }
 
 Status Session::setDragLabel(const std::string& label) {
-    if (!dragActive_) return Status::error("no interactive drag is in progress");
+    if (!drag_.active) return Status::error("no interactive drag is in progress");
     if (label.empty()) return Status::error("a history entry needs a name");
-    dragOperation_.label = label;
+    drag_.operation.label = label;
     return Status::success();
 }
 
 void Session::endDrag() { finishDrag(nullptr); }
 
 void Session::finishDrag(OpReport* report) {
-    if (!dragActive_) return;
-    dragActive_ = false;
+    if (!drag_.active) return;
+    drag_.active = false;
     layerActive_ = false;  // the next operation starts in the cage
     strokeOutsideCage_ = 0;
-    if (!dragOperation_.steps.empty()) {
-        refineAfterEdit(dragOperation_, report);
-        if (bakeLayers(dragOperation_.steps)) dragOperation_.steps.back().baked = true;  // the detail travels with the surface
-        pushOperation(std::move(dragOperation_));
+    if (!drag_.operation.steps.empty()) {
+        refineAfterEdit(drag_.operation, report);
+        if (bakeLayers(drag_.operation.steps)) drag_.operation.steps.back().baked = true;  // the detail travels with the surface
+        pushOperation(std::move(drag_.operation));
     }
-    dragOperation_ = Operation{};
+    drag_.operation = Operation{};
 }
 
 Status Session::cancelDrag(OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "cancel_drag";
-    if (!dragActive_) {
+    if (!drag_.active) {
         report.status = OpStatus::NoOp;
         report.reason = "no drag in progress";
         return Status::success();
     }
-    dragActive_ = false;
-    revertSteps(dragOperation_.steps);
+    drag_.active = false;
+    revertSteps(drag_.operation.steps);
     layerActive_ = false;
     // Taking it back is an inverse manipulation, exact only up to rounding: the replay repeats it.
-    if (!dragOperation_.steps.empty()) history_.note(JournalEntry{JournalEntry::Kind::CancelledDrag, dragOperation_, 0, {}, {}, {}}, false);
-    report.status = dragOperation_.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;
-    report.reason = dragOperation_.steps.empty() ? "the drag had not moved anything" : "the drag was taken back";
-    report.subSteps = static_cast<int>(dragOperation_.steps.size());
+    if (!drag_.operation.steps.empty()) history_.note(JournalEntry{JournalEntry::Kind::CancelledDrag, drag_.operation, 0, {}, {}, {}}, false);
+    report.status = drag_.operation.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;
+    report.reason = drag_.operation.steps.empty() ? "the drag had not moved anything" : "the drag was taken back";
+    report.subSteps = static_cast<int>(drag_.operation.steps.size());
     report.verticesMoved = movedCount();
-    dragOperation_ = Operation{};
+    drag_.operation = Operation{};
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }

@@ -140,7 +140,7 @@ void Session::redoOperationBody(const Operation& operation) {
 }
 
 Status Session::groupOperations(int first, const std::string& label) {
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     if (!history_.atEnd()) return Status::error("a group must end at the last operation");
     const int cursor = history_.cursor();
     if (first < 0 || first > cursor) return Status::error("the group's first operation is outside the history");
@@ -219,7 +219,7 @@ Status Session::undo(OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "undo";
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     if (history_.cursor() == 0) {
         report.status = OpStatus::NoOp;
         report.reason = "nothing to undo";
@@ -246,7 +246,7 @@ Status Session::redo(OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "redo";
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     if (history_.atEnd()) {
         report.status = OpStatus::NoOp;
         report.reason = "nothing to redo";
@@ -280,7 +280,7 @@ Status Session::setPinToggles(const std::vector<int>& toggled) {
     const int n = lattice_.controlPointCount();
     for (int idx : toggled)
         if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     for (int idx = 0; idx < n; ++idx) lattice_.pinned[idx] = basePinned(idx) ? 1 : 0;
     // A welded point is one control point: a toggle of any of its slots toggles the group once.
     for (int idx : weldGroupsOf(toggled)) lattice_.pinned[idx] ^= 1;
@@ -309,7 +309,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     report = OpReport{};
     report.op = "replay";
     if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     if (operation.steps.empty() && operation.kind != OperationKind::Refine) return Status::error("the recorded operation has no steps");
     if (Status s = checkRecordedRefinement(operation, cancelled); !s) return s;
     // Every step must fit the lattice it will be applied in: its own where it makes one (a layer or a new

@@ -40,7 +40,7 @@ bool Session::pinnedAsPartialBoundary(int idx) const {
 void Session::setInjectivity(const InjectivitySettings& settings) {
     const bool testing = injectivity_.mode != InjectivityMode::Off;
     injectivity_ = settings;
-    if (!testing && settings.mode != InjectivityMode::Off && !dragActive_ && lattice_.controlPointCount() > 0)
+    if (!testing && settings.mode != InjectivityMode::Off && !drag_.active && lattice_.controlPointCount() > 0)
         pinBoundaryIfPartial(lattice_, embedding_);
 }
 
@@ -80,7 +80,7 @@ Status Session::pushToolChange(Operation operation, OpReport& report) {
 Status Session::addLatticeTool(const LatticeTool& tool, OpReport& report) {
     report = OpReport{};
     report.op = "add_lattice";
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     if (Status s = checkTool(tool); !s) return s;
     Operation operation;
     operation.kind = OperationKind::LatticeTools;
@@ -94,7 +94,7 @@ Status Session::addLatticeTool(const LatticeTool& tool, OpReport& report) {
 Status Session::editLatticeTool(int index, const LatticeTool& tool, OpReport& report) {
     report = OpReport{};
     report.op = "edit_lattice";
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     if (index < 0 || index >= static_cast<int>(tools_.size())) return Status::error("there is no lattice " + std::to_string(index));
     if (index == frozenTool_)
         return Status::error("lattice " + tools_[static_cast<size_t>(index)].name + " is frozen: unfreeze it before editing its shape");
@@ -112,7 +112,7 @@ Status Session::editLatticeTool(int index, const LatticeTool& tool, OpReport& re
 Status Session::removeLatticeTool(int index, OpReport& report) {
     report = OpReport{};
     report.op = "remove_lattice";
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     if (index < 0 || index >= static_cast<int>(tools_.size())) return Status::error("there is no lattice " + std::to_string(index));
     if (index == frozenTool_) return Status::error("lattice " + tools_[static_cast<size_t>(index)].name + " is frozen: unfreeze it first");
     Operation operation;

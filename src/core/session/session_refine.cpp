@@ -63,7 +63,7 @@ Status Session::refine(double tolerance, OpReport& report) {
     report = OpReport{};
     report.op = "refine";
     if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     RefinementOptions options = refinement_.options;
     options.tolerance = tolerance;
     if (Status s = validateRefinementOptions(options); !s) return s;

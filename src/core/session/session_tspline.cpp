@@ -24,7 +24,7 @@ Status Session::setupTSpline(const TSplineSetup& setup, OpReport& report) {
     report = OpReport{};
     report.op = "setup_tspline";
     if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     const TSplineOctreeSettings& octree = setup.octree;
     if (octree.octree.depth < 1 || octree.octree.depth > kMaxTSplineSetupDepth)
         return Status::error("depth: expected 1 to " + std::to_string(kMaxTSplineSetupDepth) + " levels of octree subdivision, got " +
@@ -103,7 +103,7 @@ Status Session::subdivideTSplineCells(int index, const std::vector<int>& cells, 
     const auto start = detail::Clock::now();
     report = OpReport{};
     report.op = "subdivide_cells";
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     if (index < 0 || index >= static_cast<int>(tools_.size())) return Status::error("index: there is no lattice " + std::to_string(index));
     const LatticeTool& tool = tools_[static_cast<size_t>(index)];
     if (index == frozenTool_)

@@ -240,7 +240,7 @@ Status Session::sculptWeights(const WeightToolSettings& settings, OpReport& repo
     using Tool = WeightToolSettings::Tool;
     report.op = settings.tool == Tool::SetWeights ? "set_weights" : settings.tool == Tool::Hammer ? "hammer" : "crimp";
     if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (dragActive_) return Status::error("an interactive drag is in progress");
+    if (drag_.active) return Status::error("an interactive drag is in progress");
     const TSplineVolume* volume = frozenTool_ >= 0 ? asTSpline(lattice_) : nullptr;
     if (!volume)
         return Status::error("no weighted T-spline lattice is frozen: set one up first (setup_tspline, or T-spline in the Lattices panel)");

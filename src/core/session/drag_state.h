@@ -1,0 +1,36 @@
+// The state of the drag in progress (session_drag.cpp; a stroke's in session_brush.cpp): what Session's
+// beginDragAt / beginControlDrag set, each update reads and changes, and endDrag or cancelDrag ends. One per
+// session; a scripted drag is one update of it (Session::drag).
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/deform/brush.h"
+#include "core/deform/direct_manipulation.h"
+#include "core/mesh_types.h"
+#include "core/session/operation.h"
+
+namespace sculpt::core {
+
+struct DragState {
+    bool active = false;
+    Operation operation;                       // the history entry it becomes: its steps so far
+    DirectManipulationData data;               // the sources' factorisation in the active lattice (Hu et al. eq. 7)
+    std::vector<Eigen::Vector3d> sourceWorld;  // where the drag's sources currently are
+    std::vector<Eigen::Vector3d> params;       // their parameters in the active lattice
+    bool appliedInFrame = false;               // a step of this drag is in the current frame (increments merge)
+    // With a brush or symmetry (beginDragAt): the user's sources at the start, what each solved constraint
+    // follows, and the brush.
+    bool mirrored = false;
+    std::vector<Eigen::Vector3d> userStarts;
+    std::vector<MirroredConstraint> mirror;
+    std::vector<bool> pulled;  // a stroke's, per constraint of `mirror`: pulled (not held)
+    BrushSettings brush;
+    std::vector<Eigen::Vector3d> strokeReached;  // applyBrushPulls: where each grabbed image is now
+    // The cage's points as shown when a control-point drag began (with layers: the drag moves those).
+    Positions controlStart;
+};
+
+}  // namespace sculpt::core
