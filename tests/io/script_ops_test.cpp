@@ -160,3 +160,46 @@ TEST_CASE("script ops: the docs' op reference names every op of the table and ev
     // Every op of the table has its row.
     for (const core::ScriptOpInfo& info : core::scriptOps()) CHECK(listed.count(info.name) == 1);
 }
+
+TEST_CASE("script ops: every kind of history entry is recorded by exactly one op of the table", "[io][script]") {
+    core::LatticeNet net;
+    REQUIRE(core::makeParallelepipedNet(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), {1, 1, 1}, {1, 1, 1}, net).ok);
+    const auto volume = std::make_shared<const core::LatticeNet>(std::move(net));
+    std::vector<std::pair<core::Operation, core::ScriptOp::Kind>> cases;
+    const auto add = [&](core::OperationKind kind, core::ScriptOp::Kind expected, auto&& shape) {
+        core::Operation operation;
+        operation.kind = kind;
+        operation.steps.emplace_back();
+        shape(operation);
+        cases.emplace_back(operation, expected);
+    };
+    using OK = core::OperationKind;
+    using SK = core::ScriptOp::Kind;
+    add(OK::Drag, SK::Drag, [](core::Operation&) {});
+    add(OK::ControlPointEdit, SK::MoveControlPoint, [](core::Operation& o) { o.controlPoints = {0}, o.offsets = Eigen::RowVector3d(0, 1, 0); });
+    add(OK::LatticeSetup, SK::SetupLattice, [](core::Operation&) {});
+    add(OK::LatticeSetup, SK::Freeze, [](core::Operation& o) { o.frozenAfter = 0; });
+    add(OK::LatticeSetup, SK::Unfreeze, [](core::Operation& o) { o.frozenBefore = 0; });
+    add(OK::Refine, SK::Refine, [](core::Operation&) {});
+    add(OK::WeightEdit, SK::SetWeights, [](core::Operation& o) { o.weightTool.tool = core::WeightToolSettings::Tool::SetWeights; });
+    add(OK::WeightEdit, SK::Hammer, [](core::Operation& o) { o.weightTool.tool = core::WeightToolSettings::Tool::Hammer; });
+    add(OK::WeightEdit, SK::Crimp, [](core::Operation& o) { o.weightTool.tool = core::WeightToolSettings::Tool::Crimp; });
+    add(OK::LatticeTools, SK::AddLattice, [&](core::Operation& o) { o.toolAfter.volume = volume; });
+    add(OK::LatticeTools, SK::EditLattice, [&](core::Operation& o) { o.toolBefore.volume = volume, o.toolAfter.volume = volume; });
+    add(OK::LatticeTools, SK::RemoveLattice, [&](core::Operation& o) { o.toolBefore.volume = volume; });
+    for (const auto& [operation, expected] : cases) {
+        INFO(core::scriptOpName(expected));
+        int claims = 0;
+        for (const core::ScriptOpInfo& info : core::scriptOps()) {
+            core::ScriptOp op;
+            if (info.record && info.record(operation, op)) {
+                ++claims;
+                CHECK(info.kind == expected);
+            }
+        }
+        CHECK(claims == 1);
+    }
+    // Every op but begin_group and end_group runs through its entry.
+    for (const core::ScriptOpInfo& info : core::scriptOps())
+        CHECK((info.run == nullptr) == (info.kind == SK::BeginGroup || info.kind == SK::EndGroup));
+}
