@@ -26,7 +26,7 @@ struct ScriptOpInfo {
     bool (*record)(const Operation& operation, ScriptOp& op) = nullptr;
 };
 
-// Every op, one entry per ScriptOp::Kind, in the order the docs list them.
+// Every op, one entry per ScriptOp::Kind (in the order the docs list them, for readers).
 const std::vector<ScriptOpInfo>& scriptOps();
 
 // The entry of `kind` (every kind has one).
