@@ -401,7 +401,6 @@ private:
     Status weightBump(const WeightToolSettings& settings, WeightBump& out) const;
     Status applyWeightTool(const WeightToolSettings& settings, Step step, const std::string& label, OpReport& report);
     void restoreSnapshot(Snapshot& snapshot);
-    Status runManipulation(Manipulation m, Operation operation, OpReport& report);
     // endDrag's work: the drag's operation, refined when the setting is automatic (what the refinement did
     // goes to report when not null), its layers baked, pushed as one history entry when it changed something.
     void finishDrag(OpReport* report);
