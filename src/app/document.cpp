@@ -97,7 +97,7 @@ HistoryMark markHistory(const core::Session& session) {
 }
 
 bool isModified(const Document& document, const core::Session& session) {
-    return session.dragging() || markHistory(session) != document.saved;
+    return session.stroke().active() || markHistory(session) != document.saved;
 }
 
 }  // namespace sculpt::app

@@ -45,9 +45,9 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
     }
     if (lattice.volume && request.drawnControlPoints.size() == scene.lattice.drawn.size()) scene.lattice.drawn = request.drawnControlPoints;
     if (request.latticeTools) {
-        const std::vector<core::LatticeTool>& tools = session.latticeTools();
+        const std::vector<core::LatticeTool>& tools = session.tools().list();
         for (size_t t = 0; t < tools.size(); ++t) {
-            if (static_cast<int>(t) == session.frozenTool()) continue;  // drawn as the cage
+            if (static_cast<int>(t) == session.tools().frozen()) continue;  // drawn as the cage
             std::vector<Positions> curves = restToolLines(tools[t].volume, request.curveSamplesPerSpan);
             for (Positions& curve : curves) scene.lattice.toolCurves.push_back(std::move(curve));
         }
@@ -100,7 +100,7 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
 }
 
 std::vector<float> sessionVertexColors(const io::ObjMesh& source, const core::Session& session) {
-    const io::VertexColors colours = io::meshVertexColours(source, session.appliedSplits());
+    const io::VertexColors colours = io::meshVertexColours(source, session.refinement().appliedSplits());
     if (colours.rows() != session.positions().rows()) return {};
     std::vector<float> rgb(3 * static_cast<size_t>(colours.rows()));
     for (Eigen::Index v = 0; v < colours.rows(); ++v)

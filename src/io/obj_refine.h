@@ -12,7 +12,7 @@
 namespace sculpt::io {
 
 // `refined` = `mesh` with `splits` applied (core::applyEdgeSplits on mesh.triangles, the triangles the engine
-// was given; core::Session::appliedSplits). Faces none of whose triangles was halved keep their polygon; each
+// was given; core::Session::refinement().appliedSplits). Faces none of whose triangles was halved keep their polygon; each
 // other face is written as the triangles it is made of now, in its place (same group and material), with the
 // orientation of the original. Every new corner's texture coordinate is the midpoint of the texture
 // coordinates the split edge's ends had *in that face* (a new `vt` per distinct pair, so a split along a seam

@@ -137,7 +137,7 @@ core::RefinementRecord parseRefinementRecord(const json& j, const std::string& p
     return record;
 }
 
-// The fields of set_refinement (Session::setRefinement); absent ones keep their defaults.
+// The fields of set_refinement (Session::refinement().set); absent ones keep their defaults.
 core::RefinementSettings parseRefinementSettings(const json& j, const std::string& path) {
     core::RefinementSettings settings;
     if (j.contains("automatic")) {
@@ -481,7 +481,7 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
             break;
         }
         case K::SetupTSpline: {
-            // Song & Yang 2005, sec. 4 / sec. 6 steps 1-3 (core::Session::setupTSpline).
+            // Song & Yang 2005, sec. 4 / sec. 6 steps 1-3 (core::Session::tspline().setup).
             core::TSplineSetup& setup = op.tspline;
             setup.octree.octree.depth = integer(required(j, "depth", path), path + ".depth");
             if (setup.octree.octree.depth < 1 || setup.octree.octree.depth > core::kMaxTSplineSetupDepth)
@@ -513,7 +513,7 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
             break;
         }
         case K::SubdivideCells: {
-            // Song & Yang 2005, sec. 6 step 2 / Fig. 11 (core::Session::subdivideTSplineCells).
+            // Song & Yang 2005, sec. 6 step 2 / Fig. 11 (core::Session::tspline().subdivideCells).
             op.toolIndex = integer(required(j, "index", path), path + ".index");
             if (!j.contains("cells") && !j.contains("at")) fail(path, "needs \"cells\" (cell ids) or \"at\" (points whose cells are subdivided)");
             if (j.contains("cells")) {
@@ -535,7 +535,7 @@ core::ScriptOp parseOp(const json& j, const std::string& path) {
         case K::SetWeights:
         case K::Hammer:
         case K::Crimp: {
-            // Sculpting by weights (Song & Yang 2005 sec. 1 and 6; core::Session::sculptWeights).
+            // Sculpting by weights (Song & Yang 2005 sec. 1 and 6; core::Session::tspline().sculptWeights).
             core::WeightToolSettings& tool = op.weightTool;
             if (op.kind == K::SetWeights) {
                 tool.tool = core::WeightToolSettings::Tool::SetWeights;

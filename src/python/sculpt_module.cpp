@@ -67,7 +67,7 @@ Status loadMeshFile(const std::string& path, io::ObjMesh& mesh, std::vector<std:
 // a file keeps its own text. warnings: what the format cannot hold.
 Status saveMeshFile(const std::string& path, const io::ObjMesh& mesh, const core::Session& session,
                     std::vector<std::string>& warnings) {
-    return io::saveRefinedMesh(path, mesh, session.appliedSplits(), session.positions(), &warnings);
+    return io::saveRefinedMesh(path, mesh, session.refinement().appliedSplits(), session.positions(), &warnings);
 }
 
 // ---- Python values to script JSON ----
@@ -235,7 +235,7 @@ private:
             case core::ScriptOp::Kind::Screenshot:
             case core::ScriptOp::Kind::SetRefinement:
             case core::ScriptOp::Kind::SetPins: return false;
-            default: return session.refinement().automatic;  // any edit may be refined after it
+            default: return session.refinement().settings().automatic;  // any edit may be refined after it
         }
     }
 };

@@ -154,13 +154,13 @@ void benchSparseUpdate(const Positions& points) {
         session.parametersOfVertex(n / 3, params);
         const Eigen::Vector3d start = session.positions().row(n / 3).transpose();
         int step = 0;
-        session.beginDrag({params});
+        session.stroke().begin({params});
         OpReport report;
         const double ms = bench::medianMs(15, [&] {
             ++step;
-            session.updateDrag({start + Eigen::Vector3d(0.001 * step, 0.0005 * step, 0.0)}, report);
+            session.stroke().update({start + Eigen::Vector3d(0.001 * step, 0.0005 * step, 0.0)}, report);
         });
-        session.endDrag();
+        session.stroke().end();
         char extra[160];
         std::snprintf(extra, sizeof extra, "\"vertices_moved\": %d, \"injectivity_ms\": %.3f", report.verticesMoved,
                       report.injectivityMs);
@@ -520,7 +520,7 @@ void benchCertification() {
             TSplineSetup setup;
             setup.octree.octree.depth = 4;
             OpReport report;
-            if (Status s = session.setupTSpline(setup, report); !s) {
+            if (Status s = session.tspline().setup(setup, report); !s) {
                 bench::printError(std::cout, "certify_tspline_real", s.message);
                 return;
             }
@@ -758,14 +758,14 @@ void benchBrush() {
         std::vector<double> injectivity, triangle;
         OpReport report;
         int step = 0;
-        session.beginDragAt({source}, {}, brush);
+        session.stroke().beginAt({source}, {}, brush);
         const double ms = bench::medianMs(10, [&] {
             ++step;
-            session.updateDrag({source + 0.1 * step * brush.radius * normal}, report);
+            session.stroke().update({source + 0.1 * step * brush.radius * normal}, report);
             injectivity.push_back(report.injectivityMs);
             triangle.push_back(report.triangleCheckMs);
         });
-        session.endDrag();
+        session.stroke().end();
         char extra[200];
         std::snprintf(extra, sizeof extra, "\"status\": \"%s\", \"vertices_moved\": %d, \"injectivity_ms\": %.2f, \"triangle_check_ms\": %.2f",
                       opStatusName(report.status), report.verticesMoved, bench::median(injectivity), bench::median(triangle));

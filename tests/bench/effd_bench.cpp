@@ -87,17 +87,17 @@ void runEffdBenchmarks(const std::vector<std::string>& filters) {
         start.resolution = {4, 4, 4};
         session.setMesh(mesh, Triangles(0, 3), start);
         OpReport report;
-        session.addLatticeTool({"cylinder", std::make_shared<const LatticeNet>(cylinder)}, report);
-        session.freezeLattice(0, 0, report);
+        session.tools().add({"cylinder", std::make_shared<const LatticeNet>(cylinder)}, report);
+        session.tools().freeze(0, 0, report);
         const int vertex = 12345;
         const Eigen::Vector3d from = session.positions().row(vertex).transpose();
-        session.beginDragAt({from}, {false}, BrushSettings{});
+        session.stroke().beginAt({from}, {false}, BrushSettings{});
         int step = 0;
         const double ms = medianMs(15, [&] {
             ++step;
-            session.updateDrag({from + Eigen::Vector3d(0.001 * step, 0.0005 * step, 0.0)}, report);
+            session.stroke().update({from + Eigen::Vector3d(0.001 * step, 0.0005 * step, 0.0)}, report);
         });
-        session.endDrag();
+        session.stroke().end();
         char extra[200];
         std::snprintf(extra, sizeof extra, "\"vertices_moved\": %d, \"injectivity_ms\": %.3f, \"status\": \"%s\"", report.verticesMoved,
                       report.injectivityMs, opStatusName(report.status));

@@ -152,19 +152,19 @@ void runTSplineBenchmarks(const std::vector<std::string>& filters) {
             TSplineSetup setup;
             setup.octree.octree.depth = 4;
             OpReport report;
-            if (Status s = session.setupTSpline(setup, report); !s) {
+            if (Status s = session.tspline().setup(setup, report); !s) {
                 printError(std::cout, name.c_str(), s.message);
                 return;
             }
             const int vertex = 12345;
             const Eigen::Vector3d from = session.positions().row(vertex).transpose();
-            session.beginDragAt({from}, {false}, BrushSettings{});
+            session.stroke().beginAt({from}, {false}, BrushSettings{});
             int step = 0;
             const double ms = medianMs(15, [&] {
                 ++step;
-                session.updateDrag({from + Eigen::Vector3d(0.001 * step, 0.0005 * step, 0.0)}, report);
+                session.stroke().update({from + Eigen::Vector3d(0.001 * step, 0.0005 * step, 0.0)}, report);
             });
-            session.endDrag();
+            session.stroke().end();
             char extra[400];
             std::snprintf(extra, sizeof extra, "\"vertices_moved\": %d, \"injectivity_ms\": %.3f, \"status\": \"%s\", \"reason\": \"%s\"",
                           report.verticesMoved, report.injectivityMs, opStatusName(report.status), jsonText(report.reason).c_str());

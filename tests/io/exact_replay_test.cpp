@@ -109,22 +109,22 @@ void randomCommand(Session& session, std::mt19937& rng, double size, int& openGr
             Eigen::Vector3d t;
             const int v = test::randomInt(rng, 0, vertices - 1);
             if (!session.parametersOfCurrentPoint(vertexPoint(v), t)) break;
-            REQUIRE(session.beginDrag({t}).ok);
-            const Eigen::Vector3d start = session.dragSources().front();
+            REQUIRE(session.stroke().begin({t}).ok);
+            const Eigen::Vector3d start = session.stroke().sources().front();
             const Eigen::Vector3d offset = size * diagonal * test::randomVector(rng, -1, 1);
             const int moves = test::randomInt(rng, 2, 6);
-            for (int m = 1; m <= moves; ++m) REQUIRE(session.updateDrag({start + offset * (double(m) / moves)}, report).ok);
-            if (test::randomInt(rng, 0, 3) == 0) REQUIRE(session.cancelDrag(report).ok);
-            else session.endDrag();
+            for (int m = 1; m <= moves; ++m) REQUIRE(session.stroke().update({start + offset * (double(m) / moves)}, report).ok);
+            if (test::randomInt(rng, 0, 3) == 0) REQUIRE(session.stroke().cancel(report).ok);
+            else session.stroke().end();
             break;
         }
         case 12: {  // an interactive control-point drag
             const int idx = test::randomInt(rng, 0, session.lattice().controlPointCount() - 1);
             if (session.lattice().pinned[idx]) break;
-            REQUIRE(session.beginControlDrag({idx}).ok);
+            REQUIRE(session.stroke().beginControl({idx}).ok);
             const Eigen::Vector3d offset = 0.5 * size * diagonal * test::randomVector(rng, -1, 1);
-            for (int m = 1; m <= 4; ++m) REQUIRE(session.updateControlDrag(offset * (m / 4.0), report).ok);
-            session.endDrag();
+            for (int m = 1; m <= 4; ++m) REQUIRE(session.stroke().updateControl(offset * (m / 4.0), report).ok);
+            session.stroke().end();
             break;
         }
         case 13: {  // a group of the last operations (as a replayed interactive drag makes)

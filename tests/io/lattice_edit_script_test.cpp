@@ -68,8 +68,8 @@ TEST_CASE("lattice edit script: edits apply to the current net keep the tool's n
     Session session = runText(text, mesh, ran);
     INFO(ran.message);
     REQUIRE(ran);
-    REQUIRE(session.latticeTools().size() == 1);
-    REQUIRE(session.latticeTools()[0].name == "pie");  // an edit without "name" keeps the tool's name
+    REQUIRE(session.tools().list().size() == 1);
+    REQUIRE(session.tools().list()[0].name == "pie");  // an edit without "name" keeps the tool's name
 
     // The tool's net is the core edits applied to the cylinder, in order.
     LatticeNet cylinder;
@@ -89,7 +89,7 @@ TEST_CASE("lattice edit script: edits apply to the current net keep the tool's n
     list[4].axis = 0;
     LatticeNet expected;
     REQUIRE(applyNetEdits(cylinder, list, expected));
-    REQUIRE(sameLatticeNet(*session.latticeTools()[0].volume->tensorNet(), expected));
+    REQUIRE(sameLatticeNet(*session.tools().list()[0].volume->tensorNet(), expected));
     REQUIRE(session.positions() != mesh.positions);  // the frozen, edited lattice deformed the mesh
 
     // Recorded and replayed through the JSON text: the same mesh and tool list, bit for bit.
@@ -97,10 +97,10 @@ TEST_CASE("lattice edit script: edits apply to the current net keep the tool's n
     Script parsed;
     const Session replayed = test::replayThroughJson(recording, mesh.positions, mesh.triangles, parsed);
     REQUIRE(replayed.positions() == session.positions());
-    REQUIRE(replayed.latticeTools().size() == session.latticeTools().size());
-    for (size_t t = 0; t < replayed.latticeTools().size(); ++t) {
-        REQUIRE(replayed.latticeTools()[t].name == session.latticeTools()[t].name);
-        REQUIRE(sameLatticeNet(*replayed.latticeTools()[t].volume->tensorNet(), *session.latticeTools()[t].volume->tensorNet()));
+    REQUIRE(replayed.tools().list().size() == session.tools().list().size());
+    for (size_t t = 0; t < replayed.tools().list().size(); ++t) {
+        REQUIRE(replayed.tools().list()[t].name == session.tools().list()[t].name);
+        REQUIRE(sameLatticeNet(*replayed.tools().list()[t].volume->tensorNet(), *session.tools().list()[t].volume->tensorNet()));
     }
     // The script with its edits also round-trips through scriptToJson as edits.
     Script original, again;
@@ -114,7 +114,7 @@ TEST_CASE("lattice edit script: edits apply to the current net keep the tool's n
     Session undone = session;
     OpReport report;
     REQUIRE(undone.undo(report));
-    REQUIRE(undone.latticeTools()[0].volume->tensorNet()->count[0] == 4);
+    REQUIRE(undone.tools().list()[0].volume->tensorNet()->count[0] == 4);
 }
 
 TEST_CASE("lattice edit script: an edit with a lattice and no name keeps the tool's name", "[netedit][io][script]") {
@@ -126,12 +126,12 @@ TEST_CASE("lattice edit script: an edit with a lattice and no name keeps the too
     Session session = runText(text, mesh, ran);
     INFO(ran.message);
     REQUIRE(ran);
-    REQUIRE(session.latticeTools()[0].name == "tart");
-    REQUIRE(session.latticeTools()[0].volume->tensorNet()->count == std::array<int, 3>{6, 25, 4});
+    REQUIRE(session.tools().list()[0].name == "tart");
+    REQUIRE(session.tools().list()[0].volume->tensorNet()->count == std::array<int, 3>{6, 25, 4});
     OpReport report;
     REQUIRE(session.undo(report));
-    REQUIRE(session.latticeTools()[0].name == "pie");
-    REQUIRE(session.latticeTools()[0].volume->tensorNet()->count == std::array<int, 3>{4, 25, 4});
+    REQUIRE(session.tools().list()[0].name == "pie");
+    REQUIRE(session.tools().list()[0].volume->tensorNet()->count == std::array<int, 3>{4, 25, 4});
 }
 
 TEST_CASE("lattice edit script: bad edits name the field or the reason and change nothing", "[netedit][io][script]") {
@@ -181,9 +181,9 @@ TEST_CASE("lattice edit script: bad edits name the field or the reason and chang
         INFO(op << " / " << ran.message);
         REQUIRE_FALSE(ran);
         REQUIRE(ran.message.find(message) != std::string::npos);
-        REQUIRE(session.latticeTools().size() == 1);
-        REQUIRE(session.latticeTools()[0].name == "pie");
-        REQUIRE(sameLatticeNet(*session.latticeTools()[0].volume->tensorNet(), cylinder));
+        REQUIRE(session.tools().list().size() == 1);
+        REQUIRE(session.tools().list()[0].name == "pie");
+        REQUIRE(sameLatticeNet(*session.tools().list()[0].volume->tensorNet(), cylinder));
     }
 }
 
@@ -201,7 +201,7 @@ TEST_CASE("lattice edit script: a knot inserted at a chosen parameter is one edi
     Session session = runText(text, mesh, ran);
     INFO(ran.message);
     REQUIRE(ran);
-    const LatticeNet& net = *session.latticeTools()[0].volume->tensorNet();
+    const LatticeNet& net = *session.tools().list()[0].volume->tensorNet();
     REQUIRE(net.count == std::array<int, 3>{5, 15, 5});
     REQUIRE_FALSE(net.knots[0].empty());
     REQUIRE(session.positions() != mesh.positions);
@@ -210,7 +210,7 @@ TEST_CASE("lattice edit script: a knot inserted at a chosen parameter is one edi
     Script parsed;
     const Session replayed = test::replayThroughJson(recording, mesh.positions, mesh.triangles, parsed);
     REQUIRE(replayed.positions() == session.positions());
-    REQUIRE(sameLatticeNet(*replayed.latticeTools()[0].volume->tensorNet(), net));
+    REQUIRE(sameLatticeNet(*replayed.tools().list()[0].volume->tensorNet(), net));
     // And the lattice file form round-trips bitwise too.
     LatticeNet back;
     REQUIRE(io::parseLatticeNetJson(io::latticeNetJson(net), "lattice", back));
@@ -281,7 +281,7 @@ TEST_CASE("lattice edit script: groups holding tool changes and freezes are one 
         const int members = groupEnd - groupStart;
         REQUIRE(session.history().size() + static_cast<size_t>(members - 1) == reference.history().size());
         REQUIRE(session.positions() == reference.positions());
-        REQUIRE(session.frozenTool() == reference.frozenTool());
+        REQUIRE(session.tools().frozen() == reference.tools().frozen());
         // Undo everything after the group, then the group: the state the reference has before its members.
         OpReport undone;
         const Positions end = session.positions();
@@ -293,10 +293,10 @@ TEST_CASE("lattice edit script: groups holding tool changes and freezes are one 
         for (int k = 0; k < members; ++k) REQUIRE(reference.undo(undone));
         REQUIRE(session.historyCursor() == groupStart);
         REQUIRE(session.positions() == reference.positions());
-        REQUIRE(session.frozenTool() == reference.frozenTool());
-        REQUIRE(session.latticeTools().size() == reference.latticeTools().size());
-        for (size_t t = 0; t < session.latticeTools().size(); ++t)
-            REQUIRE(io::volumeJson(*session.latticeTools()[t].volume).dump() == io::volumeJson(*reference.latticeTools()[t].volume).dump());
+        REQUIRE(session.tools().frozen() == reference.tools().frozen());
+        REQUIRE(session.tools().list().size() == reference.tools().list().size());
+        for (size_t t = 0; t < session.tools().list().size(); ++t)
+            REQUIRE(io::volumeJson(*session.tools().list()[t].volume).dump() == io::volumeJson(*reference.tools().list()[t].volume).dump());
         // Redo to the end, bitwise; then the recording replays to the same mesh, tools and history.
         // Redo to the end: as the ops one by one redo, bitwise (a frame's redo rebuilds it, so the end is met
         // to rounding, not bitwise).
@@ -308,6 +308,6 @@ TEST_CASE("lattice edit script: groups holding tool changes and freezes are one 
         const Session replayed = test::replayThroughJson(recordSession(session), mesh.positions, mesh.triangles, parsed);
         REQUIRE(replayed.positions() == session.positions());
         REQUIRE(replayed.history().size() == session.history().size());
-        REQUIRE(replayed.frozenTool() == session.frozenTool());
+        REQUIRE(replayed.tools().frozen() == session.tools().frozen());
     }
 }

@@ -63,12 +63,12 @@ TEST_CASE("refinement recording: a session with refinements replays to the same 
     REQUIRE(session.setMesh(positions, triangles, settings).ok);
     OpReport report;
     raise(session, slabNear(session.lattice(), 1.0), 0.4);
-    REQUIRE(session.refine(0.003, report).ok);
+    REQUIRE(session.refinement().refine(0.003, report).ok);
     REQUIRE(report.status == OpStatus::Applied);
     RefinementSettings automatic;
     automatic.automatic = true;
     automatic.options.tolerance = 0.003;
-    REQUIRE(session.setRefinement(automatic).ok);
+    REQUIRE(session.refinement().set(automatic).ok);
     raise(session, slabNear(session.lattice(), 0.5), -0.2);  // refined automatically, one history entry
     REQUIRE(session.history().back().refinement.splits.size() > 0);
     REQUIRE(session.undo(report).ok);
@@ -76,8 +76,8 @@ TEST_CASE("refinement recording: a session with refinements replays to the same 
     raise(session, slabNear(session.lattice(), 1.5), 0.25);
     REQUIRE(session.undo(report).ok);  // undone, then dropped by the next operation
     automatic.automatic = false;
-    REQUIRE(session.setRefinement(automatic).ok);
-    REQUIRE(session.refine(0.001, report).ok);
+    REQUIRE(session.refinement().set(automatic).ok);
+    REQUIRE(session.refinement().refine(0.001, report).ok);
     REQUIRE(report.status == OpStatus::Applied);
 
     const Script recording = recordSession(session);
@@ -92,7 +92,7 @@ TEST_CASE("refinement recording: a session with refinements replays to the same 
     REQUIRE(sameBits(replayed.triangles(), session.triangles()));
     REQUIRE(replayed.history().size() == session.history().size());
     REQUIRE(replayed.historyCursor() == session.historyCursor());
-    REQUIRE(replayed.refinement().automatic == session.refinement().automatic);
+    REQUIRE(replayed.refinement().settings().automatic == session.refinement().settings().automatic);
     // Both undo alike, down to the mesh as set.
     while (session.historyCursor() > 0) {
         REQUIRE(session.undo(report).ok);
@@ -123,12 +123,12 @@ TEST_CASE("refinement recording: random drags and refinements replay to the same
             REQUIRE(session.dragVertex(v, session.positions().row(v).transpose() + 0.08 * diagonal * test::randomVector(rng, -1, 1), report).ok);
         };
         randomDrag();
-        REQUIRE(session.refine(0.004, report).ok);
+        REQUIRE(session.refinement().refine(0.004, report).ok);
         randomDrag();  // moves the refined mesh
         RefinementSettings automatic;
         automatic.automatic = true;
         automatic.options.tolerance = 0.004;
-        REQUIRE(session.setRefinement(automatic).ok);
+        REQUIRE(session.refinement().set(automatic).ok);
         randomDrag();
         REQUIRE(session.undo(report).ok);
         REQUIRE(session.redo(report).ok);
@@ -180,7 +180,7 @@ TEST_CASE("refinement recording: script ops refine and set_refinement, and their
     REQUIRE(report.ops[2].status == OpStatus::Applied);
     REQUIRE(report.ops[2].verticesAdded > 0);
     REQUIRE(session.history().size() == 2);
-    REQUIRE(session.refinement().options.maxRounds == 30);
+    REQUIRE(session.refinement().settings().options.maxRounds == 30);
     const std::string reportText = io::reportToJson(report, session, {});
     REQUIRE(reportText.find("\"vertices_added\"") != std::string::npos);
 
@@ -235,9 +235,9 @@ TEST_CASE("refinement OBJ: a refined mesh saves with texture coordinates interpo
     REQUIRE(session.setMesh(mesh.positions, mesh.triangles, settings).ok);
     raise(session, slabNear(session.lattice(), 1.0), 0.3);
     OpReport report;
-    REQUIRE(session.refine(0.002, report).ok);
+    REQUIRE(session.refinement().refine(0.002, report).ok);
     REQUIRE(report.status == OpStatus::Applied);
-    const std::vector<EdgeSplit> splits = session.appliedSplits();
+    const std::vector<EdgeSplit> splits = session.refinement().appliedSplits();
     REQUIRE(splits.size() == static_cast<size_t>(report.verticesAdded));
 
     test::TempFolder folder("refine_obj");

@@ -27,17 +27,17 @@ void interactiveDrag(Session& session, std::mt19937& rng, const Positions& mesh,
         params.push_back(t);
     }
     if (params.empty()) return;
-    REQUIRE(session.beginDrag(params).ok);
-    starts = session.dragSources();
+    REQUIRE(session.stroke().begin(params).ok);
+    starts = session.stroke().sources();
     std::vector<Eigen::Vector3d> offsets;
     for (size_t s = 0; s < params.size(); ++s) offsets.push_back(size * test::randomVector(rng, -1, 1));
     for (int m = 1; m <= moves; ++m) {
         std::vector<Eigen::Vector3d> targets;
         for (size_t s = 0; s < params.size(); ++s) targets.push_back(starts[s] + offsets[s] * (double(m) / moves));
         OpReport report;
-        REQUIRE(session.updateDrag(targets, report).ok);
+        REQUIRE(session.stroke().update(targets, report).ok);
     }
-    session.endDrag();
+    session.stroke().end();
 }
 
 }  // namespace
@@ -67,12 +67,12 @@ TEST_CASE("recording: a replayed session has the same history entries, undo and 
                         if (!original.lattice().pinned[id]) ids.push_back(id);
                     }
                     if (ids.empty()) break;
-                    const Status begun = original.beginControlDrag(ids);
+                    const Status begun = original.stroke().beginControl(ids);
                     INFO(begun.message);
                     REQUIRE(begun.ok);
                     const Eigen::Vector3d offset = (op % 2 ? 0.6 : 0.1) * test::randomVector(rng, -1, 1);
-                    for (int m = 1; m <= 5; ++m) REQUIRE(original.updateControlDrag(offset * (m / 5.0), report).ok);
-                    original.endDrag();
+                    for (int m = 1; m <= 5; ++m) REQUIRE(original.stroke().updateControl(offset * (m / 5.0), report).ok);
+                    original.stroke().end();
                     break;
                 }
                 case 2: {

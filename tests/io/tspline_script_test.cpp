@@ -58,7 +58,7 @@ Session sessionOn(const Mesh& mesh) {
 double diagonalOf(const Positions& positions) { return (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm(); }
 
 const TSplineVolume& tsplineOf(const Session& session, int index) {
-    const auto* volume = dynamic_cast<const TSplineVolume*>(session.latticeTools()[static_cast<size_t>(index)].volume.get());
+    const auto* volume = dynamic_cast<const TSplineVolume*>(session.tools().list()[static_cast<size_t>(index)].volume.get());
     REQUIRE(volume);
     return *volume;
 }
@@ -78,9 +78,9 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
     // One history entry: the tool added and frozen, undone together (Operation::parts).
     REQUIRE(session.history().size() == 1);
     REQUIRE(session.history()[0].parts.size() == 2);
-    REQUIRE(session.latticeTools().size() == 1);
-    REQUIRE(session.latticeTools()[0].name == "tspline");
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.tools().list().size() == 1);
+    REQUIRE(session.tools().list()[0].name == "tspline");
+    REQUIRE(session.tools().frozen() == 0);
     REQUIRE(session.embedding().insideCount() == static_cast<int>(mesh.positions.rows()));  // the padded box holds every vertex
     REQUIRE(session.positions() == mesh.positions);  // freezing moves nothing
     // Sec. 4: every cell holding a vertex at the full depth, weights 100:1, balanced (100, 10 next to them, 1).
@@ -137,12 +137,12 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
     REQUIRE(session.undo(undone));
     REQUIRE((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     REQUIRE(session.undo(undone));  // the set-up: the freeze and the tool at once
-    REQUIRE(session.frozenTool() == -1);
-    REQUIRE(session.latticeTools().empty());
+    REQUIRE(session.tools().frozen() == -1);
+    REQUIRE(session.tools().list().empty());
     REQUIRE(session.historyCursor() == 0);
     REQUIRE((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     for (int k = 0; k < 3; ++k) REQUIRE(session.redo(undone));
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.tools().frozen() == 0);
     REQUIRE(session.positions() == sculpted);
 
     // The recording writes the tool explicitly (add_lattice with the "tspline" JSON, then freeze) and replays
@@ -154,9 +154,9 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
     Script parsed;
     const Session replayed = test::replayThroughJson(recorded, mesh.positions, mesh.triangles, parsed);
     REQUIRE(replayed.positions() == sculpted);
-    REQUIRE(replayed.frozenTool() == 0);
+    REQUIRE(replayed.tools().frozen() == 0);
     REQUIRE(replayed.history().size() == session.history().size());
-    REQUIRE(io::volumeJson(*replayed.latticeTools()[0].volume).dump() == io::volumeJson(volume).dump());
+    REQUIRE(io::volumeJson(*replayed.tools().list()[0].volume).dump() == io::volumeJson(volume).dump());
 }
 
 TEST_CASE("tspline script: setup_tspline in a region deforms only inside it and can leave the tool unfrozen", "[tspline][io][script][session]") {
@@ -168,15 +168,15 @@ TEST_CASE("tspline script: setup_tspline in a region deforms only inside it and 
     INFO(ran.message);
     REQUIRE(ran);
     REQUIRE(session.history().size() == 1);
-    REQUIRE(session.frozenTool() == -1);
-    REQUIRE(session.latticeTools()[0].name == "cap");
+    REQUIRE(session.tools().frozen() == -1);
+    REQUIRE(session.tools().list()[0].name == "cap");
     const TSplineVolume& volume = tsplineOf(session, 0);
     REQUIRE(volume.lattice().rootCount == std::array<int, 3>{2, 1, 1});
     REQUIRE(volume.restBounds().min().isApprox(Eigen::Vector3d(0.2, -1.2, -1.2), 1e-12));
     for (double w : volume.controlWeights()) REQUIRE((w == 1.0 || w == 5.0 || w == 50.0));  // 50:1, balanced by 10
     // Frozen afterwards: a drag at the cap moves nothing outside the region.
     OpReport applied;
-    REQUIRE(session.freezeLattice(0, 0, applied));
+    REQUIRE(session.tools().freeze(0, 0, applied));
     REQUIRE(applied.status == OpStatus::Applied);
     Eigen::Index rightmost = 0;
     mesh.positions.col(0).maxCoeff(&rightmost);
@@ -196,7 +196,7 @@ TEST_CASE("tspline script: subdivide_cells refines the picked cells of an unfroz
     run(session, R"({"ops": [{"op": "setup_tspline", "depth": 2, "freeze": false}]})", ran);
     INFO(ran.message);
     REQUIRE(ran);
-    const std::shared_ptr<const Volume> coarse = session.latticeTools()[0].volume;
+    const std::shared_ptr<const Volume> coarse = session.tools().list()[0].volume;
     const TSplineVolume& before = tsplineOf(session, 0);
     // The leaf cell holding the point (1, 0, 0): found through the rest volume's parameters.
     const Eigen::Vector3d at(1.013, -0.007, 0.004);
@@ -231,11 +231,11 @@ TEST_CASE("tspline script: subdivide_cells refines the picked cells of an unfroz
     Script parsed;
     const Session replayed = test::replayThroughJson(recorded, mesh.positions, mesh.triangles, parsed);
     REQUIRE(replayed.positions() == session.positions());
-    REQUIRE(io::volumeJson(*replayed.latticeTools()[0].volume).dump() == io::volumeJson(*session.latticeTools()[0].volume).dump());
+    REQUIRE(io::volumeJson(*replayed.tools().list()[0].volume).dump() == io::volumeJson(*session.tools().list()[0].volume).dump());
     // Undo back to before the subdivisions: the coarse tool itself again.
     OpReport undone;
     for (int k = 0; k < 4; ++k) REQUIRE(session.undo(undone));
-    REQUIRE(session.latticeTools()[0].volume == coarse);
+    REQUIRE(session.tools().list()[0].volume == coarse);
     REQUIRE((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonalOf(mesh.positions));
 }
 
@@ -287,7 +287,7 @@ TEST_CASE("tspline script: bad setup_tspline and subdivide_cells requests name t
         REQUIRE_FALSE(ran);
         REQUIRE(ran.message.find(message) != std::string::npos);
         REQUIRE(session.history().size() == entries);
-        REQUIRE(session.latticeTools().size() == 3);
+        REQUIRE(session.tools().list().size() == 3);
         REQUIRE(session.positions() == mesh.positions);
     }
     // A tool whose points were moved one by one is not re-placed behind the user's back.
@@ -297,8 +297,8 @@ TEST_CASE("tspline script: bad setup_tspline and subdivide_cells requests name t
     std::shared_ptr<const TSplineVolume> edited;
     REQUIRE(TSplineVolume::make(tool.sharedBasis(), moved, tool.controlWeights(), edited));
     OpReport report;
-    REQUIRE(session.editLatticeTool(2, {"tspline", edited}, report));
-    const Status refusedMoved = session.subdivideTSplineCells(2, {0}, {}, true, report);
+    REQUIRE(session.tools().edit(2, {"tspline", edited}, report));
+    const Status refusedMoved = session.tspline().subdivideCells(2, {0}, {}, true, report);
     INFO(refusedMoved.message);
     REQUIRE_FALSE(refusedMoved);
     REQUIRE(refusedMoved.message.find("rest layout") != std::string::npos);

@@ -44,7 +44,7 @@ void setUp(Session& session, const Mesh& mesh, int depth) {
     setup.octree.octree.depth = depth;
     setup.octree.weightRatio = 10.0;
     OpReport report;
-    const Status s = session.setupTSpline(setup, report);
+    const Status s = session.tspline().setup(setup, report);
     INFO(s.message << " / " << report.reason);
     REQUIRE(s);
     REQUIRE(report.status == OpStatus::Applied);
@@ -58,7 +58,7 @@ const TSplineVolume& frozenVolume(const Session& session) {
 
 OpReport applyTool(Session& session, const WeightToolSettings& settings) {
     OpReport report;
-    const Status s = session.sculptWeights(settings, report);
+    const Status s = session.tspline().sculptWeights(settings, report);
     INFO(s.message << " / " << report.reason);
     REQUIRE(s);
     UNSCOPED_INFO(report.reason);
@@ -136,7 +136,7 @@ TEST_CASE("weights: set_weights moves the mesh to the weighted T-spline at its f
             // A bump first, so the weights have a displacement to redistribute.
             OpReport raised = applyTool(session, hammer(static_cast<int>(rng() % mesh.positions.rows()), 0.08));
             REQUIRE(raised.status == OpStatus::Applied);
-            const std::vector<int> visible = session.visibleTSplinePoints();
+            const std::vector<int> visible = session.tspline().visiblePoints();
             REQUIRE(!visible.empty());
             std::vector<Eigen::Vector3d> params(static_cast<size_t>(mesh.positions.rows()));
             for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) REQUIRE(session.parametersOfVertex(static_cast<int>(v), params[static_cast<size_t>(v)]));
@@ -192,8 +192,8 @@ TEST_CASE("weights: the hammer sets the picked vertex's height exactly and keeps
             // height / R_s(t_p), and the boundary layer is fixed).
             const double first = 0.01 + 0.005 * trial;
             REQUIRE(applyTool(session, hammer(vertex, first, radius)).status == OpStatus::Applied);
-            Session::Bump bump;
-            REQUIRE(session.bumpAt(hammer(vertex, 0.0, radius), bump));
+            TSplineTools::Bump bump;
+            REQUIRE(session.tspline().bumpAt(hammer(vertex, 0.0, radius), bump));
             std::vector<double> h = heightsAlong(session, bump.direction);
             REQUIRE(std::abs(h[static_cast<size_t>(vertex)] - first) <= 1e-9 * diagonal);
             const std::vector<double> profile = h;
@@ -231,8 +231,8 @@ TEST_CASE("weights: a raise the lattice cannot carry stops at its largest inject
         const int vertex = static_cast<int>(rng() % mesh.positions.rows());
         const double radius = trial % 2 == 0 ? 0.0 : 0.3;
         REQUIRE(applyTool(session, hammer(vertex, 0.01, radius)).status == OpStatus::Applied);
-        Session::Bump bump;
-        REQUIRE(session.bumpAt(hammer(vertex, 0.0, radius), bump));
+        TSplineTools::Bump bump;
+        REQUIRE(session.tspline().bumpAt(hammer(vertex, 0.0, radius), bump));
         const std::vector<double> profile = heightsAlong(session, bump.direction);
         const Positions before = session.positions();
         // Half the sphere's diameter: far more than a depth-3 lattice carries on a few control points.
@@ -282,8 +282,8 @@ TEST_CASE("weights: the crimp keeps the peak height and scales the width at half
         REQUIRE(applyTool(session, hammer(vertex, 0.03)).status == OpStatus::Applied);
         // The peak: the vertex where the bump is highest (the crimp keeps its height; the picked vertex of a
         // user's crimp).
-        Session::Bump bump;
-        REQUIRE(session.bumpAt(hammer(vertex, 0.0), bump));
+        TSplineTools::Bump bump;
+        REQUIRE(session.tspline().bumpAt(hammer(vertex, 0.0), bump));
         int peak = vertex;
         std::vector<double> h = heightsAlong(session, bump.direction);
         for (int v : bump.vertices)
@@ -327,7 +327,7 @@ TEST_CASE("weights: bad requests are named and change nothing", "[weights][tspli
     REQUIRE(session.setMesh(mesh.positions, mesh.triangles, LatticeSettings{}));
     OpReport report;
     // No T-spline frozen.
-    Status s = session.sculptWeights(hammer(0, 0.1), report);
+    Status s = session.tspline().sculptWeights(hammer(0, 0.1), report);
     REQUIRE(!s);
     REQUIRE(s.message.find("no weighted T-spline") != std::string::npos);
     setUp(session, mesh, 2);
@@ -335,7 +335,7 @@ TEST_CASE("weights: bad requests are named and change nothing", "[weights][tspli
     const size_t history = session.history().size();
     const auto refused = [&](const WeightToolSettings& settings, const std::string& words) {
         OpReport r;
-        const Status st = session.sculptWeights(settings, r);
+        const Status st = session.tspline().sculptWeights(settings, r);
         INFO(st.message);
         REQUIRE(!st);
         REQUIRE(st.message.find(words) != std::string::npos);
@@ -358,7 +358,7 @@ TEST_CASE("weights: bad requests are named and change nothing", "[weights][tspli
     set.weights = {2.0, 3.0};
     refused(set, "listed twice");
     WeightToolSettings hidden = hammer(0, 0.1);
-    const std::vector<int> visible = session.visibleTSplinePoints();
+    const std::vector<int> visible = session.tspline().visiblePoints();
     for (int id = 0; id < frozenVolume(session).controlPointCount(); ++id)
         if (!std::binary_search(visible.begin(), visible.end(), id)) {
             hidden.controlPoint = id;
@@ -370,7 +370,7 @@ TEST_CASE("weights: bad requests are named and change nothing", "[weights][tspli
     REQUIRE(applyTool(session, hammer(5, 0.1)).status == OpStatus::Applied);
     const Positions raised = session.positions();
     OpReport r;
-    const Status unreachable = session.sculptWeights(crimp(5, 1000.0), r);
+    const Status unreachable = session.tspline().sculptWeights(crimp(5, 1000.0), r);
     REQUIRE(!unreachable);
     REQUIRE(unreachable.message.find("width_factor") != std::string::npos);
     REQUIRE(session.positions() == raised);

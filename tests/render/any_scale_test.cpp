@@ -416,7 +416,7 @@ TEST_CASE("any scale: a drag in the window moves the picked point with the curso
         state.tools.brush.limited = false;
         press(sculptApp, cx, cy);
         REQUIRE(state.drag.active);
-        CHECK((state.session.dragSources().front() - hit.point).norm() < 1e-6 * p.diameter);
+        CHECK((state.session.stroke().sources().front() - hit.point).norm() < 1e-6 * p.diameter);
         const int vertex = state.drag.pickedVertex;
         for (int m = 1; m <= 6; ++m) {
             const Eigen::Vector2d cursor(cx, cy - 10.0 * m);
@@ -424,7 +424,7 @@ TEST_CASE("any scale: a drag in the window moves the picked point with the curso
             INFO("move " << m << ": " << state.status);
             REQUIRE(state.hasReport);
             REQUIRE(state.lastReport.status == core::OpStatus::Applied);
-            CHECK((pixelOf(state, state.session.dragSources().front()) - cursor).norm() < 0.05);
+            CHECK((pixelOf(state, state.session.stroke().sources().front()) - cursor).norm() < 0.05);
             if (opened && m == 3) window.frame(nullptr);
         }
         if (opened) {
@@ -472,7 +472,7 @@ TEST_CASE("any scale: markers, control points, pan and zoom in the window work a
         CHECK(state.drag.pickedVertex == -1);  // the handle, not the surface under it
         sculptApp.onMouseMove({hx + 2.0, hy - 31.0, {}}, {});
         REQUIRE(state.lastReport.status == core::OpStatus::Applied);
-        const Eigen::Vector2d handlePixel = pixelOf(state, state.session.dragSources().front());
+        const Eigen::Vector2d handlePixel = pixelOf(state, state.session.stroke().sources().front());
         CHECK((handlePixel - Eigen::Vector2d(hx + 2.0, hy - 31.0)).norm() < 0.05);
         release(sculptApp, hx + 2.0, hy - 31.0);
 

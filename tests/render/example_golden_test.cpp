@@ -45,7 +45,7 @@ core::Session exampleSession(const std::string& name, bool oneStep = false) {
         REQUIRE(op.subSteps <= 1);
         for (double residual : op.residuals) REQUIRE(residual <= 1e-9);
     }
-    REQUIRE(session.frozenTool() == -1);
+    REQUIRE(session.tools().frozen() == -1);
     return session;
 }
 
@@ -106,7 +106,7 @@ TEST_CASE("golden: local detail example, finer T-spline cells at one end of a pl
     // boxes (local knot vectors, eq. 7) of every control point the drag moved (the cage's displacements before
     // the unfreeze; the drag was one step in the frozen tool, no fresh frame).
     REQUIRE(now.col(2).maxCoeff() > 0.14);
-    const auto* tool = dynamic_cast<const core::TSplineVolume*>(session.latticeTools()[0].volume.get());
+    const auto* tool = dynamic_cast<const core::TSplineVolume*>(session.tools().list()[0].volume.get());
     REQUIRE(tool);
     const core::Operation& drag = session.history()[3];
     REQUIRE(drag.kind == core::OperationKind::Drag);

@@ -74,8 +74,8 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, 
     const int vertex = state.drag.pickedVertex;
     CHECK(vertex == hit.nearestCorner);
     // The drag's source is the hit point.
-    REQUIRE(state.session.dragSources().size() == 1);
-    CHECK((state.session.dragSources().front() - hit.point).norm() < 1e-6 * diagonal(original));
+    REQUIRE(state.session.stroke().sources().size() == 1);
+    CHECK((state.session.stroke().sources().front() - hit.point).norm() < 1e-6 * diagonal(original));
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, 0.5 * kWidth, 0.5 * kHeight, {}}, {});
     CHECK(state.session.history().empty());  // a click without a move records nothing
 

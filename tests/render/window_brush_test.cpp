@@ -138,9 +138,9 @@ TEST_CASE("window brush: a drag moves nothing beyond 1.25 radius of the grabbed 
             move(sculptApp, cursor.x(), cursor.y());
             if (state.lastReport.status != core::OpStatus::Applied) continue;
             ++applied;
-            CHECK((pixelOf(state, state.session.dragUserSources().front()) - cursor).norm() < 0.05);
+            CHECK((pixelOf(state, state.session.stroke().userSources().front()) - cursor).norm() < 0.05);
         }
-        const Eigen::Vector3d reached = state.session.dragUserSources().front();
+        const Eigen::Vector3d reached = state.session.stroke().userSources().front();
         sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 0.4 * radiusPixels, {}}, {});
         INFO("radius " << radiusPixels << " px: " << state.status);
         CHECK(applied >= 3);
@@ -183,7 +183,7 @@ TEST_CASE("window brush: with X symmetry the mirror image of the grabbed point f
         const Eigen::Vector3d mirroredTarget = core::reflectPoint(target, 1, centre);
         // Among the drag's constraints is the mirror image of the grabbed point, met exactly.
         double nearest = INFINITY;
-        for (const Eigen::Vector3d& source : state.session.dragSources()) nearest = std::min(nearest, (source - mirroredTarget).norm());
+        for (const Eigen::Vector3d& source : state.session.stroke().sources()) nearest = std::min(nearest, (source - mirroredTarget).norm());
         CHECK(nearest <= 1e-9 * diagonal);
         ++checked;
     }
@@ -214,7 +214,7 @@ TEST_CASE("window brush: a symmetric stroke dragged across its mirror plane stop
             CHECK(state.lastReport.reason.find("meet its mirror image at the X symmetry plane") != std::string::npos);
         }
         // Wherever the cursor is, the grabbed point (the first source; its mirror image follows) stays on its side.
-        CHECK((state.session.dragSources().front().x() - centre.x()) * (start.x() - centre.x()) > 0.0);
+        CHECK((state.session.stroke().sources().front().x() - centre.x()) * (start.x() - centre.x()) > 0.0);
     }
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx + 240.0, cy, {}}, {});
     REQUIRE(across > 0);

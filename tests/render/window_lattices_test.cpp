@@ -48,8 +48,8 @@ core::LatticeTool cylinderTool() {
 
 void addAndFreezeCylinder(core::Session& session) {
     core::OpReport report;
-    REQUIRE(session.addLatticeTool(cylinderTool(), report));
-    REQUIRE(session.freezeLattice(static_cast<int>(session.latticeTools().size()) - 1, 0, report));
+    REQUIRE(session.tools().add(cylinderTool(), report));
+    REQUIRE(session.tools().freeze(static_cast<int>(session.tools().list().size()) - 1, 0, report));
     INFO(report.reason);
     REQUIRE(report.status == core::OpStatus::Applied);
 }
@@ -123,15 +123,15 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     size_t history = session.history().size();
     ui.click("Add");
     INFO(state.status);
-    REQUIRE(session.latticeTools().size() == 1);
-    CHECK(session.latticeTools()[0].name == "cylinder");
+    REQUIRE(session.tools().list().size() == 1);
+    CHECK(session.tools().list()[0].name == "cylinder");
     CHECK(session.history().size() == history + 1);
     CHECK(app::latticeToolsShown(state));  // drawn (dim, at rest) though the sculpt tool's Lattice overlay is off
     CHECK_FALSE(app::latticeShown(state));
     ui.undo();
-    CHECK(session.latticeTools().empty());
+    CHECK(session.tools().list().empty());
     ui.redo();
-    REQUIRE(session.latticeTools().size() == 1);
+    REQUIRE(session.tools().list().size() == 1);
 
     // Place at picked point: the next click on the mesh puts the library lattice there, aligned with the normal.
     history = session.history().size();
@@ -144,11 +144,11 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     REQUIRE(hit.triangle >= 0);
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, {});
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x, y, {}}, {});
-    REQUIRE(session.latticeTools().size() == 2);
+    REQUIRE(session.tools().list().size() == 2);
     CHECK(session.history().size() == history + 1);
     CHECK(state.lattices.placing == app::LatticesPanelState::Placing::None);
     CHECK(session.positions() == session.originalPositions());  // placing never touches the mesh
-    const core::LatticeNet& placed = *session.latticeTools()[1].volume->tensorNet();
+    const core::LatticeNet& placed = *session.tools().list()[1].volume->tensorNet();
     CHECK((placed.bounds.center() - hit.point).norm() < 1e-9 * test::boundsDiagonal(session.positions()) + 1e-12);
     // Scaled so its own bounds' diagonal (before turning onto the normal) is the panel's size: distances
     // between its points grow by size / the library net's diagonal.
@@ -157,9 +157,9 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     CHECK((placed.rest.row(last) - placed.rest.row(0)).norm() ==
           Approx((original.rest.row(last) - original.rest.row(0)).norm() * app::placementSize(state) / original.diagonal()).epsilon(1e-9));
     ui.undo();
-    CHECK(session.latticeTools().size() == 1);
+    CHECK(session.tools().list().size() == 1);
     ui.redo();
-    REQUIRE(session.latticeTools().size() == 2);
+    REQUIRE(session.tools().list().size() == 2);
     ui.frame();
 
     // Freezing the library cylinder as it came (inside the closed mesh, holding none of its vertices) is an error
@@ -170,7 +170,7 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     ui.click("Freeze");
     CHECK(state.statusIsError);
     CHECK(state.status.find("holds none of the mesh's vertices") != std::string::npos);
-    CHECK(session.frozenTool() == -1);
+    CHECK(session.tools().frozen() == -1);
     CHECK(session.history().size() == history);
     // Freeze the placed one, undo, redo; Unfreeze, undo.
     ui.frame();
@@ -178,24 +178,24 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     REQUIRE(state.lattices.selectedTool == 1);
     ui.click("Freeze");
     INFO(state.status);
-    REQUIRE(session.frozenTool() == 1);
+    REQUIRE(session.tools().frozen() == 1);
     REQUIRE(session.lattice().volume != nullptr);
     CHECK(session.history().size() == history + 1);
     ui.undo();
-    CHECK(session.frozenTool() == -1);
+    CHECK(session.tools().frozen() == -1);
     CHECK(session.lattice().volume == nullptr);
     ui.redo();
-    REQUIRE(session.frozenTool() == 1);
+    REQUIRE(session.tools().frozen() == 1);
     ui.frame();
     ui.click("Unfreeze");
-    CHECK(session.frozenTool() == -1);
+    CHECK(session.tools().frozen() == -1);
     CHECK(session.history().size() == history + 2);
     ui.undo();
-    CHECK(session.frozenTool() == 1);
+    CHECK(session.tools().frozen() == 1);
     // A frozen tool cannot be removed: the button is disabled (the engine would refuse it too).
     ui.frame();
     ui.click("Remove");
-    CHECK(session.latticeTools().size() == 2);
+    CHECK(session.tools().list().size() == 2);
 
     // Esc takes a waiting placement back; nothing is added.
     history = session.history().size();
@@ -212,7 +212,7 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     io::LatticeFile file;
     REQUIRE(io::readLatticeFile(path, file).ok);
     CHECK(file.name == "cylinder");
-    CHECK(file.volume->restControlPoints() == session.latticeTools()[1].volume->restControlPoints());
+    CHECK(file.volume->restControlPoints() == session.tools().list()[1].volume->restControlPoints());
     CHECK_FALSE(app::saveLatticeToolCommand(state, 1, test::glTestOutputDir() + "/no such folder/x.lattice.json").ok);
     CHECK(state.statusIsError);
     REQUIRE(app::openLatticeFile(state, path));  // and it can be opened into the library again
@@ -291,10 +291,10 @@ TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px mov
     app::AppState& state = sculptApp.state();
     core::Session& session = state.session;
     core::OpReport added;
-    REQUIRE(session.addLatticeTool(cylinderTool(), added));
+    REQUIRE(session.tools().add(cylinderTool(), added));
     app::freezeLatticeCommand(state, 0, 0);  // the panel's Freeze
     INFO(state.status);
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.tools().frozen() == 0);
     sculptApp.onKey({app::Key::Tab, app::KeyAction::Press, {}}, {});
     REQUIRE(state.tools.mode == app::ToolMode::Lattice);
     const core::Lattice& lattice = session.lattice();
@@ -365,7 +365,7 @@ TEST_CASE("window lattices: the panel's buttons stay where they are whatever the
     };
     const auto reference = layout("empty");  // no tools: "None yet" in the list, the edit-mode line
     ui.click("Add");
-    REQUIRE(session.latticeTools().size() == 1);
+    REQUIRE(session.tools().list().size() == 1);
     CHECK(layout("one") == reference);  // one tool, selected: its description under the list
     state.lattices.selectedTool = -1;
     CHECK(layout("unselected") == reference);
@@ -374,14 +374,14 @@ TEST_CASE("window lattices: the panel's buttons stay where they are whatever the
     const auto ball = std::find_if(library.begin(), library.end(), [](const auto& e) { return e.name == "ball"; });
     REQUIRE(ball != library.end());
     for (int t = 0; t < 6; ++t) app::addLatticeFromLibrary(state, static_cast<int>(ball - library.begin()));
-    REQUIRE(session.latticeTools().size() == 7);  // more than the list's rows: it scrolls
+    REQUIRE(session.tools().list().size() == 7);  // more than the list's rows: it scrolls
     CHECK(layout("seven") == reference);
     // Frozen (a cylinder around the mesh's middle holds vertices): the mode line names it.
     core::OpReport added;
-    REQUIRE(session.addLatticeTool(cylinderTool(), added));
+    REQUIRE(session.tools().add(cylinderTool(), added));
     app::freezeLatticeCommand(state, 7, 0);
     INFO(state.status);
-    REQUIRE(session.frozenTool() == 7);
+    REQUIRE(session.tools().frozen() == 7);
     state.lattices.selectedTool = 7;
     CHECK(layout("frozen") == reference);
     ui.click("tool 0");
@@ -396,9 +396,9 @@ TEST_CASE("window lattices: Insert knot and Refine axis add points to the select
     core::Session& session = state.session;
     ui.openPanelWithCylinder();
     ui.click("Add");
-    REQUIRE(session.latticeTools().size() == 1);
+    REQUIRE(session.tools().list().size() == 1);
     REQUIRE(state.lattices.selectedTool == 0);
-    const std::shared_ptr<const core::Volume> before = session.latticeTools()[0].volume;
+    const std::shared_ptr<const core::Volume> before = session.tools().list()[0].volume;
     const core::LatticeNet& old = *before->tensorNet();
     // Split the axial chunk holding w = 0.3 (the slider's value), as the user sets it.
     state.lattices.editAxis = 2;
@@ -409,7 +409,7 @@ TEST_CASE("window lattices: Insert knot and Refine axis add points to the select
     INFO(state.status);
     REQUIRE(session.history().size() == history + 1);
     CHECK(state.status.find("Inserted a knot at w = 0.300 in cylinder") != std::string::npos);
-    const core::LatticeNet& split = *session.latticeTools()[0].volume->tensorNet();
+    const core::LatticeNet& split = *session.tools().list()[0].volume->tensorNet();
     CHECK(split.count[2] == old.count[2] + 1);
     CHECK(split.axes[2].spans == old.axes[2].spans + 1);
     CHECK(session.positions() == session.originalPositions());  // editing a tool never touches the mesh
@@ -427,16 +427,16 @@ TEST_CASE("window lattices: Insert knot and Refine axis add points to the select
     ui.frame();
     ui.click("Refine axis");
     CHECK(session.history().size() == history + 2);
-    CHECK(session.latticeTools()[0].volume->tensorNet()->axes[0].spans == 2 * old.axes[0].spans);
+    CHECK(session.tools().list()[0].volume->tensorNet()->axes[0].spans == 2 * old.axes[0].spans);
     // Undo takes both back, one at a time, to the very volume added.
     ui.undo();
     ui.undo();
-    CHECK(session.latticeTools()[0].volume == before);
+    CHECK(session.tools().list()[0].volume == before);
     // A frozen tool is not edited: the buttons are disabled, a click does nothing.
     core::OpReport added;
-    REQUIRE(session.addLatticeTool(cylinderTool(), added));
+    REQUIRE(session.tools().add(cylinderTool(), added));
     app::freezeLatticeCommand(state, 1, 0);
-    REQUIRE(session.frozenTool() == 1);
+    REQUIRE(session.tools().frozen() == 1);
     state.lattices.selectedTool = 1;
     ui.frame();
     const size_t frozenHistory = session.history().size();
@@ -455,7 +455,7 @@ TEST_CASE("window lattices: a press in the same frame as the move off the panel 
     core::Session& session = state.session;
     ui.openPanelWithCylinder();
     ui.click("Add");
-    REQUIRE(session.latticeTools().size() == 1);
+    REQUIRE(session.tools().list().size() == 1);
     REQUIRE(state.lattices.selectedTool == 0);
     ui.click("Move on mesh");
     REQUIRE(state.lattices.placing == app::LatticesPanelState::Placing::Tool);
@@ -477,7 +477,7 @@ TEST_CASE("window lattices: a press in the same frame as the move off the panel 
     INFO(state.status);
     CHECK(state.lattices.placing == app::LatticesPanelState::Placing::None);
     REQUIRE(session.history().size() == history + 1);
-    const core::LatticeNet& moved = *session.latticeTools()[0].volume->tensorNet();
+    const core::LatticeNet& moved = *session.tools().list()[0].volume->tensorNet();
     CHECK((moved.bounds.center() - hit.point).norm() < 1e-9 * test::boundsDiagonal(session.positions()) + 1e-12);
 
     // The other way round: the cursor was over the mesh at the last frame, and the press comes on the panel's
@@ -499,9 +499,9 @@ TEST_CASE("window lattices: a press in the same frame as the move off the panel 
 
     // Lattice point editing alike: the frozen cylinder's axis point, pressed right after the cursor left the panel.
     core::OpReport added;
-    REQUIRE(session.addLatticeTool(cylinderTool(), added));
+    REQUIRE(session.tools().add(cylinderTool(), added));
     app::freezeLatticeCommand(state, 1, 0);
-    REQUIRE(session.frozenTool() == 1);
+    REQUIRE(session.tools().frozen() == 1);
     ui.appKey(app::Key::Tab);
     REQUIRE(state.tools.mode == app::ToolMode::Lattice);
     ui.frame();
@@ -545,10 +545,10 @@ TEST_CASE("window lattices: the markers of a small frozen lattice shrink so the 
     const double x = 0.5 * kWidth, y = 0.45 * Ui::kPanelHeight;  // between the panels
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, app::SculptApp::uiCaptureAt(x, y));
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x, y, {}}, app::SculptApp::uiCaptureAt(x, y));
-    REQUIRE(session.latticeTools().size() == 1);
+    REQUIRE(session.tools().list().size() == 1);
     app::freezeLatticeCommand(state, 0, 0);  // the panel's Freeze; turns the Lattice overlay on
     INFO(state.status);
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.tools().frozen() == 0);
     REQUIRE(app::latticeShown(state));
     ui.frame();
     render::Rgba8Image image;
@@ -620,8 +620,8 @@ TEST_CASE("window lattices: Save to library writes a fresh name to the user's fo
     app::FileCommands& files = ui.sculptApp.files();
     ui.openPanelWithCylinder();
     ui.click("Add");
-    REQUIRE(state.session.latticeTools().size() == 1);
-    REQUIRE(state.session.latticeTools()[0].name == "cylinder");
+    REQUIRE(state.session.tools().list().size() == 1);
+    REQUIRE(state.session.tools().list()[0].name == "cylinder");
 
     ui.click("Save to library...");
     REQUIRE(files.dialog().isOpen());
@@ -637,7 +637,7 @@ TEST_CASE("window lattices: Save to library writes a fresh name to the user's fo
     io::LatticeFile file;
     REQUIRE(io::readLatticeFile(saved, file).ok);
     CHECK(file.name == "cylinder 2");  // the library's name is the file's
-    CHECK(file.volume->restControlPoints() == state.session.latticeTools()[0].volume->restControlPoints());
+    CHECK(file.volume->restControlPoints() == state.session.tools().list()[0].volume->restControlPoints());
     const std::vector<app::LatticeLibraryEntry>& library = state.lattices.library;
     const auto listed = std::find_if(library.begin(), library.end(), [&](const auto& e) { return fs::path(e.path) == fs::path(saved); });
     REQUIRE(listed != library.end());

@@ -36,10 +36,10 @@ TEST_CASE("window picking: on a cylinder lattice a click on a free marker picks 
     core::LatticeNet net;
     REQUIRE(core::makeCylinderNet(Eigen::Vector3d(0, -1.0, 0), Eigen::Vector3d::UnitY(), 0.6, 2.0, {2, 3, 2}, {2, 2}, net));
     core::OpReport added;
-    REQUIRE(session.addLatticeTool({"cylinder", std::make_shared<const core::LatticeNet>(net)}, added));
+    REQUIRE(session.tools().add({"cylinder", std::make_shared<const core::LatticeNet>(net)}, added));
     app::freezeLatticeCommand(state, 0, 0);
     INFO(state.status);
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.tools().frozen() == 0);
     sculptApp.onKey({app::Key::Tab, app::KeyAction::Press, {}}, {});
     REQUIRE(state.tools.mode == app::ToolMode::Lattice);
     const core::Lattice& lattice = session.lattice();

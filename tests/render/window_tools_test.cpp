@@ -92,7 +92,7 @@ TEST_CASE("window tools: handles move together or alone while the other handles 
         const double dx = std::uniform_real_distribution<double>(-30, 30)(rng), dy = std::uniform_real_distribution<double>(-40, -10)(rng);
         for (int m = 1; m <= 5; ++m) sculptApp.onMouseMove({hx + dx * m / 5, hy + dy * m / 5, {}}, {});
         const app::DragState drag = state.drag;
-        const std::vector<Eigen::Vector3d> sources = state.session.dragUserSources();
+        const std::vector<Eigen::Vector3d> sources = state.session.stroke().userSources();
         REQUIRE(sources.size() == state.tools.handles.size());
         const Eigen::Vector3d offset = drag.target - drag.planePoint;
         CHECK(offset.norm() > 1e-3 * diagonal);
@@ -131,7 +131,7 @@ TEST_CASE("window tools: a plain drag keeps every handle and pin where it is", "
     REQUIRE(state.drag.active);
     REQUIRE(state.drag.moving == std::vector<int>{0});  // only the grabbed point follows the cursor
     for (int m = 1; m <= 6; ++m) sculptApp.onMouseMove({0.5 * kWidth, 0.5 * kHeight - 10.0 * m, {}}, {});
-    const std::vector<Eigen::Vector3d> sources = state.session.dragUserSources();
+    const std::vector<Eigen::Vector3d> sources = state.session.stroke().userSources();
     REQUIRE(sources.size() == 3);
     for (size_t c = 1; c < 3; ++c) CHECK((sources[c] - state.drag.starts[c]).norm() <= 1e-6 * diagonal);
     CHECK((sources[0] - state.drag.target).norm() <= 1e-6 * diagonal);

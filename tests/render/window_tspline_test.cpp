@@ -46,8 +46,8 @@ void loadPot(app::SculptApp& sculptApp) {
 
 const core::TSplineVolume& toolVolume(const core::Session& session, int index) {
     REQUIRE(index >= 0);
-    REQUIRE(index < static_cast<int>(session.latticeTools().size()));
-    const core::TSplineVolume* tspline = core::asTSpline(session.latticeTools()[static_cast<size_t>(index)].volume.get());
+    REQUIRE(index < static_cast<int>(session.tools().list().size()));
+    const core::TSplineVolume* tspline = core::asTSpline(session.tools().list()[static_cast<size_t>(index)].volume.get());
     REQUIRE(tspline != nullptr);
     return *tspline;
 }
@@ -107,7 +107,7 @@ core::Session potSession(int depth) {
     core::TSplineSetup setup;
     setup.octree.octree.depth = depth;
     core::OpReport report;
-    REQUIRE(session.setupTSpline(setup, report).ok);
+    REQUIRE(session.tspline().setup(setup, report).ok);
     INFO(report.reason);
     REQUIRE(report.status == core::OpStatus::Applied);
     return session;
@@ -129,13 +129,13 @@ core::Session locallySubdividedPot() {
     setup.regionMax = Eigen::Vector3d(0.8, 0.8, 1.3);
     setup.name = "pot";
     core::OpReport report;
-    REQUIRE(session.setupTSpline(setup, report).ok);
-    REQUIRE(session.unfreezeLattice(report).ok);
-    REQUIRE(session.subdivideTSplineCells(0, {}, {Eigen::Vector3d(0.52, 0, 0.4)}, true, report).ok);
+    REQUIRE(session.tspline().setup(setup, report).ok);
+    REQUIRE(session.tools().unfreeze(report).ok);
+    REQUIRE(session.tspline().subdivideCells(0, {}, {Eigen::Vector3d(0.52, 0, 0.4)}, true, report).ok);
     INFO(report.reason);
     REQUIRE(report.status == core::OpStatus::Applied);
-    REQUIRE(session.freezeLattice(0, 0, report).ok);
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.tools().freeze(0, 0, report).ok);
+    REQUIRE(session.tools().frozen() == 0);
     return session;
 }
 
@@ -173,8 +173,8 @@ TEST_CASE("window tspline: Set up T-spline adds and freezes the lattice the pane
     ui.click("Set up T-spline");
     INFO(state.status);
     CHECK_FALSE(state.statusIsError);
-    REQUIRE(session.latticeTools().size() == 1);
-    CHECK(session.frozenTool() == 0);
+    REQUIRE(session.tools().list().size() == 1);
+    CHECK(session.tools().frozen() == 0);
     CHECK(state.lattices.selectedTool == 0);
     CHECK(app::latticeShown(state));  // the lattice just frozen is on screen
     CHECK(session.history().size() == history + 1);  // adding the tool and freezing it: one entry
@@ -193,8 +193,8 @@ TEST_CASE("window tspline: Set up T-spline adds and freezes the lattice the pane
     CHECK(made.restBounds().isApprox(expected->restBounds(), 1e-12));
 
     ui.undo();  // the set-up: the freeze and the tool, one history entry
-    CHECK(session.frozenTool() == -1);
-    CHECK(session.latticeTools().empty());
+    CHECK(session.tools().frozen() == -1);
+    CHECK(session.tools().list().empty());
     CHECK(session.positions() == before);
     ui.frame();
 
@@ -207,23 +207,23 @@ TEST_CASE("window tspline: Set up T-spline adds and freezes the lattice the pane
     ui.click("Set up T-spline");
     CHECK(state.statusIsError);
     CHECK(state.status.find("holds none of the mesh's") != std::string::npos);
-    CHECK(session.latticeTools().empty());
+    CHECK(session.tools().list().empty());
     state.tspline.regionMin = Eigen::Vector3d(-0.8, -0.8, 0.5);
     state.tspline.regionMax = Eigen::Vector3d(0.8, 0.8, 1.3);
     state.tspline.depth = 2;
     ui.frame();
     ui.click("Set up T-spline");
     INFO(state.status);
-    REQUIRE(session.latticeTools().size() == 1);
-    CHECK(session.latticeTools()[0].name == "tspline");
+    REQUIRE(session.tools().list().size() == 1);
+    CHECK(session.tools().list()[0].name == "tspline");
     CHECK(toolVolume(session, 0).restBounds().min().isApprox(Eigen::Vector3d(-0.8, -0.8, 0.5), 1e-12));
     CHECK(toolVolume(session, 0).restBounds().max().isApprox(Eigen::Vector3d(0.8, 0.8, 1.3), 1e-12));
     // A second set-up gets a name of its own.
     ui.click("tspline mesh bounds");
     ui.click("Set up T-spline");
-    REQUIRE(session.latticeTools().size() == 2);
-    CHECK(session.latticeTools()[1].name == "tspline 2");
-    CHECK(session.frozenTool() == 1);
+    REQUIRE(session.tools().list().size() == 2);
+    CHECK(session.tools().list()[1].name == "tspline 2");
+    CHECK(session.tools().frozen() == 1);
 }
 
 TEST_CASE("window tspline: only the control points of non-empty cells are drawn and picked", "[gl][tspline]") {
@@ -233,7 +233,7 @@ TEST_CASE("window tspline: only the control points of non-empty cells are drawn 
     app::setupTSplineCommand(state);  // the panel's defaults: depth 3, 100:1, the mesh's bounds
     INFO(state.status);
     core::Session& session = state.session;
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.tools().frozen() == 0);
     sculptApp.onKey({app::Key::Tab, app::KeyAction::Press, {}}, {});
     REQUIRE(state.tools.mode == app::ToolMode::Lattice);
     REQUIRE(app::latticeShown(state));
@@ -310,8 +310,8 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     state.tspline.depth = 2;
     ui.frame();
     ui.click("Set up T-spline");
-    REQUIRE(session.frozenTool() == 0);
-    const std::shared_ptr<const core::Volume> coarse = session.latticeTools()[0].volume;
+    REQUIRE(session.tools().frozen() == 0);
+    const std::shared_ptr<const core::Volume> coarse = session.tools().list()[0].volume;
     const size_t cellsBefore = toolVolume(session, 0).lattice().cells.size();
     // Nothing chosen yet: Subdivide is disabled, and the command says what to do.
     ui.click("Subdivide");
@@ -324,9 +324,9 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     app::subdivideChosenCellsCommand(state);
     CHECK(state.statusIsError);
     CHECK(state.status.find("does not exist") != std::string::npos);
-    CHECK(session.frozenTool() == 0);
+    CHECK(session.tools().frozen() == 0);
     CHECK(session.historyCursor() == cursor);
-    CHECK(session.latticeTools()[0].volume == coarse);
+    CHECK(session.tools().list()[0].volume == coarse);
     state.tspline.chosenCells.clear();
 
     ui.click("Choose cells");
@@ -368,7 +368,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     ui.click("Subdivide");
     INFO(state.status);
     CHECK_FALSE(state.statusIsError);
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.tools().frozen() == 0);
     const size_t cellsAfter = toolVolume(session, 0).lattice().cells.size();
     CHECK(cellsAfter >= cellsBefore + 7);  // the cell became 8, more with the balance
     CHECK(session.historyCursor() == history + 1);  // unfreeze, subdivide, freeze: one entry
@@ -382,8 +382,8 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
         if (finer.basis().anchors[s].boundaryCopy == 0) CHECK(bool(shown[s]) == (finer.controlWeights()[s] == 100.0));
 
     ui.undo();  // the freeze, the subdivision and the unfreeze
-    CHECK(session.frozenTool() == 0);
-    CHECK(session.latticeTools()[0].volume == coarse);  // the very lattice it was
+    CHECK(session.tools().frozen() == 0);
+    CHECK(session.tools().list()[0].volume == coarse);  // the very lattice it was
     CHECK(toolVolume(session, 0).lattice().cells.size() == cellsBefore);
     CHECK(session.positions() == before);
 
@@ -391,7 +391,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     // T-junctions show while choosing, and Subdivide is subdivide_cells alone, one history operation.
     ui.frame();
     ui.click("Unfreeze");
-    REQUIRE(session.frozenTool() == -1);
+    REQUIRE(session.tools().frozen() == -1);
     REQUIRE(app::tsplineTarget(state) == 0);
     ui.click("Choose cells");
     REQUIRE(state.tspline.picking);
@@ -402,7 +402,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     ui.click("Subdivide");
     INFO(state.status);
     CHECK(session.historyCursor() == unfrozenHistory + 1);
-    CHECK(session.frozenTool() == -1);
+    CHECK(session.tools().frozen() == -1);
     const core::TSplineVolume& atRest = toolVolume(session, 0);
     CHECK(atRest.lattice().cells.size() > cellsBefore);
     ui.click("Choose cells");  // the finer tool's T-junctions, at its rest control points
@@ -415,7 +415,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     ui.sculptApp.onKey({app::Key::Escape, app::KeyAction::Press, {}}, {});
     CHECK_FALSE(state.tspline.picking);
     ui.undo();
-    CHECK(session.latticeTools()[0].volume == coarse);
+    CHECK(session.tools().list()[0].volume == coarse);
 }
 
 TEST_CASE("window tspline: the overlay marks every T-junction of the frozen T-lattice", "[gl][tspline]") {

@@ -55,9 +55,9 @@ TEST_CASE("window weights: the hammer raises and lowers the clicked vertex by th
     REQUIRE(hammered.kind == core::OperationKind::WeightEdit);
     REQUIRE(hammered.weightTool.tool == core::WeightToolSettings::Tool::Hammer);
     const int vertex = hammered.weightTool.vertex;
-    core::Session::Bump bump;
+    core::TSplineTools::Bump bump;
     core::WeightToolSettings at = hammered.weightTool;
-    REQUIRE(state.session.bumpAt(at, bump));
+    REQUIRE(state.session.tspline().bumpAt(at, bump));
     CHECK(heightOf(state.session, vertex, bump.direction) == Approx(0.01 * diagonal).margin(1e-9 * diagonal));
     // Crimp: broader, same height at the vertex.
     brush.kind = app::BrushTool::Kind::Crimp;
@@ -67,7 +67,7 @@ TEST_CASE("window weights: the hammer raises and lowers the clicked vertex by th
     INFO(state.status);
     REQUIRE(state.session.history().size() == history + 2);
     CHECK(state.session.history().back().weightTool.tool == core::WeightToolSettings::Tool::Crimp);
-    REQUIRE(state.session.bumpAt(at, bump));
+    REQUIRE(state.session.tspline().bumpAt(at, bump));
     CHECK(heightOf(state.session, vertex, bump.direction) == Approx(before).margin(1e-9 * diagonal));
     // Ctrl+click with the hammer lowers the clicked vertex (the surface under the cursor has moved: it may be
     // another one) by one step, along its bump's direction (which the hammer keeps).
@@ -78,7 +78,7 @@ TEST_CASE("window weights: the hammer raises and lowers the clicked vertex by th
     INFO(state.status);
     at = state.session.history().back().weightTool;
     REQUIRE(state.session.undo(report));  // the bump's direction before the click (it turns over below zero)
-    REQUIRE(state.session.bumpAt(at, bump));
+    REQUIRE(state.session.tspline().bumpAt(at, bump));
     REQUIRE(state.session.redo(report));
     // (the step is a fraction of the mesh's size as it is when clicked)
     const double lowered =

@@ -145,8 +145,8 @@ const ToolOverlays& overlaysOfTool(const Overlays& overlays, ToolMode mode) {
 bool latticeShown(const AppState& state) { return overlaysOfTool(state.overlays, state.tools.mode).lattice; }
 
 bool latticeToolsShown(const AppState& state) {
-    const int tools = static_cast<int>(state.session.latticeTools().size());
-    return state.lattices.showTools && tools > (state.session.frozenTool() >= 0 ? 1 : 0);
+    const int tools = static_cast<int>(state.session.tools().list().size());
+    return state.lattices.showTools && tools > (state.session.tools().frozen() >= 0 ? 1 : 0);
 }
 
 std::vector<std::uint8_t> shownControlPoints(const AppState& state) {

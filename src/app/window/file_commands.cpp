@@ -243,7 +243,7 @@ bool FileCommands::startSave(AppState& state, JobKind kind, const std::string& p
     if (kind == JobKind::SaveMesh) {
         // note: a copy of the positions (24 MB for 1M vertices, a few ms): the worker never reads the session.
         Positions positions = state.session.positions();
-        std::vector<core::EdgeSplit> splits = state.session.appliedSplits();  // a refined mesh: its splits
+        std::vector<core::EdgeSplit> splits = state.session.refinement().appliedSplits();  // a refined mesh: its splits
         startJob(state, kind, path, [path, mesh, positions = std::move(positions), splits = std::move(splits)](JobProgress& progress) {
             progress.phase = static_cast<int>(JobPhase::Writing);
             JobResult result;
@@ -656,7 +656,7 @@ void FileCommands::openLatticeFile(AppState& /*state*/) {
 
 void FileCommands::saveLatticeFile(AppState& state, int tool) {
     if (busy() || dialog_.isOpen()) return;
-    const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+    const std::vector<core::LatticeTool>& tools = state.session.tools().list();
     if (tool < 0 || tool >= static_cast<int>(tools.size())) return;
     latticeToSave_ = tool;
     // The user's library folder, made on demand; where it cannot be made, the working folder (and the status

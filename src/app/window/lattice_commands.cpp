@@ -166,9 +166,9 @@ void addLatticeFromLibrary(AppState& state, int entry) {
         return;
     }
     core::OpReport report;
-    const Status s = state.session.addLatticeTool({library[static_cast<size_t>(entry)].name, library[static_cast<size_t>(entry)].volume}, report);
+    const Status s = state.session.tools().add({library[static_cast<size_t>(entry)].name, library[static_cast<size_t>(entry)].volume}, report);
     if (s && report.status == core::OpStatus::Applied)
-        state.lattices.selectedTool = static_cast<int>(state.session.latticeTools().size()) - 1;
+        state.lattices.selectedTool = static_cast<int>(state.session.tools().list().size()) - 1;
     reportLatticeOperation(state, report, s, "Added lattice " + library[static_cast<size_t>(entry)].name);
 }
 
@@ -182,16 +182,16 @@ void placeLatticeCommand(AppState& state, const core::Volume& volume, const std:
     }
     core::LatticeTool tool{name, std::move(placed)};
     core::OpReport report;
-    const Status s = editIndex < 0 ? state.session.addLatticeTool(tool, report) : state.session.editLatticeTool(editIndex, tool, report);
+    const Status s = editIndex < 0 ? state.session.tools().add(tool, report) : state.session.tools().edit(editIndex, tool, report);
     if (s && report.status == core::OpStatus::Applied)
-        state.lattices.selectedTool = editIndex < 0 ? static_cast<int>(state.session.latticeTools().size()) - 1 : editIndex;
+        state.lattices.selectedTool = editIndex < 0 ? static_cast<int>(state.session.tools().list().size()) - 1 : editIndex;
     reportLatticeOperation(state, report, s, (editIndex < 0 ? "Placed lattice " : "Moved lattice ") + name);
 }
 
 void freezeLatticeCommand(AppState& state, int index, int pinLayers) {
     if (state.drag.active) return;
     core::OpReport report;
-    const Status s = state.session.freezeLattice(index, std::clamp(pinLayers, 0, 2), report);
+    const Status s = state.session.tools().freeze(index, std::clamp(pinLayers, 0, 2), report);
     state.tools.lattice.points.clear();
     reportLatticeOperation(state, report, s, "Froze the lattice", true);
 }
@@ -199,19 +199,19 @@ void freezeLatticeCommand(AppState& state, int index, int pinLayers) {
 void unfreezeLatticeCommand(AppState& state) {
     if (state.drag.active) return;
     core::OpReport report;
-    const Status s = state.session.unfreezeLattice(report);
+    const Status s = state.session.tools().unfreeze(report);
     state.tools.lattice.points.clear();
     reportLatticeOperation(state, report, s, "Unfroze the lattice: the shape stays, the box lattice is back");
 }
 
 void removeLatticeToolCommand(AppState& state, int index) {
     if (state.drag.active) return;
-    const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+    const std::vector<core::LatticeTool>& tools = state.session.tools().list();
     const std::string name = index >= 0 && index < static_cast<int>(tools.size()) ? tools[static_cast<size_t>(index)].name : std::string();
     core::OpReport report;
-    const Status s = state.session.removeLatticeTool(index, report);
+    const Status s = state.session.tools().remove(index, report);
     if (s && report.status == core::OpStatus::Applied)
-        state.lattices.selectedTool = std::min(state.lattices.selectedTool, static_cast<int>(state.session.latticeTools().size()) - 1);
+        state.lattices.selectedTool = std::min(state.lattices.selectedTool, static_cast<int>(state.session.tools().list().size()) - 1);
     reportLatticeOperation(state, report, s, "Removed lattice " + name);
 }
 
@@ -227,7 +227,7 @@ void editLatticeNetCommand(AppState& state, int index, const std::vector<core::N
 }
 
 Status saveLatticeToolCommand(AppState& state, int index, const std::string& path, const std::string& name) {
-    const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+    const std::vector<core::LatticeTool>& tools = state.session.tools().list();
     if (index < 0 || index >= static_cast<int>(tools.size()) || !tools[static_cast<size_t>(index)].volume) {
         const Status error = Status::error("there is no lattice " + std::to_string(index));
         setStatus(state, "Lattice not saved: " + error.message, true);
@@ -298,7 +298,7 @@ bool placeLatticeAtPixel(AppState& state, double x, double y) {
         const LatticeLibraryEntry& entry = panel.library[static_cast<size_t>(panel.libraryChoice)];
         placeLatticeCommand(state, *entry.volume, entry.name, -1, hit.point, normal, placementSize(state));
     } else {
-        const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+        const std::vector<core::LatticeTool>& tools = state.session.tools().list();
         if (panel.selectedTool < 0 || panel.selectedTool >= static_cast<int>(tools.size())) return true;
         const core::LatticeTool tool = tools[static_cast<size_t>(panel.selectedTool)];
         placeLatticeCommand(state, *tool.volume, tool.name, panel.selectedTool, hit.point, normal, placementSize(state));

@@ -41,14 +41,14 @@ std::string latticeNameOfPath(const std::string& path);
 // reason on the status line, when it cannot be read.
 bool openLatticeFile(AppState& state, const std::string& path);
 
-// Session::addLatticeTool of library entry `entry` as it is (no placement).
+// Session::tools().add of library entry `entry` as it is (no placement).
 void addLatticeFromLibrary(AppState& state, int entry);
 // The positioning command (3.2, core::placeVolume): the net's bounds centre to `point`, its z axis onto
 // `normal`, its bounds diagonal `size` (world units); then added as a new tool named `name` (editIndex < 0,
-// Session::addLatticeTool) or replacing tool editIndex's net (Session::editLatticeTool).
+// Session::tools().add) or replacing tool editIndex's net (Session::tools().edit).
 void placeLatticeCommand(AppState& state, const core::Volume& volume, const std::string& name, int editIndex,
                          const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size);
-// Session::freezeLattice / unfreezeLattice / removeLatticeTool. The control-point selection is cleared
+// Session::tools().freeze / unfreeze / remove. The control-point selection is cleared
 // (its ids belonged to the other lattice).
 void freezeLatticeCommand(AppState& state, int index, int pinLayers);
 void unfreezeLatticeCommand(AppState& state);

@@ -64,8 +64,8 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     if (!open) return;
     if (!panel.libraryLoaded) loadLatticeLibraries(state);
     const core::Session& session = state.session;
-    const std::vector<core::LatticeTool>& tools = session.latticeTools();
-    const int frozen = session.frozenTool();
+    const std::vector<core::LatticeTool>& tools = session.tools().list();
+    const int frozen = session.tools().frozen();
     const int count = static_cast<int>(tools.size());
     if (panel.selectedTool >= count) panel.selectedTool = count - 1;
     const bool idle = !state.drag.active && session.hasMesh();

@@ -238,7 +238,7 @@ void SculptApp::syncGpu() {
     const std::string gpuProblem = render::Renderer::gpuDeformationProblem(session.lattice(), layers);
     const bool freshMesh = gpu.mesh;  // a new mesh or session, or a new context (not only a refinement)
     // A refinement (or its undo) changes the triangles: a full upload.
-    if (session.topologyVersion() != uploadedTopology_) gpu.mesh = true;
+    if (session.refinement().topologyVersion() != uploadedTopology_) gpu.mesh = true;
     if (gpu.mesh) {
         // A new mesh is measured afresh; a refinement keeps the decision unless it made a small mesh big.
         const int vertexCount = static_cast<int>(session.positions().rows());
@@ -271,7 +271,7 @@ void SculptApp::syncGpu() {
     // The path changes (the chooser switched, the lattice became another kind): every vertex is redrawn.
     if (!gpu.mesh && wantGpu != renderer_.gpuDeformationActive()) gpu.allPositions = true;
     if (gpu.mesh) {
-        uploadedTopology_ = session.topologyVersion();
+        uploadedTopology_ = session.refinement().topologyVersion();
         reportGpu(renderer_.setMesh(session.positions(), session.triangles()));
         // The file's own colours (a scan's), carried through refinement; cleared by setMesh otherwise.
         if (const std::shared_ptr<const io::ObjMesh>& source = files_.document().mesh; source && renderer_.vertexCount() > 0)
@@ -338,9 +338,9 @@ void SculptApp::syncGpu() {
         // With the Lattice overlay off, the lattice tools that are not frozen still show where they are (the
         // Lattices panel's "Show tools"): only their rest chunk edges, no cage.
         if (!showLattice && latticeToolsShown(state_))
-            for (size_t t = 0; t < session.latticeTools().size(); ++t)
-                if (static_cast<int>(t) != session.frozenTool())
-                    for (Positions& curve : restToolLines(session.latticeTools()[t].volume, SceneRequest{}.curveSamplesPerSpan))
+            for (size_t t = 0; t < session.tools().list().size(); ++t)
+                if (static_cast<int>(t) != session.tools().frozen())
+                    for (Positions& curve : restToolLines(session.tools().list()[t].volume, SceneRequest{}.curveSamplesPerSpan))
                         lattice.toolCurves.push_back(std::move(curve));
         // Weighted T-splines: the cells chosen for subdivision, and a tool's T-junctions while choosing.
         if (showLattice || tsplineOverlaysShown(state_)) addTSplineOverlays(state_, lattice);

@@ -5,7 +5,7 @@
 //
 // Mouse: left-press on the mesh picks the surface point under the cursor and starts an interactive drag
 // (Session::beginDrag); every move puts the target where the cursor ray meets the plane through the picked
-// point facing the camera and calls Session::updateDrag (live); release ends it (one undo step).
+// point facing the camera and calls Session::stroke().update (live); release ends it (one undo step).
 // Middle-drag or Alt+left-drag orbits, Shift+middle-drag pans, the wheel zooms. Keys: Home frames the mesh (F too
 // in the lattice tool; in the sculpt tool F sets the brush radius),
 // Ctrl+Z undoes, Ctrl+Shift+Z / Ctrl+Y redo. Input the UI claims (CaptureFlags) is left alone.
@@ -186,7 +186,7 @@ private:
     AppState state_;
     FileCommands files_;
     render::Renderer renderer_;
-    int uploadedTopology_ = -1;  // Session::topologyVersion() of the mesh last uploaded
+    int uploadedTopology_ = -1;  // Session::refinement().topologyVersion() of the mesh last uploaded
     std::uint64_t uploadedRest_ = 0;  // Session::restVersion() of the rest mesh on the GPU path
     // A frame the deformation-path chooser times (a drag frame: syncGpu to the end of the draw; a still frame: the
     // draw), and the path it took.

@@ -256,13 +256,13 @@ void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, in
             return;
         }
     }
-    if (Status s = session.beginDragAt(sources, held, brush); !s) {
+    if (Status s = session.stroke().beginAt(sources, held, brush); !s) {
         setStatus(state_, "Cannot grab this point: " + s.message, true);
         return;
     }
     drag.active = true;
     drag.kind = DragKind::Surface;
-    drag.starts = session.dragUserSources();
+    drag.starts = session.stroke().userSources();
     drag.brushRadius = brush.radius;
     const int grabbedConstraint = triangle >= 0 ? 0
         : static_cast<int>(std::find(drag.constraintHandles.begin(), drag.constraintHandles.end(), grabbedHandle) - drag.constraintHandles.begin());
@@ -292,8 +292,8 @@ void SculptApp::updateSculpt(double x, double y) {
     drag.targets = drag.starts;
     for (int c : drag.moving) drag.targets[static_cast<size_t>(c)] += offset;
     core::OpReport report;
-    const Status s = drag.kind == DragKind::Surface ? state_.session.updateDrag(drag.targets, report)
-                                                    : state_.session.updateControlDrag(offset, report);
+    const Status s = drag.kind == DragKind::Surface ? state_.session.stroke().update(drag.targets, report)
+                                                    : state_.session.stroke().updateControl(offset, report);
     ++drag.moves;
     if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state_);
     if (!s || report.status == core::OpStatus::Rejected) ++drag.refused;
@@ -316,7 +316,7 @@ void SculptApp::updateSculpt(double x, double y) {
 void SculptApp::endSculpt() {
     // note: the journal, not the history's size: after an undo a new entry replaces the redo branch.
     const size_t before = state_.session.journal().size();
-    state_.session.endDrag();
+    state_.session.stroke().end();
     const DragState finished = state_.drag;
     state_.drag = DragState{};
     state_.gpu.fields = true;
@@ -348,7 +348,7 @@ void SculptApp::endSculpt() {
         std::snprintf(share, sizeof share, " The last move went %.0f%% of the way to the cursor.", 100.0 * state_.lastReport.fractionApplied);
         text += share;
     }
-    if (const int outside = state_.session.strokeVerticesOutsideCage(); recorded && outside > 0)
+    if (const int outside = state_.session.stroke().verticesOutsideCage(); recorded && outside > 0)
         text += " " + countOf(static_cast<size_t>(outside), "vertex", "vertices") + " of the stroke now " + (outside == 1 ? "lies" : "lie") +
                 " outside the lattice's box: later lattice edits do not carry " + (outside == 1 ? "it" : "them") +
                 " (Lattice set-up with more padding takes them in).";
@@ -366,7 +366,7 @@ void SculptApp::endSculpt() {
 
 void SculptApp::cancelSculpt() {
     core::OpReport report;
-    const Status s = state_.session.cancelDrag(report);
+    const Status s = state_.session.stroke().cancel(report);
     if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state_);
     state_.drag = DragState{};
     state_.gpu.fields = true;
@@ -413,7 +413,7 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
                   false);
         return;
     }
-    if (Status s = session.beginControlDrag(movable); !s) {
+    if (Status s = session.stroke().beginControl(movable); !s) {
         setStatus(state_, "Cannot move the control points: " + s.message, true);
         return;
     }
@@ -604,7 +604,7 @@ render::ConstraintView SculptApp::constraintView() const {
         return loop;
     };
     if (tools.mode == ToolMode::Sculpt && drag.active && drag.kind == DragKind::Surface && drag.brushRadius > 0.0) {
-        const std::vector<Eigen::Vector3d> current = session.dragUserSources();
+        const std::vector<Eigen::Vector3d> current = session.stroke().userSources();
         const glm::dvec3 eye = state_.camera.towardEye();
         if (static_cast<size_t>(drag.grabbedConstraint) < current.size())
             view.outline = circle(current[static_cast<size_t>(drag.grabbedConstraint)], Eigen::Vector3d(eye.x, eye.y, eye.z), drag.brushRadius);
@@ -612,7 +612,7 @@ render::ConstraintView SculptApp::constraintView() const {
         view.outline = circle(tools.brush.hoverPoint, tools.brush.hoverNormal, tools.brush.hoverRadius);
     }
     if (drag.active && drag.kind == DragKind::Surface) {
-        const std::vector<Eigen::Vector3d> current = session.dragUserSources();
+        const std::vector<Eigen::Vector3d> current = session.stroke().userSources();
         for (size_t c = 0; c < current.size() && c < drag.targets.size(); ++c) {
             const int handle = drag.constraintHandles[c];
             const bool moving = std::find(drag.moving.begin(), drag.moving.end(), static_cast<int>(c)) != drag.moving.end();

@@ -7,7 +7,7 @@
 // point or handle(s) that move, plus every other handle and pin held where it is (target = source).
 //
 // Lattice tool: control points are picked (click, Shift+click toggles, drag a rectangle to box-select), dragged
-// directly (Session::beginControlDrag, one undo step per drag), and pinned or unpinned (P).
+// directly (Session::stroke().beginControl, one undo step per drag), and pinned or unpinned (P).
 #pragma once
 
 #include <cstdint>
@@ -57,7 +57,7 @@ struct BrushTool {
     bool hover = false;
     Eigen::Vector3d hoverPoint = Eigen::Vector3d::Zero(), hoverNormal = Eigen::Vector3d::UnitZ();
     double hoverRadius = 0.0;
-    // Sculpting by weights on a frozen weighted T-spline (Session::sculptWeights, Song & Yang 2005 sec. 1 and 6):
+    // Sculpting by weights on a frozen weighted T-spline (Session::tspline().sculptWeights, Song & Yang 2005 sec. 1 and 6):
     // what a click on the mesh does instead of a drag. The hammer raises the clicked vertex by hammerStep of the
     // mesh diagonal (Ctrl+click lowers it); the crimp multiplies the bump's width at half height by crimpFactor
     // (Ctrl+click divides). Both act on the visible control points within the brush radius (the strongest one

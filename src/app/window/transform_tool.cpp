@@ -233,7 +233,7 @@ std::string crossingParts(const TransformState& t) { return t.stopCause == "tria
 
 // Sends one pose to the session; the report is the status line's.
 Status sendPose(AppState& state, const Pose& pose, core::OpReport& report) {
-    Status s = state.session.updateControlDragPerPoint(offsetsOf(state.transform, pose), report);
+    Status s = state.session.stroke().updateControlPerPoint(offsetsOf(state.transform, pose), report);
     if (!s) return s;
     if (report.status == core::OpStatus::Applied) noteSessionMoved(state);
     state.hasReport = true;
@@ -321,7 +321,7 @@ bool beginTransform(AppState& state, TransformKind kind, double cursorX, double 
                   true);
         return false;
     }
-    if (Status s = state.session.beginControlDrag(movable); !s) {
+    if (Status s = state.session.stroke().beginControl(movable); !s) {
         setStatus(state, "Cannot move the control points: " + s.message, true);
         return false;
     }
@@ -399,11 +399,11 @@ void confirmTransform(AppState& state) {
     const std::string parts = crossingParts(t);
     const std::string why = stopCauseWords(t.stopCause);
     const std::string typed = t.digits.empty() ? std::string() : typedValueText(t);
-    if (Status named = state.session.setDragLabel(verb + " " + points + " " + words); !named)
+    if (Status named = state.session.stroke().setLabel(verb + " " + points + " " + words); !named)
         setStatus(state, "Cannot name the history entry: " + named.message, true);
     // note: the journal, not the history's size: after an undo a new entry replaces the redo branch.
     const size_t before = state.session.journal().size();
-    state.session.endDrag();
+    state.session.stroke().end();
     const bool recorded = state.session.journal().size() > before;
     state.transform = TransformState{};
     state.drag = DragState{};
@@ -422,7 +422,7 @@ void confirmTransform(AppState& state) {
 void cancelTransform(AppState& state) {
     if (!state.transform.active) return;
     core::OpReport report;
-    const Status s = state.session.cancelDrag(report);
+    const Status s = state.session.stroke().cancel(report);
     if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state);
     state.transform = TransformState{};
     state.drag = DragState{};

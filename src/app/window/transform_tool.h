@@ -5,8 +5,8 @@
 // Enter or a left click confirms: one undo step. Esc or a right click cancels: the session takes the drag back
 // and nothing is recorded.
 //
-// The engine does the moving: an interactive control-point drag (Session::beginControlDrag), each update the
-// offsets since the start (Session::updateControlDragPerPoint: rotation and scale move every point
+// The engine does the moving: an interactive control-point drag (Session::stroke().beginControl), each update the
+// offsets since the start (Session::stroke().updateControlPerPoint: rotation and scale move every point
 // differently), tested for injectivity and stopped at the last injective position like a mouse drag. The
 // engine moves each point straight from where it is, so a large change of angle or factor (a typed value) is
 // sent as steps along the rotation or scale (at most 10 degrees, or a factor of 1.25, each): a straight line

@@ -17,13 +17,13 @@ namespace sculpt::app {
 namespace {
 
 const core::TSplineVolume* targetVolume(const AppState& state, int target) {
-    const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+    const std::vector<core::LatticeTool>& tools = state.session.tools().list();
     return target >= 0 && target < static_cast<int>(tools.size()) ? core::asTSpline(tools[static_cast<size_t>(target)].volume.get()) : nullptr;
 }
 
 // "tspline", or "tspline 2", "tspline 3", ... when a tool has that name already.
 std::string freshToolName(const AppState& state, const std::string& base) {
-    const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+    const std::vector<core::LatticeTool>& tools = state.session.tools().list();
     const auto taken = [&](const std::string& name) {
         return std::any_of(tools.begin(), tools.end(), [&](const core::LatticeTool& t) { return t.name == name; });
     };
@@ -86,7 +86,7 @@ void setupTSplineCommand(AppState& state) {
     const Status s = core::runScriptOp(state.session, op, report);
     if (s && report.status == core::OpStatus::Applied) {
         state.tools.lattice.points.clear();  // their ids belonged to the lattice before
-        state.lattices.selectedTool = static_cast<int>(state.session.latticeTools().size()) - 1;
+        state.lattices.selectedTool = static_cast<int>(state.session.tools().list().size()) - 1;
 
     }
     reportLatticeOperation(state, report, s, "Set up a weighted T-spline", true);
@@ -95,14 +95,14 @@ void setupTSplineCommand(AppState& state) {
 int tsplineTarget(const AppState& state) {
     const int selected = state.lattices.selectedTool;
     if (targetVolume(state, selected)) return selected;
-    const int frozen = state.session.frozenTool();
+    const int frozen = state.session.tools().frozen();
     return targetVolume(state, frozen) ? frozen : -1;
 }
 
 void validateChosenCells(AppState& state) {
     TSplinePanelState& panel = state.tspline;
     const int target = tsplineTarget(state);
-    const std::shared_ptr<const core::Volume> volume = target >= 0 ? state.session.latticeTools()[static_cast<size_t>(target)].volume : nullptr;
+    const std::shared_ptr<const core::Volume> volume = target >= 0 ? state.session.tools().list()[static_cast<size_t>(target)].volume : nullptr;
     if (panel.cellsVolume == volume) return;
     if (!panel.chosenCells.empty()) state.gpu.fields = true;
     panel.chosenCells.clear();
@@ -119,7 +119,7 @@ void beginChoosingCells(AppState& state) {
     state.lattices.placing = LatticesPanelState::Placing::None;  // one pending click at a time
     state.tspline.picking = true;
     state.gpu.fields = true;
-    setStatus(state, "Click on the mesh to choose the cells of " + state.session.latticeTools()[static_cast<size_t>(target)].name +
+    setStatus(state, "Click on the mesh to choose the cells of " + state.session.tools().list()[static_cast<size_t>(target)].name +
                          " there (a click on a chosen one drops it); then Subdivide. Esc ends.", false);
 }
 
@@ -152,13 +152,13 @@ bool chooseCellAtPixel(AppState& state, double x, double y) {
     // The frozen cage: the parameters the mesh has there, from its rest position (the cage's own space). A tool
     // that is not frozen: the point itself, in the tool at rest where it is drawn.
     Eigen::Vector3d point = hit.point;
-    if (target == session.frozenTool()) {
+    if (target == session.tools().frozen()) {
         point.setZero();
         for (int corner = 0; corner < 3; ++corner)
             point += hit.barycentric[corner] * session.restPositions().row(session.triangles()(hit.triangle, corner)).transpose();
     }
     const int cell = core::cellAtRestPoint(*tspline, point);
-    const std::string& name = session.latticeTools()[static_cast<size_t>(target)].name;
+    const std::string& name = session.tools().list()[static_cast<size_t>(target)].name;
     if (cell < 0) {
         setStatus(state, "The mesh there is outside lattice " + name + ": choose a cell inside it.", true);
         return true;
@@ -187,8 +187,8 @@ void subdivideChosenCellsCommand(AppState& state) {
         return;
     }
     core::Session& session = state.session;
-    const std::string name = session.latticeTools()[static_cast<size_t>(target)].name;
-    const bool frozen = session.frozenTool() == target;
+    const std::string name = session.tools().list()[static_cast<size_t>(target)].name;
+    const bool frozen = session.tools().frozen() == target;
     const int pinLayers = session.latticeSettings().pinLayers;
     // note: the engine subdivides only a tool that is not frozen (the vertices' parameters change), so a frozen
     // one is unfrozen around it. The unfreeze keeps the shape; a refused subdivision takes it back.
@@ -277,7 +277,7 @@ bool tsplineOverlaysShown(const AppState& state) {
     const int target = tsplineTarget(state);
     if (target < 0) return false;
     const TSplinePanelState& panel = state.tspline;
-    return panel.picking || (!panel.chosenCells.empty() && panel.cellsVolume == state.session.latticeTools()[static_cast<size_t>(target)].volume);
+    return panel.picking || (!panel.chosenCells.empty() && panel.cellsVolume == state.session.tools().list()[static_cast<size_t>(target)].volume);
 }
 
 void addTSplineOverlays(const AppState& state, render::LatticeView& lattice) {
@@ -286,10 +286,10 @@ void addTSplineOverlays(const AppState& state, render::LatticeView& lattice) {
     if (!tspline) return;
     const core::Session& session = state.session;
     const core::TSplineBasis& basis = tspline->basis();
-    const bool frozen = target == session.frozenTool();
+    const bool frozen = target == session.tools().frozen();
     const Positions points = frozen ? session.cagePoints() : tspline->restControlPoints();
     const TSplinePanelState& panel = state.tspline;
-    if (panel.cellsVolume == session.latticeTools()[static_cast<size_t>(target)].volume)
+    if (panel.cellsVolume == session.tools().list()[static_cast<size_t>(target)].volume)
         for (int cell : panel.chosenCells)
             for (Positions& segment : core::cellEdgeSegments(basis, cell, points)) lattice.chosenCells.push_back(std::move(segment));
     // The frozen cage has its T-junctions already (scene_builder); a tool at rest shows them while cells are chosen.

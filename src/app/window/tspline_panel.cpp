@@ -84,7 +84,7 @@ void drawTSplineSection(AppState& state) {
     // ---- local subdivision (sec. 6 step 2, Fig. 11) ----
     validateChosenCells(state);
     const int target = tsplineTarget(state);
-    const std::vector<core::LatticeTool>& tools = state.session.latticeTools();
+    const std::vector<core::LatticeTool>& tools = state.session.tools().list();
     std::string line = "No T-spline lattice yet.";
     if (target >= 0)
         line = std::to_string(panel.chosenCells.size()) + " of " + std::to_string(core::asTSpline(tools[static_cast<size_t>(target)].volume.get())->lattice().cells.size()) +
@@ -114,7 +114,7 @@ void drawTSplineSection(AppState& state) {
     // ---- sculpting by weights (sec. 1 and 6: the hammer and crimp of Noble & Gordon; script ops "hammer" and
     // "crimp"): what a click on the mesh does in the sculpt tool ----
     BrushTool& brush = state.tools.brush;
-    const bool frozen = state.session.frozenTool() >= 0 && state.session.lattice().volume && state.session.lattice().volume->tsplineVolume();
+    const bool frozen = state.session.tools().frozen() >= 0 && state.session.lattice().volume && state.session.lattice().volume->tsplineVolume();
     if (!frozen) brush.kind = BrushTool::Kind::Drag;
     int kind = static_cast<int>(brush.kind);
     ImGui::BeginDisabled(!frozen);

@@ -1,5 +1,5 @@
 // The window's hammer and crimp (sculpting by weights on a frozen weighted T-spline, Song & Yang 2005 sec. 1 and 6;
-// Session::sculptWeights): a click becomes the script op a user would write, run through core::runScriptOp so the
+// Session::tspline().sculptWeights): a click becomes the script op a user would write, run through core::runScriptOp so the
 // window and scripts share one command and one undo step.
 #include <cmath>
 #include <cstdio>
@@ -21,10 +21,10 @@ void weightToolCommand(AppState& state, int vertex, double radius, bool invert) 
     if (brush.kind == BrushTool::Kind::Hammer) {
         op.kind = core::ScriptOp::Kind::Hammer;
         // The clicked vertex's height now (0 where nothing is raised), raised or lowered by one step.
-        core::Session::Bump bump;
+        core::TSplineTools::Bump bump;
         tool.tool = core::WeightToolSettings::Tool::Hammer;
         double height = 0.0;
-        if (state.session.bumpAt(tool, bump))
+        if (state.session.tspline().bumpAt(tool, bump))
             for (size_t c = 0; c < bump.vertices.size(); ++c)
                 if (bump.vertices[c] == vertex) height = bump.heights[c];
         const Eigen::Vector3d size = state.session.positions().colwise().maxCoeff() - state.session.positions().colwise().minCoeff();

@@ -1,6 +1,5 @@
-// The state of the drag in progress (session_drag.cpp; a stroke's in session_brush.cpp): what Session's
-// beginDragAt / beginControlDrag set, each update reads and changes, and endDrag or cancelDrag ends. One per
-// session; a scripted drag is one update of it (Session::drag).
+// The state of the drag in progress (stroke.h): what Stroke's beginAt / beginControl set, each update reads and
+// changes, and end or cancel ends. One per session; a scripted drag is one update of it (Session::drag).
 #pragma once
 
 #include <vector>
@@ -14,6 +13,11 @@
 
 namespace sculpt::core {
 
+// A drag being subdivided (Gain & Dodgson 2001, Appendix, InjectSubdiv): world-space sources and targets.
+struct Manipulation {
+    std::vector<Eigen::Vector3d> sources, targets;
+};
+
 struct DragState {
     bool active = false;
     Operation operation;                       // the history entry it becomes: its steps so far
@@ -21,7 +25,7 @@ struct DragState {
     std::vector<Eigen::Vector3d> sourceWorld;  // where the drag's sources currently are
     std::vector<Eigen::Vector3d> params;       // their parameters in the active lattice
     bool appliedInFrame = false;               // a step of this drag is in the current frame (increments merge)
-    // With a brush or symmetry (beginDragAt): the user's sources at the start, what each solved constraint
+    // With a brush or symmetry (Stroke::beginAt): the user's sources at the start, what each solved constraint
     // follows, and the brush.
     bool mirrored = false;
     std::vector<Eigen::Vector3d> userStarts;
@@ -31,6 +35,9 @@ struct DragState {
     std::vector<Eigen::Vector3d> strokeReached;  // applyBrushPulls: where each grabbed image is now
     // The cage's points as shown when a control-point drag began (with layers: the drag moves those).
     Positions controlStart;
+    // After the last brush stroke was baked: how many of the vertices it moved rest outside the cage's box
+    // (Stroke::verticesOutsideCage).
+    int outsideCage = 0;
 };
 
 }  // namespace sculpt::core

@@ -75,7 +75,7 @@ struct LatticeTool {
     std::shared_ptr<const Volume> volume;  // any kind (volume.h): a net, a composite, ...
 };
 
-// Session::setupTSpline's settings (Song & Yang 2005, sec. 4 and sec. 6 steps 1-3).
+// Session::tspline().setup's settings (Song & Yang 2005, sec. 4 and sec. 6 steps 1-3).
 constexpr int kMaxTSplineSetupDepth = 6;
 constexpr int kMaxTSplineSetupRootCells = 16;
 struct TSplineSetup {
@@ -136,7 +136,7 @@ struct WeightUndo {
 
 // The sculpting-by-weights tools (Song & Yang 2005 sec. 1 and 6, after Noble & Gordon 1999) as the user asked
 // for them (what a recording writes and a replay on another mesh decides again). Exact definitions:
-// Session::sculptWeights and docs/tsplines.md "Sculpting by weights".
+// Session::tspline().sculptWeights and docs/tsplines.md "Sculpting by weights".
 struct WeightToolSettings {
     enum class Tool { SetWeights, Hammer, Crimp };
     Tool tool = Tool::SetWeights;
@@ -160,7 +160,7 @@ struct WeightToolSettings {
     double widthFactor = 1.0;
 };
 
-struct WeightBump;  // session_weights.cpp
+struct WeightBump;  // tspline_weights.cpp
 
 // One injective deformation: a control displacement in the cage, or in a layer the step made.
 struct Step {
@@ -229,7 +229,7 @@ struct JournalEntry {
         CancelledDrag,  // `operation`'s steps were applied by an interactive drag, then taken back (Esc)
         Group,          // history entries [groupFirst, end) became one (label)
         Pins,           // the pins became the pin layers with `pinToggles` flipped
-        Refinement      // the refinement setting became `refinement` (Session::setRefinement)
+        Refinement      // the refinement setting became `refinement` (Session::refinement().set)
     };
     Kind kind = Kind::Operation;
     Operation operation;

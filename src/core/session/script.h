@@ -44,12 +44,12 @@ struct ScriptOp {
     int toolIndex = -1;                            // EditLattice, RemoveLattice, Freeze, SubdivideCells: which tool
     int pinLayers = 0;                             // Freeze: outer layers kept fixed (from its boundary faces)
     double tolerance = 0.0;                        // Refine: fraction of the diagonal (0: the session's setting)
-    RefinementSettings refinement;                 // SetRefinement: Session::setRefinement
-    TSplineSetup tspline;                          // SetupTSpline: Session::setupTSpline
+    RefinementSettings refinement;                 // SetRefinement: Session::refinement().set
+    TSplineSetup tspline;                          // SetupTSpline: Session::tspline().setup
     std::vector<int> cells;                        // SubdivideCells: T-lattice cell ids of tool toolIndex,
     std::vector<Eigen::Vector3d> cellPoints;       //   and world points whose leaf cells are subdivided ("at")
     bool balance = true;                           //   then the 2:1 balance
-    WeightToolSettings weightTool;                 // SetWeights, Hammer, Crimp: Session::sculptWeights (its tool
+    WeightToolSettings weightTool;                 // SetWeights, Hammer, Crimp: Session::tspline().sculptWeights (its tool
                                                    //   field is set from the kind)
     // Recordings: what the operation was applied as (its steps: fresh frames and control displacements). A
     // replay on the mesh it was recorded on applies these exactly instead of deciding again.

@@ -54,9 +54,9 @@ Status runSetPins(Session& session, const ScriptOp& op, OpReport& report, const 
 }
 
 Status runEditLattice(Session& session, const ScriptOp& op, OpReport& report, const ScreenshotHook&) {
-    const std::vector<LatticeTool>& tools = session.latticeTools();
-    if (op.toolIndex < 0 || op.toolIndex >= static_cast<int>(tools.size()) || op.toolIndex == session.frozenTool())
-        return session.editLatticeTool(op.toolIndex, op.tool, report);  // refused there, with the reason
+    const std::vector<LatticeTool>& tools = session.tools().list();
+    if (op.toolIndex < 0 || op.toolIndex >= static_cast<int>(tools.size()) || op.toolIndex == session.tools().frozen())
+        return session.tools().edit(op.toolIndex, op.tool, report);  // refused there, with the reason
     const LatticeTool& current = tools[static_cast<size_t>(op.toolIndex)];
     LatticeTool tool = op.tool;
     if (tool.name.empty()) tool.name = current.name;  // an edit keeps the tool's name unless it gives one
@@ -70,7 +70,7 @@ Status runEditLattice(Session& session, const ScriptOp& op, OpReport& report, co
         if (Status s = applyNetEdits(*net, op.netEdits, edited); !s) return s;
         tool.volume = std::make_shared<const LatticeNet>(std::move(edited));
     }
-    return session.editLatticeTool(op.toolIndex, tool, report);
+    return session.tools().edit(op.toolIndex, tool, report);
 }
 
 Status runWeightTool(Session& session, const ScriptOp& op, OpReport& report, const ScreenshotHook&) {
@@ -78,7 +78,7 @@ Status runWeightTool(Session& session, const ScriptOp& op, OpReport& report, con
     settings.tool = op.kind == K::SetWeights ? WeightToolSettings::Tool::SetWeights
                     : op.kind == K::Hammer   ? WeightToolSettings::Tool::Hammer
                                              : WeightToolSettings::Tool::Crimp;
-    return session.sculptWeights(settings, report);
+    return session.tspline().sculptWeights(settings, report);
 }
 
 Status runScreenshot(Session& session, const ScriptOp& op, OpReport& report, const ScreenshotHook& screenshot) {
@@ -149,7 +149,7 @@ const std::vector<ScriptOpInfo>& scriptOps() {
          nullptr},  // recorded from the journal's groups
         {K::Refine, "refine", {"tolerance", "applied"},
          [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) {
-             return s.refine(op.tolerance > 0.0 ? op.tolerance : s.refinement().options.tolerance, r);
+             return s.refinement().refine(op.tolerance > 0.0 ? op.tolerance : s.refinement().settings().options.tolerance, r);
          },
          [](const Operation& o, ScriptOp& op) {
              if (o.kind != OperationKind::Refine) return false;
@@ -157,14 +157,14 @@ const std::vector<ScriptOpInfo>& scriptOps() {
              return true;
          }},
         {K::SetRefinement, "set_refinement", {"automatic", "tolerance", "max_rounds", "max_vertices"},
-         [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) { return setting(r, [&] { return s.setRefinement(op.refinement); }); },
+         [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) { return setting(r, [&] { return s.refinement().set(op.refinement); }); },
          nullptr},  // recorded from the journal's setting changes
         {K::Undo, "undo", {}, [](S& s, const ScriptOp&, OpReport& r, const ScreenshotHook&) { return s.undo(r); }, nullptr},
         {K::Redo, "redo", {}, [](S& s, const ScriptOp&, OpReport& r, const ScreenshotHook&) { return s.redo(r); }, nullptr},
         {K::Screenshot, "screenshot", {"path"}, runScreenshot, nullptr},
         // "index" is read only to say that add_lattice takes none.
         {K::AddLattice, "add_lattice", {"name", "lattice", "file", "place", "index"},
-         [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) { return s.addLatticeTool(op.tool, r); },
+         [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) { return s.tools().add(op.tool, r); },
          [](const Operation& o, ScriptOp& op) {
              if (o.kind != OperationKind::LatticeTools || o.toolBefore.volume) return false;
              op.tool = o.toolAfter;
@@ -179,7 +179,7 @@ const std::vector<ScriptOpInfo>& scriptOps() {
              return true;
          }},
         {K::RemoveLattice, "remove_lattice", {"index"},
-         [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) { return s.removeLatticeTool(op.toolIndex, r); },
+         [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) { return s.tools().remove(op.toolIndex, r); },
          [](const Operation& o, ScriptOp& op) {
              if (o.kind != OperationKind::LatticeTools || !o.toolBefore.volume || o.toolAfter.volume) return false;
              op.tool = o.toolAfter;
@@ -187,7 +187,7 @@ const std::vector<ScriptOpInfo>& scriptOps() {
              return true;
          }},
         {K::Freeze, "freeze", {"index", "pin_layers", "applied"},
-         [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) { return s.freezeLattice(op.toolIndex, op.pinLayers, r); },
+         [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) { return s.tools().freeze(op.toolIndex, op.pinLayers, r); },
          [](const Operation& o, ScriptOp& op) {
              if (o.frozenAfter < 0 || !recordSetup(o, op)) return false;  // on another mesh the tool is frozen again
              op.toolIndex = o.frozenAfter;
@@ -195,13 +195,13 @@ const std::vector<ScriptOpInfo>& scriptOps() {
              return true;
          }},
         {K::Unfreeze, "unfreeze", {"applied"},
-         [](S& s, const ScriptOp&, OpReport& r, const ScreenshotHook&) { return s.unfreezeLattice(r); },
+         [](S& s, const ScriptOp&, OpReport& r, const ScreenshotHook&) { return s.tools().unfreeze(r); },
          [](const Operation& o, ScriptOp& op) { return o.frozenAfter < 0 && o.frozenBefore >= 0 && recordSetup(o, op); }},
         {K::SetupTSpline, "setup_tspline", {"depth", "weight_ratio", "region", "root", "name", "freeze"},
-         [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) { return s.setupTSpline(op.tspline, r); }, nullptr},
+         [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) { return s.tspline().setup(op.tspline, r); }, nullptr},
         {K::SubdivideCells, "subdivide_cells", {"index", "cells", "at", "balance"},
          [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) {
-             return s.subdivideTSplineCells(op.toolIndex, op.cells, op.cellPoints, op.balance, r);
+             return s.tspline().subdivideCells(op.toolIndex, op.cells, op.cellPoints, op.balance, r);
          },
          nullptr},
         {K::SetWeights, "set_weights", {"ids", "weights", "applied"}, runWeightTool,

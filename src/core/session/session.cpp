@@ -298,7 +298,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     if (Status s = checkBrush(brush); !s) return s;
     layerActive_ = false;
     if (brush.active()) {
-        // A scripted brush drag is the window's stroke with one mouse move (session_brush.cpp).
+        // A scripted brush drag is the window's stroke with one mouse move (stroke_brush.cpp).
         std::vector<Eigen::Vector3d> sources, targets;
         for (size_t f = 0; f < constraints.size(); ++f) {
             const std::string which = "constraint " + std::to_string(f);
@@ -306,9 +306,9 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
             sources.push_back(constraints[f].source);
             targets.push_back(constraints[f].target);
         }
-        if (Status s = beginDragAt(sources, {}, brush); !s) return s;
-        const Status updated = updateDrag(targets, report);
-        endDrag();
+        if (Status s = stroke().beginAt(sources, {}, brush); !s) return s;
+        const Status updated = stroke().update(targets, report);
+        stroke().end();
         report.op = "drag";
         report.wallMs = millisecondsSince(start);
         return updated;
@@ -364,17 +364,17 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
         report.wallMs = millisecondsSince(start);
         return Status::success();
     }
-    // The window's drag with one update (session_drag.cpp): one increment solved in the cage through its
+    // The window's drag with one update (stroke.cpp): one increment solved in the cage through its
     // layers (Hu et al. 2001, eq. 12), applied when injective, otherwise subdivided (Gain & Dodgson 2001,
     // Appendix) or refused whole, as every move of a drag in the window.
     std::vector<Eigen::Vector3d> userTargets;
     for (const PointConstraint& c : constraints) userTargets.push_back(c.target);
-    if (Status s = beginDragAt(sources, {}, brush); !s) return s;
+    if (Status s = stroke().beginAt(sources, {}, brush); !s) return s;
     drag_.operation.interactive = false;
     drag_.operation.constraints = constraints;  // as asked: a replay on another mesh decides them again
-    const Status updated = updateDrag(userTargets, report);
+    const Status updated = stroke().update(userTargets, report);
     if (!updated || report.status != OpStatus::Applied) {
-        finishDrag(nullptr);  // nothing applied: nothing is pushed
+        stroke().finish(nullptr);  // nothing applied: nothing is pushed
         report.op = "drag";
         report.subSteps = 0;
         report.wallMs = millisecondsSince(start);
@@ -401,7 +401,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
         report.reason = "the constraints contradict each other or ask more than the free control points can give (largest miss " +
                         std::to_string(worst) + "): met as closely as possible; use fewer constraints, unpin points, or a finer lattice";
     }
-    finishDrag(&report);
+    stroke().finish(&report);
     report.op = "drag";
     trimResiduals(report, constraints.size());
     report.wallMs = millisecondsSince(start);
@@ -431,8 +431,8 @@ std::string Session::unreachableDragCause(const Manipulation& m) const {
     for (size_t f = 0; f < m.targets.size(); ++f) {
         const Eigen::Vector3d& t = m.targets[f];
         if ((t.array() < lattice_.boxMin.array()).any() || (t.array() > lattice_.boxMax.array()).any()) {
-            if (lattice_.volume && frozenTool_ >= 0)
-                return "the target " + vectorText(t) + " lies outside lattice " + tools_[static_cast<size_t>(frozenTool_)].name +
+            if (lattice_.volume && tools_.frozen >= 0)
+                return "the target " + vectorText(t) + " lies outside lattice " + tools_.list[static_cast<size_t>(tools_.frozen)].name +
                        ", whose boundary stays fixed (" +
                        (lattice_.tensorNet() ? "it does not hold the whole mesh" : std::string("a ") + lattice_.volume->kindName() + " keeps its outer surface") +
                        "), so nothing inside it can reach there: make the lattice larger (Move on mesh, or edit_lattice with \"place\"), or drag less far";
@@ -617,7 +617,7 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
                         "); control point " + lattice_.controlPointName(delta.indices.front()) + " ended at " +
                         vectorText(lattice_.controlPoint(delta.indices.front()));
     }
-    refineAfterEdit(operation, &report);
+    refinement().afterEdit(operation, &report);
     pushOperation(std::move(operation));
     report.wallMs = millisecondsSince(start);
     return Status::success();

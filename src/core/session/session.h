@@ -41,6 +41,10 @@
 #include "core/volume/lattice.h"
 #include "core/mesh_types.h"
 #include "core/session/drag_state.h"
+#include "core/session/refiner.h"
+#include "core/session/stroke.h"
+#include "core/session/tool_library.h"
+#include "core/session/tspline_tools.h"
 #include "core/session/history.h"
 #include "core/session/operation.h"
 #include "core/deform/refinement.h"
@@ -58,74 +62,12 @@ public:
     // Puts a fresh lattice with new settings around the current (deformed) mesh, as an undoable operation.
     Status setupLattice(const LatticeSettings& settings, OpReport& report);
 
-    // ---- lattices of any shape (Coquillart 1990, EFFD; session_lattices.cpp) ----
-    // The list of lattice tools associated with the mesh; each change is a history operation (undoable,
-    // recorded). A tool that is frozen cannot be edited or removed (unfreeze it first).
-    const std::vector<LatticeTool>& latticeTools() const { return tools_; }
-    // The frozen tool, -1 when the box lattice is the cage.
-    int frozenTool() const { return frozenTool_; }
-    Status addLatticeTool(const LatticeTool& tool, OpReport& report);
-    Status editLatticeTool(int index, const LatticeTool& tool, OpReport& report);
-    Status removeLatticeTool(int index, OpReport& report);
-    // Freezing (3.3): the tool becomes the cage. Every vertex inside it gets its parameters by Newton's
-    // method, vertices outside every chunk do not move; drags, control-point moves, pins and undo then work
-    // on its basis functions (3.4). The box lattice and any earlier deformation are frozen underneath (a
-    // lattice set-up: undo returns to them). pinLayers: outer layers of points kept fixed, counted from the
-    // tool's boundary faces (3.4: two fixed planes give a C1 seam where the lattice crosses the surface).
-    Status freezeLattice(int index, int pinLayers, OpReport& report);
-    // Unfreezing: the deformation stays and a box lattice with the session's first settings is put around
-    // the mesh again. NoOp when no tool is frozen.
-    Status unfreezeLattice(OpReport& report);
-
-    // ---- weighted T-spline tools (Song & Yang 2005, seed 002; session_tspline.cpp) ----
-    // Sec. 4 / sec. 6 steps 1-3: the octree T-spline volume of the current mesh's vertices inside the region
-    // (makeOctreeTSplineVolumeInBox: cells holding a vertex subdivided down to the depth, 2:1-balanced, weights
-    // ratio : 1), added as a lattice tool (addLatticeTool) and, with setup.freeze, frozen (freezeLattice, no pin
-    // layers): two history operations, each undone on its own; recordings write the tool explicitly. Errors
-    // (depth or root out of range, weight ratio not finite and > 0, an empty or non-finite region, a region
-    // holding no vertex, a drag in progress) use the script's field names and change nothing.
-    Status setupTSpline(const TSplineSetup& setup, OpReport& report);
-    // Sec. 6 step 2 / Fig. 11: local octree subdivision of T-spline tool `index` (not frozen) as an edit of the
-    // tool (editLatticeTool: a history operation, recorded with the resulting tool). The cells: the ids in
-    // `cells` plus the leaf cells holding the world points `at` (the rest volume's parameters of each point,
-    // as picking gives them); then the 2:1 balance if `balance`. The control points are placed again at the
-    // Greville points of the finer lattice and the weights are set again from the mesh as in setupTSpline
-    // (subdivideTSplineVolume). Refused, changing nothing: a frozen tool, a tool that is not a T-spline, a cell
-    // id out of range, a point outside the tool, no cell at all, points moved one by one.
-    Status subdivideTSplineCells(int index, const std::vector<int>& cells, const std::vector<Eigen::Vector3d>& at, bool balance,
-                                 OpReport& report);
-
-    // ---- sculpting by weights (Song & Yang 2005 sec. 1 and 6; session_weights.cpp, weight_sculpt.h) ----
-    // One history operation on the frozen weighted T-spline; the mesh is Q(P; W)(t) at its frozen parameters
-    // (eq. 5), so a weight change moves it. Heights are measured along the bump direction n from the rest
-    // surface under the current weights (restPositions()), i.e. H_v = n . (x_v - X0_v) = n . sum R_s(t_v) delta_s.
-    //  * SetWeights: the weights of `ids` become `weights`.
-    //  * Hammer: the bump of the control points S (WeightToolSettings) at the picked vertex p is
-    //    b(t) = sum_{s in S} R_s(t) delta_s and n = b(t_p) / |b(t_p)|. The displacements of S are scaled by one
-    //    factor so that H_p becomes `height` (or H_p + (scale - 1) n.b(t_p)): b's shape is kept exactly. With
-    //    no bump yet (b(t_p) = 0), n is the vertex normal and every point of S moves by the same mu n.
-    //  * Crimp: the weights of S are multiplied by one factor beta and their displacements scaled by lambda(beta)
-    //    so that H_p stays; beta is found (bisection on log beta) so that the equivalent diameter 2 sqrt(A / pi)
-    //    of the rest surface where H >= H_p / 2 (linear within triangles) is widthFactor times what it was.
-    // Checked like a control-point move (injectivity of the cells reached, the rest volume under the new
-    // weights, no new triangle crossing); a change that fails is Rejected and changes nothing. Errors (change
-    // nothing): no frozen T-spline, ids, vertex or control point out of range, a hidden control point, a
-    // weight or factor not finite and > 0, a crimp without a bump, a width that no weight reaches.
-    Status sculptWeights(const WeightToolSettings& settings, OpReport& report);
-    // The control points a sculpting tool acts on, its bump direction n and the heights H_v of the vertices in
-    // their support (as sculptWeights computes them), for the window and tests. Errors as sculptWeights.
-    struct Bump {
-        std::vector<int> controlPoints;
-        Eigen::Vector3d direction = Eigen::Vector3d::Zero();
-        std::vector<int> vertices;
-        std::vector<double> heights;
-        double width = 0.0;  // the equivalent diameter at half the picked vertex's height (0 without a bump)
-    };
-    Status bumpAt(const WeightToolSettings& settings, Bump& out) const;
-    // Control points of the frozen T-spline's non-empty cells (nonEmptyTSplineCells of restPositions(), less the
-    // boundary copies): the ones shown and picked (Song & Yang 2005, Fig. 10; tspline_view.h); empty when the
-    // frozen lattice is not a T-spline.
-    std::vector<int> visibleTSplinePoints() const;
+    // The lattice tools of any shape and the frozen one (Coquillart 1990, EFFD; tool_library.h).
+    ToolLibrary tools() { return ToolLibrary(*this); }
+    const ToolLibrary tools() const { return ToolLibrary(const_cast<Session&>(*this)); }
+    // The weighted T-spline tools: set-up, subdivision, sculpting by weights (Song & Yang 2005; tspline_tools.h).
+    TSplineTools tspline() { return TSplineTools(*this); }
+    const TSplineTools tspline() const { return TSplineTools(const_cast<Session&>(*this)); }
 
     // The injectivity test of every later step. Off is a plain FFD (Sederberg & Parry, as PyGeM): a lattice set
     // up from then on does not pin the boundary of a lattice that holds only part of the mesh
@@ -166,49 +108,17 @@ public:
     Status undo(OpReport& report);
     Status redo(OpReport& report);
 
-    // Interactive drag: the sources are fixed at begin, every update moves them towards new targets by an
-    // incremental manipulation (subdivided or refused like any other), and endDrag() records the whole drag
-    // as one history entry.
-    Status beginDrag(const std::vector<Eigen::Vector3d>& sourceParams);
-    // The same from world points of the current shape, with a brush (strength, symmetry, region; see drag).
-    // held: per source, true for one that stays put (a pin): not mirrored, and with a radius left out when it
-    // lies outside the brush's region (nothing moves there). updateDrag then takes one target per source.
-    Status beginDragAt(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held, const BrushSettings& brush);
-    Status updateDrag(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
-    // Interactive control-point drag: the points (not pinned) move together, each update by the offset since
-    // beginControlDrag; tested and subdivided like any control-point edit, recorded as one history entry.
-    Status beginControlDrag(const std::vector<int>& indices);
-    Status updateControlDrag(const Eigen::Vector3d& offset, OpReport& report);
-    // The same drag with an offset per point (a rotation or scale about a pivot moves each point differently):
-    // offsets #points x 3, row r for the r-th smallest id given to beginControlDrag, each since
-    // beginControlDrag. The whole change is one move, stopped like updateControlDrag at the last injective
-    // position along it (each point the same fraction of its way).
-    Status updateControlDragPerPoint(const Eigen::MatrixX3d& offsets, OpReport& report);
-    // Ends either kind of interactive drag; a drag that changed something becomes one history entry.
-    void endDrag();
-    // Names the history entry the drag in progress will become (e.g. "rotate 12 control points about Z by 40 deg":
-    // a rotation or scale sent as per-point offsets is otherwise "move 12 control points"). Non-empty; fails
-    // when no drag is in progress. The recording and the shape are not affected.
-    Status setDragLabel(const std::string& label);
-    // After the last brush stroke was baked into the rest shape (endDrag, a scripted drag with a radius): how
-    // many of the vertices it moved now rest outside the cage's box. The cage does not hold them, so later
-    // edits of it leave them where they are (a lattice set-up with more padding takes them in). 0 otherwise.
-    int strokeVerticesOutsideCage() const { return strokeOutsideCage_; }
+    // The drag in progress (stroke.h): begin / beginAt / beginControl, update, end, cancel. The window's mouse
+    // drags and a script's drag (above, a stroke of one update) run it.
+    Stroke stroke() { return Stroke(*this); }
+    const Stroke stroke() const { return Stroke(const_cast<Session&>(*this)); }
+
     // Vertices left behind by the cage: those resting outside its box (which it never moves) that share a
     // triangle with a vertex inside it that the cage has moved from its rest point (a spike pulled out of the
     // box, whose base then moved with a cage edit). The window names them after a drag. One pass over the
     // vertices and the triangles, evaluating the cage only at corners of triangles the box's boundary cuts; 0
     // for a lattice of another kind (its volume holds what it deforms).
     int verticesLeftOutsideCage() const;
-    // Ends the drag in progress by undoing what it applied (its inverse manipulation, step by step), leaving
-    // the shape and the history as they were before beginDrag. No drag in progress: NoOp.
-    Status cancelDrag(OpReport& report);
-    bool dragging() const { return drag_.active; }
-    // Current world positions of the sources of the drag in progress (with symmetry, the mirror images too).
-    std::vector<Eigen::Vector3d> dragSources() const;
-    // Current world positions of the sources as given to beginDragAt (without mirror images; a held source
-    // left out of a brush drag stays where it was), or dragSources() after beginDrag.
-    std::vector<Eigen::Vector3d> dragUserSources() const;
     // The plane centre of symmetric drags: the centre of the mesh's bounding box when it was set.
     Eigen::Vector3d symmetryCentre() const { return symmetryCentre_; }
 
@@ -276,10 +186,6 @@ public:
     int initialDegenerateTriangles() const { return initialDegenerateTriangles_; }
 
 private:
-    // A drag being subdivided: world-space sources and targets.
-    struct Manipulation {
-        std::vector<Eigen::Vector3d> sources, targets;
-    };
     // State kept while an operation is being applied, so a rejection restores everything bitwise.
     struct Snapshot {
         bool saved = false;
@@ -391,41 +297,11 @@ private:
     // `placed` gets its placement. recorded: place it as that step recorded (redo, replay).
     void enterNewCage(const LatticeSettings& settings, Step* placed, const Step* recorded = nullptr);
     void leaveCage();
-    // Applies a step's weight change and control displacement to the frozen T-spline, the rest mesh (rebased so
-    // it stays Q0(t) under the new weights) and the output, recording in step.weightUndo what it overwrote.
-    Status applyWeightStep(const Step& step, std::vector<int>* moved);
-    void revertWeightStep(const Step& step, std::vector<int>* moved);
-    // A recorded weight change fits the frozen lattice: a T-spline, ids in range, `before` its weights bitwise.
-    Status checkRecordedWeights(const WeightChange& change) const;
-    // The bump of sculptWeights' tools (session_weights.cpp): the control points, direction, sums and heights.
-    Status weightBump(const WeightToolSettings& settings, WeightBump& out) const;
-    Status applyWeightTool(const WeightToolSettings& settings, Step step, const std::string& label, OpReport& report);
     void restoreSnapshot(Snapshot& snapshot);
-    // endDrag's work: the drag's operation, refined when the setting is automatic (what the refinement did
-    // goes to report when not null), its layers baked, pushed as one history entry when it changed something.
-    void finishDrag(OpReport* report);
-    // The drag state beginDragAt's two ways (a stroke, a solved drag) share: the operation, its label, the mirror.
-    void startMirroredDrag(const std::string& label, const std::vector<Eigen::Vector3d>& sources, std::vector<MirroredConstraint> mirror,
-                           const BrushSettings& brush);
     // How close two mirrored sources must come to count as one (mirrorConstraints).
     double mirrorMergeDistance(const BrushSettings& brush) const;
     // Keeps the first `userConstraints` residuals (the constraints the user gave) and judges the fit on them.
     void trimResiduals(OpReport& report, size_t userConstraints) const;
-    // One increment of an interactive drag: `delta` in the current frame when that is injective, otherwise m
-    // subdivided; merged into drag_.operation. Returns false (report says why, nothing changed) if rejected.
-    bool applyInteractiveIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report);
-    // One update of a brush stroke (session_brush.cpp): `steps` (the stroke's steps: a layer per moving grabbed
-    // image, each its own pull; or none) is replaced by
-    // the pull field for `pulls` (brush_field.h; each from where the stroke began), or by the largest share of
-    // it, to 1/64, that passes every check; with no share passing, the stroke stays as it was. Returns the
-    // share applied (0: none of this pull); failure: what stopped it when below 1. Sets lastMoved_.
-    double applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps, OpReport& report,
-                           StepFailure& failure);
-    // A brush drag's update: the stroke's pulls towards `targets` (one per drag_.mirror entry), with the report.
-    void updateStroke(const std::vector<Eigen::Vector3d>& targets, OpReport& report);
-    int strokeOutsideCage_ = 0;                    // strokeVerticesOutsideCage()
-    // Adds an increment applied in the current frame to the interactive operation's last step (or a new one).
-    void mergeInteractiveStep(const ControlDelta& delta);
     // A control point a user edit may move: inside the lattice and not pinned (the error names it).
     Status checkMovable(int idx) const;
     // Adds sign * delta to the lattice and re-evaluates the affected cells; moved vertices are appended.
@@ -463,8 +339,6 @@ private:
     Eigen::Vector3d symmetryCentre_ = Eigen::Vector3d::Zero();
     std::vector<FrozenFrame> frames_;
     History history_;  // the operations and the journal (history.h)
-    std::vector<LatticeTool> tools_;
-    int frozenTool_ = -1;
     // A net lattice that does not hold every vertex keeps its boundary faces pinned: the vertices outside it
     // never move, so a moving boundary would tear the mesh there and the deformation of space (identity
     // outside, the volume inside) would not be injective (Gain & Dodgson 2001, section 5: the boundary
@@ -479,10 +353,6 @@ private:
     bool basePinned(int idx) const;
     // The ids with every slot of their weld groups added (sorted, unique): a welded point pins as one.
     std::vector<int> weldGroupsOf(const std::vector<int>& ids) const;
-    // Applies (forward) or takes back a LatticeTools operation's change of the list.
-    void applyToolChange(const Operation& operation, bool forward);
-    // Applies a new LatticeTools operation and pushes it onto the history.
-    Status pushToolChange(Operation operation, OpReport& report);
     std::string meshFingerprint_;
     void journalPins();
     std::vector<int> lastMoved_;
@@ -497,41 +367,24 @@ private:
     int initialDegenerateTriangles_ = 0;
     void accumulateFrameJacobian(bool divide);
 
-    DragState drag_;  // the drag in progress (drag_state.h)
+    DragState drag_;            // the drag in progress (stroke.h)
+    ToolLibrary::State tools_;  // the lattice tools (tool_library.h)
+    friend class Stroke;
+    friend class ToolLibrary;
+    friend class TSplineTools;
     // While applyBrushPulls runs: the vertices its regions can reach (ascending), the only ones a region layer
     // entered then embeds (a stroke's region holds thousands of a million vertices).
     const std::vector<int>* layerCandidates_ = nullptr;
-    // Adds an increment's control delta (per point, in the cage) for an interactive control-point drag.
-    void applyControlDragDelta(ControlDelta delta, const Eigen::MatrixX3d& shownOffsets, OpReport& report);
 
-    // ---- Refinement where the surface stretches (session_refine.cpp, refinement.h) --------------------------
-    // Coquillart 1990 section 3.4: triangles whose image strays from flat are split at their rest-space edge
-    // midpoints, each new vertex put where the deformation takes that rest point. A topology change is an
-    // operation like any other: undo removes exactly the vertices and triangles it added (the others come back
-    // bitwise, in their order), redo and replay split the same edges again. Only the cage and its layers are
-    // followed: frozen frames are part of the rest mesh (restPositions(), the mesh when the cage was set up).
 public:
     // Where the current deformation puts a point of rest space (restPositions()'s space): the cage's FFD
     // (X0 + sum R(t(X0)) delta inside its box, X0 outside), then the layers. A vertex v is at
     // imageOfRestPoint(restPositions().row(v)) up to rounding. Thread-safe (const).
     Eigen::Vector3d imageOfRestPoint(const Eigen::Vector3d& rest) const;
-    // Splits the triangles whose image strays from their flat triangle by more than tolerance times the
-    // current bounding-box diagonal (refineMesh, with the limits of refinement().options), as one undoable
-    // operation (OperationKind::Refine). Bad tolerance (<= 0, not finite) or a drag in progress: an error,
-    // nothing changes. Nothing over the tolerance: NoOp. With the triangle check on (InjectivitySettings), a
-    // refinement that would make two triangles cross that did not before is Rejected and changes nothing.
-    // report: verticesAdded, trianglesAdded, deviation; reason says when a limit stopped it short.
-    Status refine(double tolerance, OpReport& report);
-    // The refinement setting. automatic: every applied drag or control-point edit (interactive ones when they
-    // end) is followed by a refinement with these options, in the same history entry. Not an operation on
-    // the shape; journaled so recordings keep it. Bad options: an error, nothing changes.
-    Status setRefinement(const RefinementSettings& settings);
-    const RefinementSettings& refinement() const { return refinement_; }
-    // The splits of the applied history entries, in order: the mesh as set, split by these (applyEdgeSplits),
-    // is triangles(). What a writer needs to carry per-corner data (texture coordinates) over.
-    std::vector<EdgeSplit> appliedSplits() const;
-    // Changes whenever triangles() does (a refinement applied or taken back): a view re-uploads the mesh.
-    int topologyVersion() const { return topologyVersion_; }
+    // Refinement where the surface stretches (Coquillart 1990, 3.4; refiner.h): refine, the automatic setting,
+    // the splits applied, the topology's version.
+    Refiner refinement() { return Refiner(*this); }
+    const Refiner refinement() const { return Refiner(const_cast<Session&>(*this)); }
     // Changes whenever restPositions() or their embedding in the cage change (a mesh set, a lattice set up, a
     // frame entered or left, a refinement, a weight edit that moves the rest surface): a view that deforms the
     // rest mesh itself (the renderer's GPU path) uploads it again. Within one session only: compare it
@@ -540,25 +393,8 @@ public:
 
 private:
     std::uint64_t restVersion_ = 0;
-    // Plans (refineMesh) and applies a refinement with `options`; fills record and report. False if nothing
-    // was applied (nothing over the tolerance, or refused by the triangle check: report says so).
-    bool refineNow(const RefinementOptions& options, RefinementRecord& record, OpReport& report);
-    // An applied drag or edit about to be pushed: refined when the setting is automatic (report may be null).
-    void refineAfterEdit(Operation& operation, OpReport* report);
-    // Splits record.splits (filling record.halvings) and brings every per-vertex array along.
-    void applyRefinement(RefinementRecord& record);
-    // The inverse of applyRefinement (no-op for an empty record).
-    void removeRefinement(const RefinementRecord& record);
-    // Re-applies an operation's recorded refinement after its steps (redo, replay; no-op when empty).
-    void reapplyRefinement(Operation& operation) { if (!operation.refinement.empty()) applyRefinement(operation.refinement); }
-    // A group redoes its steps, then its refinements: none may come before a lattice set-up in it (whose rest
-    // positions would then lack the refined vertices' images).
-    Status checkGroupRefinement(int first) const;
-    // A recorded refinement fits the mesh as it is now (replay); cancelled drags have none.
-    Status checkRecordedRefinement(const Operation& operation, bool cancelled) const;
-    RefinementSettings refinement_;
-    int topologyVersion_ = 0;
-    // ---- end of refinement ----------------------------------------------------------------------------------
+    Refiner::State refinement_;  // refiner.h
+    friend class Refiner;
 };
 
 // Inverts an injective lattice deformation per point: finds X with X + sum R(t(X)) delta = y for each row y of

@@ -60,7 +60,7 @@ void Session::undoSteps(const std::vector<Step>& steps) {
         }
         layerActive_ = false;
         if (!step.weights.empty()) {  // a weight change (and the displacement with it) in the cage
-            revertWeightStep(step, &lastMoved_);
+            tspline().revertStep(step, &lastMoved_);
             continue;
         }
         applyDelta(step.delta, -1.0, &lastMoved_);  // the inverse manipulation in the cage (omega(S, -rho))
@@ -92,7 +92,7 @@ int Session::movedCount() const {
 void Session::redoStep(const Step& step) {
     if (!step.weights.empty()) {
         layerActive_ = false;
-        applyWeightStep(step, &lastMoved_);
+        tspline().applyStep(step, &lastMoved_);
         return;
     }
     if (step.newCage) enterNewCage(step.settings, nullptr, &step);
@@ -118,8 +118,8 @@ void Session::undoOperationBody(const Operation& operation) {
     }
     layerActive_ = false;
     undoSteps(operation.steps);
-    if (operation.kind == OperationKind::LatticeTools) applyToolChange(operation, false);
-    if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) frozenTool_ = operation.frozenBefore;
+    if (operation.kind == OperationKind::LatticeTools) tools().applyChange(operation, false);
+    if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) tools_.frozen = operation.frozenBefore;
 }
 
 void Session::redoOperationBody(const Operation& operation) {
@@ -133,9 +133,9 @@ void Session::redoOperationBody(const Operation& operation) {
         redoStep(operation.steps[k]);
         if (k + 1 < operation.steps.size()) bakeAfter(operation.steps[k]);
     }
-    if (operation.parts.empty() && operation.kind == OperationKind::LatticeTools) applyToolChange(operation, true);
+    if (operation.parts.empty() && operation.kind == OperationKind::LatticeTools) tools().applyChange(operation, true);
     if (operation.parts.empty() && (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup))
-        frozenTool_ = operation.frozenAfter;
+        tools_.frozen = operation.frozenAfter;
     layerActive_ = false;
 }
 
@@ -145,7 +145,7 @@ Status Session::groupOperations(int first, const std::string& label) {
     const int cursor = history_.cursor();
     if (first < 0 || first > cursor) return Status::error("the group's first operation is outside the history");
     if (cursor == first) return Status::success();  // an empty group
-    if (Status s = checkGroupRefinement(first); !s) return s;
+    if (Status s = refinement().checkGroup(first); !s) return s;
     bool keepWhole = false;  // tools added, removed or edited, or the frozen one changed: see Operation::parts
     for (int i = first; i < cursor; ++i) {
         const Operation& op = history_.entry(i);
@@ -156,7 +156,7 @@ Status Session::groupOperations(int first, const std::string& label) {
     if (keepWhole) {
         merged.kind = OperationKind::LatticeTools;
         merged.frozenBefore = history_.entry(first).frozenBefore;
-        merged.frozenAfter = frozenTool_;
+        merged.frozenAfter = tools_.frozen;
         merged.label = label.empty() ? history_.entry(first).label : label;
     } else {
         merged.kind = OperationKind::LatticeSetup;
@@ -230,7 +230,7 @@ Status Session::undo(OpReport& report) {
     lastMovedAll_ = false;
     const Positions before = positions_;  // to count what changed (not kept: the history holds no mesh)
     undoOperationBody(operation);
-    removeRefinement(operation.refinement);
+    refinement().remove(operation.refinement);
     countChangedVertices(before);
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
@@ -257,7 +257,7 @@ Status Session::redo(OpReport& report) {
     lastMovedAll_ = false;
     const Positions before = positions_;
     redoOperationBody(operation);
-    reapplyRefinement(history_.entry(history_.cursor() - 1));  // fills the record's halvings again
+    refinement().reapply(history_.entry(history_.cursor() - 1));  // fills the record's halvings again
     bakeLastStep(operation);
     countChangedVertices(before);
     report.status = OpStatus::Applied;
@@ -311,7 +311,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     if (!hasMesh()) return Status::error("no mesh is loaded");
     if (drag_.active) return Status::error("an interactive drag is in progress");
     if (operation.steps.empty() && operation.kind != OperationKind::Refine) return Status::error("the recorded operation has no steps");
-    if (Status s = checkRecordedRefinement(operation, cancelled); !s) return s;
+    if (Status s = refinement().checkRecorded(operation, cancelled); !s) return s;
     // Every step must fit the lattice it will be applied in: its own where it makes one (a layer or a new
     // cage), else the cage.
     LatticeSettings cageSettings = settings_;
@@ -337,7 +337,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
             if (idx < 0 || idx >= count) return Status::error("step " + std::to_string(k) + ": control point id " + std::to_string(idx) + " is outside the lattice");
         if (!step.delta.deltas.allFinite()) return Status::error("step " + std::to_string(k) + ": non-finite displacement");
         if (!step.weights.empty())
-            if (Status s = checkRecordedWeights(step.weights); !s) return Status::error("step " + std::to_string(k) + ": " + s.message);
+            if (Status s = tspline().checkRecordedWeights(step.weights); !s) return Status::error("step " + std::to_string(k) + ": " + s.message);
     }
     lastMoved_.clear();
     lastMovedAll_ = false;
@@ -345,7 +345,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
         redoStep(operation.steps[k]);
         if (k + 1 < operation.steps.size() && !cancelled) bakeAfter(operation.steps[k]);
     }
-    if (operation.kind == OperationKind::LatticeSetup && !cancelled) frozenTool_ = operation.frozenAfter;
+    if (operation.kind == OperationKind::LatticeSetup && !cancelled) tools_.frozen = operation.frozenAfter;
     layerActive_ = false;
     report.status = OpStatus::Applied;
     report.subSteps = static_cast<int>(operation.steps.size());
@@ -358,7 +358,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
         report.reason = "replayed the steps of a drag that was taken back, and took them back";
     } else {
         pushOperation(operation);
-        reapplyRefinement(history_.last());
+        refinement().reapply(history_.last());
         bakeLastStep(history_.last());
         report.reason = "replayed " + operation.label + " as recorded (" + std::to_string(report.subSteps) + " steps)";
     }

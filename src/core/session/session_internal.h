@@ -1,5 +1,5 @@
-// Small helpers shared by the files that implement Session (session.cpp, session_drag.cpp,
-// session_layers.cpp); not part of the engine's interface.
+// Small helpers shared by the files that implement Session and its concept classes (session*.cpp, stroke*.cpp,
+// tool_library.cpp, tspline_*.cpp, refiner.cpp); not part of the engine's interface.
 #pragma once
 
 #include <chrono>

@@ -551,10 +551,10 @@ bool Session::bakeAllLayers(std::vector<int>* outside, bool allowOutside) {
         for (int v : moved)
             if (outsideBox(lattice_, rest_.row(v).transpose())) outside->push_back(v);
     }
-    strokeOutsideCage_ = 0;
+    drag_.outsideCage = 0;
     for (int c = 0; c < count; ++c) {
         rest_.row(moved[static_cast<size_t>(c)]) = rest.row(c);
-        strokeOutsideCage_ += outsideBox(lattice_, rest.row(c).transpose());
+        drag_.outsideCage += outsideBox(lattice_, rest.row(c).transpose());
     }
     layers_.clear();
     cageOut_.resize(0, 3);
@@ -629,6 +629,15 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
     }
     embedVertices(lattice_, rest_, embedding_);
     ++restVersion_;
+}
+
+Eigen::Vector3d Session::imageOfRestPoint(const Eigen::Vector3d& rest) const {
+    // The cage maps its rest space as the vertices' evaluation does (x = X0 + sum R delta, X0 outside the
+    // box); the layers then take the cage's output as they take cageOut_.
+    Eigen::Vector3d params;
+    Eigen::Vector3d x = rest;
+    if (restParameters(lattice_, rest, params)) x = rest + displacementAt(lattice_, params);
+    return layers_.empty() ? x : pushThroughLayers(x);
 }
 
 }  // namespace sculpt::core

@@ -1,6 +1,6 @@
 // Sculpting by weights (Song & Yang 2005, "Free-form deformation with weighted T-spline", sec. 1 and 6, after
 // Noble & Gordon 1999): the closed form of a bump made by a set S of control points of a rational volume, and
-// its width at half height, for the hammer and crimp tools (Session::sculptWeights).
+// its width at half height, for the hammer and crimp tools (Session::tspline().sculptWeights).
 //
 // With weights W and control displacements delta, the deformation at a vertex with parameters t is
 //   D(t) = sum_r W_r B_r(t) delta_r / sum_r W_r B_r(t)                       (eq. 5 minus its rest volume)

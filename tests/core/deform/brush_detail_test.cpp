@@ -276,7 +276,7 @@ TEST_CASE("brush detail: a stroke says how many of its vertices it pulled out of
                            ((x.array() < cage.boxMin.array()).any() || (x.array() > cage.boxMax.array()).any());
             }
             INFO(mesh.name << " trial " << trial);
-            CHECK(session.strokeVerticesOutsideCage() == outside);
+            CHECK(session.stroke().verticesOutsideCage() == outside);
             strokesOut += outside > 0;
             // The cage has not moved: nothing is left behind yet.
             CHECK(session.verticesLeftOutsideCage() == 0);

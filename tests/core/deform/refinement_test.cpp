@@ -102,7 +102,7 @@ TEST_CASE("refinement: a coarse plane under a sharp ridge is refined within the 
         REQUIRE(*std::max_element(d.begin(), d.end()) > 10.0 * world);
     }
 
-    REQUIRE(session.refine(tolerance, report).ok);
+    REQUIRE(session.refinement().refine(tolerance, report).ok);
     REQUIRE(report.status == OpStatus::Applied);
     INFO(report.reason);
     REQUIRE(report.reason.empty());  // converged
@@ -143,7 +143,7 @@ TEST_CASE("refinement: a coarse plane under a sharp ridge is refined within the 
     REQUIRE(sameBits(session.triangles(), triangles));
     REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-12);
     // Refining what is already flat does nothing.
-    REQUIRE(session.refine(tolerance, report).ok);
+    REQUIRE(session.refinement().refine(tolerance, report).ok);
     REQUIRE(report.status == OpStatus::NoOp);
 }
 
@@ -153,12 +153,12 @@ TEST_CASE("refinement: a bad tolerance is an error and changes nothing", "[refin
     twoQuads(positions, triangles);
     Session session;
     OpReport report;
-    REQUIRE_FALSE(session.refine(0.01, report).ok);  // no mesh
+    REQUIRE_FALSE(session.refinement().refine(0.01, report).ok);  // no mesh
     REQUIRE(session.setMesh(positions, triangles, ridgeLattice()).ok);
     raiseRidge(session, 0.5, report);
     const Positions before = session.positions();
     for (double bad : {0.0, -0.01, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
-        const Status s = session.refine(bad, report);
+        const Status s = session.refinement().refine(bad, report);
         REQUIRE_FALSE(s.ok);
         REQUIRE(s.message.find("tolerance") != std::string::npos);
         REQUIRE(sameBits(session.positions(), before));
@@ -166,15 +166,15 @@ TEST_CASE("refinement: a bad tolerance is an error and changes nothing", "[refin
     }
     RefinementSettings settings;
     settings.options.tolerance = -1.0;
-    REQUIRE_FALSE(session.setRefinement(settings).ok);
+    REQUIRE_FALSE(session.refinement().set(settings).ok);
     settings.options.tolerance = 0.01;
     settings.options.maxRounds = 0;
-    REQUIRE_FALSE(session.setRefinement(settings).ok);
-    REQUIRE_FALSE(session.refinement().automatic);
+    REQUIRE_FALSE(session.refinement().set(settings).ok);
+    REQUIRE_FALSE(session.refinement().settings().automatic);
     // During an interactive drag: an error.
-    REQUIRE(session.beginDragAt({Eigen::Vector3d(1.0, 0.5, before(1, 2))}, {false}, {}).ok);
-    REQUIRE_FALSE(session.refine(0.01, report).ok);
-    session.endDrag();
+    REQUIRE(session.stroke().beginAt({Eigen::Vector3d(1.0, 0.5, before(1, 2))}, {false}, {}).ok);
+    REQUIRE_FALSE(session.refinement().refine(0.01, report).ok);
+    session.stroke().end();
 }
 
 TEST_CASE("refinement: random meshes under random drags end within the tolerance, conforming, and undo bitwise", "[refine]") {
@@ -208,7 +208,7 @@ TEST_CASE("refinement: random meshes under random drags end within the tolerance
             const Positions dragged = session.positions();
             const Triangles coarse = session.triangles();
             const double tolerance = std::uniform_real_distribution<double>(0.002, 0.01)(rng);
-            REQUIRE(session.refine(tolerance, report).ok);
+            REQUIRE(session.refinement().refine(tolerance, report).ok);
             INFO("case " << c.nx << "x" << c.ny << " trial " << trial << ": " << report.reason);
             REQUIRE(report.status != OpStatus::Rejected);
             if (report.status == OpStatus::NoOp) continue;
@@ -360,7 +360,7 @@ TEST_CASE("refinement: the automatic option refines every edit in the same histo
     RefinementSettings settings;
     settings.automatic = true;
     settings.options.tolerance = 0.004;
-    REQUIRE(session.setRefinement(settings).ok);
+    REQUIRE(session.refinement().set(settings).ok);
     REQUIRE(session.journal().back().kind == JournalEntry::Kind::Refinement);
     OpReport report;
     raiseRidge(session, 0.4, report);
@@ -385,11 +385,11 @@ TEST_CASE("refinement: the automatic option refines every edit in the same histo
     std::vector<int> slab;
     for (int k = 0; k < session.lattice().count[2]; ++k)
         for (int j = 0; j < session.lattice().count[1]; ++j) slab.push_back(session.lattice().index(4, j, k));
-    REQUIRE(session.beginControlDrag(slab).ok);
-    for (int step = 1; step <= 4; ++step) REQUIRE(session.updateControlDrag(Eigen::Vector3d(0.0, 0.0, 0.08 * step), report).ok);
+    REQUIRE(session.stroke().beginControl(slab).ok);
+    for (int step = 1; step <= 4; ++step) REQUIRE(session.stroke().updateControl(Eigen::Vector3d(0.0, 0.0, 0.08 * step), report).ok);
     REQUIRE(report.status == OpStatus::Applied);
     REQUIRE(session.positions().rows() == vertices);  // not while dragging
-    session.endDrag();
+    session.stroke().end();
     REQUIRE(static_cast<int>(session.history().size()) == entries + 1);
     REQUIRE(session.positions().rows() > vertices);
     REQUIRE(session.history().back().kind == OperationKind::ControlPointEdit);
@@ -401,7 +401,7 @@ TEST_CASE("refinement: the automatic option refines every edit in the same histo
     // appliedSplits: the mesh as set, split by them, is the session's.
     REQUIRE(session.redo(report).ok);
     Triangles replayed = triangles;
-    REQUIRE(applyEdgeSplits(replayed, 6, session.appliedSplits()).ok);
+    REQUIRE(applyEdgeSplits(replayed, 6, session.refinement().appliedSplits()).ok);
     REQUIRE(sameBits(replayed, session.triangles()));
 }
 
@@ -423,7 +423,7 @@ TEST_CASE("refinement: new vertices follow the cage through its layers and after
     RefinementSettings automatic;
     automatic.automatic = true;
     automatic.options.tolerance = 0.003;
-    REQUIRE(session.setRefinement(automatic).ok);
+    REQUIRE(session.refinement().set(automatic).ok);
     BrushSettings brush;
     brush.radius = 0.5;
     REQUIRE(session.dragVertex(7, session.positions().row(7).transpose() + Eigen::Vector3d(0.0, 0.0, 0.3), report, brush).ok);
@@ -433,7 +433,7 @@ TEST_CASE("refinement: new vertices follow the cage through its layers and after
     for (Eigen::Index v = 0; v < session.positions().rows(); ++v)
         REQUIRE((session.imageOfRestPoint(session.restPositions().row(v).transpose()) - session.positions().row(v).transpose()).norm() <= 1e-12 * diagonal);
     REQUIRE(session.positions().rows() > positions.rows());  // refined with the stroke
-    REQUIRE(session.refine(0.003, report).ok);
+    REQUIRE(session.refinement().refine(0.003, report).ok);
     REQUIRE(report.status == OpStatus::NoOp);
     REQUIRE(session.totalJacobianDeterminants().size() == static_cast<size_t>(session.positions().rows()));
     const Positions refined = session.positions();
@@ -483,7 +483,7 @@ TEST_CASE("refinement: the triangle check refuses a refinement that would make t
         REQUIRE(report.status == OpStatus::Applied);
         REQUIRE(sameBits(session.positions(), positions));  // no vertex in reach
         REQUIRE(session.imageOfRestPoint(Eigen::Vector3d(0.5, 0.5, 0.0)).z() > 0.1);
-        REQUIRE(session.refine(0.002, report).ok);
+        REQUIRE(session.refinement().refine(0.002, report).ok);
         if (checking) {
             INFO(report.reason);
             REQUIRE(report.status == OpStatus::Rejected);
@@ -507,9 +507,9 @@ TEST_CASE("refinement: a group with refinements undoes and redoes as one entry",
     REQUIRE(session.setMesh(positions, triangles, ridgeLattice()).ok);
     OpReport report;
     raiseRidge(session, 0.3, report);
-    REQUIRE(session.refine(0.003, report).ok);
+    REQUIRE(session.refinement().refine(0.003, report).ok);
     raiseRidge(session, 0.1, report);
-    REQUIRE(session.refine(0.002, report).ok);
+    REQUIRE(session.refinement().refine(0.002, report).ok);
     const Triangles refined = session.triangles();
     const Positions shape = session.positions();
     REQUIRE(session.groupOperations(0, "ridge").ok);

@@ -293,7 +293,7 @@ TEST_CASE("certification: T-spline drags of up to 5% of the diagonal on CGAL's e
             setup.octree.octree.depth = depth;
             setup.octree.weightRatio = ratio;
             OpReport report;
-            REQUIRE(session.setupTSpline(setup, report));
+            REQUIRE(session.tspline().setup(setup, report));
             REQUIRE(asTSpline(session.lattice().volume.get()));
             // The set-up names how many control points got the ratio, below 1 as above (it used to say 0).
             INFO(report.reason);
@@ -337,7 +337,7 @@ TEST_CASE("certification: a step tests only the chunks its changed control point
             TSplineSetup setup;
             setup.octree.octree.depth = 3;
             OpReport report;
-            REQUIRE(session.setupTSpline(setup, report));
+            REQUIRE(session.tspline().setup(setup, report));
         }
         const Lattice& rest = session.lattice();
         for (int trial = 0; trial < 6; ++trial) {

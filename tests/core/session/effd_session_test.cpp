@@ -62,10 +62,10 @@ static void runFrozenCylinderDrags(unsigned seed, int firstTrial, int trialCount
         Session session = sphereSession(3);
         const Positions original = session.positions();
         OpReport report;
-        REQUIRE(session.addLatticeTool(cylinderTool(rng), report));
-        REQUIRE(session.freezeLattice(0, trial % 2, report));
+        REQUIRE(session.tools().add(cylinderTool(rng), report));
+        REQUIRE(session.tools().freeze(0, trial % 2, report));
         REQUIRE(report.status == OpStatus::Applied);
-        REQUIRE(session.frozenTool() == 0);
+        REQUIRE(session.tools().frozen() == 0);
         REQUIRE(session.lattice().volume);
         REQUIRE(session.positions() == original);  // freezing moves nothing
         // Which vertices are inside the cylinder: only those may ever move.
@@ -96,18 +96,18 @@ static void runFrozenCylinderDrags(unsigned seed, int firstTrial, int trialCount
         {
             const Positions restBefore = session.restPositions();
             const size_t layersBefore = session.layers().size();
-            REQUIRE(session.unfreezeLattice(report));
+            REQUIRE(session.tools().unfreeze(report));
             REQUIRE(session.undo(report));
             INFO("layers " << layersBefore);
             REQUIRE((session.restPositions() - restBefore).cwiseAbs().maxCoeff() <= 1e-12);  // the frozen net inverted by Newton
             REQUIRE(session.redo(report));
             REQUIRE(session.undo(report));
         }
-        REQUIRE(session.unfreezeLattice(report));
-        REQUIRE(session.frozenTool() == -1);
+        REQUIRE(session.tools().unfreeze(report));
+        REQUIRE(session.tools().frozen() == -1);
         REQUIRE(session.positions() == sculpted);
         while (session.historyCursor() > 0) REQUIRE(session.undo(report));
-        REQUIRE(session.latticeTools().empty());
+        REQUIRE(session.tools().list().empty());
         REQUIRE((session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9);
     }
 }
@@ -123,9 +123,9 @@ TEST_CASE("effd session: several lattices in turn, moved control points, and a r
     std::mt19937 rng(51);
     Session session = sphereSession(3, InjectivityMode::Conic);
     OpReport report;
-    REQUIRE(session.addLatticeTool(cylinderTool(rng), report));
-    REQUIRE(session.addLatticeTool(sphereTool(), report));
-    REQUIRE(session.freezeLattice(0, 0, report));
+    REQUIRE(session.tools().add(cylinderTool(rng), report));
+    REQUIRE(session.tools().add(sphereTool(), report));
+    REQUIRE(session.tools().freeze(0, 0, report));
     // Move the cylinder's axis (one welded point per slice) and a ring point.
     const Lattice& cylinder = session.lattice();
     const int axisPoint = cylinder.index(0, 0, 2);
@@ -134,9 +134,9 @@ TEST_CASE("effd session: several lattices in turn, moved control points, and a r
     for (int j = 0; j < cylinder.count[1]; ++j)  // the whole welded group moved
         REQUIRE(session.lattice().displacement.row(cylinder.index(0, j, 2)) == session.lattice().displacement.row(axisPoint));
     REQUIRE(session.dragVertex(5, session.positions().row(5).transpose() + Eigen::Vector3d(0, 0, 0.1), report));
-    REQUIRE(session.unfreezeLattice(report));
-    REQUIRE(session.freezeLattice(1, 1, report));
-    REQUIRE(session.frozenTool() == 1);
+    REQUIRE(session.tools().unfreeze(report));
+    REQUIRE(session.tools().freeze(1, 1, report));
+    REQUIRE(session.tools().frozen() == 1);
     REQUIRE(session.dragVertex(40, session.positions().row(40).transpose() + Eigen::Vector3d(0.1, 0, 0), report));
     REQUIRE(session.undo(report));
     REQUIRE(session.redo(report));
@@ -152,8 +152,8 @@ TEST_CASE("effd session: several lattices in turn, moved control points, and a r
     ScriptReport scriptReport;
     REQUIRE(runScript(replay, parsed, scriptReport));
     REQUIRE(replay.positions() == final);
-    REQUIRE(replay.latticeTools().size() == 2);
-    REQUIRE(replay.frozenTool() == 1);
+    REQUIRE(replay.tools().list().size() == 2);
+    REQUIRE(replay.tools().frozen() == 1);
     // Undo in the replay walks back through the freezes to the original mesh.
     while (replay.historyCursor() > 0) REQUIRE(replay.undo(report));
     REQUIRE((replay.positions() - replay.originalPositions()).cwiseAbs().maxCoeff() <= 1e-9);
@@ -161,19 +161,19 @@ TEST_CASE("effd session: several lattices in turn, moved control points, and a r
     // On another mesh (a finer sphere) the same recording is decided again: the lattices are frozen on it.
     Session other = sphereSession(4, InjectivityMode::Conic);
     REQUIRE(runScript(other, parsed, scriptReport));
-    REQUIRE(other.frozenTool() == 1);
-    REQUIRE(other.latticeTools().size() == 2);
+    REQUIRE(other.tools().frozen() == 1);
+    REQUIRE(other.tools().list().size() == 2);
 }
 
 TEST_CASE("effd session: bad lattice input is refused and changes nothing", "[core][net][effd]") {
     Session session = sphereSession(2);
     OpReport report;
-    REQUIRE_FALSE(session.addLatticeTool(LatticeTool{"empty", nullptr}, report));
-    REQUIRE_FALSE(session.freezeLattice(0, 0, report));
-    REQUIRE(session.addLatticeTool(sphereTool(), report));
-    REQUIRE(session.freezeLattice(0, 0, report));
-    REQUIRE_FALSE(session.editLatticeTool(0, sphereTool(), report));  // frozen: unfreeze first
-    REQUIRE_FALSE(session.removeLatticeTool(0, report));
+    REQUIRE_FALSE(session.tools().add(LatticeTool{"empty", nullptr}, report));
+    REQUIRE_FALSE(session.tools().freeze(0, 0, report));
+    REQUIRE(session.tools().add(sphereTool(), report));
+    REQUIRE(session.tools().freeze(0, 0, report));
+    REQUIRE_FALSE(session.tools().edit(0, sphereTool(), report));  // frozen: unfreeze first
+    REQUIRE_FALSE(session.tools().remove(0, report));
     REQUIRE(session.historyCursor() == 2);
     Script script;
     const std::string bad = R"({"ops": [{"op": "add_lattice", "lattice": {"kind": "cylinder", "base": [0,0,0], "axis": [0,0,0], "radius": 1, "height": 1, "chunks": [1,4,1]}}]})";
@@ -188,8 +188,8 @@ TEST_CASE("effd session: a welded point pins as one, and pins on a frozen net la
     std::mt19937 rng(52);
     Session session = sphereSession(3, InjectivityMode::Conic);
     OpReport report;
-    REQUIRE(session.addLatticeTool(cylinderTool(rng), report));
-    REQUIRE(session.freezeLattice(0, 1, report));
+    REQUIRE(session.tools().add(cylinderTool(rng), report));
+    REQUIRE(session.tools().freeze(0, 1, report));
     const Lattice& cylinder = session.lattice();
     // Pinning one slot of the axis pins every slot welded to it: a move through another copy is refused.
     REQUIRE(session.setPinned({cylinder.index(0, 0, 2)}, true));
@@ -223,12 +223,12 @@ TEST_CASE("effd session: bad requests on lattices of any shape are errors that c
         LatticeNet far;
         const Eigen::Vector3d offset = 5.0 * test::randomVector(rng, -1, 1).normalized();
         REQUIRE(makeCylinderNet(offset, Eigen::Vector3d::UnitZ(), 0.5, 1.0, {1, 6, 1}, {2, 2}, far));
-        REQUIRE(session.addLatticeTool({"far", std::make_shared<const LatticeNet>(far)}, report));
+        REQUIRE(session.tools().add({"far", std::make_shared<const LatticeNet>(far)}, report));
         const size_t journal = session.journal().size();
-        const Status frozen = session.freezeLattice(0, 0, report);
+        const Status frozen = session.tools().freeze(0, 0, report);
         REQUIRE_FALSE(frozen);
         REQUIRE(frozen.message.find("far holds none of the mesh's vertices") != std::string::npos);
-        REQUIRE(session.frozenTool() == -1);
+        REQUIRE(session.tools().frozen() == -1);
         REQUIRE(session.journal().size() == journal);
         REQUIRE_FALSE(session.lattice().volume);
         // A brush radius beyond all scale of the mesh is an error naming the radius.
@@ -248,8 +248,8 @@ TEST_CASE("effd session: copies of one welded point move once as the one control
     OpReport report;
     LatticeNet net;
     REQUIRE(makeCylinderNet(Eigen::Vector3d(0, 0, -1.3), Eigen::Vector3d::UnitZ(), 1.3, 2.6, {2, 8, 2}, {2, 2}, net));
-    REQUIRE(session.addLatticeTool({"pie", std::make_shared<const LatticeNet>(net)}, report));
-    REQUIRE(session.freezeLattice(0, 0, report));
+    REQUIRE(session.tools().add({"pie", std::make_shared<const LatticeNet>(net)}, report));
+    REQUIRE(session.tools().freeze(0, 0, report));
     // Slots (0, 0, 2) and (0, 3, 2) are both the axis point of the middle slice.
     const Lattice& lattice = session.lattice();
     const int a = lattice.index(0, 0, 2), b = lattice.index(0, 3, 2);

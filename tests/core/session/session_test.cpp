@@ -147,11 +147,11 @@ TEST_CASE("session: an interactive drag of many small moves is one history entry
         REQUIRE(incremental.parametersOfVertex(10, params).ok);
         const Eigen::Vector3d start = incremental.positions().row(10).transpose();
         const Eigen::Vector3d end = start + 0.1 * diagonal * test::randomVector(rng, -1, 1);
-        REQUIRE(incremental.beginDrag({params}).ok);
+        REQUIRE(incremental.stroke().begin({params}).ok);
         OpReport report;
         for (int step = 1; step <= 20; ++step)
-            REQUIRE(incremental.updateDrag({start + (end - start) * (step / 20.0) + 0.01 * diagonal * test::randomVector(rng, -1, 1) * (step < 20)}, report).ok);
-        incremental.endDrag();
+            REQUIRE(incremental.stroke().update({start + (end - start) * (step / 20.0) + 0.01 * diagonal * test::randomVector(rng, -1, 1) * (step < 20)}, report).ok);
+        incremental.stroke().end();
         REQUIRE(incremental.history().size() == 1);
         REQUIRE(direct.dragVertex(10, end, report).ok);
         REQUIRE((incremental.positions() - direct.positions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
@@ -218,17 +218,17 @@ TEST_CASE("session: an interactive control-point drag is one history entry equal
         std::vector<int> ids;
         for (int k = 0, count = test::randomInt(rng, 1, 4); k < count; ++k) ids.push_back(test::randomInt(rng, 0, n - 1));
         const Eigen::Vector3d total = 0.05 * diagonal * test::randomVector(rng, -1, 1);
-        REQUIRE(incremental.beginControlDrag(ids).ok);
-        REQUIRE(incremental.dragging());
+        REQUIRE(incremental.stroke().beginControl(ids).ok);
+        REQUIRE(incremental.stroke().active());
         OpReport report;
         const int moves = test::randomInt(rng, 2, 25);
         for (int m = 1; m <= moves; ++m) {  // wander, then end exactly at the total offset
             const Eigen::Vector3d offset = m == moves ? total : Eigen::Vector3d(total * (m / double(moves)) + 0.02 * diagonal * test::randomVector(rng, -1, 1));
-            REQUIRE(incremental.updateControlDrag(offset, report).ok);
+            REQUIRE(incremental.stroke().updateControl(offset, report).ok);
             REQUIRE(report.status == OpStatus::Applied);
         }
         REQUIRE(incremental.moveControlPoints(ids, Eigen::MatrixX3d::Zero(1, 3), true, report).ok == false);  // busy
-        incremental.endDrag();
+        incremental.stroke().end();
         REQUIRE(incremental.history().size() == 1);
         REQUIRE(incremental.history().front().kind == OperationKind::ControlPointEdit);
 
@@ -295,12 +295,12 @@ TEST_CASE("session: a control-point drag with an offset per point equals one edi
                 offsets.row(static_cast<Eigen::Index>(r)) = (rotation * (starts[r] - centroid) + centroid - starts[r]).transpose();
             return offsets;
         };
-        REQUIRE(incremental.beginControlDrag(ids).ok);
+        REQUIRE(incremental.stroke().beginControl(ids).ok);
         OpReport report;
-        REQUIRE_FALSE(incremental.updateControlDragPerPoint(Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(ids.size()) + 1, 3), report).ok);
+        REQUIRE_FALSE(incremental.stroke().updateControlPerPoint(Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(ids.size()) + 1, 3), report).ok);
         bool anyStop = false;
         for (int m = 1; m <= 8; ++m) {
-            REQUIRE(incremental.updateControlDragPerPoint(offsetsAt(angle * m / 8.0), report).ok);
+            REQUIRE(incremental.stroke().updateControlPerPoint(offsetsAt(angle * m / 8.0), report).ok);
             anyStop = anyStop || report.fractionApplied < 1.0;
         }
         stopped += anyStop;
@@ -309,7 +309,7 @@ TEST_CASE("session: a control-point drag with an offset per point equals one edi
         Eigen::MatrixX3d applied(static_cast<Eigen::Index>(ids.size()), 3);
         for (size_t r = 0; r < ids.size(); ++r)
             applied.row(static_cast<Eigen::Index>(r)) = (incremental.lattice().controlPoint(ids[r]) - starts[r]).transpose();
-        incremental.endDrag();
+        incremental.stroke().end();
         if (applied.isZero(0.0)) {
             CHECK(incremental.history().empty());
             continue;
@@ -329,22 +329,22 @@ TEST_CASE("session: a control-point drag refuses pinned or unknown points and a 
     std::mt19937 rng(58);
     Session session = randomSession(rng, 600);
     const int n = session.lattice().controlPointCount();
-    REQUIRE_FALSE(session.beginControlDrag({}).ok);
-    REQUIRE_FALSE(session.beginControlDrag({n}).ok);
-    REQUIRE_FALSE(session.beginControlDrag({-1}).ok);
+    REQUIRE_FALSE(session.stroke().beginControl({}).ok);
+    REQUIRE_FALSE(session.stroke().beginControl({n}).ok);
+    REQUIRE_FALSE(session.stroke().beginControl({-1}).ok);
     REQUIRE(session.setPinned({5}, true).ok);
-    const Status pinned = session.beginControlDrag({4, 5});
+    const Status pinned = session.stroke().beginControl({4, 5});
     REQUIRE_FALSE(pinned.ok);
     REQUIRE(pinned.message.find("pinned") != std::string::npos);
-    REQUIRE_FALSE(session.dragging());
+    REQUIRE_FALSE(session.stroke().active());
     OpReport report;
-    REQUIRE_FALSE(session.updateControlDrag(Eigen::Vector3d(0.1, 0, 0), report).ok);  // no drag in progress
-    REQUIRE(session.beginControlDrag({4}).ok);
-    REQUIRE_FALSE(session.updateDrag({Eigen::Vector3d::Zero()}, report).ok);  // the other kind of drag
-    REQUIRE_FALSE(session.updateControlDrag(Eigen::Vector3d(NAN, 0, 0), report).ok);
-    REQUIRE(session.updateControlDrag(Eigen::Vector3d::Zero(), report).ok);
+    REQUIRE_FALSE(session.stroke().updateControl(Eigen::Vector3d(0.1, 0, 0), report).ok);  // no drag in progress
+    REQUIRE(session.stroke().beginControl({4}).ok);
+    REQUIRE_FALSE(session.stroke().update({Eigen::Vector3d::Zero()}, report).ok);  // the other kind of drag
+    REQUIRE_FALSE(session.stroke().updateControl(Eigen::Vector3d(NAN, 0, 0), report).ok);
+    REQUIRE(session.stroke().updateControl(Eigen::Vector3d::Zero(), report).ok);
     REQUIRE(report.status == OpStatus::NoOp);
-    session.endDrag();
+    session.stroke().end();
     REQUIRE(session.history().empty());
     REQUIRE(session.positions() == session.restPositions());
 }
@@ -366,23 +366,23 @@ TEST_CASE("session: cancelling a drag takes back what it applied, subdivided ste
         if (trial % 2 == 0) {
             Eigen::Vector3d params;
             REQUIRE(session.parametersOfVertex(10, params).ok);
-            REQUIRE(session.beginDrag({params}).ok);
-            const Eigen::Vector3d start = session.dragSources().front();
+            REQUIRE(session.stroke().begin({params}).ok);
+            const Eigen::Vector3d start = session.stroke().sources().front();
             const Eigen::Vector3d offset = (trial % 4 == 0 ? 0.6 : 0.05) * diagonal * test::randomVector(rng, -1, 1);
-            for (int m = 1; m <= 6; ++m) REQUIRE(session.updateDrag({start + offset * (m / 6.0)}, report).ok);
+            for (int m = 1; m <= 6; ++m) REQUIRE(session.stroke().update({start + offset * (m / 6.0)}, report).ok);
         } else {
-            REQUIRE(session.beginControlDrag({test::randomInt(rng, 0, session.lattice().controlPointCount() - 1)}).ok);
+            REQUIRE(session.stroke().beginControl({test::randomInt(rng, 0, session.lattice().controlPointCount() - 1)}).ok);
             const Eigen::Vector3d offset = (trial % 4 == 1 ? 0.6 : 0.05) * diagonal * test::randomVector(rng, -1, 1);
-            for (int m = 1; m <= 6; ++m) REQUIRE(session.updateControlDrag(offset * (m / 6.0), report).ok);
+            for (int m = 1; m <= 6; ++m) REQUIRE(session.stroke().updateControl(offset * (m / 6.0), report).ok);
         }
         subdivided += session.frameDepth() > frames;
         INFO("trial " << trial << ", frames " << frames << " -> " << session.frameDepth());
-        REQUIRE(session.cancelDrag(report).ok);
-        CHECK_FALSE(session.dragging());
+        REQUIRE(session.stroke().cancel(report).ok);
+        CHECK_FALSE(session.stroke().active());
         CHECK(session.history().size() == 1);
         CHECK(session.frameDepth() == frames);
         CHECK((session.positions() - before).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
-        REQUIRE(session.cancelDrag(report).ok);
+        REQUIRE(session.stroke().cancel(report).ok);
         CHECK(report.status == OpStatus::NoOp);
         REQUIRE(session.undo(report).ok);  // the history before the drag is intact
         CHECK((session.positions() - session.originalPositions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);

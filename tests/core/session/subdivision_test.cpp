@@ -334,8 +334,8 @@ TEST_CASE("subdivision: undo of large interactive drags through many fresh frame
             REQUIRE(session.parametersOfVertex(test::randomInt(rng, 0, static_cast<int>(sphere.rows()) - 1), t).ok);
             params.push_back(t);
         }
-        REQUIRE(session.beginDrag(params).ok);
-        const std::vector<Eigen::Vector3d> starts = session.dragSources();
+        REQUIRE(session.stroke().begin(params).ok);
+        const std::vector<Eigen::Vector3d> starts = session.stroke().sources();
         std::vector<Eigen::Vector3d> offsets;
         for (size_t s = 0; s < params.size(); ++s) offsets.push_back(std::uniform_real_distribution<double>(0.2, 0.7)(rng) * diagonal * test::randomVector(rng, -1, 1));
         OpReport report;
@@ -343,9 +343,9 @@ TEST_CASE("subdivision: undo of large interactive drags through many fresh frame
         for (int m = 1; m <= moves; ++m) {
             std::vector<Eigen::Vector3d> targets;
             for (size_t s = 0; s < params.size(); ++s) targets.push_back(starts[s] + offsets[s] * (double(m) / moves));
-            REQUIRE(session.updateDrag(targets, report).ok);
+            REQUIRE(session.stroke().update(targets, report).ok);
         }
-        session.endDrag();
+        session.stroke().end();
         if (session.history().empty()) continue;
         manyFrames += session.frameDepth() >= 5;
         const Positions dragged = session.positions();
@@ -481,14 +481,14 @@ TEST_CASE("one drag path: a scripted drag and the window's drag of one update gi
             REQUIRE(scripted.drag(constraints, byScript, brush).ok);
             std::vector<Eigen::Vector3d> sources, targets;
             for (const PointConstraint& c : constraints) sources.push_back(c.source), targets.push_back(c.target);
-            const Status begun = window.beginDragAt(sources, {}, brush);
+            const Status begun = window.stroke().beginAt(sources, {}, brush);
             INFO("trial " << trial << ": " << byScript.reason << "; window: " << begun.message);
             if (!begun) {  // what the script refuses before any work, the window's drag does not begin
                 CHECK(byScript.status == OpStatus::Rejected);
                 continue;
             }
-            REQUIRE(window.updateDrag(targets, byWindow).ok);
-            window.endDrag();
+            REQUIRE(window.stroke().update(targets, byWindow).ok);
+            window.stroke().end();
             INFO("trial " << trial << ": " << byScript.reason << " / " << byWindow.reason);
             REQUIRE(byScript.status == byWindow.status);
             CHECK(byScript.subSteps == byWindow.subSteps);

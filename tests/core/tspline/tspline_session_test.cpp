@@ -37,7 +37,7 @@ PinchCount pinchTSpline(InjectivityMode mode, int depth, unsigned seed, int drag
     TSplineSetup setup;
     setup.octree.octree.depth = depth;
     OpReport report;
-    REQUIRE(session.setupTSpline(setup, report));
+    REQUIRE(session.tspline().setup(setup, report));
     REQUIRE(report.status == OpStatus::Applied);
     REQUIRE(asTSpline(session.lattice().volume.get()));
     const int setupEntries = session.historyCursor();

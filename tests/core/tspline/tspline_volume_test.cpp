@@ -594,8 +594,8 @@ TEST_CASE("tspline: a session freezes a T-spline volume on a mesh, drags meet th
     Session session;
     REQUIRE(session.setMesh(positions, triangles, LatticeSettings{}));
     OpReport report;
-    REQUIRE(session.addLatticeTool({"tspline", volume}, report));
-    REQUIRE(session.freezeLattice(0, 0, report));
+    REQUIRE(session.tools().add({"tspline", volume}, report));
+    REQUIRE(session.tools().freeze(0, 0, report));
     REQUIRE(report.status == OpStatus::Applied);
     const int vertex = 7;
     const Eigen::Vector3d target = positions.row(vertex).transpose() + Eigen::Vector3d(0.02, -0.05, 0.03);

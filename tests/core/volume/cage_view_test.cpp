@@ -29,9 +29,9 @@ Session frozenCylinderSession() {
     LatticeNet net;
     REQUIRE(makeCylinderNet(Eigen::Vector3d(0, -1.2, 0), Eigen::Vector3d::UnitY(), kRadius, 2.4, {2, 3, 2}, {2, 2}, net));
     OpReport report;
-    REQUIRE(session.addLatticeTool({"pie", std::make_shared<const LatticeNet>(net)}, report));
-    REQUIRE(session.freezeLattice(0, 0, report));
-    REQUIRE(session.frozenTool() == 0);
+    REQUIRE(session.tools().add({"pie", std::make_shared<const LatticeNet>(net)}, report));
+    REQUIRE(session.tools().freeze(0, 0, report));
+    REQUIRE(session.tools().frozen() == 0);
     return session;
 }
 

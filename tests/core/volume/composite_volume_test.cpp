@@ -227,8 +227,8 @@ TEST_CASE("composite lattice: JSON round trip, placement, and a session that fre
     std::shared_ptr<const Volume> eight;
     REQUIRE(placeVolume(*composite, Eigen::Vector3d(0, 0, 0.9), Eigen::Vector3d::UnitZ(), 1.6, eight));
     OpReport report;
-    REQUIRE(session.addLatticeTool({"eight", eight}, report));
-    REQUIRE(session.freezeLattice(0, 0, report));
+    REQUIRE(session.tools().add({"eight", eight}, report));
+    REQUIRE(session.tools().freeze(0, 0, report));
     REQUIRE(report.status == OpStatus::Applied);
     int vertex = -1;
     for (int v = 0; v < positions.rows() && vertex < 0; ++v) {

@@ -1,6 +1,6 @@
 // Sculpting by weights on the frozen weighted T-spline (Song & Yang 2005, "Free-form deformation with weighted
 // T-spline", sec. 1 and 6 step 4, after Noble & Gordon 1999): set_weights, the hammer and the crimp, each one
-// history operation (session.h, Session::sculptWeights, states the definitions; weight_sculpt.h the closed form).
+// history operation (tspline_tools.h, TSplineTools::sculptWeights, states the definitions; weight_sculpt.h the closed form).
 //
 // What a weight change does to the frame. The mesh is x_v = Q(P; W)(t_v) at its frozen parameters (eq. 5),
 // stored as the rest row X0_v = Q(P0; W)(t_v) plus the displacement sum R_s(t_v; W) delta_s. New weights W'
@@ -26,7 +26,7 @@ using detail::Clock;
 using detail::millisecondsSince;
 using detail::percentText;
 
-// What the hammer and crimp act on (Session::weightBump).
+// What the hammer and crimp act on (TSplineTools::weightBump).
 struct WeightBump {
     const TSplineVolume* volume = nullptr;
     std::vector<int> controlPoints;       // S, ascending
@@ -67,11 +67,11 @@ std::vector<std::uint8_t> shownControlPoints(const TSplineVolume& volume, const 
 
 }  // namespace
 
-std::vector<int> Session::visibleTSplinePoints() const {
+std::vector<int> TSplineTools::visiblePoints() const {
     std::vector<int> ids;
-    const TSplineVolume* volume = frozenTool_ >= 0 ? asTSpline(lattice_) : nullptr;
+    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.lattice_) : nullptr;
     if (!volume) return ids;
-    const std::vector<std::uint8_t> visible = shownControlPoints(*volume, rest_);
+    const std::vector<std::uint8_t> visible = shownControlPoints(*volume, s_.rest_);
     for (size_t s = 0; s < visible.size(); ++s)
         if (visible[s]) ids.push_back(static_cast<int>(s));
     return ids;
@@ -79,29 +79,29 @@ std::vector<int> Session::visibleTSplinePoints() const {
 
 // ---- the bump --------------------------------------------------------------------------------------------
 
-Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) const {
+Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& out) const {
     out = WeightBump{};
-    const TSplineVolume* volume = frozenTool_ >= 0 ? asTSpline(lattice_) : nullptr;
+    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.lattice_) : nullptr;
     if (!volume)
         return Status::error("no weighted T-spline lattice is frozen: set one up first (setup_tspline, or T-spline in the Lattices panel)");
     out.volume = volume;
     const TSplineBasis& basis = volume->basis();
-    const int vertexCount = static_cast<int>(positions_.rows());
+    const int vertexCount = static_cast<int>(s_.positions_.rows());
     if (settings.vertex < 0 || settings.vertex >= vertexCount)
         return Status::error("vertex: " + std::to_string(settings.vertex) + " is not a vertex of the mesh (0 to " + std::to_string(vertexCount - 1) + ")");
     if (!std::isfinite(settings.radius) || settings.radius < 0.0) return Status::error("radius: expected a finite number >= 0");
     // The picked vertex's element and parameters, as frozen.
     int pickedElement = -1, pickedEntry = -1;
     for (int e = 0; e < basis.elementCount() && pickedElement < 0; ++e)
-        for (int s = embedding_.cellStart[static_cast<size_t>(e)]; s < embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s)
-            if (embedding_.order[static_cast<size_t>(s)] == settings.vertex) {
+        for (int s = s_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s)
+            if (s_.embedding_.order[static_cast<size_t>(s)] == settings.vertex) {
                 pickedElement = e;
                 pickedEntry = s;
                 break;
             }
     if (pickedElement < 0)
         return Status::error("vertex: " + std::to_string(settings.vertex) + " is outside the T-spline lattice (it does not move with it)");
-    const Eigen::Vector3d tp = embeddedParameters(lattice_, embedding_, pickedElement, pickedEntry);
+    const Eigen::Vector3d tp = embeddedParameters(s_.lattice_, s_.embedding_, pickedElement, pickedEntry);
     const std::vector<double>& weights = volume->controlWeights();
     std::vector<double> blending(static_cast<size_t>(basis.maxSupport));
     basis.blendingValues(pickedElement, tp, blending.data(), nullptr);
@@ -109,8 +109,8 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
     const int supportCount = basis.supportStart[static_cast<size_t>(pickedElement) + 1] - basis.supportStart[static_cast<size_t>(pickedElement)];
 
     // S: the control points of the bump.
-    const std::vector<std::uint8_t> visible = shownControlPoints(*volume, rest_);
-    const Eigen::Vector3d pickedRest = rest_.row(settings.vertex).transpose();
+    const std::vector<std::uint8_t> visible = shownControlPoints(*volume, s_.rest_);
+    const Eigen::Vector3d pickedRest = s_.rest_.row(settings.vertex).transpose();
     if (settings.controlPoint >= 0) {
         if (settings.controlPoint >= volume->controlPointCount())
             return Status::error("control_point: " + std::to_string(settings.controlPoint) + " is not a control point of the T-spline (0 to " +
@@ -132,19 +132,19 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
             const int s = support[c];
             const double r = weights[static_cast<size_t>(s)] * blending[static_cast<size_t>(c)];
             // note: the boundary copies carry the lattice's outer faces; a local tool leaves them where they are.
-            if (!visible[static_cast<size_t>(s)] || !(r > 0.0) || volume->onOuterSurface(s) || lattice_.pinned[static_cast<size_t>(s)]) continue;
+            if (!visible[static_cast<size_t>(s)] || !(r > 0.0) || volume->onOuterSurface(s) || s_.lattice_.pinned[static_cast<size_t>(s)]) continue;
             if (r > strongestValue) {
                 strongestValue = r;
                 strongest = s;
             }
-            const double pull = r * lattice_.displacement.row(s).norm();
+            const double pull = r * s_.lattice_.displacement.row(s).norm();
             if (pull > strongestPullValue) {
                 strongestPullValue = pull;
                 strongestPull = s;
             }
             // At rest (the control point's rest position, the vertex's rest position): the same points are
             // chosen however far the bump has grown.
-            if (settings.radius > 0.0 && (lattice_.restControlPoint(s) - pickedRest).norm() <= settings.radius)
+            if (settings.radius > 0.0 && (s_.lattice_.restControlPoint(s) - pickedRest).norm() <= settings.radius)
                 out.controlPoints.push_back(s);
         }
         if (strongest < 0) return Status::error("vertex: no visible control point influences vertex " + std::to_string(settings.vertex));
@@ -153,24 +153,24 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
         std::sort(out.controlPoints.begin(), out.controlPoints.end());
     }
     for (int s : out.controlPoints)
-        if (lattice_.pinned[static_cast<size_t>(s)]) return Status::error("control point " + std::to_string(s) + " is pinned");
+        if (s_.lattice_.pinned[static_cast<size_t>(s)]) return Status::error("control point " + std::to_string(s) + " is pinned");
 
     // The sums of weight_sculpt.h over the vertices of the elements S reaches.
     std::vector<std::uint8_t> inS(static_cast<size_t>(volume->controlPointCount()), 0);
     for (int s : out.controlPoints) inS[static_cast<size_t>(s)] = 1;
-    const std::vector<int> cells = cellsInfluencedBy(lattice_, out.controlPoints);
+    const std::vector<int> cells = cellsInfluencedBy(s_.lattice_, out.controlPoints);
     BumpSums& sums = out.sums;
     for (int e : cells) {
         const int* ids = basis.supportIds.data() + basis.supportStart[static_cast<size_t>(e)];
         const int count = basis.supportStart[static_cast<size_t>(e) + 1] - basis.supportStart[static_cast<size_t>(e)];
-        for (int s = embedding_.cellStart[static_cast<size_t>(e)]; s < embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
-            const Eigen::Vector3d t = embeddedParameters(lattice_, embedding_, e, s);
+        for (int s = s_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
+            const Eigen::Vector3d t = embeddedParameters(s_.lattice_, s_.embedding_, e, s);
             basis.blendingValues(e, t, blending.data(), nullptr);
             double others = 0.0, own = 0.0;
             Eigen::Vector3d othersDisplacement = Eigen::Vector3d::Zero(), ownDisplacement = Eigen::Vector3d::Zero();
             for (int c = 0; c < count; ++c) {
                 const double wb = weights[static_cast<size_t>(ids[c])] * blending[static_cast<size_t>(c)];
-                const Eigen::Vector3d d = lattice_.displacement.row(ids[c]).transpose();
+                const Eigen::Vector3d d = s_.lattice_.displacement.row(ids[c]).transpose();
                 if (inS[static_cast<size_t>(ids[c])]) {
                     own += wb;
                     ownDisplacement += wb * d;
@@ -179,8 +179,8 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
                     othersDisplacement += wb * d;
                 }
             }
-            if (embedding_.order[static_cast<size_t>(s)] == settings.vertex) out.picked = sums.vertices.size();
-            sums.vertices.push_back(embedding_.order[static_cast<size_t>(s)]);
+            if (s_.embedding_.order[static_cast<size_t>(s)] == settings.vertex) out.picked = sums.vertices.size();
+            sums.vertices.push_back(s_.embedding_.order[static_cast<size_t>(s)]);
             sums.others.push_back(others);
             sums.own.push_back(own);
             sums.othersDisplacement.push_back(othersDisplacement);
@@ -190,12 +190,12 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
     // The direction: the bump's own at the picked vertex, else the surface normal there.
     const size_t p = out.picked;
     const Eigen::Vector3d bump = sums.ownDisplacement[p] / (sums.others[p] + sums.own[p]);
-    out.hasBump = bump.norm() > 1e-12 * lattice_.diagonal();
+    out.hasBump = bump.norm() > 1e-12 * s_.lattice_.diagonal();
     if (out.hasBump) {
         out.direction = bump.normalized();
     } else {
         Positions normals;
-        computeVertexNormals(positions_, triangles_, normals);
+        computeVertexNormals(s_.positions_, s_.triangles_, normals);
         out.direction = normals.row(settings.vertex).transpose();
     }
     // Heights of every vertex of the triangles that touch the support: the closed form inside it, the
@@ -203,15 +203,15 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
     std::vector<std::uint8_t> inSupport(static_cast<size_t>(vertexCount), 0);
     for (int v : sums.vertices) inSupport[static_cast<size_t>(v)] = 1;
     out.heights.assign(static_cast<size_t>(vertexCount), 0.0);
-    const Positions& output = cageUnderLayers() ? cageOut_ : positions_;
-    for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+    const Positions& output = s_.cageUnderLayers() ? s_.cageOut_ : s_.positions_;
+    for (Eigen::Index f = 0; f < s_.triangles_.rows(); ++f) {
         bool touches = false;
-        for (int k = 0; k < 3; ++k) touches = touches || inSupport[static_cast<size_t>(triangles_(f, k))];
+        for (int k = 0; k < 3; ++k) touches = touches || inSupport[static_cast<size_t>(s_.triangles_(f, k))];
         if (!touches) continue;
         out.triangleIds.push_back(static_cast<int>(f));
         for (int k = 0; k < 3; ++k) {
-            const int v = triangles_(f, k);
-            out.heights[static_cast<size_t>(v)] = out.direction.dot((output.row(v) - rest_.row(v)).transpose());
+            const int v = s_.triangles_(f, k);
+            out.heights[static_cast<size_t>(v)] = out.direction.dot((output.row(v) - s_.rest_.row(v)).transpose());
         }
     }
     for (size_t c = 0; c < sums.vertices.size(); ++c)
@@ -219,7 +219,7 @@ Status Session::weightBump(const WeightToolSettings& settings, WeightBump& out) 
     return Status::success();
 }
 
-Status Session::bumpAt(const WeightToolSettings& settings, Bump& out) const {
+Status TSplineTools::bumpAt(const WeightToolSettings& settings, Bump& out) const {
     WeightBump bump;
     if (Status s = weightBump(settings, bump); !s) return s;
     out = Bump{};
@@ -228,25 +228,25 @@ Status Session::bumpAt(const WeightToolSettings& settings, Bump& out) const {
     out.vertices = bump.sums.vertices;
     for (int v : out.vertices) out.heights.push_back(bump.heights[static_cast<size_t>(v)]);
     const double peak = bump.heights[static_cast<size_t>(settings.vertex)];
-    if (bump.hasBump && peak > 0.0) out.width = equivalentDiameter(rest_, triangles_, bump.triangleIds, bump.heights, 0.5 * peak);
+    if (bump.hasBump && peak > 0.0) out.width = equivalentDiameter(s_.rest_, s_.triangles_, bump.triangleIds, bump.heights, 0.5 * peak);
     return Status::success();
 }
 
 // ---- the operation ---------------------------------------------------------------------------------------
 
-Status Session::sculptWeights(const WeightToolSettings& settings, OpReport& report) {
+Status TSplineTools::sculptWeights(const WeightToolSettings& settings, OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     using Tool = WeightToolSettings::Tool;
     report.op = settings.tool == Tool::SetWeights ? "set_weights" : settings.tool == Tool::Hammer ? "hammer" : "crimp";
-    if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (drag_.active) return Status::error("an interactive drag is in progress");
-    const TSplineVolume* volume = frozenTool_ >= 0 ? asTSpline(lattice_) : nullptr;
+    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.drag_.active) return Status::error("an interactive drag is in progress");
+    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.lattice_) : nullptr;
     if (!volume)
         return Status::error("no weighted T-spline lattice is frozen: set one up first (setup_tspline, or T-spline in the Lattices panel)");
     const std::vector<double>& weights = volume->controlWeights();
     Step step;
-    step.settings = settings_;
+    step.settings = s_.settings_;
     std::string label;
 
     if (settings.tool == Tool::SetWeights) {
@@ -308,7 +308,7 @@ Status Session::sculptWeights(const WeightToolSettings& settings, OpReport& repo
             const auto widthFor = [&](double beta) {
                 bumpHeights(sums, n, beta, lambdaFor(beta), 0.0, inSupport);
                 for (size_t c = 0; c < sums.vertices.size(); ++c) heights[static_cast<size_t>(sums.vertices[c])] = inSupport[c];
-                return equivalentDiameter(rest_, triangles_, bump.triangleIds, heights, 0.5 * height);
+                return equivalentDiameter(s_.rest_, s_.triangles_, bump.triangleIds, heights, 0.5 * height);
             };
             const double before = widthFor(1.0);
             if (!(before > 0.0)) return Status::error("vertex: the bump at vertex " + std::to_string(settings.vertex) + " has no width at half height");
@@ -324,7 +324,7 @@ Status Session::sculptWeights(const WeightToolSettings& settings, OpReport& repo
             label = "crimp";
         }
         for (int s : bump.controlPoints) {
-            const Eigen::Vector3d d = (lambda - 1.0) * lattice_.displacement.row(s).transpose() + mu * n;
+            const Eigen::Vector3d d = (lambda - 1.0) * s_.lattice_.displacement.row(s).transpose() + mu * n;
             if (d.isZero(0.0)) continue;
             step.delta.indices.push_back(s);
             step.delta.deltas.conservativeResize(step.delta.deltas.rows() + 1, 3);
@@ -340,15 +340,15 @@ Status Session::sculptWeights(const WeightToolSettings& settings, OpReport& repo
         report.wallMs = millisecondsSince(start);
         return Status::success();
     }
-    if (Status s = applyWeightTool(settings, std::move(step), label, report); !s) return s;
+    if (Status s = applyTool(settings, std::move(step), label, report); !s) return s;
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
 
-Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, const std::string& label, OpReport& report) {
-    layerActive_ = false;
-    lastMoved_.clear();
-    lastMovedAll_ = false;
+Status TSplineTools::applyTool(const WeightToolSettings& settings, Step step, const std::string& label, OpReport& report) {
+    s_.layerActive_ = false;
+    s_.lastMoved_.clear();
+    s_.lastMovedAll_ = false;
     std::vector<int> moved;
     StepFailure failure;
     bool applied = false;
@@ -357,11 +357,11 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
         // The hammer: a control displacement of the bump's points, all scaled by one factor, so any part of it is
         // the same bump at a smaller height. Where the whole raise would fold the lattice, the bump stops at the
         // largest injective part (as a control-point edit does) and the report says how far it got.
-        fraction = applyLargestInjectiveFraction(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs);
+        fraction = s_.applyLargestInjectiveFraction(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs);
         applied = fraction > 0.0;
         step.delta.deltas *= fraction;
     } else {
-        if (Status s = applyWeightStep(step, &moved); !s) {
+        if (Status s = applyStep(step, &moved); !s) {
             report.status = OpStatus::Rejected;
             report.refusedBy = "lattice";
             report.reason = "refused: " + s.message + "; nothing was changed";
@@ -374,13 +374,13 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
         // then no new triangle crossing among the vertices moved.
         std::vector<int> ids = step.weights.ids;
         ids.insert(ids.end(), step.delta.indices.begin(), step.delta.indices.end());
-        applied = certifyCells(lattice_, cellsInfluencedBy(lattice_, ids), failure, report.injectivityMs);
-        if (applied && injectivity_.mode != InjectivityMode::Off && injectivity_.checkTriangles && triangles_.rows() > 0) {
-            if (before_.rows() != positions_.rows()) before_.resize(positions_.rows(), 3);
-            for (size_t c = 0; c < undo.vertices.size(); ++c) before_.row(undo.vertices[c]) = undo.positions.row(static_cast<Eigen::Index>(c));
-            applied = noNewCrossing(moved, failure, report.injectivityMs, report.triangleCheckMs);
+        applied = s_.certifyCells(s_.lattice_, cellsInfluencedBy(s_.lattice_, ids), failure, report.injectivityMs);
+        if (applied && s_.injectivity_.mode != InjectivityMode::Off && s_.injectivity_.checkTriangles && s_.triangles_.rows() > 0) {
+            if (s_.before_.rows() != s_.positions_.rows()) s_.before_.resize(s_.positions_.rows(), 3);
+            for (size_t c = 0; c < undo.vertices.size(); ++c) s_.before_.row(undo.vertices[c]) = undo.positions.row(static_cast<Eigen::Index>(c));
+            applied = s_.noNewCrossing(moved, failure, report.injectivityMs, report.triangleCheckMs);
         }
-        if (!applied) revertWeightStep(step, nullptr);
+        if (!applied) revertStep(step, nullptr);
     }
     if (!applied) {
         report.status = OpStatus::Rejected;
@@ -396,8 +396,8 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
     operation.weightTool = settings;
     report.controlPointsChanged = static_cast<int>(std::max(step.weights.ids.size(), step.delta.indices.size()));
     operation.steps.push_back(std::move(step));
-    pushOperation(std::move(operation));
-    reportSingleStep(std::move(moved), report);
+    s_.pushOperation(std::move(operation));
+    s_.reportSingleStep(std::move(moved), report);
     report.reason = label + ": " + std::to_string(report.verticesMoved) + " vertices moved";
     report.fractionApplied = fraction;
     if (fraction < 1.0) {
@@ -410,8 +410,8 @@ Status Session::applyWeightTool(const WeightToolSettings& settings, Step step, c
 
 // ---- applying and undoing a weight change ----------------------------------------------------------------
 
-Status Session::checkRecordedWeights(const WeightChange& change) const {
-    const TSplineVolume* volume = frozenTool_ >= 0 ? asTSpline(lattice_) : nullptr;
+Status TSplineTools::checkRecordedWeights(const WeightChange& change) const {
+    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.lattice_) : nullptr;
     if (!volume) return Status::error("a weight change needs a frozen weighted T-spline lattice");
     if (change.before.size() != change.ids.size() || change.after.size() != change.ids.size())
         return Status::error("weights: expected one weight before and after per id");
@@ -427,8 +427,8 @@ Status Session::checkRecordedWeights(const WeightChange& change) const {
     return Status::success();
 }
 
-Status Session::applyWeightStep(const Step& step, std::vector<int>* moved) {
-    const TSplineVolume* old = asTSpline(lattice_);
+Status TSplineTools::applyStep(const Step& step, std::vector<int>* moved) {
+    const TSplineVolume* old = asTSpline(s_.lattice_);
     if (!old) return Status::error("a weight change needs a frozen weighted T-spline lattice");
     std::vector<double> weights = old->controlWeights();
     for (size_t c = 0; c < step.weights.ids.size(); ++c) weights[static_cast<size_t>(step.weights.ids[c])] = step.weights.after[c];
@@ -437,93 +437,93 @@ Status Session::applyWeightStep(const Step& step, std::vector<int>* moved) {
         return Status::error("these weights: " + s.message);
 
     auto undo = std::make_shared<WeightUndo>();
-    undo->volume = lattice_.volume;
+    undo->volume = s_.lattice_.volume;
     std::vector<int> ids = step.weights.ids;
     ids.insert(ids.end(), step.delta.indices.begin(), step.delta.indices.end());
-    for (int e : cellsInfluencedBy(lattice_, ids))
-        for (int s = embedding_.cellStart[static_cast<size_t>(e)]; s < embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
-            undo->vertices.push_back(embedding_.order[static_cast<size_t>(s)]);
+    for (int e : cellsInfluencedBy(s_.lattice_, ids))
+        for (int s = s_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
+            undo->vertices.push_back(s_.embedding_.order[static_cast<size_t>(s)]);
             undo->entries.push_back(s);
         }
-    const bool layered = cageUnderLayers();
-    Positions& output = activeOutput();
+    const bool layered = s_.cageUnderLayers();
+    Positions& output = s_.activeOutput();
     const Eigen::Index count = static_cast<Eigen::Index>(undo->vertices.size());
     undo->rest.resize(count, 3);
     undo->positions.resize(count, 3);
     if (layered) undo->output.resize(count, 3);
     for (Eigen::Index c = 0; c < count; ++c) {
         const int v = undo->vertices[static_cast<size_t>(c)];
-        undo->rest.row(c) = rest_.row(v);
-        undo->positions.row(c) = positions_.row(v);
-        if (layered) undo->output.row(c) = cageOut_.row(v);
-        if (trackJacobian_) undo->jacobian.push_back(frozenJacobian_[static_cast<size_t>(v)]);
+        undo->rest.row(c) = s_.rest_.row(v);
+        undo->positions.row(c) = s_.positions_.row(v);
+        if (layered) undo->output.row(c) = s_.cageOut_.row(v);
+        if (s_.trackJacobian_) undo->jacobian.push_back(s_.frozenJacobian_[static_cast<size_t>(v)]);
     }
     undo->displacement.indices = step.delta.indices;
     undo->displacement.deltas.resize(static_cast<Eigen::Index>(step.delta.indices.size()), 3);
     for (size_t c = 0; c < step.delta.indices.size(); ++c)
-        undo->displacement.deltas.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(step.delta.indices[c]);
+        undo->displacement.deltas.row(static_cast<Eigen::Index>(c)) = s_.lattice_.displacement.row(step.delta.indices[c]);
 
     // The new volume in the frame, the tool list and the settings (a later set-up freezes it as it is now).
-    lattice_.volume = fresh;
-    lattice_.weights = fresh->controlWeights();
-    lattice_.rational = fresh->isRational();
-    settings_.volume = fresh;
-    tools_[static_cast<size_t>(frozenTool_)].volume = fresh;
-    applyControlDelta(lattice_, step.delta, 1.0);
+    s_.lattice_.volume = fresh;
+    s_.lattice_.weights = fresh->controlWeights();
+    s_.lattice_.rational = fresh->isRational();
+    s_.settings_.volume = fresh;
+    s_.tools_.list[static_cast<size_t>(s_.tools_.frozen)].volume = fresh;
+    applyControlDelta(s_.lattice_, step.delta, 1.0);
     // Rest rows rebased, outputs evaluated again (file comment), per element.
-    const std::vector<int> cells = cellsInfluencedBy(lattice_, ids);
+    const std::vector<int> cells = cellsInfluencedBy(s_.lattice_, ids);
     const int cellCount = static_cast<int>(cells.size());
 #pragma omp parallel for schedule(dynamic, 8) if (cellCount > 64)
     for (int k = 0; k < cellCount; ++k) {
         const int e = cells[static_cast<size_t>(k)];
-        for (int s = embedding_.cellStart[static_cast<size_t>(e)]; s < embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
-            const int v = embedding_.order[static_cast<size_t>(s)];
-            const Eigen::Vector3d t = embeddedParameters(lattice_, embedding_, e, s);
+        for (int s = s_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
+            const int v = s_.embedding_.order[static_cast<size_t>(s)];
+            const Eigen::Vector3d t = embeddedParameters(s_.lattice_, s_.embedding_, e, s);
             Eigen::Vector3d restBefore, restAfter;
             Eigen::Matrix3d derivativeBefore, derivativeAfter;
-            old->evaluate(old->restControlPoints(), t, restBefore, trackJacobian_ ? &derivativeBefore : nullptr);
-            fresh->evaluate(fresh->restControlPoints(), t, restAfter, trackJacobian_ ? &derivativeAfter : nullptr);
-            rest_.row(v) += (restAfter - restBefore).transpose();
-            embedding_.restX[static_cast<size_t>(s)] = rest_(v, 0);  // the evaluation kernels read the rest rows here
-            embedding_.restY[static_cast<size_t>(s)] = rest_(v, 1);
-            embedding_.restZ[static_cast<size_t>(s)] = rest_(v, 2);
-            output.row(v) = rest_.row(v) + displacementAt(lattice_, t).transpose();
-            if (trackJacobian_) frozenJacobian_[static_cast<size_t>(v)] *= derivativeAfter.determinant() / derivativeBefore.determinant();
+            old->evaluate(old->restControlPoints(), t, restBefore, s_.trackJacobian_ ? &derivativeBefore : nullptr);
+            fresh->evaluate(fresh->restControlPoints(), t, restAfter, s_.trackJacobian_ ? &derivativeAfter : nullptr);
+            s_.rest_.row(v) += (restAfter - restBefore).transpose();
+            s_.embedding_.restX[static_cast<size_t>(s)] = s_.rest_(v, 0);  // the evaluation kernels read the rest rows here
+            s_.embedding_.restY[static_cast<size_t>(s)] = s_.rest_(v, 1);
+            s_.embedding_.restZ[static_cast<size_t>(s)] = s_.rest_(v, 2);
+            output.row(v) = s_.rest_.row(v) + displacementAt(s_.lattice_, t).transpose();
+            if (s_.trackJacobian_) s_.frozenJacobian_[static_cast<size_t>(v)] *= derivativeAfter.determinant() / derivativeBefore.determinant();
         }
     }
-    if (layered) refreshLayerOutput(undo->vertices);
-    ++restVersion_;  // the rest surface moved with the weights
-    positionsChanged(&undo->vertices);
+    if (layered) s_.refreshLayerOutput(undo->vertices);
+    ++s_.restVersion_;  // the rest surface moved with the weights
+    s_.positionsChanged(&undo->vertices);
     if (moved) moved->insert(moved->end(), undo->vertices.begin(), undo->vertices.end());
     step.weightUndo = std::move(undo);
     return Status::success();
 }
 
-void Session::revertWeightStep(const Step& step, std::vector<int>* moved) {
+void TSplineTools::revertStep(const Step& step, std::vector<int>* moved) {
     const std::shared_ptr<WeightUndo> undo = step.weightUndo;
     if (!undo) return;
     for (size_t c = 0; c < undo->displacement.indices.size(); ++c)
-        lattice_.displacement.row(undo->displacement.indices[c]) = undo->displacement.deltas.row(static_cast<Eigen::Index>(c));
-    lattice_.volume = undo->volume;
-    ++restVersion_;
-    lattice_.weights = undo->volume->controlWeights();
-    lattice_.rational = undo->volume->isRational();
-    settings_.volume = undo->volume;
-    tools_[static_cast<size_t>(frozenTool_)].volume = undo->volume;
+        s_.lattice_.displacement.row(undo->displacement.indices[c]) = undo->displacement.deltas.row(static_cast<Eigen::Index>(c));
+    s_.lattice_.volume = undo->volume;
+    ++s_.restVersion_;
+    s_.lattice_.weights = undo->volume->controlWeights();
+    s_.lattice_.rational = undo->volume->isRational();
+    s_.settings_.volume = undo->volume;
+    s_.tools_.list[static_cast<size_t>(s_.tools_.frozen)].volume = undo->volume;
     const bool layered = undo->output.rows() > 0;
     for (size_t c = 0; c < undo->vertices.size(); ++c) {
         const int v = undo->vertices[c];
         const Eigen::Index row = static_cast<Eigen::Index>(c);
-        rest_.row(v) = undo->rest.row(row);
+        s_.rest_.row(v) = undo->rest.row(row);
         const size_t entry = static_cast<size_t>(undo->entries[c]);
-        embedding_.restX[entry] = rest_(v, 0);
-        embedding_.restY[entry] = rest_(v, 1);
-        embedding_.restZ[entry] = rest_(v, 2);
-        positions_.row(v) = undo->positions.row(row);
-        if (layered) cageOut_.row(v) = undo->output.row(row);
-        if (!undo->jacobian.empty()) frozenJacobian_[static_cast<size_t>(v)] = undo->jacobian[c];
+        s_.embedding_.restX[entry] = s_.rest_(v, 0);
+        s_.embedding_.restY[entry] = s_.rest_(v, 1);
+        s_.embedding_.restZ[entry] = s_.rest_(v, 2);
+        s_.positions_.row(v) = undo->positions.row(row);
+        if (layered) s_.cageOut_.row(v) = undo->output.row(row);
+        if (!undo->jacobian.empty()) s_.frozenJacobian_[static_cast<size_t>(v)] = undo->jacobian[c];
     }
-    positionsChanged(&undo->vertices);
+    s_.positionsChanged(&undo->vertices);
     if (moved) moved->insert(moved->end(), undo->vertices.begin(), undo->vertices.end());
     step.weightUndo.reset();
 }

@@ -1,6 +1,6 @@
 // Weighted T-spline tools in the session (Song & Yang 2005, "Free-form deformation with weighted T-spline",
 // seed 002): setting one up around the mesh (sec. 4, Fig. 9-10; sec. 6 steps 1-3) and subdividing its cells
-// locally (sec. 6 step 2, Fig. 11). Both are made of the lattice-tool commands (session_lattices.cpp), so
+// locally (sec. 6 step 2, Fig. 11). Both are made of the lattice-tool commands (tool_library.h), so
 // undo, redo and recordings treat them as any other tool change or freeze.
 #include "core/session/session.h"
 #include "core/session/session_internal.h"
@@ -19,12 +19,12 @@ std::string countsText(const std::array<int, 3>& c) {
 
 }  // namespace
 
-Status Session::setupTSpline(const TSplineSetup& setup, OpReport& report) {
+Status TSplineTools::setup(const TSplineSetup& setup, OpReport& report) {
     const auto start = detail::Clock::now();
     report = OpReport{};
     report.op = "setup_tspline";
-    if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (drag_.active) return Status::error("an interactive drag is in progress");
+    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.drag_.active) return Status::error("an interactive drag is in progress");
     const TSplineOctreeSettings& octree = setup.octree;
     if (octree.octree.depth < 1 || octree.octree.depth > kMaxTSplineSetupDepth)
         return Status::error("depth: expected 1 to " + std::to_string(kMaxTSplineSetupDepth) + " levels of octree subdivision, got " +
@@ -44,21 +44,21 @@ Status Session::setupTSpline(const TSplineSetup& setup, OpReport& report) {
         region = Eigen::AlignedBox3d(setup.regionMin, setup.regionMax);
     } else {
         if (!std::isfinite(octree.padding) || !(octree.padding >= 0.0)) return Status::error("padding: expected a finite number >= 0");
-        if (Status s = paddedPointBounds(positions_, octree.padding, region); !s) return s;
+        if (Status s = paddedPointBounds(s_.positions_, octree.padding, region); !s) return s;
     }
     int inside = 0;
-    for (Eigen::Index v = 0; v < positions_.rows(); ++v) inside += region.contains(positions_.row(v).transpose());
+    for (Eigen::Index v = 0; v < s_.positions_.rows(); ++v) inside += region.contains(s_.positions_.row(v).transpose());
     if (inside == 0)
-        return Status::error("region: holds none of the mesh's " + std::to_string(positions_.rows()) + " vertices (" +
+        return Status::error("region: holds none of the mesh's " + std::to_string(s_.positions_.rows()) + " vertices (" +
                              detail::vectorText(region.min()) + " to " + detail::vectorText(region.max()) + ")");
     std::shared_ptr<const TSplineVolume> volume;
     TSplineWeightOutcome weights;
-    if (Status s = makeOctreeTSplineVolumeInBox(positions_, region, octree, volume, &weights); !s) return s;
+    if (Status s = makeOctreeTSplineVolumeInBox(s_.positions_, region, octree, volume, &weights); !s) return s;
     const std::string name = setup.name.empty() ? std::string("tspline") : setup.name;
-    const int index = static_cast<int>(tools_.size());
-    const int firstOperation = history_.cursor();
+    const int index = static_cast<int>(s_.tools_.list.size());
+    const int firstOperation = s_.history_.cursor();
     OpReport added;
-    if (Status s = addLatticeTool({name, volume}, added); !s) return s;
+    if (Status s = s_.tools().add({name, volume}, added); !s) return s;
     // The heavy points are those at the largest weight (sec. 4's non-empty cells); the weights fall off from
     // them by the weight step per ring of the control net (balancedTSplineWeights).
     // A ratio below 1 makes them the lightest (the far ones keep weight 1 either way).
@@ -81,32 +81,32 @@ Status Session::setupTSpline(const TSplineSetup& setup, OpReport& report) {
         report.wallMs = detail::millisecondsSince(start);
         return Status::success();
     }
-    const Status frozen = freezeLattice(index, 0, report);
+    const Status frozen = s_.tools().freeze(index, 0, report);
     if (!frozen || report.status != OpStatus::Applied) {
         // note: the tool was added for this freeze only; take it back so a failed set-up changes nothing.
         OpReport undone;
-        undo(undone);
+        s_.undo(undone);
         if (!frozen) return frozen;
         report.op = "setup_tspline";
         return Status::success();
     }
     // One history entry, as the user asked for one thing: undo takes back the freeze and the tool together.
-    if (Status s = groupOperations(firstOperation, "set up T-spline " + name); !s) return s;
+    if (Status s = s_.groupOperations(firstOperation, "set up T-spline " + name); !s) return s;
     report.op = "setup_tspline";
     report.reason = summary + "; " + report.reason;
     report.wallMs = detail::millisecondsSince(start);
     return Status::success();
 }
 
-Status Session::subdivideTSplineCells(int index, const std::vector<int>& cells, const std::vector<Eigen::Vector3d>& at, bool balance,
+Status TSplineTools::subdivideCells(int index, const std::vector<int>& cells, const std::vector<Eigen::Vector3d>& at, bool balance,
                                       OpReport& report) {
     const auto start = detail::Clock::now();
     report = OpReport{};
     report.op = "subdivide_cells";
-    if (drag_.active) return Status::error("an interactive drag is in progress");
-    if (index < 0 || index >= static_cast<int>(tools_.size())) return Status::error("index: there is no lattice " + std::to_string(index));
-    const LatticeTool& tool = tools_[static_cast<size_t>(index)];
-    if (index == frozenTool_)
+    if (s_.drag_.active) return Status::error("an interactive drag is in progress");
+    if (index < 0 || index >= static_cast<int>(s_.tools_.list.size())) return Status::error("index: there is no lattice " + std::to_string(index));
+    const LatticeTool& tool = s_.tools_.list[static_cast<size_t>(index)];
+    if (index == s_.tools_.frozen)
         return Status::error("lattice " + tool.name + " is frozen: unfreeze it before subdividing its cells (the vertices' parameters would change)");
     const TSplineVolume* tspline = tool.volume ? tool.volume->tsplineVolume() : nullptr;
     if (!tspline)
@@ -133,16 +133,16 @@ Status Session::subdivideTSplineCells(int index, const std::vector<int>& cells, 
     chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
     std::shared_ptr<const TSplineVolume> finer;
     TSplineWeightOutcome weights;
-    if (Status s = subdivideTSplineVolume(*tspline, chosen, balance, positions_, finer, &weights); !s)
+    if (Status s = subdivideTSplineVolume(*tspline, chosen, balance, s_.positions_, finer, &weights); !s)
         return Status::error("lattice " + tool.name + ": " + s.message);
     const std::string name = tool.name;
     const size_t before = basis.lattice.cells.size();
     const int pointsBefore = tspline->controlPointCount();
-    if (Status s = editLatticeTool(index, {name, finer}, report); !s) return s;
+    if (Status s = s_.tools().edit(index, {name, finer}, report); !s) return s;
     report.op = "subdivide_cells";
-    Operation& operation = history_.last();
+    Operation& operation = s_.history_.last();
     operation.label = "subdivide " + std::to_string(chosen.size()) + (chosen.size() == 1 ? " cell" : " cells") + " of lattice " + name;
-    history_.lastJournaled().label = operation.label;
+    s_.history_.lastJournaled().label = operation.label;
     report.reason = "lattice " + name + ": " + std::to_string(before) + " -> " + std::to_string(finer->lattice().cells.size()) + " cells, " +
                     std::to_string(pointsBefore) + " -> " + std::to_string(finer->controlPointCount()) + " control points";
     if (weights.ratioReduced) report.reason += " [" + weights.message + "]";

@@ -1,4 +1,4 @@
-// Session: refinement where the surface stretches (Coquillart 1990, section 3.4, after Griessmair and
+// Refiner: refinement where the surface stretches (Coquillart 1990, section 3.4, after Griessmair and
 // Purgathofer 1989). The geometry is refinement.h's; here it becomes an operation: the rest positions of the
 // new vertices are rest-space edge midpoints, their positions the deformation's image of those points, and
 // every per-vertex array of the session grows or shrinks with them.
@@ -30,60 +30,55 @@ double boundingDiagonal(const Positions& positions) {
 
 }  // namespace
 
-Eigen::Vector3d Session::imageOfRestPoint(const Eigen::Vector3d& rest) const {
-    // The cage maps its rest space as the vertices' evaluation does (x = X0 + sum R delta, X0 outside the
-    // box); the layers then take the cage's output as they take cageOut_.
-    Eigen::Vector3d params;
-    Eigen::Vector3d x = rest;
-    if (restParameters(lattice_, rest, params)) x = rest + displacementAt(lattice_, params);
-    return layers_.empty() ? x : pushThroughLayers(x);
-}
+const RefinementSettings& Refiner::settings() const { return s_.refinement_.settings; }
 
-Status Session::setRefinement(const RefinementSettings& settings) {
+int Refiner::topologyVersion() const { return s_.refinement_.topologyVersion; }
+
+Status Refiner::set(const RefinementSettings& settings) {
     if (Status s = validateRefinementOptions(settings.options); !s) return s;
-    refinement_ = settings;
+    s_.refinement_.settings = settings;
     JournalEntry entry;
     entry.kind = JournalEntry::Kind::Refinement;
     entry.refinement = settings;
-    history_.note(std::move(entry), true);  // consecutive changes: only where they ended counts
+    s_.history_.note(std::move(entry), true);  // consecutive changes: only where they ended counts
     return Status::success();
 }
 
-std::vector<EdgeSplit> Session::appliedSplits() const {
+std::vector<EdgeSplit> Refiner::appliedSplits() const {
     std::vector<EdgeSplit> splits;
-    for (int i = 0; i < history_.cursor(); ++i) {
-        const RefinementRecord& record = history_.entries()[static_cast<size_t>(i)].refinement;
+    for (int i = 0; i < s_.history_.cursor(); ++i) {
+        const RefinementRecord& record = s_.history_.entries()[static_cast<size_t>(i)].refinement;
         splits.insert(splits.end(), record.splits.begin(), record.splits.end());
     }
     return splits;
 }
 
-Status Session::refine(double tolerance, OpReport& report) {
+Status Refiner::refine(double tolerance, OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "refine";
-    if (!hasMesh()) return Status::error("no mesh is loaded");
-    if (drag_.active) return Status::error("an interactive drag is in progress");
-    RefinementOptions options = refinement_.options;
+    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.drag_.active) return Status::error("an interactive drag is in progress");
+    RefinementOptions options = s_.refinement_.settings.options;
     options.tolerance = tolerance;
     if (Status s = validateRefinementOptions(options); !s) return s;
     Operation operation;
     operation.kind = OperationKind::Refine;
-    layerActive_ = false;
+    s_.layerActive_ = false;
     if (!refineNow(options, operation.refinement, report)) {
         report.wallMs = millisecondsSince(start);
         return Status::success();
     }
     operation.label = "refine (+" + std::to_string(report.verticesAdded) + " vertices)";
-    pushOperation(std::move(operation));
+    s_.pushOperation(std::move(operation));
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
 
-void Session::refineAfterEdit(Operation& operation, OpReport* report) {
-    if (!refinement_.automatic || triangles_.rows() == 0) return;
+void Refiner::afterEdit(Operation& operation, OpReport* report) {
+    if (!s_.refinement_.settings.automatic || s_.triangles_.rows() == 0) return;
     OpReport refined;
-    if (!refineNow(refinement_.options, operation.refinement, refined)) {
+    if (!refineNow(s_.refinement_.settings.options, operation.refinement, refined)) {
         // The edit stands; only a refused refinement is worth a word (nothing over the tolerance is normal).
         if (report && refined.status == OpStatus::Rejected)
             report->reason += (report->reason.empty() ? "" : "; ") + std::string("not refined: ") + refined.reason;
@@ -97,11 +92,11 @@ void Session::refineAfterEdit(Operation& operation, OpReport* report) {
     if (!refined.reason.empty()) report->reason += (report->reason.empty() ? "" : "; ") + refined.reason;
 }
 
-bool Session::refineNow(const RefinementOptions& options, RefinementRecord& record, OpReport& report) {
-    const double diagonal = boundingDiagonal(positions_);
+bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& record, OpReport& report) {
+    const double diagonal = boundingDiagonal(s_.positions_);
     RefinementResult plan;
-    const RestImage image = [this](const Eigen::Vector3d& rest) { return imageOfRestPoint(rest); };
-    if (Status s = refineMesh(rest_, positions_, triangles_, image, options, plan); !s) {
+    const RestImage image = [this](const Eigen::Vector3d& rest) { return s_.imageOfRestPoint(rest); };
+    if (Status s = refineMesh(s_.rest_, s_.positions_, s_.triangles_, image, options, plan); !s) {
         report.status = OpStatus::Rejected;  // not expected: the arrays are the session's own
         report.reason = s.message;
         return false;
@@ -112,30 +107,30 @@ bool Session::refineNow(const RefinementOptions& options, RefinementRecord& reco
         report.reason = "every triangle is within the tolerance (largest deviation " + deviationText(plan.worstBefore, diagonal) + ")";
         return false;
     }
-    const Eigen::Index vertexCount = positions_.rows(), triangleCount = triangles_.rows();
+    const Eigen::Index vertexCount = s_.positions_.rows(), triangleCount = s_.triangles_.rows();
     record.tolerance = options.tolerance;
     record.splits = std::move(plan.splits);
-    applyRefinement(record);
+    apply(record);
 
     // The triangle check (what injectivity means for the user): the refined triangles must not cross any
     // triangle they did not cross when their new vertices still lay on the flat triangles they split.
-    if (injectivity_.mode != InjectivityMode::Off && injectivity_.checkTriangles) {
+    if (s_.injectivity_.mode != InjectivityMode::Off && s_.injectivity_.checkTriangles) {
         const auto checkStart = Clock::now();
         std::vector<int> added;
         // A new vertex "before": on the flat triangles it split (the midpoint of its edge as the mesh showed it).
-        const auto flat = [&](int v) { return v < vertexCount ? positions_.row(v) : before_.row(v); };
-        for (Eigen::Index v = vertexCount; v < positions_.rows(); ++v) {
+        const auto flat = [&](int v) { return v < vertexCount ? s_.positions_.row(v) : s_.before_.row(v); };
+        for (Eigen::Index v = vertexCount; v < s_.positions_.rows(); ++v) {
             const EdgeSplit& split = record.splits[static_cast<size_t>(v - vertexCount)];
-            before_.row(v) = 0.5 * (flat(split.a) + flat(split.b));
+            s_.before_.row(v) = 0.5 * (flat(split.a) + flat(split.b));
             added.push_back(static_cast<int>(v));
         }
-        const SelfIntersectionIndex::Result crossing = meshIndex_.findNewIntersection(positions_, triangles_, added, before_);
+        const SelfIntersectionIndex::Result crossing = s_.meshIndex_.findNewIntersection(s_.positions_, s_.triangles_, added, s_.before_);
         report.triangleCheckMs = millisecondsSince(checkStart);
         report.injectivityMs = report.triangleCheckMs;
         if (crossing.found) {
             Eigen::Vector3d where = Eigen::Vector3d::Zero();
-            for (int k = 0; k < 3; ++k) where += positions_.row(triangles_(crossing.pair.first, k)).transpose() / 3.0;
-            removeRefinement(record);
+            for (int k = 0; k < 3; ++k) where += s_.positions_.row(s_.triangles_(crossing.pair.first, k)).transpose() / 3.0;
+            remove(record);
             record = RefinementRecord{};
             report.status = OpStatus::Rejected;
             report.refusedBy = "triangles";
@@ -147,8 +142,8 @@ bool Session::refineNow(const RefinementOptions& options, RefinementRecord& reco
         }
     }
     report.status = OpStatus::Applied;
-    report.verticesAdded = static_cast<int>(positions_.rows() - vertexCount);
-    report.trianglesAdded = static_cast<int>(triangles_.rows() - triangleCount);
+    report.verticesAdded = static_cast<int>(s_.positions_.rows() - vertexCount);
+    report.trianglesAdded = static_cast<int>(s_.triangles_.rows() - triangleCount);
     report.verticesMoved = 0;
     if (!plan.converged)
         report.reason = "stopped at " + plan.stopped + " with " + std::to_string(plan.trianglesOver) +
@@ -156,79 +151,79 @@ bool Session::refineNow(const RefinementOptions& options, RefinementRecord& reco
     return true;
 }
 
-void Session::applyRefinement(RefinementRecord& record) {
-    const Eigen::Index first = rest_.rows();
+void Refiner::apply(RefinementRecord& record) {
+    const Eigen::Index first = s_.rest_.rows();
     const Eigen::Index count = first + static_cast<Eigen::Index>(record.splits.size());
-    [[maybe_unused]] const Status split = applyEdgeSplits(triangles_, static_cast<int>(first), record.splits, &record.halvings);
+    [[maybe_unused]] const Status split = applyEdgeSplits(s_.triangles_, static_cast<int>(first), record.splits, &record.halvings);
     assert(split.ok);  // planned here, or checked by checkRecordedRefinement
-    appendSplitMidpoints(rest_, record.splits);
-    positions_.conservativeResize(count, 3);
-    const bool layered = !layers_.empty();
-    if (layered) cageOut_.conservativeResize(count, 3);
+    appendSplitMidpoints(s_.rest_, record.splits);
+    s_.positions_.conservativeResize(count, 3);
+    const bool layered = !s_.layers_.empty();
+    if (layered) s_.cageOut_.conservativeResize(count, 3);
     const int added = static_cast<int>(count - first);
 #pragma omp parallel for schedule(dynamic, 64) if (added > 256)
     for (int k = 0; k < added; ++k) {
         const Eigen::Index v = first + k;
-        const Eigen::Vector3d rest = rest_.row(v).transpose();
+        const Eigen::Vector3d rest = s_.rest_.row(v).transpose();
         Eigen::Vector3d params;
         Eigen::Vector3d cage = rest;
-        if (restParameters(lattice_, rest, params)) cage = rest + displacementAt(lattice_, params);  // as imageOfRestPoint
-        if (layered) cageOut_.row(v) = cage.transpose();
-        positions_.row(v) = (layered ? pushThroughLayers(cage) : cage).transpose();
+        if (restParameters(s_.lattice_, rest, params)) cage = rest + displacementAt(s_.lattice_, params);  // as imageOfRestPoint
+        if (layered) s_.cageOut_.row(v) = cage.transpose();
+        s_.positions_.row(v) = (layered ? s_.pushThroughLayers(cage) : cage).transpose();
     }
-    if (trackJacobian_) {
+    if (s_.trackJacobian_) {
         // note: the frozen frames' det J at a new vertex would need its preimage through each frame; det J is
         // smooth, so the mean of the edge's ends stands in for it.
-        frozenJacobian_.resize(static_cast<size_t>(count));
+        s_.frozenJacobian_.resize(static_cast<size_t>(count));
         for (size_t k = 0; k < record.splits.size(); ++k)
-            frozenJacobian_[static_cast<size_t>(first) + k] =
-                0.5 * (frozenJacobian_[static_cast<size_t>(record.splits[k].a)] + frozenJacobian_[static_cast<size_t>(record.splits[k].b)]);
+            s_.frozenJacobian_[static_cast<size_t>(first) + k] =
+                0.5 * (s_.frozenJacobian_[static_cast<size_t>(record.splits[k].a)] + s_.frozenJacobian_[static_cast<size_t>(record.splits[k].b)]);
     }
-    before_.conservativeResize(count, 3);
-    if (beforeCage_.rows() > 0) beforeCage_.conservativeResize(count, 3);
-    embedVertices(lattice_, rest_, embedding_);
-    ++restVersion_;
-    meshIndex_.build(positions_, triangles_);
-    if (!loadContacts_.empty()) {
+    s_.before_.conservativeResize(count, 3);
+    if (s_.beforeCage_.rows() > 0) s_.beforeCage_.conservativeResize(count, 3);
+    embedVertices(s_.lattice_, s_.rest_, s_.embedding_);
+    ++s_.restVersion_;
+    s_.meshIndex_.build(s_.positions_, s_.triangles_);
+    if (!s_.loadContacts_.empty()) {
         // A split's midpoint is in the load contact's neighbourhood when both ends of its edge are.
-        loadContacts_.zoneVertex.resize(static_cast<size_t>(count), 0);
+        s_.loadContacts_.zoneVertex.resize(static_cast<size_t>(count), 0);
         for (size_t k = 0; k < record.splits.size(); ++k)
-            loadContacts_.zoneVertex[static_cast<size_t>(first) + k] =
-                loadContacts_.zoneVertex[static_cast<size_t>(record.splits[k].a)] && loadContacts_.zoneVertex[static_cast<size_t>(record.splits[k].b)];
-        meshIndex_.setLoadContacts(loadContacts_, triangles_);
+            s_.loadContacts_.zoneVertex[static_cast<size_t>(first) + k] =
+                s_.loadContacts_.zoneVertex[static_cast<size_t>(record.splits[k].a)] && s_.loadContacts_.zoneVertex[static_cast<size_t>(record.splits[k].b)];
+        s_.meshIndex_.setLoadContacts(s_.loadContacts_, s_.triangles_);
     }
-    lastMoved_.clear();
-    lastMovedAll_ = true;
-    ++topologyVersion_;
+    s_.lastMoved_.clear();
+    s_.lastMovedAll_ = true;
+    ++s_.refinement_.topologyVersion;
 }
 
-void Session::removeRefinement(const RefinementRecord& record) {
+void Refiner::remove(const RefinementRecord& record) {
     if (record.empty()) return;
-    const Eigen::Index count = rest_.rows() - static_cast<Eigen::Index>(record.splits.size());
+    const Eigen::Index count = s_.rest_.rows() - static_cast<Eigen::Index>(record.splits.size());
     assert(count >= 0);
-    revertEdgeSplits(triangles_, record.halvings);
-    rest_.conservativeResize(count, 3);
-    positions_.conservativeResize(count, 3);
-    if (cageOut_.rows() > 0) cageOut_.conservativeResize(count, 3);
-    if (trackJacobian_) frozenJacobian_.resize(static_cast<size_t>(count));
-    before_.conservativeResize(count, 3);
-    if (beforeCage_.rows() > 0) beforeCage_.conservativeResize(count, 3);
-    embedVertices(lattice_, rest_, embedding_);
-    ++restVersion_;
-    meshIndex_.build(positions_, triangles_);
-    if (!loadContacts_.empty()) {
-        loadContacts_.zoneVertex.resize(static_cast<size_t>(count));
-        meshIndex_.setLoadContacts(loadContacts_, triangles_);
+    revertEdgeSplits(s_.triangles_, record.halvings);
+    s_.rest_.conservativeResize(count, 3);
+    s_.positions_.conservativeResize(count, 3);
+    if (s_.cageOut_.rows() > 0) s_.cageOut_.conservativeResize(count, 3);
+    if (s_.trackJacobian_) s_.frozenJacobian_.resize(static_cast<size_t>(count));
+    s_.before_.conservativeResize(count, 3);
+    if (s_.beforeCage_.rows() > 0) s_.beforeCage_.conservativeResize(count, 3);
+    embedVertices(s_.lattice_, s_.rest_, s_.embedding_);
+    ++s_.restVersion_;
+    s_.meshIndex_.build(s_.positions_, s_.triangles_);
+    if (!s_.loadContacts_.empty()) {
+        s_.loadContacts_.zoneVertex.resize(static_cast<size_t>(count));
+        s_.meshIndex_.setLoadContacts(s_.loadContacts_, s_.triangles_);
     }
-    lastMoved_.clear();
-    lastMovedAll_ = true;
-    ++topologyVersion_;
+    s_.lastMoved_.clear();
+    s_.lastMovedAll_ = true;
+    ++s_.refinement_.topologyVersion;
 }
 
-Status Session::checkGroupRefinement(int first) const {
+Status Refiner::checkGroup(int first) const {
     bool refined = false;
-    for (int i = first; i < history_.cursor(); ++i) {
-        const Operation& op = history_.entries()[static_cast<size_t>(i)];
+    for (int i = first; i < s_.history_.cursor(); ++i) {
+        const Operation& op = s_.history_.entries()[static_cast<size_t>(i)];
         for (const Step& step : op.steps)
             if (refined && step.newCage) return Status::error("a group cannot hold a lattice set-up after a refinement");
         refined = refined || !op.refinement.empty();
@@ -236,14 +231,14 @@ Status Session::checkGroupRefinement(int first) const {
     return Status::success();
 }
 
-Status Session::checkRecordedRefinement(const Operation& operation, bool cancelled) const {
+Status Refiner::checkRecorded(const Operation& operation, bool cancelled) const {
     if (operation.refinement.empty()) {
         if (operation.kind == OperationKind::Refine) return Status::error("the recorded refinement splits no edge");
         return Status::success();
     }
     if (cancelled) return Status::error("a drag that was taken back has no refinement");
-    Triangles triangles = triangles_;
-    if (Status s = applyEdgeSplits(triangles, static_cast<int>(rest_.rows()), operation.refinement.splits); !s)
+    Triangles triangles = s_.triangles_;
+    if (Status s = applyEdgeSplits(triangles, static_cast<int>(s_.rest_.rows()), operation.refinement.splits); !s)
         return Status::error("the recorded refinement does not fit this mesh: " + s.message);
     return Status::success();
 }

@@ -1,4 +1,4 @@
-// Session: the brush's stroke (brush_field.h). Every update replaces the stroke's one layer by the pull field
+// Stroke: a brush stroke (brush_field.h). Every update replaces the stroke's one layer by the pull field
 // from where the stroke began to where the grabbed points are asked to be, or by the largest share of that
 // pull that passes every check; the stroke is one history entry with one injective step.
 #include <algorithm>
@@ -13,7 +13,7 @@ namespace sculpt::core {
 using detail::Clock;
 using detail::millisecondsSince;
 
-double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps,
+double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps,
                                 OpReport& report, StepFailure& failure) {
     std::vector<int> moved;
     const bool hadStep = !steps.empty();
@@ -34,16 +34,16 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
         reachHi = reachHi.cwiseMax(p.source.cwiseMax(p.source + p.pull) + reach);
     }
     std::vector<int> candidates;
-    for (Eigen::Index v = 0; v < positions_.rows(); ++v)
-        if ((positions_.row(v).transpose().array() >= reachLo.array()).all() && (positions_.row(v).transpose().array() <= reachHi.array()).all())
+    for (Eigen::Index v = 0; v < s_.positions_.rows(); ++v)
+        if ((s_.positions_.row(v).transpose().array() >= reachLo.array()).all() && (s_.positions_.row(v).transpose().array() <= reachHi.array()).all())
             candidates.push_back(static_cast<int>(v));
-    layerCandidates_ = &candidates;
+    s_.layerCandidates_ = &candidates;
     Positions rowsBefore(static_cast<Eigen::Index>(candidates.size()), 3);
-    for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = positions_.row(candidates[c]);
+    for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = s_.positions_.row(candidates[c]);
     std::vector<Step> previous;
     if (hadStep) {
         previous = steps;
-        popLayers(steps.size(), &moved);  // the stroke's layers are the newest: back to where the stroke began
+        s_.popLayers(steps.size(), &moved);  // the stroke's layers are the newest: back to where the stroke began
         steps.clear();
     }
     double residual = 0.0;
@@ -83,7 +83,7 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
                 failure.cause = StepFailure::Cause::SourceLeft;
                 failure.technical = s.message;
             }
-            popLayers(entered, &moved);
+            s_.popLayers(entered, &moved);
             steps.resize(steps.size() - entered);
             return false;
         };
@@ -104,20 +104,20 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
             step.frameMax = region.boxMax;
             step.frameAxes = region.axes;
             step.regionFree = std::move(region.freePoints);
-            if (Status s = enterLayer(nullptr, nullptr, &step); !s) return fail(s);
+            if (Status s = s_.enterLayer(nullptr, nullptr, &step); !s) return fail(s);
             double miss = 0.0;
-            Status solved = brushFieldDelta(layers_.back().lattice, local, brush.radius, brush.falloff, step.delta, miss);
+            Status solved = brushFieldDelta(s_.layers_.back().lattice, local, brush.radius, brush.falloff, step.delta, miss);
             if (!solved) {
-                popLayer(nullptr);
+                s_.popLayer(nullptr);
                 return fail(solved);
             }
-            if (!tryDelta(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs)) {
-                popLayer(nullptr);
+            if (!s_.tryDelta(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs)) {
+                s_.popLayer(nullptr);
                 return fail(Status::success());
             }
-            layerActive_ = false;
+            s_.layerActive_ = false;
             residual = std::max(residual, miss);
-            const Lattice& layer = layers_.back().lattice;
+            const Lattice& layer = s_.layers_.back().lattice;
             for (Eigen::Vector3d& w : where) {
                 Eigen::Vector3d t;
                 if (restParameters(layer, w, t)) w += displacementAt(layer, t);
@@ -136,14 +136,14 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
     // that keeps stopping short stops near there again, so the search starts there (a mouse move costs
     // five trials instead of eight; the first update of a stroke, a scripted drag's only one, searches all).
     double hint = 0.0;
-    if (hadStep && drag_.strokeReached.size() == pulls.size())
+    if (hadStep && s_.drag_.strokeReached.size() == pulls.size())
         for (size_t k = 0; k < pulls.size(); ++k)
             if (pulls[k].moving()) {
-                hint = (drag_.strokeReached[k] - pulls[k].source).dot(pulls[k].pull) / pulls[k].pull.squaredNorm();
+                hint = (s_.drag_.strokeReached[k] - pulls[k].source).dot(pulls[k].pull) / pulls[k].pull.squaredNorm();
                 break;
             }
     const auto clearStroke = [&] {
-        popLayers(steps.size(), &moved);
+        s_.popLayers(steps.size(), &moved);
         steps.clear();
     };
     // Bisection on the share between lo (passes, or 0) and hi (fails), `iterations` trials: the last passing
@@ -210,18 +210,18 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
     if (share == 0.0 && hadStep && moving) {
         // Nothing of this pull passes: the stroke stays where the last update left it (already certified).
         for (const Step& step : previous) {
-            enterLayer(nullptr, nullptr, &step);
-            applyDelta(step.delta, 1.0, &moved);
-            layerActive_ = false;
+            s_.enterLayer(nullptr, nullptr, &step);
+            s_.applyDelta(step.delta, 1.0, &moved);
+            s_.layerActive_ = false;
         }
         steps = previous;
     }
     // Where the grabbed images are now: the last layer's constraints hold every image's place.
-    drag_.strokeReached.clear();
+    s_.drag_.strokeReached.clear();
     if (!steps.empty())
-        for (const PointConstraint& c : steps.back().constraints) drag_.strokeReached.push_back(c.target);
+        for (const PointConstraint& c : steps.back().constraints) s_.drag_.strokeReached.push_back(c.target);
     else
-        for (const BrushPull& p : pulls) drag_.strokeReached.push_back(p.source);
+        for (const BrushPull& p : pulls) s_.drag_.strokeReached.push_back(p.source);
     // Held points (pins inside the region) and crossing regions are met by the minimum-norm correction; where
     // the free control points cannot, the report says so.
     if (share > 0.0 && residual > 1e-9 * brush.radius) {
@@ -230,11 +230,11 @@ double Session::applyBrushPulls(const std::vector<BrushPull>& pulls, const Brush
                         "): met as closely as possible";
     }
     (void)moved;
-    layerCandidates_ = nullptr;
-    lastMoved_.clear();
+    s_.layerCandidates_ = nullptr;
+    s_.lastMoved_.clear();
     for (size_t c = 0; c < candidates.size(); ++c)
-        if (positions_.row(candidates[c]) != rowsBefore.row(static_cast<Eigen::Index>(c))) lastMoved_.push_back(candidates[c]);
-    lastMovedAll_ = false;
+        if (s_.positions_.row(candidates[c]) != rowsBefore.row(static_cast<Eigen::Index>(c))) s_.lastMoved_.push_back(candidates[c]);
+    s_.lastMovedAll_ = false;
     return share;
 }
 

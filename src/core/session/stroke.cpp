@@ -1,0 +1,485 @@
+// Stroke: interactive drags, on the surface (with a brush and symmetry) and of control points. The sources
+// are fixed at the start, every update moves them towards new targets by an incremental manipulation (Hu et
+// al. 2001, section 4: increments of one drag add up to one control displacement per lattice), tested and
+// subdivided like any operation (Gain & Dodgson 2001, Appendix), and the whole drag is one history entry.
+#include <algorithm>
+#include <cmath>
+
+#include "core/session/session.h"
+#include "core/session/session_internal.h"
+
+namespace sculpt::core {
+
+using detail::Clock;
+using detail::mergeDelta;
+using detail::millisecondsSince;
+using detail::vectorText;
+
+namespace {
+
+std::string dragLabel(size_t constraints) {
+    return constraints == 1 ? "drag" : "drag (" + std::to_string(constraints) + " points)";
+}
+
+}  // namespace
+
+Status Stroke::begin(const std::vector<Eigen::Vector3d>& sourceParams) {
+    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.drag_.active) return Status::error("an interactive drag is already in progress");
+    if (sourceParams.empty()) return Status::error("a drag needs at least one source");
+    for (size_t f = 0; f < sourceParams.size(); ++f)
+        if (!sourceParams[f].allFinite() || (sourceParams[f].array() < 0.0).any() || (sourceParams[f].array() > 1.0).any())
+            return Status::error("constraint " + std::to_string(f) + " source is outside the lattice");
+    s_.layerActive_ = false;  // cage parameters
+    DirectManipulationData data;
+    if (Status s = precomputeDirectManipulation(s_.lattice_, sourceParams, data); !s) return s;
+    s_.drag_.data = std::move(data);
+    s_.drag_.operation = Operation{};
+    s_.drag_.operation.kind = OperationKind::Drag;
+    s_.drag_.operation.interactive = true;
+    s_.drag_.operation.label = dragLabel(sourceParams.size());
+    s_.drag_.sourceWorld.clear();
+    for (const Eigen::Vector3d& t : sourceParams) {
+        s_.drag_.sourceWorld.push_back(s_.currentImage(t));
+        s_.drag_.operation.constraints.push_back({s_.drag_.sourceWorld.back(), s_.drag_.sourceWorld.back()});
+    }
+    s_.drag_.params = sourceParams;
+    s_.drag_.appliedInFrame = false;
+    s_.drag_.mirrored = false;
+    s_.drag_.brush = BrushSettings{};
+    s_.drag_.active = true;
+    return Status::success();
+}
+
+void Stroke::startMirrored(const std::string& label, const std::vector<Eigen::Vector3d>& sources, std::vector<MirroredConstraint> mirror,
+                                const BrushSettings& brush) {
+    s_.drag_.operation = Operation{};
+    s_.drag_.operation.kind = OperationKind::Drag;
+    s_.drag_.operation.interactive = true;
+    s_.drag_.operation.label = label;
+    if (brush.symmetry.any()) s_.drag_.operation.label += ", symmetric in " + symmetryText(brush.symmetry);
+    s_.drag_.operation.brush = brush;
+    for (const Eigen::Vector3d& source : sources) s_.drag_.operation.constraints.push_back({source, source});
+    s_.drag_.appliedInFrame = false;
+    s_.drag_.mirrored = true;
+    s_.drag_.userStarts = sources;
+    s_.drag_.mirror = std::move(mirror);
+    s_.drag_.brush = brush;
+    s_.drag_.active = true;
+}
+
+Status Stroke::beginAt(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held, const BrushSettings& brush) {
+    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.drag_.active) return Status::error("an interactive drag is already in progress");
+    if (sources.empty()) return Status::error("a drag needs at least one source");
+    if (Status s = s_.checkBrush(brush); !s) return s;
+    for (size_t f = 0; f < sources.size(); ++f)
+        if (!sources[f].allFinite()) return Status::error("constraint " + std::to_string(f) + " source has non-finite coordinates");
+    s_.layerActive_ = false;
+    const auto isHeld = [&](size_t f) { return f < held.size() && held[f]; };
+    std::vector<MirroredConstraint> mirror = mirrorConstraints(sources, held, brush.symmetry, s_.symmetryCentre_, s_.mirrorMergeDistance(brush));
+    if (brush.active()) {
+        // A stroke (stroke_brush.cpp): no lattice is solved at the start; every update places the pull field.
+        std::vector<bool> moving;
+        for (const MirroredConstraint& c : mirror) moving.push_back(!isHeld(static_cast<size_t>(c.images.front().first)));
+        if (std::find(moving.begin(), moving.end(), true) == moving.end()) return Status::error("every source of the drag is held");
+        s_.drag_.sourceWorld.clear();
+        for (const MirroredConstraint& c : mirror) s_.drag_.sourceWorld.push_back(c.source);
+        s_.drag_.params.clear();
+        s_.drag_.pulled = std::move(moving);
+        startMirrored("brush " + dragLabel(sources.size()), sources, std::move(mirror), brush);
+        return Status::success();
+    }
+    std::vector<Eigen::Vector3d> params(mirror.size());
+    Status located = Status::success();
+    for (size_t e = 0; e < mirror.size() && located; ++e) {
+        located = s_.parametersOfCurrentPoint(mirror[e].source, params[e]);
+        if (!located) located = Status::error((mirror[e].images.front().second == 0 ? "constraint " + std::to_string(mirror[e].images.front().first)
+                                                                                    : std::string("the mirror image of a constraint")) +
+                                              " source: " + located.message);
+    }
+    DirectManipulationData data;
+    if (located) located = precomputeDirectManipulation(s_.activeLattice(), params, data);
+    if (!located) return located;
+    s_.drag_.data = std::move(data);
+    s_.drag_.sourceWorld.clear();
+    for (const Eigen::Vector3d& t : params) s_.drag_.sourceWorld.push_back(s_.currentImage(t));
+    s_.drag_.params = std::move(params);
+    startMirrored(dragLabel(sources.size()), sources, std::move(mirror), brush);
+    return Status::success();
+}
+
+Status Stroke::beginControl(const std::vector<int>& indices) {
+    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.drag_.active) return Status::error("an interactive drag is already in progress");
+    if (indices.empty()) return Status::error("no control point given");
+    std::vector<int> sorted = indices;
+    std::sort(sorted.begin(), sorted.end());
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    for (int idx : sorted)
+        if (Status s = s_.checkMovable(idx); !s) return s;
+    s_.layerActive_ = false;
+    s_.drag_.operation = Operation{};
+    s_.drag_.operation.kind = OperationKind::ControlPointEdit;
+    s_.drag_.operation.interactive = true;
+    s_.drag_.operation.label = sorted.size() == 1 ? "move control point" : "move " + std::to_string(sorted.size()) + " control points";
+    s_.drag_.operation.controlPoints = sorted;
+    s_.drag_.operation.offsets = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(sorted.size()), 3);
+    s_.drag_.controlStart.resize(static_cast<Eigen::Index>(sorted.size()), 3);
+    for (size_t c = 0; c < sorted.size(); ++c)
+        s_.drag_.controlStart.row(static_cast<Eigen::Index>(c)) = s_.pushThroughLayers(s_.lattice_.controlPoint(sorted[c])).transpose();
+    s_.drag_.sourceWorld.clear();
+    s_.drag_.params.clear();
+    s_.drag_.appliedInFrame = false;
+    s_.drag_.mirrored = false;
+    s_.drag_.active = true;
+    return Status::success();
+}
+
+bool Stroke::active() const { return s_.drag_.active; }
+
+int Stroke::verticesOutsideCage() const { return s_.drag_.outsideCage; }
+
+std::vector<Eigen::Vector3d> Stroke::sources() const { return s_.drag_.sourceWorld; }
+
+std::vector<Eigen::Vector3d> Stroke::userSources() const {
+    if (!s_.drag_.mirrored) return s_.drag_.sourceWorld;
+    std::vector<Eigen::Vector3d> sources = s_.drag_.userStarts;
+    for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
+        if (s_.drag_.mirror[e].images.front().second == 0) sources[static_cast<size_t>(s_.drag_.mirror[e].images.front().first)] = s_.drag_.sourceWorld[e];
+    return sources;
+}
+
+void Stroke::mergeStep(const ControlDelta& delta) {
+    if (!s_.drag_.operation.steps.empty() && s_.drag_.appliedInFrame) {
+        mergeDelta(s_.drag_.operation.steps.back().delta, delta);
+    } else {
+        Step step;
+        step.settings = s_.settings_;
+        step.delta = delta;
+        for (const Eigen::Vector3d& source : s_.drag_.sourceWorld) step.constraints.push_back({source, source});
+        s_.drag_.operation.steps.push_back(std::move(step));
+    }
+    s_.drag_.appliedInFrame = true;
+}
+
+bool Stroke::applyIncrement(const ControlDelta& delta, Manipulation& m, OpReport& report) {
+    // Fast path: the whole increment as one change of the active lattice (the group property of Hu et al.
+    // 2001, section 4, makes a drag's increments add up to one control displacement per lattice).
+    StepFailure failure;
+    s_.lastMoved_.clear();
+    s_.lastMovedAll_ = false;
+    if (s_.tryDelta(delta, &s_.lastMoved_, failure, report.injectivityMs, report.triangleCheckMs)) {
+        mergeStep(delta);
+        for (size_t f = 0; f < s_.drag_.params.size(); ++f) s_.drag_.operation.steps.back().constraints[f].target = s_.currentImage(s_.drag_.params[f]);
+        report.subSteps = 1;
+        return true;
+    }
+    // Not injective as one step: subdivide this increment like any operation (Gain & Dodgson 2001, Appendix,
+    // InjectSubdiv); it may enter new layers.
+    Operation increments;
+    Session::Progress progress(s_.scratch_);
+    progress.operation = &increments;
+    progress.appliedInCurrentFrame = s_.drag_.appliedInFrame;
+    progress.firstFailure = failure;
+    const bool ok = s_.injectSubdiv(m, 0, progress);
+    report.injectivityMs += progress.injectivityMs;
+    report.triangleCheckMs += progress.triangleMs;
+    if (!ok) {
+        s_.restoreSnapshot(progress.snapshot);
+        std::sort(progress.moved.begin(), progress.moved.end());
+        progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
+        s_.lastMoved_ = std::move(progress.moved);
+        report.status = OpStatus::Rejected;
+        report.depthReached = increments.depthReached;
+        detail::noteFailure(report, progress.failure, true);
+        if (s_.drag_.operation.interactive)
+            report.reason = "Refused: " + report.failureWords + ". The drag stays at the last valid position; " +
+                            stepFailureAdvice(progress.failure.cause) + ".";
+        else if (progress.failure.cause == StepFailure::Cause::SourceLeft)  // a scripted drag (its one move)
+            report.reason = progress.failure.technical + "; nothing was changed";
+        else
+            report.reason = "refused: " + report.failureWords + ", even split into up to " + std::to_string(1 << s_.injectivity_.maxDepth) +
+                            " steps; nothing was changed (" + stepFailureAdvice(progress.failure.cause) + ")";
+        report.injectivity = "rejected: " + progress.failure.technical;
+        return false;
+    }
+    for (Step& step : increments.steps) {
+        // A window drag's increments in one frame add up to one step (Hu et al. 2001, section 4); a scripted
+        // drag keeps each injective step as InjectSubdiv made it (its recording lists them).
+        if (s_.drag_.operation.interactive && !step.freshFrame && !s_.drag_.operation.steps.empty() && s_.drag_.appliedInFrame) {
+            mergeDelta(s_.drag_.operation.steps.back().delta, step.delta);
+            for (size_t f = 0; f < step.constraints.size(); ++f)
+                s_.drag_.operation.steps.back().constraints[f].target = step.constraints[f].target;
+        } else {
+            s_.drag_.operation.steps.push_back(std::move(step));
+        }
+        s_.drag_.appliedInFrame = true;
+    }
+    s_.drag_.operation.depthReached = std::max(s_.drag_.operation.depthReached, increments.depthReached);
+    std::sort(progress.moved.begin(), progress.moved.end());
+    progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
+    s_.lastMoved_ = std::move(progress.moved);
+    s_.lastMovedAll_ = progress.movedAll;
+    report.subSteps = static_cast<int>(increments.steps.size());
+    report.depthReached = increments.depthReached;
+    detail::noteFailure(report, failure, true);
+    return true;
+}
+
+Status Stroke::update(const std::vector<Eigen::Vector3d>& userTargets, OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "drag";
+    if (!s_.drag_.active || s_.drag_.operation.kind != OperationKind::Drag) return Status::error("no interactive drag is in progress");
+    const size_t expected = s_.drag_.mirrored ? s_.drag_.userStarts.size() : s_.drag_.sourceWorld.size();
+    if (userTargets.size() != expected) return Status::error("drag target count changed");
+    for (const Eigen::Vector3d& t : userTargets)
+        if (!t.allFinite()) return Status::error("drag target has non-finite coordinates");
+    // With a brush or symmetry: the strength scales each move from where it began, and the mirror images
+    // follow the mirrored targets.
+    std::vector<Eigen::Vector3d> targets = userTargets;
+    if (s_.drag_.mirrored) {
+        std::vector<Eigen::Vector3d> scaled(userTargets.size());
+        for (size_t u = 0; u < userTargets.size(); ++u)
+            scaled[u] = s_.drag_.userStarts[u] + s_.drag_.brush.strength * (userTargets[u] - s_.drag_.userStarts[u]);
+        targets.clear();
+        for (const MirroredConstraint& c : s_.drag_.mirror) targets.push_back(mirroredTarget(c, scaled, s_.drag_.userStarts));
+    }
+
+    if (s_.drag_.mirrored && s_.drag_.brush.active()) {
+        updatePulls(targets, report);
+        report.wallMs = millisecondsSince(start);
+        return Status::success();
+    }
+    Eigen::MatrixX3d increment(static_cast<Eigen::Index>(targets.size()), 3);
+    for (size_t f = 0; f < targets.size(); ++f) {
+        Eigen::Vector3d target;
+        if (!s_.toActiveSpace(targets[f], target)) {
+            report.status = OpStatus::Rejected;
+            report.reason = "Refused: the target " + vectorText(targets[f]) + " is not the image of any point inside the lattice.";
+            return Status::success();
+        }
+        increment.row(static_cast<Eigen::Index>(f)) = (target - s_.activeImage(s_.drag_.params[f])).transpose();
+    }
+    if ((increment.array() == 0.0).all()) {
+        report.status = OpStatus::NoOp;
+        report.reason = "the sources are already there";
+        return Status::success();
+    }
+    // One incremental manipulation omega(S, increment) with the factorisation made at begin (eq. 7 / 12).
+    const DirectManipulationResult solved = solveDirectManipulation(s_.drag_.data, increment);
+    Manipulation m;
+    for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(s_.currentImage(s_.drag_.params[f]));
+    m.targets = targets;
+
+    const int framesBefore = s_.frameDepth();
+    if (!applyIncrement(solved.delta, m, report)) {
+        report.wallMs = millisecondsSince(start);
+        return Status::success();
+    }
+    if (report.subSteps == 1 && s_.frameDepth() == framesBefore) {
+        report.residuals = solved.residuals;
+        report.rankDeficient = solved.rankDeficient;
+        if (s_.drag_.mirrored) s_.trimResiduals(report, s_.drag_.userStarts.size());
+    } else {
+        // The active lattice may have changed: the sources' parameters are re-found where the steps left them.
+        for (size_t f = 0; f < m.sources.size(); ++f) s_.parametersOfCurrentPoint(m.sources[f], s_.drag_.params[f]);
+        DirectManipulationData data;
+        precomputeDirectManipulation(s_.activeLattice(), s_.drag_.params, data);
+        s_.drag_.data = std::move(data);
+    }
+    for (size_t f = 0; f < targets.size(); ++f) s_.drag_.sourceWorld[f] = s_.currentImage(s_.drag_.params[f]);
+    if (s_.drag_.mirrored) {
+        for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
+            if (s_.drag_.mirror[e].images.front().second == 0)
+                s_.drag_.operation.constraints[static_cast<size_t>(s_.drag_.mirror[e].images.front().first)].target = s_.drag_.sourceWorld[e];
+    } else {
+        for (size_t f = 0; f < targets.size(); ++f) s_.drag_.operation.constraints[f].target = s_.drag_.sourceWorld[f];
+    }
+    report.status = OpStatus::Applied;
+    report.injectivity = s_.injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    report.controlPointsChanged = static_cast<int>(solved.delta.indices.size());
+    report.verticesMoved = s_.movedCount();
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& report) {
+    // Every pull from where the stroke began (brush_field.h): the region follows it, however long.
+    std::vector<BrushPull> pulls;
+    for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
+        pulls.push_back({s_.drag_.mirror[e].source, s_.drag_.pulled[e] ? Eigen::Vector3d(targets[e] - s_.drag_.mirror[e].source) : Eigen::Vector3d::Zero()});
+    StepFailure failure;
+    const double share = applyBrushPulls(pulls, s_.drag_.brush, s_.drag_.operation.steps, report, failure);
+    if (share < 1.0 && s_.drag_.brush.symmetry.any() &&
+        (failure.cause == StepFailure::Cause::Lattice || failure.cause == StepFailure::Cause::Triangles ||
+         failure.cause == StepFailure::Cause::Uncertified)) {
+        // A pull that carries its grabbed point onto or across a mirror plane meets the point's own mirror image
+        // there: no injective symmetric deformation does that, so the stop is the symmetry's, not the mesh's.
+        const double merge = s_.mirrorMergeDistance(s_.drag_.brush);
+        for (size_t e = 0; e < pulls.size() && failure.cause != StepFailure::Cause::MirrorPlane; ++e) {
+            if (!pulls[e].moving()) continue;
+            for (int a = 0; a < 3; ++a) {
+                if (!s_.drag_.brush.symmetry.mirror[static_cast<size_t>(a)]) continue;
+                const double from = pulls[e].source[a] - s_.symmetryCentre_[a], to = from + pulls[e].pull[a];
+                if (std::abs(from) > merge && (to == 0.0 || (to > 0.0) != (from > 0.0))) {
+                    failure.cause = StepFailure::Cause::MirrorPlane;
+                    failure.plane = std::string(1, static_cast<char>('X' + a));
+                    break;
+                }
+            }
+        }
+    }
+    for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
+        s_.drag_.sourceWorld[e] = s_.drag_.strokeReached[e];
+    for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
+        if (s_.drag_.mirror[e].images.front().second == 0)
+            s_.drag_.operation.constraints[static_cast<size_t>(s_.drag_.mirror[e].images.front().first)].target = s_.drag_.sourceWorld[e];
+    report.fractionApplied = share;
+    report.subSteps = static_cast<int>(s_.drag_.operation.steps.size());
+    report.controlPointsChanged = 0;
+    for (const Step& step : s_.drag_.operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
+    report.verticesMoved = s_.movedCount();
+    report.injectivity = s_.injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
+        if (s_.drag_.mirror[e].images.front().second == 0) report.residuals.push_back((s_.drag_.sourceWorld[e] - targets[e]).norm());
+    if (share == 1.0) {
+        report.status = OpStatus::Applied;
+        return;
+    }
+    detail::noteFailure(report, failure, true);
+    if (share > 0.0) {
+        report.status = OpStatus::Applied;
+        report.reason = "Stopped at " + detail::percentText(share) + " of the pull, the last injective point: beyond it " +
+                        report.failureWords + " (" + stepFailureAdvice(failure.cause) + ").";
+        return;
+    }
+    report.status = OpStatus::Rejected;
+    report.reason = failure.cause == StepFailure::Cause::SourceLeft
+                        ? "Refused: " + failure.technical + "."
+                        : "Refused: " + report.failureWords + ". The stroke stays where it was; " + stepFailureAdvice(failure.cause) + ".";
+    report.injectivity = "rejected: " + failure.technical;
+}
+
+Status Stroke::updateControl(const Eigen::Vector3d& offset, OpReport& report) {
+    // Every point moves by the same offset since the drag began.
+    const Eigen::Index count = static_cast<Eigen::Index>(s_.drag_.operation.controlPoints.size());
+    return updateControlPerPoint(offset.transpose().replicate(std::max<Eigen::Index>(count, 1), 1), report);
+}
+
+Status Stroke::updateControlPerPoint(const Eigen::MatrixX3d& offsets, OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "move_control_point";
+    if (!s_.drag_.active || s_.drag_.operation.kind != OperationKind::ControlPointEdit)
+        return Status::error("no interactive control-point drag is in progress");
+    if (!offsets.allFinite()) return Status::error("control point move has non-finite coordinates");
+    const std::vector<int>& ids = s_.drag_.operation.controlPoints;
+    const Eigen::Index count = static_cast<Eigen::Index>(ids.size());
+    if (offsets.rows() != count)
+        return Status::error("control point move has " + std::to_string(offsets.rows()) + " offsets for " + std::to_string(count) + " points");
+    // Offsets as shown since the drag began; this update adds what is still missing.
+    const Eigen::MatrixX3d shownIncrement = offsets - s_.drag_.operation.offsets;
+    if ((shownIncrement.array() == 0.0).all()) {
+        report.status = OpStatus::NoOp;
+        report.reason = "the control points are already there";
+        return Status::success();
+    }
+    ControlDelta delta;
+    delta.indices = ids;
+    if (s_.layers_.empty()) {
+        delta.deltas = shownIncrement;
+    } else {
+        // Under layers the points follow the cursor as shown: each cage point goes where the layers take it
+        // onto its shown start plus its offset.
+        delta.deltas.resize(count, 3);
+        for (Eigen::Index c = 0; c < count; ++c) {
+            const Eigen::Vector3d shownTarget = s_.drag_.controlStart.row(c).transpose() + offsets.row(c).transpose();
+            Eigen::Vector3d cageTarget;
+            if (!s_.pullThroughLayers(shownTarget, cageTarget, s_.layers_.size())) {
+                report.status = OpStatus::Rejected;
+                report.reason = "Refused: no point of the lattice's layers maps onto " + vectorText(shownTarget) + ".";
+                return Status::success();
+            }
+            delta.deltas.row(c) = (cageTarget - s_.lattice_.controlPoint(ids[static_cast<size_t>(c)])).transpose();
+        }
+    }
+    applyControlDelta(std::move(delta), shownIncrement, report);
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+void Stroke::applyControlDelta(ControlDelta delta, const Eigen::MatrixX3d& shownOffsets, OpReport& report) {
+    // The points follow up to the last injective position and stop there (design.md "The cage is the user's
+    // object"): never a fresh lattice. A later update that moves back lets them follow again.
+    s_.lastMoved_.clear();
+    s_.lastMovedAll_ = false;
+    expandWelds(s_.lattice_, delta);  // a welded point moves as one (Coquillart 1990, 3.1.2)
+    StepFailure failure;
+    const double fraction = s_.applyLargestInjectiveFraction(delta, &s_.lastMoved_, failure, report.injectivityMs, report.triangleCheckMs);
+    report.fractionApplied = fraction;
+    if (fraction > 0.0) {
+        delta.deltas *= fraction;
+        mergeStep(delta);
+        s_.drag_.operation.offsets += fraction * shownOffsets;
+    }
+    std::sort(s_.lastMoved_.begin(), s_.lastMoved_.end());
+    s_.lastMoved_.erase(std::unique(s_.lastMoved_.begin(), s_.lastMoved_.end()), s_.lastMoved_.end());
+    report.injectivity = s_.injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
+    report.controlPointsChanged = fraction > 0.0 ? static_cast<int>(delta.indices.size()) : 0;
+    report.verticesMoved = s_.movedCount();
+    report.subSteps = fraction > 0.0 ? 1 : 0;
+    report.status = fraction > 0.0 ? OpStatus::Applied : OpStatus::Rejected;
+    if (fraction < 1.0) {
+        detail::noteFailure(report, failure, false);
+        report.reason = "Stopped " + stepStopWords(failure.cause) + ": moving further, " + report.failureWords + ".";
+    }
+}
+
+Status Stroke::setLabel(const std::string& label) {
+    if (!s_.drag_.active) return Status::error("no interactive drag is in progress");
+    if (label.empty()) return Status::error("a history entry needs a name");
+    s_.drag_.operation.label = label;
+    return Status::success();
+}
+
+void Stroke::end() { finish(nullptr); }
+
+void Stroke::finish(OpReport* report) {
+    if (!s_.drag_.active) return;
+    s_.drag_.active = false;
+    s_.layerActive_ = false;  // the next operation starts in the cage
+    s_.drag_.outsideCage = 0;
+    if (!s_.drag_.operation.steps.empty()) {
+        s_.refinement().afterEdit(s_.drag_.operation, report);
+        if (s_.bakeLayers(s_.drag_.operation.steps)) s_.drag_.operation.steps.back().baked = true;  // the detail travels with the surface
+        s_.pushOperation(std::move(s_.drag_.operation));
+    }
+    s_.drag_.operation = Operation{};
+}
+
+Status Stroke::cancel(OpReport& report) {
+    const auto start = Clock::now();
+    report = OpReport{};
+    report.op = "cancel_drag";
+    if (!s_.drag_.active) {
+        report.status = OpStatus::NoOp;
+        report.reason = "no drag in progress";
+        return Status::success();
+    }
+    s_.drag_.active = false;
+    s_.revertSteps(s_.drag_.operation.steps);
+    s_.layerActive_ = false;
+    // Taking it back is an inverse manipulation, exact only up to rounding: the replay repeats it.
+    if (!s_.drag_.operation.steps.empty()) s_.history_.note(JournalEntry{JournalEntry::Kind::CancelledDrag, s_.drag_.operation, 0, {}, {}, {}}, false);
+    report.status = s_.drag_.operation.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;
+    report.reason = s_.drag_.operation.steps.empty() ? "the drag had not moved anything" : "the drag was taken back";
+    report.subSteps = static_cast<int>(s_.drag_.operation.steps.size());
+    report.verticesMoved = s_.movedCount();
+    s_.drag_.operation = Operation{};
+    report.wallMs = millisecondsSince(start);
+    return Status::success();
+}
+
+}  // namespace sculpt::core
