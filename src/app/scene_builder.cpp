@@ -23,7 +23,7 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
     const core::TSplineVolume* tspline = core::asTSpline(lattice.volume.get());
     // A T-spline is drawn by its T-lattice at its control points (Fig. 9-10), not by curves: at depth 4 the
     // curved cell edges of a pot were a cloud that hid it.
-    core::CageView cage = tspline ? core::CageView{session.cagePoints(), {}, {}, {}} : core::cageView(session, request.curveSamplesPerSpan);
+    core::CageView cage = tspline ? core::CageView{session.cage().cagePoints(), {}, {}, {}} : core::cageView(session, request.curveSamplesPerSpan);
     scene.lattice.controlPoints = std::move(cage.points);  // the cage as shown: carried through the layers
     scene.lattice.pinned = lattice.pinned;
     scene.lattice.selected = request.selectedControlPoints;
@@ -72,7 +72,7 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
         // The last operation's last step: in the cage, or in the layer it made (a brush region or a
         // subdivision step; the newest layer, since later operations were undone).
         const bool stroke = ids.empty() && last && !last->steps.empty() && last->steps.back().region;
-        const bool inLayer = ids.empty() && last && !last->steps.empty() && last->steps.back().freshFrame && !session.layers().empty();
+        const bool inLayer = ids.empty() && last && !last->steps.empty() && last->steps.back().freshFrame && !session.cage().layers().empty();
         if (ids.empty() && last && !last->steps.empty()) ids = last->steps.back().delta.indices;
         if (stroke) {
             // A brush stroke: its regions (one per grabbed image), placed again from their steps, since a finished
@@ -90,10 +90,10 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
             }
         } else if (inLayer) {
             // note: the layer's input is the mesh before its step; the mesh now is near enough for a tint.
-            const core::Lattice& layer = session.layers().back().lattice;
+            const core::Lattice& layer = session.cage().layers().back().lattice;
             core::controlPointInfluence(layer, core::embedVertices(layer, session.positions()), ids, scene.affectedWeight);
         } else {
-            core::controlPointInfluence(lattice, session.embedding(), ids, scene.affectedWeight);
+            core::controlPointInfluence(lattice, session.cage().embedding(), ids, scene.affectedWeight);
         }
     }
     return scene;

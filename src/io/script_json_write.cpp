@@ -285,7 +285,7 @@ std::string reportToJson(const core::ScriptReport& report, const core::Session& 
     }
     root["ops"] = ops;
     root["history"] = {{"entries", session.history().size()}, {"cursor", session.historyCursor()},
-                       {"bytes", session.historyBytes()}, {"lattice_frames", session.frameDepth() + 1}};
+                       {"bytes", session.historyBytes()}, {"lattice_frames", session.cage().frameDepth() + 1}};
     root["injectivity"] = injectivityJson(session.injectivity());
     root["self_intersecting_pairs_at_load"] = session.initialIntersectingPairs();
     root["degenerate_triangles_at_load"] = session.initialDegenerateTriangles();

@@ -307,7 +307,7 @@ void benchSubdivision() {
         const double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         std::printf("{\"case\": \"history_bytes_1m_100ops\", \"n\": 1000000, \"bytes\": %zu, \"operations\": %d, "
                     "\"subdivided\": %d, \"frames\": %d, \"total_ms\": %.1f}\n",
-                    session.historyBytes(), session.historyCursor(), subdivided, session.frameDepth(), totalMs);
+                    session.historyBytes(), session.historyCursor(), subdivided, session.cage().frameDepth(), totalMs);
     }
 }
 

@@ -83,13 +83,13 @@ void randomCommand(Session& session, std::mt19937& rng, double size, int& openGr
             for (size_t c = 0; c < ids.size(); ++c) {
                 const Eigen::Vector3d offset = 0.5 * size * diagonal * test::randomVector(rng, -1, 1);
                 // "to" is where the point is shown (carried through the layers) plus the offset
-                values.row(static_cast<Eigen::Index>(c)) = (relative ? offset : Eigen::Vector3d(session.cagePoints().row(ids[c]).transpose() + offset)).transpose();
+                values.row(static_cast<Eigen::Index>(c)) = (relative ? offset : Eigen::Vector3d(session.cage().cagePoints().row(ids[c]).transpose() + offset)).transpose();
             }
             REQUIRE(session.moveControlPoints(ids, values, relative, report).ok);
             break;
         }
         case 5: {  // set-up with new settings (rarely) or the same
-            LatticeSettings settings = session.latticeSettings();
+            LatticeSettings settings = session.cage().settings();
             if (test::randomInt(rng, 0, 1)) settings.resolution = {test::randomInt(rng, 5, 8), test::randomInt(rng, 5, 8), test::randomInt(rng, 5, 8)};
             settings.pinLayers = test::randomInt(rng, 0, 1);
             REQUIRE(session.setupLattice(settings, report).ok);
@@ -108,7 +108,7 @@ void randomCommand(Session& session, std::mt19937& rng, double size, int& openGr
         case 11: {  // an interactive drag, sometimes taken back
             Eigen::Vector3d t;
             const int v = test::randomInt(rng, 0, vertices - 1);
-            if (!session.parametersOfCurrentPoint(vertexPoint(v), t)) break;
+            if (!session.cage().parametersOfCurrentPoint(vertexPoint(v), t)) break;
             REQUIRE(session.stroke().begin({t}).ok);
             const Eigen::Vector3d start = session.stroke().sources().front();
             const Eigen::Vector3d offset = size * diagonal * test::randomVector(rng, -1, 1);
@@ -175,7 +175,7 @@ TEST_CASE("recording: random sessions of every op kind replay on their mesh to t
             CHECK(replayed.history()[i].steps.size() == original.history()[i].steps.size());
         }
         CHECK(replayed.pinToggles() == original.pinToggles());
-        CHECK(replayed.frameDepth() == original.frameDepth());
+        CHECK(replayed.cage().frameDepth() == original.cage().frameDepth());
         // The replayed session goes on like the original: undo everything, redo everything.
         OpReport report;
         for (int u = 0; u < original.historyCursor(); ++u) {

@@ -23,7 +23,7 @@ void interactiveDrag(Session& session, std::mt19937& rng, const Positions& mesh,
     for (int s = 0; s < sources; ++s) {
         Eigen::Vector3d t;
         const int v = test::randomInt(rng, 0, static_cast<int>(mesh.rows()) - 1);
-        if (!session.parametersOfCurrentPoint(session.positions().row(v).transpose(), t)) continue;
+        if (!session.cage().parametersOfCurrentPoint(session.positions().row(v).transpose(), t)) continue;
         params.push_back(t);
     }
     if (params.empty()) return;

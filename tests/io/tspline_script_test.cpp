@@ -81,7 +81,7 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
     REQUIRE(session.tools().list().size() == 1);
     REQUIRE(session.tools().list()[0].name == "tspline");
     REQUIRE(session.tools().frozen() == 0);
-    REQUIRE(session.embedding().insideCount() == static_cast<int>(mesh.positions.rows()));  // the padded box holds every vertex
+    REQUIRE(session.cage().embedding().insideCount() == static_cast<int>(mesh.positions.rows()));  // the padded box holds every vertex
     REQUIRE(session.positions() == mesh.positions);  // freezing moves nothing
     // Sec. 4: every cell holding a vertex at the full depth, weights 100:1, balanced (100, 10 next to them, 1).
     const TSplineVolume& volume = tsplineOf(session, 0);

@@ -228,7 +228,7 @@ TEST_CASE("GPU deformation: goldens of the demo session drawn through the GPU pa
     const core::Session session = demoSession();
     // The demo's drags were subdivided: the mesh shown is the cage's map followed by the steps' layers.
     std::vector<const core::Lattice*> layers;
-    for (const core::Layer& layer : session.layers()) layers.push_back(&layer.lattice);
+    for (const core::Layer& layer : session.cage().layers()) layers.push_back(&layer.lattice);
     CHECK_FALSE(layers.empty());
     REQUIRE(render::Renderer::gpuDeformationProblem(session.lattice(), layers).empty());
     for (const auto& [name, jacobian, lattice] : {std::tuple{"scripted_drag", false, false},
@@ -434,11 +434,11 @@ TEST_CASE("GPU deformation: a session's drags, brush layers included, draw where
         core::OpReport report;
         requireOk(session.dragVertex(vertex, target, report, brush));
         std::vector<const core::Lattice*> layers;
-        for (const core::Layer& layer : session.layers()) layers.push_back(&layer.lattice);
+        for (const core::Layer& layer : session.cage().layers()) layers.push_back(&layer.lattice);
         layered = std::max(layered, int(layers.size()));
         REQUIRE(render::Renderer::gpuDeformationProblem(session.lattice(), layers).empty());
         requireOk(renderer.setMesh(session.positions(), session.triangles()));
-        requireOk(renderer.setGpuDeformation(session.lattice(), session.embedding(), session.restPositions(), layers));
+        requireOk(renderer.setGpuDeformation(session.lattice(), session.cage().embedding(), session.restPositions(), layers));
         Positions gpuPositions, gpuNormals;
         requireOk(renderer.captureGpuDeformation(gpuPositions, gpuNormals));
         INFO("step " << step << ", " << layers.size() << " layers");

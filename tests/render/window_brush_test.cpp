@@ -240,7 +240,7 @@ TEST_CASE("window brush: the affected-region overlay shows what a finished strok
         core::OpReport report;
         REQUIRE(session.dragVertex(v, source + pull * source.normalized(), report, brush));
         REQUIRE(report.status == core::OpStatus::Applied);
-        REQUIRE(session.layers().empty());  // baked
+        REQUIRE(session.cage().layers().empty());  // baked
         app::SceneRequest request;
         request.mesh = false;
         request.affected = true;

@@ -41,8 +41,8 @@ TEST_CASE("window cage: a control point dragged through a fold follows, stops at
         test::loadDefaultMesh(sculptApp, kWidth, kHeight);
         app::AppState& state = sculptApp.state();
         const Positions original = state.session.positions();
-        const Positions cage = state.session.cagePoints();
-        const core::LatticeSettings settings = state.session.latticeSettings();
+        const Positions cage = state.session.cage().cagePoints();
+        const core::LatticeSettings settings = state.session.cage().settings();
         key(sculptApp, app::Key::Tab);
         REQUIRE(state.tools.mode == app::ToolMode::Lattice);
         // An interior control point, picked by clicking its marker (the one nearest the eye if several overlap).
@@ -63,11 +63,11 @@ TEST_CASE("window cage: a control point dragged through a fold follows, stops at
         for (int m = 1; m <= 60; ++m) {
             const Eigen::Vector2d cursor(grabbed.x(), grabbed.y() - 8.0 * m);
             sculptApp.onMouseMove({cursor.x(), cursor.y(), {}}, {});
-            const Eigen::Vector2d shown = pixelOf(state, state.session.cagePoints().row(id).transpose());
+            const Eigen::Vector2d shown = pixelOf(state, state.session.cage().cagePoints().row(id).transpose());
             INFO("trial " << trial << " move " << m << ": " << state.status);
             // Never a fresh lattice: the cage is the one set up, with no frame or layer added.
-            CHECK(state.session.frameDepth() == 0);
-            CHECK(state.session.latticeSettings().resolution == settings.resolution);
+            CHECK(state.session.cage().frameDepth() == 0);
+            CHECK(state.session.cage().settings().resolution == settings.resolution);
             if (!limitReached && (shown - cursor).norm() > 0.5) {
                 limitReached = true;
                 // It stopped short of the cursor, and says why.
@@ -93,7 +93,7 @@ TEST_CASE("window cage: a control point dragged through a fold follows, stops at
             CHECK(entry.operation.kind != core::OperationKind::LatticeSetup);
         undo(sculptApp);
         const double diagonal = test::boundsDiagonal(original);
-        CHECK((state.session.cagePoints() - cage).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        CHECK((state.session.cage().cagePoints() - cage).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         CHECK(state.session.historyCursor() == 0);
     }
@@ -104,8 +104,8 @@ TEST_CASE("window cage: after sculpting drags in several steps the lattice tool 
     app::SculptApp sculptApp;
     test::loadDefaultMesh(sculptApp, kWidth, kHeight);
     app::AppState& state = sculptApp.state();
-    const core::LatticeSettings settings = state.session.latticeSettings();
-    const Positions restCage = state.session.cagePoints();
+    const core::LatticeSettings settings = state.session.cage().settings();
+    const Positions restCage = state.session.cage().cagePoints();
     // A long pull with the whole cage (no brush radius): more than one injective step, so layers are added.
     state.tools.brush.limited = false;
     const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
@@ -115,15 +115,15 @@ TEST_CASE("window cage: after sculpting drags in several steps the lattice tool 
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 300.0, {}}, {});
     REQUIRE(state.session.history().size() == 1);
     INFO(state.status);
-    REQUIRE(!state.session.layers().empty());
-    CHECK(state.session.latticeSettings().resolution == settings.resolution);  // the same cage, not a new one
+    REQUIRE(!state.session.cage().layers().empty());
+    CHECK(state.session.cage().settings().resolution == settings.resolution);  // the same cage, not a new one
 
     // The cage drawn is the user's, carried through the layers: not the layers' regular grid.
     key(sculptApp, app::Key::Tab);
     app::SceneRequest request;
     const render::SceneData scene = app::sceneFromSession(state.session, request);
     CHECK(scene.lattice.nu == settings.resolution[0]);
-    const Positions shown = state.session.cagePoints();
+    const Positions shown = state.session.cage().cagePoints();
     CHECK((scene.lattice.controlPoints - shown).cwiseAbs().maxCoeff() == 0.0);
     CHECK((shown - restCage).cwiseAbs().maxCoeff() > 1e-3 * test::boundsDiagonal(restCage));
 
@@ -139,12 +139,12 @@ TEST_CASE("window cage: after sculpting drags in several steps the lattice tool 
     const Eigen::Vector2d at = pixelOf(state, shown.row(id).transpose());
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, at.x(), at.y(), {}}, {});
     if (state.drag.active && state.tools.lattice.points == std::vector<int>{id}) {
-        const size_t layers = state.session.layers().size();
+        const size_t layers = state.session.cage().layers().size();
         sculptApp.onMouseMove({at.x() + 5.0, at.y() - 4.0, {}}, {});
         if (state.lastReport.status == core::OpStatus::Applied && state.lastReport.fractionApplied == 1.0)
-            CHECK((pixelOf(state, state.session.cagePoints().row(id).transpose()) - Eigen::Vector2d(at.x() + 5.0, at.y() - 4.0)).norm() < 0.05);
+            CHECK((pixelOf(state, state.session.cage().cagePoints().row(id).transpose()) - Eigen::Vector2d(at.x() + 5.0, at.y() - 4.0)).norm() < 0.05);
         sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, at.x() + 5.0, at.y() - 4.0, {}}, {});
-        CHECK(state.session.layers().size() == layers);  // the layers stay as they were
+        CHECK(state.session.cage().layers().size() == layers);  // the layers stay as they were
     }
 }
 
@@ -156,7 +156,7 @@ TEST_CASE("window cage: in an orthographic view a click picks the control point 
     for (app::Key view : {app::Key::Numpad1, app::Key::Numpad3, app::Key::Numpad7}) {
         key(sculptApp, view);  // an axis view: orthographic, so every point has the same clip w
         REQUIRE(state.camera.orthographic);
-        const Positions points = state.session.cagePoints();
+        const Positions points = state.session.cage().cagePoints();
         const core::Lattice& lattice = state.session.lattice();
         // A column of points one behind the other along the view axis projects to one pixel.
         const Eigen::Vector3d toEye(state.camera.towardEye().x, state.camera.towardEye().y, state.camera.towardEye().z);

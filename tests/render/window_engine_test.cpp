@@ -117,7 +117,7 @@ void requireSameResult(const app::SculptApp& busy, const app::SculptApp& referen
     const core::Session& b = reference.state().session;
     REQUIRE(a.positions().rows() == b.positions().rows());
     CHECK(a.positions() == b.positions());  // bitwise: the same steps in the same order
-    CHECK(a.cagePoints() == b.cagePoints());
+    CHECK(a.cage().cagePoints() == b.cage().cagePoints());
     REQUIRE(a.history().size() == b.history().size());
     for (size_t h = 0; h < a.history().size(); ++h) CHECK(a.history()[h].label == b.history()[h].label);
     CHECK(a.historyCursor() == b.historyCursor());

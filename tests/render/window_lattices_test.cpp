@@ -273,7 +273,7 @@ TEST_CASE("window lattices: a frozen cylinder is drawn with curved edges on its 
     CHECK(onCircle >= kSamples * 9 / 10);  // a few may sit under a control point's marker
     // The control net's chords of the top ring (from an arc's end to its middle control point, 2 R out) are
     // not curves: no teal at their midpoints.
-    const Positions cage = session.cagePoints();
+    const Positions cage = session.cage().cagePoints();
     int chords = 0;
     for (int j = 0; j + 1 < lattice.count[1]; ++j) {
         const int a = lattice.index(lattice.count[0] - 1, j, lattice.count[2] - 1), b = lattice.index(lattice.count[0] - 1, j + 1, lattice.count[2] - 1);
@@ -311,7 +311,7 @@ TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px mov
 
     const Positions before = session.positions();
     const size_t history = session.history().size();
-    const Eigen::Vector2d start = test::pixelOf(state, session.cagePoints().row(rep).transpose());
+    const Eigen::Vector2d start = test::pixelOf(state, session.cage().cagePoints().row(rep).transpose());
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, start.x(), start.y(), {}}, {});
     INFO(state.status);
     REQUIRE(state.drag.active);
@@ -330,7 +330,7 @@ TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px mov
     const Eigen::RowVector3d moved = lattice.displacement.row(rep);
     CHECK(moved.norm() > 0.0);
     for (int id : group) CHECK(lattice.displacement.row(id) == moved);
-    const Eigen::Vector2d shownAt = test::pixelOf(state, session.cagePoints().row(rep).transpose());
+    const Eigen::Vector2d shownAt = test::pixelOf(state, session.cage().cagePoints().row(rep).transpose());
     CHECK((shownAt - Eigen::Vector2d(start.x(), start.y() - 5.0)).norm() < 0.05);
     // The mesh followed.
     CHECK((session.positions() - before).rowwise().norm().maxCoeff() > 1e-3);
@@ -511,7 +511,7 @@ TEST_CASE("window lattices: a press in the same frame as the move off the panel 
     REQUIRE(io.WantCaptureMouse);
     const core::Lattice& lattice = session.lattice();
     const int rep = lattice.representative(lattice.index(0, 1, 1));
-    const Eigen::Vector2d point = test::pixelOf(state, session.cagePoints().row(rep).transpose());
+    const Eigen::Vector2d point = test::pixelOf(state, session.cage().cagePoints().row(rep).transpose());
     ui.sculptApp.onMouseMove({point.x(), point.y(), {}}, app::SculptApp::uiCapture());
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, point.x(), point.y(), {}},
                                app::SculptApp::uiCaptureAt(point.x(), point.y()));

@@ -50,7 +50,7 @@ TEST_CASE("window picking: on a cylinder lattice a click on a free marker picks 
     int clicks = 0, oldRulePinned = 0;
     for (int view = 0; view < 12; ++view) {
         app::orbitView(state, static_cast<double>(random() % 400) - 200.0, static_cast<double>(random() % 200) - 100.0);
-        const Positions points = session.cagePoints();
+        const Positions points = session.cage().cagePoints();
         const std::vector<std::uint8_t> shown = app::shownControlPoints(state);
         for (int id = 0; id < lattice.controlPointCount(); ++id) {
             if (!shown[static_cast<size_t>(id)] || lattice.pinned[static_cast<size_t>(id)]) continue;

@@ -284,7 +284,7 @@ TEST_CASE("window tools: dragging selected control points is one undoable edit, 
         CHECK(op.kind == core::OperationKind::ControlPointEdit);
         const Positions after = core::controlPointPositions(state.session.lattice());
         ++edits;
-        if (state.session.frameDepth() == 0) {  // not subdivided
+        if (state.session.cage().frameDepth() == 0) {  // not subdivided
             ++unsubdivided;  // the moved points all moved by one offset
             Eigen::RowVector3d offset = Eigen::RowVector3d::Zero();
             bool first = true;
@@ -346,7 +346,7 @@ TEST_CASE("window tools: the lattice set-up panel's command re-sets up as one un
     app::AppState& state = sculptApp.state();
     const Positions original = state.session.positions();
     state.tools.lattice.points = {state.session.lattice().controlPointCount() - 1};
-    core::LatticeSettings settings = state.session.latticeSettings();
+    core::LatticeSettings settings = state.session.cage().settings();
     settings.resolution = {5, 6, 4};
     settings.degree = {2, 3, 1};
     settings.pinLayers = 1;

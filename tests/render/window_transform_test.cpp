@@ -304,7 +304,7 @@ TEST_CASE("window transform: a transform that would fold keeps what it showed an
         const int axis = static_cast<int>(random() % 3);
         const app::Key axisKey = axis == 0 ? app::Key::X : axis == 1 ? app::Key::Y : app::Key::Z;
         const std::string value = kind == 0 ? (random() % 2 ? "1.3" : "0.6") : kind == 1 ? "45" : "0.6";
-        const Positions cageBefore = state.session.cagePoints();
+        const Positions cageBefore = state.session.cage().cagePoints();
         const Positions meshBefore = state.session.positions();
         key(sculptApp, kind == 0 ? app::Key::S : kind == 1 ? app::Key::R : app::Key::G);
         REQUIRE(state.transform.active);
@@ -313,7 +313,7 @@ TEST_CASE("window transform: a transform that would fold keeps what it showed an
         const app::TransformState shown = state.transform;
         const std::string preview = state.status;
         const Positions meshShown = state.session.positions();
-        const Positions cageShown = state.session.cagePoints();
+        const Positions cageShown = state.session.cage().cagePoints();
         INFO("trial " << trial << ": " << preview);
         // The points stand in the pose the readout names: p = pivot + M (start - pivot), or start + offset.
         const double pose = kind == 0 ? shown.applied.value : kind == 1 ? shown.applied.value : shown.applied.offset[axis];
@@ -333,7 +333,7 @@ TEST_CASE("window transform: a transform that would fold keeps what it showed an
         CHECK_FALSE(state.transform.active);
         // What the preview showed is what Enter keeps, to the bit.
         CHECK((state.session.positions() - meshShown).cwiseAbs().maxCoeff() == 0.0);
-        CHECK((state.session.cagePoints() - cageShown).cwiseAbs().maxCoeff() == 0.0);
+        CHECK((state.session.cage().cagePoints() - cageShown).cwiseAbs().maxCoeff() == 0.0);
         const std::string& status = state.status;
         INFO(status);
         CHECK(status.find('[') == std::string::npos);
@@ -362,7 +362,7 @@ TEST_CASE("window transform: a transform that would fold keeps what it showed an
         while (!words.empty() && words.back() == ' ') words.pop_back();
         CHECK(label.find(words) != std::string::npos);
         key(sculptApp, app::Key::Z, controlKey());
-        REQUIRE((state.session.cagePoints() - cageBefore).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        REQUIRE((state.session.cage().cagePoints() - cageBefore).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
     }
     WARN(full << " transforms applied in full, " << stops << " stopped short, " << refused << " refused");
     CHECK(stops > 0);

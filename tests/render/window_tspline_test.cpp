@@ -257,7 +257,7 @@ TEST_CASE("window tspline: only the control points of non-empty cells are drawn 
     CHECK(scene.lattice.drawn == std::vector<std::uint8_t>(shown.begin(), shown.end()));
 
     // Points whose marker has no shown point within 12 px (the pick radius is 9): a click there is unambiguous.
-    const Positions points = session.cagePoints();
+    const Positions points = session.cage().cagePoints();
     const auto isolated = [&](size_t s) {
         const Eigen::Vector2d at = test::pixelOf(state, points.row(static_cast<Eigen::Index>(s)).transpose());
         if (at.x() < 20 || at.y() < 20 || at.x() > kWidth - 420 || at.y() > kHeight - 60) return false;  // off the panels
@@ -339,7 +339,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     const app::SurfaceHit hit = app::intersectMesh(ray, session.positions(), session.triangles());
     REQUIRE(hit.triangle >= 0);
     Eigen::Vector3d params;
-    REQUIRE(session.parametersOfCurrentPoint(hit.point, params).ok);
+    REQUIRE(session.cage().parametersOfCurrentPoint(hit.point, params).ok);
     const int history = session.historyCursor();
     ui.clickView(x, y);
     INFO(state.status);
@@ -435,7 +435,7 @@ TEST_CASE("window tspline: the overlay marks every T-junction of the frozen T-la
         std::vector<float> edges, markers;
         render::Bounds bounds;
         REQUIRE(render::buildLatticeInstances(scene.lattice, {}, edges, markers, bounds).ok);
-        const Positions points = session.cagePoints();
+        const Positions points = session.cage().cagePoints();
         std::multiset<std::array<float, 3>> diamonds, expected;
         for (size_t m = 0; m + render::kMarkerFloats <= markers.size(); m += render::kMarkerFloats)
             if (markers[m + 8] == 2.0f) {

@@ -190,7 +190,7 @@ void frameMesh(AppState& state) {
     render::Bounds bounds = render::boundsOf(state.session.positions());
     // With the lattice on screen, its box is framed too (its corners stick out of a round mesh's frame).
     if (latticeShown(state))
-        bounds.add(render::boundsOf(state.session.cagePoints()));
+        bounds.add(render::boundsOf(state.session.cage().cagePoints()));
     state.camera.frame(bounds, framebufferAspect(state));
 }
 

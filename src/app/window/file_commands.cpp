@@ -43,7 +43,7 @@ bool sameFile(const std::string& a, const std::string& b) {
 // The lattice a newly opened mesh gets: the current resolution, degree, padding and pins, but no region
 // (a box of the old mesh means nothing for another one).
 core::LatticeSettings settingsForNewMesh(const core::Session& session) {
-    core::LatticeSettings settings = session.hasMesh() ? session.initialSettings() : core::LatticeSettings{};
+    core::LatticeSettings settings = session.hasMesh() ? session.cage().initialSettings() : core::LatticeSettings{};
     settings.hasRegion = false;
     return settings;
 }

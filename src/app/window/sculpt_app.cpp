@@ -234,7 +234,7 @@ void SculptApp::syncGpu() {
     // The GPU path (deformation_path.h) where the chooser wants it and the renderer can take the lattices: a box
     // cage and box layers after it (a brush's region, a subdivision's steps).
     std::vector<const core::Lattice*> layers;
-    for (const core::Layer& layer : session.layers()) layers.push_back(&layer.lattice);
+    for (const core::Layer& layer : session.cage().layers()) layers.push_back(&layer.lattice);
     const std::string gpuProblem = render::Renderer::gpuDeformationProblem(session.lattice(), layers);
     const bool freshMesh = gpu.mesh;  // a new mesh or session, or a new context (not only a refinement)
     // A refinement (or its undo) changes the triangles: a full upload.
@@ -261,7 +261,7 @@ void SculptApp::syncGpu() {
     // Should it fail (it checks every value), the CPU path takes over for this mesh, with the reason shown.
     const auto enterGpuPath = [&] {
         uploadedRest_ = session.restVersion();
-        if (Status s = renderer_.setGpuDeformation(session.lattice(), session.embedding(), session.restPositions(), layers); !s) {
+        if (Status s = renderer_.setGpuDeformation(session.lattice(), session.cage().embedding(), session.restPositions(), layers); !s) {
             reportGpu(s);
             state_.deformationPath.force(DeformationPath::Cpu);
             reportGpu(renderer_.gpuDeformationActive() ? renderer_.clearGpuDeformation(session.positions())

@@ -11,7 +11,7 @@ void drawStatsPanel(AppState& state) {
     if (!ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) return;
     const core::Session& session = state.session;
     const core::Lattice& lattice = session.lattice();
-    const core::LatticeSettings& settings = session.latticeSettings();
+    const core::LatticeSettings& settings = session.cage().settings();
     if (ImGui::BeginTable("stats", 2, ImGuiTableFlags_SizingStretchProp)) {
         auto row = [](const char* name, const char* format, auto... values) {
             ImGui::TableNextRow();
@@ -35,7 +35,7 @@ void drawStatsPanel(AppState& state) {
         else
             row("Lattice", "%d x %d x %d, degree %d", lattice.count[0], lattice.count[1], lattice.count[2],
                 settings.degree[0]);
-        row("Lattice frames", "%d", session.frameDepth() + 1);
+        row("Lattice frames", "%d", session.cage().frameDepth() + 1);
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("How many lattices the history has used: an edit that would fold the mesh in one\n"
                               "lattice is split into injective steps, each later one in a fresh lattice (a frame)\n"

@@ -30,7 +30,7 @@ Eigen::Vector3d towardsEye(const render::Camera& camera) {
 // barycentric mix of the corners' parameters (exact while the lattice is at rest). False outside the lattice.
 bool surfaceParameters(const core::Session& session, const SurfaceHandle& handle, const Eigen::Vector3d& world,
                        Eigen::Vector3d& params) {
-    if (session.parametersOfCurrentPoint(world, params)) return true;
+    if (session.cage().parametersOfCurrentPoint(world, params)) return true;
     params.setZero();
     for (int c = 0; c < 3; ++c) {
         Eigen::Vector3d corner;
@@ -381,7 +381,7 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
     if (!session.hasMesh()) return;
     clampLatticeSelection(state_);
     LatticeSelection& selection = state_.tools.lattice;
-    const Positions points = session.cagePoints();
+    const Positions points = session.cage().cagePoints();
     const int hit = controlPointUnderCursor(points, event.x, event.y);
     const bool shift = event.modifiers.shift;
     if (hit < 0) {  // on empty space: a selection rectangle
@@ -449,7 +449,7 @@ void SculptApp::finishBoxSelection() {
         }
     } else {
         const std::vector<int> inside = controlPointsInRectangle(
-            state_.session.cagePoints(), shownControlPoints(state_), state_.camera, state_.framebufferWidth,
+            state_.session.cage().cagePoints(), shownControlPoints(state_), state_.camera, state_.framebufferWidth,
             state_.framebufferHeight, selection.boxX0, selection.boxY0, selection.boxX1, selection.boxY1);
         if (!selection.boxAdditive) selection.points.clear();
         addToSelection(selection.points, inside);
@@ -503,7 +503,7 @@ void SculptApp::updateHint(double x, double y) {
                          " Shift+click: add handle. Ctrl+click: add pin. Tab: lattice tool.";
     } else {
         // note: the hover test projects every control point; at 64^3 that is ~2 ms, acceptable for a hint.
-        const Positions points = session.cagePoints();
+        const Positions points = session.cage().cagePoints();
         const int hit = controlPointUnderCursor(points, x, y);
         tools.lattice.hovered = hit;
         if (hit >= 0) tools.lattice.hoveredAt = points.row(hit).transpose();

@@ -138,7 +138,7 @@ void drawSelectionSection(AppState& state) {
 
 void drawSetupSection(AppState& state) {
     ToolState& tools = state.tools;
-    if (!tools.setupEdited) tools.setup = state.session.latticeSettings();
+    if (!tools.setupEdited) tools.setup = state.session.cage().settings();
     core::LatticeSettings& s = tools.setup;
     bool edited = false;
     const float labelWidth = ImGui::CalcTextSize("Pinned layers").x + ImGui::GetStyle().ItemInnerSpacing.x;
@@ -185,7 +185,7 @@ void drawSetupSection(AppState& state) {
         if (ImGui::Button("Selected points")) {
             const double inf = std::numeric_limits<double>::infinity();
             Eigen::Vector3d a = Eigen::Vector3d::Constant(inf), b = Eigen::Vector3d::Constant(-inf);
-            const Positions shown = state.session.cagePoints();
+            const Positions shown = state.session.cage().cagePoints();
             for (int id : tools.lattice.points) {
                 const Eigen::Vector3d p = shown.row(id).transpose();
                 a = a.cwiseMin(p);

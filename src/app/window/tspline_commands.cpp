@@ -53,7 +53,7 @@ bool regionFromSelection(AppState& state) {
                          "the region becomes their bounds.", true);
         return false;
     }
-    const Positions points = state.session.cagePoints();
+    const Positions points = state.session.cage().cagePoints();
     Eigen::AlignedBox3d box;
     for (int id : selected) box.extend(points.row(id).transpose());
     const double diagonal = box.diagonal().norm();
@@ -189,7 +189,7 @@ void subdivideChosenCellsCommand(AppState& state) {
     core::Session& session = state.session;
     const std::string name = session.tools().list()[static_cast<size_t>(target)].name;
     const bool frozen = session.tools().frozen() == target;
-    const int pinLayers = session.latticeSettings().pinLayers;
+    const int pinLayers = session.cage().settings().pinLayers;
     // note: the engine subdivides only a tool that is not frozen (the vertices' parameters change), so a frozen
     // one is unfrozen around it. The unfreeze keeps the shape; a refused subdivision takes it back.
     const int firstOperation = session.historyCursor();
@@ -287,7 +287,7 @@ void addTSplineOverlays(const AppState& state, render::LatticeView& lattice) {
     const core::Session& session = state.session;
     const core::TSplineBasis& basis = tspline->basis();
     const bool frozen = target == session.tools().frozen();
-    const Positions points = frozen ? session.cagePoints() : tspline->restControlPoints();
+    const Positions points = frozen ? session.cage().cagePoints() : tspline->restControlPoints();
     const TSplinePanelState& panel = state.tspline;
     if (panel.cellsVolume == session.tools().list()[static_cast<size_t>(target)].volume)
         for (int cell : panel.chosenCells)

@@ -64,7 +64,7 @@ Status Refiner::refine(double tolerance, OpReport& report) {
     if (Status s = validateRefinementOptions(options); !s) return s;
     Operation operation;
     operation.kind = OperationKind::Refine;
-    s_.layerActive_ = false;
+    s_.stack_.layerActive_ = false;
     if (!refineNow(options, operation.refinement, report)) {
         report.wallMs = millisecondsSince(start);
         return Status::success();
@@ -95,7 +95,7 @@ void Refiner::afterEdit(Operation& operation, OpReport* report) {
 bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& record, OpReport& report) {
     const double diagonal = boundingDiagonal(s_.positions_);
     RefinementResult plan;
-    const RestImage image = [this](const Eigen::Vector3d& rest) { return s_.imageOfRestPoint(rest); };
+    const RestImage image = [this](const Eigen::Vector3d& rest) { return s_.stack_.imageOfRestPoint(rest); };
     if (Status s = refineMesh(s_.rest_, s_.positions_, s_.triangles_, image, options, plan); !s) {
         report.status = OpStatus::Rejected;  // not expected: the arrays are the session's own
         report.reason = s.message;
@@ -158,8 +158,8 @@ void Refiner::apply(RefinementRecord& record) {
     assert(split.ok);  // planned here, or checked by checkRecordedRefinement
     appendSplitMidpoints(s_.rest_, record.splits);
     s_.positions_.conservativeResize(count, 3);
-    const bool layered = !s_.layers_.empty();
-    if (layered) s_.cageOut_.conservativeResize(count, 3);
+    const bool layered = !s_.stack_.layers_.empty();
+    if (layered) s_.stack_.cageOut_.conservativeResize(count, 3);
     const int added = static_cast<int>(count - first);
 #pragma omp parallel for schedule(dynamic, 64) if (added > 256)
     for (int k = 0; k < added; ++k) {
@@ -167,9 +167,9 @@ void Refiner::apply(RefinementRecord& record) {
         const Eigen::Vector3d rest = s_.rest_.row(v).transpose();
         Eigen::Vector3d params;
         Eigen::Vector3d cage = rest;
-        if (restParameters(s_.lattice_, rest, params)) cage = rest + displacementAt(s_.lattice_, params);  // as imageOfRestPoint
-        if (layered) s_.cageOut_.row(v) = cage.transpose();
-        s_.positions_.row(v) = (layered ? s_.pushThroughLayers(cage) : cage).transpose();
+        if (restParameters(s_.stack_.lattice_, rest, params)) cage = rest + displacementAt(s_.stack_.lattice_, params);  // as imageOfRestPoint
+        if (layered) s_.stack_.cageOut_.row(v) = cage.transpose();
+        s_.positions_.row(v) = (layered ? s_.stack_.pushThroughLayers(cage) : cage).transpose();
     }
     if (s_.trackJacobian_) {
         // note: the frozen frames' det J at a new vertex would need its preimage through each frame; det J is
@@ -180,8 +180,8 @@ void Refiner::apply(RefinementRecord& record) {
                 0.5 * (s_.frozenJacobian_[static_cast<size_t>(record.splits[k].a)] + s_.frozenJacobian_[static_cast<size_t>(record.splits[k].b)]);
     }
     s_.before_.conservativeResize(count, 3);
-    if (s_.beforeCage_.rows() > 0) s_.beforeCage_.conservativeResize(count, 3);
-    embedVertices(s_.lattice_, s_.rest_, s_.embedding_);
+    if (s_.stack_.beforeCage_.rows() > 0) s_.stack_.beforeCage_.conservativeResize(count, 3);
+    embedVertices(s_.stack_.lattice_, s_.rest_, s_.stack_.embedding_);
     ++s_.restVersion_;
     s_.meshIndex_.build(s_.positions_, s_.triangles_);
     if (!s_.loadContacts_.empty()) {
@@ -204,11 +204,11 @@ void Refiner::remove(const RefinementRecord& record) {
     revertEdgeSplits(s_.triangles_, record.halvings);
     s_.rest_.conservativeResize(count, 3);
     s_.positions_.conservativeResize(count, 3);
-    if (s_.cageOut_.rows() > 0) s_.cageOut_.conservativeResize(count, 3);
+    if (s_.stack_.cageOut_.rows() > 0) s_.stack_.cageOut_.conservativeResize(count, 3);
     if (s_.trackJacobian_) s_.frozenJacobian_.resize(static_cast<size_t>(count));
     s_.before_.conservativeResize(count, 3);
-    if (s_.beforeCage_.rows() > 0) s_.beforeCage_.conservativeResize(count, 3);
-    embedVertices(s_.lattice_, s_.rest_, s_.embedding_);
+    if (s_.stack_.beforeCage_.rows() > 0) s_.stack_.beforeCage_.conservativeResize(count, 3);
+    embedVertices(s_.stack_.lattice_, s_.rest_, s_.stack_.embedding_);
     ++s_.restVersion_;
     s_.meshIndex_.build(s_.positions_, s_.triangles_);
     if (!s_.loadContacts_.empty()) {

@@ -82,10 +82,10 @@ Status runScript(Session& session, const Script& script, ScriptReport& report, c
 
 Script recordSession(const Session& session) {
     Script script;
-    script.lattice = session.initialSettings();
+    script.lattice = session.cage().initialSettings();
     script.lattice.hasRegion = true;
-    script.lattice.regionMin = session.initialBoxMin();
-    script.lattice.regionMax = session.initialBoxMax();
+    script.lattice.regionMin = session.cage().initialBoxMin();
+    script.lattice.regionMax = session.cage().initialBoxMax();
     script.lattice.padding = 0.0;
     script.injectivity = session.injectivity();
     script.meshFingerprint = session.meshFingerprint();

@@ -40,7 +40,7 @@ Status runSetPins(Session& session, const ScriptOp& op, OpReport& report, const 
     std::vector<int> pin, unpin;
     if (Status s = controlPointIds(lattice, op.controlPoints, pin); !s) return s;
     if (Status s = controlPointIds(lattice, op.unpinned, unpin); !s) return s;
-    const int layers = session.latticeSettings().pinLayers;
+    const int layers = session.cage().settings().pinLayers;
     for (int idx : pin)
         if (inOuterLayers(lattice, idx, layers)) return Status::error("\"pin\" lists a control point the pin layers already pin");
     for (int idx : unpin)
@@ -138,7 +138,7 @@ const std::vector<ScriptOpInfo>& scriptOps() {
          }},
         {K::SetupLattice, "setup_lattice", {"lattice", "applied"},
          [](S& s, const ScriptOp& op, OpReport& r, const ScreenshotHook&) {
-             return s.setupLattice(op.hasSettings ? op.settings : s.latticeSettings(), r);
+             return s.setupLattice(op.hasSettings ? op.settings : s.cage().settings(), r);
          },
          [](const Operation& o, ScriptOp& op) { return o.frozenAfter < 0 && o.frozenBefore < 0 && recordSetup(o, op); }},
         {K::SetPins, "set_pins", {"pin", "unpin"}, runSetPins, nullptr},  // recorded from the journal's pin changes

@@ -165,17 +165,17 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     rest_ = positions;
     positions_ = positions;
     triangles_ = triangles;
-    settings_ = settings;
-    initialSettings_ = settings;
-    initialBoxMin_ = lattice.boxMin;
-    initialBoxMax_ = lattice.boxMax;
-    lattice_ = std::move(lattice);
-    embedVertices(lattice_, rest_, embedding_);
+    stack_.settings_ = settings;
+    stack_.initialSettings_ = settings;
+    stack_.initialBoxMin_ = lattice.boxMin;
+    stack_.initialBoxMax_ = lattice.boxMax;
+    stack_.lattice_ = std::move(lattice);
+    embedVertices(stack_.lattice_, rest_, stack_.embedding_);
     ++restVersion_;
-    frames_.clear();
-    layers_.clear();
-    cageOut_.resize(0, 3);
-    layerActive_ = false;
+    stack_.frames_.clear();
+    stack_.layers_.clear();
+    stack_.cageOut_.resize(0, 3);
+    stack_.layerActive_ = false;
     {
         const Eigen::Vector3d lo = positions.colwise().minCoeff().transpose(), hi = positions.colwise().maxCoeff().transpose();
         symmetryCentre_ = 0.5 * (lo + hi);
@@ -212,36 +212,21 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     return Status::success();
 }
 
-Status Session::parametersOfCurrentPoint(const Eigen::Vector3d& point, Eigen::Vector3d& params) const {
-    if (!point.allFinite()) return Status::error("point has non-finite coordinates");
-    Eigen::Vector3d y;
-    if (!toActiveSpace(point, y))
-        return Status::error("point " + vectorText(point) + " is not the image of any point inside the lattice");
-    const Lattice& lattice = activeLattice();
-    if (isUndeformed(lattice)) {
-        if (!restParameters(lattice, y, params))
-            return Status::error("point " + vectorText(point) + " lies outside the lattice box");
-        return Status::success();
-    }
-    // The deformed image of the box is what the user sees: find the rest point that maps onto this one.
-    return locateDeformedPoint(lattice, y, params);
-}
-
 Status Session::parametersOfVertex(int vertex, Eigen::Vector3d& params) const {
     if (vertex < 0 || vertex >= rest_.rows())
         return Status::error("vertex index " + std::to_string(vertex) + " is out of range (mesh has " +
                              std::to_string(rest_.rows()) + " vertices)");
-    if (!restParameters(lattice_, rest_.row(vertex).transpose(), params))
+    if (!restParameters(stack_.lattice_, rest_.row(vertex).transpose(), params))
         return Status::error("vertex " + std::to_string(vertex) + " lies outside the lattice region");
     return Status::success();
 }
 
 void Session::applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved) {
-    Lattice& lattice = activeLattice();
+    Lattice& lattice = stack_.activeLattice();
     applyControlDelta(lattice, delta, sign);
     std::vector<int> changed;
-    evaluateIncrement(lattice, activeEmbedding(), delta.indices, delta.deltas, sign, activeOutput(), increment_, &changed);
-    if (cageUnderLayers()) refreshLayerOutput(changed);
+    evaluateIncrement(lattice, stack_.activeEmbedding(), delta.indices, delta.deltas, sign, activeOutput(), increment_, &changed);
+    if (stack_.cageUnderLayers()) refreshLayerOutput(changed);
     positionsChanged(&changed);
     if (moved) moved->insert(moved->end(), changed.begin(), changed.end());
 }
@@ -259,7 +244,7 @@ void Session::trimResiduals(OpReport& report, size_t userConstraints) const {
     report.residuals.resize(userConstraints);
     double worst = 0.0;
     for (double r : report.residuals) worst = std::max(worst, r);
-    if (report.rankDeficient && worst <= 1e-9 * lattice_.diagonal()) {
+    if (report.rankDeficient && worst <= 1e-9 * stack_.lattice_.diagonal()) {
         report.rankDeficient = false;
         if (report.reason.rfind("the constraints contradict", 0) == 0) report.reason.clear();
     }
@@ -270,7 +255,7 @@ double Session::mirrorMergeDistance(const BrushSettings& brush) const {
     // different directions: one point on the mirror plane.
     if (brush.active()) return 0.25 * brush.radius / kBrushFieldSpansPerRadius;
     double span = INFINITY;
-    for (int a = 0; a < 3; ++a) span = std::min(span, (lattice_.boxMax[a] - lattice_.boxMin[a]) / lattice_.axes[a].spans);
+    for (int a = 0; a < 3; ++a) span = std::min(span, (stack_.lattice_.boxMax[a] - stack_.lattice_.boxMin[a]) / stack_.lattice_.axes[a].spans);
     return 0.25 * span;
 }
 
@@ -296,7 +281,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     if (drag_.active) return Status::error("an interactive drag is in progress");
     if (constraints.empty()) return Status::error("drag has no constraints");
     if (Status s = checkBrush(brush); !s) return s;
-    layerActive_ = false;
+    stack_.layerActive_ = false;
     if (brush.active()) {
         // A scripted brush drag is the window's stroke with one mouse move (stroke_brush.cpp).
         std::vector<Eigen::Vector3d> sources, targets;
@@ -335,8 +320,8 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
         // Solved in the cage: the source must lie in it (as the engine sees it: equal up to rounding).
         const std::string which = f < constraints.size() ? "constraint " + std::to_string(f) : "the mirror image of a constraint";
         Eigen::Vector3d params;
-        if (Status s = parametersOfCurrentPoint(m.sources[f], params); !s) {
-            if (layers_.empty()) return Status::error(which + " source: " + s.message);
+        if (Status s = stack_.parametersOfCurrentPoint(m.sources[f], params); !s) {
+            if (stack_.layers_.empty()) return Status::error(which + " source: " + s.message);
             // Through the layers after the cage Newton's method found no cage point: refused, not an input error.
             report.status = OpStatus::Rejected;
             report.refusedBy = "setup";
@@ -345,7 +330,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
             report.wallMs = millisecondsSince(start);
             return Status::success();
         }
-        m.sources[f] = currentImage(params);
+        m.sources[f] = stack_.currentImage(params);
         moves = moves || m.sources[f] != m.targets[f];
     }
     if (!moves) {
@@ -396,7 +381,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
         report.residuals.push_back((m.targets[f] - (f < reached.size() ? reached[f].target : drag_.sourceWorld[f])).norm());
         worst = std::max(worst, report.residuals.back());
     }
-    if (worst > 1e-9 * lattice_.diagonal()) {
+    if (worst > 1e-9 * stack_.lattice_.diagonal()) {
         report.rankDeficient = true;
         report.reason = "the constraints contradict each other or ask more than the free control points can give (largest miss " +
                         std::to_string(worst) + "): met as closely as possible; use fewer constraints, unpin points, or a finer lattice";
@@ -414,11 +399,11 @@ std::string Session::unreachableDragCause(const Manipulation& m) const {
     for (size_t f = 0; f < m.sources.size(); ++f) {
         if (m.sources[f] == m.targets[f]) continue;
         Eigen::Vector3d params;
-        if (!parametersOfCurrentPoint(m.sources[f], params)) continue;
+        if (!stack_.parametersOfCurrentPoint(m.sources[f], params)) continue;
         SupportWeights support;
-        supportWeights(lattice_, params, support);
+        supportWeights(stack_.lattice_, params, support);
         bool movable = false;
-        for (int c = 0; c < support.count && !movable; ++c) movable = support.weight[c] > 0.0 && !lattice_.pinned[support.index[c]];
+        for (int c = 0; c < support.count && !movable; ++c) movable = support.weight[c] > 0.0 && !stack_.lattice_.pinned[support.index[c]];
         if (!movable)
             return "every control point that moves " + std::string(m.sources.size() > 1 ? "constraint " + std::to_string(f) + "'s source" : "the grabbed point") +
                    " is pinned: unpin some of them (fewer pin layers, or P in the lattice tool) or use a finer lattice";
@@ -426,15 +411,15 @@ std::string Session::unreachableDragCause(const Manipulation& m) const {
     // With the whole outer layer pinned the lattice maps its box onto itself, so an injective deformation
     // cannot carry a point inside the box to a target outside it.
     if (injectivity_.mode == InjectivityMode::Off) return "";
-    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
-        if (inOuterLayers(lattice_, idx, 1) && !lattice_.pinned[idx]) return "";
+    for (int idx = 0; idx < stack_.lattice_.controlPointCount(); ++idx)
+        if (inOuterLayers(stack_.lattice_, idx, 1) && !stack_.lattice_.pinned[idx]) return "";
     for (size_t f = 0; f < m.targets.size(); ++f) {
         const Eigen::Vector3d& t = m.targets[f];
-        if ((t.array() < lattice_.boxMin.array()).any() || (t.array() > lattice_.boxMax.array()).any()) {
-            if (lattice_.volume && tools_.frozen >= 0)
+        if ((t.array() < stack_.lattice_.boxMin.array()).any() || (t.array() > stack_.lattice_.boxMax.array()).any()) {
+            if (stack_.lattice_.volume && tools_.frozen >= 0)
                 return "the target " + vectorText(t) + " lies outside lattice " + tools_.list[static_cast<size_t>(tools_.frozen)].name +
                        ", whose boundary stays fixed (" +
-                       (lattice_.tensorNet() ? "it does not hold the whole mesh" : std::string("a ") + lattice_.volume->kindName() + " keeps its outer surface") +
+                       (stack_.lattice_.tensorNet() ? "it does not hold the whole mesh" : std::string("a ") + stack_.lattice_.volume->kindName() + " keeps its outer surface") +
                        "), so nothing inside it can reach there: make the lattice larger (Move on mesh, or edit_lattice with \"place\"), or drag less far";
             return "the target " + vectorText(t) + " lies outside the lattice, whose outer layer is pinned, so nothing inside it can reach there: " +
                    "unpin the outer layer (pin layers 0), enlarge the region, or drag less far";
@@ -460,7 +445,7 @@ Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& 
         return Status::success();
     }
     Eigen::Vector3d current;
-    if (!brush.active() && !parametersOfCurrentPoint(positions_.row(vertex).transpose(), current)) {
+    if (!brush.active() && !stack_.parametersOfCurrentPoint(positions_.row(vertex).transpose(), current)) {
         // The layers after the cage carry it where Newton's method finds no cage point for it (a mesh vertex, so
         // not the user's mistake): refused, nothing changed.
         report.status = OpStatus::Rejected;
@@ -475,19 +460,19 @@ Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& 
 }
 
 Status Session::checkMovable(int idx) const {
-    const int n = lattice_.controlPointCount();
+    const int n = stack_.lattice_.controlPointCount();
     if (idx < 0 || idx >= n)
         return Status::error("control point id " + std::to_string(idx) + " is outside the lattice (" + std::to_string(n) +
                              " control points)");
-    if (lattice_.pinned[idx]) {
-        if (pinnedAsPartialBoundary(idx) && !inOuterLayers(lattice_, idx, settings_.pinLayers))
-            return Status::error("control point " + lattice_.controlPointName(idx) +
+    if (stack_.lattice_.pinned[idx]) {
+        if (pinnedAsPartialBoundary(idx) && !inOuterLayers(stack_.lattice_, idx, stack_.settings_.pinLayers))
+            return Status::error("control point " + stack_.lattice_.controlPointName(idx) +
                                  " is pinned: the lattice holds only part of the mesh, so its outer surface stays where it "
                                  "is while the injectivity test is on (the vertices outside never move, and a moving "
                                  "boundary would tear the mesh there); set the injectivity test off for a plain FFD, "
                                  "as PyGeM computes it (every control point moves, the vertices outside stay), or set up "
                                  "a lattice that holds the whole mesh");
-        return Status::error("control point " + lattice_.controlPointName(idx) + " is pinned");
+        return Status::error("control point " + stack_.lattice_.controlPointName(idx) + " is pinned");
     }
     return Status::success();
 }
@@ -502,29 +487,29 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     if (indices.empty()) return Status::error("no control point given");
     if (static_cast<Eigen::Index>(indices.size()) != values.rows())
         return Status::error("control point ids and values differ in count");
-    layerActive_ = false;
+    stack_.layerActive_ = false;
     std::vector<std::pair<int, Eigen::Vector3d>> moves;
     for (size_t c = 0; c < indices.size(); ++c) {
         const int idx = indices[c];
         if (Status s = checkMovable(idx); !s) return s;
         const Eigen::Vector3d value = values.row(static_cast<Eigen::Index>(c)).transpose();
         if (!value.allFinite()) return Status::error("control point move has non-finite coordinates");
-        if (layers_.empty()) {
-            moves.emplace_back(idx, relative ? value : Eigen::Vector3d(value - lattice_.controlPoint(idx)));
+        if (stack_.layers_.empty()) {
+            moves.emplace_back(idx, relative ? value : Eigen::Vector3d(value - stack_.lattice_.controlPoint(idx)));
             continue;
         }
         // Under layers the user moves the cage as shown (carried through the layers): the cage point goes
         // where the layers take it onto the asked position.
-        const Eigen::Vector3d shown = pushThroughLayers(lattice_.controlPoint(idx));
+        const Eigen::Vector3d shown = stack_.pushThroughLayers(stack_.lattice_.controlPoint(idx));
         Eigen::Vector3d cageTarget;
-        if (!pullThroughLayers(relative ? Eigen::Vector3d(shown + value) : value, cageTarget, layers_.size())) {
+        if (!stack_.pullThroughLayers(relative ? Eigen::Vector3d(shown + value) : value, cageTarget, stack_.layers_.size())) {
             // A valid request the sculpted shape cannot give: refused, not an error.
             report.status = OpStatus::Rejected;
-            report.reason = "refused: control point " + lattice_.controlPointName(idx) + " cannot go there: the later sculpting steps' lattices map no point onto it; nothing was changed";
+            report.reason = "refused: control point " + stack_.lattice_.controlPointName(idx) + " cannot go there: the later sculpting steps' lattices map no point onto it; nothing was changed";
             report.wallMs = millisecondsSince(start);
             return Status::success();
         }
-        moves.emplace_back(idx, Eigen::Vector3d(cageTarget - lattice_.controlPoint(idx)));
+        moves.emplace_back(idx, Eigen::Vector3d(cageTarget - stack_.lattice_.controlPoint(idx)));
     }
     // The same id listed twice: offsets add up for "by", the last position wins for "to".
     std::stable_sort(moves.begin(), moves.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -541,19 +526,19 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     // Copies of one welded point (Coquillart 1990, 3.1.2: one control point; e.g. both sides of a seam when a
     // whole ring is listed) move once, and must be asked the same move.
     {
-        const double tolerance = 1e-12 * std::max(lattice_.diagonal(), 1e-300);
+        const double tolerance = 1e-12 * std::max(stack_.lattice_.diagonal(), 1e-300);
         std::stable_sort(moves.begin(), moves.end(),
-                         [&](const auto& a, const auto& b) { return lattice_.representative(a.first) < lattice_.representative(b.first); });
+                         [&](const auto& a, const auto& b) { return stack_.lattice_.representative(a.first) < stack_.lattice_.representative(b.first); });
         std::vector<std::pair<int, Eigen::Vector3d>> merged;
         int asked = -1;  // the id that gave the last merged move
         for (const auto& [idx, offset] : moves) {
-            const int representative = lattice_.representative(idx);
+            const int representative = stack_.lattice_.representative(idx);
             if (merged.empty() || merged.back().first != representative) {
                 merged.emplace_back(representative, offset);
                 asked = idx;
             } else if ((merged.back().second - offset).norm() > tolerance) {
                 const auto name = [&](int id) {
-                    const std::array<int, 3> c = lattice_.ijk(id);
+                    const std::array<int, 3> c = stack_.lattice_.ijk(id);
                     return "[" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + "]";
                 };
                 return Status::error("control points " + name(asked) + " and " + name(idx) +
@@ -574,7 +559,7 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     }
     delta.deltas.resize(static_cast<Eigen::Index>(offsets.size()), 3);
     for (size_t c = 0; c < offsets.size(); ++c) delta.deltas.row(static_cast<Eigen::Index>(c)) = offsets[c].transpose();
-    expandWelds(lattice_, delta);  // a welded point moves as one (Coquillart 1990, 3.1.2)
+    expandWelds(stack_.lattice_, delta);  // a welded point moves as one (Coquillart 1990, 3.1.2)
     if ((delta.deltas.array() == 0.0).all()) {
         report.status = OpStatus::NoOp;
         report.reason = "the control points are already there";
@@ -605,7 +590,7 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
         return Status::success();
     }
     Step step;
-    step.settings = settings_;
+    step.settings = stack_.settings_;
     step.delta = delta;
     step.delta.deltas *= fraction;
     operation.steps.push_back(std::move(step));
@@ -614,8 +599,8 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     if (fraction < 1.0) {
         detail::noteFailure(report, failure, false);
         report.reason = "stopped " + stepStopWords(failure.cause) + ": moved " + percentText(fraction) + " of the way (beyond it " + report.failureWords +
-                        "); control point " + lattice_.controlPointName(delta.indices.front()) + " ended at " +
-                        vectorText(lattice_.controlPoint(delta.indices.front()));
+                        "); control point " + stack_.lattice_.controlPointName(delta.indices.front()) + " ended at " +
+                        vectorText(stack_.lattice_.controlPoint(delta.indices.front()));
     }
     refinement().afterEdit(operation, &report);
     pushOperation(std::move(operation));
@@ -638,7 +623,7 @@ Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) 
                       std::to_string(counts[1]) + "x" + std::to_string(counts[2]);
     operation.settings = settings;
     // A fresh, undeformed lattice is injective: no test needed.
-    layerActive_ = false;
+    stack_.layerActive_ = false;
     Step step;
     enterNewCage(settings, &step);
     operation.steps.push_back(std::move(step));

@@ -46,6 +46,7 @@
 #include "core/session/tool_library.h"
 #include "core/session/tspline_tools.h"
 #include "core/session/history.h"
+#include "core/session/lattice_stack.h"
 #include "core/session/operation.h"
 #include "core/deform/refinement.h"
 #include "core/injectivity/self_intersection.h"
@@ -138,30 +139,17 @@ public:
     // Pins exactly the settings' pin layers, with the listed control points flipped. Bad ids change nothing.
     Status setPinToggles(const std::vector<int>& toggled);
 
-    // Cage parameters of a point of the current (deformed) shape, e.g. a picked surface point (traced back
-    // through the layers). Fails for a point outside the cage.
-    Status parametersOfCurrentPoint(const Eigen::Vector3d& point, Eigen::Vector3d& params) const;
     // Lattice parameters of a vertex (from its rest position: exact). Fails if the vertex is outside the box.
     Status parametersOfVertex(int vertex, Eigen::Vector3d& params) const;
-    // Where the point with cage parameters t currently is: X0(t) + sum R(t) delta, carried through the layers.
-    Eigen::Vector3d currentImage(const Eigen::Vector3d& params) const;
-    // The cage's control points as the user sees them: Q_ijk carried through the layers (#P x 3, rows by
-    // Lattice::index). Without layers, controlPointPositions(lattice()).
-    Positions cagePoints() const;
-    const std::vector<Layer>& layers() const { return layers_; }
 
     bool hasMesh() const { return rest_.rows() > 0; }
     const Positions& positions() const { return positions_; }
     const Positions& restPositions() const { return rest_; }
     const Positions& originalPositions() const { return original_; }
     const Triangles& triangles() const { return triangles_; }
-    const Lattice& lattice() const { return lattice_; }  // the cage
-    const LatticeSettings& latticeSettings() const { return settings_; }
-    const LatticeSettings& initialSettings() const { return initialSettings_; }
-    // The box of the lattice the session started with (for recordings that replay on other meshes).
-    Eigen::Vector3d initialBoxMin() const { return initialBoxMin_; }
-    Eigen::Vector3d initialBoxMax() const { return initialBoxMax_; }
-    const Embedding& embedding() const { return embedding_; }
+    const Lattice& lattice() const { return stack_.lattice(); }  // the cage (cage().lattice())
+    // The cage, its layers and frozen frames, and the composition through them (lattice_stack.h).
+    const LatticeStack& cage() const { return stack_; }
     const std::vector<Operation>& history() const { return history_.entries(); }
     // Every command since setMesh, in order (what recordSession writes).
     const std::vector<JournalEntry>& journal() const { return history_.journal(); }
@@ -169,8 +157,6 @@ public:
     // the mesh with this fingerprint repeats the recorded steps exactly.
     const std::string& meshFingerprint() const { return meshFingerprint_; }
     int historyCursor() const { return history_.cursor(); }  // entries [0, cursor) are applied
-    // Lattices composed after the first one: frozen cages and layers.
-    int frameDepth() const { return static_cast<int>(frames_.size() + layers_.size()); }
     // Bytes held by the history (operations and frozen frames), not counting the mesh itself.
     size_t historyBytes() const;
     // Vertices whose position the last command changed (for sparse normal and buffer updates); when
@@ -235,30 +221,14 @@ private:
                                          double& injectivityMs, double& triangleMs);
     // The index of the triangle check learns which vertices moved (nullptr: all of them).
     void positionsChanged(const std::vector<int>* vertices);
-    // The lattice steps are solved in: the cage, or the newest layer while the operation that made it runs.
-    Lattice& activeLattice() { return layerActive_ ? layers_.back().lattice : lattice_; }
-    const Lattice& activeLattice() const { return layerActive_ ? layers_.back().lattice : lattice_; }
-    const Embedding& activeEmbedding() const { return layerActive_ ? layerEmbedding_ : embedding_; }
     // What the active lattice's evaluation writes: the cage's output under layers, else the positions.
-    Positions& activeOutput() { return cageUnderLayers() ? cageOut_ : positions_; }
-    bool cageUnderLayers() const { return !layerActive_ && !layers_.empty(); }
-    // The active lattice's image of its rest point with parameters t (before any layer above it).
-    Eigen::Vector3d activeImage(const Eigen::Vector3d& params) const;
-    // A point of the current shape in the active lattice's output space (traced back through the layers when
-    // the cage is active); false where no layer point maps there.
-    bool toActiveSpace(const Eigen::Vector3d& point, Eigen::Vector3d& out) const;
-    // x carried through layers [first, end).
-    Eigen::Vector3d pushThroughLayers(Eigen::Vector3d x, size_t first = 0) const;
-    // The point that layers [0, count) carry onto y (Newton per layer, last first); false if there is none.
-    bool pullThroughLayers(const Eigen::Vector3d& y, Eigen::Vector3d& x, size_t count) const;
+    Positions& activeOutput() { return stack_.cageUnderLayers() ? stack_.cageOut_ : positions_; }
     // positions_[v] = cageOut_[v] carried through every layer, for the listed vertices.
     void refreshLayerOutput(const std::vector<int>& vertices);
     // Puts a new layer after the others and makes it active: a recorded one (redo, replay, or a brush region
     // placed by applyBrushPulls), or a fresh regular lattice with the cage's settings around the mesh the active
     // lattice deforms. placed: its placement for the step that will be applied in it.
     Status enterLayer(Progress* progress, Step* placed, const Step* recorded);
-    // Where the newest `count` layers can move anything (deformationBounds of each, together).
-    void newestLayersBounds(size_t count, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const;
     // Removes the newest layer: the vertices it moved get their positions from the layers below.
     void popLayer(std::vector<int>* moved) { popLayers(1, moved); }
     // Removes the newest `count` layers at once: the vertices they moved are carried once through the layers
@@ -324,20 +294,10 @@ private:
 
     Positions original_, rest_, positions_;
     Triangles triangles_;
-    LatticeSettings settings_, initialSettings_;
-    Eigen::Vector3d initialBoxMin_ = Eigen::Vector3d::Zero(), initialBoxMax_ = Eigen::Vector3d::Zero();
     InjectivitySettings injectivity_;
     Snapshot scratch_;
     IncrementScratch increment_;
-    Lattice lattice_;
-    Embedding embedding_;
-    std::vector<Layer> layers_;
-    Positions cageOut_;            // with layers: the cage's image of rest_ (the first layer's input)
-    bool layerActive_ = false;     // steps are solved in layers_.back() (only during the operation that made it)
-    Embedding layerEmbedding_;     // with layerActive_: that layer's input (the mesh when it was made) embedded
-    Positions beforeCage_;         // #V: rows of cageOut_ a step changes, as they were before it
     Eigen::Vector3d symmetryCentre_ = Eigen::Vector3d::Zero();
-    std::vector<FrozenFrame> frames_;
     History history_;  // the operations and the journal (history.h)
     // A net lattice that does not hold every vertex keeps its boundary faces pinned: the vertices outside it
     // never move, so a moving boundary would tear the mesh there and the deformation of space (identity
@@ -377,10 +337,6 @@ private:
     const std::vector<int>* layerCandidates_ = nullptr;
 
 public:
-    // Where the current deformation puts a point of rest space (restPositions()'s space): the cage's FFD
-    // (X0 + sum R(t(X0)) delta inside its box, X0 outside), then the layers. A vertex v is at
-    // imageOfRestPoint(restPositions().row(v)) up to rounding. Thread-safe (const).
-    Eigen::Vector3d imageOfRestPoint(const Eigen::Vector3d& rest) const;
     // Refinement where the surface stretches (Coquillart 1990, 3.4; refiner.h): refine, the automatic setting,
     // the splits applied, the topology's version.
     Refiner refinement() { return Refiner(*this); }
@@ -394,6 +350,7 @@ public:
 private:
     std::uint64_t restVersion_ = 0;
     Refiner::State refinement_;  // refiner.h
+    LatticeStack stack_;         // the cage, its layers and frames (lattice_stack.h)
     friend class Refiner;
 };
 

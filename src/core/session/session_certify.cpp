@@ -83,7 +83,7 @@ bool Session::certifyCells(const Lattice& lattice, const std::vector<int>& cells
                                                                 : "cell [" + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
                                                                       std::to_string(ijk[2]) + "]");
     if (!verdict.message.empty()) failure.technical += " (" + verdict.message + ")";
-    if (verdict.failingParams.allFinite()) failure.where = currentImage(verdict.failingParams);
+    if (verdict.failingParams.allFinite()) failure.where = stack_.currentImage(verdict.failingParams);
     return false;
 }
 
@@ -113,10 +113,10 @@ bool Session::noNewCrossing(const std::vector<int>& changed, StepFailure& failur
 bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure, double& injectivityMs,
                        double& triangleMs, bool keep) {
     const bool checking = injectivity_.mode != InjectivityMode::Off;
-    Lattice& lattice = activeLattice();
-    const Embedding& embedding = activeEmbedding();
+    Lattice& lattice = stack_.activeLattice();
+    const Embedding& embedding = stack_.activeEmbedding();
     Positions& output = activeOutput();  // the cage's output under layers (then carried through them)
-    const bool layered = cageUnderLayers();
+    const bool layered = stack_.cageUnderLayers();
     // Tentatively change the lattice; keep the rows so a refusal puts them back bitwise.
     Positions savedRows(static_cast<Eigen::Index>(delta.indices.size()), 3);
     for (size_t c = 0; c < delta.indices.size(); ++c) savedRows.row(static_cast<Eigen::Index>(c)) = lattice.displacement.row(delta.indices[c]);
@@ -184,8 +184,8 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
         changed.insert(changed.end(), embedding.order.begin() + embedding.cellStart[cell], embedding.order.begin() + embedding.cellStart[cell + 1]);
     for (int v : changed) before_.row(v) = positions_.row(v);
     if (layered) {
-        if (beforeCage_.rows() != positions_.rows()) beforeCage_.resize(positions_.rows(), 3);
-        for (int v : changed) beforeCage_.row(v) = cageOut_.row(v);
+        if (stack_.beforeCage_.rows() != positions_.rows()) stack_.beforeCage_.resize(positions_.rows(), 3);
+        for (int v : changed) stack_.beforeCage_.row(v) = stack_.cageOut_.row(v);
     }
     evaluateIncrement(lattice, embedding, delta.indices, delta.deltas, 1.0, output, increment_, nullptr);
     if (layered) refreshLayerOutput(changed);
@@ -200,7 +200,7 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
         restoreLattice();
         for (int v : changed) positions_.row(v) = before_.row(v);
         if (layered)
-            for (int v : changed) cageOut_.row(v) = beforeCage_.row(v);
+            for (int v : changed) stack_.cageOut_.row(v) = stack_.beforeCage_.row(v);
         positionsChanged(&changed);
         return !refused;
     }
@@ -305,8 +305,8 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
     Eigen::MatrixX3d displacements(static_cast<Eigen::Index>(m.sources.size()), 3);
     for (size_t f = 0; f < m.sources.size(); ++f) {
         Eigen::Vector3d target;
-        Status s = parametersOfCurrentPoint(m.sources[f], params[f]);
-        if (s && !toActiveSpace(m.targets[f], target))
+        Status s = stack_.parametersOfCurrentPoint(m.sources[f], params[f]);
+        if (s && !stack_.toActiveSpace(m.targets[f], target))
             s = Status::error("its target " + vectorText(m.targets[f]) + " is not the image of any point inside the lattice");
         if (!s) {
             progress.failure.cause = StepFailure::Cause::SourceLeft;
@@ -315,9 +315,9 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
         }
         // In the active lattice's own output space (under layers: traced back through them), where the
         // explicit solution is linear in the control points.
-        displacements.row(static_cast<Eigen::Index>(f)) = (target - activeImage(params[f])).transpose();
+        displacements.row(static_cast<Eigen::Index>(f)) = (target - stack_.activeImage(params[f])).transpose();
     }
-    DirectManipulationResult solved = directManipulation(activeLattice(), params, displacements);  // Hu et al. 2001, eq. 7 / 12
+    DirectManipulationResult solved = directManipulation(stack_.activeLattice(), params, displacements);  // Hu et al. 2001, eq. 7 / 12
     ControlDelta delta = std::move(solved.delta);
 
     if (!tryDelta(delta, &progress.moved, progress.failure, progress.injectivityMs, progress.triangleMs)) {
@@ -329,13 +329,13 @@ bool Session::tryStep(Manipulation& m, int depth, Progress& progress) {
     if (progress.pendingFreshFrame) step = progress.pendingFrame;  // the layer's placement
     step.freshFrame = progress.pendingFreshFrame;
     progress.pendingFreshFrame = false;
-    if (!step.freshFrame) step.settings = settings_;
+    if (!step.freshFrame) step.settings = stack_.settings_;
     step.delta = std::move(delta);
-    for (size_t f = 0; f < m.sources.size(); ++f) step.constraints.push_back({m.sources[f], currentImage(params[f])});
+    for (size_t f = 0; f < m.sources.size(); ++f) step.constraints.push_back({m.sources[f], stack_.currentImage(params[f])});
     progress.operation->steps.push_back(std::move(step));
     progress.operation->depthReached = std::max(progress.operation->depthReached, depth);
     progress.appliedInCurrentFrame = true;
-    for (size_t f = 0; f < m.sources.size(); ++f) m.sources[f] = currentImage(params[f]);
+    for (size_t f = 0; f < m.sources.size(); ++f) m.sources[f] = stack_.currentImage(params[f]);
     return true;
 }
 

@@ -36,11 +36,11 @@ size_t Session::historyBytes() const {
         bytes += op.refinement.splits.capacity() * sizeof(EdgeSplit) + op.refinement.halvings.capacity() * sizeof(TriangleHalving);
         return bytes;
     };
-    size_t bytes = history_.entries().capacity() * sizeof(Operation) + frames_.capacity() * sizeof(FrozenFrame) +
+    size_t bytes = history_.entries().capacity() * sizeof(Operation) + stack_.frames_.capacity() * sizeof(FrozenFrame) +
                    history_.journal().capacity() * sizeof(JournalEntry);
     for (const Operation& op : history_.entries()) bytes += operationBytes(op);
     for (const JournalEntry& entry : history_.journal()) bytes += operationBytes(entry.operation) + entry.pinToggles.capacity() * sizeof(int);
-    for (const FrozenFrame& frame : frames_) bytes += deltaBytes(frame.displacement) + frame.pinToggles.capacity() * sizeof(int);
+    for (const FrozenFrame& frame : stack_.frames_) bytes += deltaBytes(frame.displacement) + frame.pinToggles.capacity() * sizeof(int);
     return bytes;
 }
 
@@ -58,7 +58,7 @@ void Session::undoSteps(const std::vector<Step>& steps) {
             i -= run - 1;
             continue;
         }
-        layerActive_ = false;
+        stack_.layerActive_ = false;
         if (!step.weights.empty()) {  // a weight change (and the displacement with it) in the cage
             tspline().revertStep(step, &lastMoved_);
             continue;
@@ -91,19 +91,19 @@ int Session::movedCount() const {
 
 void Session::redoStep(const Step& step) {
     if (!step.weights.empty()) {
-        layerActive_ = false;
+        stack_.layerActive_ = false;
         tspline().applyStep(step, &lastMoved_);
         return;
     }
     if (step.newCage) enterNewCage(step.settings, nullptr, &step);
     else if (step.freshFrame) enterLayer(nullptr, nullptr, &step);
-    else layerActive_ = false;  // a step without a lattice of its own is in the cage
+    else stack_.layerActive_ = false;  // a step without a lattice of its own is in the cage
     applyDelta(step.delta, 1.0, &lastMoved_);
 }
 
 void Session::bakeAfter(const Step& step) {
     if (!step.baked) return;
-    layerActive_ = false;
+    stack_.layerActive_ = false;
     bakeAllLayers(&step.bakedOutside);
 }
 
@@ -116,7 +116,7 @@ void Session::undoOperationBody(const Operation& operation) {
         for (auto part = operation.parts.rbegin(); part != operation.parts.rend(); ++part) undoOperationBody(*part);
         return;
     }
-    layerActive_ = false;
+    stack_.layerActive_ = false;
     undoSteps(operation.steps);
     if (operation.kind == OperationKind::LatticeTools) tools().applyChange(operation, false);
     if (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup) tools_.frozen = operation.frozenBefore;
@@ -136,7 +136,7 @@ void Session::redoOperationBody(const Operation& operation) {
     if (operation.parts.empty() && operation.kind == OperationKind::LatticeTools) tools().applyChange(operation, true);
     if (operation.parts.empty() && (operation.kind == OperationKind::LatticeTools || operation.kind == OperationKind::LatticeSetup))
         tools_.frozen = operation.frozenAfter;
-    layerActive_ = false;
+    stack_.layerActive_ = false;
 }
 
 Status Session::groupOperations(int first, const std::string& label) {
@@ -271,37 +271,37 @@ Status Session::redo(OpReport& report) {
 
 std::vector<int> Session::pinToggles() const {
     std::vector<int> toggled;
-    for (int idx = 0; idx < lattice_.controlPointCount(); ++idx)
-        if (basePinned(idx) != static_cast<bool>(lattice_.pinned[idx])) toggled.push_back(idx);
+    for (int idx = 0; idx < stack_.lattice_.controlPointCount(); ++idx)
+        if (basePinned(idx) != static_cast<bool>(stack_.lattice_.pinned[idx])) toggled.push_back(idx);
     return toggled;
 }
 
 Status Session::setPinToggles(const std::vector<int>& toggled) {
-    const int n = lattice_.controlPointCount();
+    const int n = stack_.lattice_.controlPointCount();
     for (int idx : toggled)
         if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
     if (drag_.active) return Status::error("an interactive drag is in progress");
-    for (int idx = 0; idx < n; ++idx) lattice_.pinned[idx] = basePinned(idx) ? 1 : 0;
+    for (int idx = 0; idx < n; ++idx) stack_.lattice_.pinned[idx] = basePinned(idx) ? 1 : 0;
     // A welded point is one control point: a toggle of any of its slots toggles the group once.
-    for (int idx : weldGroupsOf(toggled)) lattice_.pinned[idx] ^= 1;
-    pinBoundaryIfPartial(lattice_, embedding_);
+    for (int idx : weldGroupsOf(toggled)) stack_.lattice_.pinned[idx] ^= 1;
+    pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
     journalPins();
     return Status::success();
 }
 
 Status Session::setPinned(const std::vector<int>& indices, bool pinned) {
-    const int n = lattice_.controlPointCount();
+    const int n = stack_.lattice_.controlPointCount();
     for (int idx : indices)
         if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
-    for (int idx : weldGroupsOf(indices)) lattice_.pinned[idx] = pinned ? 1 : 0;
-    pinBoundaryIfPartial(lattice_, embedding_);
+    for (int idx : weldGroupsOf(indices)) stack_.lattice_.pinned[idx] = pinned ? 1 : 0;
+    pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
     journalPins();
     return Status::success();
 }
 
 void Session::journalPins() {
     // Consecutive pin changes: only where they ended counts.
-    history_.note(JournalEntry{JournalEntry::Kind::Pins, {}, 0, {}, pinToggles(), settings_}, true);
+    history_.note(JournalEntry{JournalEntry::Kind::Pins, {}, 0, {}, pinToggles(), stack_.settings_}, true);
 }
 
 Status Session::replayOperation(const Operation& operation, bool cancelled, OpReport& report) {
@@ -314,7 +314,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     if (Status s = refinement().checkRecorded(operation, cancelled); !s) return s;
     // Every step must fit the lattice it will be applied in: its own where it makes one (a layer or a new
     // cage), else the cage.
-    LatticeSettings cageSettings = settings_;
+    LatticeSettings cageSettings = stack_.settings_;
     for (size_t k = 0; k < operation.steps.size(); ++k) {
         const Step& step = operation.steps[k];
         LatticeSettings settings = cageSettings;
@@ -346,7 +346,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
         if (k + 1 < operation.steps.size() && !cancelled) bakeAfter(operation.steps[k]);
     }
     if (operation.kind == OperationKind::LatticeSetup && !cancelled) tools_.frozen = operation.frozenAfter;
-    layerActive_ = false;
+    stack_.layerActive_ = false;
     report.status = OpStatus::Applied;
     report.subSteps = static_cast<int>(operation.steps.size());
     report.depthReached = operation.depthReached;

@@ -19,26 +19,26 @@ void Session::pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding)
 }
 
 bool Session::basePinned(int idx) const {
-    if (inOuterLayers(lattice_, idx, settings_.pinLayers)) return true;
+    if (inOuterLayers(stack_.lattice_, idx, stack_.settings_.pinLayers)) return true;
     return pinnedAsPartialBoundary(idx);
 }
 
 bool Session::pinnedAsPartialBoundary(int idx) const {
-    return injectivity_.mode != InjectivityMode::Off && lattice_.volume && lattice_.volume->onOuterSurface(idx) &&
-           (!lattice_.tensorNet() || embedding_.insideCount() < static_cast<int>(positions_.rows()));
+    return injectivity_.mode != InjectivityMode::Off && stack_.lattice_.volume && stack_.lattice_.volume->onOuterSurface(idx) &&
+           (!stack_.lattice_.tensorNet() || stack_.embedding_.insideCount() < static_cast<int>(positions_.rows()));
 }
 
 void Session::setInjectivity(const InjectivitySettings& settings) {
     const bool testing = injectivity_.mode != InjectivityMode::Off;
     injectivity_ = settings;
-    if (!testing && settings.mode != InjectivityMode::Off && !drag_.active && lattice_.controlPointCount() > 0)
-        pinBoundaryIfPartial(lattice_, embedding_);
+    if (!testing && settings.mode != InjectivityMode::Off && !drag_.active && stack_.lattice_.controlPointCount() > 0)
+        pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
 }
 
 std::vector<int> Session::weldGroupsOf(const std::vector<int>& ids) const {
     std::vector<int> out;
     for (int idx : ids) {
-        const std::vector<int>* group = lattice_.volume ? weldGroupOf(*lattice_.volume, idx) : nullptr;
+        const std::vector<int>* group = stack_.lattice_.volume ? weldGroupOf(*stack_.lattice_.volume, idx) : nullptr;
         if (group)
             out.insert(out.end(), group->begin(), group->end());
         else

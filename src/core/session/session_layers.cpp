@@ -26,75 +26,20 @@ void recordPlacement(Step& step, bool newCage, const LatticeSettings& settings, 
 
 // ---- composition through the layers ---------------------------------------------------------------------
 
-Eigen::Vector3d Session::pushThroughLayers(Eigen::Vector3d x, size_t first) const {
-    for (size_t k = first; k < layers_.size(); ++k) {
-        Eigen::Vector3d t;
-        if (restParameters(layers_[k].lattice, x, t)) x += displacementAt(layers_[k].lattice, t);
-    }
-    return x;
-}
-
-bool Session::pullThroughLayers(const Eigen::Vector3d& y, Eigen::Vector3d& x, size_t count) const {
-    Eigen::Vector3d point = y;
-    for (size_t k = count; k-- > 0;) {
-        const Lattice& layer = layers_[k].lattice;
-        // Only the box and the hull of its control points can hold an image of the box (convex hull property).
-        Eigen::Vector3d lo, hi;
-        deformationBounds(layer, lo, hi);
-        Eigen::Vector3d restParams;
-        const bool inBox = restParameters(layer, point, restParams);
-        if (!((point.array() >= lo.array()).all() && (point.array() <= hi.array()).all())) continue;  // the identity there
-        Eigen::Vector3d params;
-        if (locateDeformedPoint(layer, point, params)) {
-            point = restPoint(layer, params);
-            continue;
-        }
-        // Outside the box a layer is the identity: a point there no box point reaches is its own preimage.
-        if (inBox) return false;
-    }
-    x = point;
-    return true;
-}
-
 void Session::refreshLayerOutput(const std::vector<int>& vertices) {
     const int count = static_cast<int>(vertices.size());
 #pragma omp parallel for schedule(static) if (count > 4096)
     for (int c = 0; c < count; ++c) {
         const int v = vertices[static_cast<size_t>(c)];
-        positions_.row(v) = pushThroughLayers(cageOut_.row(v).transpose()).transpose();
+        positions_.row(v) = stack_.pushThroughLayers(stack_.cageOut_.row(v).transpose()).transpose();
     }
-}
-
-Eigen::Vector3d Session::activeImage(const Eigen::Vector3d& params) const {
-    const Lattice& lattice = activeLattice();
-    return restPoint(lattice, params) + displacementAt(lattice, params);
-}
-
-bool Session::toActiveSpace(const Eigen::Vector3d& point, Eigen::Vector3d& out) const {
-    if (!cageUnderLayers()) {
-        out = point;
-        return true;
-    }
-    return pullThroughLayers(point, out, layers_.size());
-}
-
-Eigen::Vector3d Session::currentImage(const Eigen::Vector3d& params) const {
-    const Eigen::Vector3d x = activeImage(params);
-    return cageUnderLayers() ? pushThroughLayers(x) : x;
-}
-
-Positions Session::cagePoints() const {
-    Positions points = controlPointPositions(lattice_);
-    if (!layers_.empty())
-        for (Eigen::Index p = 0; p < points.rows(); ++p) points.row(p) = pushThroughLayers(points.row(p).transpose()).transpose();
-    return points;
 }
 
 // ---- layers ---------------------------------------------------------------------------------------------
 
 Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorded) {
     Layer layer;
-    LatticeSettings settings = settings_;
+    LatticeSettings settings = stack_.settings_;
     Eigen::Vector3d lo, hi;
     bool pinsKept = false, region = false;
     std::vector<int> free;
@@ -110,8 +55,8 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
         // grown to contain the mesh it deforms as that is now. It depends only on the mesh and the settings,
         // so a replay reproduces it. Only the vertices the active lattice deforms count: a lattice around a
         // region of the mesh never grows to take in the rest of it.
-        const Lattice& active = activeLattice();
-        const Embedding& embedding = activeEmbedding();
+        const Lattice& active = stack_.activeLattice();
+        const Embedding& embedding = stack_.activeEmbedding();
         lo = active.boxMin;
         hi = active.boxMax;
         if (embedding.insideCount() > 0) {
@@ -141,13 +86,13 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
         placed->region = region;
         placed->regionFree = free;
     }
-    if (layers_.empty()) cageOut_ = positions_;
+    if (stack_.layers_.empty()) stack_.cageOut_ = positions_;
     layer.settings = settings;
-    layers_.push_back(std::move(layer));
-    if (region && layerCandidates_) embedVertices(layers_.back().lattice, positions_, layerEmbedding_, *layerCandidates_);
-    else embedVertices(layers_.back().lattice, positions_, layerEmbedding_);
-    pinBoundaryIfPartial(layers_.back().lattice, layerEmbedding_);
-    layerActive_ = true;
+    stack_.layers_.push_back(std::move(layer));
+    if (region && layerCandidates_) embedVertices(stack_.layers_.back().lattice, positions_, stack_.layerEmbedding_, *layerCandidates_);
+    else embedVertices(stack_.layers_.back().lattice, positions_, stack_.layerEmbedding_);
+    pinBoundaryIfPartial(stack_.layers_.back().lattice, stack_.layerEmbedding_);
+    stack_.layerActive_ = true;
     if (progress) {
         progress->appliedInCurrentFrame = false;
         progress->pendingFreshFrame = true;  // the next step applied belongs to this layer
@@ -155,34 +100,23 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
     return Status::success();
 }
 
-void Session::newestLayersBounds(size_t count, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
-    lo = Eigen::Vector3d::Constant(INFINITY);
-    hi = Eigen::Vector3d::Constant(-INFINITY);
-    for (size_t k = layers_.size() - std::min(count, layers_.size()); k < layers_.size(); ++k) {
-        Eigen::Vector3d layerLo, layerHi;
-        deformationBounds(layers_[k].lattice, layerLo, layerHi);
-        lo = lo.cwiseMin(layerLo);
-        hi = hi.cwiseMax(layerHi);
-    }
-}
-
 void Session::popLayers(size_t count, std::vector<int>* moved) {
     // Only where a layer could have put a vertex can a position change: its box and the hull of its control
     // points (convex hull property of the B-spline volume). A vertex outside that region of the newest layer
     // is where the layer below left it, so outside the union of the removed layers' regions nothing changes.
-    count = std::min(count, layers_.size());
+    count = std::min(count, stack_.layers_.size());
     if (count == 0) return;
     Eigen::Vector3d lo, hi;
-    newestLayersBounds(count, lo, hi);
-    layers_.resize(layers_.size() - count);
-    layerActive_ = false;
+    stack_.newestLayersBounds(count, lo, hi);
+    stack_.layers_.resize(stack_.layers_.size() - count);
+    stack_.layerActive_ = false;
     const int n = static_cast<int>(positions_.rows());
     std::vector<std::uint8_t> changed(static_cast<size_t>(n), 0);
 #pragma omp parallel for schedule(static) if (n > 4096)
     for (int v = 0; v < n; ++v) {
         const Eigen::Vector3d y = positions_.row(v).transpose();
         if (!((y.array() >= lo.array()).all() && (y.array() <= hi.array()).all())) continue;
-        const Eigen::Vector3d x = pushThroughLayers(cageOut_.row(v).transpose());
+        const Eigen::Vector3d x = stack_.pushThroughLayers(stack_.cageOut_.row(v).transpose());
         if (x != y) {
             positions_.row(v) = x.transpose();
             changed[static_cast<size_t>(v)] = 1;
@@ -193,7 +127,7 @@ void Session::popLayers(size_t count, std::vector<int>* moved) {
         if (changed[static_cast<size_t>(v)]) list.push_back(v);
     positionsChanged(&list);
     if (moved) moved->insert(moved->end(), list.begin(), list.end());
-    if (layers_.empty()) cageOut_.resize(0, 3);
+    if (stack_.layers_.empty()) stack_.cageOut_.resize(0, 3);
 }
 
 // ---- frames (lattice set-ups) ---------------------------------------------------------------------------
@@ -205,23 +139,23 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
     }
     // Freeze the cage compactly: its box, its non-zero control displacements, its pin edits, its layers.
     FrozenFrame frozen;
-    frozen.settings = settings_;
-    frozen.boxMin = lattice_.boxMin;
-    frozen.boxMax = lattice_.boxMax;
-    frozen.displacement.indices = displacedControlPoints(lattice_);
+    frozen.settings = stack_.settings_;
+    frozen.boxMin = stack_.lattice_.boxMin;
+    frozen.boxMax = stack_.lattice_.boxMax;
+    frozen.displacement.indices = displacedControlPoints(stack_.lattice_);
     frozen.displacement.deltas.resize(static_cast<Eigen::Index>(frozen.displacement.indices.size()), 3);
     for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
-        frozen.displacement.deltas.row(static_cast<Eigen::Index>(c)) = lattice_.displacement.row(frozen.displacement.indices[c]);
+        frozen.displacement.deltas.row(static_cast<Eigen::Index>(c)) = stack_.lattice_.displacement.row(frozen.displacement.indices[c]);
     frozen.pinToggles = pinToggles();
-    frozen.layers = std::move(layers_);
-    layers_.clear();
-    cageOut_.resize(0, 3);
-    layerActive_ = false;
+    frozen.layers = std::move(stack_.layers_);
+    stack_.layers_.clear();
+    stack_.cageOut_.resize(0, 3);
+    stack_.layerActive_ = false;
 
     // The new cage is placed as a set-up places it, around the mesh as it is now; with the same settings
     // (same control point ids) it keeps the user's pin edits.
     Eigen::Vector3d lo, hi;
-    bool pinsKept = sameLatticeSettings(settings, settings_);
+    bool pinsKept = sameLatticeSettings(settings, stack_.settings_);
     if (recorded) {
         lo = recorded->frameMin;
         hi = recorded->frameMax;
@@ -234,46 +168,46 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
     makeLatticeInBox(settings, lo, hi, fresh);
     if (pinsKept)
         for (int idx : frozen.pinToggles) fresh.pinned[static_cast<size_t>(idx)] ^= 1;
-    frames_.push_back(std::move(frozen));
-    settings_ = settings;
-    lattice_ = std::move(fresh);
+    stack_.frames_.push_back(std::move(frozen));
+    stack_.settings_ = settings;
+    stack_.lattice_ = std::move(fresh);
     rest_ = positions_;
-    embedVertices(lattice_, rest_, embedding_);
+    embedVertices(stack_.lattice_, rest_, stack_.embedding_);
     ++restVersion_;
-    pinBoundaryIfPartial(lattice_, embedding_);
+    pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
     lastMovedAll_ = true;
 }
 
 void Session::leaveCage() {
     // The cage being left is (up to rounding) undeformed again and its layers are gone: the mesh is its rest
     // state, which is what the frozen cage and its layers produced. Invert those to get their rest state.
-    FrozenFrame frozen = std::move(frames_.back());
-    frames_.pop_back();
+    FrozenFrame frozen = std::move(stack_.frames_.back());
+    stack_.frames_.pop_back();
     positions_ = rest_;
     Lattice previous;
     makeLatticeInBox(frozen.settings, frozen.boxMin, frozen.boxMax, previous);
     for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
         previous.displacement.row(frozen.displacement.indices[c]) = frozen.displacement.deltas.row(static_cast<Eigen::Index>(c));
     for (int idx : frozen.pinToggles) previous.pinned[static_cast<size_t>(idx)] ^= 1;
-    lattice_ = std::move(previous);
-    settings_ = frozen.settings;
-    layers_ = std::move(frozen.layers);
-    layerActive_ = false;
+    stack_.lattice_ = std::move(previous);
+    stack_.settings_ = frozen.settings;
+    stack_.layers_ = std::move(frozen.layers);
+    stack_.layerActive_ = false;
     positionsChanged(nullptr);
-    if (layers_.empty()) {
-        invertDeformation(lattice_, positions_, rest_);
+    if (stack_.layers_.empty()) {
+        invertDeformation(stack_.lattice_, positions_, rest_);
     } else {
         Positions input = positions_, preimage;
-        for (size_t k = layers_.size(); k-- > 0;) {
-            invertDeformation(layers_[k].lattice, input, preimage);
+        for (size_t k = stack_.layers_.size(); k-- > 0;) {
+            invertDeformation(stack_.layers_[k].lattice, input, preimage);
             input.swap(preimage);
         }
-        cageOut_ = std::move(input);
-        invertDeformation(lattice_, cageOut_, rest_);
+        stack_.cageOut_ = std::move(input);
+        invertDeformation(stack_.lattice_, stack_.cageOut_, rest_);
     }
-    embedVertices(lattice_, rest_, embedding_);
+    embedVertices(stack_.lattice_, rest_, stack_.embedding_);
     ++restVersion_;
-    pinBoundaryIfPartial(lattice_, embedding_);
+    pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
     if (trackJacobian_) {
         accumulateFrameJacobian(true);
         accumulateLayersJacobian(true);
@@ -287,27 +221,27 @@ void Session::saveSnapshot(Snapshot& snapshot) {
     if (snapshot.saved) return;
     snapshot.saved = true;
     snapshot.positions = positions_;
-    snapshot.cageOut = cageOut_;
-    snapshot.cage = lattice_;
-    snapshot.layerCount = layers_.size();
-    snapshot.layerActive = layerActive_;
-    if (layerActive_) {
-        snapshot.activeLayer = layers_.back().lattice;
-        snapshot.layerEmbedding = layerEmbedding_;
+    snapshot.cageOut = stack_.cageOut_;
+    snapshot.cage = stack_.lattice_;
+    snapshot.layerCount = stack_.layers_.size();
+    snapshot.layerActive = stack_.layerActive_;
+    if (stack_.layerActive_) {
+        snapshot.activeLayer = stack_.layers_.back().lattice;
+        snapshot.layerEmbedding = stack_.layerEmbedding_;
     }
 }
 
 void Session::restoreSnapshot(Snapshot& snapshot) {
     if (!snapshot.saved) return;
-    layers_.erase(layers_.begin() + static_cast<std::ptrdiff_t>(snapshot.layerCount), layers_.end());
-    layerActive_ = snapshot.layerActive;
-    if (layerActive_) {
-        layers_.back().lattice = snapshot.activeLayer;
-        layerEmbedding_ = snapshot.layerEmbedding;
+    stack_.layers_.erase(stack_.layers_.begin() + static_cast<std::ptrdiff_t>(snapshot.layerCount), stack_.layers_.end());
+    stack_.layerActive_ = snapshot.layerActive;
+    if (stack_.layerActive_) {
+        stack_.layers_.back().lattice = snapshot.activeLayer;
+        stack_.layerEmbedding_ = snapshot.layerEmbedding;
     }
-    lattice_ = snapshot.cage;
+    stack_.lattice_ = snapshot.cage;
     positions_ = snapshot.positions;
-    cageOut_ = snapshot.cageOut;
+    stack_.cageOut_ = snapshot.cageOut;
     positionsChanged(nullptr);
 }
 
@@ -321,14 +255,14 @@ void Session::setTrackJacobian(bool track) {
 
 void Session::accumulateFrameJacobian(bool divide) {
     // Only vertices in cells reached by a non-zero control displacement have det J != 1 in this frame.
-    const std::vector<int> cells = cellsInfluencedBy(lattice_, displacedControlPoints(lattice_));
+    const std::vector<int> cells = cellsInfluencedBy(stack_.lattice_, displacedControlPoints(stack_.lattice_));
     const int cellCount = static_cast<int>(cells.size());
 #pragma omp parallel for schedule(dynamic, 4) if (cellCount > 64)
     for (int c = 0; c < cellCount; ++c) {
         const int cell = cells[static_cast<size_t>(c)];
-        for (int s = embedding_.cellStart[cell]; s < embedding_.cellStart[cell + 1]; ++s) {
-            const double det = jacobianDeterminant(lattice_, embeddedParameters(lattice_, embedding_, cell, s));
-            double& product = frozenJacobian_[static_cast<size_t>(embedding_.order[s])];
+        for (int s = stack_.embedding_.cellStart[cell]; s < stack_.embedding_.cellStart[cell + 1]; ++s) {
+            const double det = jacobianDeterminant(stack_.lattice_, embeddedParameters(stack_.lattice_, stack_.embedding_, cell, s));
+            double& product = frozenJacobian_[static_cast<size_t>(stack_.embedding_.order[s])];
             product = divide ? product / det : product * det;
         }
     }
@@ -353,11 +287,11 @@ double layersJacobian(const std::vector<Layer>& layers, Eigen::Vector3d x) {
 }  // namespace
 
 void Session::accumulateLayersJacobian(bool divide) {
-    if (layers_.empty()) return;
-    const int n = static_cast<int>(cageOut_.rows());
+    if (stack_.layers_.empty()) return;
+    const int n = static_cast<int>(stack_.cageOut_.rows());
 #pragma omp parallel for schedule(static) if (n > 4096)
     for (int v = 0; v < n; ++v) {
-        const double det = layersJacobian(layers_, cageOut_.row(v).transpose());
+        const double det = layersJacobian(stack_.layers_, stack_.cageOut_.row(v).transpose());
         double& product = frozenJacobian_[static_cast<size_t>(v)];
         product = divide ? product / det : product * det;
     }
@@ -365,13 +299,13 @@ void Session::accumulateLayersJacobian(bool divide) {
 
 std::vector<double> Session::totalJacobianDeterminants() const {
     std::vector<double> det;
-    vertexJacobianDeterminants(lattice_, rest_, det);
+    vertexJacobianDeterminants(stack_.lattice_, rest_, det);
     if (trackJacobian_)
         for (size_t v = 0; v < det.size(); ++v) det[v] *= frozenJacobian_[v];
-    if (!layers_.empty()) {
-        const int n = static_cast<int>(cageOut_.rows());
+    if (!stack_.layers_.empty()) {
+        const int n = static_cast<int>(stack_.cageOut_.rows());
 #pragma omp parallel for schedule(static) if (n > 4096)
-        for (int v = 0; v < n; ++v) det[static_cast<size_t>(v)] *= layersJacobian(layers_, cageOut_.row(v).transpose());
+        for (int v = 0; v < n; ++v) det[static_cast<size_t>(v)] *= layersJacobian(stack_.layers_, stack_.cageOut_.row(v).transpose());
     }
     return det;
 }
@@ -473,16 +407,16 @@ double cageJacobianAt(const Lattice& cage, const Eigen::Vector3d& rest) {
 }  // namespace
 
 int Session::verticesLeftOutsideCage() const {
-    if (lattice_.volume || triangles_.rows() == 0) return 0;
+    if (stack_.lattice_.volume || triangles_.rows() == 0) return 0;
     const int n = static_cast<int>(rest_.rows());
     std::vector<std::uint8_t> outside(static_cast<size_t>(n), 0);
     bool any = false;
-    for (int v = 0; v < n; ++v) any = (outside[static_cast<size_t>(v)] = outsideBox(lattice_, rest_.row(v).transpose())) || any;
+    for (int v = 0; v < n; ++v) any = (outside[static_cast<size_t>(v)] = outsideBox(stack_.lattice_, rest_.row(v).transpose())) || any;
     if (!any) return 0;
     // An inside corner the cage moved: its cage image differs from its rest point.
     const auto cageMoved = [&](int u) {
         Eigen::Vector3d t;
-        return restParameters(lattice_, rest_.row(u).transpose(), t) && displacementAt(lattice_, t).squaredNorm() > 0.0;
+        return restParameters(stack_.lattice_, rest_.row(u).transpose(), t) && displacementAt(stack_.lattice_, t).squaredNorm() > 0.0;
     };
     std::vector<std::uint8_t> left(static_cast<size_t>(n), 0);
     for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
@@ -511,17 +445,17 @@ bool Session::bakeLayers(const std::vector<Step>& steps) {
         subdivision = subdivision || (steps[k].freshFrame && !steps[k].region);
         own += steps[k].freshFrame && steps[k].weights.empty();
     }
-    if (own != layers_.size()) return false;
+    if (own != stack_.layers_.size()) return false;
     return bakeAllLayers(&steps.back().bakedOutside, !subdivision);
 }
 
 bool Session::bakeAllLayers(std::vector<int>* outside, bool allowOutside) {
-    if (layers_.empty() || layerActive_) return false;
+    if (stack_.layers_.empty() || stack_.layerActive_) return false;
     const int n = static_cast<int>(positions_.rows());
     // Exactly the vertices some layer moved: their output differs from the cage's.
     std::vector<int> moved;
     for (int v = 0; v < n; ++v)
-        if (positions_.row(v) != cageOut_.row(v)) moved.push_back(v);
+        if (positions_.row(v) != stack_.cageOut_.row(v)) moved.push_back(v);
     Positions rest(static_cast<Eigen::Index>(moved.size()), 3);
     bool ok = true;
     const int count = static_cast<int>(moved.size());
@@ -529,36 +463,36 @@ bool Session::bakeAllLayers(std::vector<int>* outside, bool allowOutside) {
     for (int c = 0; c < count; ++c) {
         Eigen::Vector3d x = Eigen::Vector3d::Zero();
         const int v = moved[static_cast<size_t>(c)];
-        const bool found = cagePreimage(lattice_, positions_.row(v).transpose(), outsideBox(lattice_, rest_.row(v).transpose()), x);
+        const bool found = cagePreimage(stack_.lattice_, positions_.row(v).transpose(), outsideBox(stack_.lattice_, rest_.row(v).transpose()), x);
         ok = ok && found;
         rest.row(c) = x.transpose();
     }
     if (!ok) return false;  // the layers stay after the cage, as before
     if (!allowOutside)
         for (int c = 0; c < count; ++c)
-            if (outsideBox(lattice_, rest.row(c).transpose())) return false;
+            if (outsideBox(stack_.lattice_, rest.row(c).transpose())) return false;
     if (trackJacobian_) {
         // The det J map multiplies the cage's det J at the rest point by frozenJacobian_: keep the product.
         for (int c = 0; c < count; ++c) {
             const int v = moved[static_cast<size_t>(c)];
-            const double before = cageJacobianAt(lattice_, rest_.row(v).transpose()) * layersJacobian(layers_, cageOut_.row(v).transpose());
-            const double after = cageJacobianAt(lattice_, rest.row(c).transpose());
+            const double before = cageJacobianAt(stack_.lattice_, rest_.row(v).transpose()) * layersJacobian(stack_.layers_, stack_.cageOut_.row(v).transpose());
+            const double after = cageJacobianAt(stack_.lattice_, rest.row(c).transpose());
             frozenJacobian_[static_cast<size_t>(v)] *= before / after;
         }
     }
     if (outside) {
         outside->clear();
         for (int v : moved)
-            if (outsideBox(lattice_, rest_.row(v).transpose())) outside->push_back(v);
+            if (outsideBox(stack_.lattice_, rest_.row(v).transpose())) outside->push_back(v);
     }
     drag_.outsideCage = 0;
     for (int c = 0; c < count; ++c) {
         rest_.row(moved[static_cast<size_t>(c)]) = rest.row(c);
-        drag_.outsideCage += outsideBox(lattice_, rest.row(c).transpose());
+        drag_.outsideCage += outsideBox(stack_.lattice_, rest.row(c).transpose());
     }
-    layers_.clear();
-    cageOut_.resize(0, 3);
-    embedVertices(lattice_, rest_, embedding_);
+    stack_.layers_.clear();
+    stack_.cageOut_.resize(0, 3);
+    embedVertices(stack_.lattice_, rest_, stack_.embedding_);
     ++restVersion_;
     return true;
 }
@@ -567,28 +501,28 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
     // The layers baked at steps[last]: the fresh-frame steps after the previous baked one.
     size_t first = last;
     while (first > 0 && !steps[first - 1].baked) --first;
-    layerActive_ = false;
+    stack_.layerActive_ = false;
     for (size_t k = first; k <= last; ++k) {
         if (!steps[k].freshFrame || !steps[k].weights.empty()) continue;
         enterLayer(nullptr, nullptr, &steps[k]);
-        applyControlDelta(layers_.back().lattice, steps[k].delta, 1.0);
-        layerActive_ = false;
+        applyControlDelta(stack_.layers_.back().lattice, steps[k].delta, 1.0);
+        stack_.layerActive_ = false;
     }
-    if (layers_.empty()) return;
-    if (cageOut_.rows() != positions_.rows()) cageOut_ = positions_;
+    if (stack_.layers_.empty()) return;
+    if (stack_.cageOut_.rows() != positions_.rows()) stack_.cageOut_ = positions_;
     Eigen::Vector3d lo, hi;
-    newestLayersBounds(layers_.size(), lo, hi);
+    stack_.newestLayersBounds(stack_.layers_.size(), lo, hi);
     // A stroke's layer moves along one line: inverted along it (always converges); other layers by Newton.
     std::vector<Eigen::Vector3d> directions;
     std::vector<double> bounds;
-    for (const Layer& layer : layers_) {
+    for (const Layer& layer : stack_.layers_) {
         directions.push_back(sharedDirection(layer.lattice));
         bounds.push_back(layer.lattice.displacement.rowwise().norm().maxCoeff() * (1.0 + 1e-9));
     }
     const auto invert = [&](const Eigen::Vector3d& y, Eigen::Vector3d& x) {
         x = y;
-        for (size_t k = layers_.size(); k-- > 0;) {
-            const Lattice& layer = layers_[k].lattice;
+        for (size_t k = stack_.layers_.size(); k-- > 0;) {
+            const Lattice& layer = stack_.layers_[k].lattice;
             Eigen::Vector3d below = x;
             if (directions[k].squaredNorm() > 0.0) {
                 if (!invertParallelLayer(layer, directions[k], bounds[k], x, below)) return false;
@@ -618,26 +552,17 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
         Eigen::Vector3d x = y, rest = y;
         const bool inverted = invert(y, x);
         const bool wasOutside = std::binary_search(steps[last].bakedOutside.begin(), steps[last].bakedOutside.end(), v);
-        if (!inverted || x == y || !cagePreimage(lattice_, x, wasOutside, rest)) continue;
+        if (!inverted || x == y || !cagePreimage(stack_.lattice_, x, wasOutside, rest)) continue;
         if (trackJacobian_) {
-            const double baked = cageJacobianAt(lattice_, rest_.row(v).transpose());
-            const double unbaked = cageJacobianAt(lattice_, rest) * layersJacobian(layers_, x);
+            const double baked = cageJacobianAt(stack_.lattice_, rest_.row(v).transpose());
+            const double unbaked = cageJacobianAt(stack_.lattice_, rest) * layersJacobian(stack_.layers_, x);
             frozenJacobian_[static_cast<size_t>(v)] *= baked / unbaked;
         }
         rest_.row(v) = rest.transpose();
-        cageOut_.row(v) = x.transpose();
+        stack_.cageOut_.row(v) = x.transpose();
     }
-    embedVertices(lattice_, rest_, embedding_);
+    embedVertices(stack_.lattice_, rest_, stack_.embedding_);
     ++restVersion_;
-}
-
-Eigen::Vector3d Session::imageOfRestPoint(const Eigen::Vector3d& rest) const {
-    // The cage maps its rest space as the vertices' evaluation does (x = X0 + sum R delta, X0 outside the
-    // box); the layers then take the cage's output as they take cageOut_.
-    Eigen::Vector3d params;
-    Eigen::Vector3d x = rest;
-    if (restParameters(lattice_, rest, params)) x = rest + displacementAt(lattice_, params);
-    return layers_.empty() ? x : pushThroughLayers(x);
 }
 
 }  // namespace sculpt::core

@@ -30,9 +30,9 @@ Status Stroke::begin(const std::vector<Eigen::Vector3d>& sourceParams) {
     for (size_t f = 0; f < sourceParams.size(); ++f)
         if (!sourceParams[f].allFinite() || (sourceParams[f].array() < 0.0).any() || (sourceParams[f].array() > 1.0).any())
             return Status::error("constraint " + std::to_string(f) + " source is outside the lattice");
-    s_.layerActive_ = false;  // cage parameters
+    s_.stack_.layerActive_ = false;  // cage parameters
     DirectManipulationData data;
-    if (Status s = precomputeDirectManipulation(s_.lattice_, sourceParams, data); !s) return s;
+    if (Status s = precomputeDirectManipulation(s_.stack_.lattice_, sourceParams, data); !s) return s;
     s_.drag_.data = std::move(data);
     s_.drag_.operation = Operation{};
     s_.drag_.operation.kind = OperationKind::Drag;
@@ -40,7 +40,7 @@ Status Stroke::begin(const std::vector<Eigen::Vector3d>& sourceParams) {
     s_.drag_.operation.label = dragLabel(sourceParams.size());
     s_.drag_.sourceWorld.clear();
     for (const Eigen::Vector3d& t : sourceParams) {
-        s_.drag_.sourceWorld.push_back(s_.currentImage(t));
+        s_.drag_.sourceWorld.push_back(s_.stack_.currentImage(t));
         s_.drag_.operation.constraints.push_back({s_.drag_.sourceWorld.back(), s_.drag_.sourceWorld.back()});
     }
     s_.drag_.params = sourceParams;
@@ -75,7 +75,7 @@ Status Stroke::beginAt(const std::vector<Eigen::Vector3d>& sources, const std::v
     if (Status s = s_.checkBrush(brush); !s) return s;
     for (size_t f = 0; f < sources.size(); ++f)
         if (!sources[f].allFinite()) return Status::error("constraint " + std::to_string(f) + " source has non-finite coordinates");
-    s_.layerActive_ = false;
+    s_.stack_.layerActive_ = false;
     const auto isHeld = [&](size_t f) { return f < held.size() && held[f]; };
     std::vector<MirroredConstraint> mirror = mirrorConstraints(sources, held, brush.symmetry, s_.symmetryCentre_, s_.mirrorMergeDistance(brush));
     if (brush.active()) {
@@ -93,17 +93,17 @@ Status Stroke::beginAt(const std::vector<Eigen::Vector3d>& sources, const std::v
     std::vector<Eigen::Vector3d> params(mirror.size());
     Status located = Status::success();
     for (size_t e = 0; e < mirror.size() && located; ++e) {
-        located = s_.parametersOfCurrentPoint(mirror[e].source, params[e]);
+        located = s_.stack_.parametersOfCurrentPoint(mirror[e].source, params[e]);
         if (!located) located = Status::error((mirror[e].images.front().second == 0 ? "constraint " + std::to_string(mirror[e].images.front().first)
                                                                                     : std::string("the mirror image of a constraint")) +
                                               " source: " + located.message);
     }
     DirectManipulationData data;
-    if (located) located = precomputeDirectManipulation(s_.activeLattice(), params, data);
+    if (located) located = precomputeDirectManipulation(s_.stack_.activeLattice(), params, data);
     if (!located) return located;
     s_.drag_.data = std::move(data);
     s_.drag_.sourceWorld.clear();
-    for (const Eigen::Vector3d& t : params) s_.drag_.sourceWorld.push_back(s_.currentImage(t));
+    for (const Eigen::Vector3d& t : params) s_.drag_.sourceWorld.push_back(s_.stack_.currentImage(t));
     s_.drag_.params = std::move(params);
     startMirrored(dragLabel(sources.size()), sources, std::move(mirror), brush);
     return Status::success();
@@ -118,7 +118,7 @@ Status Stroke::beginControl(const std::vector<int>& indices) {
     sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
     for (int idx : sorted)
         if (Status s = s_.checkMovable(idx); !s) return s;
-    s_.layerActive_ = false;
+    s_.stack_.layerActive_ = false;
     s_.drag_.operation = Operation{};
     s_.drag_.operation.kind = OperationKind::ControlPointEdit;
     s_.drag_.operation.interactive = true;
@@ -127,7 +127,7 @@ Status Stroke::beginControl(const std::vector<int>& indices) {
     s_.drag_.operation.offsets = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(sorted.size()), 3);
     s_.drag_.controlStart.resize(static_cast<Eigen::Index>(sorted.size()), 3);
     for (size_t c = 0; c < sorted.size(); ++c)
-        s_.drag_.controlStart.row(static_cast<Eigen::Index>(c)) = s_.pushThroughLayers(s_.lattice_.controlPoint(sorted[c])).transpose();
+        s_.drag_.controlStart.row(static_cast<Eigen::Index>(c)) = s_.stack_.pushThroughLayers(s_.stack_.lattice_.controlPoint(sorted[c])).transpose();
     s_.drag_.sourceWorld.clear();
     s_.drag_.params.clear();
     s_.drag_.appliedInFrame = false;
@@ -155,7 +155,7 @@ void Stroke::mergeStep(const ControlDelta& delta) {
         mergeDelta(s_.drag_.operation.steps.back().delta, delta);
     } else {
         Step step;
-        step.settings = s_.settings_;
+        step.settings = s_.stack_.settings_;
         step.delta = delta;
         for (const Eigen::Vector3d& source : s_.drag_.sourceWorld) step.constraints.push_back({source, source});
         s_.drag_.operation.steps.push_back(std::move(step));
@@ -171,7 +171,7 @@ bool Stroke::applyIncrement(const ControlDelta& delta, Manipulation& m, OpReport
     s_.lastMovedAll_ = false;
     if (s_.tryDelta(delta, &s_.lastMoved_, failure, report.injectivityMs, report.triangleCheckMs)) {
         mergeStep(delta);
-        for (size_t f = 0; f < s_.drag_.params.size(); ++f) s_.drag_.operation.steps.back().constraints[f].target = s_.currentImage(s_.drag_.params[f]);
+        for (size_t f = 0; f < s_.drag_.params.size(); ++f) s_.drag_.operation.steps.back().constraints[f].target = s_.stack_.currentImage(s_.drag_.params[f]);
         report.subSteps = 1;
         return true;
     }
@@ -255,12 +255,12 @@ Status Stroke::update(const std::vector<Eigen::Vector3d>& userTargets, OpReport&
     Eigen::MatrixX3d increment(static_cast<Eigen::Index>(targets.size()), 3);
     for (size_t f = 0; f < targets.size(); ++f) {
         Eigen::Vector3d target;
-        if (!s_.toActiveSpace(targets[f], target)) {
+        if (!s_.stack_.toActiveSpace(targets[f], target)) {
             report.status = OpStatus::Rejected;
             report.reason = "Refused: the target " + vectorText(targets[f]) + " is not the image of any point inside the lattice.";
             return Status::success();
         }
-        increment.row(static_cast<Eigen::Index>(f)) = (target - s_.activeImage(s_.drag_.params[f])).transpose();
+        increment.row(static_cast<Eigen::Index>(f)) = (target - s_.stack_.activeImage(s_.drag_.params[f])).transpose();
     }
     if ((increment.array() == 0.0).all()) {
         report.status = OpStatus::NoOp;
@@ -270,26 +270,26 @@ Status Stroke::update(const std::vector<Eigen::Vector3d>& userTargets, OpReport&
     // One incremental manipulation omega(S, increment) with the factorisation made at begin (eq. 7 / 12).
     const DirectManipulationResult solved = solveDirectManipulation(s_.drag_.data, increment);
     Manipulation m;
-    for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(s_.currentImage(s_.drag_.params[f]));
+    for (size_t f = 0; f < targets.size(); ++f) m.sources.push_back(s_.stack_.currentImage(s_.drag_.params[f]));
     m.targets = targets;
 
-    const int framesBefore = s_.frameDepth();
+    const int framesBefore = s_.stack_.frameDepth();
     if (!applyIncrement(solved.delta, m, report)) {
         report.wallMs = millisecondsSince(start);
         return Status::success();
     }
-    if (report.subSteps == 1 && s_.frameDepth() == framesBefore) {
+    if (report.subSteps == 1 && s_.stack_.frameDepth() == framesBefore) {
         report.residuals = solved.residuals;
         report.rankDeficient = solved.rankDeficient;
         if (s_.drag_.mirrored) s_.trimResiduals(report, s_.drag_.userStarts.size());
     } else {
         // The active lattice may have changed: the sources' parameters are re-found where the steps left them.
-        for (size_t f = 0; f < m.sources.size(); ++f) s_.parametersOfCurrentPoint(m.sources[f], s_.drag_.params[f]);
+        for (size_t f = 0; f < m.sources.size(); ++f) s_.stack_.parametersOfCurrentPoint(m.sources[f], s_.drag_.params[f]);
         DirectManipulationData data;
-        precomputeDirectManipulation(s_.activeLattice(), s_.drag_.params, data);
+        precomputeDirectManipulation(s_.stack_.activeLattice(), s_.drag_.params, data);
         s_.drag_.data = std::move(data);
     }
-    for (size_t f = 0; f < targets.size(); ++f) s_.drag_.sourceWorld[f] = s_.currentImage(s_.drag_.params[f]);
+    for (size_t f = 0; f < targets.size(); ++f) s_.drag_.sourceWorld[f] = s_.stack_.currentImage(s_.drag_.params[f]);
     if (s_.drag_.mirrored) {
         for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
             if (s_.drag_.mirror[e].images.front().second == 0)
@@ -388,7 +388,7 @@ Status Stroke::updateControlPerPoint(const Eigen::MatrixX3d& offsets, OpReport& 
     }
     ControlDelta delta;
     delta.indices = ids;
-    if (s_.layers_.empty()) {
+    if (s_.stack_.layers_.empty()) {
         delta.deltas = shownIncrement;
     } else {
         // Under layers the points follow the cursor as shown: each cage point goes where the layers take it
@@ -397,12 +397,12 @@ Status Stroke::updateControlPerPoint(const Eigen::MatrixX3d& offsets, OpReport& 
         for (Eigen::Index c = 0; c < count; ++c) {
             const Eigen::Vector3d shownTarget = s_.drag_.controlStart.row(c).transpose() + offsets.row(c).transpose();
             Eigen::Vector3d cageTarget;
-            if (!s_.pullThroughLayers(shownTarget, cageTarget, s_.layers_.size())) {
+            if (!s_.stack_.pullThroughLayers(shownTarget, cageTarget, s_.stack_.layers_.size())) {
                 report.status = OpStatus::Rejected;
                 report.reason = "Refused: no point of the lattice's layers maps onto " + vectorText(shownTarget) + ".";
                 return Status::success();
             }
-            delta.deltas.row(c) = (cageTarget - s_.lattice_.controlPoint(ids[static_cast<size_t>(c)])).transpose();
+            delta.deltas.row(c) = (cageTarget - s_.stack_.lattice_.controlPoint(ids[static_cast<size_t>(c)])).transpose();
         }
     }
     applyControlDelta(std::move(delta), shownIncrement, report);
@@ -415,7 +415,7 @@ void Stroke::applyControlDelta(ControlDelta delta, const Eigen::MatrixX3d& shown
     // object"): never a fresh lattice. A later update that moves back lets them follow again.
     s_.lastMoved_.clear();
     s_.lastMovedAll_ = false;
-    expandWelds(s_.lattice_, delta);  // a welded point moves as one (Coquillart 1990, 3.1.2)
+    expandWelds(s_.stack_.lattice_, delta);  // a welded point moves as one (Coquillart 1990, 3.1.2)
     StepFailure failure;
     const double fraction = s_.applyLargestInjectiveFraction(delta, &s_.lastMoved_, failure, report.injectivityMs, report.triangleCheckMs);
     report.fractionApplied = fraction;
@@ -449,7 +449,7 @@ void Stroke::end() { finish(nullptr); }
 void Stroke::finish(OpReport* report) {
     if (!s_.drag_.active) return;
     s_.drag_.active = false;
-    s_.layerActive_ = false;  // the next operation starts in the cage
+    s_.stack_.layerActive_ = false;  // the next operation starts in the cage
     s_.drag_.outsideCage = 0;
     if (!s_.drag_.operation.steps.empty()) {
         s_.refinement().afterEdit(s_.drag_.operation, report);
@@ -470,7 +470,7 @@ Status Stroke::cancel(OpReport& report) {
     }
     s_.drag_.active = false;
     s_.revertSteps(s_.drag_.operation.steps);
-    s_.layerActive_ = false;
+    s_.stack_.layerActive_ = false;
     // Taking it back is an inverse manipulation, exact only up to rounding: the replay repeats it.
     if (!s_.drag_.operation.steps.empty()) s_.history_.note(JournalEntry{JournalEntry::Kind::CancelledDrag, s_.drag_.operation, 0, {}, {}, {}}, false);
     report.status = s_.drag_.operation.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;

@@ -106,7 +106,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             step.regionFree = std::move(region.freePoints);
             if (Status s = s_.enterLayer(nullptr, nullptr, &step); !s) return fail(s);
             double miss = 0.0;
-            Status solved = brushFieldDelta(s_.layers_.back().lattice, local, brush.radius, brush.falloff, step.delta, miss);
+            Status solved = brushFieldDelta(s_.stack_.layers_.back().lattice, local, brush.radius, brush.falloff, step.delta, miss);
             if (!solved) {
                 s_.popLayer(nullptr);
                 return fail(solved);
@@ -115,9 +115,9 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
                 s_.popLayer(nullptr);
                 return fail(Status::success());
             }
-            s_.layerActive_ = false;
+            s_.stack_.layerActive_ = false;
             residual = std::max(residual, miss);
-            const Lattice& layer = s_.layers_.back().lattice;
+            const Lattice& layer = s_.stack_.layers_.back().lattice;
             for (Eigen::Vector3d& w : where) {
                 Eigen::Vector3d t;
                 if (restParameters(layer, w, t)) w += displacementAt(layer, t);
@@ -212,7 +212,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         for (const Step& step : previous) {
             s_.enterLayer(nullptr, nullptr, &step);
             s_.applyDelta(step.delta, 1.0, &moved);
-            s_.layerActive_ = false;
+            s_.stack_.layerActive_ = false;
         }
         steps = previous;
     }

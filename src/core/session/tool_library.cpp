@@ -121,7 +121,7 @@ Status ToolLibrary::freeze(int index, int pinLayers, OpReport& report) {
     s_.history_.lastJournaled().label = operation.label;
     s_.history_.lastJournaled().frozenBefore = before;
     s_.history_.lastJournaled().frozenAfter = index;
-    int inside = s_.embedding_.insideCount();
+    int inside = s_.stack_.embedding_.insideCount();
     report.reason = "froze " + std::to_string(inside) + " of " + std::to_string(s_.positions_.rows()) + " vertices in lattice " +
                     s_.tools_.list[static_cast<size_t>(index)].name;
     return Status::success();
@@ -136,7 +136,7 @@ Status ToolLibrary::unfreeze(OpReport& report) {
         return Status::success();
     }
     const int before = s_.tools_.frozen;
-    LatticeSettings box = s_.initialSettings_;
+    LatticeSettings box = s_.stack_.initialSettings_;
     box.hasRegion = false;  // around the mesh as it is now
     if (Status s = s_.setupLattice(box, report); !s) return s;
     report.op = "unfreeze";

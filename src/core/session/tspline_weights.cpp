@@ -69,7 +69,7 @@ std::vector<std::uint8_t> shownControlPoints(const TSplineVolume& volume, const 
 
 std::vector<int> TSplineTools::visiblePoints() const {
     std::vector<int> ids;
-    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.lattice_) : nullptr;
+    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.stack_.lattice_) : nullptr;
     if (!volume) return ids;
     const std::vector<std::uint8_t> visible = shownControlPoints(*volume, s_.rest_);
     for (size_t s = 0; s < visible.size(); ++s)
@@ -81,7 +81,7 @@ std::vector<int> TSplineTools::visiblePoints() const {
 
 Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& out) const {
     out = WeightBump{};
-    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.lattice_) : nullptr;
+    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.stack_.lattice_) : nullptr;
     if (!volume)
         return Status::error("no weighted T-spline lattice is frozen: set one up first (setup_tspline, or T-spline in the Lattices panel)");
     out.volume = volume;
@@ -93,15 +93,15 @@ Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& 
     // The picked vertex's element and parameters, as frozen.
     int pickedElement = -1, pickedEntry = -1;
     for (int e = 0; e < basis.elementCount() && pickedElement < 0; ++e)
-        for (int s = s_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s)
-            if (s_.embedding_.order[static_cast<size_t>(s)] == settings.vertex) {
+        for (int s = s_.stack_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.stack_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s)
+            if (s_.stack_.embedding_.order[static_cast<size_t>(s)] == settings.vertex) {
                 pickedElement = e;
                 pickedEntry = s;
                 break;
             }
     if (pickedElement < 0)
         return Status::error("vertex: " + std::to_string(settings.vertex) + " is outside the T-spline lattice (it does not move with it)");
-    const Eigen::Vector3d tp = embeddedParameters(s_.lattice_, s_.embedding_, pickedElement, pickedEntry);
+    const Eigen::Vector3d tp = embeddedParameters(s_.stack_.lattice_, s_.stack_.embedding_, pickedElement, pickedEntry);
     const std::vector<double>& weights = volume->controlWeights();
     std::vector<double> blending(static_cast<size_t>(basis.maxSupport));
     basis.blendingValues(pickedElement, tp, blending.data(), nullptr);
@@ -132,19 +132,19 @@ Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& 
             const int s = support[c];
             const double r = weights[static_cast<size_t>(s)] * blending[static_cast<size_t>(c)];
             // note: the boundary copies carry the lattice's outer faces; a local tool leaves them where they are.
-            if (!visible[static_cast<size_t>(s)] || !(r > 0.0) || volume->onOuterSurface(s) || s_.lattice_.pinned[static_cast<size_t>(s)]) continue;
+            if (!visible[static_cast<size_t>(s)] || !(r > 0.0) || volume->onOuterSurface(s) || s_.stack_.lattice_.pinned[static_cast<size_t>(s)]) continue;
             if (r > strongestValue) {
                 strongestValue = r;
                 strongest = s;
             }
-            const double pull = r * s_.lattice_.displacement.row(s).norm();
+            const double pull = r * s_.stack_.lattice_.displacement.row(s).norm();
             if (pull > strongestPullValue) {
                 strongestPullValue = pull;
                 strongestPull = s;
             }
             // At rest (the control point's rest position, the vertex's rest position): the same points are
             // chosen however far the bump has grown.
-            if (settings.radius > 0.0 && (s_.lattice_.restControlPoint(s) - pickedRest).norm() <= settings.radius)
+            if (settings.radius > 0.0 && (s_.stack_.lattice_.restControlPoint(s) - pickedRest).norm() <= settings.radius)
                 out.controlPoints.push_back(s);
         }
         if (strongest < 0) return Status::error("vertex: no visible control point influences vertex " + std::to_string(settings.vertex));
@@ -153,24 +153,24 @@ Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& 
         std::sort(out.controlPoints.begin(), out.controlPoints.end());
     }
     for (int s : out.controlPoints)
-        if (s_.lattice_.pinned[static_cast<size_t>(s)]) return Status::error("control point " + std::to_string(s) + " is pinned");
+        if (s_.stack_.lattice_.pinned[static_cast<size_t>(s)]) return Status::error("control point " + std::to_string(s) + " is pinned");
 
     // The sums of weight_sculpt.h over the vertices of the elements S reaches.
     std::vector<std::uint8_t> inS(static_cast<size_t>(volume->controlPointCount()), 0);
     for (int s : out.controlPoints) inS[static_cast<size_t>(s)] = 1;
-    const std::vector<int> cells = cellsInfluencedBy(s_.lattice_, out.controlPoints);
+    const std::vector<int> cells = cellsInfluencedBy(s_.stack_.lattice_, out.controlPoints);
     BumpSums& sums = out.sums;
     for (int e : cells) {
         const int* ids = basis.supportIds.data() + basis.supportStart[static_cast<size_t>(e)];
         const int count = basis.supportStart[static_cast<size_t>(e) + 1] - basis.supportStart[static_cast<size_t>(e)];
-        for (int s = s_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
-            const Eigen::Vector3d t = embeddedParameters(s_.lattice_, s_.embedding_, e, s);
+        for (int s = s_.stack_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.stack_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
+            const Eigen::Vector3d t = embeddedParameters(s_.stack_.lattice_, s_.stack_.embedding_, e, s);
             basis.blendingValues(e, t, blending.data(), nullptr);
             double others = 0.0, own = 0.0;
             Eigen::Vector3d othersDisplacement = Eigen::Vector3d::Zero(), ownDisplacement = Eigen::Vector3d::Zero();
             for (int c = 0; c < count; ++c) {
                 const double wb = weights[static_cast<size_t>(ids[c])] * blending[static_cast<size_t>(c)];
-                const Eigen::Vector3d d = s_.lattice_.displacement.row(ids[c]).transpose();
+                const Eigen::Vector3d d = s_.stack_.lattice_.displacement.row(ids[c]).transpose();
                 if (inS[static_cast<size_t>(ids[c])]) {
                     own += wb;
                     ownDisplacement += wb * d;
@@ -179,8 +179,8 @@ Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& 
                     othersDisplacement += wb * d;
                 }
             }
-            if (s_.embedding_.order[static_cast<size_t>(s)] == settings.vertex) out.picked = sums.vertices.size();
-            sums.vertices.push_back(s_.embedding_.order[static_cast<size_t>(s)]);
+            if (s_.stack_.embedding_.order[static_cast<size_t>(s)] == settings.vertex) out.picked = sums.vertices.size();
+            sums.vertices.push_back(s_.stack_.embedding_.order[static_cast<size_t>(s)]);
             sums.others.push_back(others);
             sums.own.push_back(own);
             sums.othersDisplacement.push_back(othersDisplacement);
@@ -190,7 +190,7 @@ Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& 
     // The direction: the bump's own at the picked vertex, else the surface normal there.
     const size_t p = out.picked;
     const Eigen::Vector3d bump = sums.ownDisplacement[p] / (sums.others[p] + sums.own[p]);
-    out.hasBump = bump.norm() > 1e-12 * s_.lattice_.diagonal();
+    out.hasBump = bump.norm() > 1e-12 * s_.stack_.lattice_.diagonal();
     if (out.hasBump) {
         out.direction = bump.normalized();
     } else {
@@ -203,7 +203,7 @@ Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& 
     std::vector<std::uint8_t> inSupport(static_cast<size_t>(vertexCount), 0);
     for (int v : sums.vertices) inSupport[static_cast<size_t>(v)] = 1;
     out.heights.assign(static_cast<size_t>(vertexCount), 0.0);
-    const Positions& output = s_.cageUnderLayers() ? s_.cageOut_ : s_.positions_;
+    const Positions& output = s_.stack_.cageUnderLayers() ? s_.stack_.cageOut_ : s_.positions_;
     for (Eigen::Index f = 0; f < s_.triangles_.rows(); ++f) {
         bool touches = false;
         for (int k = 0; k < 3; ++k) touches = touches || inSupport[static_cast<size_t>(s_.triangles_(f, k))];
@@ -241,12 +241,12 @@ Status TSplineTools::sculptWeights(const WeightToolSettings& settings, OpReport&
     report.op = settings.tool == Tool::SetWeights ? "set_weights" : settings.tool == Tool::Hammer ? "hammer" : "crimp";
     if (!s_.hasMesh()) return Status::error("no mesh is loaded");
     if (s_.drag_.active) return Status::error("an interactive drag is in progress");
-    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.lattice_) : nullptr;
+    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.stack_.lattice_) : nullptr;
     if (!volume)
         return Status::error("no weighted T-spline lattice is frozen: set one up first (setup_tspline, or T-spline in the Lattices panel)");
     const std::vector<double>& weights = volume->controlWeights();
     Step step;
-    step.settings = s_.settings_;
+    step.settings = s_.stack_.settings_;
     std::string label;
 
     if (settings.tool == Tool::SetWeights) {
@@ -324,7 +324,7 @@ Status TSplineTools::sculptWeights(const WeightToolSettings& settings, OpReport&
             label = "crimp";
         }
         for (int s : bump.controlPoints) {
-            const Eigen::Vector3d d = (lambda - 1.0) * s_.lattice_.displacement.row(s).transpose() + mu * n;
+            const Eigen::Vector3d d = (lambda - 1.0) * s_.stack_.lattice_.displacement.row(s).transpose() + mu * n;
             if (d.isZero(0.0)) continue;
             step.delta.indices.push_back(s);
             step.delta.deltas.conservativeResize(step.delta.deltas.rows() + 1, 3);
@@ -346,7 +346,7 @@ Status TSplineTools::sculptWeights(const WeightToolSettings& settings, OpReport&
 }
 
 Status TSplineTools::applyTool(const WeightToolSettings& settings, Step step, const std::string& label, OpReport& report) {
-    s_.layerActive_ = false;
+    s_.stack_.layerActive_ = false;
     s_.lastMoved_.clear();
     s_.lastMovedAll_ = false;
     std::vector<int> moved;
@@ -374,7 +374,7 @@ Status TSplineTools::applyTool(const WeightToolSettings& settings, Step step, co
         // then no new triangle crossing among the vertices moved.
         std::vector<int> ids = step.weights.ids;
         ids.insert(ids.end(), step.delta.indices.begin(), step.delta.indices.end());
-        applied = s_.certifyCells(s_.lattice_, cellsInfluencedBy(s_.lattice_, ids), failure, report.injectivityMs);
+        applied = s_.certifyCells(s_.stack_.lattice_, cellsInfluencedBy(s_.stack_.lattice_, ids), failure, report.injectivityMs);
         if (applied && s_.injectivity_.mode != InjectivityMode::Off && s_.injectivity_.checkTriangles && s_.triangles_.rows() > 0) {
             if (s_.before_.rows() != s_.positions_.rows()) s_.before_.resize(s_.positions_.rows(), 3);
             for (size_t c = 0; c < undo.vertices.size(); ++c) s_.before_.row(undo.vertices[c]) = undo.positions.row(static_cast<Eigen::Index>(c));
@@ -411,7 +411,7 @@ Status TSplineTools::applyTool(const WeightToolSettings& settings, Step step, co
 // ---- applying and undoing a weight change ----------------------------------------------------------------
 
 Status TSplineTools::checkRecordedWeights(const WeightChange& change) const {
-    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.lattice_) : nullptr;
+    const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.stack_.lattice_) : nullptr;
     if (!volume) return Status::error("a weight change needs a frozen weighted T-spline lattice");
     if (change.before.size() != change.ids.size() || change.after.size() != change.ids.size())
         return Status::error("weights: expected one weight before and after per id");
@@ -428,7 +428,7 @@ Status TSplineTools::checkRecordedWeights(const WeightChange& change) const {
 }
 
 Status TSplineTools::applyStep(const Step& step, std::vector<int>* moved) {
-    const TSplineVolume* old = asTSpline(s_.lattice_);
+    const TSplineVolume* old = asTSpline(s_.stack_.lattice_);
     if (!old) return Status::error("a weight change needs a frozen weighted T-spline lattice");
     std::vector<double> weights = old->controlWeights();
     for (size_t c = 0; c < step.weights.ids.size(); ++c) weights[static_cast<size_t>(step.weights.ids[c])] = step.weights.after[c];
@@ -437,15 +437,15 @@ Status TSplineTools::applyStep(const Step& step, std::vector<int>* moved) {
         return Status::error("these weights: " + s.message);
 
     auto undo = std::make_shared<WeightUndo>();
-    undo->volume = s_.lattice_.volume;
+    undo->volume = s_.stack_.lattice_.volume;
     std::vector<int> ids = step.weights.ids;
     ids.insert(ids.end(), step.delta.indices.begin(), step.delta.indices.end());
-    for (int e : cellsInfluencedBy(s_.lattice_, ids))
-        for (int s = s_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
-            undo->vertices.push_back(s_.embedding_.order[static_cast<size_t>(s)]);
+    for (int e : cellsInfluencedBy(s_.stack_.lattice_, ids))
+        for (int s = s_.stack_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.stack_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
+            undo->vertices.push_back(s_.stack_.embedding_.order[static_cast<size_t>(s)]);
             undo->entries.push_back(s);
         }
-    const bool layered = s_.cageUnderLayers();
+    const bool layered = s_.stack_.cageUnderLayers();
     Positions& output = s_.activeOutput();
     const Eigen::Index count = static_cast<Eigen::Index>(undo->vertices.size());
     undo->rest.resize(count, 3);
@@ -455,39 +455,39 @@ Status TSplineTools::applyStep(const Step& step, std::vector<int>* moved) {
         const int v = undo->vertices[static_cast<size_t>(c)];
         undo->rest.row(c) = s_.rest_.row(v);
         undo->positions.row(c) = s_.positions_.row(v);
-        if (layered) undo->output.row(c) = s_.cageOut_.row(v);
+        if (layered) undo->output.row(c) = s_.stack_.cageOut_.row(v);
         if (s_.trackJacobian_) undo->jacobian.push_back(s_.frozenJacobian_[static_cast<size_t>(v)]);
     }
     undo->displacement.indices = step.delta.indices;
     undo->displacement.deltas.resize(static_cast<Eigen::Index>(step.delta.indices.size()), 3);
     for (size_t c = 0; c < step.delta.indices.size(); ++c)
-        undo->displacement.deltas.row(static_cast<Eigen::Index>(c)) = s_.lattice_.displacement.row(step.delta.indices[c]);
+        undo->displacement.deltas.row(static_cast<Eigen::Index>(c)) = s_.stack_.lattice_.displacement.row(step.delta.indices[c]);
 
     // The new volume in the frame, the tool list and the settings (a later set-up freezes it as it is now).
-    s_.lattice_.volume = fresh;
-    s_.lattice_.weights = fresh->controlWeights();
-    s_.lattice_.rational = fresh->isRational();
-    s_.settings_.volume = fresh;
+    s_.stack_.lattice_.volume = fresh;
+    s_.stack_.lattice_.weights = fresh->controlWeights();
+    s_.stack_.lattice_.rational = fresh->isRational();
+    s_.stack_.settings_.volume = fresh;
     s_.tools_.list[static_cast<size_t>(s_.tools_.frozen)].volume = fresh;
-    applyControlDelta(s_.lattice_, step.delta, 1.0);
+    applyControlDelta(s_.stack_.lattice_, step.delta, 1.0);
     // Rest rows rebased, outputs evaluated again (file comment), per element.
-    const std::vector<int> cells = cellsInfluencedBy(s_.lattice_, ids);
+    const std::vector<int> cells = cellsInfluencedBy(s_.stack_.lattice_, ids);
     const int cellCount = static_cast<int>(cells.size());
 #pragma omp parallel for schedule(dynamic, 8) if (cellCount > 64)
     for (int k = 0; k < cellCount; ++k) {
         const int e = cells[static_cast<size_t>(k)];
-        for (int s = s_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
-            const int v = s_.embedding_.order[static_cast<size_t>(s)];
-            const Eigen::Vector3d t = embeddedParameters(s_.lattice_, s_.embedding_, e, s);
+        for (int s = s_.stack_.embedding_.cellStart[static_cast<size_t>(e)]; s < s_.stack_.embedding_.cellStart[static_cast<size_t>(e) + 1]; ++s) {
+            const int v = s_.stack_.embedding_.order[static_cast<size_t>(s)];
+            const Eigen::Vector3d t = embeddedParameters(s_.stack_.lattice_, s_.stack_.embedding_, e, s);
             Eigen::Vector3d restBefore, restAfter;
             Eigen::Matrix3d derivativeBefore, derivativeAfter;
             old->evaluate(old->restControlPoints(), t, restBefore, s_.trackJacobian_ ? &derivativeBefore : nullptr);
             fresh->evaluate(fresh->restControlPoints(), t, restAfter, s_.trackJacobian_ ? &derivativeAfter : nullptr);
             s_.rest_.row(v) += (restAfter - restBefore).transpose();
-            s_.embedding_.restX[static_cast<size_t>(s)] = s_.rest_(v, 0);  // the evaluation kernels read the rest rows here
-            s_.embedding_.restY[static_cast<size_t>(s)] = s_.rest_(v, 1);
-            s_.embedding_.restZ[static_cast<size_t>(s)] = s_.rest_(v, 2);
-            output.row(v) = s_.rest_.row(v) + displacementAt(s_.lattice_, t).transpose();
+            s_.stack_.embedding_.restX[static_cast<size_t>(s)] = s_.rest_(v, 0);  // the evaluation kernels read the rest rows here
+            s_.stack_.embedding_.restY[static_cast<size_t>(s)] = s_.rest_(v, 1);
+            s_.stack_.embedding_.restZ[static_cast<size_t>(s)] = s_.rest_(v, 2);
+            output.row(v) = s_.rest_.row(v) + displacementAt(s_.stack_.lattice_, t).transpose();
             if (s_.trackJacobian_) s_.frozenJacobian_[static_cast<size_t>(v)] *= derivativeAfter.determinant() / derivativeBefore.determinant();
         }
     }
@@ -503,12 +503,12 @@ void TSplineTools::revertStep(const Step& step, std::vector<int>* moved) {
     const std::shared_ptr<WeightUndo> undo = step.weightUndo;
     if (!undo) return;
     for (size_t c = 0; c < undo->displacement.indices.size(); ++c)
-        s_.lattice_.displacement.row(undo->displacement.indices[c]) = undo->displacement.deltas.row(static_cast<Eigen::Index>(c));
-    s_.lattice_.volume = undo->volume;
+        s_.stack_.lattice_.displacement.row(undo->displacement.indices[c]) = undo->displacement.deltas.row(static_cast<Eigen::Index>(c));
+    s_.stack_.lattice_.volume = undo->volume;
     ++s_.restVersion_;
-    s_.lattice_.weights = undo->volume->controlWeights();
-    s_.lattice_.rational = undo->volume->isRational();
-    s_.settings_.volume = undo->volume;
+    s_.stack_.lattice_.weights = undo->volume->controlWeights();
+    s_.stack_.lattice_.rational = undo->volume->isRational();
+    s_.stack_.settings_.volume = undo->volume;
     s_.tools_.list[static_cast<size_t>(s_.tools_.frozen)].volume = undo->volume;
     const bool layered = undo->output.rows() > 0;
     for (size_t c = 0; c < undo->vertices.size(); ++c) {
@@ -516,11 +516,11 @@ void TSplineTools::revertStep(const Step& step, std::vector<int>* moved) {
         const Eigen::Index row = static_cast<Eigen::Index>(c);
         s_.rest_.row(v) = undo->rest.row(row);
         const size_t entry = static_cast<size_t>(undo->entries[c]);
-        s_.embedding_.restX[entry] = s_.rest_(v, 0);
-        s_.embedding_.restY[entry] = s_.rest_(v, 1);
-        s_.embedding_.restZ[entry] = s_.rest_(v, 2);
+        s_.stack_.embedding_.restX[entry] = s_.rest_(v, 0);
+        s_.stack_.embedding_.restY[entry] = s_.rest_(v, 1);
+        s_.stack_.embedding_.restZ[entry] = s_.rest_(v, 2);
         s_.positions_.row(v) = undo->positions.row(row);
-        if (layered) s_.cageOut_.row(v) = undo->output.row(row);
+        if (layered) s_.stack_.cageOut_.row(v) = undo->output.row(row);
         if (!undo->jacobian.empty()) s_.frozenJacobian_[static_cast<size_t>(v)] = undo->jacobian[c];
     }
     s_.positionsChanged(&undo->vertices);

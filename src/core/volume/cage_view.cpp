@@ -23,14 +23,14 @@ Positions carryThroughLayers(const std::vector<Layer>& layers, const Positions& 
 CageView cageView(const Session& session, int samplesPerSpan) {
     CageView view;
     const Lattice& lattice = session.lattice();
-    view.points = session.cagePoints();
+    view.points = session.cage().cagePoints();
     const int count = lattice.controlPointCount();
     view.representative.assign(static_cast<size_t>(count), 1);
     if (!lattice.volume) return view;
     for (int id = 0; id < count; ++id) view.representative[static_cast<size_t>(id)] = lattice.representative(id) == id;
     view.edges = controlNetEdges(lattice);
     view.curves = chunkEdgeCurves(lattice, samplesPerSpan);
-    for (Positions& curve : view.curves) curve = carryThroughLayers(session.layers(), curve);
+    for (Positions& curve : view.curves) curve = carryThroughLayers(session.cage().layers(), curve);
     return view;
 }
 

@@ -77,7 +77,7 @@ TEST_CASE("brush detail: after a stroke, moving the whole cage rigidly moves the
             const Positions sculpted = session.positions();
             const double spike = (sculpted.row(v) - original.row(v)).norm();
             CHECK(spike > 0.3 * brush.radius);
-            CHECK(session.layers().empty());  // the stroke is part of the rest shape now
+            CHECK(session.cage().layers().empty());  // the stroke is part of the rest shape now
             // Every free control point of the cage by the same vector: a translation of the whole shape.
             const std::vector<int> ids = unpinned(session.lattice());
             const Eigen::Vector3d by = 0.07 * mesh.diagonal * test::randomVector(rng, -1.0, 1.0).normalized();

@@ -337,7 +337,7 @@ TEST_CASE("brush: brush drags undo to the original and redo to the result, and a
         const Script recording = recordSession(session);
         OpReport report;
         while (session.historyCursor() > 0) REQUIRE(session.undo(report).ok);
-        CHECK(session.layers().empty());
+        CHECK(session.cage().layers().empty());
         CHECK((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
         while (session.historyCursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(report).ok);
         CHECK((session.positions() - after).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
@@ -382,10 +382,10 @@ TEST_CASE("layers: after subdivided drags the cage is carried through the layers
         REQUIRE(session.dragVertex(static_cast<int>(top), mesh.positions.row(top).transpose() + Eigen::Vector3d(0.5, 0.2, 0.9), report).ok);
         if (report.status != OpStatus::Applied || report.subSteps < 2) continue;
         INFO("trial " << trial);
-        CHECK(session.frameDepth() == static_cast<int>(session.layers().size()));  // layers, not new cages
-        CHECK(session.latticeSettings().resolution == settings.resolution);
+        CHECK(session.cage().frameDepth() == static_cast<int>(session.cage().layers().size()));  // layers, not new cages
+        CHECK(session.cage().settings().resolution == settings.resolution);
         // The shown cage is the cage carried through the layers.
-        const Positions shown = session.cagePoints();
+        const Positions shown = session.cage().cagePoints();
         const Positions cage = controlPointPositions(session.lattice());
         // A control point moved "by" an offset moves that much as shown, and the layers stay as they were.
         int idx = -1;
@@ -394,17 +394,17 @@ TEST_CASE("layers: after subdivided drags the cage is carried through the layers
             if (!session.lattice().pinned[candidate]) idx = candidate;
         }
         REQUIRE(idx >= 0);
-        const size_t layerCount = session.layers().size();
+        const size_t layerCount = session.cage().layers().size();
         const Eigen::Vector3d offset = 0.02 * mesh.diagonal * test::randomVector(rng, -1.0, 1.0);
         Eigen::MatrixX3d values(1, 3);
         values.row(0) = offset.transpose();
         REQUIRE(session.moveControlPoints({idx}, values, true, report).ok);
         if (report.status == OpStatus::Applied && report.fractionApplied == 1.0) {
-            CHECK((session.cagePoints().row(idx) - shown.row(idx) - offset.transpose()).norm() <= 1e-9 * mesh.diagonal);
-            CHECK(session.layers().size() == layerCount);
+            CHECK((session.cage().cagePoints().row(idx) - shown.row(idx) - offset.transpose()).norm() <= 1e-9 * mesh.diagonal);
+            CHECK(session.cage().layers().size() == layerCount);
         }
         REQUIRE(session.undo(report).ok);
         CHECK((controlPointPositions(session.lattice()) - cage).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
-        CHECK((session.cagePoints() - shown).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+        CHECK((session.cage().cagePoints() - shown).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
     }
 }

@@ -61,7 +61,7 @@ void raiseRidge(Session& session, double height, OpReport& report) {
 
 // Every triangle of the session's mesh within `tolerance` (world units), sampled densely.
 void requireWithin(const Session& session, double tolerance) {
-    const auto image = [&session](const Eigen::Vector3d& x) { return session.imageOfRestPoint(x); };
+    const auto image = [&session](const Eigen::Vector3d& x) { return session.cage().imageOfRestPoint(x); };
     const std::vector<double> deviation = test::sampledDeviations(session.restPositions(), session.positions(), session.triangles(), image, 10);
     double worst = 0.0;
     for (double d : deviation) worst = std::max(worst, d);
@@ -97,7 +97,7 @@ TEST_CASE("refinement: a coarse plane under a sharp ridge is refined within the 
 
     // The coarse mesh misses the bump: its flat triangles stray from their image by far more than the tolerance.
     {
-        const auto image = [&session](const Eigen::Vector3d& x) { return session.imageOfRestPoint(x); };
+        const auto image = [&session](const Eigen::Vector3d& x) { return session.cage().imageOfRestPoint(x); };
         const std::vector<double> d = test::sampledDeviations(session.restPositions(), bumped, coarse, image);
         REQUIRE(*std::max_element(d.begin(), d.end()) > 10.0 * world);
     }
@@ -120,7 +120,7 @@ TEST_CASE("refinement: a coarse plane under a sharp ridge is refined within the 
     REQUIRE(sameBits(Positions(session.positions().topRows(6)), bumped));
     double offCoarse = 0.0;
     for (Eigen::Index v = 6; v < session.positions().rows(); ++v) {
-        const Eigen::Vector3d x = session.imageOfRestPoint(session.restPositions().row(v).transpose());
+        const Eigen::Vector3d x = session.cage().imageOfRestPoint(session.restPositions().row(v).transpose());
         REQUIRE(sameBits(Eigen::RowVector3d(x.transpose()), Eigen::RowVector3d(session.positions().row(v))));
         offCoarse = std::max(offCoarse, std::abs(x.z() - 0.0) - 0.0);
     }
@@ -428,10 +428,10 @@ TEST_CASE("refinement: new vertices follow the cage through its layers and after
     brush.radius = 0.5;
     REQUIRE(session.dragVertex(7, session.positions().row(7).transpose() + Eigen::Vector3d(0.0, 0.0, 0.3), report, brush).ok);
     REQUIRE(report.status == OpStatus::Applied);
-    REQUIRE(session.layers().empty());
+    REQUIRE(session.cage().layers().empty());
     REQUIRE(session.history().back().steps.back().baked);
     for (Eigen::Index v = 0; v < session.positions().rows(); ++v)
-        REQUIRE((session.imageOfRestPoint(session.restPositions().row(v).transpose()) - session.positions().row(v).transpose()).norm() <= 1e-12 * diagonal);
+        REQUIRE((session.cage().imageOfRestPoint(session.restPositions().row(v).transpose()) - session.positions().row(v).transpose()).norm() <= 1e-12 * diagonal);
     REQUIRE(session.positions().rows() > positions.rows());  // refined with the stroke
     REQUIRE(session.refinement().refine(0.003, report).ok);
     REQUIRE(report.status == OpStatus::NoOp);
@@ -443,7 +443,7 @@ TEST_CASE("refinement: new vertices follow the cage through its layers and after
     REQUIRE(report.status == OpStatus::Applied);
     REQUIRE(session.positions().rows() > before);
     for (Eigen::Index v = 0; v < session.positions().rows(); ++v)
-        REQUIRE((session.imageOfRestPoint(session.restPositions().row(v).transpose()) - session.positions().row(v).transpose()).norm() <= 1e-12 * diagonal);
+        REQUIRE((session.cage().imageOfRestPoint(session.restPositions().row(v).transpose()) - session.positions().row(v).transpose()).norm() <= 1e-12 * diagonal);
     // Undo everything: the input mesh again.
     while (session.historyCursor() > 0) REQUIRE(session.undo(report).ok);
     REQUIRE(sameBits(session.triangles(), triangles));
@@ -482,7 +482,7 @@ TEST_CASE("refinement: the triangle check refuses a refinement that would make t
         REQUIRE(session.moveControlPoints(ids, offsets, true, report).ok);
         REQUIRE(report.status == OpStatus::Applied);
         REQUIRE(sameBits(session.positions(), positions));  // no vertex in reach
-        REQUIRE(session.imageOfRestPoint(Eigen::Vector3d(0.5, 0.5, 0.0)).z() > 0.1);
+        REQUIRE(session.cage().imageOfRestPoint(Eigen::Vector3d(0.5, 0.5, 0.0)).z() > 0.1);
         REQUIRE(session.refinement().refine(0.002, report).ok);
         if (checking) {
             INFO(report.reason);

@@ -95,7 +95,7 @@ static void runFrozenCylinderDrags(unsigned seed, int firstTrial, int trialCount
         const Positions sculpted = session.positions();
         {
             const Positions restBefore = session.restPositions();
-            const size_t layersBefore = session.layers().size();
+            const size_t layersBefore = session.cage().layers().size();
             REQUIRE(session.tools().unfreeze(report));
             REQUIRE(session.undo(report));
             INFO("layers " << layersBefore);

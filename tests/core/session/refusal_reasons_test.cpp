@@ -118,7 +118,7 @@ TEST_CASE("refusals: a control-point edit that had to stop short says where the 
         CHECK((ended - (start + report.fractionApplied * offset.row(0).transpose())).norm() <= 1e-12 * lattice.diagonal());
         CHECK(mentions(report.reason, "stopped where the lattice would fold"));
         CHECK(mentions(report.reason, "ended at"));
-        CHECK(session.frameDepth() == 0);  // the cage stays the user's: no fresh lattice
+        CHECK(session.cage().frameDepth() == 0);  // the cage stays the user's: no fresh lattice
         CHECK(session.history().size() == 1);
         // A little further is not injective any more (to the bisection's resolution).
         OpReport further;

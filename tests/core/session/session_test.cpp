@@ -304,7 +304,7 @@ TEST_CASE("session: a control-point drag with an offset per point equals one edi
             anyStop = anyStop || report.fractionApplied < 1.0;
         }
         stopped += anyStop;
-        CHECK(incremental.frameDepth() == 0);  // never a fresh lattice: the points stop instead
+        CHECK(incremental.cage().frameDepth() == 0);  // never a fresh lattice: the points stop instead
         // What the drag applied, as one edit: each point's displacement.
         Eigen::MatrixX3d applied(static_cast<Eigen::Index>(ids.size()), 3);
         for (size_t r = 0; r < ids.size(); ++r)
@@ -362,7 +362,7 @@ TEST_CASE("session: cancelling a drag takes back what it applied, subdivided ste
         REQUIRE(session.dragVertex(3, session.positions().row(3).transpose() + 0.05 * session.lattice().diagonal() * test::randomVector(rng, -1, 1), report).ok);
         const Positions before = session.positions();
         const double diagonal = session.lattice().diagonal();
-        const int frames = session.frameDepth();
+        const int frames = session.cage().frameDepth();
         if (trial % 2 == 0) {
             Eigen::Vector3d params;
             REQUIRE(session.parametersOfVertex(10, params).ok);
@@ -375,12 +375,12 @@ TEST_CASE("session: cancelling a drag takes back what it applied, subdivided ste
             const Eigen::Vector3d offset = (trial % 4 == 1 ? 0.6 : 0.05) * diagonal * test::randomVector(rng, -1, 1);
             for (int m = 1; m <= 6; ++m) REQUIRE(session.stroke().updateControl(offset * (m / 6.0), report).ok);
         }
-        subdivided += session.frameDepth() > frames;
-        INFO("trial " << trial << ", frames " << frames << " -> " << session.frameDepth());
+        subdivided += session.cage().frameDepth() > frames;
+        INFO("trial " << trial << ", frames " << frames << " -> " << session.cage().frameDepth());
         REQUIRE(session.stroke().cancel(report).ok);
         CHECK_FALSE(session.stroke().active());
         CHECK(session.history().size() == 1);
-        CHECK(session.frameDepth() == frames);
+        CHECK(session.cage().frameDepth() == frames);
         CHECK((session.positions() - before).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         REQUIRE(session.stroke().cancel(report).ok);
         CHECK(report.status == OpStatus::NoOp);
@@ -399,7 +399,7 @@ TEST_CASE("session: restVersion changes whenever the rest mesh or its embedding 
         session.setInjectivity({trial % 2 ? InjectivityMode::Conic : InjectivityMode::Off, 4});
         std::uint64_t version = session.restVersion();
         Positions rest = session.restPositions();
-        Embedding embedding = session.embedding();
+        Embedding embedding = session.cage().embedding();
         int changes = 0;
         for (int op = 0; op < 40; ++op) {
             OpReport report;
@@ -425,15 +425,15 @@ TEST_CASE("session: restVersion changes whenever the rest mesh or its embedding 
                 INFO("trial " << trial << ", op " << op << " (kind " << kind << ")");
                 REQUIRE(session.restPositions().rows() == rest.rows());
                 CHECK(session.restPositions() == rest);
-                CHECK(session.embedding().order == embedding.order);
-                CHECK(session.embedding().cellStart == embedding.cellStart);
-                CHECK(session.embedding().localX == embedding.localX);
-                CHECK(session.embedding().localZ == embedding.localZ);
+                CHECK(session.cage().embedding().order == embedding.order);
+                CHECK(session.cage().embedding().cellStart == embedding.cellStart);
+                CHECK(session.cage().embedding().localX == embedding.localX);
+                CHECK(session.cage().embedding().localZ == embedding.localZ);
             } else {
                 ++changes;
                 version = session.restVersion();
                 rest = session.restPositions();
-                embedding = session.embedding();
+                embedding = session.cage().embedding();
             }
         }
         CHECK(changes > 0);  // set-ups (and their undos) did change it

@@ -134,10 +134,10 @@ TEST_CASE("subdivision: a subdivided drag undoes and redoes through its fresh la
     REQUIRE(session.dragVertex(top, s.positions.row(top).transpose() + Eigen::Vector3d(0.9, 0.3, 0.5), report).ok);
     REQUIRE(report.status == OpStatus::Applied);
     REQUIRE(report.subSteps > 1);
-    REQUIRE(session.frameDepth() > 0);
+    REQUIRE(session.cage().frameDepth() > 0);
     const Positions after = session.positions();
     REQUIRE(session.undo(report).ok);
-    REQUIRE(session.frameDepth() == 0);
+    REQUIRE(session.cage().frameDepth() == 0);
     const double diagonal = 2.0 * std::sqrt(3.0);
     REQUIRE((session.positions() - s.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     REQUIRE(session.redo(report).ok);
@@ -347,7 +347,7 @@ TEST_CASE("subdivision: undo of large interactive drags through many fresh frame
         }
         session.stroke().end();
         if (session.history().empty()) continue;
-        manyFrames += session.frameDepth() >= 5;
+        manyFrames += session.cage().frameDepth() >= 5;
         const Positions dragged = session.positions();
         const std::vector<double> dets = session.totalJacobianDeterminants();
         REQUIRE(session.undo(report).ok);
@@ -418,7 +418,7 @@ TEST_CASE("subdivision: after a subdivided drag, moving the whole cage rigidly m
             REQUIRE(session.drag(constraints, report).ok);
             if (report.status != OpStatus::Applied || report.subSteps < 2) continue;
             ++subdivided;
-            if (!session.layers().empty()) continue;  // something would rest outside the box: kept after the cage
+            if (!session.cage().layers().empty()) continue;  // something would rest outside the box: kept after the cage
             ++baked;
             const Positions dragged = session.positions();
             CHECK((dragged.row(v).transpose() - target).norm() <= 1e-9 * diagonal);

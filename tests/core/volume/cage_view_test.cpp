@@ -111,11 +111,11 @@ TEST_CASE("cage view: with layers after the cage, points and curves are carried 
     OpReport report;
     REQUIRE(session.drag({{Eigen::Vector3d(0.3, 0.9, 0.3), Eigen::Vector3d(0.3, 1.0, 0.4)}}, report, brush));
     REQUIRE(report.status == OpStatus::Applied);
-    REQUIRE(!session.layers().empty());
+    REQUIRE(!session.cage().layers().empty());
     const CageView view = cageView(session, 4);
     // The same map as the session's: the cage's points carried through the layers are cagePoints().
-    const Positions carried = carryThroughLayers(session.layers(), controlPointPositions(session.lattice()));
-    CHECK((carried - session.cagePoints()).cwiseAbs().maxCoeff() == 0.0);
-    CHECK((view.points - session.cagePoints()).cwiseAbs().maxCoeff() == 0.0);
+    const Positions carried = carryThroughLayers(session.cage().layers(), controlPointPositions(session.lattice()));
+    CHECK((carried - session.cage().cagePoints()).cwiseAbs().maxCoeff() == 0.0);
+    CHECK((view.points - session.cage().cagePoints()).cwiseAbs().maxCoeff() == 0.0);
     REQUIRE(view.curves.size() == chunkEdgeCurves(session.lattice(), 4).size());
 }
