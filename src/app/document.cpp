@@ -89,7 +89,7 @@ void addOperation(Fingerprint& f, const core::Operation& op) {
 
 HistoryMark markHistory(const core::Session& session) {
     HistoryMark mark;
-    mark.cursor = session.historyCursor();
+    mark.cursor = session.history().cursor();
     Fingerprint f;
     for (int i = 0; i < mark.cursor; ++i) addOperation(f, session.history()[static_cast<size_t>(i)]);
     mark.fingerprint = f.value();

@@ -63,11 +63,11 @@ int runHeadless(const CliOptions& options, const char* argv0) {
                 static_cast<int>(mesh.positions.rows()), static_cast<int>(mesh.triangles.rows()), loadMs,
                 session.lattice().count[0], session.lattice().count[1], session.lattice().count[2],
                 session.lattice().degree[0], session.lattice().degree[1], session.lattice().degree[2]);
-    if (session.initialDegenerateTriangles() > 0)
-        std::cerr << "sculpt: warning: " << input << " has " << session.initialDegenerateTriangles()
+    if (session.meshAsSet().degenerateTriangles > 0)
+        std::cerr << "sculpt: warning: " << input << " has " << session.meshAsSet().degenerateTriangles
                   << " degenerate (zero-area) facet(s); they are not counted as crossings\n";
-    if (session.initialIntersectingPairs() > 0)
-        std::cerr << "sculpt: warning: " << input << " already crosses itself (" << session.initialIntersectingPairs()
+    if (session.meshAsSet().intersectingPairs > 0)
+        std::cerr << "sculpt: warning: " << input << " already crosses itself (" << session.meshAsSet().intersectingPairs
                   << " triangle pairs); those never count against an edit, only new crossings are refused\n";
 
     ScreenshotRenderer screenshots(options);

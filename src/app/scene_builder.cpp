@@ -53,7 +53,7 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
         }
     }
 
-    const core::Operation* last = session.historyCursor() > 0 ? &session.history()[session.historyCursor() - 1] : nullptr;
+    const core::Operation* last = session.history().cursor() > 0 ? &session.history()[session.history().cursor() - 1] : nullptr;
     if (request.lastDragConstraints && last && last->kind == core::OperationKind::Drag) {
         const auto& constraints = last->interactive ? last->steps.back().constraints : last->constraints;
         scene.constraints.sources.resize(static_cast<Eigen::Index>(constraints.size()), 3);

@@ -284,11 +284,11 @@ std::string reportToJson(const core::ScriptReport& report, const core::Session& 
         ops.push_back(op);
     }
     root["ops"] = ops;
-    root["history"] = {{"entries", session.history().size()}, {"cursor", session.historyCursor()},
+    root["history"] = {{"entries", session.history().size()}, {"cursor", session.history().cursor()},
                        {"bytes", session.historyBytes()}, {"lattice_frames", session.cage().frameDepth() + 1}};
     root["injectivity"] = injectivityJson(session.injectivity());
-    root["self_intersecting_pairs_at_load"] = session.initialIntersectingPairs();
-    root["degenerate_triangles_at_load"] = session.initialDegenerateTriangles();
+    root["self_intersecting_pairs_at_load"] = session.meshAsSet().intersectingPairs;
+    root["degenerate_triangles_at_load"] = session.meshAsSet().degenerateTriangles;
     return root.dump(2) + "\n";
 }
 

@@ -226,7 +226,7 @@ private:
     // Could `op` change the number of vertices (and so reallocate the rows views point into)?
     bool mayChangeVertexCount(const core::ScriptOp& op) const {
         const auto& history = session.history();
-        const int cursor = session.historyCursor();
+        const int cursor = session.history().cursor();
         switch (op.kind) {
             case core::ScriptOp::Kind::Refine: return true;
             case core::ScriptOp::Kind::Undo: return cursor > 0 && !history[static_cast<size_t>(cursor - 1)].refinement.empty();

@@ -121,7 +121,7 @@ TEST_CASE("document: modified follows the applied history, undo back to the save
     CHECK_FALSE(app::isModified(document, session));  // back to the saved state
     REQUIRE(session.undo(report).ok);
     randomDrag();  // same cursor as when saved, different operation
-    CHECK(session.historyCursor() == document.saved.cursor);
+    CHECK(session.history().cursor() == document.saved.cursor);
     CHECK(app::isModified(document, session));
     randomDrag();
     CHECK(app::isModified(document, session));

@@ -262,7 +262,7 @@ void benchSubdivision() {
         const Eigen::Vector3d target = source + Eigen::Vector3d(0.9, 0.5, -0.6);
         OpReport report;
         const double ms = bench::medianMs(10, [&] { session.drag({{source, target}}, report); },
-                                          [&] { if (session.historyCursor() > 0) session.undo(report); });
+                                          [&] { if (session.history().cursor() > 0) session.undo(report); });
         session.undo(report);
         session.drag({{source, target}}, report);
         char extra[200];
@@ -282,7 +282,7 @@ void benchSubdivision() {
         session.drag({{source, target}}, report);
         const int steps = report.subSteps;
         const double ms = bench::medianMs(10, [&] { session.undo(report); }, [&] {
-            if (session.historyCursor() == 0) session.redo(report);
+            if (session.history().cursor() == 0) session.redo(report);
         });
         char extra[120];
         std::snprintf(extra, sizeof extra, "\"sub_steps\": %d", steps);
@@ -307,7 +307,7 @@ void benchSubdivision() {
         const double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         std::printf("{\"case\": \"history_bytes_1m_100ops\", \"n\": 1000000, \"bytes\": %zu, \"operations\": %d, "
                     "\"subdivided\": %d, \"frames\": %d, \"total_ms\": %.1f}\n",
-                    session.historyBytes(), session.historyCursor(), subdivided, session.cage().frameDepth(), totalMs);
+                    session.historyBytes(), session.history().cursor(), subdivided, session.cage().frameDepth(), totalMs);
     }
 }
 
@@ -403,7 +403,7 @@ void benchTriangleCheckDrag(const char* name, const Positions& positions, const 
     const double ms = bench::medianMs(10, [&] {
         session.drag({{source, target}}, report);
         checkMs.push_back(report.triangleCheckMs);
-    }, [&] { if (session.historyCursor() > 0) session.undo(report); });
+    }, [&] { if (session.history().cursor() > 0) session.undo(report); });
     char extra[320];
     std::snprintf(extra, sizeof extra,
                   "\"triangle_check_ms\": %.2f, \"triangles\": %lld, \"vertices_moved\": %d, \"status\": \"%s\", \"sub_steps\": %d, "
@@ -495,7 +495,7 @@ void benchCertification() {
             runs, [&] { reports.push_back(step()); },
             [&] {
                 OpReport undone;
-                while (session.historyCursor() > keep) session.undo(undone);
+                while (session.history().cursor() > keep) session.undo(undone);
             });
         reports.erase(reports.begin());  // the warm-up
         return ms;

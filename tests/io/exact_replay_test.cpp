@@ -129,9 +129,9 @@ void randomCommand(Session& session, std::mt19937& rng, double size, int& openGr
         }
         case 13: {  // a group of the last operations (as a replayed interactive drag makes)
             if (openGroup < 0) {
-                if (session.historyCursor() == static_cast<int>(session.history().size())) openGroup = session.historyCursor();
+                if (session.history().cursor() == static_cast<int>(session.history().size())) openGroup = session.history().cursor();
             } else {
-                if (session.historyCursor() == static_cast<int>(session.history().size()) && openGroup <= session.historyCursor()) {
+                if (session.history().cursor() == static_cast<int>(session.history().size()) && openGroup <= session.history().cursor()) {
                     const Status s = session.groupOperations(openGroup, "group");  // mixed kinds are refused
                     (void)s;
                 }
@@ -164,12 +164,12 @@ TEST_CASE("recording: random sessions of every op kind replay on their mesh to t
         Script parsed;
         Session replayed = test::replayThroughJson(recording, mesh.positions, mesh.triangles, parsed);
         const double diagonal = original.lattice().diagonal();
-        INFO("trial " << trial << ": " << count << " commands, " << original.journal().size() << " journal entries");
+        INFO("trial " << trial << ": " << count << " commands, " << original.history().journal().size() << " journal entries");
         // note: not bit for bit: an interactive drag's increments were added to the mesh one by one, and the
         // replay adds their sum (one step per frame), which rounds differently.
         REQUIRE((replayed.positions() - original.positions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         REQUIRE(replayed.history().size() == original.history().size());
-        REQUIRE(replayed.historyCursor() == original.historyCursor());
+        REQUIRE(replayed.history().cursor() == original.history().cursor());
         for (size_t i = 0; i < original.history().size(); ++i) {
             CHECK(replayed.history()[i].label == original.history()[i].label);
             CHECK(replayed.history()[i].steps.size() == original.history()[i].steps.size());
@@ -178,7 +178,7 @@ TEST_CASE("recording: random sessions of every op kind replay on their mesh to t
         CHECK(replayed.cage().frameDepth() == original.cage().frameDepth());
         // The replayed session goes on like the original: undo everything, redo everything.
         OpReport report;
-        for (int u = 0; u < original.historyCursor(); ++u) {
+        for (int u = 0; u < original.history().cursor(); ++u) {
             REQUIRE(original.undo(report).ok);
             REQUIRE(replayed.undo(report).ok);
         }
@@ -205,7 +205,7 @@ TEST_CASE("recording: on another mesh the operations are decided again", "[io]")
     other.positions(0, 0) += 1e-6;  // another mesh, if only just
     Script parsed;
     Session replayed = test::replayThroughJson(recording, other.positions, other.triangles, parsed);
-    REQUIRE(replayed.meshFingerprint() != recording.meshFingerprint);
+    REQUIRE(replayed.meshAsSet().fingerprint != recording.meshFingerprint);
     REQUIRE(replayed.history().size() == 1);
     CHECK((replayed.positions().row(5).transpose() - target).norm() <= 1e-9 * original.lattice().diagonal());
 }

@@ -291,7 +291,7 @@ TEST_CASE("lattice edit script: groups holding tool changes and freezes are one 
         REQUIRE(session.positions() == reference.positions());
         REQUIRE(session.undo(undone));  // the group: one entry
         for (int k = 0; k < members; ++k) REQUIRE(reference.undo(undone));
-        REQUIRE(session.historyCursor() == groupStart);
+        REQUIRE(session.history().cursor() == groupStart);
         REQUIRE(session.positions() == reference.positions());
         REQUIRE(session.tools().frozen() == reference.tools().frozen());
         REQUIRE(session.tools().list().size() == reference.tools().list().size());
@@ -300,8 +300,8 @@ TEST_CASE("lattice edit script: groups holding tool changes and freezes are one 
         // Redo to the end, bitwise; then the recording replays to the same mesh, tools and history.
         // Redo to the end: as the ops one by one redo, bitwise (a frame's redo rebuilds it, so the end is met
         // to rounding, not bitwise).
-        while (reference.historyCursor() < static_cast<int>(reference.history().size())) REQUIRE(reference.redo(undone));
-        while (session.historyCursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(undone));
+        while (reference.history().cursor() < static_cast<int>(reference.history().size())) REQUIRE(reference.redo(undone));
+        while (session.history().cursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(undone));
         REQUIRE(session.positions() == reference.positions());
         REQUIRE((session.positions() - end).cwiseAbs().maxCoeff() <= 1e-13);
         Script parsed;

@@ -91,10 +91,10 @@ TEST_CASE("refinement recording: a session with refinements replays to the same 
     REQUIRE(sameBits(replayed.restPositions(), session.restPositions()));
     REQUIRE(sameBits(replayed.triangles(), session.triangles()));
     REQUIRE(replayed.history().size() == session.history().size());
-    REQUIRE(replayed.historyCursor() == session.historyCursor());
+    REQUIRE(replayed.history().cursor() == session.history().cursor());
     REQUIRE(replayed.refinement().settings().automatic == session.refinement().settings().automatic);
     // Both undo alike, down to the mesh as set.
-    while (session.historyCursor() > 0) {
+    while (session.history().cursor() > 0) {
         REQUIRE(session.undo(report).ok);
         REQUIRE(replayed.undo(report).ok);
         REQUIRE(sameBits(replayed.positions(), session.positions()));

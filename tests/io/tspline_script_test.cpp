@@ -139,7 +139,7 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
     REQUIRE(session.undo(undone));  // the set-up: the freeze and the tool at once
     REQUIRE(session.tools().frozen() == -1);
     REQUIRE(session.tools().list().empty());
-    REQUIRE(session.historyCursor() == 0);
+    REQUIRE(session.history().cursor() == 0);
     REQUIRE((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     for (int k = 0; k < 3; ++k) REQUIRE(session.redo(undone));
     REQUIRE(session.tools().frozen() == 0);

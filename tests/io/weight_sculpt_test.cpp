@@ -214,7 +214,7 @@ TEST_CASE("weights: the hammer sets the picked vertex's height exactly and keeps
             REQUIRE(std::abs(h[static_cast<size_t>(vertex)] - 0.5 * second) <= 1e-9 * diagonal);
             // Undo all of it: the mesh as it was frozen, bitwise.
             OpReport undone;  // back to the set-up (one history entry)
-            while (session.historyCursor() > 1) REQUIRE(session.undo(undone));
+            while (session.history().cursor() > 1) REQUIRE(session.undo(undone));
             REQUIRE(session.positions() == mesh.positions);
         }
     }
@@ -316,7 +316,7 @@ TEST_CASE("weights: the crimp keeps the peak height and scales the width at half
         const Session replayed = test::replayThroughJson(recordSession(session), mesh.positions, mesh.triangles, parsed);
         REQUIRE(replayed.positions() == after);
         OpReport undone;
-        while (session.historyCursor() > 0) REQUIRE(session.undo(undone));
+        while (session.history().cursor() > 0) REQUIRE(session.undo(undone));
         REQUIRE(session.positions() == mesh.positions);
     }
 }

@@ -441,7 +441,7 @@ TEST_CASE("any scale: a drag in the window moves the picked point with the curso
         CHECK(std::abs(after.x() - before.x()) < 10.0);
         // Undo brings everything back, to rounding.
         sculptApp.onKey({app::Key::Z, app::KeyAction::Press, [] { app::Modifiers m; m.control = true; return m; }()}, {});
-        CHECK(state.session.historyCursor() == 0);
+        CHECK(state.session.history().cursor() == 0);
         CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= roundingAllowance(p));
     }
     WARN("window frames at the extreme scales written to " << test::glTestOutputDir() << "/any_scale_window_*.png");

@@ -89,25 +89,25 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, 
     CHECK((after - before).dot(screenUp) > 0.05 * diagonal(original));
     // The whole drag is one history entry.
     CHECK(state.session.history().size() == 1);
-    CHECK(state.session.historyCursor() == 1);
+    CHECK(state.session.history().cursor() == 1);
     CHECK_FALSE(state.drag.active);
 
     // Ctrl+Z restores the positions; Ctrl+Shift+Z and Ctrl+Y redo.
     const Positions dragged = state.session.positions();
     sculptApp.onKey(ctrlKey(app::Key::Z), {});
-    CHECK(state.session.historyCursor() == 0);
+    CHECK(state.session.history().cursor() == 0);
     CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
     sculptApp.onKey(ctrlKey(app::Key::Z, true), {});
-    CHECK(state.session.historyCursor() == 1);
+    CHECK(state.session.history().cursor() == 1);
     CHECK((state.session.positions() - dragged).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
     sculptApp.onKey(ctrlKey(app::Key::Z), {});
     sculptApp.onKey(ctrlKey(app::Key::Y), {});
-    CHECK(state.session.historyCursor() == 1);
+    CHECK(state.session.history().cursor() == 1);
     // Jumping in the history list is undo/redo until there.
     app::jumpToHistory(state, 0);
-    CHECK(state.session.historyCursor() == 0);
+    CHECK(state.session.history().cursor() == 0);
     app::jumpToHistory(state, 1);
-    CHECK(state.session.historyCursor() == 1);
+    CHECK(state.session.history().cursor() == 1);
 }
 
 TEST_CASE("window: a move the injectivity test refuses changes nothing and the status line says why", "[gl]") {
@@ -156,11 +156,11 @@ TEST_CASE("window: input the UI captures does not sculpt or undo", "[gl]") {
     CHECK(state.camera.distance < distance);
 
     dragUp(sculptApp, {});
-    REQUIRE(state.session.historyCursor() == 1);
+    REQUIRE(state.session.history().cursor() == 1);
     app::CaptureFlags uiHasKeyboard;
     uiHasKeyboard.keyboard = true;
     sculptApp.onKey(ctrlKey(app::Key::Z), uiHasKeyboard);
-    CHECK(state.session.historyCursor() == 1);
+    CHECK(state.session.history().cursor() == 1);
 }
 
 TEST_CASE("window: orbit, pan and a minimised (0 x 0) framebuffer keep the camera finite", "[gl]") {

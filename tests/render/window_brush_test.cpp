@@ -168,7 +168,7 @@ TEST_CASE("window brush: with X symmetry the mirror image of the grabbed point f
     app::AppState& state = sculptApp.state();
     state.tools.brush.settings.symmetry.mirror[0] = true;
     const double diagonal = test::boundsDiagonal(state.session.positions());
-    const Eigen::Vector3d centre = state.session.symmetryCentre();
+    const Eigen::Vector3d centre = state.session.meshAsSet().symmetryCentre;
     // Grab well off the mirror plane (left of the middle of the view).
     const double cx = 0.5 * kWidth - 200.0, cy = 0.5 * kHeight - 40.0;
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
@@ -198,7 +198,7 @@ TEST_CASE("window brush: a symmetric stroke dragged across its mirror plane stop
     test::loadDefaultMesh(sculptApp, kWidth, kHeight);
     app::AppState& state = sculptApp.state();
     state.tools.brush.settings.symmetry.mirror[0] = true;
-    const Eigen::Vector3d centre = state.session.symmetryCentre();
+    const Eigen::Vector3d centre = state.session.meshAsSet().symmetryCentre;
     // Grab left of the middle of the view and drag right, across the plane x = centre.x, in 20 px moves.
     const double cx = 0.5 * kWidth - 120.0, cy = 0.5 * kHeight - 40.0;
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});

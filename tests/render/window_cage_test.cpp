@@ -89,13 +89,13 @@ TEST_CASE("window cage: a control point dragged through a fold follows, stops at
         CHECK(followedPixels >= 8.0);  // it did follow before it stopped
         REQUIRE(state.session.history().size() == 1);  // one edit, no set-up
         CHECK(state.session.history().front().kind == core::OperationKind::ControlPointEdit);
-        for (const core::JournalEntry& entry : state.session.journal())
+        for (const core::JournalEntry& entry : state.session.history().journal())
             CHECK(entry.operation.kind != core::OperationKind::LatticeSetup);
         undo(sculptApp);
         const double diagonal = test::boundsDiagonal(original);
         CHECK((state.session.cage().cagePoints() - cage).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
-        CHECK(state.session.historyCursor() == 0);
+        CHECK(state.session.history().cursor() == 0);
     }
     CHECK(stopped >= 2);
 }

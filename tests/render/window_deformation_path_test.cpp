@@ -91,7 +91,7 @@ TEST_CASE("window: a drag times both deformation paths, keeps the faster, and bo
     ctrlZ.key = app::Key::Z;
     ctrlZ.modifiers.control = true;
     sculptApp.onKey(ctrlZ, {});
-    REQUIRE(state.session.historyCursor() == 0);
+    REQUIRE(state.session.history().cursor() == 0);
     render::Rgba8Image undone, undoneCpu;
     requireOk(window.frame(&undone));
     CHECK(sculptApp.renderer().gpuDeformationActive());

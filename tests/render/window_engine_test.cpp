@@ -120,7 +120,7 @@ void requireSameResult(const app::SculptApp& busy, const app::SculptApp& referen
     CHECK(a.cage().cagePoints() == b.cage().cagePoints());
     REQUIRE(a.history().size() == b.history().size());
     for (size_t h = 0; h < a.history().size(); ++h) CHECK(a.history()[h].label == b.history()[h].label);
-    CHECK(a.historyCursor() == b.historyCursor());
+    CHECK(a.history().cursor() == b.history().cursor());
     CHECK(busy.state().drag.active == reference.state().drag.active);
     CHECK(busy.state().transform.active == reference.state().transform.active);
 }

@@ -503,7 +503,7 @@ TEST_CASE("window files: a saved session reopens with the same shape and its ope
     // An interactive drag is recorded increment by increment inside begin_group / end_group, so it comes back
     // as one undo step again.
     CHECK(session.history().size() == operations);
-    CHECK(session.historyCursor() == static_cast<int>(operations));
+    CHECK(session.history().cursor() == static_cast<int>(operations));
     for (size_t i = 0; i < operations; ++i)
         CHECK(session.history()[i].steps.size() == state.session.history()[i].steps.size());
     CHECK_FALSE(reopened.state().modified);
@@ -639,7 +639,7 @@ TEST_CASE("window files: a triangle soup is offered the weld, and welded on open
     welded.onFramebufferSize({kWidth, kHeight});
     app::frameMesh(state);
     dragUp(welded);
-    REQUIRE(state.session.historyCursor() == 1);
+    REQUIRE(state.session.history().cursor() == 1);
     const Positions after = state.session.positions();
     REQUIRE(welded.files().startSaveSession(state, folder.file("session.json")));
     welded.files().finishJob(state);

@@ -119,7 +119,7 @@ TEST_CASE("window golden: undoing a drag restores the picture from before it", "
     undo.key = app::Key::Z;
     undo.modifiers.control = true;
     sculptApp.onKey(undo, {});
-    REQUIRE(state.session.historyCursor() == 0);
+    REQUIRE(state.session.history().cursor() == 0);
     const double diagonal = (original.colwise().maxCoeff() - original.colwise().minCoeff()).norm();
     CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     settledFrame(window, undone);

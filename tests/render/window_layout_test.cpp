@@ -84,7 +84,7 @@ TEST_CASE("window layout: no panel hides the det J legend or reaches under the s
                 for (app::Key k : {app::Key::Digit0, app::Key::Period, app::Key::Digit0, static_cast<app::Key>(static_cast<int>(app::Key::Digit0) + 2)})
                     key(sculptApp, k);
                 key(sculptApp, app::Key::Enter);
-                REQUIRE(state.session.historyCursor() == step + 1);
+                REQUIRE(state.session.history().cursor() == step + 1);
             }
             if (!wasLattice) key(sculptApp, app::Key::Tab);
             app::setStatus(state, "A status message long enough to wrap onto a second and a third line of the status bar "
@@ -107,7 +107,7 @@ TEST_CASE("window layout: no panel hides the det J legend or reaches under the s
             CHECK(state.historyCurrentVisible);
             for (int u = 0; u < 10; ++u) key(sculptApp, app::Key::Z, [] { app::Modifiers m; m.control = true; return m; }());
             for (int f = 0; f < 3; ++f) REQUIRE(window.frame().ok);
-            CHECK(state.session.historyCursor() == 2);
+            CHECK(state.session.history().cursor() == 2);
             CHECK(state.historyCurrentVisible);
             if (size.width == 1280) {
                 render::Rgba8Image image;

@@ -123,7 +123,7 @@ TEST_CASE("window transform: typed G, R and S move, turn and scale the selection
     }
     // One undo step each, back to the start.
     for (int u = 0; u < entries; ++u) key(sculptApp, app::Key::Z, controlKey());
-    CHECK(state.session.historyCursor() == 0);
+    CHECK(state.session.history().cursor() == 0);
     CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= tolerance);
 }
 
@@ -355,7 +355,7 @@ TEST_CASE("window transform: a transform that would fold keeps what it showed an
         const double appliedValue = kind == 1 ? pose * 180.0 / kPi : pose;
         CHECK(std::abs(said - appliedValue) <= 1e-3 * std::max(1.0, std::abs(appliedValue)));
         // The history names it for what it was.
-        const std::string& label = state.session.history()[static_cast<size_t>(state.session.historyCursor() - 1)].label;
+        const std::string& label = state.session.history()[static_cast<size_t>(state.session.history().cursor() - 1)].label;
         const char* names[3] = {"scale ", "rotate ", "move "};
         CHECK(label.rfind(names[kind], 0) == 0);
         std::string words = status.substr(by, status.find_first_of("(:", by) - by);
@@ -418,7 +418,7 @@ TEST_CASE("window transform: a transform stopped by crossing triangles says so, 
         CHECK(state.status.find("lattice would fold") == std::string::npos);
         CHECK(state.status.find("part 2 (") != std::string::npos);
         CHECK(test::selfIntersectingPairs(state.session.positions(), state.session.triangles()) == 0);
-        if (state.session.historyCursor() > 0) key(sculptApp, app::Key::Z, controlKey());
+        if (state.session.history().cursor() > 0) key(sculptApp, app::Key::Z, controlKey());
         CHECK((state.session.positions() - before).cwiseAbs().maxCoeff() < 1e-12);  // undo: exact to rounding
     }
 }

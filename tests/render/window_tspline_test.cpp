@@ -319,13 +319,13 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     app::subdivideChosenCellsCommand(state);
     CHECK(state.statusIsError);
     // A refusal of the engine (here a cell it does not have) takes the unfreeze back: nothing changes.
-    const int cursor = session.historyCursor();
+    const int cursor = session.history().cursor();
     state.tspline.chosenCells = {100000};
     app::subdivideChosenCellsCommand(state);
     CHECK(state.statusIsError);
     CHECK(state.status.find("does not exist") != std::string::npos);
     CHECK(session.tools().frozen() == 0);
-    CHECK(session.historyCursor() == cursor);
+    CHECK(session.history().cursor() == cursor);
     CHECK(session.tools().list()[0].volume == coarse);
     state.tspline.chosenCells.clear();
 
@@ -340,7 +340,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     REQUIRE(hit.triangle >= 0);
     Eigen::Vector3d params;
     REQUIRE(session.cage().parametersOfCurrentPoint(hit.point, params).ok);
-    const int history = session.historyCursor();
+    const int history = session.history().cursor();
     ui.clickView(x, y);
     INFO(state.status);
     REQUIRE(state.tspline.chosenCells.size() == 1);
@@ -350,7 +350,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
         CHECK(lattice.knotValue[a][lattice.cellLo(cell)[a]] <= params[a] + 1e-9);
         CHECK(params[a] <= lattice.knotValue[a][lattice.cellHi(cell)[a]] + 1e-9);
     }
-    CHECK(session.historyCursor() == history);  // choosing changes nothing
+    CHECK(session.history().cursor() == history);  // choosing changes nothing
     // Drawn: the cell's 12 edges in the selection colour.
     render::LatticeView overlay;
     app::addTSplineOverlays(state, overlay);
@@ -371,7 +371,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     REQUIRE(session.tools().frozen() == 0);
     const size_t cellsAfter = toolVolume(session, 0).lattice().cells.size();
     CHECK(cellsAfter >= cellsBefore + 7);  // the cell became 8, more with the balance
-    CHECK(session.historyCursor() == history + 1);  // unfreeze, subdivide, freeze: one entry
+    CHECK(session.history().cursor() == history + 1);  // unfreeze, subdivide, freeze: one entry
     CHECK((session.positions() - before).cwiseAbs().maxCoeff() == 0.0);
     CHECK(state.tspline.chosenCells.empty());
     CHECK_FALSE(state.tspline.picking);
@@ -398,10 +398,10 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     ui.clickView(x, y);
     REQUIRE(state.tspline.chosenCells.size() == 1);
     CHECK(state.tspline.chosenCells[0] == core::cellAtRestPoint(toolVolume(session, 0), hit.point));
-    const int unfrozenHistory = session.historyCursor();
+    const int unfrozenHistory = session.history().cursor();
     ui.click("Subdivide");
     INFO(state.status);
-    CHECK(session.historyCursor() == unfrozenHistory + 1);
+    CHECK(session.history().cursor() == unfrozenHistory + 1);
     CHECK(session.tools().frozen() == -1);
     const core::TSplineVolume& atRest = toolVolume(session, 0);
     CHECK(atRest.lattice().cells.size() > cellsBefore);

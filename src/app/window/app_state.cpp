@@ -105,15 +105,15 @@ void jumpToHistory(AppState& state, int cursor) {
     cursor = std::clamp(cursor, 0, static_cast<int>(state.session.history().size()));
     // note: each undo/redo is one command; stop at the first that does not move the cursor so a failing
     // step cannot loop forever.
-    while (state.session.historyCursor() != cursor) {
-        const int before = state.session.historyCursor();
+    while (state.session.history().cursor() != cursor) {
+        const int before = state.session.history().cursor();
         if (before > cursor) undoCommand(state); else redoCommand(state);
-        if (state.session.historyCursor() == before) break;
+        if (state.session.history().cursor() == before) break;
     }
 }
 
 void requestHistoryStep(AppState& state, int step) {
-    const int from = state.historyRequest >= 0 ? state.historyRequest : state.session.historyCursor();
+    const int from = state.historyRequest >= 0 ? state.historyRequest : state.session.history().cursor();
     requestHistoryJump(state, from + step);
 }
 

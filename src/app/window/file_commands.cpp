@@ -434,8 +434,8 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             if (result.opsRejected > 0) text += " (" + std::to_string(result.opsRejected) + " refused: the report says why)";
             if (result.screenshotsSkipped > 0) text += ", " + countOf(static_cast<size_t>(result.screenshotsSkipped), "screenshot op") + " skipped";
             text += " in " + took + ".";
-            if (s.initialDegenerateTriangles() > 0)
-                text += " " + countOf(static_cast<size_t>(s.initialDegenerateTriangles()), "degenerate (zero-area) facet") + " in the file.";
+            if (s.meshAsSet().degenerateTriangles > 0)
+                text += " " + countOf(static_cast<size_t>(s.meshAsSet().degenerateTriangles), "degenerate (zero-area) facet") + " in the file.";
             const io::WeldReport& weld = result.weld;
             const int joined = weld.verticesBefore - weld.verticesAfter;
             if (result.welded && joined > 0)
@@ -445,8 +445,8 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
                 text += " " + countOf(static_cast<size_t>(joined), "vertex lies", "vertices lie") +
                         " exactly on another (a triangle soup or split seams: drawn faceted, in parts); "
                         "File > Weld coincident vertices on open joins them.";
-            if (s.initialIntersectingPairs() > 0)
-                text += " The mesh already crosses itself (" + std::to_string(s.initialIntersectingPairs()) +
+            if (s.meshAsSet().intersectingPairs > 0)
+                text += " The mesh already crosses itself (" + std::to_string(s.meshAsSet().intersectingPairs) +
                         " triangle pairs); only new crossings are refused.";
             setStatus(state, text + warningsText(result.warnings), false);
             state.statusDetails = result.warnings;
@@ -466,7 +466,7 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
         case JobKind::SaveSession:
             document_.sessionPath = job.path;
             document_.saved = job.markAtStart;
-            setStatus(state, "Saved session " + name + " (" + countOf(static_cast<size_t>(state.session.historyCursor()), "operation") +
+            setStatus(state, "Saved session " + name + " (" + countOf(static_cast<size_t>(state.session.history().cursor()), "operation") +
                                  ") in " + took + ".", false);
             break;
         case JobKind::SaveScreenshot: setStatus(state, "Wrote screenshot " + name + ".", false); break;

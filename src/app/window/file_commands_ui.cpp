@@ -57,7 +57,7 @@ void FileCommands::drawMenuBar(AppState& state) {
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Edit")) {
-        const int cursor = state.session.historyCursor();
+        const int cursor = state.session.history().cursor();
         const int count = static_cast<int>(state.session.history().size());
         const bool canEdit = idle && !state.drag.active;
         if (ImGui::MenuItem("Undo", "Ctrl+Z", false, canEdit && cursor > 0)) requestHistoryStep(state, -1);

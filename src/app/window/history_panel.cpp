@@ -34,7 +34,7 @@ std::string wrapAtSpaces(const std::string& text, float width) {
 void drawHistoryPanel(AppState& state) {
     if (!ImGui::CollapsingHeader("History", ImGuiTreeNodeFlags_DefaultOpen)) return;
     const core::Session& session = state.session;
-    const int cursor = session.historyCursor();
+    const int cursor = session.history().cursor();
     const int count = static_cast<int>(session.history().size());
     const float half = 0.5f * (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x);
     ImGui::BeginDisabled(cursor == 0 || state.drag.active);

@@ -411,8 +411,8 @@ Status SculptApp::renderFrame(int width, int height) {
     keepFrameView(options);
     state_.stats.renderMs = millisecondsSince(start);
     // Undo, redo or a history entry clicked in this frame: an engine step, now that the frame is drawn.
-    if (const int target = std::exchange(state_.historyRequest, -1); target >= 0 && target != state_.session.historyCursor()) {
-        const int from = state_.session.historyCursor();
+    if (const int target = std::exchange(state_.historyRequest, -1); target >= 0 && target != state_.session.history().cursor()) {
+        const int from = state_.session.history().cursor();
         runEngineStep(target == from - 1 ? "Undoing" : target == from + 1 ? "Redoing" : "Going to history step " + std::to_string(target),
                       [this, target] { jumpToHistory(state_, target); });
     }

@@ -315,13 +315,13 @@ void SculptApp::updateSculpt(double x, double y) {
 
 void SculptApp::endSculpt() {
     // note: the journal, not the history's size: after an undo a new entry replaces the redo branch.
-    const size_t before = state_.session.journal().size();
+    const size_t before = state_.session.history().journal().size();
     state_.session.stroke().end();
     const DragState finished = state_.drag;
     state_.drag = DragState{};
     state_.gpu.fields = true;
     updateBrushHover(state_.cursorX, state_.cursorY);  // the circle goes back under the cursor
-    const bool recorded = state_.session.journal().size() > before;
+    const bool recorded = state_.session.history().journal().size() > before;
     if (finished.moves == 0) return;  // a click (selecting, placing): its own message stays
     std::string text = recorded ? "Drag recorded as one undo step (" + countOf(static_cast<size_t>(finished.moves), "move")
                                 : "Drag changed nothing (" + countOf(static_cast<size_t>(finished.moves), "move");

@@ -402,9 +402,9 @@ void confirmTransform(AppState& state) {
     if (Status named = state.session.stroke().setLabel(verb + " " + points + " " + words); !named)
         setStatus(state, "Cannot name the history entry: " + named.message, true);
     // note: the journal, not the history's size: after an undo a new entry replaces the redo branch.
-    const size_t before = state.session.journal().size();
+    const size_t before = state.session.history().journal().size();
     state.session.stroke().end();
-    const bool recorded = state.session.journal().size() > before;
+    const bool recorded = state.session.history().journal().size() > before;
     state.transform = TransformState{};
     state.drag = DragState{};
     state.gpu.fields = true;

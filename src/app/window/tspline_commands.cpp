@@ -192,7 +192,7 @@ void subdivideChosenCellsCommand(AppState& state) {
     const int pinLayers = session.cage().settings().pinLayers;
     // note: the engine subdivides only a tool that is not frozen (the vertices' parameters change), so a frozen
     // one is unfrozen around it. The unfreeze keeps the shape; a refused subdivision takes it back.
-    const int firstOperation = session.historyCursor();
+    const int firstOperation = session.history().cursor();
     if (frozen) {
         core::ScriptOp unfreeze;
         unfreeze.kind = core::ScriptOp::Kind::Unfreeze;
@@ -264,10 +264,10 @@ const std::vector<std::uint8_t>& tsplineShownControlPoints(const AppState& state
         cache = TSplineShownCache{};
         return cache.controlPoints;
     }
-    if (cache.volume != volume || cache.journal != session.journal().size() || cache.fingerprint != session.meshFingerprint()) {
+    if (cache.volume != volume || cache.journal != session.history().journal().size() || cache.fingerprint != session.meshAsSet().fingerprint) {
         cache.volume = volume;
-        cache.journal = session.journal().size();
-        cache.fingerprint = session.meshFingerprint();
+        cache.journal = session.history().journal().size();
+        cache.fingerprint = session.meshAsSet().fingerprint;
         cache.controlPoints = core::tsplineCageView(session).controlPoints;
     }
     return cache.controlPoints;

@@ -52,10 +52,10 @@ void drawTSplineSection(AppState& state) {
         if (panel.customRegion && !panel.regionFilled) panel.regionFilled = meshRegion(state, panel.regionMin, panel.regionMax);
     }
     // With the mesh bounds the fields show them (read again after each command: the mesh may have moved).
-    if (!panel.customRegion && (panel.regionJournal != state.session.journal().size() || panel.regionMesh != state.session.meshFingerprint())) {
+    if (!panel.customRegion && (panel.regionJournal != state.session.history().journal().size() || panel.regionMesh != state.session.meshAsSet().fingerprint)) {
         panel.regionFilled = meshRegion(state, panel.regionMin, panel.regionMax);
-        panel.regionJournal = state.session.journal().size();
-        panel.regionMesh = state.session.meshFingerprint();
+        panel.regionJournal = state.session.history().journal().size();
+        panel.regionMesh = state.session.meshAsSet().fingerprint;
     }
     // Always drawn (disabled with the mesh bounds), so the buttons below stay where they are.
     ImGui::BeginDisabled(!panel.customRegion);

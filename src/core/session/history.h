@@ -4,6 +4,7 @@
 // applies it again (inverse manipulations, Hu et al. 2001, section 4) and moves the cursor here.
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include "core/session/operation.h"
@@ -18,6 +19,14 @@ public:
     bool atEnd() const { return cursor_ == static_cast<int>(entries_.size()); }
     // Every command since the mesh was set, in order.
     const std::vector<JournalEntry>& journal() const { return journal_; }
+    // The entries read as a sequence (history()[i], size(), back(), a range-for).
+    size_t size() const { return entries_.size(); }
+    bool empty() const { return entries_.empty(); }
+    const Operation& operator[](size_t i) const { return entries_[i]; }
+    const Operation& front() const { return entries_.front(); }
+    const Operation& back() const { return entries_.back(); }
+    std::vector<Operation>::const_iterator begin() const { return entries_.begin(); }
+    std::vector<Operation>::const_iterator end() const { return entries_.end(); }
 
     // An applied operation: the redo branch is dropped, the operation appended (cursor at the end) and
     // journaled as applied.

@@ -247,6 +247,20 @@ struct Layer {
     LatticeSettings settings;
 };
 
+// What Session::setMesh found in the mesh it was given (Session::meshAsSet()); fixed until the next setMesh.
+struct MeshAsSet {
+    // A hash of the mesh as set (positions bit for bit and triangles), naming it in recordings: a replay on the
+    // mesh with this fingerprint repeats the recorded steps exactly.
+    std::string fingerprint;
+    // The plane centre of symmetric drags: the centre of the mesh's bounding box.
+    Eigen::Vector3d symmetryCentre = Eigen::Vector3d::Zero();
+    // Intersecting triangle pairs (a self-intersecting input; these never count against an operation). Pairs
+    // with a degenerate triangle in them are not counted here but in degenerateTriangles: triangles with no area
+    // (collinear or coincident corners, decided exactly).
+    int intersectingPairs = 0;
+    int degenerateTriangles = 0;
+};
+
 // A cage that was replaced by a fresh one (lattice set-up), kept compactly so undo can return to it.
 struct FrozenFrame {
     LatticeSettings settings;

@@ -49,7 +49,7 @@ Status runScriptOp(Session& session, const ScriptOp& op, OpReport& report) { ret
 Status runScript(Session& session, const Script& script, ScriptReport& report, const ScreenshotHook& screenshot,
                  const ScriptProgress& progress) {
     report.ops.clear();
-    const bool exact = !script.meshFingerprint.empty() && script.meshFingerprint == session.meshFingerprint();
+    const bool exact = !script.meshFingerprint.empty() && script.meshFingerprint == session.meshAsSet().fingerprint;
     std::vector<std::pair<int, std::string>> groups;  // open begin_group ops: history cursor and label
     for (size_t i = 0; i < script.ops.size(); ++i) {
         if (progress && !progress(i, script.ops.size())) return Status::error("stopped before op " + std::to_string(i));
@@ -57,7 +57,7 @@ Status runScript(Session& session, const Script& script, ScriptReport& report, c
         OpReport opReport;
         Status s = Status::success();
         if (op.kind == ScriptOp::Kind::BeginGroup) {
-            groups.emplace_back(session.historyCursor(), op.label);
+            groups.emplace_back(session.history().cursor(), op.label);
             opReport.status = OpStatus::Applied;
         } else if (op.kind == ScriptOp::Kind::EndGroup) {
             if (groups.empty()) {
@@ -88,8 +88,8 @@ Script recordSession(const Session& session) {
     script.lattice.regionMax = session.cage().initialBoxMax();
     script.lattice.padding = 0.0;
     script.injectivity = session.injectivity();
-    script.meshFingerprint = session.meshFingerprint();
-    for (const JournalEntry& entry : session.journal()) {
+    script.meshFingerprint = session.meshAsSet().fingerprint;
+    for (const JournalEntry& entry : session.history().journal()) {
         ScriptOp op;
         switch (entry.kind) {
             case JournalEntry::Kind::Operation: op = recordedOp(entry.operation); break;

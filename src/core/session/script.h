@@ -62,7 +62,7 @@ const char* scriptOpName(ScriptOp::Kind kind);
 
 struct Script {
     std::string mesh;  // optional: the mesh the script applies to, as written (relative to the script's folder)
-    // Recordings: Session::meshFingerprint() of the mesh recorded on. When the session's mesh has this
+    // Recordings: Session::meshAsSet().fingerprint of the mesh recorded on. When the session's mesh has this
     // fingerprint, ops with recorded steps are replayed exactly (Session::replayOperation); on any other mesh
     // the ops are decided again for that mesh (Coquillart's recording operator).
     std::string meshFingerprint;

@@ -178,7 +178,7 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     stack_.layerActive_ = false;
     {
         const Eigen::Vector3d lo = positions.colwise().minCoeff().transpose(), hi = positions.colwise().maxCoeff().transpose();
-        symmetryCentre_ = 0.5 * (lo + hi);
+        asSet_.symmetryCentre = 0.5 * (lo + hi);
     }
     if (trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(rest_.rows()), 1.0);
     // The triangle check's index, and the pairs that already cross (they never count against an edit).
@@ -195,18 +195,18 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
             degenerate[static_cast<size_t>(t)] = triangleDegenerate(corners);
             degenerateCount += degenerate[static_cast<size_t>(t)];
         }
-        initialDegenerateTriangles_ = degenerateCount;
-        initialIntersectingPairs_ = 0;
+        asSet_.degenerateTriangles = degenerateCount;
+        asSet_.intersectingPairs = 0;
         const std::vector<TrianglePairHit> initial = meshIndex_.allIntersections(positions_, triangles_);
         for (const TrianglePairHit& hit : initial)
-            initialIntersectingPairs_ += !degenerate[static_cast<size_t>(hit.first)] && !degenerate[static_cast<size_t>(hit.second)];
+            asSet_.intersectingPairs += !degenerate[static_cast<size_t>(hit.first)] && !degenerate[static_cast<size_t>(hit.second)];
         // Parts touching at load (an assembly's): their contact may shift as they move (self_intersection.h).
         loadContacts_ = meshIndex_.findLoadContacts(initial, triangles_);
         meshIndex_.setLoadContacts(loadContacts_, triangles_);
     }
     before_.resize(positions_.rows(), 3);
     history_.clear();
-    meshFingerprint_ = fingerprint(original_, triangles_);
+    asSet_.fingerprint = fingerprint(original_, triangles_);
     lastMoved_.clear();
     lastMovedAll_ = true;
     return Status::success();
@@ -310,7 +310,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     // With symmetry, the mirror images join as further constraints (Hu et al. 2001, eq. 12). (A drag with a
     // radius is a brush stroke: it went the stroke's way above.)
     Manipulation m;
-    std::vector<MirroredConstraint> solved = mirrorConstraints(sources, {}, brush.symmetry, symmetryCentre_, mirrorMergeDistance(brush));
+    std::vector<MirroredConstraint> solved = mirrorConstraints(sources, {}, brush.symmetry, asSet_.symmetryCentre, mirrorMergeDistance(brush));
     for (const MirroredConstraint& c : solved) {
         m.sources.push_back(c.source);
         m.targets.push_back(mirroredTarget(c, targets, sources));

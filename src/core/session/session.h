@@ -82,7 +82,7 @@ public:
     // needed. Bad input (empty list, non-finite coordinates, a source outside the lattice) returns an error
     // and changes nothing; an operation that cannot be made injective is reported Rejected and changes nothing.
     // With a brush (brush.h): the targets are scaled by its strength, mirror images are added for its
-    // symmetry (planes through symmetryCentre()), and with a radius the drag is solved in a region-of-interest
+    // symmetry (planes through meshAsSet().symmetryCentre), and with a radius the drag is solved in a region-of-interest
     // lattice (a layer) that moves nothing farther than 1.25 radius from a source. A bad brush is an error.
     Status drag(const std::vector<PointConstraint>& constraints, OpReport& report, const BrushSettings& brush = {});
     // Drags a mesh vertex to target.
@@ -94,7 +94,7 @@ public:
     Status checkBrush(const BrushSettings& brush) const;
     Status moveControlPoints(const std::vector<int>& indices, const Eigen::MatrixX3d& values, bool relative,
                              OpReport& report);
-    // Makes the operations history()[first, historyCursor()) one history entry (an interactive operation made
+    // Makes the operations history()[first, history().cursor()) one history entry (an interactive operation made
     // of their steps, undone and redone as one), e.g. a replayed interactive drag; operations that change the
     // lattice tools or freeze / unfreeze one are kept whole as the entry's `parts`. The cursor must be at the
     // end of the history. label empty: the first operation's.
@@ -120,8 +120,6 @@ public:
     // vertices and the triangles, evaluating the cage only at corners of triangles the box's boundary cuts; 0
     // for a lattice of another kind (its volume holds what it deforms).
     int verticesLeftOutsideCage() const;
-    // The plane centre of symmetric drags: the centre of the mesh's bounding box when it was set.
-    Eigen::Vector3d symmetryCentre() const { return symmetryCentre_; }
 
     // Keeps, per vertex, the product of the det J of every frozen frame (the Jacobian of the total
     // deformation since the mesh was set is that times the current lattice's det J). Costs a det J per vertex
@@ -150,26 +148,17 @@ public:
     const Lattice& lattice() const { return stack_.lattice(); }  // the cage (cage().lattice())
     // The cage, its layers and frozen frames, and the composition through them (lattice_stack.h).
     const LatticeStack& cage() const { return stack_; }
-    const std::vector<Operation>& history() const { return history_.entries(); }
-    // Every command since setMesh, in order (what recordSession writes).
-    const std::vector<JournalEntry>& journal() const { return history_.journal(); }
-    // A hash of the mesh as set (positions bit for bit and triangles), naming it in recordings: a replay on
-    // the mesh with this fingerprint repeats the recorded steps exactly.
-    const std::string& meshFingerprint() const { return meshFingerprint_; }
-    int historyCursor() const { return history_.cursor(); }  // entries [0, cursor) are applied
+    // The operations, the cursor (entries [0, cursor) are applied) and the journal: every command since setMesh,
+    // in order, what recordSession writes (history.h).
+    const History& history() const { return history_; }
+    // Its fingerprint, symmetry centre and the crossings and degenerate triangles it came with (operation.h).
+    const MeshAsSet& meshAsSet() const { return asSet_; }
     // Bytes held by the history (operations and frozen frames), not counting the mesh itself.
     size_t historyBytes() const;
     // Vertices whose position the last command changed (for sparse normal and buffer updates); when
     // lastMovedAll() is true every vertex may have changed (a frame was entered or left).
     const std::vector<int>& lastMovedVertices() const { return lastMoved_; }
     bool lastMovedAll() const { return lastMovedAll_; }
-    // Intersecting triangle pairs the mesh had when it was set (a self-intersecting input; these never count
-    // against an operation). Counted once by setMesh.
-    // Pairs with a degenerate (zero-area) triangle in them are not counted there: those facets are counted
-    // apart, by initialDegenerateTriangles.
-    int initialIntersectingPairs() const { return initialIntersectingPairs_; }
-    // Triangles with no area (collinear or coincident corners, decided exactly) the mesh had when it was set.
-    int initialDegenerateTriangles() const { return initialDegenerateTriangles_; }
 
 private:
     // State kept while an operation is being applied, so a rejection restores everything bitwise.
@@ -297,7 +286,7 @@ private:
     InjectivitySettings injectivity_;
     Snapshot scratch_;
     IncrementScratch increment_;
-    Eigen::Vector3d symmetryCentre_ = Eigen::Vector3d::Zero();
+    MeshAsSet asSet_;  // meshAsSet()
     History history_;  // the operations and the journal (history.h)
     // A net lattice that does not hold every vertex keeps its boundary faces pinned: the vertices outside it
     // never move, so a moving boundary would tear the mesh there and the deformation of space (identity
@@ -313,7 +302,6 @@ private:
     bool basePinned(int idx) const;
     // The ids with every slot of their weld groups added (sorted, unique): a welded point pins as one.
     std::vector<int> weldGroupsOf(const std::vector<int>& ids) const;
-    std::string meshFingerprint_;
     void journalPins();
     std::vector<int> lastMoved_;
     bool lastMovedAll_ = false;
@@ -321,10 +309,8 @@ private:
     std::vector<double> frozenJacobian_;  // #V, product of the frozen frames' det J (when tracking)
     SelfIntersectionIndex meshIndex_;     // broad phase of the triangle check, refitted where vertices move
     Positions before_;                    // #V: the rows of the vertices a step moves, as they were before it
-    int initialIntersectingPairs_ = 0;
     // Parts touching at load and where (self_intersection.h), carried across refinements.
     SelfIntersectionIndex::LoadContacts loadContacts_;
-    int initialDegenerateTriangles_ = 0;
     void accumulateFrameJacobian(bool divide);
 
     DragState drag_;            // the drag in progress (stroke.h)

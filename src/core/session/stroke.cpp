@@ -77,7 +77,7 @@ Status Stroke::beginAt(const std::vector<Eigen::Vector3d>& sources, const std::v
         if (!sources[f].allFinite()) return Status::error("constraint " + std::to_string(f) + " source has non-finite coordinates");
     s_.stack_.layerActive_ = false;
     const auto isHeld = [&](size_t f) { return f < held.size() && held[f]; };
-    std::vector<MirroredConstraint> mirror = mirrorConstraints(sources, held, brush.symmetry, s_.symmetryCentre_, s_.mirrorMergeDistance(brush));
+    std::vector<MirroredConstraint> mirror = mirrorConstraints(sources, held, brush.symmetry, s_.asSet_.symmetryCentre, s_.mirrorMergeDistance(brush));
     if (brush.active()) {
         // A stroke (stroke_brush.cpp): no lattice is solved at the start; every update places the pull field.
         std::vector<bool> moving;
@@ -322,7 +322,7 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
             if (!pulls[e].moving()) continue;
             for (int a = 0; a < 3; ++a) {
                 if (!s_.drag_.brush.symmetry.mirror[static_cast<size_t>(a)]) continue;
-                const double from = pulls[e].source[a] - s_.symmetryCentre_[a], to = from + pulls[e].pull[a];
+                const double from = pulls[e].source[a] - s_.asSet_.symmetryCentre[a], to = from + pulls[e].pull[a];
                 if (std::abs(from) > merge && (to == 0.0 || (to > 0.0) != (from > 0.0))) {
                     failure.cause = StepFailure::Cause::MirrorPlane;
                     failure.plane = std::string(1, static_cast<char>('X' + a));

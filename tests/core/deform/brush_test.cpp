@@ -146,7 +146,7 @@ TEST_CASE("brush: with symmetry the mirror images land on the mirrored targets, 
     for (int trial = 0; trial < 20; ++trial) {
         Session session;
         REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
-        CHECK((session.symmetryCentre() - centre).norm() <= 1e-12);
+        CHECK((session.meshAsSet().symmetryCentre - centre).norm() <= 1e-12);
         BrushSettings brush;
         REQUIRE(parseSymmetry(symmetries[static_cast<size_t>(trial) % symmetries.size()], brush.symmetry).ok);
         if (trial % 2 == 0) brush.radius = 0.25 * mesh.diagonal;
@@ -336,10 +336,10 @@ TEST_CASE("brush: brush drags undo to the original and redo to the result, and a
         const Positions after = session.positions();
         const Script recording = recordSession(session);
         OpReport report;
-        while (session.historyCursor() > 0) REQUIRE(session.undo(report).ok);
+        while (session.history().cursor() > 0) REQUIRE(session.undo(report).ok);
         CHECK(session.cage().layers().empty());
         CHECK((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
-        while (session.historyCursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(report).ok);
+        while (session.history().cursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(report).ok);
         CHECK((session.positions() - after).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
 
         // Through the JSON text, as a saved session is replayed: the same vertices, bit for bit.

@@ -361,7 +361,7 @@ TEST_CASE("refinement: the automatic option refines every edit in the same histo
     settings.automatic = true;
     settings.options.tolerance = 0.004;
     REQUIRE(session.refinement().set(settings).ok);
-    REQUIRE(session.journal().back().kind == JournalEntry::Kind::Refinement);
+    REQUIRE(session.history().journal().back().kind == JournalEntry::Kind::Refinement);
     OpReport report;
     raiseRidge(session, 0.4, report);
     REQUIRE(report.verticesAdded > 0);
@@ -445,10 +445,10 @@ TEST_CASE("refinement: new vertices follow the cage through its layers and after
     for (Eigen::Index v = 0; v < session.positions().rows(); ++v)
         REQUIRE((session.cage().imageOfRestPoint(session.restPositions().row(v).transpose()) - session.positions().row(v).transpose()).norm() <= 1e-12 * diagonal);
     // Undo everything: the input mesh again.
-    while (session.historyCursor() > 0) REQUIRE(session.undo(report).ok);
+    while (session.history().cursor() > 0) REQUIRE(session.undo(report).ok);
     REQUIRE(sameBits(session.triangles(), triangles));
     REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
-    while (session.historyCursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(report).ok);
+    while (session.history().cursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(report).ok);
     REQUIRE(session.positions().rows() > refined.rows());
     requireConforming(session.restPositions(), session.triangles(), triangles);
 }

@@ -124,7 +124,7 @@ TEST_CASE("self_intersection: triangles that share a position, not an id, touch 
         }
         Session session;
         REQUIRE(session.setMesh(soup, soupTriangles, LatticeSettings{}));
-        CHECK(session.initialIntersectingPairs() == static_cast<int>(mesh.size()));
+        CHECK(session.meshAsSet().intersectingPairs == static_cast<int>(mesh.size()));
     }
 }
 

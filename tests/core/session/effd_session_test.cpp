@@ -106,7 +106,7 @@ static void runFrozenCylinderDrags(unsigned seed, int firstTrial, int trialCount
         REQUIRE(session.tools().unfreeze(report));
         REQUIRE(session.tools().frozen() == -1);
         REQUIRE(session.positions() == sculpted);
-        while (session.historyCursor() > 0) REQUIRE(session.undo(report));
+        while (session.history().cursor() > 0) REQUIRE(session.undo(report));
         REQUIRE(session.tools().list().empty());
         REQUIRE((session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9);
     }
@@ -155,7 +155,7 @@ TEST_CASE("effd session: several lattices in turn, moved control points, and a r
     REQUIRE(replay.tools().list().size() == 2);
     REQUIRE(replay.tools().frozen() == 1);
     // Undo in the replay walks back through the freezes to the original mesh.
-    while (replay.historyCursor() > 0) REQUIRE(replay.undo(report));
+    while (replay.history().cursor() > 0) REQUIRE(replay.undo(report));
     REQUIRE((replay.positions() - replay.originalPositions()).cwiseAbs().maxCoeff() <= 1e-9);
 
     // On another mesh (a finer sphere) the same recording is decided again: the lattices are frozen on it.
@@ -174,7 +174,7 @@ TEST_CASE("effd session: bad lattice input is refused and changes nothing", "[co
     REQUIRE(session.tools().freeze(0, 0, report));
     REQUIRE_FALSE(session.tools().edit(0, sphereTool(), report));  // frozen: unfreeze first
     REQUIRE_FALSE(session.tools().remove(0, report));
-    REQUIRE(session.historyCursor() == 2);
+    REQUIRE(session.history().cursor() == 2);
     Script script;
     const std::string bad = R"({"ops": [{"op": "add_lattice", "lattice": {"kind": "cylinder", "base": [0,0,0], "axis": [0,0,0], "radius": 1, "height": 1, "chunks": [1,4,1]}}]})";
     const Status parsed = io::parseScript(bad, "bad.json", script);
@@ -224,12 +224,12 @@ TEST_CASE("effd session: bad requests on lattices of any shape are errors that c
         const Eigen::Vector3d offset = 5.0 * test::randomVector(rng, -1, 1).normalized();
         REQUIRE(makeCylinderNet(offset, Eigen::Vector3d::UnitZ(), 0.5, 1.0, {1, 6, 1}, {2, 2}, far));
         REQUIRE(session.tools().add({"far", std::make_shared<const LatticeNet>(far)}, report));
-        const size_t journal = session.journal().size();
+        const size_t journal = session.history().journal().size();
         const Status frozen = session.tools().freeze(0, 0, report);
         REQUIRE_FALSE(frozen);
         REQUIRE(frozen.message.find("far holds none of the mesh's vertices") != std::string::npos);
         REQUIRE(session.tools().frozen() == -1);
-        REQUIRE(session.journal().size() == journal);
+        REQUIRE(session.history().journal().size() == journal);
         REQUIRE_FALSE(session.lattice().volume);
         // A brush radius beyond all scale of the mesh is an error naming the radius.
         const Positions before = session.positions();
@@ -257,11 +257,11 @@ TEST_CASE("effd session: copies of one welded point move once as the one control
     // Different moves for two copies of one point: an error naming both, and nothing changes.
     Eigen::MatrixX3d by(2, 3);
     by << 0.0, 0.0, 0.05, 0.0, 0.02, 0.0;
-    const size_t journal = session.journal().size();
+    const size_t journal = session.history().journal().size();
     const Status conflicting = session.moveControlPoints({a, b}, by, true, report);
     REQUIRE_FALSE(conflicting);
     REQUIRE(conflicting.message.find("[0,0,2] and [0,3,2] are one welded point") != std::string::npos);
-    REQUIRE(session.journal().size() == journal);
+    REQUIRE(session.history().journal().size() == journal);
     REQUIRE(isUndeformed(session.lattice()));
     // The same move for both (a whole ring listed, seam included): the point moves once, not twice.
     by.row(1) = by.row(0);

@@ -39,7 +39,7 @@ PinchRun runPinch(int levels, unsigned seed, int drags, InjectivityMode mode, in
     Session session;
     REQUIRE(session.setMesh(positions, triangles, settings).ok);
     session.setInjectivity({mode, 6});
-    REQUIRE(session.initialIntersectingPairs() == 0);
+    REQUIRE(session.meshAsSet().intersectingPairs == 0);
     std::mt19937 rng(seed);
     const int pool = std::min<int>(162, static_cast<int>(positions.rows()));
     PinchRun run;
@@ -133,7 +133,7 @@ TEST_CASE("session: crossings a mesh was loaded with are reported and never coun
     Session session;
     REQUIRE(session.setMesh(positions, triangles, {}).ok);
     session.setInjectivity({InjectivityMode::Conic, 3});
-    CHECK(session.initialIntersectingPairs() == static_cast<int>(initial.size()));
+    CHECK(session.meshAsSet().intersectingPairs == static_cast<int>(initial.size()));
     std::mt19937 rng(5);
     const std::vector<int> ring = loadContactRings(positions, triangles, initial);
     std::set<std::pair<int, int>> current(initial.begin(), initial.end());
@@ -365,8 +365,8 @@ TEST_CASE("session: degenerate facets at load are counted apart from crossing pa
         CHECK(withDegenerate > 0);  // the old count called these crossings
         Session session;
         REQUIRE(session.setMesh(positions, all, {}).ok);
-        CHECK(session.initialDegenerateTriangles() == degenerate);
-        CHECK(session.initialIntersectingPairs() == real);
+        CHECK(session.meshAsSet().degenerateTriangles == degenerate);
+        CHECK(session.meshAsSet().intersectingPairs == real);
         CHECK((real > 0) == crossing);
     }
 }
@@ -390,7 +390,7 @@ TEST_CASE("session: parts touching at load keep their contact as it shifts, and 
     settings.resolution = {10, 6, 6};
     Session session;
     REQUIRE(session.setMesh(positions, triangles, settings).ok);
-    CHECK(session.initialIntersectingPairs() == static_cast<int>(atLoad.size()));
+    CHECK(session.meshAsSet().intersectingPairs == static_cast<int>(atLoad.size()));
     std::mt19937 rng(2026);
     int applied = 0;
     for (int d = 0; d < 24; ++d) {
@@ -427,7 +427,7 @@ TEST_CASE("session: parts touching at load keep their contact as it shifts, and 
     leftOnly.pinLayers = 0;
     Session squeezed;
     REQUIRE(squeezed.setMesh(near, nearTriangles, leftOnly).ok);
-    REQUIRE(squeezed.initialIntersectingPairs() == 0);
+    REQUIRE(squeezed.meshAsSet().intersectingPairs == 0);
     std::vector<int> all(static_cast<size_t>(squeezed.lattice().controlPointCount()));
     std::iota(all.begin(), all.end(), 0);
     int named = 0;

@@ -27,7 +27,7 @@ Session randomSession(std::mt19937& rng, int n, LatticeSettings settings = {}) {
 }
 
 bool sameState(const Session& a, const Positions& positions, const Positions& displacement, int cursor) {
-    return a.positions() == positions && a.lattice().displacement == displacement && a.historyCursor() == cursor;
+    return a.positions() == positions && a.lattice().displacement == displacement && a.history().cursor() == cursor;
 }
 
 }  // namespace
@@ -188,7 +188,7 @@ TEST_CASE("session: a lattice re-setup is an operation, undo returns to the old 
         LatticeSettings bad;
         bad.degree = {0, 3, 3};
         REQUIRE_FALSE(session.setupLattice(bad, report).ok);
-        REQUIRE(session.historyCursor() == 0);
+        REQUIRE(session.history().cursor() == 0);
     }
 }
 
@@ -203,7 +203,7 @@ TEST_CASE("session: a new operation after undo drops the redo branch", "[core]")
     REQUIRE(session.history().size() == 4);
     REQUIRE(session.dragVertex(7, session.positions().row(7).transpose() + Eigen::Vector3d(0, 0.01, 0), report).ok);
     REQUIRE(session.history().size() == 3);
-    REQUIRE(session.historyCursor() == 3);
+    REQUIRE(session.history().cursor() == 3);
     REQUIRE(session.redo(report).ok);
     REQUIRE(report.status == OpStatus::NoOp);
 }

@@ -493,7 +493,7 @@ TEST_CASE("one drag path: a scripted drag and the window's drag of one update gi
             REQUIRE(byScript.status == byWindow.status);
             CHECK(byScript.subSteps == byWindow.subSteps);
             REQUIRE(scripted.positions() == window.positions());
-            REQUIRE(scripted.historyCursor() == window.historyCursor());
+            REQUIRE(scripted.history().cursor() == window.history().cursor());
             applied += byScript.status == OpStatus::Applied;
             refused += byScript.status == OpStatus::Rejected;
             subdivided += byScript.subSteps > 1;

@@ -40,7 +40,7 @@ PinchCount pinchTSpline(InjectivityMode mode, int depth, unsigned seed, int drag
     REQUIRE(session.tspline().setup(setup, report));
     REQUIRE(report.status == OpStatus::Applied);
     REQUIRE(asTSpline(session.lattice().volume.get()));
-    const int setupEntries = session.historyCursor();
+    const int setupEntries = session.history().cursor();
     std::mt19937 rng(seed);
     PinchCount count;
     for (int d = 0; d < drags; ++d) {
@@ -76,7 +76,7 @@ PinchCount pinchTSpline(InjectivityMode mode, int depth, unsigned seed, int drag
         REQUIRE(checkInjectivityExact(session.lattice()).certified);
     }
     OpReport undone;
-    while (session.historyCursor() > setupEntries) REQUIRE(session.undo(undone));
+    while (session.history().cursor() > setupEntries) REQUIRE(session.undo(undone));
     REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     return count;
 }
