@@ -98,7 +98,7 @@ void randomCommand(Session& session, std::mt19937& rng, double size, int& openGr
         case 6: {  // pins
             std::vector<int> ids;
             for (int c = 0; c < 4; ++c) ids.push_back(test::randomInt(rng, 0, session.lattice().controlPointCount() - 1));
-            REQUIRE(session.setPinned(ids, test::randomInt(rng, 0, 2) != 0).ok);
+            REQUIRE(session.pins().set(ids, test::randomInt(rng, 0, 2) != 0).ok);
             break;
         }
         case 7:
@@ -174,7 +174,7 @@ TEST_CASE("recording: random sessions of every op kind replay on their mesh to t
             CHECK(replayed.history()[i].label == original.history()[i].label);
             CHECK(replayed.history()[i].steps.size() == original.history()[i].steps.size());
         }
-        CHECK(replayed.pinToggles() == original.pinToggles());
+        CHECK(replayed.pins().toggles() == original.pins().toggles());
         CHECK(replayed.cage().frameDepth() == original.cage().frameDepth());
         // The replayed session goes on like the original: undo everything, redo everything.
         OpReport report;

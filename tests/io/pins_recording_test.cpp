@@ -36,7 +36,7 @@ TEST_CASE("recording: user pins and unpins replay through set_pins ops and the J
             if (op % 3 == 1) {
                 std::vector<int> ids;
                 for (int k = 0; k < 6; ++k) ids.push_back(test::randomInt(rng, 0, n - 1));
-                REQUIRE(original.setPinned(ids, op % 2 == 1).ok);
+                REQUIRE(original.pins().set(ids, op % 2 == 1).ok);
                 ++pinOps;
             }
             OpReport report;
@@ -55,7 +55,7 @@ TEST_CASE("recording: user pins and unpins replay through set_pins ops and the J
         ScriptReport report;
         const double diagonal = original.lattice().diagonal();
         CHECK(replayed.positions() == original.positions());  // the recorded steps, repeated: bit for bit
-        CHECK(replayed.pinToggles() == original.pinToggles());
+        CHECK(replayed.pins().toggles() == original.pins().toggles());
 
         // Decided again (as on another mesh: no fingerprint), the pins shape the solution: without the set_pins
         // ops the result differs. A trial whose pins lay away from every drag is the same either way.
@@ -94,7 +94,7 @@ TEST_CASE("recording: set_pins with bad points is an error that names them and c
         const Status ran = runScript(session, script, report);
         CHECK_FALSE(ran.ok);
         CHECK(ran.message.find("set_pins") != std::string::npos);
-        CHECK(session.pinToggles().empty());
+        CHECK(session.pins().toggles().empty());
     }
     Script script;
     const Status bad = io::parseScript(R"({"ops":[{"op":"set_pins","pin":[[1,2]]}]})", "pins.json", script);

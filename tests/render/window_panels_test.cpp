@@ -86,9 +86,9 @@ TEST_CASE("window panels: the Tools window's rows keep their place as the select
     // none selected; two unpinned; one of them pinned; both pinned; none again
     for (int step = 0; step < 5; ++step) {
         state.tools.lattice.points = step == 0 || step == 4 ? std::vector<int>{} : selection;
-        REQUIRE(state.session.setPinned(selection, false).ok);
-        if (step == 2) REQUIRE(state.session.setPinned({selection[0]}, true).ok);
-        if (step == 3) REQUIRE(state.session.setPinned(selection, true).ok);
+        REQUIRE(state.session.pins().set(selection, false).ok);
+        if (step == 2) REQUIRE(state.session.pins().set({selection[0]}, true).ok);
+        if (step == 3) REQUIRE(state.session.pins().set(selection, true).ok);
         ui.frame();
         ui.frame();  // auto-resize settles a frame later
         heights.push_back(toolsWindowHeight());

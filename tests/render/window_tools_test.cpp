@@ -259,7 +259,7 @@ TEST_CASE("window tools: dragging selected control points is one undoable edit, 
         state.tools.lattice.points = chosen;  // selection set directly: picking has its own test above
         std::vector<int> pinned;
         if (chosen.size() > 1) {
-            REQUIRE(state.session.setPinned({chosen.back()}, true).ok);
+            REQUIRE(state.session.pins().set({chosen.back()}, true).ok);
             pinned.push_back(chosen.back());
         }
         // Press on the first chosen point's marker, wherever it projects (it may be hidden behind another
@@ -326,7 +326,7 @@ TEST_CASE("window tools: P pins the selection, a pinned selection cannot be drag
     REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, lattice.controlPoint(id), x, y));
     const int under = app::controlPointAtPixel(core::controlPointPositions(lattice), {}, state.camera, kWidth, kHeight, x, y, 9.0);
     state.tools.lattice.points = {under};
-    REQUIRE(state.session.setPinned({under}, true).ok);
+    REQUIRE(state.session.pins().set({under}, true).ok);
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, {});
     CHECK_FALSE(state.drag.active);
     // Selecting a pinned point is what P needs: said, not an error.

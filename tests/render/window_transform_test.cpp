@@ -212,7 +212,7 @@ TEST_CASE("window transform: a left click confirms the mouse's move as one undo 
     CHECK(state.statusIsError);
     const core::Lattice& lattice = state.session.lattice();
     state.tools.lattice.points = {lattice.index(3, 3, 3), lattice.index(4, 3, 3)};
-    REQUIRE(state.session.setPinned({lattice.index(4, 3, 3)}, true).ok);
+    REQUIRE(state.session.pins().set({lattice.index(4, 3, 3)}, true).ok);
     const Positions before = core::controlPointPositions(lattice);
     const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
     sculptApp.onMouseMove({cx, cy, {}}, {});

@@ -114,7 +114,7 @@ void togglePinsOfSelection(AppState& state) {
     }
     bool allPinned = true;
     for (int id : points) allPinned = allPinned && state.session.lattice().pinned[static_cast<size_t>(id)];
-    if (Status s = state.session.setPinned(points, !allPinned); !s) {
+    if (Status s = state.session.pins().set(points, !allPinned); !s) {
         setStatus(state, "Cannot change the pins: " + s.message, true);
         return;
     }

@@ -65,6 +65,7 @@ private:
     friend class ToolLibrary;
     friend class TSplineTools;
     friend class Refiner;
+    friend class CagePins;
 
     // The lattice an operation's steps are solved in: the cage, or the newest layer while the operation that
     // made it runs.

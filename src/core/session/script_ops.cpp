@@ -48,7 +48,7 @@ Status runSetPins(Session& session, const ScriptOp& op, OpReport& report, const 
     pin.insert(pin.end(), unpin.begin(), unpin.end());
     std::sort(pin.begin(), pin.end());
     pin.erase(std::unique(pin.begin(), pin.end()), pin.end());
-    if (Status s = session.setPinToggles(pin); !s) return s;
+    if (Status s = session.pins().setToggles(pin); !s) return s;
     report.status = OpStatus::Applied;
     return Status::success();
 }

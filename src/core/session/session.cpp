@@ -149,6 +149,13 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
     }
 }
 
+void Session::setInjectivity(const InjectivitySettings& settings) {
+    const bool testing = injectivity_.mode != InjectivityMode::Off;
+    injectivity_ = settings;
+    if (!testing && settings.mode != InjectivityMode::Off && !drag_.active && stack_.lattice_.controlPointCount() > 0)
+        pins().pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
+}
+
 Status Session::setMesh(const Positions& positions, const Triangles& triangles, const LatticeSettings& settings) {
     if (positions.rows() == 0) return Status::error("the mesh has no vertices");
     if (!positions.allFinite()) return Status::error("the mesh has non-finite vertex coordinates");
@@ -465,7 +472,7 @@ Status Session::checkMovable(int idx) const {
         return Status::error("control point id " + std::to_string(idx) + " is outside the lattice (" + std::to_string(n) +
                              " control points)");
     if (stack_.lattice_.pinned[idx]) {
-        if (pinnedAsPartialBoundary(idx) && !inOuterLayers(stack_.lattice_, idx, stack_.settings_.pinLayers))
+        if (pins().pinnedAsPartialBoundary(idx) && !inOuterLayers(stack_.lattice_, idx, stack_.settings_.pinLayers))
             return Status::error("control point " + stack_.lattice_.controlPointName(idx) +
                                  " is pinned: the lattice holds only part of the mesh, so its outer surface stays where it "
                                  "is while the injectivity test is on (the vertices outside never move, and a moving "

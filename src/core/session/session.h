@@ -40,6 +40,7 @@
 #include "core/injectivity/injectivity.h"
 #include "core/volume/lattice.h"
 #include "core/mesh_types.h"
+#include "core/session/cage_pins.h"
 #include "core/session/drag_state.h"
 #include "core/session/refiner.h"
 #include "core/session/stroke.h"
@@ -89,9 +90,6 @@ public:
     Status dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report, const BrushSettings& brush = {});
     // Moves control points (ids as Lattice::index) to absolute positions, or by offsets when relative.
     // values: #indices x 3. Pinned points, ids out of range or non-finite values are errors.
-    // validateBrush, and a radius within 1000 x the mesh's diagonal (the error names the radius that reaches
-    // every vertex).
-    Status checkBrush(const BrushSettings& brush) const;
     Status moveControlPoints(const std::vector<int>& indices, const Eigen::MatrixX3d& values, bool relative,
                              OpReport& report);
     // Makes the operations history()[first, history().cursor()) one history entry (an interactive operation made
@@ -129,13 +127,10 @@ public:
     // Tracking must be on for frames frozen before now to count.
     std::vector<double> totalJacobianDeterminants() const;
 
-    // Pins or unpins control points (ids as Lattice::index). Not an operation on the shape; each operation
-    // keeps the pins it was applied with (Operation::pinToggles) so recordings replay it the same way.
-    Status setPinned(const std::vector<int>& indices, bool pinned);
-    // The control points whose pin differs from the settings' pin layers (the user's pins and unpins), sorted.
-    std::vector<int> pinToggles() const;
-    // Pins exactly the settings' pin layers, with the listed control points flipped. Bad ids change nothing.
-    Status setPinToggles(const std::vector<int>& toggled);
+
+    // Pins and unpins of the cage's control points (cage_pins.h).
+    CagePins pins() { return CagePins(*this); }
+    const CagePins pins() const { return CagePins(const_cast<Session&>(*this)); }
 
     // Lattice parameters of a vertex (from its rest position: exact). Fails if the vertex is outside the box.
     Status parametersOfVertex(int vertex, Eigen::Vector3d& params) const;
@@ -161,6 +156,9 @@ public:
     bool lastMovedAll() const { return lastMovedAll_; }
 
 private:
+    // A brush a drag may use: validateBrush, and a radius within 1000 x the mesh's diagonal (the error names the radius that reaches
+    // every vertex).
+    Status checkBrush(const BrushSettings& brush) const;
     // State kept while an operation is being applied, so a rejection restores everything bitwise.
     struct Snapshot {
         bool saved = false;
@@ -288,21 +286,6 @@ private:
     IncrementScratch increment_;
     MeshAsSet asSet_;  // meshAsSet()
     History history_;  // the operations and the journal (history.h)
-    // A net lattice that does not hold every vertex keeps its boundary faces pinned: the vertices outside it
-    // never move, so a moving boundary would tear the mesh there and the deformation of space (identity
-    // outside, the volume inside) would not be injective (Gain & Dodgson 2001, section 5: the boundary
-    // condition; Coquillart 1990, 3.4 keeps the outer planes fixed for the same seam).
-    // Not with the injectivity test off (a plain FFD, setInjectivity).
-    void pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding) const;
-    // True for a control point that only pinBoundaryIfPartial pins (not a pin layer): the reason a move of it is
-    // refused says so, and how to lift it.
-    bool pinnedAsPartialBoundary(int idx) const;
-    // The pin a control point has before the user's pin edits: the pin layers, and the boundary a net lattice
-    // that does not hold the whole mesh keeps (pinBoundaryIfPartial). pinToggles() are relative to this.
-    bool basePinned(int idx) const;
-    // The ids with every slot of their weld groups added (sorted, unique): a welded point pins as one.
-    std::vector<int> weldGroupsOf(const std::vector<int>& ids) const;
-    void journalPins();
     std::vector<int> lastMoved_;
     bool lastMovedAll_ = false;
     bool trackJacobian_ = false;
@@ -338,6 +321,7 @@ private:
     Refiner::State refinement_;  // refiner.h
     LatticeStack stack_;         // the cage, its layers and frames (lattice_stack.h)
     friend class Refiner;
+    friend class CagePins;
 };
 
 // Inverts an injective lattice deformation per point: finds X with X + sum R(t(X)) delta = y for each row y of

@@ -21,7 +21,7 @@ using detail::vectorText;
 void Session::pushOperation(Operation operation) {
     // note: pins only change between operations, and fresh frames of the same settings inherit them, so the
     // pins at the end of the operation are the ones every one of its steps was solved with.
-    if (operation.kind != OperationKind::LatticeSetup) operation.pinToggles = pinToggles();
+    if (operation.kind != OperationKind::LatticeSetup) operation.pinToggles = pins().toggles();
     history_.push(std::move(operation));
 }
 
@@ -267,41 +267,6 @@ Status Session::redo(OpReport& report) {
     report.verticesMoved = movedCount();
     report.wallMs = millisecondsSince(start);
     return Status::success();
-}
-
-std::vector<int> Session::pinToggles() const {
-    std::vector<int> toggled;
-    for (int idx = 0; idx < stack_.lattice_.controlPointCount(); ++idx)
-        if (basePinned(idx) != static_cast<bool>(stack_.lattice_.pinned[idx])) toggled.push_back(idx);
-    return toggled;
-}
-
-Status Session::setPinToggles(const std::vector<int>& toggled) {
-    const int n = stack_.lattice_.controlPointCount();
-    for (int idx : toggled)
-        if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
-    if (drag_.active) return Status::error("an interactive drag is in progress");
-    for (int idx = 0; idx < n; ++idx) stack_.lattice_.pinned[idx] = basePinned(idx) ? 1 : 0;
-    // A welded point is one control point: a toggle of any of its slots toggles the group once.
-    for (int idx : weldGroupsOf(toggled)) stack_.lattice_.pinned[idx] ^= 1;
-    pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
-    journalPins();
-    return Status::success();
-}
-
-Status Session::setPinned(const std::vector<int>& indices, bool pinned) {
-    const int n = stack_.lattice_.controlPointCount();
-    for (int idx : indices)
-        if (idx < 0 || idx >= n) return Status::error("control point id " + std::to_string(idx) + " is outside the lattice");
-    for (int idx : weldGroupsOf(indices)) stack_.lattice_.pinned[idx] = pinned ? 1 : 0;
-    pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
-    journalPins();
-    return Status::success();
-}
-
-void Session::journalPins() {
-    // Consecutive pin changes: only where they ended counts.
-    history_.note(JournalEntry{JournalEntry::Kind::Pins, {}, 0, {}, pinToggles(), stack_.settings_}, true);
 }
 
 Status Session::replayOperation(const Operation& operation, bool cancelled, OpReport& report) {

@@ -80,7 +80,7 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
         if (Status s = turnBoxLattice(layer.lattice, recorded->frameAxes); !s) return s;
     if (region) pinAllBut(layer.lattice, free);
     else if (pinsKept)
-        for (int idx : pinToggles()) layer.lattice.pinned[static_cast<size_t>(idx)] ^= 1;
+        for (int idx : pins().toggles()) layer.lattice.pinned[static_cast<size_t>(idx)] ^= 1;
     if (placed) {
         recordPlacement(*placed, false, settings, lo, hi, pinsKept);
         placed->region = region;
@@ -91,7 +91,7 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
     stack_.layers_.push_back(std::move(layer));
     if (region && layerCandidates_) embedVertices(stack_.layers_.back().lattice, positions_, stack_.layerEmbedding_, *layerCandidates_);
     else embedVertices(stack_.layers_.back().lattice, positions_, stack_.layerEmbedding_);
-    pinBoundaryIfPartial(stack_.layers_.back().lattice, stack_.layerEmbedding_);
+    pins().pinBoundaryIfPartial(stack_.layers_.back().lattice, stack_.layerEmbedding_);
     stack_.layerActive_ = true;
     if (progress) {
         progress->appliedInCurrentFrame = false;
@@ -146,7 +146,7 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
     frozen.displacement.deltas.resize(static_cast<Eigen::Index>(frozen.displacement.indices.size()), 3);
     for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
         frozen.displacement.deltas.row(static_cast<Eigen::Index>(c)) = stack_.lattice_.displacement.row(frozen.displacement.indices[c]);
-    frozen.pinToggles = pinToggles();
+    frozen.pinToggles = pins().toggles();
     frozen.layers = std::move(stack_.layers_);
     stack_.layers_.clear();
     stack_.cageOut_.resize(0, 3);
@@ -174,7 +174,7 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
     rest_ = positions_;
     embedVertices(stack_.lattice_, rest_, stack_.embedding_);
     ++restVersion_;
-    pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
+    pins().pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
     lastMovedAll_ = true;
 }
 
@@ -207,7 +207,7 @@ void Session::leaveCage() {
     }
     embedVertices(stack_.lattice_, rest_, stack_.embedding_);
     ++restVersion_;
-    pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
+    pins().pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
     if (trackJacobian_) {
         accumulateFrameJacobian(true);
         accumulateLayersJacobian(true);

@@ -42,8 +42,8 @@ public:
     // The same from world points of the current shape, with a brush (strength, symmetry, region; see
     // Session::drag). held: per source, true for one that stays put (a pin): not mirrored, and with a radius left
     // out when it lies outside the brush's region (nothing moves there). update then takes one target per source.
-    // Errors: a bad brush (Session::checkBrush), a non-finite source, a source outside the cage (without a
-    // radius), every source held (with a radius).
+    // Errors: a bad brush (validateBrush; a radius within 1000 x the mesh's diagonal), a non-finite source, a
+    // source outside the cage (without a radius), every source held (with a radius).
     Status beginAt(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held, const BrushSettings& brush);
     // Moves the sources towards `targets` (world, one per source given to begin / beginAt). Applied, subdivided,
     // stopped short (a brush stroke: the largest injective share of its pull) or refused (report says which and

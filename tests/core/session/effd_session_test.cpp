@@ -192,15 +192,15 @@ TEST_CASE("effd session: a welded point pins as one, and pins on a frozen net la
     REQUIRE(session.tools().freeze(0, 1, report));
     const Lattice& cylinder = session.lattice();
     // Pinning one slot of the axis pins every slot welded to it: a move through another copy is refused.
-    REQUIRE(session.setPinned({cylinder.index(0, 0, 2)}, true));
+    REQUIRE(session.pins().set({cylinder.index(0, 0, 2)}, true));
     for (int j = 0; j < cylinder.count[1]; ++j) REQUIRE(session.lattice().pinned[cylinder.index(0, j, 2)]);
     REQUIRE_FALSE(session.moveControlPoints({cylinder.index(0, 5, 2)}, Eigen::RowVector3d(0, 0, 0.05), true, report));
     // The seam: the last angular slice is the first one.
     const int last = cylinder.count[1] - 1;
-    REQUIRE(session.setPinned({cylinder.index(1, last, 2)}, true));
+    REQUIRE(session.pins().set({cylinder.index(1, last, 2)}, true));
     REQUIRE(session.lattice().pinned[cylinder.index(1, 0, 2)]);
     // Unpinning a pin-layer point and a drag, recorded and replayed through the script's set_pins.
-    REQUIRE(session.setPinned({cylinder.index(1, 0, 0)}, false));
+    REQUIRE(session.pins().set({cylinder.index(1, 0, 0)}, false));
     REQUIRE(session.dragVertex(7, session.positions().row(7).transpose() + Eigen::Vector3d(0.02, 0.03, 0.0), report));
     Script parsed;
     REQUIRE(io::parseScript(io::scriptToJson(recordSession(session)), "recording.json", parsed));

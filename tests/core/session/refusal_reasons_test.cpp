@@ -56,7 +56,7 @@ TEST_CASE("refusals: a point only pinned control points can move says so", "[cor
     Session session = sphereSession(settings, InjectivityMode::Conic);
     std::vector<int> all(static_cast<size_t>(session.lattice().controlPointCount()));
     for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-    REQUIRE(session.setPinned(all, true).ok);
+    REQUIRE(session.pins().set(all, true).ok);
     OpReport report;
     REQUIRE(session.dragVertex(4, session.positions().row(4).transpose() + Eigen::Vector3d(0.0, 0.1, 0.0), report).ok);
     REQUIRE(report.status == OpStatus::Rejected);

@@ -332,7 +332,7 @@ TEST_CASE("session: a control-point drag refuses pinned or unknown points and a 
     REQUIRE_FALSE(session.stroke().beginControl({}).ok);
     REQUIRE_FALSE(session.stroke().beginControl({n}).ok);
     REQUIRE_FALSE(session.stroke().beginControl({-1}).ok);
-    REQUIRE(session.setPinned({5}, true).ok);
+    REQUIRE(session.pins().set({5}, true).ok);
     const Status pinned = session.stroke().beginControl({4, 5});
     REQUIRE_FALSE(pinned.ok);
     REQUIRE(pinned.message.find("pinned") != std::string::npos);
