@@ -139,3 +139,47 @@ TEST_CASE("recording: groups must be closed, in order, and not mix drags with co
     Script script;
     CHECK_FALSE(io::parseScript(R"({"ops":[{"op":"begin_group","label":3}]})", "groups.json", script).ok);
 }
+
+// A drag (the window's stroke, or a script's) scales its pull by the brush's strength; its recording, replayed
+// where the recorded steps do not apply (another mesh: here the same one with the fingerprint cleared, so the
+// result must be the same), solves the drag again from the recorded targets and brush. The strength must be
+// applied once: the recorded targets are the pulls as asked, not as scaled.
+TEST_CASE("recording: a drag with strength below 1 replays on another mesh with its strength applied once", "[io]") {
+    Positions positions;
+    Triangles triangles;
+    test::icosphere(2, 1.0, Eigen::Vector3d::Zero(), positions, triangles);
+    std::mt19937 rng(11);
+    int compared = 0;
+    for (int trial = 0; trial < 16; ++trial) {
+        const bool scripted = trial >= 8;  // a script's drag, one update of the same stroke
+        BrushSettings brush;
+        brush.strength = 0.3 + 0.1 * (trial % 8) / 2.0;              // 0.3 .. 0.65
+        if (trial % 2 == 0) brush.radius = 0.5;                     // a brush stroke; otherwise a solved drag
+        if (trial % 4 == 1) brush.symmetry.mirror[0] = true;        // with a mirror image
+        Session original;
+        REQUIRE(original.setMesh(positions, triangles).ok);
+        const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
+        const Eigen::Vector3d start = positions.row(v).transpose();
+        if (brush.symmetry.mirror[0] && std::abs(start.x()) < 0.2) continue;  // images that merge
+        const Eigen::Vector3d pull = 0.4 * (start.normalized() + 0.5 * test::randomVector(rng, -1, 1));
+        OpReport report;
+        if (scripted) {
+            REQUIRE(original.drag({{start, start + pull}}, report, brush).ok);
+        } else {
+            REQUIRE(original.stroke().beginAt({start}, {}, brush).ok);
+            for (int m = 1; m <= 4; ++m) REQUIRE(original.stroke().update({start + pull * (m / 4.0)}, report).ok);
+            original.stroke().end();
+        }
+        INFO("trial " << trial << ": " << report.reason);
+        if (original.history().size() != 1) continue;  // refused: nothing to replay
+        Script recording = recordSession(original);
+        recording.meshFingerprint.clear();  // solve again, as on another mesh
+        Script parsed;
+        const Session replayed = test::replayThroughJson(recording, positions, triangles, parsed);
+        const double diagonal = original.lattice().diagonal();
+        // The grabbed vertex lands where the window's stroke put it (strength once), not short of it.
+        CHECK((replayed.positions().row(v) - original.positions().row(v)).norm() <= 1e-6 * diagonal);
+        ++compared;
+    }
+    CHECK(compared >= 10);
+}

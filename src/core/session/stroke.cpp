@@ -21,6 +21,20 @@ std::string dragLabel(size_t constraints) {
     return constraints == 1 ? "drag" : "drag (" + std::to_string(constraints) + " points)";
 }
 
+// The operation's constraint targets (what a recording writes) after an update of a drag begun with beginAt:
+// where each user's grabbed point got, as the pull that was asked before the brush's strength scaled it. A
+// recording replayed where its steps do not apply solves the drag again from these targets and scales them by
+// the strength once (update); the scaled points themselves would have it applied twice.
+void recordAskedTargets(DragState& drag) {
+    for (size_t e = 0; e < drag.mirror.size(); ++e) {
+        if (drag.mirror[e].images.front().second != 0) continue;  // a mirror image: not a constraint of the user's
+        const size_t u = static_cast<size_t>(drag.mirror[e].images.front().first);
+        const Eigen::Vector3d& start = drag.userStarts[u];
+        drag.operation.constraints[u].target =
+            drag.brush.strength == 1.0 ? drag.sourceWorld[e] : Eigen::Vector3d(start + (drag.sourceWorld[e] - start) / drag.brush.strength);
+    }
+}
+
 }  // namespace
 
 Status Stroke::begin(const std::vector<Eigen::Vector3d>& sourceParams) {
@@ -291,9 +305,7 @@ Status Stroke::update(const std::vector<Eigen::Vector3d>& userTargets, OpReport&
     }
     for (size_t f = 0; f < targets.size(); ++f) s_.drag_.sourceWorld[f] = s_.stack_.currentImage(s_.drag_.params[f]);
     if (s_.drag_.mirrored) {
-        for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
-            if (s_.drag_.mirror[e].images.front().second == 0)
-                s_.drag_.operation.constraints[static_cast<size_t>(s_.drag_.mirror[e].images.front().first)].target = s_.drag_.sourceWorld[e];
+        recordAskedTargets(s_.drag_);
     } else {
         for (size_t f = 0; f < targets.size(); ++f) s_.drag_.operation.constraints[f].target = s_.drag_.sourceWorld[f];
     }
@@ -333,9 +345,7 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
     }
     for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
         s_.drag_.sourceWorld[e] = s_.drag_.strokeReached[e];
-    for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
-        if (s_.drag_.mirror[e].images.front().second == 0)
-            s_.drag_.operation.constraints[static_cast<size_t>(s_.drag_.mirror[e].images.front().first)].target = s_.drag_.sourceWorld[e];
+    recordAskedTargets(s_.drag_);
     report.fractionApplied = share;
     report.subSteps = static_cast<int>(s_.drag_.operation.steps.size());
     report.controlPointsChanged = 0;
