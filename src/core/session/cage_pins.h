@@ -33,10 +33,6 @@ public:
 
 private:
     friend class Session;
-    friend class Stroke;
-    friend class ToolLibrary;
-    friend class TSplineTools;
-    friend class Refiner;
 
     // A net lattice that does not hold every vertex keeps its boundary faces pinned: the vertices outside it
     // never move, so a moving boundary would tear the mesh there and the deformation of space (identity

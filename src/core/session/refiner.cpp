@@ -179,22 +179,14 @@ void Refiner::apply(RefinementRecord& record) {
             s_.frozenJacobian_[static_cast<size_t>(first) + k] =
                 0.5 * (s_.frozenJacobian_[static_cast<size_t>(record.splits[k].a)] + s_.frozenJacobian_[static_cast<size_t>(record.splits[k].b)]);
     }
-    s_.before_.conservativeResize(count, 3);
-    if (s_.stack_.beforeCage_.rows() > 0) s_.stack_.beforeCage_.conservativeResize(count, 3);
-    embedVertices(s_.stack_.lattice_, s_.rest_, s_.stack_.embedding_);
-    ++s_.restVersion_;
-    s_.meshIndex_.build(s_.positions_, s_.triangles_);
     if (!s_.loadContacts_.empty()) {
         // A split's midpoint is in the load contact's neighbourhood when both ends of its edge are.
         s_.loadContacts_.zoneVertex.resize(static_cast<size_t>(count), 0);
         for (size_t k = 0; k < record.splits.size(); ++k)
             s_.loadContacts_.zoneVertex[static_cast<size_t>(first) + k] =
                 s_.loadContacts_.zoneVertex[static_cast<size_t>(record.splits[k].a)] && s_.loadContacts_.zoneVertex[static_cast<size_t>(record.splits[k].b)];
-        s_.meshIndex_.setLoadContacts(s_.loadContacts_, s_.triangles_);
     }
-    s_.lastMoved_.clear();
-    s_.lastMovedAll_ = true;
-    ++s_.refinement_.topologyVersion;
+    finishTopologyChange(count);
 }
 
 void Refiner::remove(const RefinementRecord& record) {
@@ -206,15 +198,17 @@ void Refiner::remove(const RefinementRecord& record) {
     s_.positions_.conservativeResize(count, 3);
     if (s_.stack_.cageOut_.rows() > 0) s_.stack_.cageOut_.conservativeResize(count, 3);
     if (s_.trackJacobian_) s_.frozenJacobian_.resize(static_cast<size_t>(count));
+    if (!s_.loadContacts_.empty()) s_.loadContacts_.zoneVertex.resize(static_cast<size_t>(count));
+    finishTopologyChange(count);
+}
+
+void Refiner::finishTopologyChange(Eigen::Index count) {
     s_.before_.conservativeResize(count, 3);
     if (s_.stack_.beforeCage_.rows() > 0) s_.stack_.beforeCage_.conservativeResize(count, 3);
     embedVertices(s_.stack_.lattice_, s_.rest_, s_.stack_.embedding_);
     ++s_.restVersion_;
     s_.meshIndex_.build(s_.positions_, s_.triangles_);
-    if (!s_.loadContacts_.empty()) {
-        s_.loadContacts_.zoneVertex.resize(static_cast<size_t>(count));
-        s_.meshIndex_.setLoadContacts(s_.loadContacts_, s_.triangles_);
-    }
+    if (!s_.loadContacts_.empty()) s_.meshIndex_.setLoadContacts(s_.loadContacts_, s_.triangles_);
     s_.lastMoved_.clear();
     s_.lastMovedAll_ = true;
     ++s_.refinement_.topologyVersion;

@@ -9,6 +9,8 @@
 
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "core/deform/refinement.h"
 #include "core/session/operation.h"
 #include "core/status.h"
@@ -60,6 +62,9 @@ private:
     void apply(RefinementRecord& record);
     // The inverse of apply (no-op for an empty record).
     void remove(const RefinementRecord& record);
+    // What apply and remove end with once the per-vertex arrays have `count` rows: the scratch rows, the cage's
+    // embedding, the triangle check's index and its load contacts, the versions a view watches.
+    void finishTopologyChange(Eigen::Index count);
     // Re-applies an operation's recorded refinement after its steps (redo, replay; no-op when empty).
     void reapply(Operation& operation) {
         if (!operation.refinement.empty()) apply(operation.refinement);
