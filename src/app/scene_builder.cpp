@@ -58,9 +58,13 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
         const auto& constraints = last->interactive ? last->steps.back().constraints : last->constraints;
         scene.constraints.sources.resize(static_cast<Eigen::Index>(constraints.size()), 3);
         scene.constraints.targets.resize(static_cast<Eigen::Index>(constraints.size()), 3);
+        // A scripted drag records its pulls as asked; the strength took the surface that share of the way.
+        const double strength = last->interactive ? 1.0 : last->brush.strength;
         for (size_t c = 0; c < constraints.size(); ++c) {
-            scene.constraints.sources.row(static_cast<Eigen::Index>(c)) = constraints[c].source.transpose();
-            scene.constraints.targets.row(static_cast<Eigen::Index>(c)) = constraints[c].target.transpose();
+            const Eigen::Vector3d& source = constraints[c].source;
+            const Eigen::Vector3d target = strength == 1.0 ? constraints[c].target : Eigen::Vector3d(source + strength * (constraints[c].target - source));
+            scene.constraints.sources.row(static_cast<Eigen::Index>(c)) = source.transpose();
+            scene.constraints.targets.row(static_cast<Eigen::Index>(c)) = target.transpose();
         }
     }
     if (request.jacobian) {

@@ -260,3 +260,29 @@ TEST_CASE("window brush: the affected-region overlay shows what a finished strok
         CHECK(moved > 0);
     }
 }
+
+// The last drag's target (blue) is drawn where the drag took its grabbed point. A script's drag records its pull
+// as asked (so a replay solves it again with the strength applied once); the picture scales it by the strength.
+TEST_CASE("scene: a scripted drag's target is drawn where its strength took the grabbed point", "[render]") {
+    const test::TestMesh mesh = test::makeIcosphere(2);
+    std::mt19937 rng(5);
+    int drawn = 0;
+    for (int trial = 0; trial < 12; ++trial) {
+        core::Session session;
+        REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
+        core::BrushSettings brush;
+        brush.strength = trial % 3 == 0 ? 1.0 : 0.25 + 0.5 * std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+        if (trial % 2 == 1) brush.radius = 0.6;
+        const int v = std::uniform_int_distribution<int>(0, static_cast<int>(mesh.positions.rows()) - 1)(rng);
+        const Eigen::Vector3d start = mesh.positions.row(v).transpose();
+        core::OpReport report;
+        REQUIRE(session.dragVertex(v, start + 0.3 * start, report, brush).ok);
+        if (report.status != core::OpStatus::Applied) continue;
+        const render::SceneData scene = app::sceneFromSession(session, app::SceneRequest{});
+        REQUIRE(scene.constraints.targets.rows() >= 1);
+        INFO("trial " << trial << ", strength " << brush.strength << ", radius " << brush.radius);
+        CHECK((scene.constraints.targets.row(0) - session.positions().row(v)).norm() <= 1e-9);
+        ++drawn;
+    }
+    CHECK(drawn >= 10);
+}
