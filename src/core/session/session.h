@@ -73,7 +73,7 @@ public:
 
     // The injectivity test of every later step. Off is a plain FFD (Sederberg & Parry, as PyGeM): a lattice set
     // up from then on does not pin the boundary of a lattice that holds only part of the mesh
-    // (pinBoundaryIfPartial), so every control point can move and the vertices outside stay where they are. A
+    // (cage_pins.h), so every control point can move and the vertices outside stay where they are. A
     // test switched on pins that boundary again at once (what is already displaced stays).
     void setInjectivity(const InjectivitySettings& settings);
     const InjectivitySettings& injectivity() const { return injectivity_; }
@@ -82,9 +82,10 @@ public:
     // target with the least lattice change (Hu et al. 2001 eq. 7 / 12), subdivided into injective steps as
     // needed. Bad input (empty list, non-finite coordinates, a source outside the lattice) returns an error
     // and changes nothing; an operation that cannot be made injective is reported Rejected and changes nothing.
-    // With a brush (brush.h): the targets are scaled by its strength, mirror images are added for its
-    // symmetry (planes through meshAsSet().symmetryCentre), and with a radius the drag is solved in a region-of-interest
-    // lattice (a layer) that moves nothing farther than 1.25 radius from a source. A bad brush is an error.
+    // With a brush (brush.h): the targets are scaled by its strength (the history keeps them as asked), mirror
+    // images are added for its symmetry (planes through meshAsSet().symmetryCentre), and with a radius the drag
+    // is a brush stroke (stroke.h) that moves nothing farther than 1.25 radius from a source's path. A bad brush
+    // is an error.
     Status drag(const std::vector<PointConstraint>& constraints, OpReport& report, const BrushSettings& brush = {});
     // Drags a mesh vertex to target.
     Status dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report, const BrushSettings& brush = {});
@@ -92,16 +93,16 @@ public:
     // values: #indices x 3. Pinned points, ids out of range or non-finite values are errors.
     Status moveControlPoints(const std::vector<int>& indices, const Eigen::MatrixX3d& values, bool relative,
                              OpReport& report);
-    // Makes the operations history()[first, history().cursor()) one history entry (an interactive operation made
-    // of their steps, undone and redone as one), e.g. a replayed interactive drag; operations that change the
+    // Makes the operations history()[first, history().cursor()) one history entry (an interactive operation
+    // made of their steps, undone and redone as one), e.g. a replayed interactive drag; operations that change the
     // lattice tools or freeze / unfreeze one are kept whole as the entry's `parts`. The cursor must be at the
     // end of the history. label empty: the first operation's.
     Status groupOperations(int first, const std::string& label);
     // Applies a recorded operation exactly as it was applied when recorded: its steps (fresh frames and
     // control displacements), no solve and no test, and pushes it onto the history. For a replay on the mesh
-    // the recording was made on (same meshFingerprint). cancelled: the steps of an interactive drag that was
-    // taken back, applied and taken back again (nothing is pushed). Fails, changing nothing, on a step whose
-    // control point ids or settings do not fit.
+    // the recording was made on (the same meshAsSet().fingerprint). cancelled: the steps of an interactive
+    // drag that was taken back, applied and taken back again (nothing is pushed). Fails, changing nothing, on a
+    // step whose control point ids or settings do not fit.
     Status replayOperation(const Operation& operation, bool cancelled, OpReport& report);
     // Undo / redo the last operation; with nothing to undo or redo, report.status = NoOp (not an error).
     Status undo(OpReport& report);
@@ -127,7 +128,6 @@ public:
     // Tracking must be on for frames frozen before now to count.
     std::vector<double> totalJacobianDeterminants() const;
 
-
     // Pins and unpins of the cage's control points (cage_pins.h).
     CagePins pins() { return CagePins(*this); }
     const CagePins pins() const { return CagePins(const_cast<Session&>(*this)); }
@@ -146,7 +146,8 @@ public:
     // The operations, the cursor (entries [0, cursor) are applied) and the journal: every command since setMesh,
     // in order, what recordSession writes (history.h).
     const History& history() const { return history_; }
-    // Its fingerprint, symmetry centre and the crossings and degenerate triangles it came with (operation.h).
+    // The mesh as set: its fingerprint, symmetry centre, and the crossings and degenerate triangles it came with
+    // (operation.h).
     const MeshAsSet& meshAsSet() const { return asSet_; }
     // Bytes held by the history (operations and frozen frames), not counting the mesh itself.
     size_t historyBytes() const;
@@ -156,8 +157,8 @@ public:
     bool lastMovedAll() const { return lastMovedAll_; }
 
 private:
-    // A brush a drag may use: validateBrush, and a radius within 1000 x the mesh's diagonal (the error names the radius that reaches
-    // every vertex).
+    // A brush a drag may use: validateBrush, and a radius within 1000 x the mesh's diagonal (the error names the
+    // radius that reaches every vertex).
     Status checkBrush(const BrushSettings& brush) const;
     // State kept while an operation is being applied, so a rejection restores everything bitwise.
     struct Snapshot {
