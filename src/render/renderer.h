@@ -69,7 +69,7 @@ public:
     // the normal cof(J) n0 (shaders/mesh.vert): the cage C(X0) = X0 + sum R_ijk(t) delta_ijk (Hu et al. 2001,
     // eq. 1-2) from the rest positions and each vertex's cell and local coordinates (uploaded once), then each
     // layer L (core/session/session.h: a brush region, a subdivision step) y -> y + sum R(t(y)) delta with t(y) its box's
-    // linear map, as Session::pushThroughLayers does. Per frame only the control displacements go up (a few KB).
+    // linear map, as LatticeStack::pushThroughLayers does. Per frame only the control displacements go up (a few KB).
     // Empty string when the GPU can evaluate these lattices: box lattices (no volume), polynomial or rational,
     // the cage and up to 1024 layers. Otherwise why not (the CPU path, updatePositions, takes every kind).
     static std::string gpuDeformationProblem(const core::Lattice& cage, const std::vector<const core::Lattice*>& layers = {});

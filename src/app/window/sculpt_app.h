@@ -4,7 +4,7 @@
 // tests (tests/render/window_app_test.cpp) drive the very same object.
 //
 // Mouse: left-press on the mesh picks the surface point under the cursor and starts an interactive drag
-// (Session::beginDrag); every move puts the target where the cursor ray meets the plane through the picked
+// (Session::stroke().beginAt); every move puts the target where the cursor ray meets the plane through the picked
 // point facing the camera and calls Session::stroke().update (live); release ends it (one undo step).
 // Middle-drag or Alt+left-drag orbits, Shift+middle-drag pans, the wheel zooms. Keys: Home frames the mesh (F too
 // in the lattice tool; in the sculpt tool F sets the brush radius),

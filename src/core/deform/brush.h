@@ -29,7 +29,7 @@ const char* brushFalloffName(BrushFalloff falloff);
 Status parseBrushFalloff(const std::string& name, BrushFalloff& out);
 
 // Mirror planes: axis a is mirrored in the plane x_a = centre_a. centre: the centre of the mesh's bounding
-// box when it was loaded (Session::symmetryCentre).
+// box when it was loaded (Session::meshAsSet().symmetryCentre).
 struct Symmetry {
     std::array<bool, 3> mirror{false, false, false};
     bool any() const { return mirror[0] || mirror[1] || mirror[2]; }

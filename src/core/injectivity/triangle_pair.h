@@ -32,7 +32,7 @@ bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& b);
 
 // True if the triangle has no area: its corners are collinear or coincide (CGAL's exact collinear predicate on
 // the double coordinates, no tolerance). A mesh file's zero-area facets are such triangles: the load counts them
-// apart from crossings (Session::initialDegenerateTriangles).
+// apart from crossings (Session::meshAsSet().degenerateTriangles).
 bool triangleDegenerate(const TriangleCorners& t);
 
 }  // namespace sculpt::core

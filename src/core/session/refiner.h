@@ -1,10 +1,10 @@
 // Refiner: refinement where the surface stretches (Coquillart 1990, section 3.4, after Griessmair and
 // Purgathofer 1989), as history operations of the session. One per Session (Session::refinement()).
 // Triangles whose image strays from flat are split at their rest-space edge midpoints, each new vertex put where
-// the deformation takes that rest point (Session::imageOfRestPoint). A topology change is an operation like any
-// other: undo removes exactly the vertices and triangles it added (the others come back bitwise, in their
-// order), redo and replay split the same edges again. Only the cage and its layers are followed: frozen frames
-// are part of the rest mesh. The geometry is deform/refinement.h's; files: refiner.cpp.
+// the deformation takes that rest point (LatticeStack::imageOfRestPoint, Session::cage()). A topology change is
+// an operation like any other: undo removes exactly the vertices and triangles it added (the others come back
+// bitwise, in their order), redo and replay split the same edges again. Only the cage and its layers are
+// followed: frozen frames are part of the rest mesh. The geometry is deform/refinement.h's; files: refiner.cpp.
 #pragma once
 
 #include <vector>

@@ -74,7 +74,7 @@ struct Script {
     std::vector<ScriptOp> ops;
 };
 
-// Every command of a session (Session::journal) as a script that replays it: the lattice placed in the box the
+// Every command of a session (Session::history().journal()) as a script that replays it: the lattice placed in the box the
 // session started with, the injectivity settings, the mesh's fingerprint, and every operation, undo, redo,
 // pin change and taken-back drag in order, each operation with the steps it was applied as. Replayed on the
 // same mesh it gives the same vertices bit for bit; on another mesh the operations are decided again.

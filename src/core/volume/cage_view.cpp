@@ -10,7 +10,7 @@ Positions carryThroughLayers(const std::vector<Layer>& layers, const Positions& 
     if (layers.empty()) return out;
     for (Eigen::Index p = 0; p < out.rows(); ++p) {
         Eigen::Vector3d x = out.row(p).transpose();
-        // note: the same map as Session::pushThroughLayers, which cagePoints() uses, so curves and points agree.
+        // note: the same map as LatticeStack::pushThroughLayers, which cagePoints() uses, so curves and points agree.
         for (const Layer& layer : layers) {
             Eigen::Vector3d t;
             if (restParameters(layer.lattice, x, t)) x += displacementAt(layer.lattice, t);
