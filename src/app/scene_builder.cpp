@@ -58,11 +58,12 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
         const auto& constraints = last->interactive ? last->steps.back().constraints : last->constraints;
         scene.constraints.sources.resize(static_cast<Eigen::Index>(constraints.size()), 3);
         scene.constraints.targets.resize(static_cast<Eigen::Index>(constraints.size()), 3);
-        // A scripted drag records its pulls as asked; the strength took the surface that share of the way.
-        const double strength = last->interactive ? 1.0 : last->brush.strength;
+        // A scripted drag records its pulls as asked (BrushSettings::askedTarget); the strength took the surface
+        // that share of the way. An interactive one's last step holds where the points got.
+        const bool scaled = !last->interactive && last->brush.strength != 1.0;
         for (size_t c = 0; c < constraints.size(); ++c) {
             const Eigen::Vector3d& source = constraints[c].source;
-            const Eigen::Vector3d target = strength == 1.0 ? constraints[c].target : Eigen::Vector3d(source + strength * (constraints[c].target - source));
+            const Eigen::Vector3d target = scaled ? last->brush.scaledTarget(source, constraints[c].target) : constraints[c].target;
             scene.constraints.sources.row(static_cast<Eigen::Index>(c)) = source.transpose();
             scene.constraints.targets.row(static_cast<Eigen::Index>(c)) = target.transpose();
         }

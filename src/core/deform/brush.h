@@ -45,6 +45,15 @@ struct BrushSettings {
     double strength = 1.0;      // in (0, 1]: the fraction of the cursor's motion the grabbed point makes
     Symmetry symmetry;
     bool active() const { return radius > 0.0; }
+    // Where the strength takes a pull from `source` towards `target`: source + strength (target - source).
+    Eigen::Vector3d scaledTarget(const Eigen::Vector3d& source, const Eigen::Vector3d& target) const {
+        return source + strength * (target - source);
+    }
+    // The inverse: the target asked for, given where the pull got (`reached`); `reached` itself at strength 1.
+    // What a drag records, so that a replay that solves it again scales it once.
+    Eigen::Vector3d askedTarget(const Eigen::Vector3d& source, const Eigen::Vector3d& reached) const {
+        return strength == 1.0 ? reached : Eigen::Vector3d(source + (reached - source) / strength);
+    }
 };
 // Finite radius >= 0, strength in (0, 1]; the message names the field.
 Status validateBrush(const BrushSettings& brush);

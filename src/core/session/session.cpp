@@ -312,7 +312,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
         if (!constraints[f].source.allFinite()) return Status::error(which + " source has non-finite coordinates");
         if (!constraints[f].target.allFinite()) return Status::error(which + " target has non-finite coordinates");
         sources.push_back(constraints[f].source);
-        targets.push_back(constraints[f].source + brush.strength * (constraints[f].target - constraints[f].source));
+        targets.push_back(brush.scaledTarget(constraints[f].source, constraints[f].target));
     }
     // With symmetry, the mirror images join as further constraints (Hu et al. 2001, eq. 12). (A drag with a
     // radius is a brush stroke: it went the stroke's way above.)

@@ -29,9 +29,7 @@ void recordAskedTargets(DragState& drag) {
     for (size_t e = 0; e < drag.mirror.size(); ++e) {
         if (drag.mirror[e].images.front().second != 0) continue;  // a mirror image: not a constraint of the user's
         const size_t u = static_cast<size_t>(drag.mirror[e].images.front().first);
-        const Eigen::Vector3d& start = drag.userStarts[u];
-        drag.operation.constraints[u].target =
-            drag.brush.strength == 1.0 ? drag.sourceWorld[e] : Eigen::Vector3d(start + (drag.sourceWorld[e] - start) / drag.brush.strength);
+        drag.operation.constraints[u].target = drag.brush.askedTarget(drag.userStarts[u], drag.sourceWorld[e]);
     }
 }
 
@@ -256,7 +254,7 @@ Status Stroke::update(const std::vector<Eigen::Vector3d>& userTargets, OpReport&
     if (s_.drag_.mirrored) {
         std::vector<Eigen::Vector3d> scaled(userTargets.size());
         for (size_t u = 0; u < userTargets.size(); ++u)
-            scaled[u] = s_.drag_.userStarts[u] + s_.drag_.brush.strength * (userTargets[u] - s_.drag_.userStarts[u]);
+            scaled[u] = s_.drag_.brush.scaledTarget(s_.drag_.userStarts[u], userTargets[u]);
         targets.clear();
         for (const MirroredConstraint& c : s_.drag_.mirror) targets.push_back(mirroredTarget(c, scaled, s_.drag_.userStarts));
     }
