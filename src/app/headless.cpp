@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "app/screenshot_hook.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "io/atomic_file.h"
 #include "io/mesh_file.h"
@@ -15,7 +15,7 @@
 namespace sculpt::app {
 
 int runHeadless(const CliOptions& options, const char* argv0) {
-    core::Script script;
+    io::Script script;
     if (Status s = io::loadScript(options.script, script); !s) {
         std::cerr << "sculpt: " << s.message << "\n";
         return kExitBadInput;
@@ -71,11 +71,11 @@ int runHeadless(const CliOptions& options, const char* argv0) {
                   << " triangle pairs); those never count against an edit, only new crossings are refused\n";
 
     ScreenshotRenderer screenshots(options);
-    core::ScriptReport report;
-    const core::ScreenshotHook hook = [&](const core::Session& current, const core::ScriptOp& op) {
+    io::ScriptReport report;
+    const io::ScreenshotHook hook = [&](const core::Session& current, const io::ScriptOp& op) {
         return screenshots.capture(current, op.path, &mesh);
     };
-    if (Status s = core::runScript(session, script, report, hook); !s) {
+    if (Status s = io::runScript(session, script, report, hook); !s) {
         std::cerr << "sculpt: " << options.script << ": " << s.message << "\n";
         std::cerr << "sculpt: nothing was written\n";
         return kExitBadInput;
@@ -107,7 +107,7 @@ int runHeadless(const CliOptions& options, const char* argv0) {
         std::printf("wrote %s\n", options.report.c_str());
     }
     if (!options.saveSession.empty()) {
-        core::Script recorded = core::recordSession(session);
+        io::Script recorded = io::recordSession(session);
         recorded.mesh = io::scriptRelativeMeshPath(input, options.saveSession);
         recorded.weldMesh = weld;
         if (Status s = io::writeFileAtomically(options.saveSession, io::scriptToJson(recorded)); !s) {

@@ -1,6 +1,7 @@
+// Reading scripts and recorded sessions (script_json.h): the top level, each op through its entry in the op
+// table (script_ops.h), a recording's "applied" steps, and the fields several ops share (script_json_fields.h).
+// Writing: script_json_write.cpp.
 #include "io/script_json.h"
-
-#include "core/session/script_ops.h"
 
 #include "core/volume/volume_kinds.h"
 
@@ -19,17 +20,22 @@
 #include "io/json_fields.h"
 #include "io/json_text.h"
 #include "io/lattice_json.h"
+#include "io/script_json_fields.h"
+#include "io/script_ops.h"
 
 namespace sculpt::io {
 
 namespace {
 
-using nlohmann::json;
+// The folder file paths in a script are relative to (the script's own), set by parseScript.
+thread_local std::string gScriptFolder;
+
+}  // namespace
+
+namespace script_fields {
 
 using namespace json_fields;
 
-// The brush fields of a drag or drag_vertex op (or of a recorded operation's "brush"): "radius" (world units,
-// 0 = none), "strength" in (0, 1], "falloff" ("smooth", "medium", "sharp"), "symmetry" ("x", "yz", ...).
 core::BrushSettings parseBrush(const json& j, const std::string& path) {
     core::BrushSettings brush;
     if (j.contains("radius")) {
@@ -114,12 +120,153 @@ Eigen::MatrixX3d vectorRows(const json& list, const std::string& path) {
     return out;
 }
 
-// A fraction of the bounding-box diagonal: finite and > 0.
 double tolerance(const json& value, const std::string& path) {
     const double t = number(value, path);
     if (t <= 0.0) fail(path, "expected a number > 0 (a fraction of the bounding-box diagonal)");
     return t;
 }
+
+
+core::RefinementSettings parseRefinementSettings(const json& j, const std::string& path) {
+    core::RefinementSettings settings;
+    if (j.contains("automatic")) {
+        if (!j["automatic"].is_boolean()) fail(path + ".automatic", "expected true or false");
+        settings.automatic = j["automatic"].get<bool>();
+    }
+    if (j.contains("tolerance")) settings.options.tolerance = tolerance(j["tolerance"], path + ".tolerance");
+    if (j.contains("max_rounds")) settings.options.maxRounds = integer(j["max_rounds"], path + ".max_rounds");
+    if (j.contains("max_vertices")) settings.options.maxVertices = integer(j["max_vertices"], path + ".max_vertices");
+    if (Status s = core::validateRefinementOptions(settings.options); !s) fail(path, s.message);
+    return settings;
+}
+
+
+core::LatticeTool parseTool(const json& j, const std::string& path, bool edit) {
+    core::LatticeTool tool;
+    std::shared_ptr<const core::Volume> volume;
+    if (edit && !j.contains("lattice") && !j.contains("file")) {
+        if (!j.contains("edits")) fail(path, "expected \"lattice\", \"file\" or \"edits\"");
+        if (j.contains("place")) fail(path + ".place", "places a \"lattice\" or \"file\"; an edit of the current net has neither");
+        if (j.contains("name")) tool.name = text(j["name"], path + ".name");
+        return tool;
+    }
+    if (j.contains("lattice") == j.contains("file")) fail(path, "expected one of \"lattice\" and \"file\"");
+    if (j.contains("file")) {
+        std::filesystem::path file(text(j["file"], path + ".file"));
+        if (file.is_relative() && !gScriptFolder.empty()) file = std::filesystem::path(gScriptFolder) / file;
+        LatticeFile library;
+        if (Status s = readLatticeFile(file.string(), library); !s) fail(path + ".file", s.message);
+        volume = std::move(library.volume);
+        tool.name = library.name;
+    } else if (Status s = parseVolumeJson(j["lattice"], path + ".lattice", volume); !s) {
+        const size_t colon = s.message.find(": ");
+        fail(s.message.substr(0, colon), colon == std::string::npos ? s.message : s.message.substr(colon + 2));
+    }
+    if (j.contains("place")) {
+        const json& place = j["place"];
+        allowOnly(place, path + ".place", {"point", "normal", "size"});
+        std::shared_ptr<const core::Volume> placed;
+        if (Status s = core::placeVolume(*volume, vector3(required(place, "point", path + ".place"), path + ".place.point"),
+                                             vector3(required(place, "normal", path + ".place"), path + ".place.normal"),
+                                             number(required(place, "size", path + ".place"), path + ".place.size"), placed);
+            !s)
+            fail(path + ".place", s.message);
+        volume = std::move(placed);
+    }
+    if (edit) tool.name.clear();  // note: an edit keeps the tool's name, whatever a library file calls its lattice
+    if (j.contains("name")) tool.name = text(j["name"], path + ".name");
+    if (tool.name.empty() && !edit) tool.name = volume->kindName();
+    tool.volume = std::move(volume);
+    return tool;
+}
+
+
+namespace {
+
+// Slot ids of an edit: integers >= 0 (whether they are in the lattice is known when the edit runs).
+std::vector<int> parseSlots(const json& j, const std::string& path, size_t least) {
+    if (!j.is_array() || j.size() < least)
+        fail(path, "expected an array of " + std::to_string(least) + " or more slot ids (i + count_u (j + count_v k))");
+    std::vector<int> slots;
+    for (size_t s = 0; s < j.size(); ++s) {
+        const std::string sp = path + "[" + std::to_string(s) + "]";
+        const int id = integer(j[s], sp);
+        if (id < 0) fail(sp, "expected a slot id >= 0");
+        slots.push_back(id);
+    }
+    return slots;
+}
+
+int parseEditAxis(const json& j, const std::string& path) {
+    const int axis = integer(required(j, "axis", path), path + ".axis");
+    if (axis < 0 || axis > 2) fail(path + ".axis", "expected 0 (u), 1 (v) or 2 (w)");
+    return axis;
+}
+
+}  // namespace
+
+std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path) {
+    if (!j.is_array() || j.empty()) fail(path, "expected a non-empty array of edits");
+    std::vector<core::NetEdit> edits;
+    for (size_t e = 0; e < j.size(); ++e) {
+        const std::string ep = path + "[" + std::to_string(e) + "]";
+        const json& item = j[e];
+        if (!item.is_object() || item.size() != 1)
+            fail(ep, "expected an object with one of \"move\", \"merge\", \"refine\", \"insert\", \"remove\"");
+        const std::string key = item.begin().key();
+        const json& value = item.begin().value();
+        const std::string vp = ep + "." + key;
+        core::NetEdit edit;
+        if (key == "move") {
+            edit.kind = core::NetEdit::Kind::Move;
+            allowOnly(value, vp, {"points", "offset"});
+            edit.slots = parseSlots(required(value, "points", vp), vp + ".points", 1);
+            edit.offset = vector3(required(value, "offset", vp), vp + ".offset");
+        } else if (key == "merge") {
+            edit.kind = core::NetEdit::Kind::Merge;
+            edit.slots = parseSlots(value, vp, 2);
+        } else if (key == "refine") {
+            edit.kind = core::NetEdit::Kind::Refine;
+            allowOnly(value, vp, {"axis"});
+            edit.axis = parseEditAxis(value, vp);
+        } else if (key == "insert") {
+            edit.kind = core::NetEdit::Kind::Insert;
+            allowOnly(value, vp, {"axis", "at", "times"});
+            edit.axis = parseEditAxis(value, vp);
+            edit.at = number(required(value, "at", vp), vp + ".at");
+            if (!(edit.at > 0.0 && edit.at < 1.0)) fail(vp + ".at", "expected a lattice parameter strictly inside (0, 1)");
+            edit.times = value.contains("times") ? integer(value["times"], vp + ".times") : 1;
+            if (edit.times < 1 || edit.times > core::kMaxDegree) fail(vp + ".times", "expected 1 to the axis' degree");
+        } else if (key == "remove") {
+            edit.kind = core::NetEdit::Kind::Remove;
+            allowOnly(value, vp, {"axis", "index"});
+            edit.axis = parseEditAxis(value, vp);
+            edit.index = integer(required(value, "index", vp), vp + ".index");
+            if (edit.index < 0) fail(vp + ".index", "expected a slice index >= 0");
+        } else {
+            fail(vp, "unknown edit (known: move, merge, refine, insert, remove)");
+        }
+        edits.push_back(std::move(edit));
+    }
+    return edits;
+}
+
+std::string label(const json& value, const std::string& path) {
+    if (!value.is_string()) fail(path, "expected a string");
+    return value.get<std::string>();
+}
+
+bool flag(const json& value, const std::string& path) {
+    if (!value.is_boolean()) fail(path, "expected true or false");
+    return value.get<bool>();
+}
+
+}  // namespace script_fields
+
+namespace {
+
+using namespace json_fields;
+using namespace script_fields;
 
 // "refinement" of a recorded operation: {"tolerance": t, "splits": [[a, b], ...]} (refinement.h, EdgeSplit).
 core::RefinementRecord parseRefinementRecord(const json& j, const std::string& path) {
@@ -137,19 +284,6 @@ core::RefinementRecord parseRefinementRecord(const json& j, const std::string& p
     return record;
 }
 
-// The fields of set_refinement (Session::refinement().set); absent ones keep their defaults.
-core::RefinementSettings parseRefinementSettings(const json& j, const std::string& path) {
-    core::RefinementSettings settings;
-    if (j.contains("automatic")) {
-        if (!j["automatic"].is_boolean()) fail(path + ".automatic", "expected true or false");
-        settings.automatic = j["automatic"].get<bool>();
-    }
-    if (j.contains("tolerance")) settings.options.tolerance = tolerance(j["tolerance"], path + ".tolerance");
-    if (j.contains("max_rounds")) settings.options.maxRounds = integer(j["max_rounds"], path + ".max_rounds");
-    if (j.contains("max_vertices")) settings.options.maxVertices = integer(j["max_vertices"], path + ".max_vertices");
-    if (Status s = core::validateRefinementOptions(settings.options); !s) fail(path, s.message);
-    return settings;
-}
 
 // A recorded operation as it was applied (ScriptOp::applied): its steps in their lattices.
 core::Operation parseApplied(const json& j, const std::string& path) {
@@ -254,7 +388,7 @@ core::Operation parseApplied(const json& j, const std::string& path) {
 }
 
 // "applied" and "cancelled", the fields a recording adds to an op.
-void parseRecorded(const json& j, const std::string& path, core::ScriptOp& op) {
+void parseRecorded(const json& j, const std::string& path, io::ScriptOp& op) {
     if (j.contains("applied")) {
         op.hasApplied = true;
         op.applied = parseApplied(j["applied"], path + ".applied");
@@ -266,342 +400,24 @@ void parseRecorded(const json& j, const std::string& path, core::ScriptOp& op) {
     }
 }
 
-// The folder file paths in a script are relative to (the script's own), set by parseScript.
-thread_local std::string gScriptFolder;
 
-// The lattice tool of an add_lattice / edit_lattice op: "lattice" (lattice_json.h) or "file" (a library file,
-// relative to the script's folder), then optionally "place" (the positioning command, Coquillart 1990, 3.2).
-// An edit_lattice op (`edit`) may give neither (its "edits" then apply to the tool's current net: the tool's net
-// stays null) and gives no name unless it has "name" (the tool keeps its own).
-core::LatticeTool parseTool(const json& j, const std::string& path, bool edit) {
-    core::LatticeTool tool;
-    std::shared_ptr<const core::Volume> volume;
-    if (edit && !j.contains("lattice") && !j.contains("file")) {
-        if (!j.contains("edits")) fail(path, "expected \"lattice\", \"file\" or \"edits\"");
-        if (j.contains("place")) fail(path + ".place", "places a \"lattice\" or \"file\"; an edit of the current net has neither");
-        if (j.contains("name")) tool.name = text(j["name"], path + ".name");
-        return tool;
-    }
-    if (j.contains("lattice") == j.contains("file")) fail(path, "expected one of \"lattice\" and \"file\"");
-    if (j.contains("file")) {
-        std::filesystem::path file(text(j["file"], path + ".file"));
-        if (file.is_relative() && !gScriptFolder.empty()) file = std::filesystem::path(gScriptFolder) / file;
-        LatticeFile library;
-        if (Status s = readLatticeFile(file.string(), library); !s) fail(path + ".file", s.message);
-        volume = std::move(library.volume);
-        tool.name = library.name;
-    } else if (Status s = parseVolumeJson(j["lattice"], path + ".lattice", volume); !s) {
-        const size_t colon = s.message.find(": ");
-        fail(s.message.substr(0, colon), colon == std::string::npos ? s.message : s.message.substr(colon + 2));
-    }
-    if (j.contains("place")) {
-        const json& place = j["place"];
-        allowOnly(place, path + ".place", {"point", "normal", "size"});
-        std::shared_ptr<const core::Volume> placed;
-        if (Status s = core::placeVolume(*volume, vector3(required(place, "point", path + ".place"), path + ".place.point"),
-                                             vector3(required(place, "normal", path + ".place"), path + ".place.normal"),
-                                             number(required(place, "size", path + ".place"), path + ".place.size"), placed);
-            !s)
-            fail(path + ".place", s.message);
-        volume = std::move(placed);
-    }
-    if (edit) tool.name.clear();  // note: an edit keeps the tool's name, whatever a library file calls its lattice
-    if (j.contains("name")) tool.name = text(j["name"], path + ".name");
-    if (tool.name.empty() && !edit) tool.name = volume->kindName();
-    tool.volume = std::move(volume);
-    return tool;
-}
-
-// Slot ids of an edit: integers >= 0 (whether they are in the lattice is known when the edit runs).
-std::vector<int> parseSlots(const json& j, const std::string& path, size_t least) {
-    if (!j.is_array() || j.size() < least)
-        fail(path, "expected an array of " + std::to_string(least) + " or more slot ids (i + count_u (j + count_v k))");
-    std::vector<int> slots;
-    for (size_t s = 0; s < j.size(); ++s) {
-        const std::string sp = path + "[" + std::to_string(s) + "]";
-        const int id = integer(j[s], sp);
-        if (id < 0) fail(sp, "expected a slot id >= 0");
-        slots.push_back(id);
-    }
-    return slots;
-}
-
-int parseEditAxis(const json& j, const std::string& path) {
-    const int axis = integer(required(j, "axis", path), path + ".axis");
-    if (axis < 0 || axis > 2) fail(path + ".axis", "expected 0 (u), 1 (v) or 2 (w)");
-    return axis;
-}
-
-// edit_lattice's "edits" (core/volume/lattice_edit.h): {"move": {"points": [slot, ...], "offset": [x,y,z]}},
-// {"merge": [slot, slot, ...]}, {"refine": {"axis": a}}, {"insert": {"axis": a, "at": u, "times": m}},
-// {"remove": {"axis": a, "index": i}}.
-std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path) {
-    if (!j.is_array() || j.empty()) fail(path, "expected a non-empty array of edits");
-    std::vector<core::NetEdit> edits;
-    for (size_t e = 0; e < j.size(); ++e) {
-        const std::string ep = path + "[" + std::to_string(e) + "]";
-        const json& item = j[e];
-        if (!item.is_object() || item.size() != 1)
-            fail(ep, "expected an object with one of \"move\", \"merge\", \"refine\", \"insert\", \"remove\"");
-        const std::string key = item.begin().key();
-        const json& value = item.begin().value();
-        const std::string vp = ep + "." + key;
-        core::NetEdit edit;
-        if (key == "move") {
-            edit.kind = core::NetEdit::Kind::Move;
-            allowOnly(value, vp, {"points", "offset"});
-            edit.slots = parseSlots(required(value, "points", vp), vp + ".points", 1);
-            edit.offset = vector3(required(value, "offset", vp), vp + ".offset");
-        } else if (key == "merge") {
-            edit.kind = core::NetEdit::Kind::Merge;
-            edit.slots = parseSlots(value, vp, 2);
-        } else if (key == "refine") {
-            edit.kind = core::NetEdit::Kind::Refine;
-            allowOnly(value, vp, {"axis"});
-            edit.axis = parseEditAxis(value, vp);
-        } else if (key == "insert") {
-            edit.kind = core::NetEdit::Kind::Insert;
-            allowOnly(value, vp, {"axis", "at", "times"});
-            edit.axis = parseEditAxis(value, vp);
-            edit.at = number(required(value, "at", vp), vp + ".at");
-            if (!(edit.at > 0.0 && edit.at < 1.0)) fail(vp + ".at", "expected a lattice parameter strictly inside (0, 1)");
-            edit.times = value.contains("times") ? integer(value["times"], vp + ".times") : 1;
-            if (edit.times < 1 || edit.times > core::kMaxDegree) fail(vp + ".times", "expected 1 to the axis' degree");
-        } else if (key == "remove") {
-            edit.kind = core::NetEdit::Kind::Remove;
-            allowOnly(value, vp, {"axis", "index"});
-            edit.axis = parseEditAxis(value, vp);
-            edit.index = integer(required(value, "index", vp), vp + ".index");
-            if (edit.index < 0) fail(vp + ".index", "expected a slice index >= 0");
-        } else {
-            fail(vp, "unknown edit (known: move, merge, refine, insert, remove)");
-        }
-        edits.push_back(std::move(edit));
-    }
-    return edits;
-}
-
-core::ScriptOp parseOp(const json& j, const std::string& path) {
+io::ScriptOp parseOp(const json& j, const std::string& path) {
     if (!j.is_object()) fail(path, "expected an object");
     if (!j.contains("op") || !j["op"].is_string()) fail(path + ".op", "expected a string");
     const std::string name = j["op"].get<std::string>();
-    // The op's entry in the table (core/session/script_ops.h) names its kind and every field it may have.
-    const core::ScriptOpInfo* info = core::findScriptOp(name);
-    if (!info) fail(path + ".op", "unknown op \"" + name + "\" (known: " + core::scriptOpNames() + ")");
+    // The op's entry in the table (script_ops.h) names its kind and every field it may have, and reads them.
+    const io::ScriptOpInfo* info = io::findScriptOp(name);
+    if (!info) fail(path + ".op", "unknown op \"" + name + "\" (known: " + io::scriptOpNames() + ")");
     const std::set<std::string> allowed(info->fields.begin(), info->fields.end());
     for (auto it = j.begin(); it != j.end(); ++it)
         if (it.key() != "op" && !allowed.count(it.key())) fail(path + "." + it.key(), "unknown field");
-    core::ScriptOp op;
+    io::ScriptOp op;
     op.kind = info->kind;
-    using K = core::ScriptOp::Kind;
-    switch (op.kind) {
-        case K::Drag: {
-            op.constraints = parseConstraints(required(j, "constraints", path), path + ".constraints", false);
-            op.brush = parseBrush(j, path);
-            parseRecorded(j, path, op);
-            break;
-        }
-        case K::DragVertex: {
-            op.vertex = integer(required(j, "vertex", path), path + ".vertex");
-            op.target = vector3(required(j, "target", path), path + ".target");
-            op.brush = parseBrush(j, path);
-            break;
-        }
-        case K::MoveControlPoint: {
-            parseRecorded(j, path, op);
-            if (j.contains("to") == j.contains("by")) fail(path, "needs exactly one of \"to\" and \"by\"");
-            if (j.contains("index") == j.contains("indices")) fail(path, "needs exactly one of \"index\" and \"indices\"");
-            op.relative = j.contains("by");
-            const char* valueKey = op.relative ? "by" : "to";
-            if (j.contains("index")) {
-                op.controlPoints.push_back(int3(j["index"], path + ".index"));
-                op.values = vector3(j[valueKey], path + "." + valueKey).transpose();
-            } else {
-                const json& ids = j["indices"];
-                if (!ids.is_array() || ids.empty()) fail(path + ".indices", "expected a non-empty array of [i,j,k]");
-                for (size_t c = 0; c < ids.size(); ++c)
-                    op.controlPoints.push_back(int3(ids[c], path + ".indices[" + std::to_string(c) + "]"));
-                const json& values = j[valueKey];
-                const std::string vp = path + "." + valueKey;
-                op.values.resize(static_cast<Eigen::Index>(ids.size()), 3);
-                if (values.is_array() && values.size() == 3 && values[0].is_number()) {
-                    // One offset/position for every listed point.
-                    const Eigen::Vector3d v = vector3(values, vp);
-                    for (Eigen::Index c = 0; c < op.values.rows(); ++c) op.values.row(c) = v.transpose();
-                } else {
-                    if (!values.is_array() || values.size() != ids.size())
-                        fail(vp, "expected one [x,y,z] per index, or a single [x,y,z]");
-                    for (size_t c = 0; c < ids.size(); ++c)
-                        op.values.row(static_cast<Eigen::Index>(c)) = vector3(values[c], vp + "[" + std::to_string(c) + "]").transpose();
-                }
-            }
-            break;
-        }
-        case K::SetupLattice: {
-            parseRecorded(j, path, op);
-            if (j.contains("lattice") && !j["lattice"].is_null()) {
-                op.hasSettings = true;
-                op.settings = parseLattice(j["lattice"], path + ".lattice");
-            }
-            break;
-        }
-        case K::SetPins: {
-            for (const char* key : {"pin", "unpin"}) {
-                if (!j.contains(key)) continue;
-                const json& ids = j[key];
-                const std::string kp = path + "." + key;
-                if (!ids.is_array()) fail(kp, "expected an array of [i,j,k]");
-                auto& list = std::string(key) == "pin" ? op.controlPoints : op.unpinned;
-                for (size_t c = 0; c < ids.size(); ++c) list.push_back(int3(ids[c], kp + "[" + std::to_string(c) + "]"));
-            }
-            break;
-        }
-        case K::AddLattice:
-        case K::EditLattice: {
-            const bool edit = op.kind == core::ScriptOp::Kind::EditLattice;
-            if (edit) op.toolIndex = integer(required(j, "index", path), path + ".index");
-            else if (j.contains("index")) fail(path + ".index", "add_lattice appends to the list; it takes no index");
-            if (edit && j.contains("edits")) op.netEdits = parseEdits(j["edits"], path + ".edits");
-            op.tool = parseTool(j, path, edit);
-            break;
-        }
-        case K::RemoveLattice: {
-            op.toolIndex = integer(required(j, "index", path), path + ".index");
-            break;
-        }
-        case K::Freeze: {
-            op.toolIndex = integer(required(j, "index", path), path + ".index");
-            if (j.contains("pin_layers")) op.pinLayers = integer(j["pin_layers"], path + ".pin_layers");
-            if (op.pinLayers < 0 || op.pinLayers > 3) fail(path + ".pin_layers", "expected 0 to 3");
-            parseRecorded(j, path, op);
-            break;
-        }
-        case K::Unfreeze: {
-            parseRecorded(j, path, op);
-            break;
-        }
-        case K::SetupTSpline: {
-            // Song & Yang 2005, sec. 4 / sec. 6 steps 1-3 (core::Session::tspline().setup).
-            core::TSplineSetup& setup = op.tspline;
-            setup.octree.octree.depth = integer(required(j, "depth", path), path + ".depth");
-            if (setup.octree.octree.depth < 1 || setup.octree.octree.depth > core::kMaxTSplineSetupDepth)
-                fail(path + ".depth", "expected 1 to " + std::to_string(core::kMaxTSplineSetupDepth) + " levels of octree subdivision");
-            if (j.contains("weight_ratio")) {
-                setup.octree.weightRatio = number(j["weight_ratio"], path + ".weight_ratio");
-                if (!(setup.octree.weightRatio > 0.0)) fail(path + ".weight_ratio", "expected a number > 0 (heavy : light weights)");
-            }
-            if (j.contains("root")) {
-                setup.octree.octree.rootCount = int3(j["root"], path + ".root");
-                for (int a = 0; a < 3; ++a)
-                    if (setup.octree.octree.rootCount[a] < 1 || setup.octree.octree.rootCount[a] > core::kMaxTSplineSetupRootCells)
-                        fail(path + ".root[" + std::to_string(a) + "]", "expected 1 to " + std::to_string(core::kMaxTSplineSetupRootCells) + " root cells");
-            }
-            if (j.contains("region") && !j["region"].is_null()) {
-                const json& r = j["region"];
-                const std::string rp = path + ".region";
-                allowOnly(r, rp, {"min", "max"});
-                setup.hasRegion = true;
-                setup.regionMin = vector3(required(r, "min", rp), rp + ".min");
-                setup.regionMax = vector3(required(r, "max", rp), rp + ".max");
-                if (!(setup.regionMin.array() < setup.regionMax.array()).all()) fail(rp, "\"min\" must be below \"max\" on every axis");
-            }
-            if (j.contains("name")) setup.name = text(j["name"], path + ".name");
-            if (j.contains("freeze")) {
-                if (!j["freeze"].is_boolean()) fail(path + ".freeze", "expected true or false");
-                setup.freeze = j["freeze"].get<bool>();
-            }
-            break;
-        }
-        case K::SubdivideCells: {
-            // Song & Yang 2005, sec. 6 step 2 / Fig. 11 (core::Session::tspline().subdivideCells).
-            op.toolIndex = integer(required(j, "index", path), path + ".index");
-            if (!j.contains("cells") && !j.contains("at")) fail(path, "needs \"cells\" (cell ids) or \"at\" (points whose cells are subdivided)");
-            if (j.contains("cells")) {
-                op.cells = intList(j["cells"], path + ".cells");
-                for (size_t c = 0; c < op.cells.size(); ++c)
-                    if (op.cells[c] < 0) fail(path + ".cells[" + std::to_string(c) + "]", "expected a cell id >= 0");
-            }
-            if (j.contains("at")) {
-                const Eigen::MatrixX3d points = vectorRows(j["at"], path + ".at");
-                for (Eigen::Index p = 0; p < points.rows(); ++p) op.cellPoints.push_back(points.row(p).transpose());
-            }
-            if (op.cells.empty() && op.cellPoints.empty()) fail(path, "\"cells\" and \"at\" name no cell");
-            if (j.contains("balance")) {
-                if (!j["balance"].is_boolean()) fail(path + ".balance", "expected true or false");
-                op.balance = j["balance"].get<bool>();
-            }
-            break;
-        }
-        case K::SetWeights:
-        case K::Hammer:
-        case K::Crimp: {
-            // Sculpting by weights (Song & Yang 2005 sec. 1 and 6; core::Session::tspline().sculptWeights).
-            core::WeightToolSettings& tool = op.weightTool;
-            if (op.kind == K::SetWeights) {
-                tool.tool = core::WeightToolSettings::Tool::SetWeights;
-                tool.ids = intList(required(j, "ids", path), path + ".ids");
-                tool.weights = numberList(required(j, "weights", path), path + ".weights");
-                if (tool.ids.size() != tool.weights.size()) fail(path + ".weights", "expected one weight per id");
-                for (size_t c = 0; c < tool.weights.size(); ++c)
-                    if (!(tool.weights[c] > 0.0)) fail(path + ".weights[" + std::to_string(c) + "]", "expected a weight > 0");
-            } else {
-                const bool hammer = op.kind == K::Hammer;
-                    tool.tool = hammer ? core::WeightToolSettings::Tool::Hammer : core::WeightToolSettings::Tool::Crimp;
-                tool.vertex = integer(required(j, "vertex", path), path + ".vertex");
-                if (j.contains("control_point")) tool.controlPoint = integer(j["control_point"], path + ".control_point");
-                if (j.contains("radius")) {
-                    tool.radius = number(j["radius"], path + ".radius");
-                    if (tool.radius < 0.0) fail(path + ".radius", "expected a distance >= 0");
-                }
-                if (hammer) {
-                    if (j.contains("height") == j.contains("scale")) fail(path, "needs one of \"height\" (the vertex's height after) or \"scale\" (of the bump)");
-                    tool.hasHeight = j.contains("height");
-                    if (tool.hasHeight) tool.height = number(j["height"], path + ".height");
-                    else tool.scale = number(j["scale"], path + ".scale");
-                } else {
-                    tool.widthFactor = number(required(j, "width_factor", path), path + ".width_factor");
-                    if (!(tool.widthFactor > 0.0)) fail(path + ".width_factor", "expected a factor > 0");
-                }
-            }
-            parseRecorded(j, path, op);
-            break;
-        }
-        case K::BeginGroup: {
-            if (j.contains("label")) {
-                if (!j["label"].is_string()) fail(path + ".label", "expected a string");
-                op.label = j["label"].get<std::string>();
-            }
-            break;
-        }
-        case K::EndGroup: break;
-        case K::Group: {
-            op.groupFirst = integer(required(j, "first", path), path + ".first");
-            if (j.contains("label")) {
-                if (!j["label"].is_string()) fail(path + ".label", "expected a string");
-                op.label = j["label"].get<std::string>();
-            }
-            break;
-        }
-        case K::Refine: {
-            if (j.contains("tolerance")) op.tolerance = tolerance(j["tolerance"], path + ".tolerance");
-            parseRecorded(j, path, op);
-            break;
-        }
-        case K::SetRefinement: {
-            op.refinement = parseRefinementSettings(j, path);
-            break;
-        }
-        case K::Undo:
-        case K::Redo: break;
-        case K::Screenshot: {
-            const json& p = required(j, "path", path);
-            if (!p.is_string() || p.get<std::string>().empty()) fail(path + ".path", "expected a file path");
-            op.path = p.get<std::string>();
-            break;
-        }
-    }
+    if (allowed.count("applied")) parseRecorded(j, path, op);
+    if (info->read) info->read(j, path, op);
     return op;
 }
+
 
 }  // namespace
 
@@ -628,11 +444,11 @@ Status readTextFile(const std::string& path, std::string& out) {
     return Status::success();
 }
 
-Status parseScript(const std::string& text, const std::string& displayName, core::Script& out) {
+Status parseScript(const std::string& text, const std::string& displayName, io::Script& out) {
     json root;
     if (Status s = parseJsonText(text, displayName, root); !s) return s;
     try {
-        core::Script script;
+        io::Script script;
         allowOnly(root, "", {"mesh", "mesh_fingerprint", "weld", "lattice", "ops", "injectivity"});
         if (root.contains("weld")) {
             if (!root["weld"].is_boolean()) fail("weld", "expected true or false");
@@ -681,7 +497,7 @@ Status parseScript(const std::string& text, const std::string& displayName, core
     }
 }
 
-std::string resolveScriptMesh(const core::Script& script, const std::string& scriptPath) {
+std::string resolveScriptMesh(const io::Script& script, const std::string& scriptPath) {
     namespace fs = std::filesystem;
     if (script.mesh.empty()) return {};
     const fs::path mesh(script.mesh);
@@ -700,7 +516,7 @@ std::string scriptRelativeMeshPath(const std::string& meshPath, const std::strin
     return relative.empty() ? mesh.string() : relative.string();
 }
 
-Status loadScript(const std::string& path, core::Script& out) {
+Status loadScript(const std::string& path, io::Script& out) {
     std::string text;
     if (Status s = readTextFile(path, text); !s) return s;
     return parseScript(text, path, out);

@@ -11,12 +11,12 @@
 #include "io/json_fields.h"
 #include "io/json_text.h"
 #include "io/lattice_json.h"
+#include "io/script_json_fields.h"
+#include "io/script_ops.h"
 
 namespace sculpt::io {
 
-namespace {
-
-using nlohmann::json;
+namespace script_fields {
 
 using namespace json_fields;
 
@@ -46,10 +46,6 @@ json editsJson(const std::vector<core::NetEdit>& edits) {
     return out;
 }
 
-json injectivityJson(const core::InjectivitySettings& s) {
-    return {{"mode", core::injectivityModeName(s.mode)}, {"max_depth", s.maxDepth}, {"triangles", s.checkTriangles}};
-}
-
 json latticeJson(const core::LatticeSettings& s) {
     if (s.volume) {
         json j = volumeJson(*s.volume);
@@ -71,6 +67,19 @@ json rowsJson(const Eigen::MatrixX3d& rows) {
     json out = json::array();
     for (Eigen::Index r = 0; r < rows.rows(); ++r) out.push_back(vectorJson(rows.row(r).transpose()));
     return out;
+}
+
+}  // namespace script_fields
+
+namespace {
+
+using nlohmann::json;
+
+using namespace json_fields;
+using namespace script_fields;
+
+json injectivityJson(const core::InjectivitySettings& s) {
+    return {{"mode", core::injectivityModeName(s.mode)}, {"max_depth", s.maxDepth}, {"triangles", s.checkTriangles}};
 }
 
 // Doubles are written in the shortest form that reads back to the same bits, so a replay is exact.
@@ -124,7 +133,7 @@ json appliedJson(const core::Operation& operation) {
 
 }  // namespace
 
-std::string scriptToJson(const core::Script& script) {
+std::string scriptToJson(const io::Script& script) {
     json root;
     if (!script.mesh.empty()) root["mesh"] = script.mesh;
     if (!script.meshFingerprint.empty()) root["mesh_fingerprint"] = script.meshFingerprint;
@@ -132,104 +141,11 @@ std::string scriptToJson(const core::Script& script) {
     root["lattice"] = latticeJson(script.lattice);
     root["injectivity"] = injectivityJson(script.injectivity);
     json ops = json::array();
-    for (const core::ScriptOp& op : script.ops) {
+    for (const io::ScriptOp& op : script.ops) {
         json j;
-        j["op"] = core::scriptOpName(op.kind);
-        switch (op.kind) {
-            case core::ScriptOp::Kind::Drag:
-                j["constraints"] = constraintsJson(op.constraints);
-                addBrushJson(j, op.brush);
-                break;
-            case core::ScriptOp::Kind::DragVertex:
-                j["vertex"] = op.vertex;
-                j["target"] = vectorJson(op.target);
-                addBrushJson(j, op.brush);
-                break;
-            case core::ScriptOp::Kind::MoveControlPoint: {
-                json ids = json::array(), values = json::array();
-                for (size_t c = 0; c < op.controlPoints.size(); ++c) {
-                    ids.push_back(op.controlPoints[c]);
-                    values.push_back(vectorJson(op.values.row(static_cast<Eigen::Index>(c)).transpose()));
-                }
-                j["indices"] = ids;
-                j[op.relative ? "by" : "to"] = values;
-                break;
-            }
-            case core::ScriptOp::Kind::SetupLattice:
-                if (op.hasSettings) j["lattice"] = latticeJson(op.settings);
-                break;
-            case core::ScriptOp::Kind::SetPins:
-                j["pin"] = op.controlPoints;
-                j["unpin"] = op.unpinned;
-                break;
-            case core::ScriptOp::Kind::BeginGroup:
-                if (!op.label.empty()) j["label"] = op.label;
-                break;
-            case core::ScriptOp::Kind::EndGroup: break;
-            case core::ScriptOp::Kind::Group:
-                j["first"] = op.groupFirst;
-                if (!op.label.empty()) j["label"] = op.label;
-                break;
-            case core::ScriptOp::Kind::Screenshot: j["path"] = op.path; break;
-            case core::ScriptOp::Kind::AddLattice:
-            case core::ScriptOp::Kind::EditLattice:
-                if (op.kind == core::ScriptOp::Kind::EditLattice) j["index"] = op.toolIndex;
-                if (!op.tool.name.empty()) j["name"] = op.tool.name;
-                if (op.tool.volume) j["lattice"] = volumeJson(*op.tool.volume);
-                if (!op.netEdits.empty()) j["edits"] = editsJson(op.netEdits);
-                break;
-            case core::ScriptOp::Kind::RemoveLattice: j["index"] = op.toolIndex; break;
-            case core::ScriptOp::Kind::Freeze:
-                j["index"] = op.toolIndex;
-                j["pin_layers"] = op.pinLayers;
-                break;
-            case core::ScriptOp::Kind::Unfreeze: break;
-            case core::ScriptOp::Kind::SetupTSpline: {
-                const core::TSplineSetup& setup = op.tspline;
-                j["depth"] = setup.octree.octree.depth;
-                j["weight_ratio"] = setup.octree.weightRatio;
-                j["root"] = setup.octree.octree.rootCount;
-                if (setup.hasRegion) j["region"] = {{"min", vectorJson(setup.regionMin)}, {"max", vectorJson(setup.regionMax)}};
-                if (!setup.name.empty()) j["name"] = setup.name;
-                j["freeze"] = setup.freeze;
-                break;
-            }
-            case core::ScriptOp::Kind::SubdivideCells: {
-                j["index"] = op.toolIndex;
-                if (!op.cells.empty()) j["cells"] = op.cells;
-                if (!op.cellPoints.empty()) {
-                    json points = json::array();
-                    for (const Eigen::Vector3d& p : op.cellPoints) points.push_back(vectorJson(p));
-                    j["at"] = points;
-                }
-                j["balance"] = op.balance;
-                break;
-            }
-            case core::ScriptOp::Kind::SetWeights:
-                j["ids"] = op.weightTool.ids;
-                j["weights"] = op.weightTool.weights;
-                break;
-            case core::ScriptOp::Kind::Hammer:
-            case core::ScriptOp::Kind::Crimp:
-                j["vertex"] = op.weightTool.vertex;
-                if (op.weightTool.controlPoint >= 0) j["control_point"] = op.weightTool.controlPoint;
-                if (op.weightTool.radius > 0.0) j["radius"] = op.weightTool.radius;
-                if (op.kind == core::ScriptOp::Kind::Crimp) j["width_factor"] = op.weightTool.widthFactor;
-                else if (op.weightTool.hasHeight) j["height"] = op.weightTool.height;
-                else j["scale"] = op.weightTool.scale;
-                break;
-            case core::ScriptOp::Kind::Refine:
-                if (op.tolerance > 0.0) j["tolerance"] = op.tolerance;
-                break;
-            case core::ScriptOp::Kind::SetRefinement:
-                j["automatic"] = op.refinement.automatic;
-                j["tolerance"] = op.refinement.options.tolerance;
-                j["max_rounds"] = op.refinement.options.maxRounds;
-                j["max_vertices"] = op.refinement.options.maxVertices;
-                break;
-            case core::ScriptOp::Kind::Undo:
-            case core::ScriptOp::Kind::Redo: break;
-        }
+        j["op"] = io::scriptOpName(op.kind);
+        const io::ScriptOpInfo& info = io::scriptOpInfo(op.kind);
+        if (info.write) info.write(op, j);
         if (op.hasApplied) j["applied"] = appliedJson(op.applied);
         if (op.cancelled) j["cancelled"] = true;
         ops.push_back(j);
@@ -238,7 +154,7 @@ std::string scriptToJson(const core::Script& script) {
     return root.dump(2) + "\n";
 }
 
-std::string reportToJson(const core::ScriptReport& report, const core::Session& session, const ReportContext& context) {
+std::string reportToJson(const io::ScriptReport& report, const core::Session& session, const ReportContext& context) {
     json root;
     root["input"] = context.input;
     root["script"] = context.script;

@@ -2,7 +2,7 @@
 //
 // Every command goes through the same path as a line of an OPS.json script: the Python arguments become that
 // op's JSON object (field names as in docs/scripting.md "Script format"), io::parseScript reads and checks it, and
-// core::runScriptOp runs it, the function the window's commands and the command line go through. So a
+// io::runScriptOp runs it, the function the window's commands and the command line go through. So a
 // Python call accepts what a script accepts, refuses what it refuses with the same message, and returns the
 // same report fields as the command line's REPORT.json (io::reportToJson). Mesh files go through the OBJ
 // reader and writer the command line uses, screenshots through its offscreen renderer (app::ScreenshotRenderer).
@@ -37,7 +37,7 @@
 #include "app/screenshot_hook.h"
 #include "core/spline/bernstein.h"
 #include "core/spline/bernstein_box.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "io/mesh_file.h"
 #include "io/script_json.h"
@@ -112,8 +112,8 @@ json toJson(py::handle value, const std::string& path) {
 
 // One op (its JSON object) parsed as a script line would be. Field paths in errors drop the "ops[0]." a
 // script has, and a drag's "constraints[i].source" reads "sources[i]" (the Python argument it came from).
-core::ScriptOp parseOp(const json& op, const std::string& command) {
-    core::Script script;
+io::ScriptOp parseOp(const json& op, const std::string& command) {
+    io::Script script;
     const json root = {{"ops", json::array({op})}};
     if (Status s = io::parseScript(root.dump(), command, script); !s) {
         std::string message = s.message;
@@ -128,11 +128,11 @@ core::ScriptOp parseOp(const json& op, const std::string& command) {
 }
 
 // The lattice and injectivity settings as a script's top level gives them (defaults where absent).
-core::Script parseSettings(py::handle lattice, py::handle injectivity, const std::string& command) {
+io::Script parseSettings(py::handle lattice, py::handle injectivity, const std::string& command) {
     json root = json::object();
     if (!lattice.is_none()) root["lattice"] = toJson(lattice, "lattice");
     if (!injectivity.is_none()) root["injectivity"] = toJson(injectivity, "injectivity");
-    core::Script script;
+    io::Script script;
     if (Status s = io::parseScript(root.dump(), command, script); !s) throw SculptError(s.message);
     return script;
 }
@@ -163,7 +163,7 @@ public:
     int liveViews = 0;                  // numpy views of the engine's rows alive now
 
     // Sets the mesh and the settings as the command line does before a script's first op.
-    void start(const core::Script& settings, bool trackJacobian, const std::string& what) {
+    void start(const io::Script& settings, bool trackJacobian, const std::string& what) {
         session.setTrackJacobian(trackJacobian);
         if (Status s = session.setMesh(mesh.positions, mesh.triangles, settings.lattice); !s)
             throw SculptError(what + ": " + s.message);
@@ -171,11 +171,11 @@ public:
     }
 
     // Runs one op and returns its report (the command line's per-op report fields).
-    py::dict run(const core::ScriptOp& op, const std::string& command) {
-        if (op.kind == core::ScriptOp::Kind::BeginGroup || op.kind == core::ScriptOp::Kind::EndGroup)
+    py::dict run(const io::ScriptOp& op, const std::string& command) {
+        if (op.kind == io::ScriptOp::Kind::BeginGroup || op.kind == io::ScriptOp::Kind::EndGroup)
             throw SculptError(command + ": begin_group and end_group pair up within one script; use the \"group\" op");
         if (liveViews > 0 && mayChangeVertexCount(op))
-            throw SculptError(command + ": " + core::scriptOpName(op.kind) +
+            throw SculptError(command + ": " + io::scriptOpName(op.kind) +
                               " may change the number of vertices (a refinement, or its undo or redo), which moves the "
                               "engine's rows, while " + std::to_string(liveViews) +
                               " view(s) of them from Session.positions or Session.triangles are alive: delete them first "
@@ -183,18 +183,18 @@ public:
         const double* rowsBefore = session.positions().data();
         const Eigen::Index countBefore = session.positions().rows();
         core::OpReport report;
-        Status s = op.kind == core::ScriptOp::Kind::Screenshot ? screenshot(op.path, app::CliOptions{})
-                                                               : core::runScriptOp(session, op, report);
+        Status s = op.kind == io::ScriptOp::Kind::Screenshot ? screenshot(op.path, app::CliOptions{})
+                                                               : io::runScriptOp(session, op, report);
         if (!s) throw SculptError(command + ": " + s.message);
-        if (op.kind == core::ScriptOp::Kind::Screenshot) {
+        if (op.kind == io::ScriptOp::Kind::Screenshot) {
             report.status = core::OpStatus::Applied;
             report.reason = "wrote " + op.path;
         }
         // The guard above is what keeps views valid; this catches an engine path it does not know about.
         if (liveViews > 0 && (session.positions().data() != rowsBefore || session.positions().rows() != countBefore))
-            throw std::logic_error(std::string(core::scriptOpName(op.kind)) + " moved the engine's rows while views were alive");
-        report.op = core::scriptOpName(op.kind);
-        core::ScriptReport one;
+            throw std::logic_error(std::string(io::scriptOpName(op.kind)) + " moved the engine's rows while views were alive");
+        report.op = io::scriptOpName(op.kind);
+        io::ScriptReport one;
         one.ops.push_back(std::move(report));
         py::dict reportDict = reportRoot(one)["ops"].cast<py::list>()[0].cast<py::dict>();
         reportDict.attr("pop")("index");
@@ -202,7 +202,7 @@ public:
     }
 
     // The command line's REPORT.json (io::reportToJson) for these ops, as Python objects.
-    py::dict reportRoot(const core::ScriptReport& report) const {
+    py::dict reportRoot(const io::ScriptReport& report) const {
         io::ReportContext context;
         context.input = source;
         context.vertexCount = static_cast<int>(session.positions().rows());
@@ -224,17 +224,17 @@ public:
 
 private:
     // Could `op` change the number of vertices (and so reallocate the rows views point into)?
-    bool mayChangeVertexCount(const core::ScriptOp& op) const {
+    bool mayChangeVertexCount(const io::ScriptOp& op) const {
         const auto& history = session.history();
         const int cursor = session.history().cursor();
         switch (op.kind) {
-            case core::ScriptOp::Kind::Refine: return true;
-            case core::ScriptOp::Kind::Undo: return cursor > 0 && !history[static_cast<size_t>(cursor - 1)].refinement.empty();
-            case core::ScriptOp::Kind::Redo:
+            case io::ScriptOp::Kind::Refine: return true;
+            case io::ScriptOp::Kind::Undo: return cursor > 0 && !history[static_cast<size_t>(cursor - 1)].refinement.empty();
+            case io::ScriptOp::Kind::Redo:
                 return cursor < static_cast<int>(history.size()) && !history[static_cast<size_t>(cursor)].refinement.empty();
-            case core::ScriptOp::Kind::Screenshot:
-            case core::ScriptOp::Kind::SetRefinement:
-            case core::ScriptOp::Kind::SetPins: return false;
+            case io::ScriptOp::Kind::Screenshot:
+            case io::ScriptOp::Kind::SetRefinement:
+            case io::ScriptOp::Kind::SetPins: return false;
             default: return session.refinement().settings().automatic;  // any edit may be refined after it
         }
     }
@@ -521,7 +521,7 @@ injectivity test (a Session does that). Computed natively, in parallel over the 
 Made by sculpt.load(path, ...) from a file, or Session(V, F, ...) from arrays.)doc")
         .def(py::init([](py::handle V, py::handle F, py::handle lattice, py::handle injectivity, bool trackJacobian) {
                  auto session = std::make_unique<PySession>();
-                 const sculpt::core::Script settings = sp::parseSettings(lattice, injectivity, "Session");
+                 const sculpt::io::Script settings = sp::parseSettings(lattice, injectivity, "Session");
                  session->mesh = sp::meshFromArrays(V, F);
                  session->start(settings, trackJacobian, "Session");
                  return session;
@@ -680,7 +680,7 @@ file cannot be written.)doc");
     m.def(
         "load",
         [](const std::string& path, py::handle lattice, py::handle injectivity, bool trackJacobian) {
-            const sculpt::core::Script settings = sp::parseSettings(lattice, injectivity, "load");
+            const sculpt::io::Script settings = sp::parseSettings(lattice, injectivity, "load");
             auto session = std::make_unique<PySession>();
             if (sculpt::Status s = sp::loadMeshFile(path, session->mesh, session->warnings); !s) throw SculptError("load: " + s.message);
             session->source = path;

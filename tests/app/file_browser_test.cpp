@@ -10,7 +10,7 @@
 #include "../io/io_test_support.h"
 #include "app/document.h"
 #include "app/file_browser.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "io/script_json.h"
 
 using namespace sculpt;
@@ -128,19 +128,19 @@ TEST_CASE("document: modified follows the applied history, undo back to the save
 }
 
 TEST_CASE("script json: the optional mesh field round-trips and resolves against the script's folder", "[app]") {
-    core::Script script;
+    io::Script script;
     REQUIRE(io::parseScript(R"({"mesh": "../meshes/a.obj", "ops": []})", "s.json", script).ok);
     CHECK(script.mesh == "../meshes/a.obj");
     CHECK(io::resolveScriptMesh(script, "/work/sessions/s.json") == "/work/meshes/a.obj");
-    core::Script reread;
+    io::Script reread;
     REQUIRE(io::parseScript(io::scriptToJson(script), "t.json", reread).ok);
     CHECK(reread.mesh == script.mesh);
-    core::Script none;
+    io::Script none;
     REQUIRE(io::parseScript(R"({"ops": []})", "s.json", none).ok);
     CHECK(none.mesh.empty());
     CHECK(io::resolveScriptMesh(none, "/work/s.json").empty());
     CHECK(io::scriptToJson(none).find("\"mesh\"") == std::string::npos);
-    core::Script absolute;
+    io::Script absolute;
     absolute.mesh = "/data/m.obj";
     CHECK(io::resolveScriptMesh(absolute, "/work/s.json") == "/data/m.obj");
 

@@ -9,13 +9,14 @@
 
 #include "../core/mesh_fixtures.h"
 #include "../core/test_support.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "io/script_json.h"
 #include "replay_support.h"
 
 using namespace sculpt;
 using namespace sculpt::core;
+using namespace sculpt::io;
 
 namespace {
 

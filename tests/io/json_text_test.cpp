@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/session/script.h"
+#include "io/script.h"
 #include "io/json_text.h"
 #include "io/lattice_json.h"
 #include "io/script_json.h"
@@ -52,7 +52,7 @@ TEST_CASE("json text: an overflowing number names its file, line and field path"
         for (const std::string literal : {"1e999", "-1e400", "2e308"}) {
             const std::string text = fill(t, n, literal);
             const int line = io::lineOfByte(text, text.find(literal));
-            core::Script script;
+            io::Script script;
             const Status s = io::parseScript(text, "edit.json", script);
             INFO(s.message);
             REQUIRE_FALSE(s);

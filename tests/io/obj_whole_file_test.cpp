@@ -12,7 +12,7 @@
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "io/obj_mesh.h"
 #include "io/script_json.h"
@@ -176,15 +176,15 @@ TEST_CASE("obj: the handed-over cube with continued v, vn and f lines loads whol
     REQUIRE(mesh.cornerNormal == std::vector<int>(24, 0));           // the one continued `vn`
     REQUIRE(mesh.triangles.rows() == 12);
 
-    sculpt::core::Script script;
+    sculpt::io::Script script;
     const Status read = sculpt::io::loadScript(kDataDir + "/cases/line_continuation.json", script);
     INFO(read.message);
     REQUIRE(read.ok);
     sculpt::core::Session session;
     REQUIRE(session.setMesh(mesh.positions, mesh.triangles, script.lattice).ok);
     session.setInjectivity(script.injectivity);
-    sculpt::core::ScriptReport report;
-    const Status ran = sculpt::core::runScript(session, script, report);
+    sculpt::io::ScriptReport report;
+    const Status ran = sculpt::io::runScript(session, script, report);
     INFO(ran.message);
     REQUIRE(ran.ok);
     REQUIRE(report.ops.size() == 1);

@@ -7,7 +7,7 @@
 
 #include "../core/refinement_checks.h"
 #include "../core/test_support.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "io/obj_mesh.h"
 #include "io/obj_refine.h"
@@ -17,6 +17,7 @@
 
 using namespace sculpt;
 using namespace sculpt::core;
+using namespace sculpt::io;
 
 namespace {
 

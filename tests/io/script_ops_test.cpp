@@ -1,17 +1,18 @@
-// The table of script ops (core/session/script_ops.h) against what uses it: the reader takes exactly the
-// fields an entry lists, the writer writes no other, and the docs' op reference (docs/scripting.md "Every op"
-// and the page each row points to) names every op and every field.
+// The table of script ops (io/script_ops.h) against what uses it: the reader takes exactly the fields an entry
+// lists, the writer writes no other, each entry's read and write are inverses, and the docs' op reference
+// (docs/scripting.md "Every op" and the page each row points to) names every op and every field.
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "core/session/script.h"
-#include "core/session/script_ops.h"
+#include "io/script.h"
+#include "io/script_ops.h"
 #include "core/volume/lattice_net.h"
 #include "io/script_json.h"
 
@@ -27,28 +28,28 @@ std::string readDoc(const std::string& name) {
     return text.str();
 }
 
-Status parseOne(const json& op, core::Script& script) {
+Status parseOne(const json& op, io::Script& script) {
     const json root = {{"ops", json::array({op})}};
     return io::parseScript(root.dump(), "ops.json", script);
 }
 
-constexpr int kKinds = static_cast<int>(core::ScriptOp::Kind::Crimp) + 1;
+constexpr int kKinds = static_cast<int>(io::ScriptOp::Kind::Crimp) + 1;
 
 }  // namespace
 
 TEST_CASE("script ops: one table entry per kind, and the reader takes exactly the fields it lists", "[io][script]") {
-    const std::vector<core::ScriptOpInfo>& table = core::scriptOps();
+    const std::vector<io::ScriptOpInfo>& table = io::scriptOps();
     REQUIRE(table.size() == static_cast<size_t>(kKinds));
     std::set<std::string> names;
     for (int k = 0; k < kKinds; ++k) {
-        const core::ScriptOpInfo& info = core::scriptOpInfo(static_cast<core::ScriptOp::Kind>(k));
+        const io::ScriptOpInfo& info = io::scriptOpInfo(static_cast<io::ScriptOp::Kind>(k));
         INFO("kind " << k << " " << info.name);
         CHECK(static_cast<int>(info.kind) == k);
-        CHECK(std::string(core::scriptOpName(info.kind)) == info.name);
-        CHECK(core::findScriptOp(info.name) == &info);
+        CHECK(std::string(io::scriptOpName(info.kind)) == info.name);
+        CHECK(io::findScriptOp(info.name) == &info);
         CHECK(names.insert(info.name).second);
         // A field the entry does not list is refused, named.
-        core::Script script;
+        io::Script script;
         Status s = parseOne({{"op", info.name}, {"no_such_field", 1}}, script);
         CHECK(!s.ok);
         CHECK(s.message.find("ops[0].no_such_field: unknown field") != std::string::npos);
@@ -56,23 +57,23 @@ TEST_CASE("script ops: one table entry per kind, and the reader takes exactly th
         // about that value (or a field missing), never that the field is unknown.
         for (const char* field : info.fields) {
             INFO("field " << field);
-            core::Script other;
+            io::Script other;
             s = parseOne({{"op", info.name}, {field, json::object({{"no", "such"}})}}, other);
             CHECK(s.message.find("ops[0]." + std::string(field) + ": unknown field") == std::string::npos);
         }
     }
     // A name no op has: refused, naming every op from the table.
-    core::Script script;
+    io::Script script;
     const Status s = parseOne({{"op", "sculpt_everything"}}, script);
     CHECK(!s.ok);
-    CHECK(s.message.find("unknown op \"sculpt_everything\" (known: " + core::scriptOpNames() + ")") != std::string::npos);
+    CHECK(s.message.find("unknown op \"sculpt_everything\" (known: " + io::scriptOpNames() + ")") != std::string::npos);
 }
 
 TEST_CASE("script ops: the writer writes only fields the table lists, and reads back what it wrote", "[io][script]") {
-    core::Script script;
+    io::Script script;
     for (int k = 0; k < kKinds; ++k) {
-        core::ScriptOp op;
-        op.kind = static_cast<core::ScriptOp::Kind>(k);
+        io::ScriptOp op;
+        op.kind = static_cast<io::ScriptOp::Kind>(k);
         // Values the reader accepts for every kind's required fields.
         op.constraints = {core::PointConstraint{Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(0.1, 0.4, 0.3)}};
         op.controlPoints = {{1, 1, 1}};
@@ -88,7 +89,7 @@ TEST_CASE("script ops: the writer writes only fields the table lists, and reads 
         op.weightTool.widthFactor = 0.5;
         op.refinement.options.tolerance = 0.01;
         op.vertex = 3;
-        if (op.kind == core::ScriptOp::Kind::AddLattice || op.kind == core::ScriptOp::Kind::EditLattice) {
+        if (op.kind == io::ScriptOp::Kind::AddLattice || op.kind == io::ScriptOp::Kind::EditLattice) {
             core::LatticeNet net;
             REQUIRE(core::makeParallelepipedNet(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), {1, 1, 1}, {1, 1, 1}, net).ok);
             op.tool.volume = std::make_shared<const core::LatticeNet>(std::move(net));
@@ -100,7 +101,7 @@ TEST_CASE("script ops: the writer writes only fields the table lists, and reads 
     const json written = json::parse(text);
     REQUIRE(written["ops"].size() == static_cast<size_t>(kKinds));
     for (int k = 0; k < kKinds; ++k) {
-        const core::ScriptOpInfo& info = core::scriptOpInfo(static_cast<core::ScriptOp::Kind>(k));
+        const io::ScriptOpInfo& info = io::scriptOpInfo(static_cast<io::ScriptOp::Kind>(k));
         const json& op = written["ops"][static_cast<size_t>(k)];
         INFO(info.name << ": " << op.dump());
         CHECK(op["op"] == info.name);
@@ -108,12 +109,103 @@ TEST_CASE("script ops: the writer writes only fields the table lists, and reads 
         for (auto it = op.begin(); it != op.end(); ++it)
             if (it.key() != "op") CHECK(allowed.count(it.key()) == 1);
     }
-    core::Script back;
+    io::Script back;
     const Status s = io::parseScript(text, "written.json", back);
     INFO(s.message);
     REQUIRE(s.ok);
     REQUIRE(back.ops.size() == script.ops.size());
     for (size_t i = 0; i < back.ops.size(); ++i) CHECK(back.ops[i].kind == script.ops[i].kind);
+}
+
+TEST_CASE("script ops: each entry's read gives back what its write wrote, for random ops of every kind", "[io][script]") {
+    // write -> read -> write is the same text for ops whose every field holds a random value the reader accepts
+    // (fixed seeds): an entry's read and write are inverses, bit for bit (doubles included), whatever fields
+    // the op uses.
+    std::mt19937 random(2912);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    std::uniform_int_distribution<int> small(0, 5);
+    const auto vec = [&] { return Eigen::Vector3d(unit(random), unit(random), unit(random)); };
+    for (int round = 0; round < 12; ++round) {
+        io::Script script;
+        for (int k = 0; k < kKinds; ++k) {
+            io::ScriptOp op;
+            op.kind = static_cast<io::ScriptOp::Kind>(k);
+            const int count = 1 + small(random);
+            for (int c = 0; c < count; ++c) {
+                op.constraints.push_back({vec(), vec()});
+                op.controlPoints.push_back({small(random), small(random), small(random)});
+                op.unpinned.push_back({small(random), small(random), small(random)});
+                op.cells.push_back(small(random) * 7);
+                op.cellPoints.push_back(vec());
+                op.weightTool.ids.push_back(small(random) * 3);
+                op.weightTool.weights.push_back(0.25 + std::abs(unit(random)) * 4.0);
+            }
+            op.values.resize(count, 3);
+            for (int c = 0; c < count; ++c) op.values.row(c) = vec().transpose();
+            op.relative = round % 2 == 0;
+            op.vertex = small(random) * 11;
+            op.target = vec();
+            op.brush.radius = round % 3 == 0 ? 0.0 : std::abs(unit(random)) * 0.3;
+            op.brush.strength = 0.1 + 0.9 * std::abs(unit(random));
+            op.brush.falloff = static_cast<core::BrushFalloff>(round % 3);
+            op.brush.symmetry.mirror = {round % 2 == 1, false, round % 4 == 3};
+            op.path = "shot" + std::to_string(round) + ".png";
+            op.label = round % 2 == 0 ? "" : "stroke " + std::to_string(round);
+            op.groupFirst = small(random);
+            op.hasSettings = round % 2 == 1;
+            op.settings.resolution = {4 + small(random), 4, 5};
+            op.settings.padding = std::abs(unit(random)) * 0.2;
+            op.toolIndex = small(random);
+            op.pinLayers = round % 4;
+            op.tolerance = round % 2 == 0 ? 0.0 : 0.001 + std::abs(unit(random)) * 0.01;
+            op.refinement.automatic = round % 2 == 0;
+            op.refinement.options.tolerance = 0.001 + std::abs(unit(random)) * 0.01;
+            op.refinement.options.maxRounds = 1 + small(random);
+            op.refinement.options.maxVertices = 1000 * (1 + small(random));
+            op.tspline.octree.octree.depth = 1 + round % 3;
+            op.tspline.octree.weightRatio = 1.0 + std::abs(unit(random)) * 4.0;
+            op.tspline.octree.octree.rootCount = {1 + small(random), 1, 2};
+            op.tspline.hasRegion = round % 2 == 0;
+            op.tspline.regionMin = Eigen::Vector3d(-1.0, -1.0, -1.0) + 0.1 * vec();
+            op.tspline.regionMax = Eigen::Vector3d(1.0, 1.0, 1.0) + 0.1 * vec();
+            op.tspline.name = round % 2 == 0 ? "" : "hug " + std::to_string(round);
+            op.tspline.freeze = round % 2 == 1;
+            op.balance = round % 2 == 0;
+            op.weightTool.vertex = small(random);
+            op.weightTool.controlPoint = round % 2 == 0 ? -1 : small(random);
+            op.weightTool.radius = round % 3 == 0 ? 0.0 : std::abs(unit(random));
+            op.weightTool.hasHeight = round % 2 == 0;
+            op.weightTool.height = unit(random);
+            op.weightTool.scale = 0.5 + std::abs(unit(random));
+            op.weightTool.widthFactor = 0.2 + std::abs(unit(random));
+            if (op.kind == io::ScriptOp::Kind::AddLattice || op.kind == io::ScriptOp::Kind::EditLattice) {
+                core::LatticeNet net;
+                REQUIRE(core::makeParallelepipedNet(vec(), Eigen::Matrix3d::Identity(), {1, 1 + round % 2, 1}, {1, 1, 1}, net).ok);
+                op.tool.volume = std::make_shared<const core::LatticeNet>(std::move(net));
+                op.tool.name = "tool " + std::to_string(round);
+                if (op.kind == io::ScriptOp::Kind::EditLattice && round % 2 == 0) {
+                    core::NetEdit edit;
+                    edit.kind = core::NetEdit::Kind::Move;
+                    edit.slots = {0, 1};
+                    edit.offset = vec();
+                    op.netEdits.push_back(edit);
+                }
+            }
+            script.ops.push_back(op);
+        }
+        const std::string text = io::scriptToJson(script);
+        io::Script back;
+        const Status s = io::parseScript(text, "written.json", back);
+        INFO("round " << round << ": " << s.message);
+        REQUIRE(s.ok);
+        REQUIRE(back.ops.size() == script.ops.size());
+        const json first = json::parse(text), second = json::parse(io::scriptToJson(back));
+        for (size_t i = 0; i < back.ops.size(); ++i) {
+            INFO(first["ops"][i].dump());
+            CHECK(back.ops[i].kind == script.ops[i].kind);
+            CHECK(second["ops"][i] == first["ops"][i]);
+        }
+    }
 }
 
 TEST_CASE("script ops: the docs' op reference names every op of the table and every field of each", "[io][script]") {
@@ -152,7 +244,7 @@ TEST_CASE("script ops: the docs' op reference names every op of the table and ev
             const std::string op = cells[0].substr(open + 1, close - open - 1);
             INFO("op " << op << " (described in " << page << ")");
             CHECK(listed.insert(op).second);  // one row each
-            const core::ScriptOpInfo* info = core::findScriptOp(op);
+            const io::ScriptOpInfo* info = io::findScriptOp(op);
             REQUIRE(info != nullptr);  // the docs name no op the program lacks
             for (const char* field : info->fields) {
                 INFO("field " << field);
@@ -164,15 +256,15 @@ TEST_CASE("script ops: the docs' op reference names every op of the table and ev
     }
     CHECK(rows >= 8);
     // Every op of the table has its row.
-    for (const core::ScriptOpInfo& info : core::scriptOps()) CHECK(listed.count(info.name) == 1);
+    for (const io::ScriptOpInfo& info : io::scriptOps()) CHECK(listed.count(info.name) == 1);
 }
 
 TEST_CASE("script ops: every kind of history entry is recorded by exactly one op of the table", "[io][script]") {
     core::LatticeNet net;
     REQUIRE(core::makeParallelepipedNet(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), {1, 1, 1}, {1, 1, 1}, net).ok);
     const auto volume = std::make_shared<const core::LatticeNet>(std::move(net));
-    std::vector<std::pair<core::Operation, core::ScriptOp::Kind>> cases;
-    const auto add = [&](core::OperationKind kind, core::ScriptOp::Kind expected, auto&& shape) {
+    std::vector<std::pair<core::Operation, io::ScriptOp::Kind>> cases;
+    const auto add = [&](core::OperationKind kind, io::ScriptOp::Kind expected, auto&& shape) {
         core::Operation operation;
         operation.kind = kind;
         operation.steps.emplace_back();
@@ -180,7 +272,7 @@ TEST_CASE("script ops: every kind of history entry is recorded by exactly one op
         cases.emplace_back(operation, expected);
     };
     using OK = core::OperationKind;
-    using SK = core::ScriptOp::Kind;
+    using SK = io::ScriptOp::Kind;
     add(OK::Drag, SK::Drag, [](core::Operation&) {});
     add(OK::ControlPointEdit, SK::MoveControlPoint, [](core::Operation& o) { o.controlPoints = {0}, o.offsets = Eigen::RowVector3d(0, 1, 0); });
     add(OK::LatticeSetup, SK::SetupLattice, [](core::Operation&) {});
@@ -194,10 +286,10 @@ TEST_CASE("script ops: every kind of history entry is recorded by exactly one op
     add(OK::LatticeTools, SK::EditLattice, [&](core::Operation& o) { o.toolBefore.volume = volume, o.toolAfter.volume = volume; });
     add(OK::LatticeTools, SK::RemoveLattice, [&](core::Operation& o) { o.toolBefore.volume = volume; });
     for (const auto& [operation, expected] : cases) {
-        INFO(core::scriptOpName(expected));
+        INFO(io::scriptOpName(expected));
         int claims = 0;
-        for (const core::ScriptOpInfo& info : core::scriptOps()) {
-            core::ScriptOp op;
+        for (const io::ScriptOpInfo& info : io::scriptOps()) {
+            io::ScriptOp op;
             if (info.record && info.record(operation, op)) {
                 ++claims;
                 CHECK(info.kind == expected);
@@ -206,6 +298,6 @@ TEST_CASE("script ops: every kind of history entry is recorded by exactly one op
         CHECK(claims == 1);
     }
     // Every op but begin_group and end_group runs through its entry.
-    for (const core::ScriptOpInfo& info : core::scriptOps())
+    for (const io::ScriptOpInfo& info : io::scriptOps())
         CHECK((info.run == nullptr) == (info.kind == SK::BeginGroup || info.kind == SK::EndGroup));
 }

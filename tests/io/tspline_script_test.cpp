@@ -8,7 +8,7 @@
 #include <string>
 
 #include "../core/mesh_fixtures.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "core/tspline/tspline_volume.h"
 #include "io/lattice_json.h"
@@ -17,6 +17,7 @@
 
 using namespace sculpt;
 using namespace sculpt::core;
+using namespace sculpt::io;
 
 namespace {
 

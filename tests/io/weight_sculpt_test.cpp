@@ -11,7 +11,7 @@
 
 #include "../core/mesh_fixtures.h"
 #include "core/injectivity/injectivity.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "core/tspline/tspline_volume.h"
 #include "io/script_json.h"
@@ -19,6 +19,7 @@
 
 using namespace sculpt;
 using namespace sculpt::core;
+using namespace sculpt::io;
 
 namespace {
 

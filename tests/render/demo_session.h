@@ -8,7 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include "app/scene_builder.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "io/obj_mesh.h"
 #include "io/script_json.h"
@@ -21,7 +21,7 @@ inline core::Session demoSession() {
     const Status loaded = io::loadObj(std::string(SCULPT_SOURCE_DIR) + "/assets/default.obj", mesh);
     INFO(loaded.message);
     REQUIRE(loaded.ok);
-    core::Script script;
+    io::Script script;
     const Status parsed = io::loadScript(std::string(SCULPT_SOURCE_DIR) + "/assets/demo.json", script);
     INFO(parsed.message);
     REQUIRE(parsed.ok);
@@ -29,8 +29,8 @@ inline core::Session demoSession() {
     REQUIRE(session.setMesh(mesh.positions, mesh.triangles, script.lattice).ok);
     session.setInjectivity(script.injectivity);
     session.setTrackJacobian(true);
-    core::ScriptReport report;
-    REQUIRE(core::runScript(session, script, report).ok);
+    io::ScriptReport report;
+    REQUIRE(io::runScript(session, script, report).ok);
     return session;
 }
 

@@ -7,7 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "app/scene_builder.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "core/tspline/tspline_volume.h"
 #include "gl_test_support.h"
@@ -22,7 +22,7 @@ namespace {
 // way: nothing folded) and, with `oneStep`, certified in one step with its targets met to 1e-9.
 core::Session exampleSession(const std::string& name, bool oneStep = false) {
     const std::string folder = std::string(SCULPT_SOURCE_DIR) + "/assets/examples/";
-    core::Script script;
+    io::Script script;
     const Status parsed = io::loadScript(folder + name, script);
     INFO(parsed.message);
     REQUIRE(parsed.ok);
@@ -33,8 +33,8 @@ core::Session exampleSession(const std::string& name, bool oneStep = false) {
     core::Session session;
     REQUIRE(session.setMesh(mesh.positions, mesh.triangles, script.lattice).ok);
     session.setInjectivity(script.injectivity);
-    core::ScriptReport report;
-    const Status ran = core::runScript(session, script, report);
+    io::ScriptReport report;
+    const Status ran = io::runScript(session, script, report);
     INFO(ran.message);
     REQUIRE(ran.ok);
     for (const core::OpReport& op : report.ops) {

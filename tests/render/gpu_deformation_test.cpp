@@ -16,7 +16,7 @@
 #include "core/volume/embedding.h"
 #include "core/volume/lattice.h"
 #include "core/volume/lattice_net.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "core/deform/vertex_normals.h"
 #include "demo_session.h"

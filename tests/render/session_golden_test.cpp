@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "app/scene_builder.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "demo_session.h"
 #include "gl_test_support.h"

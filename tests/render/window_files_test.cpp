@@ -25,7 +25,7 @@
 #include "app/window/panels.h"
 #include "app/window/sculpt_app.h"
 #include "app/window/ui_style.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "gl_test_support.h"
 #include "offscreen_window.h"
 #include "io/mesh_file.h"
@@ -488,7 +488,7 @@ TEST_CASE("window files: a saved session reopens with the same shape and its ope
     files.finishJob(state);
     INFO(state.status);
     CHECK_FALSE(state.modified);
-    core::Script script;
+    io::Script script;
     REQUIRE(io::loadScript(sessionPath, script).ok);
     CHECK(script.mesh == "blob.obj");
 
@@ -643,7 +643,7 @@ TEST_CASE("window files: a triangle soup is offered the weld, and welded on open
     const Positions after = state.session.positions();
     REQUIRE(welded.files().startSaveSession(state, folder.file("session.json")));
     welded.files().finishJob(state);
-    core::Script script;
+    io::Script script;
     REQUIRE(io::loadScript(folder.file("session.json"), script).ok);
     CHECK(script.weldMesh);
     app::SculptApp reopened;  // weld off: the session's own flag welds

@@ -18,7 +18,7 @@
 #include "app/window/sculpt_app.h"
 #include "app/window/tools.h"
 #include "app/window/tspline_commands.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/tspline/tspline_view.h"
 #include "gl_test_support.h"
 #include "io/obj_mesh.h"

@@ -5,7 +5,7 @@
 
 #include "app/window/sculpt_app.h"
 #include "app/window/tools.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "window_test_support.h"
 
 using namespace sculpt;
@@ -33,12 +33,12 @@ TEST_CASE("window weights: the hammer raises and lowers the clicked vertex by th
     app::SculptApp sculptApp;
     test::loadDefaultMesh(sculptApp, kWidth, kHeight);
     app::AppState& state = sculptApp.state();
-    core::ScriptOp setup;
-    setup.kind = core::ScriptOp::Kind::SetupTSpline;
+    io::ScriptOp setup;
+    setup.kind = io::ScriptOp::Kind::SetupTSpline;
     setup.tspline.octree.octree.depth = 3;
     setup.tspline.octree.weightRatio = 10.0;
     core::OpReport report;
-    REQUIRE(core::runScriptOp(state.session, setup, report));
+    REQUIRE(io::runScriptOp(state.session, setup, report));
     REQUIRE(report.status == core::OpStatus::Applied);
     const size_t history = state.session.history().size();
     const double diagonal = test::boundsDiagonal(state.session.positions());

@@ -12,7 +12,7 @@
 
 #include <imgui.h>
 
-#include "core/session/script.h"
+#include "io/script.h"
 #include "io/atomic_file.h"
 #include "io/mesh_file.h"
 #include "io/mesh_weld.h"
@@ -98,7 +98,7 @@ JobResult loadMeshWork(const std::string& path, const core::LatticeSettings& set
 JobResult openSessionWork(const std::string& path, const std::string& fallbackMesh, bool trackJacobian,
                           JobProgress& progress) {
     JobResult result;
-    core::Script script;
+    io::Script script;
     if (result.status = io::loadScript(path, script); !result.status) return result;
     std::string meshPath = io::resolveScriptMesh(script, path);
     if (meshPath.empty()) meshPath = fallbackMesh;  // a recording without "mesh" replays on the open mesh
@@ -129,16 +129,16 @@ JobResult openSessionWork(const std::string& path, const std::string& fallbackMe
     progress.opsTotal = static_cast<int>(script.ops.size());
     // The progress callback moves the bar and hears Cancel between ops; a recording's screenshot ops are for
     // the command line and are skipped here.
-    const core::ScreenshotHook skipScreenshot = [&result](const core::Session&, const core::ScriptOp&) {
+    const io::ScreenshotHook skipScreenshot = [&result](const core::Session&, const io::ScriptOp&) {
         ++result.screenshotsSkipped;
         return Status::success();
     };
-    const core::ScriptProgress report = [&progress](size_t done, size_t) {
+    const io::ScriptProgress report = [&progress](size_t done, size_t) {
         progress.opsDone = static_cast<int>(done);
         return !progress.cancelled();
     };
-    core::ScriptReport replay;
-    if (Status s = core::runScript(session, script, replay, skipScreenshot, report); !s) {
+    io::ScriptReport replay;
+    if (Status s = io::runScript(session, script, replay, skipScreenshot, report); !s) {
         result.status = progress.cancelled() ? cancelledStatus(path) : Status::error(path + ": " + s.message);
         return result;
     }
@@ -251,7 +251,7 @@ bool FileCommands::startSave(AppState& state, JobKind kind, const std::string& p
             return result;
         });
     } else {
-        core::Script script = core::recordSession(state.session);
+        io::Script script = io::recordSession(state.session);
         script.weldMesh = document_.welded;
         // The session replays from the undeformed source. If that file was overwritten by a save, the session
         // brings its own copy of the undeformed mesh, written next to it.

@@ -13,7 +13,7 @@
 //   - Saves are atomic (io::writeFileAtomically): a failed save never damages the existing file, the error
 //     goes to the status line and the document stays modified.
 //
-// A session file is what `sculpt --headless --save-session` writes (core::recordSession) plus "mesh", the
+// A session file is what `sculpt --headless --save-session` writes (io::recordSession) plus "mesh", the
 // OBJ it applies to, relative to the session file. Opening it loads that mesh and replays the operations, so
 // the history comes back as real undoable operations.
 #pragma once

@@ -15,7 +15,7 @@
 #include "app/cli_options.h"
 #include "app/file_browser.h"
 #include "app/window/picking.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/tspline/tspline_view.h"
 #include "io/lattice_file.h"
 #include "render/camera.h"
@@ -217,12 +217,12 @@ void removeLatticeToolCommand(AppState& state, int index) {
 
 void editLatticeNetCommand(AppState& state, int index, const std::vector<core::NetEdit>& edits, const std::string& what) {
     if (state.drag.active) return;
-    core::ScriptOp op;
-    op.kind = core::ScriptOp::Kind::EditLattice;
+    io::ScriptOp op;
+    op.kind = io::ScriptOp::Kind::EditLattice;
     op.toolIndex = index;
     op.netEdits = edits;
     core::OpReport report;
-    const Status s = core::runScriptOp(state.session, op, report);
+    const Status s = io::runScriptOp(state.session, op, report);
     reportLatticeOperation(state, report, s, what);
 }
 

@@ -54,7 +54,7 @@ void freezeLatticeCommand(AppState& state, int index, int pinLayers);
 void unfreezeLatticeCommand(AppState& state);
 void removeLatticeToolCommand(AppState& state, int index);
 // edit_lattice with "edits" (core/volume/lattice_edit.h) on tool `index`, which must not be frozen: the script op
-// itself (core::runScriptOp), one history operation. `what` names it on the status line ("Inserted a knot
+// itself (io::runScriptOp), one history operation. `what` names it on the status line ("Inserted a knot
 // at u = 0.3 in cylinder"); a refusal gives its reason there.
 void editLatticeNetCommand(AppState& state, int index, const std::vector<core::NetEdit>& edits, const std::string& what);
 // Writes tool `index` to `path` as a library file named `name` (empty: the tool's name) with

@@ -19,7 +19,7 @@ void describeLatticeSelection(AppState& state);
 // Removes every placed handle and pin.
 void clearHandles(AppState& state);
 // The hammer or crimp (state.tools.brush.kind) at mesh vertex `vertex` through the script op itself
-// (core::runScriptOp: one undo step), with the control points within `radius` (world units; 0: the strongest
+// (io::runScriptOp: one undo step), with the control points within `radius` (world units; 0: the strongest
 // one); `invert`: lower instead of raise, sharpen instead of broaden. Says on the status line what happened.
 void weightToolCommand(AppState& state, int vertex, double radius, bool invert);
 // Puts a fresh lattice with `settings` around the current mesh, as an undoable operation (Session::setupLattice).

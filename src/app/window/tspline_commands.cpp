@@ -1,6 +1,6 @@
 // The T-spline section's commands (Song & Yang 2005, seed 002): sec. 4 / sec. 6 steps 1-3 (setup_tspline),
 // sec. 6 step 2 / Fig. 11 (cells chosen on the mesh, subdivide_cells), and what the window draws and picks of
-// a T-spline (Fig. 9-10, core/tspline/tspline_view.h). Every change is a script op run through core::runScriptOp.
+// a T-spline (Fig. 9-10, core/tspline/tspline_view.h). Every change is a script op run through io::runScriptOp.
 #include "app/window/tspline_commands.h"
 
 #include <algorithm>
@@ -10,7 +10,7 @@
 #include "app/window/picking.h"
 #include "app/window/tool_commands.h"
 #include "app/window/tools.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/tspline/tspline_volume.h"
 
 namespace sculpt::app {
@@ -73,8 +73,8 @@ bool regionFromSelection(AppState& state) {
 void setupTSplineCommand(AppState& state) {
     if (state.drag.active) return;
     const TSplinePanelState& panel = state.tspline;
-    core::ScriptOp op;
-    op.kind = core::ScriptOp::Kind::SetupTSpline;
+    io::ScriptOp op;
+    op.kind = io::ScriptOp::Kind::SetupTSpline;
     op.tspline.octree.octree.depth = panel.depth;
     op.tspline.octree.weightRatio = panel.weightRatio;
     op.tspline.hasRegion = panel.customRegion;
@@ -83,7 +83,7 @@ void setupTSplineCommand(AppState& state) {
     op.tspline.name = freshToolName(state, "tspline");
     op.tspline.freeze = true;
     core::OpReport report;
-    const Status s = core::runScriptOp(state.session, op, report);
+    const Status s = io::runScriptOp(state.session, op, report);
     if (s && report.status == core::OpStatus::Applied) {
         state.tools.lattice.points.clear();  // their ids belonged to the lattice before
         state.lattices.selectedTool = static_cast<int>(state.session.tools().list().size()) - 1;
@@ -194,10 +194,10 @@ void subdivideChosenCellsCommand(AppState& state) {
     // one is unfrozen around it. The unfreeze keeps the shape; a refused subdivision takes it back.
     const int firstOperation = session.history().cursor();
     if (frozen) {
-        core::ScriptOp unfreeze;
-        unfreeze.kind = core::ScriptOp::Kind::Unfreeze;
+        io::ScriptOp unfreeze;
+        unfreeze.kind = io::ScriptOp::Kind::Unfreeze;
         core::OpReport report;
-        const Status s = core::runScriptOp(session, unfreeze, report);
+        const Status s = io::runScriptOp(session, unfreeze, report);
         state.tools.lattice.points.clear();
         if (!s || report.status != core::OpStatus::Applied) {
             reportOperation(state, report, s, "Unfreezing " + name + " to subdivide it");
@@ -205,19 +205,19 @@ void subdivideChosenCellsCommand(AppState& state) {
         }
         noteSessionMoved(state);
     }
-    core::ScriptOp subdivide;
-    subdivide.kind = core::ScriptOp::Kind::SubdivideCells;
+    io::ScriptOp subdivide;
+    subdivide.kind = io::ScriptOp::Kind::SubdivideCells;
     subdivide.toolIndex = target;
     subdivide.cells = panel.chosenCells;
     subdivide.balance = panel.balance;
     core::OpReport subdivided;
-    const Status s = core::runScriptOp(session, subdivide, subdivided);
+    const Status s = io::runScriptOp(session, subdivide, subdivided);
     if (!s || subdivided.status != core::OpStatus::Applied) {
         if (frozen) {
-            core::ScriptOp undo;
-            undo.kind = core::ScriptOp::Kind::Undo;
+            io::ScriptOp undo;
+            undo.kind = io::ScriptOp::Kind::Undo;
             core::OpReport undone;
-            if (core::runScriptOp(session, undo, undone) && undone.status == core::OpStatus::Applied) noteSessionMoved(state);
+            if (io::runScriptOp(session, undo, undone) && undone.status == core::OpStatus::Applied) noteSessionMoved(state);
         }
         reportOperation(state, subdivided, s, "Subdividing cells of " + name);
         state.gpu.fields = true;
@@ -231,24 +231,24 @@ void subdivideChosenCellsCommand(AppState& state) {
         reportLatticeOperation(state, subdivided, s, "Subdivided " + cellsText(count));
         return;
     }
-    core::ScriptOp freeze;
-    freeze.kind = core::ScriptOp::Kind::Freeze;
+    io::ScriptOp freeze;
+    freeze.kind = io::ScriptOp::Kind::Freeze;
     freeze.toolIndex = target;
     freeze.pinLayers = pinLayers;
     core::OpReport refrozen;
-    const Status f = core::runScriptOp(session, freeze, refrozen);
+    const Status f = io::runScriptOp(session, freeze, refrozen);
     if (!f || refrozen.status != core::OpStatus::Applied) {
         reportOperation(state, refrozen, f, "Subdivided " + cellsText(count) + " of " + name + ", but freezing it again");
         state.gpu.fields = true;
         return;
     }
     // The unfreeze, the subdivision and the freeze are one history entry: one Ctrl+Z takes them back.
-    core::ScriptOp group;
-    group.kind = core::ScriptOp::Kind::Group;
+    io::ScriptOp group;
+    group.kind = io::ScriptOp::Kind::Group;
     group.groupFirst = firstOperation;
     group.label = "subdivide " + cellsText(count) + " of lattice " + name;
     core::OpReport grouped;
-    if (const Status g = core::runScriptOp(session, group, grouped); !g) {
+    if (const Status g = io::runScriptOp(session, group, grouped); !g) {
         reportOperation(state, grouped, g, "Subdivided " + cellsText(count) + " of " + name + ", but grouping the history");
         return;
     }

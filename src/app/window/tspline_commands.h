@@ -1,5 +1,5 @@
 // Commands of the Lattices panel's T-spline section (weighted T-spline FFD, Song & Yang 2005, seed 002). Each
-// change is the script op itself run through core::runScriptOp (setup_tspline, subdivide_cells, and unfreeze /
+// change is the script op itself run through io::runScriptOp (setup_tspline, subdivide_cells, and unfreeze /
 // freeze around a subdivision of the frozen tool), so the window does what a script does and every op is a
 // history operation; like the commands of app_state.h each keeps the status line and the GPU update in step.
 // Also what the window draws and picks of T-splines (Fig. 9-11), from core/tspline/tspline_view.h.

@@ -1,25 +1,25 @@
 // The window's hammer and crimp (sculpting by weights on a frozen weighted T-spline, Song & Yang 2005 sec. 1 and 6;
-// Session::tspline().sculptWeights): a click becomes the script op a user would write, run through core::runScriptOp so the
+// Session::tspline().sculptWeights): a click becomes the script op a user would write, run through io::runScriptOp so the
 // window and scripts share one command and one undo step.
 #include <cmath>
 #include <cstdio>
 
 #include "app/window/tool_commands.h"
-#include "core/session/script.h"
+#include "io/script.h"
 
 namespace sculpt::app {
 
 void weightToolCommand(AppState& state, int vertex, double radius, bool invert) {
     if (state.drag.active) return;
     const BrushTool& brush = state.tools.brush;
-    core::ScriptOp op;
+    io::ScriptOp op;
     core::WeightToolSettings& tool = op.weightTool;
     tool.vertex = vertex;
     tool.radius = std::isfinite(radius) && radius > 0.0 ? radius : 0.0;
     std::string what;
     double hammerFrom = 0.0;
     if (brush.kind == BrushTool::Kind::Hammer) {
-        op.kind = core::ScriptOp::Kind::Hammer;
+        op.kind = io::ScriptOp::Kind::Hammer;
         // The clicked vertex's height now (0 where nothing is raised), raised or lowered by one step.
         core::TSplineTools::Bump bump;
         tool.tool = core::WeightToolSettings::Tool::Hammer;
@@ -34,7 +34,7 @@ void weightToolCommand(AppState& state, int vertex, double radius, bool invert) 
         tool.height = height + (invert ? -1.0 : 1.0) * brush.hammerStep * size.norm();
         hammerFrom = height;
     } else {
-        op.kind = core::ScriptOp::Kind::Crimp;
+        op.kind = io::ScriptOp::Kind::Crimp;
         tool.tool = core::WeightToolSettings::Tool::Crimp;
         tool.widthFactor = invert ? 1.0 / brush.crimpFactor : brush.crimpFactor;
         char text[96];
@@ -42,7 +42,7 @@ void weightToolCommand(AppState& state, int vertex, double radius, bool invert) 
         what = text;
     }
     core::OpReport report;
-    const Status s = core::runScriptOp(state.session, op, report);
+    const Status s = io::runScriptOp(state.session, op, report);
     if (brush.kind == BrushTool::Kind::Hammer) {
         // The height reached: the bump scales linearly with the part of the raise applied (a fold stops it short).
         const double reached = hammerFrom + report.fractionApplied * (tool.height - hammerFrom);

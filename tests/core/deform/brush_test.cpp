@@ -6,7 +6,7 @@
 
 #include "core/deform/brush.h"
 #include "core/deform/brush_field.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "io/script_json.h"
 #include "../mesh_fixtures.h"
@@ -14,6 +14,7 @@
 
 using namespace sculpt;
 using namespace sculpt::core;
+using namespace sculpt::io;
 
 namespace {
 

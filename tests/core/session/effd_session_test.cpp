@@ -8,7 +8,7 @@
 
 #include "core/injectivity/injectivity.h"
 #include "core/volume/lattice_net.h"
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "io/script_json.h"
 #include "../mesh_fixtures.h"
@@ -17,6 +17,7 @@
 
 using namespace sculpt;
 using namespace sculpt::core;
+using namespace sculpt::io;
 
 namespace {
 

@@ -6,12 +6,13 @@
 
 #include <Eigen/Geometry>
 
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "../test_support.h"
 
 using namespace sculpt;
 using namespace sculpt::core;
+using namespace sculpt::io;
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/session/script.h"
+#include "io/script.h"
 #include "core/session/session.h"
 #include "../cgal_meshes.h"
 #include "../mesh_fixtures.h"
@@ -15,6 +15,7 @@
 
 using namespace sculpt;
 using namespace sculpt::core;
+using namespace sculpt::io;
 
 namespace {
 

@@ -1,9 +1,14 @@
-#include "core/session/script.h"
-#include "core/session/script_ops.h"
+// The script runner and recorder (script.h): each op runs, and each history entry is recorded, through its entry
+// in the op table (script_ops.h).
+#include "io/script.h"
 
 #include <algorithm>
 
-namespace sculpt::core {
+#include "io/script_ops.h"
+
+namespace sculpt::io {
+
+using namespace sculpt::core;
 
 const char* scriptOpName(ScriptOp::Kind kind) {
     const char* name = scriptOpInfo(kind).name;
@@ -122,4 +127,4 @@ Script recordSession(const Session& session) {
     return script;
 }
 
-}  // namespace sculpt::core
+}  // namespace sculpt::io
