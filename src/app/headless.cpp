@@ -89,7 +89,7 @@ int runHeadless(const CliOptions& options, const char* argv0) {
 
     // A refined session writes the refined mesh, texture coordinates interpolated at the splits.
     std::vector<std::string> saveWarnings;
-    if (Status s = io::saveRefinedMesh(options.output, mesh, session.refinement().appliedSplits(), session.positions(), &saveWarnings);
+    if (Status s = io::saveRefinedMesh(options.output, mesh, session.refinement().appliedSplits(), session.mesh().positions, &saveWarnings);
         !s) {
         std::cerr << "sculpt: " << s.message << "\n";
         return kExitWriteFailed;

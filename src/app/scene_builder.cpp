@@ -13,8 +13,8 @@ namespace sculpt::app {
 render::SceneData sceneFromSession(const core::Session& session, const SceneRequest& request) {
     render::SceneData scene;
     if (request.mesh) {
-        scene.positions = session.positions();
-        scene.triangles = session.triangles();
+        scene.positions = session.mesh().positions;
+        scene.triangles = session.mesh().triangles;
     }
     const core::Lattice& lattice = session.lattice();
     scene.lattice.nu = lattice.count[0];
@@ -82,21 +82,21 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
         if (stroke) {
             // A brush stroke: its regions (one per grabbed image), placed again from their steps, since a finished
             // stroke is baked into the rest shape and its layers are gone; the strongest influence of any of them.
-            scene.affectedWeight.assign(static_cast<size_t>(session.positions().rows()), 0.0f);
+            scene.affectedWeight.assign(static_cast<size_t>(session.mesh().positions.rows()), 0.0f);
             for (const core::Step& step : last->steps) {
                 if (!step.region) continue;
                 core::Lattice region;
                 if (!core::makeLatticeInBox(step.settings, step.frameMin, step.frameMax, region) || !core::turnBoxLattice(region, step.frameAxes))
                     continue;
                 std::vector<float> weight;
-                core::controlPointInfluence(region, core::embedVertices(region, session.positions()), step.delta.indices, weight);
+                core::controlPointInfluence(region, core::embedVertices(region, session.mesh().positions), step.delta.indices, weight);
                 for (size_t v = 0; v < weight.size() && v < scene.affectedWeight.size(); ++v)
                     scene.affectedWeight[v] = std::max(scene.affectedWeight[v], weight[v]);
             }
         } else if (inLayer) {
             // note: the layer's input is the mesh before its step; the mesh now is near enough for a tint.
             const core::Lattice& layer = session.cage().layers().back().lattice;
-            core::controlPointInfluence(layer, core::embedVertices(layer, session.positions()), ids, scene.affectedWeight);
+            core::controlPointInfluence(layer, core::embedVertices(layer, session.mesh().positions), ids, scene.affectedWeight);
         } else {
             core::controlPointInfluence(lattice, session.cage().embedding(), ids, scene.affectedWeight);
         }
@@ -106,7 +106,7 @@ render::SceneData sceneFromSession(const core::Session& session, const SceneRequ
 
 std::vector<float> sessionVertexColors(const io::ObjMesh& source, const core::Session& session) {
     const io::VertexColors colours = io::meshVertexColours(source, session.refinement().appliedSplits());
-    if (colours.rows() != session.positions().rows()) return {};
+    if (colours.rows() != session.mesh().positions.rows()) return {};
     std::vector<float> rgb(3 * static_cast<size_t>(colours.rows()));
     for (Eigen::Index v = 0; v < colours.rows(); ++v)
         for (int c = 0; c < 3; ++c) rgb[3 * static_cast<size_t>(v) + static_cast<size_t>(c)] = colours(v, c);

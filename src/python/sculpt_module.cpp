@@ -67,7 +67,7 @@ Status loadMeshFile(const std::string& path, io::ObjMesh& mesh, std::vector<std:
 // a file keeps its own text. warnings: what the format cannot hold.
 Status saveMeshFile(const std::string& path, const io::ObjMesh& mesh, const core::Session& session,
                     std::vector<std::string>& warnings) {
-    return io::saveRefinedMesh(path, mesh, session.refinement().appliedSplits(), session.positions(), &warnings);
+    return io::saveRefinedMesh(path, mesh, session.refinement().appliedSplits(), session.mesh().positions, &warnings);
 }
 
 // ---- Python values to script JSON ----
@@ -180,8 +180,8 @@ public:
                               "engine's rows, while " + std::to_string(liveViews) +
                               " view(s) of them from Session.positions or Session.triangles are alive: delete them first "
                               "(keep .copy() of them instead)");
-        const double* rowsBefore = session.positions().data();
-        const Eigen::Index countBefore = session.positions().rows();
+        const double* rowsBefore = session.mesh().positions.data();
+        const Eigen::Index countBefore = session.mesh().positions.rows();
         core::OpReport report;
         Status s = op.kind == io::ScriptOp::Kind::Screenshot ? screenshot(op.path, app::CliOptions{})
                                                                : io::runScriptOp(session, op, report);
@@ -191,7 +191,7 @@ public:
             report.reason = "wrote " + op.path;
         }
         // The guard above is what keeps views valid; this catches an engine path it does not know about.
-        if (liveViews > 0 && (session.positions().data() != rowsBefore || session.positions().rows() != countBefore))
+        if (liveViews > 0 && (session.mesh().positions.data() != rowsBefore || session.mesh().positions.rows() != countBefore))
             throw std::logic_error(std::string(io::scriptOpName(op.kind)) + " moved the engine's rows while views were alive");
         report.op = io::scriptOpName(op.kind);
         io::ScriptReport one;
@@ -205,8 +205,8 @@ public:
     py::dict reportRoot(const io::ScriptReport& report) const {
         io::ReportContext context;
         context.input = source;
-        context.vertexCount = static_cast<int>(session.positions().rows());
-        context.triangleCount = static_cast<int>(session.triangles().rows());
+        context.vertexCount = static_cast<int>(session.mesh().positions.rows());
+        context.triangleCount = static_cast<int>(session.mesh().triangles.rows());
         const std::string text = io::reportToJson(report, session, context);
         return py::module_::import("json").attr("loads")(text).cast<py::dict>();
     }
@@ -539,14 +539,14 @@ track_jacobian: keep the det J of every frozen lattice (the "jacobian" screensho
     deformation only when this was on from the start; it costs time on subdivided operations).
 Raises sculpt.Error naming the wrong shape, dtype, index or field.)doc")
         .def_property_readonly(
-            "positions", [](py::object self) { return sp::engineView(self, self.cast<PySession&>().session.positions()); },
+            "positions", [](py::object self) { return sp::engineView(self, self.cast<PySession&>().session.mesh().positions); },
             R"doc(The current vertex positions: a read-only #V x 3 float64 numpy view of the engine's rows, no copy.
 
 It changes in place as commands deform the mesh (take .copy() to keep a shape). While any view of it is alive,
 a command that may change the number of vertices (refine, automatic refinement, undo or redo of a refinement)
 raises sculpt.Error instead of running, since it would move the rows.)doc")
         .def_property_readonly(
-            "triangles", [](py::object self) { return sp::engineView(self, self.cast<PySession&>().session.triangles()); },
+            "triangles", [](py::object self) { return sp::engineView(self, self.cast<PySession&>().session.mesh().triangles); },
             "The triangles: a read-only #T x 3 int32 numpy view of the engine's rows (indices into positions), as positions.")
         .def_property_readonly("source", [](const PySession& s) { return s.source; },
                                "The file the mesh was loaded from ('' for arrays).")

@@ -104,7 +104,7 @@ TEST_CASE("document: modified follows the applied history, undo back to the save
     auto randomDrag = [&]() {
         const int v = vertex(random);
         core::OpReport report;
-        const Eigen::Vector3d target = session.positions().row(v).transpose() +
+        const Eigen::Vector3d target = session.mesh().positions.row(v).transpose() +
                                        Eigen::Vector3d(offset(random), offset(random), offset(random));
         REQUIRE(session.dragVertex(v, target, report).ok);
         REQUIRE(report.status == core::OpStatus::Applied);

@@ -152,7 +152,7 @@ void benchSparseUpdate(const Positions& points) {
         session.setMesh(points, none, s);
         Eigen::Vector3d params;
         session.parametersOfVertex(n / 3, params);
-        const Eigen::Vector3d start = session.positions().row(n / 3).transpose();
+        const Eigen::Vector3d start = session.mesh().positions.row(n / 3).transpose();
         int step = 0;
         session.stroke().begin({params});
         OpReport report;
@@ -301,7 +301,7 @@ void benchSubdivision() {
             const int v = vertex(rng);
             const double size = op % 5 == 4 ? 0.6 : 0.05;  // every fifth operation needs subdividing
             OpReport report;
-            session.dragVertex(v, session.positions().row(v).transpose() + size * Eigen::Vector3d(d(rng), d(rng), d(rng)), report);
+            session.dragVertex(v, session.mesh().positions.row(v).transpose() + size * Eigen::Vector3d(d(rng), d(rng), d(rng)), report);
             subdivided += report.subSteps > 1;
         }
         const double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -504,7 +504,7 @@ void benchCertification() {
     const auto spreadDrags = [&](Session& session, double length) {
         return [&session, length, diagonal, n, next = 0]() mutable {
             const int v = (next++ * 2909 + 17) % n;
-            const Eigen::Vector3d from = session.positions().row(v).transpose();
+            const Eigen::Vector3d from = session.mesh().positions.row(v).transpose();
             OpReport report;
             session.dragVertex(v, from + length * diagonal * Eigen::Vector3d(0.3, -0.5, 0.8).normalized(), report);
             return report;
@@ -699,14 +699,14 @@ void benchBrush() {
                                  opStatusName(report.status), report.fractionApplied, report.refusedBy.c_str(), report.reason.c_str());
                 if (report.status != OpStatus::Applied) {
                     ++refused;
-                    unrestored += session.positions() != positions;  // a refused stroke changes nothing
+                    unrestored += session.mesh().positions != positions;  // a refused stroke changes nothing
                     continue;
                 }
                 (report.fractionApplied == 1.0 ? full : stopped) += 1;
                 fullByKind[kind] += report.fractionApplied == 1.0;
                 // The independent exact triangle test (tests/core/mesh_fixtures.h), on the whole mesh.
                 int newPairs = 0;
-                for (const std::pair<int, int>& pair : test::intersectingPairs(session.positions(), triangles)) {
+                for (const std::pair<int, int>& pair : test::intersectingPairs(session.mesh().positions, triangles)) {
                     if (atLoad.count(pair)) continue;
                     if (contactZone[static_cast<size_t>(pair.first)] && contactZone[static_cast<size_t>(pair.second)]) ++shiftedContacts;
                     else ++newPairs;
@@ -722,14 +722,14 @@ void benchBrush() {
                     for (Eigen::Index r = 0; r < positions.rows(); ++r) {
                         const double rho = (positions.row(r) - positions.row(v)).norm();
                         if (rho >= brush.radius) continue;
-                        const double share = (session.positions().row(r) - positions.row(r)).dot(direction.transpose()) / pull;
+                        const double share = (session.mesh().positions.row(r) - positions.row(r)).dot(direction.transpose()) / pull;
                         squares += std::pow(share - brushProfile(brush.falloff, rho / brush.radius), 2);
                         ++within;
                     }
                     if (within > 0) profiles.push_back(std::sqrt(squares / within));
                 }
                 session.undo(report);
-                unrestored += (session.positions() - positions).cwiseAbs().maxCoeff() > 1e-12 * diagonal;  // undo is exact
+                unrestored += (session.mesh().positions - positions).cwiseAbs().maxCoeff() > 1e-12 * diagonal;  // undo is exact
             }
             std::string by;
             for (const auto& [what, count] : stoppedBy) by += (by.empty() ? "" : ", ") + ("\"" + what + "\": " + std::to_string(count));

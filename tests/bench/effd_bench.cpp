@@ -90,7 +90,7 @@ void runEffdBenchmarks(const std::vector<std::string>& filters) {
         session.tools().add({"cylinder", std::make_shared<const LatticeNet>(cylinder)}, report);
         session.tools().freeze(0, 0, report);
         const int vertex = 12345;
-        const Eigen::Vector3d from = session.positions().row(vertex).transpose();
+        const Eigen::Vector3d from = session.mesh().positions.row(vertex).transpose();
         session.stroke().beginAt({from}, {false}, BrushSettings{});
         int step = 0;
         const double ms = medianMs(15, [&] {

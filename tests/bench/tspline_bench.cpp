@@ -157,7 +157,7 @@ void runTSplineBenchmarks(const std::vector<std::string>& filters) {
                 return;
             }
             const int vertex = 12345;
-            const Eigen::Vector3d from = session.positions().row(vertex).transpose();
+            const Eigen::Vector3d from = session.mesh().positions.row(vertex).transpose();
             session.stroke().beginAt({from}, {false}, BrushSettings{});
             int step = 0;
             const double ms = medianMs(15, [&] {

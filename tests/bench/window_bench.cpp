@@ -96,8 +96,8 @@ void benchDragFrames(std::ostream& out, const char* name, const test::TestMesh& 
         draw.push_back(state.stats.renderMs);
         finish.push_back(msBetween(drawn, finished));
         total.push_back(msBetween(start, finished));
-        moved.push_back(static_cast<double>(state.session.lastMovedAll() ? state.session.positions().rows()
-                                                                        : state.session.lastMovedVertices().size()));
+        moved.push_back(static_cast<double>(state.session.lastMoved().all ? state.session.mesh().positions.rows()
+                                                                        : state.session.lastMoved().vertices.size()));
         uploaded.push_back(state.stats.lastUploadVertices);
     }
     const int refused = state.drag.refused;
@@ -148,11 +148,11 @@ void benchDragEngine(std::ostream& out, const char* name, const test::TestMesh& 
         app::PendingGpuUpdate& pending = state.gpu;
         if (gpu) {
             if (pending.allPositions && all.empty()) {
-                all.resize(static_cast<size_t>(state.session.positions().rows()));
+                all.resize(static_cast<size_t>(state.session.mesh().positions.rows()));
                 std::iota(all.begin(), all.end(), 0);
             }
             const auto uploadStart = Clock::now();
-            sculptApp.renderer().updatePositions(state.session.positions(), pending.allPositions ? all : pending.vertices);
+            sculptApp.renderer().updatePositions(state.session.mesh().positions, pending.allPositions ? all : pending.vertices);
             window.context().gl().Finish();
             uploadMs = msBetween(uploadStart, Clock::now());
         }
@@ -163,8 +163,8 @@ void benchDragEngine(std::ostream& out, const char* name, const test::TestMesh& 
         engine.push_back(engineMs);
         solve.push_back(state.lastReport.wallMs);
         upload.push_back(uploadMs);
-        moved.push_back(static_cast<double>(state.session.lastMovedAll() ? state.session.positions().rows()
-                                                                        : state.session.lastMovedVertices().size()));
+        moved.push_back(static_cast<double>(state.session.lastMoved().all ? state.session.mesh().positions.rows()
+                                                                        : state.session.lastMoved().vertices.size()));
     }
     const int refused = state.drag.refused;
     const auto releaseStart = Clock::now();

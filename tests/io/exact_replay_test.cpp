@@ -50,9 +50,9 @@ TestMesh testMesh(int which) {
 // One random command of any kind; `size` scales the moves (small or large).
 void randomCommand(Session& session, std::mt19937& rng, double size, int& openGroup) {
     const double diagonal = session.lattice().diagonal();
-    const int vertices = static_cast<int>(session.positions().rows());
+    const int vertices = static_cast<int>(session.mesh().positions.rows());
     OpReport report;
-    const auto vertexPoint = [&](int v) -> Eigen::Vector3d { return session.positions().row(v).transpose(); };
+    const auto vertexPoint = [&](int v) -> Eigen::Vector3d { return session.mesh().positions.row(v).transpose(); };
     switch (test::randomInt(rng, 0, 13)) {
         case 0:
         case 1: {  // drag_vertex
@@ -168,7 +168,7 @@ TEST_CASE("recording: random sessions of every op kind replay on their mesh to t
         INFO("trial " << trial << ": " << count << " commands, " << original.history().journal().size() << " journal entries");
         // note: not bit for bit: an interactive drag's increments were added to the mesh one by one, and the
         // replay adds their sum (one step per frame), which rounds differently.
-        REQUIRE((replayed.positions() - original.positions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        REQUIRE((replayed.mesh().positions - original.mesh().positions).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         REQUIRE(replayed.history().size() == original.history().size());
         REQUIRE(replayed.history().cursor() == original.history().cursor());
         for (size_t i = 0; i < original.history().size(); ++i) {
@@ -183,7 +183,7 @@ TEST_CASE("recording: random sessions of every op kind replay on their mesh to t
             REQUIRE(original.undo(report).ok);
             REQUIRE(replayed.undo(report).ok);
         }
-        CHECK((replayed.positions() - original.positions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        CHECK((replayed.mesh().positions - original.mesh().positions).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
     }
     CHECK(commands > 900);
     CHECK(subdivided > 0);
@@ -208,7 +208,7 @@ TEST_CASE("recording: on another mesh the operations are decided again", "[io]")
     Session replayed = test::replayThroughJson(recording, other.positions, other.triangles, parsed);
     REQUIRE(replayed.meshAsSet().fingerprint != recording.meshFingerprint);
     REQUIRE(replayed.history().size() == 1);
-    CHECK((replayed.positions().row(5).transpose() - target).norm() <= 1e-9 * original.lattice().diagonal());
+    CHECK((replayed.mesh().positions.row(5).transpose() - target).norm() <= 1e-9 * original.lattice().diagonal());
 }
 
 }  // namespace

@@ -91,13 +91,13 @@ TEST_CASE("lattice edit script: edits apply to the current net keep the tool's n
     LatticeNet expected;
     REQUIRE(applyNetEdits(cylinder, list, expected));
     REQUIRE(sameLatticeNet(*session.tools().list()[0].volume->tensorNet(), expected));
-    REQUIRE(session.positions() != mesh.positions);  // the frozen, edited lattice deformed the mesh
+    REQUIRE(session.mesh().positions != mesh.positions);  // the frozen, edited lattice deformed the mesh
 
     // Recorded and replayed through the JSON text: the same mesh and tool list, bit for bit.
     const Script recording = recordSession(session);
     Script parsed;
     const Session replayed = test::replayThroughJson(recording, mesh.positions, mesh.triangles, parsed);
-    REQUIRE(replayed.positions() == session.positions());
+    REQUIRE(replayed.mesh().positions == session.mesh().positions);
     REQUIRE(replayed.tools().list().size() == session.tools().list().size());
     for (size_t t = 0; t < replayed.tools().list().size(); ++t) {
         REQUIRE(replayed.tools().list()[t].name == session.tools().list()[t].name);
@@ -205,12 +205,12 @@ TEST_CASE("lattice edit script: a knot inserted at a chosen parameter is one edi
     const LatticeNet& net = *session.tools().list()[0].volume->tensorNet();
     REQUIRE(net.count == std::array<int, 3>{5, 15, 5});
     REQUIRE_FALSE(net.knots[0].empty());
-    REQUIRE(session.positions() != mesh.positions);
+    REQUIRE(session.mesh().positions != mesh.positions);
     // The recording carries the general knots (in the lattice's JSON) and replays bit for bit.
     const Script recording = recordSession(session);
     Script parsed;
     const Session replayed = test::replayThroughJson(recording, mesh.positions, mesh.triangles, parsed);
-    REQUIRE(replayed.positions() == session.positions());
+    REQUIRE(replayed.mesh().positions == session.mesh().positions);
     REQUIRE(sameLatticeNet(*replayed.tools().list()[0].volume->tensorNet(), net));
     // And the lattice file form round-trips bitwise too.
     LatticeNet back;
@@ -281,19 +281,19 @@ TEST_CASE("lattice edit script: groups holding tool changes and freezes are one 
         REQUIRE(ran);
         const int members = groupEnd - groupStart;
         REQUIRE(session.history().size() + static_cast<size_t>(members - 1) == reference.history().size());
-        REQUIRE(session.positions() == reference.positions());
+        REQUIRE(session.mesh().positions == reference.mesh().positions);
         REQUIRE(session.tools().frozen() == reference.tools().frozen());
         // Undo everything after the group, then the group: the state the reference has before its members.
         OpReport undone;
-        const Positions end = session.positions();
+        const Positions end = session.mesh().positions;
         const int after = static_cast<int>(session.history().size()) - groupStart - 1;
         for (int k = 0; k < after; ++k) REQUIRE(session.undo(undone));
         for (int k = 0; k < after; ++k) REQUIRE(reference.undo(undone));
-        REQUIRE(session.positions() == reference.positions());
+        REQUIRE(session.mesh().positions == reference.mesh().positions);
         REQUIRE(session.undo(undone));  // the group: one entry
         for (int k = 0; k < members; ++k) REQUIRE(reference.undo(undone));
         REQUIRE(session.history().cursor() == groupStart);
-        REQUIRE(session.positions() == reference.positions());
+        REQUIRE(session.mesh().positions == reference.mesh().positions);
         REQUIRE(session.tools().frozen() == reference.tools().frozen());
         REQUIRE(session.tools().list().size() == reference.tools().list().size());
         for (size_t t = 0; t < session.tools().list().size(); ++t)
@@ -303,11 +303,11 @@ TEST_CASE("lattice edit script: groups holding tool changes and freezes are one 
         // to rounding, not bitwise).
         while (reference.history().cursor() < static_cast<int>(reference.history().size())) REQUIRE(reference.redo(undone));
         while (session.history().cursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(undone));
-        REQUIRE(session.positions() == reference.positions());
-        REQUIRE((session.positions() - end).cwiseAbs().maxCoeff() <= 1e-13);
+        REQUIRE(session.mesh().positions == reference.mesh().positions);
+        REQUIRE((session.mesh().positions - end).cwiseAbs().maxCoeff() <= 1e-13);
         Script parsed;
         const Session replayed = test::replayThroughJson(recordSession(session), mesh.positions, mesh.triangles, parsed);
-        REQUIRE(replayed.positions() == session.positions());
+        REQUIRE(replayed.mesh().positions == session.mesh().positions);
         REQUIRE(replayed.history().size() == session.history().size());
         REQUIRE(replayed.tools().frozen() == session.tools().frozen());
     }

@@ -126,8 +126,8 @@ Positions dragVertex(const ObjMesh& mesh, int vertex, const Eigen::Vector3d& off
     REQUIRE(session.dragVertex(vertex, target, report).ok);
     INFO(report.reason);
     REQUIRE(report.status == sculpt::core::OpStatus::Applied);
-    REQUIRE((session.positions().row(vertex).transpose() - target).norm() < 1e-9);
-    return session.positions();
+    REQUIRE((session.mesh().positions.row(vertex).transpose() - target).norm() < 1e-9);
+    return session.mesh().positions;
 }
 
 std::string serialize(const ObjMesh& mesh, const Positions& positions) {
@@ -189,15 +189,15 @@ TEST_CASE("obj: the handed-over cube with continued v, vn and f lines loads whol
     REQUIRE(ran.ok);
     REQUIRE(report.ops.size() == 1);
     REQUIRE(report.ops[0].status == sculpt::core::OpStatus::Applied);
-    REQUIRE((session.positions().row(6) - Eigen::RowVector3d(1.2, 1.2, 1.2)).norm() < 1e-9);
+    REQUIRE((session.mesh().positions.row(6) - Eigen::RowVector3d(1.2, 1.2, 1.2)).norm() < 1e-9);
 
     // Saved and loaded again: the same cube, the continued face line kept as it was.
-    const std::string saved = serialize(mesh, session.positions());
+    const std::string saved = serialize(mesh, session.mesh().positions);
     REQUIRE(saved.find("f 5//1 6//1 \\\n   7//1 8//1\n") != std::string::npos);
     const ObjMesh reread = requireLoad(saved);
     sculpt::test::requireSameFaces(mesh, reread);
-    REQUIRE(sameBits(reread.positions, session.positions()));
-    requireSameStatements(original, saved, session.positions());
+    REQUIRE(sameBits(reread.positions, session.mesh().positions));
+    requireSameStatements(original, saved, session.mesh().positions);
 }
 
 TEST_CASE("obj: a backslash continues any kind of line, with LF, CR LF or CR line ends, up to the end of file") {

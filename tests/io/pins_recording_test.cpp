@@ -42,7 +42,7 @@ TEST_CASE("recording: user pins and unpins replay through set_pins ops and the J
             }
             OpReport report;
             const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
-            const Status s = original.dragVertex(v, original.positions().row(v).transpose() + 0.15 * test::randomVector(rng, -1, 1), report);
+            const Status s = original.dragVertex(v, original.mesh().positions.row(v).transpose() + 0.15 * test::randomVector(rng, -1, 1), report);
             REQUIRE(s.ok);
         }
         const Script recording = recordSession(original);
@@ -55,7 +55,7 @@ TEST_CASE("recording: user pins and unpins replay through set_pins ops and the J
         Session replayed = test::replayThroughJson(recording, positions, triangles, parsed);
         ScriptReport report;
         const double diagonal = original.lattice().diagonal();
-        CHECK(replayed.positions() == original.positions());  // the recorded steps, repeated: bit for bit
+        CHECK(replayed.mesh().positions == original.mesh().positions);  // the recorded steps, repeated: bit for bit
         CHECK(replayed.pins().toggles() == original.pins().toggles());
 
         // Decided again (as on another mesh: no fingerprint), the pins shape the solution: without the set_pins
@@ -73,7 +73,7 @@ TEST_CASE("recording: user pins and unpins replay through set_pins ops and the J
         REQUIRE(unpinned.setMesh(positions, triangles, parsed.lattice).ok);
         unpinned.setInjectivity(parsed.injectivity);
         REQUIRE(runScript(unpinned, withoutPins, report).ok);
-        pinsMattered += (unpinned.positions() - decided.positions()).cwiseAbs().maxCoeff() > 1e-6 * diagonal;
+        pinsMattered += (unpinned.mesh().positions - decided.mesh().positions).cwiseAbs().maxCoeff() > 1e-6 * diagonal;
     }
     CHECK(pinsMattered >= 3);
 }

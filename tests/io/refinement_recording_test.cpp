@@ -88,9 +88,9 @@ TEST_CASE("refinement recording: a session with refinements replays to the same 
     REQUIRE(text.find("\"splits\"") != std::string::npos);
     Script parsed;
     Session replayed = test::replayThroughJson(recording, positions, triangles, parsed);
-    REQUIRE(sameBits(replayed.positions(), session.positions()));
-    REQUIRE(sameBits(replayed.restPositions(), session.restPositions()));
-    REQUIRE(sameBits(replayed.triangles(), session.triangles()));
+    REQUIRE(sameBits(replayed.mesh().positions, session.mesh().positions));
+    REQUIRE(sameBits(replayed.mesh().rest, session.mesh().rest));
+    REQUIRE(sameBits(replayed.mesh().triangles, session.mesh().triangles));
     REQUIRE(replayed.history().size() == session.history().size());
     REQUIRE(replayed.history().cursor() == session.history().cursor());
     REQUIRE(replayed.refinement().settings().automatic == session.refinement().settings().automatic);
@@ -98,10 +98,10 @@ TEST_CASE("refinement recording: a session with refinements replays to the same 
     while (session.history().cursor() > 0) {
         REQUIRE(session.undo(report).ok);
         REQUIRE(replayed.undo(report).ok);
-        REQUIRE(sameBits(replayed.positions(), session.positions()));
-        REQUIRE(sameBits(replayed.triangles(), session.triangles()));
+        REQUIRE(sameBits(replayed.mesh().positions, session.mesh().positions));
+        REQUIRE(sameBits(replayed.mesh().triangles, session.mesh().triangles));
     }
-    REQUIRE(sameBits(session.triangles(), triangles));
+    REQUIRE(sameBits(session.mesh().triangles, triangles));
 }
 
 TEST_CASE("refinement recording: random drags and refinements replay to the same triangles, vertices to 1e-12", "[refine]") {
@@ -120,8 +120,8 @@ TEST_CASE("refinement recording: random drags and refinements replay to the same
         const double diagonal = session.lattice().diagonal();
         OpReport report;
         const auto randomDrag = [&] {
-            const int v = test::randomInt(rng, 0, static_cast<int>(session.positions().rows()) - 1);
-            REQUIRE(session.dragVertex(v, session.positions().row(v).transpose() + 0.08 * diagonal * test::randomVector(rng, -1, 1), report).ok);
+            const int v = test::randomInt(rng, 0, static_cast<int>(session.mesh().positions.rows()) - 1);
+            REQUIRE(session.dragVertex(v, session.mesh().positions.row(v).transpose() + 0.08 * diagonal * test::randomVector(rng, -1, 1), report).ok);
         };
         randomDrag();
         REQUIRE(session.refinement().refine(0.004, report).ok);
@@ -134,13 +134,13 @@ TEST_CASE("refinement recording: random drags and refinements replay to the same
         REQUIRE(session.undo(report).ok);
         REQUIRE(session.redo(report).ok);
         randomDrag();
-        REQUIRE(session.positions().rows() > positions.rows());
+        REQUIRE(session.mesh().positions.rows() > positions.rows());
 
         const Script recording = recordSession(session);
         Script parsed;
         Session replayed = test::replayThroughJson(recording, positions, triangles, parsed);
-        REQUIRE(sameBits(replayed.triangles(), session.triangles()));
-        REQUIRE((replayed.positions() - session.positions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        REQUIRE(sameBits(replayed.mesh().triangles, session.mesh().triangles));
+        REQUIRE((replayed.mesh().positions - session.mesh().positions).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         REQUIRE(replayed.history().size() == session.history().size());
 
         // On another mesh the recorded refinements do not apply: they are decided again.
@@ -243,15 +243,15 @@ TEST_CASE("refinement OBJ: a refined mesh saves with texture coordinates interpo
 
     test::TempFolder folder("refine_obj");
     const std::string path = folder.file("refined.obj");
-    const Status saved = io::saveRefinedObj(path, mesh, splits, session.positions());
+    const Status saved = io::saveRefinedObj(path, mesh, splits, session.mesh().positions);
     INFO(saved.message);
     REQUIRE(saved.ok);
     io::ObjMesh back;
     REQUIRE(io::loadObj(path, back).ok);
-    REQUIRE(sameBits(back.positions, session.positions()));  // shortest round-trip numbers
-    REQUIRE(back.triangles.rows() == session.triangles().rows());
+    REQUIRE(sameBits(back.positions, session.mesh().positions));  // shortest round-trip numbers
+    REQUIRE(back.triangles.rows() == session.mesh().triangles.rows());
     REQUIRE(back.groupNames == mesh.groupNames);
-    const Positions& rest = session.restPositions();
+    const Positions& rest = session.mesh().rest;
     int farQuads = 0, newCorners = 0;
     bool seamLeft = false, seamRight = false;
     for (int f = 0; f < back.faceCount(); ++f) {
@@ -297,5 +297,5 @@ TEST_CASE("refinement OBJ: a refined mesh saves with texture coordinates interpo
     REQUIRE(io::saveRefinedObj(folder.file("same.obj"), mesh, {}, mesh.positions).ok);
     REQUIRE(test::readBytes(folder.file("same.obj")) == text);
     // Splits that do not fit the mesh: an error, nothing written.
-    REQUIRE_FALSE(io::saveRefinedObj(folder.file("bad.obj"), mesh, {{0, 9}}, session.positions()).ok);
+    REQUIRE_FALSE(io::saveRefinedObj(folder.file("bad.obj"), mesh, {{0, 9}}, session.mesh().positions).ok);
 }

@@ -24,7 +24,7 @@ void interactiveDrag(Session& session, std::mt19937& rng, const Positions& mesh,
     for (int s = 0; s < sources; ++s) {
         Eigen::Vector3d t;
         const int v = test::randomInt(rng, 0, static_cast<int>(mesh.rows()) - 1);
-        if (!session.cage().parametersOfCurrentPoint(session.positions().row(v).transpose(), t)) continue;
+        if (!session.cage().parametersOfCurrentPoint(session.mesh().positions.row(v).transpose(), t)) continue;
         params.push_back(t);
     }
     if (params.empty()) return;
@@ -78,7 +78,7 @@ TEST_CASE("recording: a replayed session has the same history entries, undo and 
                 }
                 case 2: {
                     const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
-                    REQUIRE(original.dragVertex(v, original.positions().row(v).transpose() + 0.2 * test::randomVector(rng, -1, 1), report).ok);
+                    REQUIRE(original.dragVertex(v, original.mesh().positions.row(v).transpose() + 0.2 * test::randomVector(rng, -1, 1), report).ok);
                     break;
                 }
                 default: {
@@ -108,13 +108,13 @@ TEST_CASE("recording: a replayed session has the same history entries, undo and 
             for (const Step& step : a.steps) effective += !step.delta.indices.empty() || step.freshFrame;
             CHECK(b.steps.size() == effective);
         }
-        CHECK((replayed.positions() - original.positions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);  // the recorded steps, repeated
-        const Positions final = replayed.positions();
+        CHECK((replayed.mesh().positions - original.mesh().positions).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);  // the recorded steps, repeated
+        const Positions final = replayed.mesh().positions;
         OpReport step;
         for (size_t i = 0; i < replayed.history().size(); ++i) REQUIRE(replayed.undo(step).ok);
-        CHECK((replayed.positions() - positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        CHECK((replayed.mesh().positions - positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         for (size_t i = 0; i < replayed.history().size(); ++i) REQUIRE(replayed.redo(step).ok);
-        CHECK((replayed.positions() - final).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        CHECK((replayed.mesh().positions - final).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     }
     CHECK(grouped >= 5);
     CHECK(subdividedGroups >= 2);
@@ -179,7 +179,7 @@ TEST_CASE("recording: a drag with strength below 1 replays on another mesh with 
         const Session replayed = test::replayThroughJson(recording, positions, triangles, parsed);
         const double diagonal = original.lattice().diagonal();
         // The grabbed vertex lands where the window's stroke put it (strength once), not short of it.
-        CHECK((replayed.positions().row(v) - original.positions().row(v)).norm() <= 1e-6 * diagonal);
+        CHECK((replayed.mesh().positions.row(v) - original.mesh().positions.row(v)).norm() <= 1e-6 * diagonal);
         ++compared;
     }
     CHECK(compared >= 10);

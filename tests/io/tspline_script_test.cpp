@@ -83,7 +83,7 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
     REQUIRE(session.tools().list()[0].name == "tspline");
     REQUIRE(session.tools().frozen() == 0);
     REQUIRE(session.cage().embedding().insideCount() == static_cast<int>(mesh.positions.rows()));  // the padded box holds every vertex
-    REQUIRE(session.positions() == mesh.positions);  // freezing moves nothing
+    REQUIRE(session.mesh().positions == mesh.positions);  // freezing moves nothing
     // Sec. 4: every cell holding a vertex at the full depth, weights 100:1, balanced (100, 10 next to them, 1).
     const TSplineVolume& volume = tsplineOf(session, 0);
     REQUIRE(volume.lattice().maxLevel == 3);
@@ -110,12 +110,12 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
         std::vector<PointConstraint> constraints;
         std::vector<int> vertices;
         for (int k = 0; k < 2; ++k) {
-            const Eigen::Vector3d at = session.positions().row(pulled[drag][k]).transpose();
+            const Eigen::Vector3d at = session.mesh().positions.row(pulled[drag][k]).transpose();
             constraints.push_back({at, at + moves[drag][k]});
             vertices.push_back(pulled[drag][k]);
         }
         for (int k = 0; k < 2; ++k) {
-            const Eigen::Vector3d at = session.positions().row(held[drag][k]).transpose();
+            const Eigen::Vector3d at = session.mesh().positions.row(held[drag][k]).transpose();
             constraints.push_back({at, at});
             vertices.push_back(held[drag][k]);
         }
@@ -127,24 +127,24 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
         REQUIRE(dragged.injectivity == "injective");
         REQUIRE_FALSE(dragged.rankDeficient);
         for (size_t k = 0; k < constraints.size(); ++k)
-            REQUIRE((session.positions().row(vertices[k]).transpose() - constraints[k].target).norm() <= 1e-9 * diagonal);
+            REQUIRE((session.mesh().positions.row(vertices[k]).transpose() - constraints[k].target).norm() <= 1e-9 * diagonal);
     }
-    const Positions sculpted = session.positions();
+    const Positions sculpted = session.mesh().positions;
     REQUIRE((sculpted - mesh.positions).cwiseAbs().maxCoeff() > 0.03);
 
     // Undo: the drags are the inverse manipulation, then the freeze and the tool go.
     OpReport undone;
     REQUIRE(session.undo(undone));
     REQUIRE(session.undo(undone));
-    REQUIRE((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    REQUIRE((session.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     REQUIRE(session.undo(undone));  // the set-up: the freeze and the tool at once
     REQUIRE(session.tools().frozen() == -1);
     REQUIRE(session.tools().list().empty());
     REQUIRE(session.history().cursor() == 0);
-    REQUIRE((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    REQUIRE((session.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     for (int k = 0; k < 3; ++k) REQUIRE(session.redo(undone));
     REQUIRE(session.tools().frozen() == 0);
-    REQUIRE(session.positions() == sculpted);
+    REQUIRE(session.mesh().positions == sculpted);
 
     // The recording writes the tool explicitly (add_lattice with the "tspline" JSON, then freeze) and replays
     // bitwise through its JSON text, without generating the octree again.
@@ -154,7 +154,7 @@ TEST_CASE("tspline script: setup_tspline freezes an octree T-spline and multi-po
     REQUIRE(recorded.ops[2].kind == ScriptOp::Kind::Group);
     Script parsed;
     const Session replayed = test::replayThroughJson(recorded, mesh.positions, mesh.triangles, parsed);
-    REQUIRE(replayed.positions() == sculpted);
+    REQUIRE(replayed.mesh().positions == sculpted);
     REQUIRE(replayed.tools().frozen() == 0);
     REQUIRE(replayed.history().size() == session.history().size());
     REQUIRE(io::volumeJson(*replayed.tools().list()[0].volume).dump() == io::volumeJson(volume).dump());
@@ -185,9 +185,9 @@ TEST_CASE("tspline script: setup_tspline in a region deforms only inside it and 
     REQUIRE(session.dragVertex(static_cast<int>(rightmost), target, applied));
     INFO(applied.reason);
     REQUIRE(applied.status == OpStatus::Applied);
-    REQUIRE((session.positions().row(rightmost).transpose() - target).norm() <= 1e-9);
+    REQUIRE((session.mesh().positions.row(rightmost).transpose() - target).norm() <= 1e-9);
     for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v)
-        if (mesh.positions(v, 0) < 0.2) REQUIRE(session.positions().row(v) == mesh.positions.row(v));
+        if (mesh.positions(v, 0) < 0.2) REQUIRE(session.mesh().positions.row(v) == mesh.positions.row(v));
 }
 
 TEST_CASE("tspline script: subdivide_cells refines the picked cells of an unfrozen tool and replays bitwise", "[tspline][io][script][session]") {
@@ -231,13 +231,13 @@ TEST_CASE("tspline script: subdivide_cells refines the picked cells of an unfroz
     const Script recorded = recordSession(session);
     Script parsed;
     const Session replayed = test::replayThroughJson(recorded, mesh.positions, mesh.triangles, parsed);
-    REQUIRE(replayed.positions() == session.positions());
+    REQUIRE(replayed.mesh().positions == session.mesh().positions);
     REQUIRE(io::volumeJson(*replayed.tools().list()[0].volume).dump() == io::volumeJson(*session.tools().list()[0].volume).dump());
     // Undo back to before the subdivisions: the coarse tool itself again.
     OpReport undone;
     for (int k = 0; k < 4; ++k) REQUIRE(session.undo(undone));
     REQUIRE(session.tools().list()[0].volume == coarse);
-    REQUIRE((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonalOf(mesh.positions));
+    REQUIRE((session.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonalOf(mesh.positions));
 }
 
 TEST_CASE("tspline script: bad setup_tspline and subdivide_cells requests name the field and change nothing", "[tspline][io][script][session]") {
@@ -289,7 +289,7 @@ TEST_CASE("tspline script: bad setup_tspline and subdivide_cells requests name t
         REQUIRE(ran.message.find(message) != std::string::npos);
         REQUIRE(session.history().size() == entries);
         REQUIRE(session.tools().list().size() == 3);
-        REQUIRE(session.positions() == mesh.positions);
+        REQUIRE(session.mesh().positions == mesh.positions);
     }
     // A tool whose points were moved one by one is not re-placed behind the user's back.
     const TSplineVolume& tool = tsplineOf(session, 2);

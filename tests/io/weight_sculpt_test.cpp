@@ -87,8 +87,8 @@ WeightToolSettings crimp(int vertex, double factor, double radius = 0.0) {
 
 // Heights along n over the rest surface: n . (x_v - X0_v).
 std::vector<double> heightsAlong(const Session& session, const Eigen::Vector3d& n) {
-    std::vector<double> h(static_cast<size_t>(session.positions().rows()));
-    for (Eigen::Index v = 0; v < session.positions().rows(); ++v) h[static_cast<size_t>(v)] = n.dot((session.positions().row(v) - session.restPositions().row(v)).transpose());
+    std::vector<double> h(static_cast<size_t>(session.mesh().positions.rows()));
+    for (Eigen::Index v = 0; v < session.mesh().positions.rows(); ++v) h[static_cast<size_t>(v)] = n.dot((session.mesh().positions.row(v) - session.mesh().rest.row(v)).transpose());
     return h;
 }
 
@@ -97,9 +97,9 @@ std::vector<double> heightsAlong(const Session& session, const Eigen::Vector3d& 
 // equivalent diameter 2 sqrt(A / pi) of the part at or above `level`.
 double sampledWidth(const Session& session, const Positions& rest, const std::vector<int>& bumpVertices, const std::vector<double>& heights,
                     double level) {
-    std::vector<std::uint8_t> in(static_cast<size_t>(session.positions().rows()), 0);
+    std::vector<std::uint8_t> in(static_cast<size_t>(session.mesh().positions.rows()), 0);
     for (int v : bumpVertices) in[static_cast<size_t>(v)] = 1;
-    const Triangles& triangles = session.triangles();
+    const Triangles& triangles = session.mesh().triangles;
     const int n = 20;
     double area = 0.0;
     for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
@@ -141,8 +141,8 @@ TEST_CASE("weights: set_weights moves the mesh to the weighted T-spline at its f
             REQUIRE(!visible.empty());
             std::vector<Eigen::Vector3d> params(static_cast<size_t>(mesh.positions.rows()));
             for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) REQUIRE(session.parametersOfVertex(static_cast<int>(v), params[static_cast<size_t>(v)]));
-            const Positions before = session.positions();
-            const Positions restBefore = session.restPositions();
+            const Positions before = session.mesh().positions;
+            const Positions restBefore = session.mesh().rest;
             WeightToolSettings set;
             std::uniform_real_distribution<double> factor(0.7, 1.5);
             for (int k = 0; k < 6; ++k) {
@@ -162,19 +162,19 @@ TEST_CASE("weights: set_weights moves the mesh to the weighted T-spline at its f
             for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
                 Eigen::Vector3d expected;
                 volume.evaluate(points, params[static_cast<size_t>(v)], expected);
-                worst = std::max(worst, (expected - session.positions().row(v).transpose()).norm());
-                moved = std::max(moved, (before.row(v) - session.positions().row(v)).norm());
+                worst = std::max(worst, (expected - session.mesh().positions.row(v).transpose()).norm());
+                moved = std::max(moved, (before.row(v) - session.mesh().positions.row(v)).norm());
             }
             REQUIRE(worst <= 1e-12 * diagonal);
             REQUIRE(moved > 1e-6 * diagonal);  // the weights did move the mesh
-            const Positions after = session.positions();
+            const Positions after = session.mesh().positions;
             OpReport undone;
             REQUIRE(session.undo(undone));
-            REQUIRE(session.positions() == before);
-            REQUIRE(session.restPositions() == restBefore);
+            REQUIRE(session.mesh().positions == before);
+            REQUIRE(session.mesh().rest == restBefore);
             REQUIRE(frozenVolume(session).controlWeights()[static_cast<size_t>(set.ids[0])] != set.weights[0]);
             REQUIRE(session.redo(undone));
-            REQUIRE(session.positions() == after);
+            REQUIRE(session.mesh().positions == after);
         }
     }
 }
@@ -216,7 +216,7 @@ TEST_CASE("weights: the hammer sets the picked vertex's height exactly and keeps
             // Undo all of it: the mesh as it was frozen, bitwise.
             OpReport undone;  // back to the set-up (one history entry)
             while (session.history().cursor() > 1) REQUIRE(session.undo(undone));
-            REQUIRE(session.positions() == mesh.positions);
+            REQUIRE(session.mesh().positions == mesh.positions);
         }
     }
 }
@@ -235,12 +235,12 @@ TEST_CASE("weights: a raise the lattice cannot carry stops at its largest inject
         TSplineTools::Bump bump;
         REQUIRE(session.tspline().bumpAt(hammer(vertex, 0.0, radius), bump));
         const std::vector<double> profile = heightsAlong(session, bump.direction);
-        const Positions before = session.positions();
+        const Positions before = session.mesh().positions;
         // Half the sphere's diameter: far more than a depth-3 lattice carries on a few control points.
         const double asked = 0.5 * diagonal;
         const OpReport report = applyTool(session, hammer(vertex, asked, radius));
         if (report.status == OpStatus::Rejected) {
-            REQUIRE(session.positions() == before);  // nothing at all was possible: nothing changed
+            REQUIRE(session.mesh().positions == before);  // nothing at all was possible: nothing changed
             continue;
         }
         REQUIRE(report.status == OpStatus::Applied);
@@ -260,10 +260,10 @@ TEST_CASE("weights: a raise the lattice cannot carry stops at its largest inject
         }
         // Still injective where it stopped: the exact test on the frozen T-spline, and no triangle pair crosses.
         REQUIRE(checkInjectivityExact(session.lattice()).certified);
-        REQUIRE(test::selfIntersectingPairs(session.positions(), session.triangles()) == 0);
+        REQUIRE(test::selfIntersectingPairs(session.mesh().positions, session.mesh().triangles) == 0);
         OpReport undone;
         REQUIRE(session.undo(undone));
-        REQUIRE((session.positions() - before).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        REQUIRE((session.mesh().positions - before).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
     }
     REQUIRE(stopped >= 2);
 }
@@ -291,7 +291,7 @@ TEST_CASE("weights: the crimp keeps the peak height and scales the width at half
             if (h[static_cast<size_t>(v)] > h[static_cast<size_t>(peak)]) peak = v;
         const double height = h[static_cast<size_t>(peak)];
         // Widths on the surface as it is before the crimp (docs/tsplines.md: which surface points the bump lifts).
-        const Positions restBefore = session.restPositions();
+        const Positions restBefore = session.mesh().rest;
         const double widthBefore = sampledWidth(session, restBefore, bump.vertices, h, 0.5 * height);
         // Within the reach of one control point's weight (docs/tsplines.md: about x0.9 to x1.9 here).
         const double factors[4] = {0.93, 1.4, 0.91, 1.75};
@@ -312,13 +312,13 @@ TEST_CASE("weights: the crimp keeps the peak height and scales the width at half
         h = heightsAlong(session, bump.direction);
         REQUIRE(std::abs(h[static_cast<size_t>(peak)] - 0.5 * height) <= 1e-9 * diagonal);
         // Undone bitwise; the recording replays bitwise on a fresh session.
-        const Positions after = session.positions();
+        const Positions after = session.mesh().positions;
         Script parsed;
         const Session replayed = test::replayThroughJson(recordSession(session), mesh.positions, mesh.triangles, parsed);
-        REQUIRE(replayed.positions() == after);
+        REQUIRE(replayed.mesh().positions == after);
         OpReport undone;
         while (session.history().cursor() > 0) REQUIRE(session.undo(undone));
-        REQUIRE(session.positions() == mesh.positions);
+        REQUIRE(session.mesh().positions == mesh.positions);
     }
 }
 
@@ -332,7 +332,7 @@ TEST_CASE("weights: bad requests are named and change nothing", "[weights][tspli
     REQUIRE(!s);
     REQUIRE(s.message.find("no weighted T-spline") != std::string::npos);
     setUp(session, mesh, 2);
-    const Positions before = session.positions();
+    const Positions before = session.mesh().positions;
     const size_t history = session.history().size();
     const auto refused = [&](const WeightToolSettings& settings, const std::string& words) {
         OpReport r;
@@ -340,7 +340,7 @@ TEST_CASE("weights: bad requests are named and change nothing", "[weights][tspli
         INFO(st.message);
         REQUIRE(!st);
         REQUIRE(st.message.find(words) != std::string::npos);
-        REQUIRE(session.positions() == before);
+        REQUIRE(session.mesh().positions == before);
         REQUIRE(session.history().size() == history);
     };
     refused(hammer(-1, 0.1), "vertex");
@@ -369,12 +369,12 @@ TEST_CASE("weights: bad requests are named and change nothing", "[weights][tspli
     refused(hidden, "control_point");
     // A crimp no weight can reach.
     REQUIRE(applyTool(session, hammer(5, 0.1)).status == OpStatus::Applied);
-    const Positions raised = session.positions();
+    const Positions raised = session.mesh().positions;
     OpReport r;
     const Status unreachable = session.tspline().sculptWeights(crimp(5, 1000.0), r);
     REQUIRE(!unreachable);
     REQUIRE(unreachable.message.find("width_factor") != std::string::npos);
-    REQUIRE(session.positions() == raised);
+    REQUIRE(session.mesh().positions == raised);
 }
 
 TEST_CASE("weights: set_weights, hammer and crimp scripts parse, run and record", "[weights][tspline][script][io]") {
@@ -414,6 +414,6 @@ TEST_CASE("weights: set_weights, hammer and crimp scripts parse, run and record"
     // The recording replays bitwise, and a recorded weight change that does not fit the lattice is refused.
     Script replayedScript;
     const Session replayed = test::replayThroughJson(recordSession(session), mesh.positions, mesh.triangles, replayedScript);
-    REQUIRE(replayed.positions() == session.positions());
-    REQUIRE(replayed.restPositions() == session.restPositions());
+    REQUIRE(replayed.mesh().positions == session.mesh().positions);
+    REQUIRE(replayed.mesh().rest == session.mesh().rest);
 }

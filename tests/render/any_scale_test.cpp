@@ -375,7 +375,7 @@ TEST_CASE("any scale: a drag in the window moves the picked point with the curso
         app::SculptApp sculptApp;
         loadPlacedSphere(sculptApp, p);
         app::AppState& state = sculptApp.state();
-        const Positions original = state.session.positions();
+        const Positions original = state.session.mesh().positions;
         test::OffscreenWindow window;
         const Status opened = window.open(sculptApp, kWindowWidth, kWindowHeight, 1);
         if (!opened) WARN("EGL unavailable, window frames not drawn: " << opened.message);
@@ -405,7 +405,7 @@ TEST_CASE("any scale: a drag in the window moves the picked point with the curso
         const double cx = 0.5 * kWindowWidth + 17.0, cy = 0.5 * kWindowHeight - 11.0;
         app::Ray ray;
         REQUIRE(app::rayThroughPixel(state.camera, kWindowWidth, kWindowHeight, cx, cy, ray));
-        const app::SurfaceHit hit = app::intersectMesh(ray, original, state.session.triangles());
+        const app::SurfaceHit hit = app::intersectMesh(ray, original, state.session.mesh().triangles);
         REQUIRE(hit.triangle >= 0);
         CHECK(hit.distance < state.camera.distance);
         CHECK((pixelOf(state, hit.point) - Eigen::Vector2d(cx, cy)).norm() < 0.01);
@@ -435,14 +435,14 @@ TEST_CASE("any scale: a drag in the window moves the picked point with the curso
         CHECK(state.session.history().size() == 1);
         // The picked vertex (the hit triangle's nearest corner) went up the screen with the cursor's 60 pixels.
         const Eigen::Vector2d before = pixelOf(state, original.row(vertex).transpose());
-        const Eigen::Vector2d after = pixelOf(state, state.session.positions().row(vertex).transpose());
+        const Eigen::Vector2d after = pixelOf(state, state.session.mesh().positions.row(vertex).transpose());
         CHECK(before.y() - after.y() > 30.0);
         CHECK(before.y() - after.y() < 90.0);
         CHECK(std::abs(after.x() - before.x()) < 10.0);
         // Undo brings everything back, to rounding.
         sculptApp.onKey({app::Key::Z, app::KeyAction::Press, [] { app::Modifiers m; m.control = true; return m; }()}, {});
         CHECK(state.session.history().cursor() == 0);
-        CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= roundingAllowance(p));
+        CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= roundingAllowance(p));
     }
     WARN("window frames at the extreme scales written to " << test::glTestOutputDir() << "/any_scale_window_*.png");
 }
@@ -462,8 +462,8 @@ TEST_CASE("any scale: markers, control points, pan and zoom in the window work a
         press(sculptApp, hx, hy, shift);
         release(sculptApp, hx, hy, shift);
         REQUIRE(state.tools.handles.size() == 1);
-        const Positions& positions = state.session.positions();
-        const Triangles& triangles = state.session.triangles();
+        const Positions& positions = state.session.mesh().positions;
+        const Triangles& triangles = state.session.mesh().triangles;
         CHECK(app::handleAtPixel(state.tools, positions, triangles, state.camera, kWindowWidth, kWindowHeight, hx, hy, 9.0) == 0);
         CHECK(app::handleAtPixel(state.tools, positions, triangles, state.camera, kWindowWidth, kWindowHeight, hx + 18.0, hy, 9.0) == -1);
         // Dragging it (grabbed a little off its centre) carries its surface point onto the cursor.

@@ -50,7 +50,7 @@ inline render::Rgba8Image renderSession(const core::Session& session, bool jacob
     render::OffscreenRenderer& offscreen = glTestRenderer();
     Status status = offscreen.renderScene(app::sceneFromSession(session, request), options, image);
     if (status && gpuLayers) {
-        status = offscreen.renderer().setGpuDeformation(session.lattice(), session.cage().embedding(), session.restPositions(), *gpuLayers);
+        status = offscreen.renderer().setGpuDeformation(session.lattice(), session.cage().embedding(), session.mesh().rest, *gpuLayers);
         const render::Camera camera =
             render::screenshotCamera(offscreen.renderer().meshBounds(), offscreen.renderer().latticeBounds(), options);
         if (status) status = offscreen.render(camera, options.overlays, options.width, options.height, options.samples, &image);

@@ -69,15 +69,15 @@ render::Rgba8Image renderExample(const core::Session& session, float yaw = 30.0f
 TEST_CASE("golden: sandpie example, a cylindrical lattice's axis and middle ring pushed up", "[gl][golden][effd]") {
     const core::Session session = exampleSession("sandpie.json");
     // The peak is where the axis went; the plate outside the cylinder did not move.
-    REQUIRE(session.positions().col(2).maxCoeff() > 0.1);
-    for (Eigen::Index v = 0; v < session.positions().rows(); ++v)
-        if (session.originalPositions().row(v).head<2>().norm() > 0.61) REQUIRE(session.positions().row(v) == session.originalPositions().row(v));
+    REQUIRE(session.mesh().positions.col(2).maxCoeff() > 0.1);
+    for (Eigen::Index v = 0; v < session.mesh().positions.rows(); ++v)
+        if (session.mesh().original.row(v).head<2>().norm() > 0.61) REQUIRE(session.mesh().positions.row(v) == session.mesh().original.row(v));
     test::checkGolden(renderExample(session), "effd_sandpie");
 }
 
 TEST_CASE("golden: eight example, two disc lattices pressed into a plate", "[gl][golden][effd]") {
     const core::Session session = exampleSession("eight.json");
-    REQUIRE(session.positions().col(2).minCoeff() < -0.05);
+    REQUIRE(session.mesh().positions.col(2).minCoeff() < -0.05);
     test::checkGolden(renderExample(session), "effd_eight");
 }
 
@@ -85,8 +85,8 @@ TEST_CASE("golden: eight example, two disc lattices pressed into a plate", "[gl]
 // surface of revolution) and local_detail.json (Fig. 14: finer control at one end).
 TEST_CASE("golden: pot example, a T-spline's rim pulled out then a bump on finer cells", "[gl][golden][tspline]") {
     const core::Session session = exampleSession("pot.json", true);
-    const Positions& now = session.positions();
-    const Positions& original = session.originalPositions();
+    const Positions& now = session.mesh().positions;
+    const Positions& original = session.mesh().original;
     // The rim went out and up, the base stayed, and the belly at +x stands out by the bump.
     REQUIRE(now.col(2).maxCoeff() > original.col(2).maxCoeff() + 0.05);
     for (Eigen::Index v = 0; v < now.rows(); ++v)
@@ -99,8 +99,8 @@ TEST_CASE("golden: pot example, a T-spline's rim pulled out then a bump on finer
 
 TEST_CASE("golden: local detail example, finer T-spline cells at one end of a plate", "[gl][golden][tspline]") {
     const core::Session session = exampleSession("local_detail.json", true);
-    const Positions& now = session.positions();
-    const Positions& original = session.originalPositions();
+    const Positions& now = session.mesh().positions;
+    const Positions& original = session.mesh().original;
     // Only that end moved: the plate at x < 0.2 by less than 1e-4 of the lift, and nothing at all (rounding) where
     // no moved control point's blending function reaches: vertices whose parameters lie outside the support
     // boxes (local knot vectors, eq. 7) of every control point the drag moved (the cage's displacements before

@@ -421,14 +421,14 @@ TEST_CASE("GPU deformation: a session's drags, brush layers included, draw where
     TestMesh mesh = makeBlob(4);
     core::Session session;
     requireOk(session.setMesh(mesh.positions, mesh.triangles));
-    const std::uint64_t restBefore = session.restVersion();
+    const std::uint64_t restBefore = session.mesh().restVersion;
     const double diagonal = (mesh.positions.colwise().maxCoeff() - mesh.positions.colwise().minCoeff()).norm();
     std::uniform_int_distribution<int> vertexOf(0, int(mesh.positions.rows()) - 1);
     std::normal_distribution<double> gauss(0.0, 0.08 * diagonal);
     int layered = 0;
     for (int step = 0; step < 10; ++step) {
         const int vertex = vertexOf(rng);
-        const Eigen::Vector3d target = session.positions().row(vertex).transpose() + Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+        const Eigen::Vector3d target = session.mesh().positions.row(vertex).transpose() + Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
         core::BrushSettings brush;
         if (step % 2 == 1) brush.radius = 0.2 * diagonal;  // "Limit to radius": a region layer
         core::OpReport report;
@@ -437,12 +437,12 @@ TEST_CASE("GPU deformation: a session's drags, brush layers included, draw where
         for (const core::Layer& layer : session.cage().layers()) layers.push_back(&layer.lattice);
         layered = std::max(layered, int(layers.size()));
         REQUIRE(render::Renderer::gpuDeformationProblem(session.lattice(), layers).empty());
-        requireOk(renderer.setMesh(session.positions(), session.triangles()));
-        requireOk(renderer.setGpuDeformation(session.lattice(), session.cage().embedding(), session.restPositions(), layers));
+        requireOk(renderer.setMesh(session.mesh().positions, session.mesh().triangles));
+        requireOk(renderer.setGpuDeformation(session.lattice(), session.cage().embedding(), session.mesh().rest, layers));
         Positions gpuPositions, gpuNormals;
         requireOk(renderer.captureGpuDeformation(gpuPositions, gpuNormals));
         INFO("step " << step << ", " << layers.size() << " layers");
-        CHECK((gpuPositions - session.positions()).rowwise().norm().maxCoeff() < 4e-6 * diagonal);
+        CHECK((gpuPositions - session.mesh().positions).rowwise().norm().maxCoeff() < 4e-6 * diagonal);
         // The normals agree with the CPU path's area-weighted ones of the same mesh to shading accuracy.
         const Positions& cpuNormals = renderer.normals();
         double sumAngle = 0.0;
@@ -451,5 +451,5 @@ TEST_CASE("GPU deformation: a session's drags, brush layers included, draw where
         CHECK(sumAngle / double(gpuNormals.rows()) < 0.05);  // radians, on average
     }
     // Layers (a subdivided drag's) and strokes baked into the rest shape: both are what the GPU path deforms.
-    CHECK((layered > 0 || session.restVersion() > restBefore));
+    CHECK((layered > 0 || session.mesh().restVersion > restBefore));
 }

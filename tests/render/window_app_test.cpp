@@ -62,12 +62,12 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, 
     app::SculptApp sculptApp;
     loadDefault(sculptApp);
     app::AppState& state = sculptApp.state();
-    const Positions original = state.session.positions();
+    const Positions original = state.session.mesh().positions;
 
     // The centre of the view hits the mesh, and the press starts a drag there.
     app::Ray ray;
     REQUIRE(app::rayThroughPixel(state.camera, kWidth, kHeight, 0.5 * kWidth, 0.5 * kHeight, ray));
-    const app::SurfaceHit hit = app::intersectMesh(ray, original, state.session.triangles());
+    const app::SurfaceHit hit = app::intersectMesh(ray, original, state.session.mesh().triangles);
     REQUIRE(hit.triangle >= 0);
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, 0.5 * kWidth, 0.5 * kHeight, {}}, {});
     REQUIRE(state.drag.active);
@@ -81,7 +81,7 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, 
 
     const Eigen::Vector3d target = dragUp(sculptApp, {});
     const Eigen::Vector3d before = original.row(vertex).transpose();
-    const Eigen::Vector3d after = state.session.positions().row(vertex).transpose();
+    const Eigen::Vector3d after = state.session.mesh().positions.row(vertex).transpose();
     INFO("status: " << state.status);
     CHECK((after - target).norm() < 0.5 * (before - target).norm());
     const glm::dvec3 up = state.camera.up();
@@ -93,13 +93,13 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, 
     CHECK_FALSE(state.drag.active);
 
     // Ctrl+Z restores the positions; Ctrl+Shift+Z and Ctrl+Y redo.
-    const Positions dragged = state.session.positions();
+    const Positions dragged = state.session.mesh().positions;
     sculptApp.onKey(ctrlKey(app::Key::Z), {});
     CHECK(state.session.history().cursor() == 0);
-    CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
+    CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
     sculptApp.onKey(ctrlKey(app::Key::Z, true), {});
     CHECK(state.session.history().cursor() == 1);
-    CHECK((state.session.positions() - dragged).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
+    CHECK((state.session.mesh().positions - dragged).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
     sculptApp.onKey(ctrlKey(app::Key::Z), {});
     sculptApp.onKey(ctrlKey(app::Key::Y), {});
     CHECK(state.session.history().cursor() == 1);
@@ -114,7 +114,7 @@ TEST_CASE("window: a move the injectivity test refuses changes nothing and the s
     app::SculptApp sculptApp;
     loadDefault(sculptApp);
     app::AppState& state = sculptApp.state();
-    const Positions original = state.session.positions();
+    const Positions original = state.session.mesh().positions;
     core::InjectivitySettings strict;
     strict.mode = core::InjectivityMode::Conic;
     strict.maxDepth = 0;  // no subdivision: a large move must be refused outright
@@ -133,7 +133,7 @@ TEST_CASE("window: a move the injectivity test refuses changes nothing and the s
     CHECK(state.status.find("try a smaller move") != std::string::npos);
     CHECK(state.status.find("cell") == std::string::npos);       // the test's own terms stay in the report
     CHECK(state.status.find("hodograph") == std::string::npos);
-    CHECK(state.session.positions() == original);
+    CHECK(state.session.mesh().positions == original);
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 0.45 * kHeight, {}}, {});
     CHECK(state.session.history().empty());
     CHECK(state.status.find("refused") != std::string::npos);
@@ -143,12 +143,12 @@ TEST_CASE("window: input the UI captures does not sculpt or undo", "[gl]") {
     app::SculptApp sculptApp;
     loadDefault(sculptApp);
     app::AppState& state = sculptApp.state();
-    const Positions original = state.session.positions();
+    const Positions original = state.session.mesh().positions;
     app::CaptureFlags uiHasMouse;
     uiHasMouse.mouse = true;
     dragUp(sculptApp, uiHasMouse);
     CHECK(state.session.history().empty());
-    CHECK(state.session.positions() == original);
+    CHECK(state.session.mesh().positions == original);
     const double distance = state.camera.distance;
     sculptApp.onScroll({0.0, 2.0}, uiHasMouse);
     CHECK(state.camera.distance == distance);
@@ -212,15 +212,15 @@ TEST_CASE("window: full frames with the UI render offscreen, drag updates are sp
     render::Rgba8Image image;
     frame(nullptr);  // the first frame builds the font atlas
     frame(&image);
-    const int vertexCount = static_cast<int>(sculptApp.state().session.positions().rows());
+    const int vertexCount = static_cast<int>(sculptApp.state().session.mesh().positions.rows());
     CHECK(sculptApp.renderer().vertexCount() == vertexCount);
 
     // Drag with a frame after every move, on a 16^3 lattice where a drag is local: each move uploads only
     // the vertices it moved (plus their one-ring for the normals), not the whole buffer.
     core::LatticeSettings fine;
     fine.resolution = {16, 16, 16};
-    const Positions positions = sculptApp.state().session.positions();
-    const Triangles triangles = sculptApp.state().session.triangles();
+    const Positions positions = sculptApp.state().session.mesh().positions;
+    const Triangles triangles = sculptApp.state().session.mesh().triangles;
     REQUIRE(app::setMesh(sculptApp.state(), positions, triangles, "default.obj", fine).ok);
     frame(nullptr);
     const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
@@ -231,15 +231,15 @@ TEST_CASE("window: full frames with the UI render offscreen, drag updates are sp
         frame(nullptr);
         const render::UploadStats upload = sculptApp.renderer().lastUpload();
         const core::Session& session = sculptApp.state().session;
-        INFO("move " << m << ": the session moved " << session.lastMovedVertices().size() << " vertices (all: "
-             << session.lastMovedAll() << "), " << upload.verticesUploaded << " uploaded in " << upload.ranges << " ranges");
+        INFO("move " << m << ": the session moved " << session.lastMoved().vertices.size() << " vertices (all: "
+             << session.lastMoved().all << "), " << upload.verticesUploaded << " uploaded in " << upload.ranges << " ranges");
         CHECK(upload.verticesUploaded > 0);
-        if (!session.lastMovedAll()) {
+        if (!session.lastMoved().all) {
             CHECK_FALSE(upload.fullUpload);
             CHECK(upload.verticesUploaded < vertexCount / 4);
         }
     }
-    CHECK(sculptApp.renderer().positions().isApprox(sculptApp.state().session.positions()));
+    CHECK(sculptApp.renderer().positions().isApprox(sculptApp.state().session.mesh().positions));
     render::Rgba8Image dragging;
     frame(&dragging);  // with the source (red) and target (blue) handles
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 60.0, {}}, {});

@@ -123,7 +123,7 @@ TEST_CASE("window brush: a drag moves nothing beyond 1.25 radius of the grabbed 
         test::loadDefaultMesh(sculptApp, kWidth, kHeight);
         app::AppState& state = sculptApp.state();
         state.tools.brush.radiusPixels = radiusPixels;
-        const Positions original = state.session.positions();
+        const Positions original = state.session.mesh().positions;
         const double cx = 0.5 * kWidth + 40.0, cy = 0.5 * kHeight - 30.0;
         move(sculptApp, cx, cy);
         sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
@@ -147,7 +147,7 @@ TEST_CASE("window brush: a drag moves nothing beyond 1.25 radius of the grabbed 
         REQUIRE(state.session.history().size() == 1);
         int moved = 0;
         for (Eigen::Index v = 0; v < original.rows(); ++v) {
-            if (state.session.positions().row(v) == original.row(v)) continue;
+            if (state.session.mesh().positions.row(v) == original.row(v)) continue;
             ++moved;
             // Within 1.25 radius of the grabbed point's path (brush_field.h): the segment to where it ended.
             CHECK(core::segmentDistance(original.row(v).transpose(), grabbed, reached) <= 1.25 * radius * (1.0 + 1e-9));
@@ -158,7 +158,7 @@ TEST_CASE("window brush: a drag moves nothing beyond 1.25 radius of the grabbed 
         undo.key = app::Key::Z;
         undo.modifiers.control = true;
         sculptApp.onKey(undo, {});
-        CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * test::boundsDiagonal(original));
+        CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-9 * test::boundsDiagonal(original));
     }
 }
 
@@ -167,7 +167,7 @@ TEST_CASE("window brush: with X symmetry the mirror image of the grabbed point f
     test::loadDefaultMesh(sculptApp, kWidth, kHeight);
     app::AppState& state = sculptApp.state();
     state.tools.brush.settings.symmetry.mirror[0] = true;
-    const double diagonal = test::boundsDiagonal(state.session.positions());
+    const double diagonal = test::boundsDiagonal(state.session.mesh().positions);
     const Eigen::Vector3d centre = state.session.meshAsSet().symmetryCentre;
     // Grab well off the mirror plane (left of the middle of the view).
     const double cx = 0.5 * kWidth - 200.0, cy = 0.5 * kHeight - 40.0;
@@ -248,7 +248,7 @@ TEST_CASE("window brush: the affected-region overlay shows what a finished strok
         REQUIRE(scene.affectedWeight.size() == size_t(mesh.positions.rows()));
         int moved = 0;
         for (Eigen::Index r = 0; r < mesh.positions.rows(); ++r) {
-            const bool changed = session.positions().row(r) != mesh.positions.row(r);
+            const bool changed = session.mesh().positions.row(r) != mesh.positions.row(r);
             moved += changed;
             INFO("trial " << trial << " vertex " << r);
             if (changed) CHECK(scene.affectedWeight[size_t(r)] > 0.0f);
@@ -281,7 +281,7 @@ TEST_CASE("scene: a scripted drag's target is drawn where its strength took the 
         const render::SceneData scene = app::sceneFromSession(session, app::SceneRequest{});
         REQUIRE(scene.constraints.targets.rows() >= 1);
         INFO("trial " << trial << ", strength " << brush.strength << ", radius " << brush.radius);
-        CHECK((scene.constraints.targets.row(0) - session.positions().row(v)).norm() <= 1e-9);
+        CHECK((scene.constraints.targets.row(0) - session.mesh().positions.row(v)).norm() <= 1e-9);
         ++drawn;
     }
     CHECK(drawn >= 10);

@@ -40,7 +40,7 @@ TEST_CASE("window cage: a control point dragged through a fold follows, stops at
         app::SculptApp sculptApp;
         test::loadDefaultMesh(sculptApp, kWidth, kHeight);
         app::AppState& state = sculptApp.state();
-        const Positions original = state.session.positions();
+        const Positions original = state.session.mesh().positions;
         const Positions cage = state.session.cage().cagePoints();
         const core::LatticeSettings settings = state.session.cage().settings();
         key(sculptApp, app::Key::Tab);
@@ -94,7 +94,7 @@ TEST_CASE("window cage: a control point dragged through a fold follows, stops at
         undo(sculptApp);
         const double diagonal = test::boundsDiagonal(original);
         CHECK((state.session.cage().cagePoints() - cage).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
-        CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         CHECK(state.session.history().cursor() == 0);
     }
     CHECK(stopped >= 2);

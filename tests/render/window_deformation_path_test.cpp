@@ -45,7 +45,7 @@ TEST_CASE("window: a drag times both deformation paths, keeps the faster, and bo
         (onGpu ? sawGpu : sawCpu) = true;
         if (state.deformationPath.deciding()) CHECK(state.stats.deformationPath == (onGpu ? "GPU (timing)" : "CPU (timing)"));
         // Picking and the engine keep exact positions on either path: the renderer is told nothing else.
-        CHECK(state.session.positions().allFinite());
+        CHECK(state.session.mesh().positions.allFinite());
     }
     CHECK(sawGpu);
     CHECK(sawCpu);
@@ -86,7 +86,7 @@ TEST_CASE("window: a drag times both deformation paths, keeps the faster, and bo
     // Undo on the GPU path: the rest mesh stays, the lattice goes back, the picture is the undeformed one.
     state.deformationPath.force(app::DeformationPath::Gpu);
     requireOk(window.frame());
-    const Positions dragged = state.session.positions();
+    const Positions dragged = state.session.mesh().positions;
     app::KeyEvent ctrlZ;
     ctrlZ.key = app::Key::Z;
     ctrlZ.modifiers.control = true;

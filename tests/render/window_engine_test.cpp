@@ -115,8 +115,8 @@ void drawUntilIdle(test::OffscreenWindow& window, app::SculptApp& sculptApp) {
 void requireSameResult(const app::SculptApp& busy, const app::SculptApp& reference) {
     const core::Session& a = busy.state().session;
     const core::Session& b = reference.state().session;
-    REQUIRE(a.positions().rows() == b.positions().rows());
-    CHECK(a.positions() == b.positions());  // bitwise: the same steps in the same order
+    REQUIRE(a.mesh().positions.rows() == b.mesh().positions.rows());
+    CHECK(a.mesh().positions == b.mesh().positions);  // bitwise: the same steps in the same order
     CHECK(a.cage().cagePoints() == b.cage().cagePoints());
     REQUIRE(a.history().size() == b.history().size());
     for (size_t h = 0; h < a.history().size(); ++h) CHECK(a.history()[h].label == b.history()[h].label);
@@ -172,7 +172,7 @@ TEST_CASE("window engine: while a drag's move is certified on the worker the win
         if (!sculptApp.state().drag.active) continue;  // missed the mesh
         render::Rgba8Image applied, busyFrame, later;
         REQUIRE(window.frame(&applied).ok);  // the last frame drawn from applied state
-        const Positions before = sculptApp.state().session.positions();
+        const Positions before = sculptApp.state().session.mesh().positions;
 
         // The first move's step is held at the gate: the window keeps drawing what was applied.
         gate.close();
@@ -192,7 +192,7 @@ TEST_CASE("window engine: while a drag's move is certified on the worker the win
         const app::MouseButtonEvent up{app::MouseButton::Left, app::ButtonAction::Release, last.x, last.y, {}};
         sculptApp.onMouseButton(up, {});
         CHECK(sculptApp.heldInputCount() == 2);
-        CHECK(sculptApp.state().session.positions() == before);  // the worker waits at the gate: nothing moved yet
+        CHECK(sculptApp.state().session.mesh().positions == before);  // the worker waits at the gate: nothing moved yet
         // Past the progress delay the box shows over the same picture, and says what runs.
         std::this_thread::sleep_for(std::chrono::duration<double>(app::SculptApp::kProgressDelaySeconds + 0.05));
         REQUIRE(window.frame(&later).ok);
@@ -308,7 +308,7 @@ TEST_CASE("window engine: each step's result is drawn before the input held mean
     int arrived = 0;
     for (int m = 1; m <= 5; ++m) {
         CAPTURE(m);
-        const Positions appliedBefore = reference.state().session.positions();  // moves 1 .. m-1
+        const Positions appliedBefore = reference.state().session.mesh().positions;  // moves 1 .. m-1
         const app::MouseMoveEvent move{x0, y0 - 12.0 * m, {}};
         sculptApp.onMouseMove(move, {});
         reference.onMouseMove(move, {});
@@ -328,7 +328,7 @@ TEST_CASE("window engine: each step's result is drawn before the input held mean
         ++arrived;
         // The worker waits at the gate before touching anything: the state is that of moves 1 .. m-1, and the
         // frame drawn before this step started shows it (the stroke grew since the frame before).
-        CHECK(sculptApp.state().session.positions() == appliedBefore);
+        CHECK(sculptApp.state().session.mesh().positions == appliedBefore);
         CHECK(differingOutside(before, shown, {0.0f, 0.0f, 0.0f, 0.0f}) > 0);
         before = shown;
     }

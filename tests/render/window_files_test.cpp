@@ -156,10 +156,10 @@ TEST_CASE("window files: opening an OBJ runs in the background while frames keep
     CHECK(files.busy());
     CHECK(files.blocksInput());
     // Sculpting input is ignored while the load runs.
-    const Positions before = sculptApp.state().session.positions();
+    const Positions before = sculptApp.state().session.mesh().positions;
     dragUp(sculptApp);
     CHECK(sculptApp.state().session.history().empty());
-    CHECK(sculptApp.state().session.positions() == before);
+    CHECK(sculptApp.state().session.mesh().positions == before);
 
     int framesDuringLoad = 0;
     float lastFraction = 0.0f;
@@ -180,8 +180,8 @@ TEST_CASE("window files: opening an OBJ runs in the background while frames keep
     CHECK(fractionMonotonic);
     CHECK(framesDuringLoad >= 3);
     INFO(sculptApp.state().status);
-    REQUIRE(sculptApp.state().session.positions().rows() == expected.positions.rows());
-    CHECK(sculptApp.state().session.positions() == expected.positions);
+    REQUIRE(sculptApp.state().session.mesh().positions.rows() == expected.positions.rows());
+    CHECK(sculptApp.state().session.mesh().positions == expected.positions);
     CHECK(sculptApp.state().meshName == "grid.obj");
     CHECK_FALSE(sculptApp.state().modified);
     CHECK(files.document().sourcePath == big);
@@ -197,14 +197,14 @@ TEST_CASE("window files: a cancelled or failed open changes nothing", "[gl]") {
     loadDefault(sculptApp);
     dragUp(sculptApp);
     REQUIRE(sculptApp.state().session.history().size() == 1);
-    const Positions sculpted = sculptApp.state().session.positions();
+    const Positions sculpted = sculptApp.state().session.mesh().positions;
     app::FileCommands& files = sculptApp.files();
 
     // A broken OBJ: the error names the line, a popup says nothing changed.
     std::ofstream(folder.file("bad.obj")) << "v 0 0 0\nv 1 0 0\nf 1 2 7\n";
     REQUIRE(files.startOpen(sculptApp.state(), folder.file("bad.obj")));
     files.finishJob(sculptApp.state());
-    CHECK(sculptApp.state().session.positions() == sculpted);
+    CHECK(sculptApp.state().session.mesh().positions == sculpted);
     CHECK(sculptApp.state().session.history().size() == 1);
     CHECK(sculptApp.state().statusIsError);
     CHECK(files.message().find("bad.obj:3") != std::string::npos);
@@ -216,7 +216,7 @@ TEST_CASE("window files: a cancelled or failed open changes nothing", "[gl]") {
     REQUIRE(files.startOpen(sculptApp.state(), big));
     files.cancelJob();
     files.finishJob(sculptApp.state());
-    CHECK(sculptApp.state().session.positions() == sculpted);
+    CHECK(sculptApp.state().session.mesh().positions == sculpted);
     CHECK(sculptApp.state().status.find("cancelled") != std::string::npos);
     CHECK(files.message().empty());
     CHECK(sculptApp.state().modified);
@@ -257,7 +257,7 @@ TEST_CASE("window files: save, reload, overwrite only after Replace, failures ke
     CHECK(readBytes(source) == original);
     io::ObjMesh reread;
     REQUIRE(io::loadObj(saved, reread).ok);
-    CHECK(reread.positions == state.session.positions());  // shortest round-trip printing: exact
+    CHECK(reread.positions == state.session.mesh().positions);  // shortest round-trip printing: exact
     CHECK(files.document().meshPath == saved);
 
     // Ctrl+S now writes there without asking.
@@ -269,7 +269,7 @@ TEST_CASE("window files: save, reload, overwrite only after Replace, failures ke
     files.finishJob(state);
     CHECK_FALSE(state.modified);
     REQUIRE(io::loadObj(saved, reread).ok);
-    CHECK(reread.positions == state.session.positions());
+    CHECK(reread.positions == state.session.mesh().positions);
 
     // Failures: a folder in the way, a missing folder. The file on disk keeps its bytes, the work stays dirty.
     dragUp(sculptApp, 20.0);
@@ -311,8 +311,8 @@ TEST_CASE("window files: a PLY is dropped, sculpted and saved as STL and GLB lik
     sculptApp.onDropFiles({ply});
     files.finishJob(state);
     INFO(state.status);
-    REQUIRE(state.session.hasMesh());
-    CHECK(state.session.positions() == obj.positions.cast<float>().cast<double>());  // PLY holds floats
+    REQUIRE(!state.session.mesh().empty());
+    CHECK(state.session.mesh().positions == obj.positions.cast<float>().cast<double>());  // PLY holds floats
     CHECK(sculptApp.windowTitle() == "DMFFD Sculpt - scan.ply");
     sculptApp.onFramebufferSize({kWidth, kHeight});
     app::frameMesh(state);
@@ -339,8 +339,8 @@ TEST_CASE("window files: a PLY is dropped, sculpted and saved as STL and GLB lik
         CHECK_FALSE(state.modified);
         io::ObjMesh back;
         REQUIRE(io::loadMesh(folder.file(name), back).ok);
-        CHECK(back.triangles.rows() == state.session.triangles().rows());
-        if (std::string(name) == "sculpted.glb") CHECK(back.positions == state.session.positions().cast<float>().cast<double>());
+        CHECK(back.triangles.rows() == state.session.mesh().triangles.rows());
+        if (std::string(name) == "sculpted.glb") CHECK(back.positions == state.session.mesh().positions.cast<float>().cast<double>());
         CHECK(sculptApp.windowTitle() == std::string("DMFFD Sculpt - ") + name);
     }
 }
@@ -431,9 +431,9 @@ TEST_CASE("window files: quit and open with unsaved changes ask, Cancel keeps ev
     CHECK(editedFiles.prompt().kind == app::PendingAction::Kind::Quit);
     CHECK_FALSE(edited.quitApproved());
     // While the question is open, sculpting input and shortcuts are ignored.
-    const Positions sculpted = edited.state().session.positions();
+    const Positions sculpted = edited.state().session.mesh().positions;
     dragUp(edited);
-    CHECK(edited.state().session.positions() == sculpted);
+    CHECK(edited.state().session.mesh().positions == sculpted);
     editedFiles.answerPrompt(edited.state(), app::PromptChoice::Cancel);
     CHECK_FALSE(editedFiles.promptOpen());
     CHECK_FALSE(edited.quitApproved());
@@ -480,7 +480,7 @@ TEST_CASE("window files: a saved session reopens with the same shape and its ope
     app::FileCommands& files = sculptApp.files();
     dragUp(sculptApp);
     dragUp(sculptApp, 30.0);
-    const Positions sculpted = state.session.positions();
+    const Positions sculpted = state.session.mesh().positions;
     const size_t operations = state.session.history().size();
     REQUIRE(operations == 2);
     const std::string sessionPath = folder.file("work.session.json");
@@ -498,8 +498,8 @@ TEST_CASE("window files: a saved session reopens with the same shape and its ope
     reopened.files().finishJob(reopened.state());
     INFO(reopened.state().status);
     const core::Session& session = reopened.state().session;
-    REQUIRE(session.positions().rows() == sculpted.rows());
-    CHECK((session.positions() - sculpted).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(sculpted));
+    REQUIRE(session.mesh().positions.rows() == sculpted.rows());
+    CHECK((session.mesh().positions - sculpted).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(sculpted));
     // An interactive drag is recorded increment by increment inside begin_group / end_group, so it comes back
     // as one undo step again.
     CHECK(session.history().size() == operations);
@@ -509,22 +509,22 @@ TEST_CASE("window files: a saved session reopens with the same shape and its ope
     CHECK_FALSE(reopened.state().modified);
     CHECK(reopened.files().document().sessionPath == sessionPath);
     app::jumpToHistory(reopened.state(), 0);
-    CHECK((reopened.state().session.positions() - reopened.state().session.originalPositions()).cwiseAbs().maxCoeff() <=
+    CHECK((reopened.state().session.mesh().positions - reopened.state().session.mesh().original).cwiseAbs().maxCoeff() <=
           1e-9 * diagonal(sculpted));
 
     // Errors change nothing: a missing mesh, bad JSON.
-    const Positions current = reopened.state().session.positions();
+    const Positions current = reopened.state().session.mesh().positions;
     std::filesystem::remove(source);
     REQUIRE(reopened.files().startOpen(reopened.state(), sessionPath));
     reopened.files().finishJob(reopened.state());
     CHECK(reopened.files().message().find("blob.obj") != std::string::npos);
-    CHECK(reopened.state().session.positions() == current);
+    CHECK(reopened.state().session.mesh().positions == current);
     reopened.files().dismissMessage();
     std::ofstream(folder.file("bad.json")) << "{\"ops\": [ {\"op\": \"drag\"} ]";
     REQUIRE(reopened.files().startOpen(reopened.state(), folder.file("bad.json")));
     reopened.files().finishJob(reopened.state());
     CHECK(reopened.files().message().find("invalid JSON") != std::string::npos);
-    CHECK(reopened.state().session.positions() == current);
+    CHECK(reopened.state().session.mesh().positions == current);
 }
 
 TEST_CASE("window files: screenshot of the 3D view, and the menu bar and dialog drawn", "[gl]") {
@@ -610,7 +610,7 @@ TEST_CASE("window files: a triangle soup is offered the weld, and welded on open
 
     app::SculptApp kept;
     REQUIRE(kept.loadMesh(path).ok);
-    CHECK(kept.state().session.positions().rows() == 3 * nt);
+    CHECK(kept.state().session.mesh().positions.rows() == 3 * nt);
     INFO(kept.state().status);
     CHECK(kept.state().status.find("vertices lie exactly on another") != std::string::npos);
     CHECK(kept.state().status.find("File > Weld coincident vertices on open") != std::string::npos);
@@ -622,7 +622,7 @@ TEST_CASE("window files: a triangle soup is offered the weld, and welded on open
     app::AppState& state = welded.state();
     INFO(state.status);
     CHECK(state.status.find("Welded") != std::string::npos);
-    REQUIRE(state.session.positions().rows() == source.positions.rows());
+    REQUIRE(state.session.mesh().positions.rows() == source.positions.rows());
     // Each position once: the welded vertices are the source's, in the order the soup first uses them.
     std::vector<char> seen(static_cast<size_t>(source.positions.rows()), 0);
     Eigen::Index next = 0;
@@ -633,14 +633,14 @@ TEST_CASE("window files: a triangle soup is offered the weld, and welded on open
             seen[static_cast<size_t>(v)] = 1;
             // PLY stores single precision: compare with the float the file holds.
             for (int c = 0; c < 3; ++c)
-                REQUIRE(state.session.positions()(next, c) == static_cast<double>(static_cast<float>(source.positions(v, c))));
+                REQUIRE(state.session.mesh().positions(next, c) == static_cast<double>(static_cast<float>(source.positions(v, c))));
             ++next;
         }
     welded.onFramebufferSize({kWidth, kHeight});
     app::frameMesh(state);
     dragUp(welded);
     REQUIRE(state.session.history().cursor() == 1);
-    const Positions after = state.session.positions();
+    const Positions after = state.session.mesh().positions;
     REQUIRE(welded.files().startSaveSession(state, folder.file("session.json")));
     welded.files().finishJob(state);
     io::Script script;
@@ -650,8 +650,8 @@ TEST_CASE("window files: a triangle soup is offered the weld, and welded on open
     REQUIRE(reopened.files().startOpen(reopened.state(), folder.file("session.json")));
     reopened.files().finishJob(reopened.state());
     INFO(reopened.state().status);
-    REQUIRE(reopened.state().session.positions().rows() == after.rows());
-    CHECK(reopened.state().session.positions() == after);
+    REQUIRE(reopened.state().session.mesh().positions.rows() == after.rows());
+    CHECK(reopened.state().session.mesh().positions == after);
 }
 
 // A new user's trip: a load with four warnings said "4 warnings, first: ..." and nothing in the window showed

@@ -85,7 +85,7 @@ TEST_CASE("window golden: the full UI after a synthetic drag on the default mesh
     test::OffscreenWindow window;
     if (!openDefault(sculptApp, window)) return;
     app::AppState& state = sculptApp.state();
-    const Positions original = state.session.positions();
+    const Positions original = state.session.mesh().positions;
     render::Rgba8Image image;
     settledFrame(window, image);  // the first frame builds the font atlas
 
@@ -94,7 +94,7 @@ TEST_CASE("window golden: the full UI after a synthetic drag on the default mesh
     REQUIRE(state.session.history().size() == 1);
     REQUIRE_FALSE(state.statusIsError);
     // The mesh changed where it was grabbed (window_app_test.cpp checks the geometry in detail).
-    CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() > 0.0);
+    CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() > 0.0);
     settledFrame(window, image);
     savePicture(image, "window_ui_frame");
     test::checkGolden(image, "window_ui");
@@ -105,7 +105,7 @@ TEST_CASE("window golden: undoing a drag restores the picture from before it", "
     test::OffscreenWindow window;
     if (!openDefault(sculptApp, window)) return;
     app::AppState& state = sculptApp.state();
-    const Positions original = state.session.positions();
+    const Positions original = state.session.mesh().positions;
     render::Rgba8Image before, dragged, undone;
     settledFrame(window, before);
     const std::vector<std::uint8_t> uiBefore = window.uiMask();
@@ -121,7 +121,7 @@ TEST_CASE("window golden: undoing a drag restores the picture from before it", "
     sculptApp.onKey(undo, {});
     REQUIRE(state.session.history().cursor() == 0);
     const double diagonal = (original.colwise().maxCoeff() - original.colwise().minCoeff()).norm();
-    CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     settledFrame(window, undone);
 
     // The panels say different things before and after (status line, history list), so only the viewport
@@ -169,7 +169,7 @@ TEST_CASE("window golden: handles, pins and the lattice tool with a selection", 
     // Drag the handles together 80 px up: the pin holds.
     double hx = 0, hy = 0;
     REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight,
-                                app::handlePosition(state.tools.handles[0], state.session.positions(), state.session.triangles()), hx, hy));
+                                app::handlePosition(state.tools.handles[0], state.session.mesh().positions, state.session.mesh().triangles), hx, hy));
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, hx, hy, {}}, {});
     REQUIRE(state.drag.active);
     for (int m = 1; m <= 8; ++m) {

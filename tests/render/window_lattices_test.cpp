@@ -140,16 +140,16 @@ TEST_CASE("window lattices: the panel adds, places, freezes and unfreezes throug
     const double x = 0.5 * kWidth, y = 0.5 * Ui::kPanelHeight;
     app::Ray ray;
     REQUIRE(app::rayThroughPixel(state.camera, kWidth, Ui::kPanelHeight, x, y, ray));
-    const app::SurfaceHit hit = app::intersectMesh(ray, session.positions(), session.triangles());
+    const app::SurfaceHit hit = app::intersectMesh(ray, session.mesh().positions, session.mesh().triangles);
     REQUIRE(hit.triangle >= 0);
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, {});
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, x, y, {}}, {});
     REQUIRE(session.tools().list().size() == 2);
     CHECK(session.history().size() == history + 1);
     CHECK(state.lattices.placing == app::LatticesPanelState::Placing::None);
-    CHECK(session.positions() == session.originalPositions());  // placing never touches the mesh
+    CHECK(session.mesh().positions == session.mesh().original);  // placing never touches the mesh
     const core::LatticeNet& placed = *session.tools().list()[1].volume->tensorNet();
-    CHECK((placed.bounds.center() - hit.point).norm() < 1e-9 * test::boundsDiagonal(session.positions()) + 1e-12);
+    CHECK((placed.bounds.center() - hit.point).norm() < 1e-9 * test::boundsDiagonal(session.mesh().positions) + 1e-12);
     // Scaled so its own bounds' diagonal (before turning onto the normal) is the panel's size: distances
     // between its points grow by size / the library net's diagonal.
     const core::LatticeNet& original = *cylinder->volume->tensorNet();
@@ -309,7 +309,7 @@ TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px mov
     const std::vector<std::uint8_t> shown = app::shownControlPoints(state);
     for (int id : group) CHECK(bool(shown[size_t(id)]) == (id == rep));
 
-    const Positions before = session.positions();
+    const Positions before = session.mesh().positions;
     const size_t history = session.history().size();
     const Eigen::Vector2d start = test::pixelOf(state, session.cage().cagePoints().row(rep).transpose());
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, start.x(), start.y(), {}}, {});
@@ -333,9 +333,9 @@ TEST_CASE("window lattices: a welded point of a frozen cylinder dragged 5 px mov
     const Eigen::Vector2d shownAt = test::pixelOf(state, session.cage().cagePoints().row(rep).transpose());
     CHECK((shownAt - Eigen::Vector2d(start.x(), start.y() - 5.0)).norm() < 0.05);
     // The mesh followed.
-    CHECK((session.positions() - before).rowwise().norm().maxCoeff() > 1e-3);
+    CHECK((session.mesh().positions - before).rowwise().norm().maxCoeff() > 1e-3);
     sculptApp.onKey({app::Key::Z, app::KeyAction::Press, {false, true, false, false}}, {});
-    CHECK((session.positions() - before).cwiseAbs().maxCoeff() < 1e-9);
+    CHECK((session.mesh().positions - before).cwiseAbs().maxCoeff() < 1e-9);
 }
 
 // Issue: the list box and the lines under it changed height with the state (number of tools, the selected
@@ -412,7 +412,7 @@ TEST_CASE("window lattices: Insert knot and Refine axis add points to the select
     const core::LatticeNet& split = *session.tools().list()[0].volume->tensorNet();
     CHECK(split.count[2] == old.count[2] + 1);
     CHECK(split.axes[2].spans == old.axes[2].spans + 1);
-    CHECK(session.positions() == session.originalPositions());  // editing a tool never touches the mesh
+    CHECK(session.mesh().positions == session.mesh().original);  // editing a tool never touches the mesh
     // The same shape: every point of the old volume is a point of the new one at the same knot parameter.
     for (int sample = 0; sample < 50; ++sample) {
         Eigen::Vector3d t(0.02 * sample, 1.0 - 0.019 * sample, std::fmod(0.37 * sample, 1.0));
@@ -468,7 +468,7 @@ TEST_CASE("window lattices: a press in the same frame as the move off the panel 
     CHECK_FALSE(app::SculptApp::uiCaptureAt(x, y).mouse);
     app::Ray ray;
     REQUIRE(app::rayThroughPixel(state.camera, kWidth, Ui::kPanelHeight, x, y, ray));
-    const app::SurfaceHit hit = app::intersectMesh(ray, session.positions(), session.triangles());
+    const app::SurfaceHit hit = app::intersectMesh(ray, session.mesh().positions, session.mesh().triangles);
     REQUIRE(hit.triangle >= 0);
     const size_t history = session.history().size();
     ui.sculptApp.onMouseMove({x, y, {}}, app::SculptApp::uiCapture());
@@ -478,7 +478,7 @@ TEST_CASE("window lattices: a press in the same frame as the move off the panel 
     CHECK(state.lattices.placing == app::LatticesPanelState::Placing::None);
     REQUIRE(session.history().size() == history + 1);
     const core::LatticeNet& moved = *session.tools().list()[0].volume->tensorNet();
-    CHECK((moved.bounds.center() - hit.point).norm() < 1e-9 * test::boundsDiagonal(session.positions()) + 1e-12);
+    CHECK((moved.bounds.center() - hit.point).norm() < 1e-9 * test::boundsDiagonal(session.mesh().positions) + 1e-12);
 
     // The other way round: the cursor was over the mesh at the last frame, and the press comes on the panel's
     // "Add" button together with the move there. It is the panel's click, not a sculpt drag.
@@ -489,12 +489,12 @@ TEST_CASE("window lattices: a press in the same frame as the move off the panel 
     const app::LatticesPanelState::ItemRect add = ui.rect("Add");
     const double ax = 0.5 * (add.x0 + add.x1), ay = 0.5 * (add.y0 + add.y1);
     CHECK(app::SculptApp::uiCaptureAt(ax, ay).mouse);
-    const Positions before = session.positions();
+    const Positions before = session.mesh().positions;
     ui.sculptApp.onMouseMove({ax, ay, {}}, app::SculptApp::uiCapture());
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, ax, ay, {}}, app::SculptApp::uiCaptureAt(ax, ay));
     CHECK_FALSE(state.drag.active);
     ui.sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, ax, ay, {}}, app::SculptApp::uiCaptureAt(ax, ay));
-    CHECK(session.positions() == before);
+    CHECK(session.mesh().positions == before);
     CHECK(session.history().size() == history + 1);
 
     // Lattice point editing alike: the frozen cylinder's axis point, pressed right after the cursor left the panel.

@@ -44,7 +44,7 @@ bool randomPixelOnMesh(std::mt19937& rng, const app::AppState& state, double& x,
         y = uy(rng);
         app::Ray ray;
         if (!app::rayThroughPixel(state.camera, kWidth, kHeight, x, y, ray)) continue;
-        if (app::intersectMesh(ray, state.session.positions(), state.session.triangles()).triangle >= 0) return true;
+        if (app::intersectMesh(ray, state.session.mesh().positions, state.session.mesh().triangles).triangle >= 0) return true;
     }
     return false;
 }
@@ -59,7 +59,7 @@ TEST_CASE("window tools: handles move together or alone while the other handles 
         loadDefault(sculptApp);
         app::AppState& state = sculptApp.state();
         state.session.setInjectivity({core::InjectivityMode::Conic, 6});
-        const Positions original = state.session.positions();
+        const Positions original = state.session.mesh().positions;
         const double diagonal = diagonalOf(original);
         const int handles = std::uniform_int_distribution<int>(1, 3)(rng), pins = std::uniform_int_distribution<int>(0, 3)(rng);
         for (int h = 0; h < handles + pins; ++h) {
@@ -72,7 +72,7 @@ TEST_CASE("window tools: handles move together or alone while the other handles 
             CHECK(state.tools.handles.back().pin == (h >= handles));
         }
         CHECK(state.session.history().empty());  // placing markers is not an edit of the shape
-        REQUIRE(state.session.positions() == original);
+        REQUIRE(state.session.mesh().positions == original);
         int first = -1;
         for (size_t i = 0; i < state.tools.handles.size(); ++i)
             if (!state.tools.handles[i].pin) { first = static_cast<int>(i); break; }
@@ -83,12 +83,12 @@ TEST_CASE("window tools: handles move together or alone while the other handles 
 
         // Grab the first handle at its marker and drag it.
         double hx = 0, hy = 0;
-        const Eigen::Vector3d grabbed = app::handlePosition(state.tools.handles[first], original, state.session.triangles());
+        const Eigen::Vector3d grabbed = app::handlePosition(state.tools.handles[first], original, state.session.mesh().triangles);
         REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight, grabbed, hx, hy));
-        REQUIRE(app::handleAtPixel(state.tools, original, state.session.triangles(), state.camera, kWidth, kHeight, hx, hy, 9.0) >= 0);
+        REQUIRE(app::handleAtPixel(state.tools, original, state.session.mesh().triangles, state.camera, kWidth, kHeight, hx, hy, 9.0) >= 0);
         sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, hx, hy, {}}, {});
         REQUIRE(state.drag.active);
-        const int grabbedIndex = app::handleAtPixel(state.tools, original, state.session.triangles(), state.camera, kWidth, kHeight, hx, hy, 9.0);
+        const int grabbedIndex = app::handleAtPixel(state.tools, original, state.session.mesh().triangles, state.camera, kWidth, kHeight, hx, hy, 9.0);
         const double dx = std::uniform_real_distribution<double>(-30, 30)(rng), dy = std::uniform_real_distribution<double>(-40, -10)(rng);
         for (int m = 1; m <= 5; ++m) sculptApp.onMouseMove({hx + dx * m / 5, hy + dy * m / 5, {}}, {});
         const app::DragState drag = state.drag;
@@ -110,7 +110,7 @@ TEST_CASE("window tools: handles move together or alone while the other handles 
         CHECK(state.session.history().size() == 1);
         CHECK(state.session.history().front().constraints.size() == sources.size());
         key(sculptApp, app::Key::Z, controlKey());
-        CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         ++undone;
     }
     CHECK(undone >= 5);  // the trials did exercise the drags, not just skip
@@ -121,7 +121,7 @@ TEST_CASE("window tools: a plain drag keeps every handle and pin where it is", "
     app::SculptApp sculptApp;
     loadDefault(sculptApp);
     app::AppState& state = sculptApp.state();
-    const double diagonal = diagonalOf(state.session.positions());
+    const double diagonal = diagonalOf(state.session.mesh().positions);
     state.tools.brush.radiusPixels = 200.0;  // a brush wide enough for the 60-pixel pull
     // Markers left and right of the centre, then a drag from the centre.
     click(sculptApp, 0.5 * kWidth - 120, 0.5 * kHeight, controlKey());
@@ -142,7 +142,7 @@ TEST_CASE("window tools: a plain drag keeps every handle and pin where it is", "
     // Shift+click on a marker removes it, Ctrl+click turns a pin into a handle; Esc removes them all.
     double x = 0, y = 0;
     REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight,
-                                app::handlePosition(state.tools.handles[0], state.session.positions(), state.session.triangles()), x, y));
+                                app::handlePosition(state.tools.handles[0], state.session.mesh().positions, state.session.mesh().triangles), x, y));
     REQUIRE(state.tools.handles[0].pin);
     click(sculptApp, x, y, controlKey());
     CHECK_FALSE(state.tools.handles[0].pin);
@@ -155,7 +155,7 @@ TEST_CASE("window tools: a plain drag keeps every handle and pin where it is", "
     REQUIRE(state.tools.handles.size() == 2);
     REQUIRE_FALSE(state.tools.handles.back().pin);
     REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight,
-                                app::handlePosition(state.tools.handles[0], state.session.positions(), state.session.triangles()), x, y));
+                                app::handlePosition(state.tools.handles[0], state.session.mesh().positions, state.session.mesh().triangles), x, y));
     click(sculptApp, x, y, shiftKey());
     REQUIRE(state.tools.handles.size() == 1);
     CHECK(state.status.find("Removed a pin (1 marker left)") != std::string::npos);
@@ -241,7 +241,7 @@ TEST_CASE("window tools: dragging selected control points is one undoable edit, 
         loadDefault(sculptApp);
         app::AppState& state = sculptApp.state();
         state.session.setInjectivity({core::InjectivityMode::Conic, 6});
-        const Positions original = state.session.positions();
+        const Positions original = state.session.mesh().positions;
         const double diagonal = diagonalOf(original);
         key(sculptApp, app::Key::Tab);
         const core::Lattice& lattice = state.session.lattice();
@@ -304,7 +304,7 @@ TEST_CASE("window tools: dragging selected control points is one undoable edit, 
             }
         }
         key(sculptApp, app::Key::Z, controlKey());
-        CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     }
     CHECK(edits >= 4);
     CHECK(unsubdivided >= 2);
@@ -344,7 +344,7 @@ TEST_CASE("window tools: the lattice set-up panel's command re-sets up as one un
     app::SculptApp sculptApp;
     loadDefault(sculptApp);
     app::AppState& state = sculptApp.state();
-    const Positions original = state.session.positions();
+    const Positions original = state.session.mesh().positions;
     state.tools.lattice.points = {state.session.lattice().controlPointCount() - 1};
     core::LatticeSettings settings = state.session.cage().settings();
     settings.resolution = {5, 6, 4};
@@ -354,7 +354,7 @@ TEST_CASE("window tools: the lattice set-up panel's command re-sets up as one un
     CHECK_FALSE(state.statusIsError);
     CHECK(state.session.lattice().count == std::array<int, 3>{5, 6, 4});
     CHECK(state.session.history().size() == 1);
-    CHECK(state.session.positions() == original);  // a fresh lattice does not move the mesh
+    CHECK(state.session.mesh().positions == original);  // a fresh lattice does not move the mesh
     app::clampLatticeSelection(state);
     CHECK(state.tools.lattice.points.empty());  // the old id does not exist in a 5x6x4 lattice
 
@@ -369,7 +369,7 @@ TEST_CASE("window tools: the lattice set-up panel's command re-sets up as one un
 
     key(sculptApp, app::Key::Z, controlKey());
     CHECK(state.session.lattice().count == std::array<int, 3>{8, 8, 8});
-    CHECK(state.session.positions() == original);
+    CHECK(state.session.mesh().positions == original);
 }
 
 TEST_CASE("window tools: the status line hint says what the cursor would do", "[gl]") {
@@ -382,7 +382,7 @@ TEST_CASE("window tools: the status line hint says what the cursor would do", "[
     REQUIRE(state.tools.handles.size() == 1);
     double x = 0, y = 0;
     REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight,
-                                app::handlePosition(state.tools.handles[0], state.session.positions(), state.session.triangles()), x, y));
+                                app::handlePosition(state.tools.handles[0], state.session.mesh().positions, state.session.mesh().triangles), x, y));
     sculptApp.onMouseMove({x, y, {}}, {});
     CHECK(state.tools.hint.find("Handle: drag") != std::string::npos);
     key(sculptApp, app::Key::Tab);
@@ -418,7 +418,7 @@ TEST_CASE("window tools: frames of both tools render with their markers (written
     CHECK(greenPixels(withMarkers) > 20);
     double x = 0, y = 0;
     REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight,
-                                app::handlePosition(state.tools.handles[0], state.session.positions(), state.session.triangles()), x, y));
+                                app::handlePosition(state.tools.handles[0], state.session.mesh().positions, state.session.mesh().triangles), x, y));
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, x, y, {}}, {});
     for (int m = 1; m <= 4; ++m) sculptApp.onMouseMove({x, y - 15.0 * m, {}}, {});
     REQUIRE(window.frame(&dragging).ok);
@@ -441,17 +441,17 @@ TEST_CASE("window tools: Esc during a drag takes it back and records nothing", "
     app::SculptApp sculptApp;
     loadDefault(sculptApp);
     app::AppState& state = sculptApp.state();
-    const Positions original = state.session.positions();
+    const Positions original = state.session.mesh().positions;
     const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, cx, cy, {}}, {});
     REQUIRE(state.drag.active);
     for (int m = 1; m <= 6; ++m) sculptApp.onMouseMove({cx, cy - 20.0 * m, {}}, {});
-    REQUIRE((state.session.positions() - original).cwiseAbs().maxCoeff() > 0.0);
+    REQUIRE((state.session.mesh().positions - original).cwiseAbs().maxCoeff() > 0.0);
     key(sculptApp, app::Key::Escape);
     CHECK_FALSE(state.drag.active);
     CHECK(state.status.find("cancelled") != std::string::npos);
     sculptApp.onMouseMove({cx, cy - 200.0, {}}, {});  // moves after the cancel change nothing
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 200.0, {}}, {});
     CHECK(state.session.history().empty());
-    CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonalOf(original));
+    CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonalOf(original));
 }

@@ -70,7 +70,7 @@ TEST_CASE("window transform: typed G, R and S move, turn and scale the selection
     // note: the exact test, because the conic one is not invariant under rotation: it refuses a whole lattice
     // turned by more than about 45 degrees (measured: 40 passes, 45 stops), though a rigid turn is injective.
     state.session.setInjectivity({core::InjectivityMode::Exact, 6});
-    const Positions original = state.session.positions();
+    const Positions original = state.session.mesh().positions;
     const double diagonal = test::boundsDiagonal(original);
     const double tolerance = 1e-9 * diagonal;
 
@@ -94,7 +94,7 @@ TEST_CASE("window transform: typed G, R and S move, turn and scale the selection
     int entries = 0;
     for (const Case& c : cases) {
         INFO(c.keys);
-        const Positions meshBefore = state.session.positions();
+        const Positions meshBefore = state.session.mesh().positions;
         const Positions latticeBefore = core::controlPointPositions(state.session.lattice());
         const Eigen::Vector3d pivot = centroidOf(latticeBefore);
         // The cursor wanders first: a typed value replaces whatever the mouse did.
@@ -119,12 +119,12 @@ TEST_CASE("window transform: typed G, R and S move, turn and scale the selection
         const Positions latticeShifted = latticeBefore.rowwise() + c.shift.transpose();
         CHECK(affineError(latticeShifted, core::controlPointPositions(state.session.lattice()), c.map, pivot + c.shift) <= tolerance);
         const Positions meshShifted = meshBefore.rowwise() + c.shift.transpose();
-        CHECK(affineError(meshShifted, state.session.positions(), c.map, pivot + c.shift) <= tolerance);
+        CHECK(affineError(meshShifted, state.session.mesh().positions, c.map, pivot + c.shift) <= tolerance);
     }
     // One undo step each, back to the start.
     for (int u = 0; u < entries; ++u) key(sculptApp, app::Key::Z, controlKey());
     CHECK(state.session.history().cursor() == 0);
-    CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= tolerance);
+    CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= tolerance);
 }
 
 TEST_CASE("window transform: the mouse moves along a locked axis, X Y Z lock and unlock, Backspace and minus edit the value", "[gl]") {
@@ -171,14 +171,14 @@ TEST_CASE("window transform: Esc or a right click cancels exactly and records no
         key(sculptApp, app::Key::Tab);
         const core::Lattice& lattice = state.session.lattice();
         state.tools.lattice.points = {lattice.index(3, 3, 3), lattice.index(4, 3, 3), lattice.index(3, 4, 3), lattice.index(4, 4, 4)};
-        const Positions original = state.session.positions();
+        const Positions original = state.session.mesh().positions;
         const Positions originalLattice = core::controlPointPositions(lattice);
         const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
         sculptApp.onMouseMove({cx + 80, cy, {}}, {});
         key(sculptApp, rightClick ? app::Key::R : app::Key::S);
         REQUIRE(state.transform.active);
         for (int m = 1; m <= 5; ++m) sculptApp.onMouseMove({cx + 80 + 6 * m, cy - 9 * m, {}}, {});
-        REQUIRE((state.session.positions() - original).cwiseAbs().maxCoeff() > 0.0);
+        REQUIRE((state.session.mesh().positions - original).cwiseAbs().maxCoeff() > 0.0);
         key(sculptApp, app::Key::Z, controlKey());  // no undo in the middle of a transform
         key(sculptApp, app::Key::Tab);              // nor a tool change
         CHECK(state.transform.active);
@@ -193,7 +193,7 @@ TEST_CASE("window transform: Esc or a right click cancels exactly and records no
         // Session::cancelDrag subtracts the delta's effect (its inverse manipulation) rather than copying back.
         const double diagonal = test::boundsDiagonal(original);
         CHECK(core::controlPointPositions(state.session.lattice()) == originalLattice);
-        CHECK((state.session.positions() - original).cwiseAbs().maxCoeff() <= 1e-15 * diagonal);
+        CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-15 * diagonal);
         CHECK(state.tools.lattice.points.size() == 4);  // the selection stays (Esc after the cancel clears it)
         // The release of the right button, and moves after it, change nothing.
         sculptApp.onMouseButton({app::MouseButton::Right, app::ButtonAction::Release, cx, cy, {}}, {});
@@ -289,7 +289,7 @@ TEST_CASE("window transform: a transform that would fold keeps what it showed an
     key(sculptApp, app::Key::Tab);
     app::AppState& state = sculptApp.state();
     const int n = state.session.lattice().controlPointCount();
-    const double diagonal = (state.session.positions().colwise().maxCoeff() - state.session.positions().colwise().minCoeff()).norm();
+    const double diagonal = (state.session.mesh().positions.colwise().maxCoeff() - state.session.mesh().positions.colwise().minCoeff()).norm();
     std::mt19937 random(303);
     int stops = 0, refused = 0, full = 0;
     const int trials = test::scaledCount(40, 12);
@@ -305,14 +305,14 @@ TEST_CASE("window transform: a transform that would fold keeps what it showed an
         const app::Key axisKey = axis == 0 ? app::Key::X : axis == 1 ? app::Key::Y : app::Key::Z;
         const std::string value = kind == 0 ? (random() % 2 ? "1.3" : "0.6") : kind == 1 ? "45" : "0.6";
         const Positions cageBefore = state.session.cage().cagePoints();
-        const Positions meshBefore = state.session.positions();
+        const Positions meshBefore = state.session.mesh().positions;
         key(sculptApp, kind == 0 ? app::Key::S : kind == 1 ? app::Key::R : app::Key::G);
         REQUIRE(state.transform.active);
         key(sculptApp, axisKey);
         type(sculptApp, value);
         const app::TransformState shown = state.transform;
         const std::string preview = state.status;
-        const Positions meshShown = state.session.positions();
+        const Positions meshShown = state.session.mesh().positions;
         const Positions cageShown = state.session.cage().cagePoints();
         INFO("trial " << trial << ": " << preview);
         // The points stand in the pose the readout names: p = pivot + M (start - pivot), or start + offset.
@@ -332,7 +332,7 @@ TEST_CASE("window transform: a transform that would fold keeps what it showed an
         key(sculptApp, app::Key::Enter);
         CHECK_FALSE(state.transform.active);
         // What the preview showed is what Enter keeps, to the bit.
-        CHECK((state.session.positions() - meshShown).cwiseAbs().maxCoeff() == 0.0);
+        CHECK((state.session.mesh().positions - meshShown).cwiseAbs().maxCoeff() == 0.0);
         CHECK((state.session.cage().cagePoints() - cageShown).cwiseAbs().maxCoeff() == 0.0);
         const std::string& status = state.status;
         INFO(status);
@@ -397,7 +397,7 @@ TEST_CASE("window transform: a transform stopped by crossing triangles says so, 
         state.session.setInjectivity(injectivity);
         key(sculptApp, app::Key::A);
         REQUIRE(state.tools.lattice.points.size() == static_cast<size_t>(state.session.lattice().controlPointCount()));
-        const Positions before = state.session.positions();
+        const Positions before = state.session.mesh().positions;
         // Far enough that the spheres (0.2 apart) overlap: 0.5 to 1.4.
         const int tenths = 5 + static_cast<int>(random() % 10);
         const std::string distance = std::to_string(tenths / 10) + "." + std::to_string(tenths % 10);
@@ -417,8 +417,8 @@ TEST_CASE("window transform: a transform stopped by crossing triangles says so, 
         CHECK(state.status.find("the surface would cross itself") != std::string::npos);
         CHECK(state.status.find("lattice would fold") == std::string::npos);
         CHECK(state.status.find("part 2 (") != std::string::npos);
-        CHECK(test::selfIntersectingPairs(state.session.positions(), state.session.triangles()) == 0);
+        CHECK(test::selfIntersectingPairs(state.session.mesh().positions, state.session.mesh().triangles) == 0);
         if (state.session.history().cursor() > 0) key(sculptApp, app::Key::Z, controlKey());
-        CHECK((state.session.positions() - before).cwiseAbs().maxCoeff() < 1e-12);  // undo: exact to rounding
+        CHECK((state.session.mesh().positions - before).cwiseAbs().maxCoeff() < 1e-12);  // undo: exact to rounding
     }
 }

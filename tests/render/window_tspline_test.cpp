@@ -165,7 +165,7 @@ TEST_CASE("window tspline: Set up T-spline adds and freezes the lattice the pane
     app::AppState& state = ui.sculptApp.state();
     core::Session& session = state.session;
     ui.click("Lattices");
-    const Positions before = session.positions();
+    const Positions before = session.mesh().positions;
     const size_t history = session.history().size();
     state.tspline.depth = 3;
     state.tspline.weightRatio = 50.0;
@@ -178,7 +178,7 @@ TEST_CASE("window tspline: Set up T-spline adds and freezes the lattice the pane
     CHECK(state.lattices.selectedTool == 0);
     CHECK(app::latticeShown(state));  // the lattice just frozen is on screen
     CHECK(session.history().size() == history + 1);  // adding the tool and freezing it: one entry
-    CHECK(session.positions() == before);            // setting up never moves the mesh
+    CHECK(session.mesh().positions == before);            // setting up never moves the mesh
     // The lattice sec. 4 builds around these vertices at depth 3 with weights 50:1, built here on its own.
     const core::TSplineVolume& made = toolVolume(session, 0);
     core::TSplineOctreeSettings settings;
@@ -195,7 +195,7 @@ TEST_CASE("window tspline: Set up T-spline adds and freezes the lattice the pane
     ui.undo();  // the set-up: the freeze and the tool, one history entry
     CHECK(session.tools().frozen() == -1);
     CHECK(session.tools().list().empty());
-    CHECK(session.positions() == before);
+    CHECK(session.mesh().positions == before);
     ui.frame();
 
     // A box region: the lattice is placed exactly there. One holding no vertex is refused on the status line.
@@ -281,7 +281,7 @@ TEST_CASE("window tspline: only the control points of non-empty cells are drawn 
         if (shown[s] && isolated(s)) heavy = s;
     REQUIRE(heavy < weights.size());
     // A heavy point: selected, and dragged 5 px through the control-point command path (one undo step).
-    const Positions before = session.positions();
+    const Positions before = session.mesh().positions;
     const size_t history = session.history().size();
     const Eigen::Vector2d start = test::pixelOf(state, points.row(static_cast<Eigen::Index>(heavy)).transpose());
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Press, start.x(), start.y(), {}}, {});
@@ -292,13 +292,13 @@ TEST_CASE("window tspline: only the control points of non-empty cells are drawn 
     INFO(state.status);
     CHECK(session.history().size() == history + 1);
     CHECK(session.lattice().displacement.row(static_cast<Eigen::Index>(heavy)).norm() > 0.0);
-    CHECK((session.positions() - before).rowwise().norm().maxCoeff() > 1e-4);
+    CHECK((session.mesh().positions - before).rowwise().norm().maxCoeff() > 1e-4);
     // Select all (A) takes the shown points only.
     sculptApp.onKey({app::Key::A, app::KeyAction::Press, {}}, {});
     CHECK(state.tools.lattice.points.size() == static_cast<size_t>(heavyShown));
     sculptApp.onKey({app::Key::Escape, app::KeyAction::Press, {}}, {});
     sculptApp.onKey({app::Key::Z, app::KeyAction::Press, {false, true, false, false}}, {});
-    CHECK((session.positions() - before).cwiseAbs().maxCoeff() < 1e-9);
+    CHECK((session.mesh().positions - before).cwiseAbs().maxCoeff() < 1e-9);
 }
 
 TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo restores the lattice exactly", "[gl][tspline]") {
@@ -336,7 +336,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     const double x = 0.5 * (kWidth - 400), y = 0.5 * kHeight;
     app::Ray ray;
     REQUIRE(app::rayThroughPixel(state.camera, kWidth, kHeight, x, y, ray));
-    const app::SurfaceHit hit = app::intersectMesh(ray, session.positions(), session.triangles());
+    const app::SurfaceHit hit = app::intersectMesh(ray, session.mesh().positions, session.mesh().triangles);
     REQUIRE(hit.triangle >= 0);
     Eigen::Vector3d params;
     REQUIRE(session.cage().parametersOfCurrentPoint(hit.point, params).ok);
@@ -364,7 +364,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     io::writePng(test::glTestOutputDir() + "/window_tspline_chosen_cell.png", picture.width, picture.height, picture.pixels.data());
 
     // Subdivide: unfreeze, subdivide_cells, freeze (three history operations); the shape stays.
-    const Positions before = session.positions();
+    const Positions before = session.mesh().positions;
     ui.click("Subdivide");
     INFO(state.status);
     CHECK_FALSE(state.statusIsError);
@@ -372,7 +372,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     const size_t cellsAfter = toolVolume(session, 0).lattice().cells.size();
     CHECK(cellsAfter >= cellsBefore + 7);  // the cell became 8, more with the balance
     CHECK(session.history().cursor() == history + 1);  // unfreeze, subdivide, freeze: one entry
-    CHECK((session.positions() - before).cwiseAbs().maxCoeff() == 0.0);
+    CHECK((session.mesh().positions - before).cwiseAbs().maxCoeff() == 0.0);
     CHECK(state.tspline.chosenCells.empty());
     CHECK_FALSE(state.tspline.picking);
     // The finer cells hold the mesh: their control points are the heavy ones again.
@@ -385,7 +385,7 @@ TEST_CASE("window tspline: cells chosen on the mesh are subdivided, and undo res
     CHECK(session.tools().frozen() == 0);
     CHECK(session.tools().list()[0].volume == coarse);  // the very lattice it was
     CHECK(toolVolume(session, 0).lattice().cells.size() == cellsBefore);
-    CHECK(session.positions() == before);
+    CHECK(session.mesh().positions == before);
 
     // A tool that is not frozen (selected in the list): its cells are chosen where it is drawn at rest, its
     // T-junctions show while choosing, and Subdivide is subdivide_cells alone, one history operation.

@@ -85,7 +85,7 @@ TEST_CASE("window views: picking finds what is drawn under the cursor in both pr
         test::loadDefaultMesh(sculptApp, kWidth, kHeight);
         app::AppState& state = sculptApp.state();
         state.camera.orthographic = orthographic;
-        const Positions& positions = state.session.positions();
+        const Positions& positions = state.session.mesh().positions;
         const double diagonal = test::boundsDiagonal(positions);
         // A vertex projected to its pixel: the ray through that pixel passes through the vertex.
         for (Eigen::Index v : {Eigen::Index(0), positions.rows() / 3, positions.rows() - 1}) {

@@ -24,7 +24,7 @@ void click(app::SculptApp& sculptApp, double x, double y, bool control = false) 
 
 // The vertex the window's weight tools act on for a click at the viewport's centre, and its height.
 double heightOf(const core::Session& session, int vertex, const Eigen::Vector3d& n) {
-    return n.dot((session.positions().row(vertex) - session.restPositions().row(vertex)).transpose());
+    return n.dot((session.mesh().positions.row(vertex) - session.mesh().rest.row(vertex)).transpose());
 }
 
 }  // namespace
@@ -41,7 +41,7 @@ TEST_CASE("window weights: the hammer raises and lowers the clicked vertex by th
     REQUIRE(io::runScriptOp(state.session, setup, report));
     REQUIRE(report.status == core::OpStatus::Applied);
     const size_t history = state.session.history().size();
-    const double diagonal = test::boundsDiagonal(state.session.positions());
+    const double diagonal = test::boundsDiagonal(state.session.mesh().positions);
 
     app::BrushTool& brush = state.tools.brush;
     brush.kind = app::BrushTool::Kind::Hammer;
@@ -72,7 +72,7 @@ TEST_CASE("window weights: the hammer raises and lowers the clicked vertex by th
     // Ctrl+click with the hammer lowers the clicked vertex (the surface under the cursor has moved: it may be
     // another one) by one step, along its bump's direction (which the hammer keeps).
     brush.kind = app::BrushTool::Kind::Hammer;
-    const Positions positionsBefore = state.session.positions(), restBefore = state.session.restPositions();
+    const Positions positionsBefore = state.session.mesh().positions, restBefore = state.session.mesh().rest;
     click(sculptApp, cx, cy, true);
     REQUIRE(state.session.history().size() == history + 3);
     INFO(state.status);
@@ -86,5 +86,5 @@ TEST_CASE("window weights: the hammer raises and lowers the clicked vertex by th
     CHECK(heightOf(state.session, at.vertex, bump.direction) == Approx(lowered).margin(1e-9 * diagonal));
     // Three undo steps return the mesh bitwise.
     for (int k = 0; k < 3; ++k) REQUIRE(state.session.undo(report));
-    CHECK(state.session.positions() == state.session.restPositions());
+    CHECK(state.session.mesh().positions == state.session.mesh().rest);
 }

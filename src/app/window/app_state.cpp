@@ -19,8 +19,8 @@ Status setMesh(AppState& state, const Positions& positions, const Triangles& tri
 
 void installSession(AppState& state, core::Session&& session, const std::string& name) {
     if (&session != &state.session) state.session = std::move(session);
-    const Positions& positions = state.session.positions();
-    const Triangles& triangles = state.session.triangles();
+    const Positions& positions = state.session.mesh().positions;
+    const Triangles& triangles = state.session.mesh().triangles;
     state.meshName = name;
     state.gpu = PendingGpuUpdate{};
     state.drag = DragState{};
@@ -36,15 +36,15 @@ void installSession(AppState& state, core::Session&& session, const std::string&
 
 void noteSessionMoved(AppState& state) {
     const core::Session& session = state.session;
-    if (session.lastMovedAll()) {
+    if (session.lastMoved().all) {
         state.gpu.allPositions = true;
         state.gpu.vertices.clear();
     } else if (!state.gpu.allPositions) {
-        const std::vector<int>& moved = session.lastMovedVertices();
+        const std::vector<int>& moved = session.lastMoved().vertices;
         state.gpu.vertices.insert(state.gpu.vertices.end(), moved.begin(), moved.end());
         // note: many small drag moves between two frames could pile up duplicates; past #V the full upload
         // is cheaper than the list anyway.
-        if (state.gpu.vertices.size() > static_cast<size_t>(session.positions().rows())) {
+        if (state.gpu.vertices.size() > static_cast<size_t>(session.mesh().positions.rows())) {
             state.gpu.allPositions = true;
             state.gpu.vertices.clear();
         }
@@ -187,7 +187,7 @@ float framebufferAspect(const AppState& state) {
 }
 
 void frameMesh(AppState& state) {
-    render::Bounds bounds = render::boundsOf(state.session.positions());
+    render::Bounds bounds = render::boundsOf(state.session.mesh().positions);
     // With the lattice on screen, its box is framed too (its corners stick out of a round mesh's frame).
     if (latticeShown(state))
         bounds.add(render::boundsOf(state.session.cage().cagePoints()));

@@ -120,12 +120,12 @@ bool SculptApp::brushMouseButton(const MouseButtonEvent& event) {
 bool SculptApp::surfaceUnderPixel(double x, double y, Eigen::Vector3d& point, Eigen::Vector3d& normal) const {
     const core::Session& session = state_.session;
     Ray ray;
-    if (!session.hasMesh() || !rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, x, y, ray)) return false;
-    const SurfaceHit hit = intersectMesh(ray, session.positions(), session.triangles());
+    if (session.mesh().empty() || !rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, x, y, ray)) return false;
+    const SurfaceHit hit = intersectMesh(ray, session.mesh().positions, session.mesh().triangles);
     if (hit.triangle < 0) return false;
-    const Eigen::Vector3d a = session.positions().row(session.triangles()(hit.triangle, 0)).transpose();
-    const Eigen::Vector3d b = session.positions().row(session.triangles()(hit.triangle, 1)).transpose();
-    const Eigen::Vector3d c = session.positions().row(session.triangles()(hit.triangle, 2)).transpose();
+    const Eigen::Vector3d a = session.mesh().positions.row(session.mesh().triangles(hit.triangle, 0)).transpose();
+    const Eigen::Vector3d b = session.mesh().positions.row(session.mesh().triangles(hit.triangle, 1)).transpose();
+    const Eigen::Vector3d c = session.mesh().positions.row(session.mesh().triangles(hit.triangle, 2)).transpose();
     const Eigen::Vector3d n = (b - a).cross(c - a);
     if (!(n.norm() > 0.0)) return false;
     point = hit.point;
@@ -138,7 +138,7 @@ void SculptApp::updateBrushHover(double x, double y) {
     const core::Session& session = state_.session;
     const bool wasShown = brush.hover;
     brush.hover = false;
-    if (state_.tools.mode == ToolMode::Sculpt && session.hasMesh() && brush.limited && state_.navigation == Navigation::None) {
+    if (state_.tools.mode == ToolMode::Sculpt && !session.mesh().empty() && brush.limited && state_.navigation == Navigation::None) {
         // While resizing, the circle stays where it was: only its size follows the cursor.
         if (brush.resize != BrushTool::Resize::None) {
             brush.hover = wasShown;

@@ -43,7 +43,7 @@ bool sameFile(const std::string& a, const std::string& b) {
 // The lattice a newly opened mesh gets: the current resolution, degree, padding and pins, but no region
 // (a box of the old mesh means nothing for another one).
 core::LatticeSettings settingsForNewMesh(const core::Session& session) {
-    core::LatticeSettings settings = session.hasMesh() ? session.cage().initialSettings() : core::LatticeSettings{};
+    core::LatticeSettings settings = !session.mesh().empty() ? session.cage().initialSettings() : core::LatticeSettings{};
     settings.hasRegion = false;
     return settings;
 }
@@ -230,7 +230,7 @@ bool FileCommands::startSave(AppState& state, JobKind kind, const std::string& p
         setStatus(state, "Wait for the running file operation to finish.", true);
         return false;
     }
-    if (!document_.mesh || !state.session.hasMesh()) {
+    if (!document_.mesh || state.session.mesh().empty()) {
         setStatus(state, "Nothing to save: no mesh is open.", true);
         return false;
     }
@@ -242,7 +242,7 @@ bool FileCommands::startSave(AppState& state, JobKind kind, const std::string& p
     std::shared_ptr<const io::ObjMesh> mesh = document_.mesh;
     if (kind == JobKind::SaveMesh) {
         // note: a copy of the positions (24 MB for 1M vertices, a few ms): the worker never reads the session.
-        Positions positions = state.session.positions();
+        Positions positions = state.session.mesh().positions;
         std::vector<core::EdgeSplit> splits = state.session.refinement().appliedSplits();  // a refined mesh: its splits
         startJob(state, kind, path, [path, mesh, positions = std::move(positions), splits = std::move(splits)](JobProgress& progress) {
             progress.phase = static_cast<int>(JobPhase::Writing);
@@ -261,7 +261,7 @@ bool FileCommands::startSave(AppState& state, JobKind kind, const std::string& p
             checkOpenPath(document_.sourcePath).ok == false) {
             const fs::path sessionFile(path);
             basePath = (sessionFile.parent_path() / (sessionFile.stem().string() + ".base.obj")).string();
-            original = state.session.originalPositions();
+            original = state.session.mesh().original;
             script.mesh = io::scriptRelativeMeshPath(basePath, path);
         } else {
             script.mesh = io::scriptRelativeMeshPath(document_.sourcePath, path);
@@ -429,8 +429,8 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             std::string text = session ? "Opened session " + name + ": " + countOf(s.history().size(), "operation") +
                                              " (" + countOf(static_cast<size_t>(result.opsReplayed), "script op") + ") replayed on " +
                                              fileNameOfPath(result.meshPath)
-                                       : "Loaded " + name + ": " + countOf(static_cast<size_t>(s.positions().rows()), "vertex", "vertices") +
-                                             ", " + countOf(static_cast<size_t>(s.triangles().rows()), "triangle");
+                                       : "Loaded " + name + ": " + countOf(static_cast<size_t>(s.mesh().positions.rows()), "vertex", "vertices") +
+                                             ", " + countOf(static_cast<size_t>(s.mesh().triangles.rows()), "triangle");
             if (result.opsRejected > 0) text += " (" + std::to_string(result.opsRejected) + " refused: the report says why)";
             if (result.screenshotsSkipped > 0) text += ", " + countOf(static_cast<size_t>(result.screenshotsSkipped), "screenshot op") + " skipped";
             text += " in " + took + ".";
@@ -458,7 +458,7 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
             document_.meshPathConfirmed = true;
             state.meshName = fileNameOfPath(job.path);  // the document is now that file: title, sidebar, prompts
             document_.saved = job.markAtStart;
-            setStatus(state, "Saved " + name + " (" + countOf(static_cast<size_t>(state.session.positions().rows()), "vertex", "vertices") + ") in " +
+            setStatus(state, "Saved " + name + " (" + countOf(static_cast<size_t>(state.session.mesh().positions.rows()), "vertex", "vertices") + ") in " +
                                  took + "." + warningsText(result.warnings),
                       false);
             state.statusDetails = result.warnings;
@@ -477,7 +477,7 @@ void FileCommands::install(AppState& state, Job& job, JobResult& result) {
 // -------------------------------------------------------------------------------- questions and commands
 
 bool FileCommands::modified(const AppState& state) const {
-    return state.session.hasMesh() && isModified(document_, state.session);
+    return !state.session.mesh().empty() && isModified(document_, state.session);
 }
 
 std::string FileCommands::windowTitle(const AppState& state) const {
@@ -640,12 +640,12 @@ void FileCommands::saveMeshAs(AppState& /*state*/) {
 }
 
 void FileCommands::saveSession(AppState& state) {
-    if (blocksInput() || !state.session.hasMesh()) return;
+    if (blocksInput() || state.session.mesh().empty()) return;
     openDialog(DialogPurpose::SaveSession);
 }
 
 void FileCommands::saveScreenshot(AppState& state) {
-    if (blocksInput() || !state.session.hasMesh()) return;
+    if (blocksInput() || state.session.mesh().empty()) return;
     openDialog(DialogPurpose::SaveScreenshot);
 }
 

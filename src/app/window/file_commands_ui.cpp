@@ -36,7 +36,7 @@ bool beginModal(const char* id, bool wanted) {
 void FileCommands::drawMenuBar(AppState& state) {
     if (!ImGui::BeginMainMenuBar()) return;
     const bool idle = !blocksInput();
-    const bool hasMesh = state.session.hasMesh();
+    const bool hasMesh = !state.session.mesh().empty();
     if (ImGui::BeginMenu("File")) {
         if (ImGui::MenuItem("Open mesh...", "Ctrl+O", false, idle)) openMesh(state);
         if (ImGui::MenuItem("Save mesh", "Ctrl+S", false, idle && document_.mesh != nullptr)) saveMesh(state);

@@ -451,8 +451,8 @@ int runWindow(const std::string& meshPath) {
     if (autoDrag && dragFrames > 0)
         std::printf("sculpt: autodrag %d frames while dragging, %.1f fps (%.1f ms per frame), %d vertices, %d triangles\n",
                     dragFrames, dragFrames / dragSeconds, 1000.0 * dragSeconds / dragFrames,
-                    static_cast<int>(app.state().session.positions().rows()),
-                    static_cast<int>(app.state().session.triangles().rows()));
+                    static_cast<int>(app.state().session.mesh().positions.rows()),
+                    static_cast<int>(app.state().session.mesh().triangles.rows()));
 
     app.releaseGraphics();
     ImGui_ImplGlfw_Shutdown();

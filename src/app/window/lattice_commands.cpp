@@ -257,7 +257,7 @@ Status saveLatticeToolCommand(AppState& state, int index, const std::string& pat
 }
 
 double placementSize(const AppState& state) {
-    const Positions& p = state.session.positions();
+    const Positions& p = state.session.mesh().positions;
     if (p.rows() == 0) return 1.0;
     const double diagonal = (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm();
     return std::max(state.lattices.placeSizeFraction, 1e-3) * (diagonal > 0.0 ? diagonal : 1.0);
@@ -276,11 +276,11 @@ void cancelPlacingLattice(AppState& state) {
 
 bool placeLatticeAtPixel(AppState& state, double x, double y) {
     LatticesPanelState& panel = state.lattices;
-    if (panel.placing == LatticesPanelState::Placing::None || !state.session.hasMesh()) return false;
+    if (panel.placing == LatticesPanelState::Placing::None || state.session.mesh().empty()) return false;
     Ray ray;
     if (!rayThroughPixel(state.camera, state.framebufferWidth, state.framebufferHeight, x, y, ray)) return true;
-    const Positions& positions = state.session.positions();
-    const Triangles& triangles = state.session.triangles();
+    const Positions& positions = state.session.mesh().positions;
+    const Triangles& triangles = state.session.mesh().triangles;
     const SurfaceHit hit = intersectMesh(ray, positions, triangles);
     if (hit.triangle < 0) {
         setStatus(state, "Click on the mesh to place the lattice (Esc cancels).", true);

@@ -68,7 +68,7 @@ void drawLatticesPanel(AppState& state, FileCommands& files) {
     const int frozen = session.tools().frozen();
     const int count = static_cast<int>(tools.size());
     if (panel.selectedTool >= count) panel.selectedTool = count - 1;
-    const bool idle = !state.drag.active && session.hasMesh();
+    const bool idle = !state.drag.active && !session.mesh().empty();
     const float half = 0.5f * (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x);
 
     // The mesh's tools: name, shape, and which one is frozen (the cage).

@@ -241,16 +241,16 @@ void SculptApp::syncGpu() {
     if (session.refinement().topologyVersion() != uploadedTopology_) gpu.mesh = true;
     if (gpu.mesh) {
         // A new mesh is measured afresh; a refinement keeps the decision unless it made a small mesh big.
-        const int vertexCount = static_cast<int>(session.positions().rows());
+        const int vertexCount = static_cast<int>(session.mesh().positions.rows());
         if (freshMesh || !state_.deformationPath.decidedFor(vertexCount)) state_.deformationPath.reset(vertexCount);
     }
     // A drag's frames and the others (still, or the view moving) each take the path the chooser found faster.
     const DeformationPathChooser& chooser = state_.deformationPath;
     const bool dragging = state_.drag.active;
-    const bool wantGpu = gpuProblem.empty() && session.hasMesh() &&
+    const bool wantGpu = gpuProblem.empty() && !session.mesh().empty() &&
                          (dragging ? chooser.dragPath() : chooser.restPath()) == DeformationPath::Gpu;
     const auto allVertices = [&session] {
-        std::vector<int> all(static_cast<size_t>(session.positions().rows()));
+        std::vector<int> all(static_cast<size_t>(session.mesh().positions.rows()));
         std::iota(all.begin(), all.end(), 0);
         return all;
     };
@@ -260,19 +260,19 @@ void SculptApp::syncGpu() {
     // The rest mesh and its cells go up once per rest mesh; then only the control displacements.
     // Should it fail (it checks every value), the CPU path takes over for this mesh, with the reason shown.
     const auto enterGpuPath = [&] {
-        uploadedRest_ = session.restVersion();
-        if (Status s = renderer_.setGpuDeformation(session.lattice(), session.cage().embedding(), session.restPositions(), layers); !s) {
+        uploadedRest_ = session.mesh().restVersion;
+        if (Status s = renderer_.setGpuDeformation(session.lattice(), session.cage().embedding(), session.mesh().rest, layers); !s) {
             reportGpu(s);
             state_.deformationPath.force(DeformationPath::Cpu);
-            reportGpu(renderer_.gpuDeformationActive() ? renderer_.clearGpuDeformation(session.positions())
-                                                       : renderer_.updatePositions(session.positions(), allVertices()));
+            reportGpu(renderer_.gpuDeformationActive() ? renderer_.clearGpuDeformation(session.mesh().positions)
+                                                       : renderer_.updatePositions(session.mesh().positions, allVertices()));
         }
     };
     // The path changes (the chooser switched, the lattice became another kind): every vertex is redrawn.
     if (!gpu.mesh && wantGpu != renderer_.gpuDeformationActive()) gpu.allPositions = true;
     if (gpu.mesh) {
         uploadedTopology_ = session.refinement().topologyVersion();
-        reportGpu(renderer_.setMesh(session.positions(), session.triangles()));
+        reportGpu(renderer_.setMesh(session.mesh().positions, session.mesh().triangles));
         // The file's own colours (a scan's), carried through refinement; cleared by setMesh otherwise.
         if (const std::shared_ptr<const io::ObjMesh>& source = files_.document().mesh; source && renderer_.vertexCount() > 0)
             reportGpu(renderer_.setVertexColors(sessionVertexColors(*source, session)));
@@ -284,13 +284,13 @@ void SculptApp::syncGpu() {
     } else if (gpu.allPositions || !gpu.vertices.empty()) {
         if (wantGpu) {
             // A cage of another shape under the same rest mesh (which the update refuses) is set up afresh too.
-            if (!renderer_.gpuDeformationActive() || session.restVersion() != uploadedRest_ ||
+            if (!renderer_.gpuDeformationActive() || session.mesh().restVersion != uploadedRest_ ||
                 !renderer_.updateGpuDeformation(session.lattice(), layers))
                 enterGpuPath();
         } else if (renderer_.gpuDeformationActive()) {
-            reportGpu(renderer_.clearGpuDeformation(session.positions()));
+            reportGpu(renderer_.clearGpuDeformation(session.mesh().positions));
         } else {
-            reportGpu(renderer_.updatePositions(session.positions(), gpu.allPositions ? allVertices() : gpu.vertices));
+            reportGpu(renderer_.updatePositions(session.mesh().positions, gpu.allPositions ? allVertices() : gpu.vertices));
         }
         uploaded = positionsUploaded = true;
     }

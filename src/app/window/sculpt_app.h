@@ -187,7 +187,7 @@ private:
     FileCommands files_;
     render::Renderer renderer_;
     int uploadedTopology_ = -1;  // Session::refinement().topologyVersion() of the mesh last uploaded
-    std::uint64_t uploadedRest_ = 0;  // Session::restVersion() of the rest mesh on the GPU path
+    std::uint64_t uploadedRest_ = 0;  // Session::mesh().restVersion of the rest mesh on the GPU path
     // A frame the deformation-path chooser times (a drag frame: syncGpu to the end of the draw; a still frame: the
     // draw), and the path it took.
     bool measuringFrame_ = false, stillFrame_ = false;

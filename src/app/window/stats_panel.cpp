@@ -20,8 +20,8 @@ void drawStatsPanel(AppState& state) {
             ImGui::TableSetColumnIndex(1);
             ImGui::Text(format, values...);
         };
-        row("Vertices", "%d", static_cast<int>(session.positions().rows()));
-        row("Triangles", "%d", static_cast<int>(session.triangles().rows()));
+        row("Vertices", "%d", static_cast<int>(session.mesh().positions.rows()));
+        row("Triangles", "%d", static_cast<int>(session.mesh().triangles.rows()));
         // note: a frozen lattice of any shape has its own degrees per axis (the settings' are the box's); its kind
         // is in the Lattices panel.
         const core::TSplineVolume* tspline = core::asTSpline(lattice.volume.get());

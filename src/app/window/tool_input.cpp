@@ -34,7 +34,7 @@ bool surfaceParameters(const core::Session& session, const SurfaceHandle& handle
     params.setZero();
     for (int c = 0; c < 3; ++c) {
         Eigen::Vector3d corner;
-        if (!session.parametersOfVertex(session.triangles()(handle.triangle, c), corner)) return false;
+        if (!session.parametersOfVertex(session.mesh().triangles(handle.triangle, c), corner)) return false;
         params += handle.barycentric[c] * corner;
     }
     return true;
@@ -149,9 +149,9 @@ void setupLatticeCommand(AppState& state, const core::LatticeSettings& settings)
 void SculptApp::pressSculpt(const MouseButtonEvent& event) {
     core::Session& session = state_.session;
     ToolState& tools = state_.tools;
-    if (!session.hasMesh()) return;
+    if (session.mesh().empty()) return;
     const int width = state_.framebufferWidth, height = state_.framebufferHeight;
-    const int handle = handleAtPixel(tools, session.positions(), session.triangles(), state_.camera, width, height,
+    const int handle = handleAtPixel(tools, session.mesh().positions, session.mesh().triangles, state_.camera, width, height,
                                      event.x, event.y, pickRadius());
     const bool shift = event.modifiers.shift, control = event.modifiers.control || event.modifiers.super;
     if (handle >= 0 && (shift || control)) {
@@ -183,13 +183,13 @@ void SculptApp::pressSculpt(const MouseButtonEvent& event) {
     }
     Ray ray;
     if (!rayThroughPixel(state_.camera, width, height, event.x, event.y, ray)) return;
-    const SurfaceHit hit = intersectMesh(ray, session.positions(), session.triangles());
+    const SurfaceHit hit = intersectMesh(ray, session.mesh().positions, session.mesh().triangles);
     if (hit.triangle < 0) return;  // a click on the background does nothing
     if (tools.brush.kind != BrushTool::Kind::Drag) {
         // The hammer or crimp at the clicked triangle's corner nearest the hit.
         int corner = 0;
         hit.barycentric.maxCoeff(&corner);
-        weightToolCommand(state_, session.triangles()(hit.triangle, corner), brushForDrag(hit.point).radius, control);
+        weightToolCommand(state_, session.mesh().triangles(hit.triangle, corner), brushForDrag(hit.point).radius, control);
         return;
     }
     if (shift || control) {
@@ -222,13 +222,13 @@ void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, in
     std::vector<bool> held;
     // The grabbed point's brush: with a radius the drag is solved in a region lattice around it, so points
     // outside the cage can be grabbed too; without one, in the cage.
-    Eigen::Vector3d grabbedPoint = triangle >= 0 ? handlePosition(SurfaceHandle{triangle, barycentric, false}, session.positions(), session.triangles())
-                                                 : Eigen::Vector3d(handlePosition(tools.handles[static_cast<size_t>(grabbedHandle)], session.positions(), session.triangles()));
+    Eigen::Vector3d grabbedPoint = triangle >= 0 ? handlePosition(SurfaceHandle{triangle, barycentric, false}, session.mesh().positions, session.mesh().triangles)
+                                                 : Eigen::Vector3d(handlePosition(tools.handles[static_cast<size_t>(grabbedHandle)], session.mesh().positions, session.mesh().triangles));
     const core::BrushSettings brush = brushForDrag(grabbedPoint);
     // The constraint list: the grabbed surface point (if any) first, then every handle and pin; those not
     // moving with the cursor are held where they are (seed 000 Fig. 3-4: fixed points are constraints too).
     auto add = [&](const SurfaceHandle& h, bool moving, int handleIndex) {
-        const Eigen::Vector3d world = handlePosition(h, session.positions(), session.triangles());
+        const Eigen::Vector3d world = handlePosition(h, session.mesh().positions, session.mesh().triangles);
         Eigen::Vector3d t;
         if (!brush.active() && !surfaceParameters(session, h, world, t)) return false;
         if (moving) drag.moving.push_back(static_cast<int>(sources.size()));
@@ -247,7 +247,7 @@ void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, in
         }
         int corner = 0;
         barycentric.maxCoeff(&corner);
-        drag.pickedVertex = session.triangles()(triangle, corner);
+        drag.pickedVertex = session.mesh().triangles(triangle, corner);
     }
     for (size_t i = 0; i < tools.handles.size(); ++i) {
         const bool moving = std::find(movingHandles.begin(), movingHandles.end(), static_cast<int>(i)) != movingHandles.end();
@@ -378,7 +378,7 @@ void SculptApp::cancelSculpt() {
 
 void SculptApp::pressLattice(const MouseButtonEvent& event) {
     core::Session& session = state_.session;
-    if (!session.hasMesh()) return;
+    if (session.mesh().empty()) return;
     clampLatticeSelection(state_);
     LatticeSelection& selection = state_.tools.lattice;
     const Positions points = session.cage().cagePoints();
@@ -479,13 +479,13 @@ void SculptApp::updateHint(double x, double y) {
     const core::Session& session = state_.session;
     ToolState& tools = state_.tools;
     tools.lattice.hovered = -1;
-    if (!session.hasMesh() || state_.navigation != Navigation::None) {
+    if (session.mesh().empty() || state_.navigation != Navigation::None) {
         tools.hint.clear();
         return;
     }
     const int width = state_.framebufferWidth, height = state_.framebufferHeight;
     if (tools.mode == ToolMode::Sculpt) {
-        const int handle = handleAtPixel(tools, session.positions(), session.triangles(), state_.camera, width, height, x, y, pickRadius());
+        const int handle = handleAtPixel(tools, session.mesh().positions, session.mesh().triangles, state_.camera, width, height, x, y, pickRadius());
         if (handle >= 0 && tools.handles[static_cast<size_t>(handle)].pin)
             tools.hint = "Pin: holds its point. Ctrl+click: make it a handle. Shift+click: remove.";
         else if (handle >= 0)
@@ -589,7 +589,7 @@ render::ConstraintView SculptApp::constraintView() const {
     const core::Session& session = state_.session;
     const ToolState& tools = state_.tools;
     const DragState& drag = state_.drag;
-    if (!session.hasMesh()) return view;
+    if (session.mesh().empty()) return view;
     std::vector<Eigen::Vector3d> sources, targets, handles, pins;
     std::vector<bool> drawn(tools.handles.size(), false);
     // The brush circle: on the surface under the cursor, or around the grabbed point while dragging.
@@ -629,7 +629,7 @@ render::ConstraintView SculptApp::constraintView() const {
     }
     for (size_t i = 0; i < tools.handles.size(); ++i) {
         if (drawn[i]) continue;
-        const Eigen::Vector3d p = handlePosition(tools.handles[i], session.positions(), session.triangles());
+        const Eigen::Vector3d p = handlePosition(tools.handles[i], session.mesh().positions, session.mesh().triangles);
         (tools.handles[i].pin ? pins : handles).push_back(p);
     }
     auto toRows = [](const std::vector<Eigen::Vector3d>& points) {

@@ -174,7 +174,7 @@ void drawSetupSection(AppState& state) {
         if (ImGui::DragScalarN("Max", ImGuiDataType_Double, s.regionMax.data(), 3, speed, nullptr, nullptr, format.c_str(),
                                ImGuiSliderFlags_NoRoundToFormat))
             edited = true;
-        const Positions& positions = state.session.positions();
+        const Positions& positions = state.session.mesh().positions;
         if (ImGui::Button("Mesh bounds") && positions.rows() > 0) {
             s.regionMin = positions.colwise().minCoeff().transpose();
             s.regionMax = positions.colwise().maxCoeff().transpose();

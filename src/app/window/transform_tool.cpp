@@ -308,7 +308,7 @@ void applyTransform(AppState& state) {
 }  // namespace
 
 bool beginTransform(AppState& state, TransformKind kind, double cursorX, double cursorY) {
-    if (state.drag.active || state.transform.active || !state.session.hasMesh()) return false;
+    if (state.drag.active || state.transform.active || state.session.mesh().empty()) return false;
     clampLatticeSelection(state);
     const core::Lattice& lattice = state.session.lattice();
     std::vector<int> movable;

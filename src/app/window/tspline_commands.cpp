@@ -37,9 +37,9 @@ std::string cellsText(size_t count) { return std::to_string(count) + (count == 1
 }  // namespace
 
 bool meshRegion(const AppState& state, Eigen::Vector3d& min, Eigen::Vector3d& max) {
-    if (!state.session.hasMesh()) return false;
+    if (state.session.mesh().empty()) return false;
     Eigen::AlignedBox3d box;
-    if (!core::paddedPointBounds(state.session.positions(), core::TSplineOctreeSettings{}.padding, box)) return false;
+    if (!core::paddedPointBounds(state.session.mesh().positions, core::TSplineOctreeSettings{}.padding, box)) return false;
     min = box.min();
     max = box.max();
     return true;
@@ -132,7 +132,7 @@ void endChoosingCells(AppState& state) {
 
 bool chooseCellAtPixel(AppState& state, double x, double y) {
     TSplinePanelState& panel = state.tspline;
-    if (!panel.picking || !state.session.hasMesh()) return false;
+    if (!panel.picking || state.session.mesh().empty()) return false;
     validateChosenCells(state);
     const int target = tsplineTarget(state);
     const core::TSplineVolume* tspline = targetVolume(state, target);
@@ -144,7 +144,7 @@ bool chooseCellAtPixel(AppState& state, double x, double y) {
     Ray ray;
     if (!rayThroughPixel(state.camera, state.framebufferWidth, state.framebufferHeight, x, y, ray)) return true;
     const core::Session& session = state.session;
-    const SurfaceHit hit = intersectMesh(ray, session.positions(), session.triangles());
+    const SurfaceHit hit = intersectMesh(ray, session.mesh().positions, session.mesh().triangles);
     if (hit.triangle < 0) {
         setStatus(state, "Click on the mesh to choose the cell there (Esc ends).", true);
         return true;
@@ -155,7 +155,7 @@ bool chooseCellAtPixel(AppState& state, double x, double y) {
     if (target == session.tools().frozen()) {
         point.setZero();
         for (int corner = 0; corner < 3; ++corner)
-            point += hit.barycentric[corner] * session.restPositions().row(session.triangles()(hit.triangle, corner)).transpose();
+            point += hit.barycentric[corner] * session.mesh().rest.row(session.mesh().triangles(hit.triangle, corner)).transpose();
     }
     const int cell = core::cellAtRestPoint(*tspline, point);
     const std::string& name = session.tools().list()[static_cast<size_t>(target)].name;

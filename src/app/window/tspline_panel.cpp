@@ -24,7 +24,7 @@ void drawTSplineSection(AppState& state) {
         ImGui::SetTooltip("Weighted T-spline lattice (Song & Yang 2005): an octree lattice, fine near the mesh and\n"
                           "coarse elsewhere. Only the control points of cells holding the mesh are shown and move it.");
     if (!open) return;
-    const bool idle = !state.drag.active && state.session.hasMesh();
+    const bool idle = !state.drag.active && !state.session.mesh().empty();
     const float half = 0.5f * (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x);
 
     // ---- set-up (sec. 4) ----

@@ -27,7 +27,7 @@ void weightToolCommand(AppState& state, int vertex, double radius, bool invert) 
         if (state.session.tspline().bumpAt(tool, bump))
             for (size_t c = 0; c < bump.vertices.size(); ++c)
                 if (bump.vertices[c] == vertex) height = bump.heights[c];
-        const Eigen::Vector3d size = state.session.positions().colwise().maxCoeff() - state.session.positions().colwise().minCoeff();
+        const Eigen::Vector3d size = state.session.mesh().positions.colwise().maxCoeff() - state.session.mesh().positions.colwise().minCoeff();
         // note: a height below 1e-9 of the mesh's size is rounding (1e-21 on an untouched surface): shown as 0.
         if (std::abs(height) <= 1e-9 * size.norm()) height = 0.0;
         tool.hasHeight = true;

@@ -15,7 +15,7 @@ void CagePins::pinBoundaryIfPartial(Lattice& lattice, const Embedding& embedding
     // overlap test (lattice_boundary.h) tessellates tensor lattices only. A plain FFD (no test) pins nothing.
     const bool chunked = lattice.volume && !lattice.tensorNet();
     if (s_.injectivity_.mode == InjectivityMode::Off) return;
-    if (!lattice.volume || (!chunked && embedding.insideCount() == static_cast<int>(s_.positions_.rows()))) return;
+    if (!lattice.volume || (!chunked && embedding.insideCount() == static_cast<int>(s_.mesh_.positions.rows()))) return;
     for (int idx = 0; idx < lattice.controlPointCount(); ++idx)
         if (lattice.volume->onOuterSurface(idx)) lattice.pinned[idx] = 1;
 }
@@ -27,7 +27,7 @@ bool CagePins::basePinned(int idx) const {
 
 bool CagePins::pinnedAsPartialBoundary(int idx) const {
     return s_.injectivity_.mode != InjectivityMode::Off && s_.stack_.lattice_.volume && s_.stack_.lattice_.volume->onOuterSurface(idx) &&
-           (!s_.stack_.lattice_.tensorNet() || s_.stack_.embedding_.insideCount() < static_cast<int>(s_.positions_.rows()));
+           (!s_.stack_.lattice_.tensorNet() || s_.stack_.embedding_.insideCount() < static_cast<int>(s_.mesh_.positions.rows()));
 }
 
 std::vector<int> CagePins::weldGroupsOf(const std::vector<int>& ids) const {

@@ -48,9 +48,9 @@ public:
     // through the layers, then the cage, by Newton's method). Fails, naming the point, for one outside the cage
     // or one no point of the layers maps onto.
     Status parametersOfCurrentPoint(const Eigen::Vector3d& point, Eigen::Vector3d& params) const;
-    // Where the deformation puts a point of rest space (Session::restPositions()'s space): the cage's FFD
+    // Where the deformation puts a point of rest space (Session::mesh().rest's space): the cage's FFD
     // (X0 + sum R(t(X0)) delta inside its box, X0 outside), then the layers. A vertex v is at
-    // imageOfRestPoint(restPositions().row(v)) up to rounding.
+    // imageOfRestPoint(mesh().rest.row(v)) up to rounding.
     Eigen::Vector3d imageOfRestPoint(const Eigen::Vector3d& rest) const;
     // x carried through layers [first, end).
     Eigen::Vector3d pushThroughLayers(Eigen::Vector3d x, size_t first = 0) const;

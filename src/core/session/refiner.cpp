@@ -57,7 +57,7 @@ Status Refiner::refine(double tolerance, OpReport& report) {
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "refine";
-    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.mesh().empty()) return Status::error("no mesh is loaded");
     if (s_.drag_.active) return Status::error("an interactive drag is in progress");
     RefinementOptions options = s_.refinement_.settings.options;
     options.tolerance = tolerance;
@@ -76,7 +76,7 @@ Status Refiner::refine(double tolerance, OpReport& report) {
 }
 
 void Refiner::afterEdit(Operation& operation, OpReport* report) {
-    if (!s_.refinement_.settings.automatic || s_.triangles_.rows() == 0) return;
+    if (!s_.refinement_.settings.automatic || s_.mesh_.triangles.rows() == 0) return;
     OpReport refined;
     if (!refineNow(s_.refinement_.settings.options, operation.refinement, refined)) {
         // The edit stands; only a refused refinement is worth a word (nothing over the tolerance is normal).
@@ -93,10 +93,10 @@ void Refiner::afterEdit(Operation& operation, OpReport* report) {
 }
 
 bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& record, OpReport& report) {
-    const double diagonal = boundingDiagonal(s_.positions_);
+    const double diagonal = boundingDiagonal(s_.mesh_.positions);
     RefinementResult plan;
     const RestImage image = [this](const Eigen::Vector3d& rest) { return s_.stack_.imageOfRestPoint(rest); };
-    if (Status s = refineMesh(s_.rest_, s_.positions_, s_.triangles_, image, options, plan); !s) {
+    if (Status s = refineMesh(s_.mesh_.rest, s_.mesh_.positions, s_.mesh_.triangles, image, options, plan); !s) {
         report.status = OpStatus::Rejected;  // not expected: the arrays are the session's own
         report.reason = s.message;
         return false;
@@ -107,7 +107,7 @@ bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& reco
         report.reason = "every triangle is within the tolerance (largest deviation " + deviationText(plan.worstBefore, diagonal) + ")";
         return false;
     }
-    const Eigen::Index vertexCount = s_.positions_.rows(), triangleCount = s_.triangles_.rows();
+    const Eigen::Index vertexCount = s_.mesh_.positions.rows(), triangleCount = s_.mesh_.triangles.rows();
     record.tolerance = options.tolerance;
     record.splits = std::move(plan.splits);
     apply(record);
@@ -118,18 +118,18 @@ bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& reco
         const auto checkStart = Clock::now();
         std::vector<int> added;
         // A new vertex "before": on the flat triangles it split (the midpoint of its edge as the mesh showed it).
-        const auto flat = [&](int v) { return v < vertexCount ? s_.positions_.row(v) : s_.before_.row(v); };
-        for (Eigen::Index v = vertexCount; v < s_.positions_.rows(); ++v) {
+        const auto flat = [&](int v) { return v < vertexCount ? s_.mesh_.positions.row(v) : s_.before_.row(v); };
+        for (Eigen::Index v = vertexCount; v < s_.mesh_.positions.rows(); ++v) {
             const EdgeSplit& split = record.splits[static_cast<size_t>(v - vertexCount)];
             s_.before_.row(v) = 0.5 * (flat(split.a) + flat(split.b));
             added.push_back(static_cast<int>(v));
         }
-        const SelfIntersectionIndex::Result crossing = s_.meshIndex_.findNewIntersection(s_.positions_, s_.triangles_, added, s_.before_);
+        const SelfIntersectionIndex::Result crossing = s_.meshIndex_.findNewIntersection(s_.mesh_.positions, s_.mesh_.triangles, added, s_.before_);
         report.triangleCheckMs = millisecondsSince(checkStart);
         report.injectivityMs = report.triangleCheckMs;
         if (crossing.found) {
             Eigen::Vector3d where = Eigen::Vector3d::Zero();
-            for (int k = 0; k < 3; ++k) where += s_.positions_.row(s_.triangles_(crossing.pair.first, k)).transpose() / 3.0;
+            for (int k = 0; k < 3; ++k) where += s_.mesh_.positions.row(s_.mesh_.triangles(crossing.pair.first, k)).transpose() / 3.0;
             remove(record);
             record = RefinementRecord{};
             report.status = OpStatus::Rejected;
@@ -142,8 +142,8 @@ bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& reco
         }
     }
     report.status = OpStatus::Applied;
-    report.verticesAdded = static_cast<int>(s_.positions_.rows() - vertexCount);
-    report.trianglesAdded = static_cast<int>(s_.triangles_.rows() - triangleCount);
+    report.verticesAdded = static_cast<int>(s_.mesh_.positions.rows() - vertexCount);
+    report.trianglesAdded = static_cast<int>(s_.mesh_.triangles.rows() - triangleCount);
     report.verticesMoved = 0;
     if (!plan.converged)
         report.reason = "stopped at " + plan.stopped + " with " + std::to_string(plan.trianglesOver) +
@@ -152,24 +152,24 @@ bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& reco
 }
 
 void Refiner::apply(RefinementRecord& record) {
-    const Eigen::Index first = s_.rest_.rows();
+    const Eigen::Index first = s_.mesh_.rest.rows();
     const Eigen::Index count = first + static_cast<Eigen::Index>(record.splits.size());
-    [[maybe_unused]] const Status split = applyEdgeSplits(s_.triangles_, static_cast<int>(first), record.splits, &record.halvings);
+    [[maybe_unused]] const Status split = applyEdgeSplits(s_.mesh_.triangles, static_cast<int>(first), record.splits, &record.halvings);
     assert(split.ok);  // planned here, or checked by checkRecordedRefinement
-    appendSplitMidpoints(s_.rest_, record.splits);
-    s_.positions_.conservativeResize(count, 3);
+    appendSplitMidpoints(s_.mesh_.rest, record.splits);
+    s_.mesh_.positions.conservativeResize(count, 3);
     const bool layered = !s_.stack_.layers_.empty();
     if (layered) s_.stack_.cageOut_.conservativeResize(count, 3);
     const int added = static_cast<int>(count - first);
 #pragma omp parallel for schedule(dynamic, 64) if (added > 256)
     for (int k = 0; k < added; ++k) {
         const Eigen::Index v = first + k;
-        const Eigen::Vector3d rest = s_.rest_.row(v).transpose();
+        const Eigen::Vector3d rest = s_.mesh_.rest.row(v).transpose();
         Eigen::Vector3d params;
         Eigen::Vector3d cage = rest;
         if (restParameters(s_.stack_.lattice_, rest, params)) cage = rest + displacementAt(s_.stack_.lattice_, params);  // as imageOfRestPoint
         if (layered) s_.stack_.cageOut_.row(v) = cage.transpose();
-        s_.positions_.row(v) = (layered ? s_.stack_.pushThroughLayers(cage) : cage).transpose();
+        s_.mesh_.positions.row(v) = (layered ? s_.stack_.pushThroughLayers(cage) : cage).transpose();
     }
     if (s_.trackJacobian_) {
         // note: the frozen frames' det J at a new vertex would need its preimage through each frame; det J is
@@ -191,11 +191,11 @@ void Refiner::apply(RefinementRecord& record) {
 
 void Refiner::remove(const RefinementRecord& record) {
     if (record.empty()) return;
-    const Eigen::Index count = s_.rest_.rows() - static_cast<Eigen::Index>(record.splits.size());
+    const Eigen::Index count = s_.mesh_.rest.rows() - static_cast<Eigen::Index>(record.splits.size());
     assert(count >= 0);
-    revertEdgeSplits(s_.triangles_, record.halvings);
-    s_.rest_.conservativeResize(count, 3);
-    s_.positions_.conservativeResize(count, 3);
+    revertEdgeSplits(s_.mesh_.triangles, record.halvings);
+    s_.mesh_.rest.conservativeResize(count, 3);
+    s_.mesh_.positions.conservativeResize(count, 3);
     if (s_.stack_.cageOut_.rows() > 0) s_.stack_.cageOut_.conservativeResize(count, 3);
     if (s_.trackJacobian_) s_.frozenJacobian_.resize(static_cast<size_t>(count));
     if (!s_.loadContacts_.empty()) s_.loadContacts_.zoneVertex.resize(static_cast<size_t>(count));
@@ -205,12 +205,12 @@ void Refiner::remove(const RefinementRecord& record) {
 void Refiner::finishTopologyChange(Eigen::Index count) {
     s_.before_.conservativeResize(count, 3);
     if (s_.stack_.beforeCage_.rows() > 0) s_.stack_.beforeCage_.conservativeResize(count, 3);
-    embedVertices(s_.stack_.lattice_, s_.rest_, s_.stack_.embedding_);
-    ++s_.restVersion_;
-    s_.meshIndex_.build(s_.positions_, s_.triangles_);
-    if (!s_.loadContacts_.empty()) s_.meshIndex_.setLoadContacts(s_.loadContacts_, s_.triangles_);
-    s_.lastMoved_.clear();
-    s_.lastMovedAll_ = true;
+    embedVertices(s_.stack_.lattice_, s_.mesh_.rest, s_.stack_.embedding_);
+    ++s_.mesh_.restVersion;
+    s_.meshIndex_.build(s_.mesh_.positions, s_.mesh_.triangles);
+    if (!s_.loadContacts_.empty()) s_.meshIndex_.setLoadContacts(s_.loadContacts_, s_.mesh_.triangles);
+    s_.lastMoved_.vertices.clear();
+    s_.lastMoved_.all = true;
     ++s_.refinement_.topologyVersion;
 }
 
@@ -231,8 +231,8 @@ Status Refiner::checkRecorded(const Operation& operation, bool cancelled) const 
         return Status::success();
     }
     if (cancelled) return Status::error("a drag that was taken back has no refinement");
-    Triangles triangles = s_.triangles_;
-    if (Status s = applyEdgeSplits(triangles, static_cast<int>(s_.rest_.rows()), operation.refinement.splits); !s)
+    Triangles triangles = s_.mesh_.triangles;
+    if (Status s = applyEdgeSplits(triangles, static_cast<int>(s_.mesh_.rest.rows()), operation.refinement.splits); !s)
         return Status::error("the recorded refinement does not fit this mesh: " + s.message);
     return Status::success();
 }

@@ -43,9 +43,9 @@ public:
     Status set(const RefinementSettings& settings);
     const RefinementSettings& settings() const;
     // The splits of the applied history entries, in order: the mesh as set, split by these (applyEdgeSplits),
-    // is Session::triangles(). What a writer needs to carry per-corner data (texture coordinates) over.
+    // is Session::mesh().triangles. What a writer needs to carry per-corner data (texture coordinates) over.
     std::vector<EdgeSplit> appliedSplits() const;
-    // Changes whenever Session::triangles() does (a refinement applied or taken back): a view re-uploads the
+    // Changes whenever Session::mesh().triangles does (a refinement applied or taken back): a view re-uploads the
     // mesh.
     int topologyVersion() const;
 

@@ -168,17 +168,17 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     Lattice lattice;
     if (Status s = makeLattice(settings, positions, lattice); !s) return s;
     drag_.active = false;
-    original_ = positions;
-    rest_ = positions;
-    positions_ = positions;
-    triangles_ = triangles;
+    mesh_.original = positions;
+    mesh_.rest = positions;
+    mesh_.positions = positions;
+    mesh_.triangles = triangles;
     stack_.settings_ = settings;
     stack_.initialSettings_ = settings;
     stack_.initialBoxMin_ = lattice.boxMin;
     stack_.initialBoxMax_ = lattice.boxMax;
     stack_.lattice_ = std::move(lattice);
-    embedVertices(stack_.lattice_, rest_, stack_.embedding_);
-    ++restVersion_;
+    embedVertices(stack_.lattice_, mesh_.rest, stack_.embedding_);
+    ++mesh_.restVersion;
     stack_.frames_.clear();
     stack_.layers_.clear();
     stack_.cageOut_.resize(0, 3);
@@ -187,43 +187,43 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
         const Eigen::Vector3d lo = positions.colwise().minCoeff().transpose(), hi = positions.colwise().maxCoeff().transpose();
         asSet_.symmetryCentre = 0.5 * (lo + hi);
     }
-    if (trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(rest_.rows()), 1.0);
+    if (trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(mesh_.rest.rows()), 1.0);
     // The triangle check's index, and the pairs that already cross (they never count against an edit).
-    meshIndex_.build(positions_, triangles_);
+    meshIndex_.build(mesh_.positions, mesh_.triangles);
     {
         // Zero-area facets (common in STL files) touch their neighbours in ways that read as crossings: they are
         // counted apart, and pairs that hold one are not counted as crossings.
-        std::vector<char> degenerate(static_cast<size_t>(triangles_.rows()), 0);
+        std::vector<char> degenerate(static_cast<size_t>(mesh_.triangles.rows()), 0);
         int degenerateCount = 0;
 #pragma omp parallel for schedule(static) reduction(+ : degenerateCount)
-        for (Eigen::Index t = 0; t < triangles_.rows(); ++t) {
+        for (Eigen::Index t = 0; t < mesh_.triangles.rows(); ++t) {
             TriangleCorners corners;
-            for (int k = 0; k < 3; ++k) corners.point[static_cast<size_t>(k)] = positions_.row(triangles_(t, k)).transpose();
+            for (int k = 0; k < 3; ++k) corners.point[static_cast<size_t>(k)] = mesh_.positions.row(mesh_.triangles(t, k)).transpose();
             degenerate[static_cast<size_t>(t)] = triangleDegenerate(corners);
             degenerateCount += degenerate[static_cast<size_t>(t)];
         }
         asSet_.degenerateTriangles = degenerateCount;
         asSet_.intersectingPairs = 0;
-        const std::vector<TrianglePairHit> initial = meshIndex_.allIntersections(positions_, triangles_);
+        const std::vector<TrianglePairHit> initial = meshIndex_.allIntersections(mesh_.positions, mesh_.triangles);
         for (const TrianglePairHit& hit : initial)
             asSet_.intersectingPairs += !degenerate[static_cast<size_t>(hit.first)] && !degenerate[static_cast<size_t>(hit.second)];
         // Parts touching at load (an assembly's): their contact may shift as they move (self_intersection.h).
-        loadContacts_ = meshIndex_.findLoadContacts(initial, triangles_);
-        meshIndex_.setLoadContacts(loadContacts_, triangles_);
+        loadContacts_ = meshIndex_.findLoadContacts(initial, mesh_.triangles);
+        meshIndex_.setLoadContacts(loadContacts_, mesh_.triangles);
     }
-    before_.resize(positions_.rows(), 3);
+    before_.resize(mesh_.positions.rows(), 3);
     history_.clear();
-    asSet_.fingerprint = fingerprint(original_, triangles_);
-    lastMoved_.clear();
-    lastMovedAll_ = true;
+    asSet_.fingerprint = fingerprint(mesh_.original, mesh_.triangles);
+    lastMoved_.vertices.clear();
+    lastMoved_.all = true;
     return Status::success();
 }
 
 Status Session::parametersOfVertex(int vertex, Eigen::Vector3d& params) const {
-    if (vertex < 0 || vertex >= rest_.rows())
+    if (vertex < 0 || vertex >= mesh_.rest.rows())
         return Status::error("vertex index " + std::to_string(vertex) + " is out of range (mesh has " +
-                             std::to_string(rest_.rows()) + " vertices)");
-    if (!restParameters(stack_.lattice_, rest_.row(vertex).transpose(), params))
+                             std::to_string(mesh_.rest.rows()) + " vertices)");
+    if (!restParameters(stack_.lattice_, mesh_.rest.row(vertex).transpose(), params))
         return Status::error("vertex " + std::to_string(vertex) + " lies outside the lattice region");
     return Status::success();
 }
@@ -270,7 +270,7 @@ Status Session::checkBrush(const BrushSettings& brush) const {
     if (Status s = validateBrush(brush); !s) return s;
     // A radius beyond all scale of the mesh makes the region lattice's numbers overflow: name it, with the size
     // that covers everything (the whole mesh is within a radius of its diagonal).
-    const double diagonal = (positions_.colwise().maxCoeff() - positions_.colwise().minCoeff()).norm();
+    const double diagonal = (mesh_.positions.colwise().maxCoeff() - mesh_.positions.colwise().minCoeff()).norm();
     if (brush.active() && brush.radius > 1000.0 * std::max(diagonal, 1e-300)) {
         char text[160];
         std::snprintf(text, sizeof text, "brush radius %g is far larger than the mesh (diagonal %g): use at most %g, which already reaches every vertex",
@@ -284,7 +284,7 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "drag";
-    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (mesh_.empty()) return Status::error("no mesh is loaded");
     if (drag_.active) return Status::error("an interactive drag is in progress");
     if (constraints.empty()) return Status::error("drag has no constraints");
     if (Status s = checkBrush(brush); !s) return s;
@@ -438,10 +438,10 @@ std::string Session::unreachableDragCause(const Manipulation& m) const {
 Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& report, const BrushSettings& brush) {
     report = OpReport{};
     report.op = "drag_vertex";
-    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (mesh_.empty()) return Status::error("no mesh is loaded");
     if (!target.allFinite()) return Status::error("drag_vertex target has non-finite coordinates");
-    if (vertex < 0 || vertex >= positions_.rows())
-        return Status::error("vertex index " + std::to_string(vertex) + " is out of range (mesh has " + std::to_string(positions_.rows()) +
+    if (vertex < 0 || vertex >= mesh_.positions.rows())
+        return Status::error("vertex index " + std::to_string(vertex) + " is out of range (mesh has " + std::to_string(mesh_.positions.rows()) +
                              " vertices)");
     Eigen::Vector3d params;
     if (!brush.active() && !parametersOfVertex(vertex, params)) {
@@ -452,7 +452,7 @@ Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& 
         return Status::success();
     }
     Eigen::Vector3d current;
-    if (!brush.active() && !stack_.parametersOfCurrentPoint(positions_.row(vertex).transpose(), current)) {
+    if (!brush.active() && !stack_.parametersOfCurrentPoint(mesh_.positions.row(vertex).transpose(), current)) {
         // The layers after the cage carry it where Newton's method finds no cage point for it (a mesh vertex, so
         // not the user's mistake): refused, nothing changed.
         report.status = OpStatus::Rejected;
@@ -461,7 +461,7 @@ Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& 
                         "nothing was changed (set up a fresh lattice around the mesh, or use the brush)";
         return Status::success();
     }
-    const Status status = drag({PointConstraint{positions_.row(vertex).transpose(), target}}, report, brush);
+    const Status status = drag({PointConstraint{mesh_.positions.row(vertex).transpose(), target}}, report, brush);
     report.op = "drag_vertex";
     return status;
 }
@@ -489,7 +489,7 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "move_control_point";
-    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (mesh_.empty()) return Status::error("no mesh is loaded");
     if (drag_.active) return Status::error("an interactive drag is in progress");
     if (indices.empty()) return Status::error("no control point given");
     if (static_cast<Eigen::Index>(indices.size()) != values.rows())
@@ -584,8 +584,8 @@ Status Session::moveControlPoints(const std::vector<int>& indices, const Eigen::
     std::vector<int> moved;
     StepFailure failure;
     const double fraction = applyLargestInjectiveFraction(delta, &moved, failure, report.injectivityMs, report.triangleCheckMs);
-    lastMoved_.clear();
-    lastMovedAll_ = false;
+    lastMoved_.vertices.clear();
+    lastMoved_.all = false;
     report.fractionApplied = fraction;
     if (fraction == 0.0) {
         report.status = OpStatus::Rejected;
@@ -619,10 +619,10 @@ Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) 
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "setup_lattice";
-    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (mesh_.empty()) return Status::error("no mesh is loaded");
     if (drag_.active) return Status::error("an interactive drag is in progress");
     Eigen::Vector3d lo, hi;
-    if (Status s = latticeBox(settings, positions_, lo, hi); !s) return s;
+    if (Status s = latticeBox(settings, mesh_.positions, lo, hi); !s) return s;
     Operation operation;
     operation.kind = OperationKind::LatticeSetup;
     const std::array<int, 3> counts = latticeCounts(settings);
@@ -635,7 +635,7 @@ Status Session::setupLattice(const LatticeSettings& settings, OpReport& report) 
     enterNewCage(settings, &step);
     operation.steps.push_back(std::move(step));
     pushOperation(std::move(operation));
-    lastMoved_.clear();
+    lastMoved_.vertices.clear();
     report.status = OpStatus::Applied;
     report.subSteps = 1;
     report.injectivity = "injective";

@@ -55,6 +55,27 @@
 #include "core/tspline/tspline_volume.h"
 
 namespace sculpt::core {
+
+// A session's mesh (Session::mesh()). Rows are vertices, in world units.
+struct SessionMesh {
+    Positions original;   // as setMesh was given it (its fingerprint is meshAsSet().fingerprint)
+    Positions rest;       // #V x 3: X0, what the cage deforms (design.md: x = X0 + sum R delta)
+    Positions positions;  // #V x 3: x, as shown: the rest positions through the cage and its layers
+    Triangles triangles;  // #F x 3 vertex indices
+    // Changes whenever `rest` or its embedding in the cage change (a mesh set, a lattice set up, a frame
+    // entered or left, a refinement, a weight edit that moves the rest surface): a view that deforms the rest
+    // mesh itself (the renderer's GPU path) uploads it again. Within one session only: compare it together
+    // with the session's identity.
+    std::uint64_t restVersion = 0;
+    bool empty() const { return rest.rows() == 0; }  // no mesh is set
+};
+
+// The vertices whose position the last command changed (for sparse normal and buffer updates).
+struct MovedVertices {
+    std::vector<int> vertices;
+    bool all = false;  // every vertex may have changed (a frame was entered or left), listed or not
+};
+
 class Session {
 public:
     // Replaces the mesh (rest = current positions) and embeds it in a new lattice with `settings`; clears
@@ -135,11 +156,8 @@ public:
     // Lattice parameters of a vertex (from its rest position: exact). Fails if the vertex is outside the box.
     Status parametersOfVertex(int vertex, Eigen::Vector3d& params) const;
 
-    bool hasMesh() const { return rest_.rows() > 0; }
-    const Positions& positions() const { return positions_; }
-    const Positions& restPositions() const { return rest_; }
-    const Positions& originalPositions() const { return original_; }
-    const Triangles& triangles() const { return triangles_; }
+    // The mesh: where its vertices are now, at rest and as set, its triangles, the rest data's version.
+    const SessionMesh& mesh() const { return mesh_; }
     const Lattice& lattice() const { return stack_.lattice(); }  // the cage (cage().lattice())
     // The cage, its layers and frozen frames, and the composition through them (lattice_stack.h).
     const LatticeStack& cage() const { return stack_; }
@@ -151,10 +169,8 @@ public:
     const MeshAsSet& meshAsSet() const { return asSet_; }
     // Bytes held by the history (operations and frozen frames), not counting the mesh itself.
     size_t historyBytes() const;
-    // Vertices whose position the last command changed (for sparse normal and buffer updates); when
-    // lastMovedAll() is true every vertex may have changed (a frame was entered or left).
-    const std::vector<int>& lastMovedVertices() const { return lastMoved_; }
-    bool lastMovedAll() const { return lastMovedAll_; }
+    // The vertices whose position the last command changed (for sparse normal and buffer updates).
+    const MovedVertices& lastMoved() const { return lastMoved_; }
 
 private:
     // A brush a drag may use: validateBrush, and a radius within 1000 x the mesh's diagonal (the error names the
@@ -186,7 +202,7 @@ private:
     };
 
     // Reports an operation applied in one step that moved the vertices `moved` (in any order, repeats allowed):
-    // they become lastMoved_, and the report says applied, injective (or not checked), 1 step, their count.
+    // they become lastMoved_.vertices, and the report says applied, injective (or not checked), 1 step, their count.
     void reportSingleStep(std::vector<int> moved, OpReport& report);
     // The injectivity test (Gain & Dodgson 2001) of `cells` of `lattice` in the session's mode: true when
     // certified, the checks are off, or `cells` is empty; else `failure` names the cell (a tensor net's [i,j,k],
@@ -210,8 +226,8 @@ private:
     // The index of the triangle check learns which vertices moved (nullptr: all of them).
     void positionsChanged(const std::vector<int>* vertices);
     // What the active lattice's evaluation writes: the cage's output under layers, else the positions.
-    Positions& activeOutput() { return stack_.cageUnderLayers() ? stack_.cageOut_ : positions_; }
-    // positions_[v] = cageOut_[v] carried through every layer, for the listed vertices.
+    Positions& activeOutput() { return stack_.cageUnderLayers() ? stack_.cageOut_ : mesh_.positions; }
+    // mesh_.positions[v] = cageOut_[v] carried through every layer, for the listed vertices.
     void refreshLayerOutput(const std::vector<int>& vertices);
     // Puts a new layer after the others and makes it active: a recorded one (redo, replay, or a brush region
     // placed by applyBrushPulls), or a fresh regular lattice with the cage's settings around the mesh the active
@@ -265,10 +281,10 @@ private:
     // Adds sign * delta to the lattice and re-evaluates the affected cells; moved vertices are appended.
     void applyDelta(const ControlDelta& delta, double sign, std::vector<int>* moved);
     void pushOperation(Operation operation);
-    // Undoes the steps last to first (their inverse manipulations), appending what moved to lastMoved_. A run of
+    // Undoes the steps last to first (their inverse manipulations), appending what moved to lastMoved_.vertices. A run of
     // fresh-frame steps (an adaptive subdivision's sub-steps, one layer each) is popped at once (popLayers).
     void undoSteps(const std::vector<Step>& steps);
-    // The same, after clearing lastMoved_.
+    // The same, after clearing lastMoved_.vertices.
     void revertSteps(const std::vector<Step>& steps);
     // An operation's steps and its tool / frozen-tool change, forwards (redo) or backwards (undo); a group's
     // parts in order (reverse order backwards). Refinements are not touched.
@@ -276,19 +292,17 @@ private:
     void redoOperationBody(const Operation& operation);
     // How many vertices the last command moved (all of them when a frame was entered or left).
     int movedCount() const;
-    // lastMoved_ = the vertices whose rows differ from `before` (undo, redo).
+    // lastMoved_.vertices = the vertices whose rows differ from `before` (undo, redo).
     void countChangedVertices(const Positions& before);
     void redoStep(const Step& step);
 
-    Positions original_, rest_, positions_;
-    Triangles triangles_;
+    SessionMesh mesh_;  // mesh()
     InjectivitySettings injectivity_;
     Snapshot scratch_;
     IncrementScratch increment_;
     MeshAsSet asSet_;  // meshAsSet()
     History history_;  // the operations and the journal (history.h)
-    std::vector<int> lastMoved_;
-    bool lastMovedAll_ = false;
+    MovedVertices lastMoved_;  // lastMoved()
     bool trackJacobian_ = false;
     std::vector<double> frozenJacobian_;  // #V, product of the frozen frames' det J (when tracking)
     SelfIntersectionIndex meshIndex_;     // broad phase of the triangle check, refitted where vertices move
@@ -311,14 +325,8 @@ public:
     // the splits applied, the topology's version.
     Refiner refinement() { return Refiner(*this); }
     const Refiner refinement() const { return Refiner(const_cast<Session&>(*this)); }
-    // Changes whenever restPositions() or their embedding in the cage change (a mesh set, a lattice set up, a
-    // frame entered or left, a refinement, a weight edit that moves the rest surface): a view that deforms the
-    // rest mesh itself (the renderer's GPU path) uploads it again. Within one session only: compare it
-    // together with the session's identity.
-    std::uint64_t restVersion() const { return restVersion_; }
 
 private:
-    std::uint64_t restVersion_ = 0;
     Refiner::State refinement_;  // refiner.h
     LatticeStack stack_;         // the cage, its layers and frames (lattice_stack.h)
     friend class Refiner;

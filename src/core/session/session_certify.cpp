@@ -39,8 +39,8 @@ std::string shortVectorText(const Eigen::Vector3d& v) {
 void Session::reportSingleStep(std::vector<int> moved, OpReport& report) {
     std::sort(moved.begin(), moved.end());
     moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
-    lastMoved_ = std::move(moved);
-    lastMovedAll_ = false;
+    lastMoved_.vertices = std::move(moved);
+    lastMoved_.all = false;
     report.status = OpStatus::Applied;
     report.injectivity = injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
     report.subSteps = 1;
@@ -88,7 +88,7 @@ bool Session::certifyCells(const Lattice& lattice, const std::vector<int>& cells
 }
 
 bool Session::noNewCrossing(const std::vector<int>& changed, StepFailure& failure, double& injectivityMs, double& triangleMs) {
-    const SelfIntersectionIndex::Result crossing = meshIndex_.findNewIntersection(positions_, triangles_, changed, before_);
+    const SelfIntersectionIndex::Result crossing = meshIndex_.findNewIntersection(mesh_.positions, mesh_.triangles, changed, before_);
     injectivityMs += crossing.milliseconds;  // all checks, the triangle check included
     triangleMs += crossing.milliseconds;
     if (!crossing.found) return true;
@@ -105,7 +105,7 @@ bool Session::noNewCrossing(const std::vector<int>& changed, StepFailure& failur
         failure.parts += " (of the mesh's " + std::to_string(meshIndex_.partCount()) + " parts)";
     }
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) centroid += before_.row(triangles_(crossing.pair.first, k)).transpose();  // where it is now
+    for (int k = 0; k < 3; ++k) centroid += before_.row(mesh_.triangles(crossing.pair.first, k)).transpose();  // where it is now
     failure.where = centroid / 3.0;
     return false;
 }
@@ -170,7 +170,7 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
 
     // The mesh: evaluate the vertices of the cells reached, keeping their rows as they were where the triangle
     // check or a probe needs them.
-    const bool checkTriangles = checking && injectivity_.checkTriangles && triangles_.rows() > 0;
+    const bool checkTriangles = checking && injectivity_.checkTriangles && mesh_.triangles.rows() > 0;
     std::vector<int> changed;
     if (!checkTriangles && keep) {
         const size_t first = moved ? moved->size() : 0;
@@ -182,9 +182,9 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
     }
     for (int cell : cells)
         changed.insert(changed.end(), embedding.order.begin() + embedding.cellStart[cell], embedding.order.begin() + embedding.cellStart[cell + 1]);
-    for (int v : changed) before_.row(v) = positions_.row(v);
+    for (int v : changed) before_.row(v) = mesh_.positions.row(v);
     if (layered) {
-        if (stack_.beforeCage_.rows() != positions_.rows()) stack_.beforeCage_.resize(positions_.rows(), 3);
+        if (stack_.beforeCage_.rows() != mesh_.positions.rows()) stack_.beforeCage_.resize(mesh_.positions.rows(), 3);
         for (int v : changed) stack_.beforeCage_.row(v) = stack_.cageOut_.row(v);
     }
     evaluateIncrement(lattice, embedding, delta.indices, delta.deltas, 1.0, output, increment_, nullptr);
@@ -198,7 +198,7 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
     }
     if (refused || !keep) {
         restoreLattice();
-        for (int v : changed) positions_.row(v) = before_.row(v);
+        for (int v : changed) mesh_.positions.row(v) = before_.row(v);
         if (layered)
             for (int v : changed) stack_.cageOut_.row(v) = stack_.beforeCage_.row(v);
         positionsChanged(&changed);

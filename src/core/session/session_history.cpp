@@ -54,51 +54,51 @@ void Session::undoSteps(const std::vector<Step>& steps) {
         if (isLayer(step)) {
             size_t run = 1;  // steps[i - run + 1 .. i] are layers, popped together (not across another bake)
             while (run <= i && isLayer(steps[i - run]) && !steps[i - run].baked) ++run;
-            popLayers(run, &lastMoved_);
+            popLayers(run, &lastMoved_.vertices);
             i -= run - 1;
             continue;
         }
         stack_.layerActive_ = false;
         if (!step.weights.empty()) {  // a weight change (and the displacement with it) in the cage
-            tspline().revertStep(step, &lastMoved_);
+            tspline().revertStep(step, &lastMoved_.vertices);
             continue;
         }
-        applyDelta(step.delta, -1.0, &lastMoved_);  // the inverse manipulation in the cage (omega(S, -rho))
+        applyDelta(step.delta, -1.0, &lastMoved_.vertices);  // the inverse manipulation in the cage (omega(S, -rho))
         if (step.newCage) leaveCage();              // inverse of the frozen cage's injective FFD
     }
 }
 
 void Session::revertSteps(const std::vector<Step>& steps) {
-    lastMoved_.clear();
-    lastMovedAll_ = false;
+    lastMoved_.vertices.clear();
+    lastMoved_.all = false;
     undoSteps(steps);
 }
 
 void Session::countChangedVertices(const Positions& before) {
     // The vertices whose positions differ (a refinement's added or removed vertices count as changed), so undo
     // and redo of one operation report the same count, never more than the mesh has.
-    if (lastMovedAll_) return;
-    const Eigen::Index common = std::min(before.rows(), positions_.rows());
-    lastMoved_.clear();
+    if (lastMoved_.all) return;
+    const Eigen::Index common = std::min(before.rows(), mesh_.positions.rows());
+    lastMoved_.vertices.clear();
     for (Eigen::Index v = 0; v < common; ++v)
-        if (positions_.row(v) != before.row(v)) lastMoved_.push_back(static_cast<int>(v));
-    for (Eigen::Index v = common; v < positions_.rows(); ++v) lastMoved_.push_back(static_cast<int>(v));
+        if (mesh_.positions.row(v) != before.row(v)) lastMoved_.vertices.push_back(static_cast<int>(v));
+    for (Eigen::Index v = common; v < mesh_.positions.rows(); ++v) lastMoved_.vertices.push_back(static_cast<int>(v));
 }
 
 int Session::movedCount() const {
-    return lastMovedAll_ ? static_cast<int>(positions_.rows()) : static_cast<int>(lastMoved_.size());
+    return lastMoved_.all ? static_cast<int>(mesh_.positions.rows()) : static_cast<int>(lastMoved_.vertices.size());
 }
 
 void Session::redoStep(const Step& step) {
     if (!step.weights.empty()) {
         stack_.layerActive_ = false;
-        tspline().applyStep(step, &lastMoved_);
+        tspline().applyStep(step, &lastMoved_.vertices);
         return;
     }
     if (step.newCage) enterNewCage(step.settings, nullptr, &step);
     else if (step.freshFrame) enterLayer(nullptr, nullptr, &step);
     else stack_.layerActive_ = false;  // a step without a lattice of its own is in the cage
-    applyDelta(step.delta, 1.0, &lastMoved_);
+    applyDelta(step.delta, 1.0, &lastMoved_.vertices);
 }
 
 void Session::bakeAfter(const Step& step) {
@@ -226,9 +226,9 @@ Status Session::undo(OpReport& report) {
         return Status::success();
     }
     const Operation& operation = history_.stepBack();
-    lastMoved_.clear();
-    lastMovedAll_ = false;
-    const Positions before = positions_;  // to count what changed (not kept: the history holds no mesh)
+    lastMoved_.vertices.clear();
+    lastMoved_.all = false;
+    const Positions before = mesh_.positions;  // to count what changed (not kept: the history holds no mesh)
     undoOperationBody(operation);
     refinement().remove(operation.refinement);
     countChangedVertices(before);
@@ -253,9 +253,9 @@ Status Session::redo(OpReport& report) {
         return Status::success();
     }
     const Operation& operation = history_.stepForward();
-    lastMoved_.clear();
-    lastMovedAll_ = false;
-    const Positions before = positions_;
+    lastMoved_.vertices.clear();
+    lastMoved_.all = false;
+    const Positions before = mesh_.positions;
     redoOperationBody(operation);
     refinement().reapply(history_.entry(history_.cursor() - 1));  // fills the record's halvings again
     bakeLastStep(operation);
@@ -273,7 +273,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     const auto start = Clock::now();
     report = OpReport{};
     report.op = "replay";
-    if (!hasMesh()) return Status::error("no mesh is loaded");
+    if (mesh_.empty()) return Status::error("no mesh is loaded");
     if (drag_.active) return Status::error("an interactive drag is in progress");
     if (operation.steps.empty() && operation.kind != OperationKind::Refine) return Status::error("the recorded operation has no steps");
     if (Status s = refinement().checkRecorded(operation, cancelled); !s) return s;
@@ -304,8 +304,8 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
         if (!step.weights.empty())
             if (Status s = tspline().checkRecordedWeights(step.weights); !s) return Status::error("step " + std::to_string(k) + ": " + s.message);
     }
-    lastMoved_.clear();
-    lastMovedAll_ = false;
+    lastMoved_.vertices.clear();
+    lastMoved_.all = false;
     for (size_t k = 0; k < operation.steps.size(); ++k) {
         redoStep(operation.steps[k]);
         if (k + 1 < operation.steps.size() && !cancelled) bakeAfter(operation.steps[k]);

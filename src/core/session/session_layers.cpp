@@ -31,7 +31,7 @@ void Session::refreshLayerOutput(const std::vector<int>& vertices) {
 #pragma omp parallel for schedule(static) if (count > 4096)
     for (int c = 0; c < count; ++c) {
         const int v = vertices[static_cast<size_t>(c)];
-        positions_.row(v) = stack_.pushThroughLayers(stack_.cageOut_.row(v).transpose()).transpose();
+        mesh_.positions.row(v) = stack_.pushThroughLayers(stack_.cageOut_.row(v).transpose()).transpose();
     }
 }
 
@@ -62,8 +62,8 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
         if (embedding.insideCount() > 0) {
             Eigen::Vector3d boundsLo = Eigen::Vector3d::Constant(INFINITY), boundsHi = Eigen::Vector3d::Constant(-INFINITY);
             for (int v : embedding.order) {
-                boundsLo = boundsLo.cwiseMin(positions_.row(v).transpose());
-                boundsHi = boundsHi.cwiseMax(positions_.row(v).transpose());
+                boundsLo = boundsLo.cwiseMin(mesh_.positions.row(v).transpose());
+                boundsHi = boundsHi.cwiseMax(mesh_.positions.row(v).transpose());
             }
             // note: a fixed margin, not the cage's padding: a recording replays the cage in its exact box with
             // padding 0, and the layers must come out the same.
@@ -86,11 +86,11 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
         placed->region = region;
         placed->regionFree = free;
     }
-    if (stack_.layers_.empty()) stack_.cageOut_ = positions_;
+    if (stack_.layers_.empty()) stack_.cageOut_ = mesh_.positions;
     layer.settings = settings;
     stack_.layers_.push_back(std::move(layer));
-    if (region && layerCandidates_) embedVertices(stack_.layers_.back().lattice, positions_, stack_.layerEmbedding_, *layerCandidates_);
-    else embedVertices(stack_.layers_.back().lattice, positions_, stack_.layerEmbedding_);
+    if (region && layerCandidates_) embedVertices(stack_.layers_.back().lattice, mesh_.positions, stack_.layerEmbedding_, *layerCandidates_);
+    else embedVertices(stack_.layers_.back().lattice, mesh_.positions, stack_.layerEmbedding_);
     pins().pinBoundaryIfPartial(stack_.layers_.back().lattice, stack_.layerEmbedding_);
     stack_.layerActive_ = true;
     if (progress) {
@@ -110,15 +110,15 @@ void Session::popLayers(size_t count, std::vector<int>* moved) {
     stack_.newestLayersBounds(count, lo, hi);
     stack_.layers_.resize(stack_.layers_.size() - count);
     stack_.layerActive_ = false;
-    const int n = static_cast<int>(positions_.rows());
+    const int n = static_cast<int>(mesh_.positions.rows());
     std::vector<std::uint8_t> changed(static_cast<size_t>(n), 0);
 #pragma omp parallel for schedule(static) if (n > 4096)
     for (int v = 0; v < n; ++v) {
-        const Eigen::Vector3d y = positions_.row(v).transpose();
+        const Eigen::Vector3d y = mesh_.positions.row(v).transpose();
         if (!((y.array() >= lo.array()).all() && (y.array() <= hi.array()).all())) continue;
         const Eigen::Vector3d x = stack_.pushThroughLayers(stack_.cageOut_.row(v).transpose());
         if (x != y) {
-            positions_.row(v) = x.transpose();
+            mesh_.positions.row(v) = x.transpose();
             changed[static_cast<size_t>(v)] = 1;
         }
     }
@@ -161,7 +161,7 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
         hi = recorded->frameMax;
         pinsKept = recorded->framePinsKept;
     } else {
-        latticeBox(settings, positions_, lo, hi);
+        latticeBox(settings, mesh_.positions, lo, hi);
     }
     if (placed) recordPlacement(*placed, true, settings, lo, hi, pinsKept);
     Lattice fresh;
@@ -171,11 +171,11 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
     stack_.frames_.push_back(std::move(frozen));
     stack_.settings_ = settings;
     stack_.lattice_ = std::move(fresh);
-    rest_ = positions_;
-    embedVertices(stack_.lattice_, rest_, stack_.embedding_);
-    ++restVersion_;
+    mesh_.rest = mesh_.positions;
+    embedVertices(stack_.lattice_, mesh_.rest, stack_.embedding_);
+    ++mesh_.restVersion;
     pins().pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
-    lastMovedAll_ = true;
+    lastMoved_.all = true;
 }
 
 void Session::leaveCage() {
@@ -183,7 +183,7 @@ void Session::leaveCage() {
     // state, which is what the frozen cage and its layers produced. Invert those to get their rest state.
     FrozenFrame frozen = std::move(stack_.frames_.back());
     stack_.frames_.pop_back();
-    positions_ = rest_;
+    mesh_.positions = mesh_.rest;
     Lattice previous;
     makeLatticeInBox(frozen.settings, frozen.boxMin, frozen.boxMax, previous);
     for (size_t c = 0; c < frozen.displacement.indices.size(); ++c)
@@ -195,24 +195,24 @@ void Session::leaveCage() {
     stack_.layerActive_ = false;
     positionsChanged(nullptr);
     if (stack_.layers_.empty()) {
-        invertDeformation(stack_.lattice_, positions_, rest_);
+        invertDeformation(stack_.lattice_, mesh_.positions, mesh_.rest);
     } else {
-        Positions input = positions_, preimage;
+        Positions input = mesh_.positions, preimage;
         for (size_t k = stack_.layers_.size(); k-- > 0;) {
             invertDeformation(stack_.layers_[k].lattice, input, preimage);
             input.swap(preimage);
         }
         stack_.cageOut_ = std::move(input);
-        invertDeformation(stack_.lattice_, stack_.cageOut_, rest_);
+        invertDeformation(stack_.lattice_, stack_.cageOut_, mesh_.rest);
     }
-    embedVertices(stack_.lattice_, rest_, stack_.embedding_);
-    ++restVersion_;
+    embedVertices(stack_.lattice_, mesh_.rest, stack_.embedding_);
+    ++mesh_.restVersion;
     pins().pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
     if (trackJacobian_) {
         accumulateFrameJacobian(true);
         accumulateLayersJacobian(true);
     }
-    lastMovedAll_ = true;
+    lastMoved_.all = true;
 }
 
 // ---- snapshots ------------------------------------------------------------------------------------------
@@ -220,7 +220,7 @@ void Session::leaveCage() {
 void Session::saveSnapshot(Snapshot& snapshot) {
     if (snapshot.saved) return;
     snapshot.saved = true;
-    snapshot.positions = positions_;
+    snapshot.positions = mesh_.positions;
     snapshot.cageOut = stack_.cageOut_;
     snapshot.cage = stack_.lattice_;
     snapshot.layerCount = stack_.layers_.size();
@@ -240,7 +240,7 @@ void Session::restoreSnapshot(Snapshot& snapshot) {
         stack_.layerEmbedding_ = snapshot.layerEmbedding;
     }
     stack_.lattice_ = snapshot.cage;
-    positions_ = snapshot.positions;
+    mesh_.positions = snapshot.positions;
     stack_.cageOut_ = snapshot.cageOut;
     positionsChanged(nullptr);
 }
@@ -248,7 +248,7 @@ void Session::restoreSnapshot(Snapshot& snapshot) {
 // ---- det J of the whole deformation ---------------------------------------------------------------------
 
 void Session::setTrackJacobian(bool track) {
-    if (track && !trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(rest_.rows()), 1.0);
+    if (track && !trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(mesh_.rest.rows()), 1.0);
     if (!track) frozenJacobian_.clear();
     trackJacobian_ = track;
 }
@@ -299,7 +299,7 @@ void Session::accumulateLayersJacobian(bool divide) {
 
 std::vector<double> Session::totalJacobianDeterminants() const {
     std::vector<double> det;
-    vertexJacobianDeterminants(stack_.lattice_, rest_, det);
+    vertexJacobianDeterminants(stack_.lattice_, mesh_.rest, det);
     if (trackJacobian_)
         for (size_t v = 0; v < det.size(); ++v) det[v] *= frozenJacobian_[v];
     if (!stack_.layers_.empty()) {
@@ -407,28 +407,28 @@ double cageJacobianAt(const Lattice& cage, const Eigen::Vector3d& rest) {
 }  // namespace
 
 int Session::verticesLeftOutsideCage() const {
-    if (stack_.lattice_.volume || triangles_.rows() == 0) return 0;
-    const int n = static_cast<int>(rest_.rows());
+    if (stack_.lattice_.volume || mesh_.triangles.rows() == 0) return 0;
+    const int n = static_cast<int>(mesh_.rest.rows());
     std::vector<std::uint8_t> outside(static_cast<size_t>(n), 0);
     bool any = false;
-    for (int v = 0; v < n; ++v) any = (outside[static_cast<size_t>(v)] = outsideBox(stack_.lattice_, rest_.row(v).transpose())) || any;
+    for (int v = 0; v < n; ++v) any = (outside[static_cast<size_t>(v)] = outsideBox(stack_.lattice_, mesh_.rest.row(v).transpose())) || any;
     if (!any) return 0;
     // An inside corner the cage moved: its cage image differs from its rest point.
     const auto cageMoved = [&](int u) {
         Eigen::Vector3d t;
-        return restParameters(stack_.lattice_, rest_.row(u).transpose(), t) && displacementAt(stack_.lattice_, t).squaredNorm() > 0.0;
+        return restParameters(stack_.lattice_, mesh_.rest.row(u).transpose(), t) && displacementAt(stack_.lattice_, t).squaredNorm() > 0.0;
     };
     std::vector<std::uint8_t> left(static_cast<size_t>(n), 0);
-    for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+    for (Eigen::Index f = 0; f < mesh_.triangles.rows(); ++f) {
         int outsideCorners = 0;
-        for (int k = 0; k < 3; ++k) outsideCorners += outside[static_cast<size_t>(triangles_(f, k))];
+        for (int k = 0; k < 3; ++k) outsideCorners += outside[static_cast<size_t>(mesh_.triangles(f, k))];
         if (outsideCorners == 0 || outsideCorners == 3) continue;  // the cage's seam runs through mixed triangles only
         bool movedInside = false;
         for (int k = 0; k < 3 && !movedInside; ++k)
-            movedInside = !outside[static_cast<size_t>(triangles_(f, k))] && cageMoved(triangles_(f, k));
+            movedInside = !outside[static_cast<size_t>(mesh_.triangles(f, k))] && cageMoved(mesh_.triangles(f, k));
         if (!movedInside) continue;
         for (int k = 0; k < 3; ++k)
-            if (outside[static_cast<size_t>(triangles_(f, k))]) left[static_cast<size_t>(triangles_(f, k))] = 1;
+            if (outside[static_cast<size_t>(mesh_.triangles(f, k))]) left[static_cast<size_t>(mesh_.triangles(f, k))] = 1;
     }
     return static_cast<int>(std::count(left.begin(), left.end(), std::uint8_t{1}));
 }
@@ -451,11 +451,11 @@ bool Session::bakeLayers(const std::vector<Step>& steps) {
 
 bool Session::bakeAllLayers(std::vector<int>* outside, bool allowOutside) {
     if (stack_.layers_.empty() || stack_.layerActive_) return false;
-    const int n = static_cast<int>(positions_.rows());
+    const int n = static_cast<int>(mesh_.positions.rows());
     // Exactly the vertices some layer moved: their output differs from the cage's.
     std::vector<int> moved;
     for (int v = 0; v < n; ++v)
-        if (positions_.row(v) != stack_.cageOut_.row(v)) moved.push_back(v);
+        if (mesh_.positions.row(v) != stack_.cageOut_.row(v)) moved.push_back(v);
     Positions rest(static_cast<Eigen::Index>(moved.size()), 3);
     bool ok = true;
     const int count = static_cast<int>(moved.size());
@@ -463,7 +463,7 @@ bool Session::bakeAllLayers(std::vector<int>* outside, bool allowOutside) {
     for (int c = 0; c < count; ++c) {
         Eigen::Vector3d x = Eigen::Vector3d::Zero();
         const int v = moved[static_cast<size_t>(c)];
-        const bool found = cagePreimage(stack_.lattice_, positions_.row(v).transpose(), outsideBox(stack_.lattice_, rest_.row(v).transpose()), x);
+        const bool found = cagePreimage(stack_.lattice_, mesh_.positions.row(v).transpose(), outsideBox(stack_.lattice_, mesh_.rest.row(v).transpose()), x);
         ok = ok && found;
         rest.row(c) = x.transpose();
     }
@@ -475,7 +475,7 @@ bool Session::bakeAllLayers(std::vector<int>* outside, bool allowOutside) {
         // The det J map multiplies the cage's det J at the rest point by frozenJacobian_: keep the product.
         for (int c = 0; c < count; ++c) {
             const int v = moved[static_cast<size_t>(c)];
-            const double before = cageJacobianAt(stack_.lattice_, rest_.row(v).transpose()) * layersJacobian(stack_.layers_, stack_.cageOut_.row(v).transpose());
+            const double before = cageJacobianAt(stack_.lattice_, mesh_.rest.row(v).transpose()) * layersJacobian(stack_.layers_, stack_.cageOut_.row(v).transpose());
             const double after = cageJacobianAt(stack_.lattice_, rest.row(c).transpose());
             frozenJacobian_[static_cast<size_t>(v)] *= before / after;
         }
@@ -483,17 +483,17 @@ bool Session::bakeAllLayers(std::vector<int>* outside, bool allowOutside) {
     if (outside) {
         outside->clear();
         for (int v : moved)
-            if (outsideBox(stack_.lattice_, rest_.row(v).transpose())) outside->push_back(v);
+            if (outsideBox(stack_.lattice_, mesh_.rest.row(v).transpose())) outside->push_back(v);
     }
     drag_.outsideCage = 0;
     for (int c = 0; c < count; ++c) {
-        rest_.row(moved[static_cast<size_t>(c)]) = rest.row(c);
+        mesh_.rest.row(moved[static_cast<size_t>(c)]) = rest.row(c);
         drag_.outsideCage += outsideBox(stack_.lattice_, rest.row(c).transpose());
     }
     stack_.layers_.clear();
     stack_.cageOut_.resize(0, 3);
-    embedVertices(stack_.lattice_, rest_, stack_.embedding_);
-    ++restVersion_;
+    embedVertices(stack_.lattice_, mesh_.rest, stack_.embedding_);
+    ++mesh_.restVersion;
     return true;
 }
 
@@ -509,7 +509,7 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
         stack_.layerActive_ = false;
     }
     if (stack_.layers_.empty()) return;
-    if (stack_.cageOut_.rows() != positions_.rows()) stack_.cageOut_ = positions_;
+    if (stack_.cageOut_.rows() != mesh_.positions.rows()) stack_.cageOut_ = mesh_.positions;
     Eigen::Vector3d lo, hi;
     stack_.newestLayersBounds(stack_.layers_.size(), lo, hi);
     // A stroke's layer moves along one line: inverted along it (always converges); other layers by Newton.
@@ -544,25 +544,25 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
         }
         return true;
     };
-    const int n = static_cast<int>(positions_.rows());
+    const int n = static_cast<int>(mesh_.positions.rows());
 #pragma omp parallel for schedule(static) if (n > 4096)
     for (int v = 0; v < n; ++v) {
-        const Eigen::Vector3d y = positions_.row(v).transpose();
+        const Eigen::Vector3d y = mesh_.positions.row(v).transpose();
         if (!((y.array() >= lo.array()).all() && (y.array() <= hi.array()).all())) continue;
         Eigen::Vector3d x = y, rest = y;
         const bool inverted = invert(y, x);
         const bool wasOutside = std::binary_search(steps[last].bakedOutside.begin(), steps[last].bakedOutside.end(), v);
         if (!inverted || x == y || !cagePreimage(stack_.lattice_, x, wasOutside, rest)) continue;
         if (trackJacobian_) {
-            const double baked = cageJacobianAt(stack_.lattice_, rest_.row(v).transpose());
+            const double baked = cageJacobianAt(stack_.lattice_, mesh_.rest.row(v).transpose());
             const double unbaked = cageJacobianAt(stack_.lattice_, rest) * layersJacobian(stack_.layers_, x);
             frozenJacobian_[static_cast<size_t>(v)] *= baked / unbaked;
         }
-        rest_.row(v) = rest.transpose();
+        mesh_.rest.row(v) = rest.transpose();
         stack_.cageOut_.row(v) = x.transpose();
     }
-    embedVertices(stack_.lattice_, rest_, stack_.embedding_);
-    ++restVersion_;
+    embedVertices(stack_.lattice_, mesh_.rest, stack_.embedding_);
+    ++mesh_.restVersion;
 }
 
 }  // namespace sculpt::core

@@ -36,7 +36,7 @@ void recordAskedTargets(DragState& drag) {
 }  // namespace
 
 Status Stroke::begin(const std::vector<Eigen::Vector3d>& sourceParams) {
-    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.mesh().empty()) return Status::error("no mesh is loaded");
     if (s_.drag_.active) return Status::error("an interactive drag is already in progress");
     if (sourceParams.empty()) return Status::error("a drag needs at least one source");
     for (size_t f = 0; f < sourceParams.size(); ++f)
@@ -81,7 +81,7 @@ void Stroke::startMirrored(const std::string& label, const std::vector<Eigen::Ve
 }
 
 Status Stroke::beginAt(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held, const BrushSettings& brush) {
-    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.mesh().empty()) return Status::error("no mesh is loaded");
     if (s_.drag_.active) return Status::error("an interactive drag is already in progress");
     if (sources.empty()) return Status::error("a drag needs at least one source");
     if (Status s = s_.checkBrush(brush); !s) return s;
@@ -122,7 +122,7 @@ Status Stroke::beginAt(const std::vector<Eigen::Vector3d>& sources, const std::v
 }
 
 Status Stroke::beginControl(const std::vector<int>& indices) {
-    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.mesh().empty()) return Status::error("no mesh is loaded");
     if (s_.drag_.active) return Status::error("an interactive drag is already in progress");
     if (indices.empty()) return Status::error("no control point given");
     std::vector<int> sorted = indices;
@@ -179,9 +179,9 @@ bool Stroke::applyIncrement(const ControlDelta& delta, Manipulation& m, OpReport
     // Fast path: the whole increment as one change of the active lattice (the group property of Hu et al.
     // 2001, section 4, makes a drag's increments add up to one control displacement per lattice).
     StepFailure failure;
-    s_.lastMoved_.clear();
-    s_.lastMovedAll_ = false;
-    if (s_.tryDelta(delta, &s_.lastMoved_, failure, report.injectivityMs, report.triangleCheckMs)) {
+    s_.lastMoved_.vertices.clear();
+    s_.lastMoved_.all = false;
+    if (s_.tryDelta(delta, &s_.lastMoved_.vertices, failure, report.injectivityMs, report.triangleCheckMs)) {
         mergeStep(delta);
         for (size_t f = 0; f < s_.drag_.params.size(); ++f) s_.drag_.operation.steps.back().constraints[f].target = s_.stack_.currentImage(s_.drag_.params[f]);
         report.subSteps = 1;
@@ -201,7 +201,7 @@ bool Stroke::applyIncrement(const ControlDelta& delta, Manipulation& m, OpReport
         s_.restoreSnapshot(progress.snapshot);
         std::sort(progress.moved.begin(), progress.moved.end());
         progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
-        s_.lastMoved_ = std::move(progress.moved);
+        s_.lastMoved_.vertices = std::move(progress.moved);
         report.status = OpStatus::Rejected;
         report.depthReached = increments.depthReached;
         detail::noteFailure(report, progress.failure, true);
@@ -231,8 +231,8 @@ bool Stroke::applyIncrement(const ControlDelta& delta, Manipulation& m, OpReport
     s_.drag_.operation.depthReached = std::max(s_.drag_.operation.depthReached, increments.depthReached);
     std::sort(progress.moved.begin(), progress.moved.end());
     progress.moved.erase(std::unique(progress.moved.begin(), progress.moved.end()), progress.moved.end());
-    s_.lastMoved_ = std::move(progress.moved);
-    s_.lastMovedAll_ = progress.movedAll;
+    s_.lastMoved_.vertices = std::move(progress.moved);
+    s_.lastMoved_.all = progress.movedAll;
     report.subSteps = static_cast<int>(increments.steps.size());
     report.depthReached = increments.depthReached;
     detail::noteFailure(report, failure, true);
@@ -421,19 +421,19 @@ Status Stroke::updateControlPerPoint(const Eigen::MatrixX3d& offsets, OpReport& 
 void Stroke::applyControlDelta(ControlDelta delta, const Eigen::MatrixX3d& shownOffsets, OpReport& report) {
     // The points follow up to the last injective position and stop there (design.md "The cage is the user's
     // object"): never a fresh lattice. A later update that moves back lets them follow again.
-    s_.lastMoved_.clear();
-    s_.lastMovedAll_ = false;
+    s_.lastMoved_.vertices.clear();
+    s_.lastMoved_.all = false;
     expandWelds(s_.stack_.lattice_, delta);  // a welded point moves as one (Coquillart 1990, 3.1.2)
     StepFailure failure;
-    const double fraction = s_.applyLargestInjectiveFraction(delta, &s_.lastMoved_, failure, report.injectivityMs, report.triangleCheckMs);
+    const double fraction = s_.applyLargestInjectiveFraction(delta, &s_.lastMoved_.vertices, failure, report.injectivityMs, report.triangleCheckMs);
     report.fractionApplied = fraction;
     if (fraction > 0.0) {
         delta.deltas *= fraction;
         mergeStep(delta);
         s_.drag_.operation.offsets += fraction * shownOffsets;
     }
-    std::sort(s_.lastMoved_.begin(), s_.lastMoved_.end());
-    s_.lastMoved_.erase(std::unique(s_.lastMoved_.begin(), s_.lastMoved_.end()), s_.lastMoved_.end());
+    std::sort(s_.lastMoved_.vertices.begin(), s_.lastMoved_.vertices.end());
+    s_.lastMoved_.vertices.erase(std::unique(s_.lastMoved_.vertices.begin(), s_.lastMoved_.vertices.end()), s_.lastMoved_.vertices.end());
     report.injectivity = s_.injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
     report.controlPointsChanged = fraction > 0.0 ? static_cast<int>(delta.indices.size()) : 0;
     report.verticesMoved = s_.movedCount();

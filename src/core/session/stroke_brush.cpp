@@ -34,12 +34,12 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         reachHi = reachHi.cwiseMax(p.source.cwiseMax(p.source + p.pull) + reach);
     }
     std::vector<int> candidates;
-    for (Eigen::Index v = 0; v < s_.positions_.rows(); ++v)
-        if ((s_.positions_.row(v).transpose().array() >= reachLo.array()).all() && (s_.positions_.row(v).transpose().array() <= reachHi.array()).all())
+    for (Eigen::Index v = 0; v < s_.mesh_.positions.rows(); ++v)
+        if ((s_.mesh_.positions.row(v).transpose().array() >= reachLo.array()).all() && (s_.mesh_.positions.row(v).transpose().array() <= reachHi.array()).all())
             candidates.push_back(static_cast<int>(v));
     s_.layerCandidates_ = &candidates;
     Positions rowsBefore(static_cast<Eigen::Index>(candidates.size()), 3);
-    for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = s_.positions_.row(candidates[c]);
+    for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = s_.mesh_.positions.row(candidates[c]);
     std::vector<Step> previous;
     if (hadStep) {
         previous = steps;
@@ -231,10 +231,10 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     }
     (void)moved;
     s_.layerCandidates_ = nullptr;
-    s_.lastMoved_.clear();
+    s_.lastMoved_.vertices.clear();
     for (size_t c = 0; c < candidates.size(); ++c)
-        if (s_.positions_.row(candidates[c]) != rowsBefore.row(static_cast<Eigen::Index>(c))) s_.lastMoved_.push_back(candidates[c]);
-    s_.lastMovedAll_ = false;
+        if (s_.mesh_.positions.row(candidates[c]) != rowsBefore.row(static_cast<Eigen::Index>(c))) s_.lastMoved_.vertices.push_back(candidates[c]);
+    s_.lastMoved_.all = false;
     return share;
 }
 

@@ -34,8 +34,8 @@ Status ToolLibrary::pushChange(Operation operation, OpReport& report) {
     applyChange(operation, true);
     s_.tools_.frozen = operation.frozenAfter;
     s_.pushOperation(std::move(operation));
-    s_.lastMoved_.clear();
-    s_.lastMovedAll_ = false;
+    s_.lastMoved_.vertices.clear();
+    s_.lastMoved_.all = false;
     report.status = OpStatus::Applied;
     return Status::success();
 }
@@ -89,7 +89,7 @@ Status ToolLibrary::remove(int index, OpReport& report) {
 }
 
 Status ToolLibrary::freeze(int index, int pinLayers, OpReport& report) {
-    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.mesh().empty()) return Status::error("no mesh is loaded");
     if (index < 0 || index >= static_cast<int>(s_.tools_.list.size())) return Status::error("there is no lattice " + std::to_string(index));
     LatticeSettings settings;
     settings.volume = s_.tools_.list[static_cast<size_t>(index)].volume;
@@ -100,8 +100,8 @@ Status ToolLibrary::freeze(int index, int pinLayers, OpReport& report) {
         const Volume& volume = *settings.volume;
         const Eigen::AlignedBox3d box = volume.restBounds();
         bool holds = false;
-        for (Eigen::Index v = 0; v < s_.positions_.rows() && !holds; ++v) {
-            const Eigen::Vector3d x = s_.positions_.row(v).transpose();
+        for (Eigen::Index v = 0; v < s_.mesh_.positions.rows() && !holds; ++v) {
+            const Eigen::Vector3d x = s_.mesh_.positions.row(v).transpose();
             Eigen::Vector3d t;
             holds = box.contains(x) && volume.freeze(x, t);
         }
@@ -122,7 +122,7 @@ Status ToolLibrary::freeze(int index, int pinLayers, OpReport& report) {
     s_.history_.lastJournaled().frozenBefore = before;
     s_.history_.lastJournaled().frozenAfter = index;
     int inside = s_.stack_.embedding_.insideCount();
-    report.reason = "froze " + std::to_string(inside) + " of " + std::to_string(s_.positions_.rows()) + " vertices in lattice " +
+    report.reason = "froze " + std::to_string(inside) + " of " + std::to_string(s_.mesh_.positions.rows()) + " vertices in lattice " +
                     s_.tools_.list[static_cast<size_t>(index)].name;
     return Status::success();
 }

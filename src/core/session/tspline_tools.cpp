@@ -23,7 +23,7 @@ Status TSplineTools::setup(const TSplineSetup& setup, OpReport& report) {
     const auto start = detail::Clock::now();
     report = OpReport{};
     report.op = "setup_tspline";
-    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.mesh().empty()) return Status::error("no mesh is loaded");
     if (s_.drag_.active) return Status::error("an interactive drag is in progress");
     const TSplineOctreeSettings& octree = setup.octree;
     if (octree.octree.depth < 1 || octree.octree.depth > kMaxTSplineSetupDepth)
@@ -44,16 +44,16 @@ Status TSplineTools::setup(const TSplineSetup& setup, OpReport& report) {
         region = Eigen::AlignedBox3d(setup.regionMin, setup.regionMax);
     } else {
         if (!std::isfinite(octree.padding) || !(octree.padding >= 0.0)) return Status::error("padding: expected a finite number >= 0");
-        if (Status s = paddedPointBounds(s_.positions_, octree.padding, region); !s) return s;
+        if (Status s = paddedPointBounds(s_.mesh_.positions, octree.padding, region); !s) return s;
     }
     int inside = 0;
-    for (Eigen::Index v = 0; v < s_.positions_.rows(); ++v) inside += region.contains(s_.positions_.row(v).transpose());
+    for (Eigen::Index v = 0; v < s_.mesh_.positions.rows(); ++v) inside += region.contains(s_.mesh_.positions.row(v).transpose());
     if (inside == 0)
-        return Status::error("region: holds none of the mesh's " + std::to_string(s_.positions_.rows()) + " vertices (" +
+        return Status::error("region: holds none of the mesh's " + std::to_string(s_.mesh_.positions.rows()) + " vertices (" +
                              detail::vectorText(region.min()) + " to " + detail::vectorText(region.max()) + ")");
     std::shared_ptr<const TSplineVolume> volume;
     TSplineWeightOutcome weights;
-    if (Status s = makeOctreeTSplineVolumeInBox(s_.positions_, region, octree, volume, &weights); !s) return s;
+    if (Status s = makeOctreeTSplineVolumeInBox(s_.mesh_.positions, region, octree, volume, &weights); !s) return s;
     const std::string name = setup.name.empty() ? std::string("tspline") : setup.name;
     const int index = static_cast<int>(s_.tools_.list.size());
     const int firstOperation = s_.history_.cursor();
@@ -133,7 +133,7 @@ Status TSplineTools::subdivideCells(int index, const std::vector<int>& cells, co
     chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
     std::shared_ptr<const TSplineVolume> finer;
     TSplineWeightOutcome weights;
-    if (Status s = subdivideTSplineVolume(*tspline, chosen, balance, s_.positions_, finer, &weights); !s)
+    if (Status s = subdivideTSplineVolume(*tspline, chosen, balance, s_.mesh_.positions, finer, &weights); !s)
         return Status::error("lattice " + tool.name + ": " + s.message);
     const std::string name = tool.name;
     const size_t before = basis.lattice.cells.size();

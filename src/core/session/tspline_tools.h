@@ -42,7 +42,7 @@ public:
     // Sculpting by weights (sec. 1 and 6; weight_sculpt.h). One history operation on the frozen weighted
     // T-spline; the mesh is Q(P; W)(t) at its frozen parameters (eq. 5), so a weight change moves it. Heights are
     // measured along the bump direction n from the rest surface under the current weights
-    // (Session::restPositions()), i.e. H_v = n . (x_v - X0_v) = n . sum R_s(t_v) delta_s.
+    // (Session::mesh().rest), i.e. H_v = n . (x_v - X0_v) = n . sum R_s(t_v) delta_s.
     //  * SetWeights: the weights of `ids` become `weights`.
     //  * Hammer: the bump of the control points S (WeightToolSettings) at the picked vertex p is
     //    b(t) = sum_{s in S} R_s(t) delta_s and n = b(t_p) / |b(t_p)|. The displacements of S are scaled by one

@@ -71,7 +71,7 @@ std::vector<int> TSplineTools::visiblePoints() const {
     std::vector<int> ids;
     const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.stack_.lattice_) : nullptr;
     if (!volume) return ids;
-    const std::vector<std::uint8_t> visible = shownControlPoints(*volume, s_.rest_);
+    const std::vector<std::uint8_t> visible = shownControlPoints(*volume, s_.mesh_.rest);
     for (size_t s = 0; s < visible.size(); ++s)
         if (visible[s]) ids.push_back(static_cast<int>(s));
     return ids;
@@ -86,7 +86,7 @@ Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& 
         return Status::error("no weighted T-spline lattice is frozen: set one up first (setup_tspline, or T-spline in the Lattices panel)");
     out.volume = volume;
     const TSplineBasis& basis = volume->basis();
-    const int vertexCount = static_cast<int>(s_.positions_.rows());
+    const int vertexCount = static_cast<int>(s_.mesh_.positions.rows());
     if (settings.vertex < 0 || settings.vertex >= vertexCount)
         return Status::error("vertex: " + std::to_string(settings.vertex) + " is not a vertex of the mesh (0 to " + std::to_string(vertexCount - 1) + ")");
     if (!std::isfinite(settings.radius) || settings.radius < 0.0) return Status::error("radius: expected a finite number >= 0");
@@ -109,8 +109,8 @@ Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& 
     const int supportCount = basis.supportStart[static_cast<size_t>(pickedElement) + 1] - basis.supportStart[static_cast<size_t>(pickedElement)];
 
     // S: the control points of the bump.
-    const std::vector<std::uint8_t> visible = shownControlPoints(*volume, s_.rest_);
-    const Eigen::Vector3d pickedRest = s_.rest_.row(settings.vertex).transpose();
+    const std::vector<std::uint8_t> visible = shownControlPoints(*volume, s_.mesh_.rest);
+    const Eigen::Vector3d pickedRest = s_.mesh_.rest.row(settings.vertex).transpose();
     if (settings.controlPoint >= 0) {
         if (settings.controlPoint >= volume->controlPointCount())
             return Status::error("control_point: " + std::to_string(settings.controlPoint) + " is not a control point of the T-spline (0 to " +
@@ -195,7 +195,7 @@ Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& 
         out.direction = bump.normalized();
     } else {
         Positions normals;
-        computeVertexNormals(s_.positions_, s_.triangles_, normals);
+        computeVertexNormals(s_.mesh_.positions, s_.mesh_.triangles, normals);
         out.direction = normals.row(settings.vertex).transpose();
     }
     // Heights of every vertex of the triangles that touch the support: the closed form inside it, the
@@ -203,15 +203,15 @@ Status TSplineTools::weightBump(const WeightToolSettings& settings, WeightBump& 
     std::vector<std::uint8_t> inSupport(static_cast<size_t>(vertexCount), 0);
     for (int v : sums.vertices) inSupport[static_cast<size_t>(v)] = 1;
     out.heights.assign(static_cast<size_t>(vertexCount), 0.0);
-    const Positions& output = s_.stack_.cageUnderLayers() ? s_.stack_.cageOut_ : s_.positions_;
-    for (Eigen::Index f = 0; f < s_.triangles_.rows(); ++f) {
+    const Positions& output = s_.stack_.cageUnderLayers() ? s_.stack_.cageOut_ : s_.mesh_.positions;
+    for (Eigen::Index f = 0; f < s_.mesh_.triangles.rows(); ++f) {
         bool touches = false;
-        for (int k = 0; k < 3; ++k) touches = touches || inSupport[static_cast<size_t>(s_.triangles_(f, k))];
+        for (int k = 0; k < 3; ++k) touches = touches || inSupport[static_cast<size_t>(s_.mesh_.triangles(f, k))];
         if (!touches) continue;
         out.triangleIds.push_back(static_cast<int>(f));
         for (int k = 0; k < 3; ++k) {
-            const int v = s_.triangles_(f, k);
-            out.heights[static_cast<size_t>(v)] = out.direction.dot((output.row(v) - s_.rest_.row(v)).transpose());
+            const int v = s_.mesh_.triangles(f, k);
+            out.heights[static_cast<size_t>(v)] = out.direction.dot((output.row(v) - s_.mesh_.rest.row(v)).transpose());
         }
     }
     for (size_t c = 0; c < sums.vertices.size(); ++c)
@@ -228,7 +228,7 @@ Status TSplineTools::bumpAt(const WeightToolSettings& settings, Bump& out) const
     out.vertices = bump.sums.vertices;
     for (int v : out.vertices) out.heights.push_back(bump.heights[static_cast<size_t>(v)]);
     const double peak = bump.heights[static_cast<size_t>(settings.vertex)];
-    if (bump.hasBump && peak > 0.0) out.width = equivalentDiameter(s_.rest_, s_.triangles_, bump.triangleIds, bump.heights, 0.5 * peak);
+    if (bump.hasBump && peak > 0.0) out.width = equivalentDiameter(s_.mesh_.rest, s_.mesh_.triangles, bump.triangleIds, bump.heights, 0.5 * peak);
     return Status::success();
 }
 
@@ -239,7 +239,7 @@ Status TSplineTools::sculptWeights(const WeightToolSettings& settings, OpReport&
     report = OpReport{};
     using Tool = WeightToolSettings::Tool;
     report.op = settings.tool == Tool::SetWeights ? "set_weights" : settings.tool == Tool::Hammer ? "hammer" : "crimp";
-    if (!s_.hasMesh()) return Status::error("no mesh is loaded");
+    if (s_.mesh().empty()) return Status::error("no mesh is loaded");
     if (s_.drag_.active) return Status::error("an interactive drag is in progress");
     const TSplineVolume* volume = s_.tools_.frozen >= 0 ? asTSpline(s_.stack_.lattice_) : nullptr;
     if (!volume)
@@ -308,7 +308,7 @@ Status TSplineTools::sculptWeights(const WeightToolSettings& settings, OpReport&
             const auto widthFor = [&](double beta) {
                 bumpHeights(sums, n, beta, lambdaFor(beta), 0.0, inSupport);
                 for (size_t c = 0; c < sums.vertices.size(); ++c) heights[static_cast<size_t>(sums.vertices[c])] = inSupport[c];
-                return equivalentDiameter(s_.rest_, s_.triangles_, bump.triangleIds, heights, 0.5 * height);
+                return equivalentDiameter(s_.mesh_.rest, s_.mesh_.triangles, bump.triangleIds, heights, 0.5 * height);
             };
             const double before = widthFor(1.0);
             if (!(before > 0.0)) return Status::error("vertex: the bump at vertex " + std::to_string(settings.vertex) + " has no width at half height");
@@ -347,8 +347,8 @@ Status TSplineTools::sculptWeights(const WeightToolSettings& settings, OpReport&
 
 Status TSplineTools::applyTool(const WeightToolSettings& settings, Step step, const std::string& label, OpReport& report) {
     s_.stack_.layerActive_ = false;
-    s_.lastMoved_.clear();
-    s_.lastMovedAll_ = false;
+    s_.lastMoved_.vertices.clear();
+    s_.lastMoved_.all = false;
     std::vector<int> moved;
     StepFailure failure;
     bool applied = false;
@@ -375,8 +375,8 @@ Status TSplineTools::applyTool(const WeightToolSettings& settings, Step step, co
         std::vector<int> ids = step.weights.ids;
         ids.insert(ids.end(), step.delta.indices.begin(), step.delta.indices.end());
         applied = s_.certifyCells(s_.stack_.lattice_, cellsInfluencedBy(s_.stack_.lattice_, ids), failure, report.injectivityMs);
-        if (applied && s_.injectivity_.mode != InjectivityMode::Off && s_.injectivity_.checkTriangles && s_.triangles_.rows() > 0) {
-            if (s_.before_.rows() != s_.positions_.rows()) s_.before_.resize(s_.positions_.rows(), 3);
+        if (applied && s_.injectivity_.mode != InjectivityMode::Off && s_.injectivity_.checkTriangles && s_.mesh_.triangles.rows() > 0) {
+            if (s_.before_.rows() != s_.mesh_.positions.rows()) s_.before_.resize(s_.mesh_.positions.rows(), 3);
             for (size_t c = 0; c < undo.vertices.size(); ++c) s_.before_.row(undo.vertices[c]) = undo.positions.row(static_cast<Eigen::Index>(c));
             applied = s_.noNewCrossing(moved, failure, report.injectivityMs, report.triangleCheckMs);
         }
@@ -453,8 +453,8 @@ Status TSplineTools::applyStep(const Step& step, std::vector<int>* moved) {
     if (layered) undo->output.resize(count, 3);
     for (Eigen::Index c = 0; c < count; ++c) {
         const int v = undo->vertices[static_cast<size_t>(c)];
-        undo->rest.row(c) = s_.rest_.row(v);
-        undo->positions.row(c) = s_.positions_.row(v);
+        undo->rest.row(c) = s_.mesh_.rest.row(v);
+        undo->positions.row(c) = s_.mesh_.positions.row(v);
         if (layered) undo->output.row(c) = s_.stack_.cageOut_.row(v);
         if (s_.trackJacobian_) undo->jacobian.push_back(s_.frozenJacobian_[static_cast<size_t>(v)]);
     }
@@ -483,16 +483,16 @@ Status TSplineTools::applyStep(const Step& step, std::vector<int>* moved) {
             Eigen::Matrix3d derivativeBefore, derivativeAfter;
             old->evaluate(old->restControlPoints(), t, restBefore, s_.trackJacobian_ ? &derivativeBefore : nullptr);
             fresh->evaluate(fresh->restControlPoints(), t, restAfter, s_.trackJacobian_ ? &derivativeAfter : nullptr);
-            s_.rest_.row(v) += (restAfter - restBefore).transpose();
-            s_.stack_.embedding_.restX[static_cast<size_t>(s)] = s_.rest_(v, 0);  // the evaluation kernels read the rest rows here
-            s_.stack_.embedding_.restY[static_cast<size_t>(s)] = s_.rest_(v, 1);
-            s_.stack_.embedding_.restZ[static_cast<size_t>(s)] = s_.rest_(v, 2);
-            output.row(v) = s_.rest_.row(v) + displacementAt(s_.stack_.lattice_, t).transpose();
+            s_.mesh_.rest.row(v) += (restAfter - restBefore).transpose();
+            s_.stack_.embedding_.restX[static_cast<size_t>(s)] = s_.mesh_.rest(v, 0);  // the evaluation kernels read the rest rows here
+            s_.stack_.embedding_.restY[static_cast<size_t>(s)] = s_.mesh_.rest(v, 1);
+            s_.stack_.embedding_.restZ[static_cast<size_t>(s)] = s_.mesh_.rest(v, 2);
+            output.row(v) = s_.mesh_.rest.row(v) + displacementAt(s_.stack_.lattice_, t).transpose();
             if (s_.trackJacobian_) s_.frozenJacobian_[static_cast<size_t>(v)] *= derivativeAfter.determinant() / derivativeBefore.determinant();
         }
     }
     if (layered) s_.refreshLayerOutput(undo->vertices);
-    ++s_.restVersion_;  // the rest surface moved with the weights
+    ++s_.mesh_.restVersion;  // the rest surface moved with the weights
     s_.positionsChanged(&undo->vertices);
     if (moved) moved->insert(moved->end(), undo->vertices.begin(), undo->vertices.end());
     step.weightUndo = std::move(undo);
@@ -505,7 +505,7 @@ void TSplineTools::revertStep(const Step& step, std::vector<int>* moved) {
     for (size_t c = 0; c < undo->displacement.indices.size(); ++c)
         s_.stack_.lattice_.displacement.row(undo->displacement.indices[c]) = undo->displacement.deltas.row(static_cast<Eigen::Index>(c));
     s_.stack_.lattice_.volume = undo->volume;
-    ++s_.restVersion_;
+    ++s_.mesh_.restVersion;
     s_.stack_.lattice_.weights = undo->volume->controlWeights();
     s_.stack_.lattice_.rational = undo->volume->isRational();
     s_.stack_.settings_.volume = undo->volume;
@@ -514,12 +514,12 @@ void TSplineTools::revertStep(const Step& step, std::vector<int>* moved) {
     for (size_t c = 0; c < undo->vertices.size(); ++c) {
         const int v = undo->vertices[c];
         const Eigen::Index row = static_cast<Eigen::Index>(c);
-        s_.rest_.row(v) = undo->rest.row(row);
+        s_.mesh_.rest.row(v) = undo->rest.row(row);
         const size_t entry = static_cast<size_t>(undo->entries[c]);
-        s_.stack_.embedding_.restX[entry] = s_.rest_(v, 0);
-        s_.stack_.embedding_.restY[entry] = s_.rest_(v, 1);
-        s_.stack_.embedding_.restZ[entry] = s_.rest_(v, 2);
-        s_.positions_.row(v) = undo->positions.row(row);
+        s_.stack_.embedding_.restX[entry] = s_.mesh_.rest(v, 0);
+        s_.stack_.embedding_.restY[entry] = s_.mesh_.rest(v, 1);
+        s_.stack_.embedding_.restZ[entry] = s_.mesh_.rest(v, 2);
+        s_.mesh_.positions.row(v) = undo->positions.row(row);
         if (layered) s_.stack_.cageOut_.row(v) = undo->output.row(row);
         if (!undo->jacobian.empty()) s_.frozenJacobian_[static_cast<size_t>(v)] = undo->jacobian[c];
     }

@@ -164,7 +164,7 @@ TSplineCageView tsplineCageView(const Session& session) {
     TSplineCageView view;
     view.volume = asTSpline(session.lattice().volume.get());
     if (!view.volume) return view;
-    view.cells = nonEmptyTSplineCells(*view.volume, session.restPositions());
+    view.cells = nonEmptyTSplineCells(*view.volume, session.mesh().rest);
     const TSplineBasis& basis = view.volume->basis();
     view.controlPoints = controlPointsOfCells(basis, view.cells);
     for (size_t s = 0; s < basis.anchors.size(); ++s)

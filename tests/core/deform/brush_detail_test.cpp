@@ -65,7 +65,7 @@ TEST_CASE("brush detail: after a stroke, moving the whole cage rigidly moves the
             LatticeSettings cage;
             cage.padding = 0.4;
             REQUIRE(session.setMesh(mesh.positions, mesh.triangles, cage).ok);
-            const Positions original = session.positions();
+            const Positions original = session.mesh().positions;
             BrushSettings brush;
             brush.radius = (0.05 + 0.03 * trial) * mesh.diagonal;
             brush.falloff = static_cast<BrushFalloff>(trial % 3);
@@ -74,7 +74,7 @@ TEST_CASE("brush detail: after a stroke, moving the whole cage rigidly moves the
             OpReport report;
             REQUIRE(session.dragVertex(v, target, report, brush).ok);
             REQUIRE(report.status == OpStatus::Applied);
-            const Positions sculpted = session.positions();
+            const Positions sculpted = session.mesh().positions;
             const double spike = (sculpted.row(v) - original.row(v)).norm();
             CHECK(spike > 0.3 * brush.radius);
             CHECK(session.cage().layers().empty());  // the stroke is part of the rest shape now
@@ -84,7 +84,7 @@ TEST_CASE("brush detail: after a stroke, moving the whole cage rigidly moves the
             REQUIRE(session.moveControlPoints(ids, by.transpose().replicate(static_cast<Eigen::Index>(ids.size()), 1), true, report).ok);
             REQUIRE(report.status == OpStatus::Applied);
             REQUIRE(report.fractionApplied == 1.0);
-            const Positions moved = session.positions();
+            const Positions moved = session.mesh().positions;
             double worst = 0.0;
             for (Eigen::Index r = 0; r < moved.rows(); ++r) worst = std::max(worst, (moved.row(r) - sculpted.row(r) - by.transpose()).norm());
             CHECK(worst <= 1e-9 * mesh.diagonal);
@@ -93,11 +93,11 @@ TEST_CASE("brush detail: after a stroke, moving the whole cage rigidly moves the
             REQUIRE(session.undo(report).ok);
             REQUIRE(session.undo(report).ok);
             CHECK(report.verticesMoved <= mesh.positions.rows());
-            CHECK((session.positions() - original).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+            CHECK((session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
             REQUIRE(session.redo(report).ok);
-            CHECK((session.positions() - sculpted).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+            CHECK((session.mesh().positions - sculpted).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
             REQUIRE(session.redo(report).ok);
-            CHECK((session.positions() - moved).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+            CHECK((session.mesh().positions - moved).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
         }
     }
 }
@@ -120,7 +120,7 @@ TEST_CASE("brush detail: a drag that bends the part carrying a spike carries the
             OpReport report;
             REQUIRE(sculpt.dragVertex(v, start + 0.5 * brush.radius * mesh.normals.row(v).transpose(), report, brush).ok);
             REQUIRE(report.status == OpStatus::Applied);
-            const Eigen::Vector3d before = sculpt.positions().row(v).transpose() - start;
+            const Eigen::Vector3d before = sculpt.mesh().positions.row(v).transpose() - start;
             // A cage drag of a point near the spike (but outside the brush's reach) moves that part of the mesh.
             int handle = -1;
             for (int attempt = 0; attempt < 10000 && handle < 0; ++attempt) {
@@ -134,7 +134,7 @@ TEST_CASE("brush detail: a drag that bends the part carrying a spike carries the
             REQUIRE(plain.dragVertex(handle, to, a).ok);
             REQUIRE(sculpt.dragVertex(handle, to, b).ok);
             if (a.status != OpStatus::Applied || b.status != OpStatus::Applied) continue;
-            const Eigen::Vector3d after = sculpt.positions().row(v).transpose() - plain.positions().row(v).transpose();
+            const Eigen::Vector3d after = sculpt.mesh().positions.row(v).transpose() - plain.mesh().positions.row(v).transpose();
             // J at the grabbed point's rest, by central differences of the plain session's cage.
             const Lattice& cage = plain.lattice();
             Eigen::Vector3d t;
@@ -170,14 +170,14 @@ TEST_CASE("brush reach: on real meshes, pulls of 0.5 to 3 radii along the normal
                 REQUIRE(report.status == OpStatus::Applied);
                 ++total;
                 const Eigen::Vector3d reached = source + report.fractionApplied * (target - source);
-                CHECK((session.positions().row(v).transpose() - reached).norm() <= 1e-9 * mesh.diagonal);
+                CHECK((session.mesh().positions.row(v).transpose() - reached).norm() <= 1e-9 * mesh.diagonal);
                 if (report.fractionApplied == 1.0) ++full;
                 // Nothing beyond 1.25 radius of the path moved; the profile over the radius.
                 double squares = 0.0;
                 int within = 0;
                 for (Eigen::Index r = 0; r < mesh.positions.rows(); ++r) {
                     const Eigen::Vector3d rest = mesh.positions.row(r).transpose();
-                    const Eigen::Vector3d moved = session.positions().row(r).transpose() - rest;
+                    const Eigen::Vector3d moved = session.mesh().positions.row(r).transpose() - rest;
                     if (segmentDistance(rest, source, reached) > kBrushReach * brush.radius) CHECK(moved.norm() == 0.0);
                     const double rho = (rest - source).norm();
                     if (rho >= brush.radius || length < 0) continue;
@@ -207,17 +207,17 @@ TEST_CASE("brush counts: undo and redo of a stroke report the same vertices, tho
         brush.radius = (0.04 + 0.02 * trial) * mesh.diagonal;
         brush.symmetry.mirror[0] = trial % 2 == 1;
         const int v = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
-        const Positions before = session.positions();
+        const Positions before = session.mesh().positions;
         OpReport stroke, undo, redo;
         REQUIRE(session.dragVertex(v, before.row(v).transpose() + (0.5 + trial * 0.4) * brush.radius * mesh.normals.row(v).transpose(), stroke, brush).ok);
         if (stroke.status != OpStatus::Applied) continue;
-        const Positions after = session.positions();
+        const Positions after = session.mesh().positions;
         int changed = 0;
         for (Eigen::Index r = 0; r < before.rows(); ++r) changed += before.row(r) != after.row(r);
         INFO("trial " << trial);
         CHECK(stroke.verticesMoved == changed);
         REQUIRE(session.undo(undo).ok);
-        CHECK((session.positions() - before).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+        CHECK((session.mesh().positions - before).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
         REQUIRE(session.redo(redo).ok);
         CHECK(undo.verticesMoved == redo.verticesMoved);
         CHECK(undo.verticesMoved <= mesh.positions.rows());
@@ -245,9 +245,9 @@ TEST_CASE("brush crossings: strokes on a real mesh make no triangle pair cross, 
         OpReport report;
         REQUIRE(session.dragVertex(v, mesh.positions.row(v).transpose() + (0.2 + 0.12 * stroke) * brush.radius * direction, report, brush).ok);
         INFO("stroke " << stroke << " vertex " << v << ": " << report.reason);
-        CHECK(test::intersectingPairs(session.positions(), mesh.triangles).size() == initial);
+        CHECK(test::intersectingPairs(session.mesh().positions, mesh.triangles).size() == initial);
         REQUIRE(session.undo(report).ok);
-        CHECK((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+        CHECK((session.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
     }
 }
 
@@ -271,8 +271,8 @@ TEST_CASE("brush detail: a stroke says how many of its vertices it pulled out of
             const Lattice& cage = session.lattice();
             int outside = 0;
             for (Eigen::Index r = 0; r < mesh.positions.rows(); ++r) {
-                const Eigen::Vector3d x = session.positions().row(r).transpose();
-                outside += session.positions().row(r) != mesh.positions.row(r) &&
+                const Eigen::Vector3d x = session.mesh().positions.row(r).transpose();
+                outside += session.mesh().positions.row(r) != mesh.positions.row(r) &&
                            ((x.array() < cage.boxMin.array()).any() || (x.array() > cage.boxMax.array()).any());
             }
             INFO(mesh.name << " trial " << trial);
@@ -283,7 +283,7 @@ TEST_CASE("brush detail: a stroke says how many of its vertices it pulled out of
             if (outside == 0) continue;
             // A translation of the cage moves what it holds; the vertices outside its box stay, and those next to
             // moved ones are counted: independently, the unmoved corners of triangles with a moved corner.
-            const Positions before = session.positions();
+            const Positions before = session.mesh().positions;
             const std::vector<int> ids = unpinned(session.lattice());
             const Eigen::Vector3d by = 0.03 * mesh.diagonal * test::randomVector(rng, -1.0, 1.0).normalized();
             REQUIRE(session.moveControlPoints(ids, by.transpose().replicate(static_cast<Eigen::Index>(ids.size()), 1), true, report).ok);
@@ -291,10 +291,10 @@ TEST_CASE("brush detail: a stroke says how many of its vertices it pulled out of
             std::vector<std::uint8_t> left(static_cast<size_t>(mesh.positions.rows()), 0);
             for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
                 bool anyMoved = false;
-                for (int k = 0; k < 3; ++k) anyMoved = anyMoved || session.positions().row(mesh.triangles(f, k)) != before.row(mesh.triangles(f, k));
+                for (int k = 0; k < 3; ++k) anyMoved = anyMoved || session.mesh().positions.row(mesh.triangles(f, k)) != before.row(mesh.triangles(f, k));
                 if (!anyMoved) continue;
                 for (int k = 0; k < 3; ++k)
-                    if (session.positions().row(mesh.triangles(f, k)) == before.row(mesh.triangles(f, k))) left[static_cast<size_t>(mesh.triangles(f, k))] = 1;
+                    if (session.mesh().positions.row(mesh.triangles(f, k)) == before.row(mesh.triangles(f, k))) left[static_cast<size_t>(mesh.triangles(f, k))] = 1;
             }
             const int expected = static_cast<int>(std::count(left.begin(), left.end(), std::uint8_t{1}));
             CHECK(expected > 0);
@@ -348,10 +348,10 @@ TEST_CASE("brush: mirror images within reach whose pulls part (outward beside th
         REQUIRE(report.status == OpStatus::Applied);
         full += report.fractionApplied == 1.0;
         const Eigen::Vector3d reached = source + report.fractionApplied * pull * n;
-        CHECK((session.positions().row(v).transpose() - reached).norm() <= 1e-9 * mesh.diagonal);
-        CHECK(test::intersectingPairs(session.positions(), mesh.triangles) == atLoad);
+        CHECK((session.mesh().positions.row(v).transpose() - reached).norm() <= 1e-9 * mesh.diagonal);
+        CHECK(test::intersectingPairs(session.mesh().positions, mesh.triangles) == atLoad);
         REQUIRE(session.undo(report).ok);
-        CHECK((session.positions() - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+        CHECK((session.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
     }
     CHECK(trials == 40);
     CHECK(full >= 31);

@@ -62,7 +62,7 @@ void raiseRidge(Session& session, double height, OpReport& report) {
 // Every triangle of the session's mesh within `tolerance` (world units), sampled densely.
 void requireWithin(const Session& session, double tolerance) {
     const auto image = [&session](const Eigen::Vector3d& x) { return session.cage().imageOfRestPoint(x); };
-    const std::vector<double> deviation = test::sampledDeviations(session.restPositions(), session.positions(), session.triangles(), image, 10);
+    const std::vector<double> deviation = test::sampledDeviations(session.mesh().rest, session.mesh().positions, session.mesh().triangles, image, 10);
     double worst = 0.0;
     for (double d : deviation) worst = std::max(worst, d);
     INFO("worst sampled deviation " << worst << ", tolerance " << tolerance);
@@ -89,8 +89,8 @@ TEST_CASE("refinement: a coarse plane under a sharp ridge is refined within the 
     REQUIRE(session.setMesh(positions, triangles, ridgeLattice()).ok);
     OpReport report;
     raiseRidge(session, 0.5, report);
-    const Positions bumped = session.positions();
-    const Triangles coarse = session.triangles();
+    const Positions bumped = session.mesh().positions;
+    const Triangles coarse = session.mesh().triangles;
     const int historySize = static_cast<int>(session.history().size());
     const double tolerance = 0.002;
     const double world = tolerance * diagonalOf(bumped);
@@ -98,7 +98,7 @@ TEST_CASE("refinement: a coarse plane under a sharp ridge is refined within the 
     // The coarse mesh misses the bump: its flat triangles stray from their image by far more than the tolerance.
     {
         const auto image = [&session](const Eigen::Vector3d& x) { return session.cage().imageOfRestPoint(x); };
-        const std::vector<double> d = test::sampledDeviations(session.restPositions(), bumped, coarse, image);
+        const std::vector<double> d = test::sampledDeviations(session.mesh().rest, bumped, coarse, image);
         REQUIRE(*std::max_element(d.begin(), d.end()) > 10.0 * world);
     }
 
@@ -107,41 +107,41 @@ TEST_CASE("refinement: a coarse plane under a sharp ridge is refined within the 
     INFO(report.reason);
     REQUIRE(report.reason.empty());  // converged
     REQUIRE(report.verticesAdded > 0);
-    REQUIRE(session.positions().rows() == 6 + report.verticesAdded);
-    REQUIRE(session.triangles().rows() == 4 + report.trianglesAdded);
+    REQUIRE(session.mesh().positions.rows() == 6 + report.verticesAdded);
+    REQUIRE(session.mesh().triangles.rows() == 4 + report.trianglesAdded);
     REQUIRE(report.deviation <= world);
     REQUIRE(static_cast<int>(session.history().size()) == historySize + 1);
     REQUIRE(session.history().back().kind == OperationKind::Refine);
-    REQUIRE(session.restPositions().rows() == session.positions().rows());
+    REQUIRE(session.mesh().rest.rows() == session.mesh().positions.rows());
     // The measured error (10 steps per side, 66 points per triangle) is below the tolerance.
     requireWithin(session, world);
-    requireConforming(session.restPositions(), session.triangles(), coarse);
+    requireConforming(session.mesh().rest, session.mesh().triangles, coarse);
     // The old vertices did not move; the new ones lie on the bump (its image), not on the coarse triangles.
-    REQUIRE(sameBits(Positions(session.positions().topRows(6)), bumped));
+    REQUIRE(sameBits(Positions(session.mesh().positions.topRows(6)), bumped));
     double offCoarse = 0.0;
-    for (Eigen::Index v = 6; v < session.positions().rows(); ++v) {
-        const Eigen::Vector3d x = session.cage().imageOfRestPoint(session.restPositions().row(v).transpose());
-        REQUIRE(sameBits(Eigen::RowVector3d(x.transpose()), Eigen::RowVector3d(session.positions().row(v))));
+    for (Eigen::Index v = 6; v < session.mesh().positions.rows(); ++v) {
+        const Eigen::Vector3d x = session.cage().imageOfRestPoint(session.mesh().rest.row(v).transpose());
+        REQUIRE(sameBits(Eigen::RowVector3d(x.transpose()), Eigen::RowVector3d(session.mesh().positions.row(v))));
         offCoarse = std::max(offCoarse, std::abs(x.z() - 0.0) - 0.0);
     }
     REQUIRE(offCoarse > 0.1);  // the crest is half a unit up; vertices off the flat quads' corners follow it
-    const Positions refinedPositions = session.positions();
-    const Triangles refinedTriangles = session.triangles();
+    const Positions refinedPositions = session.mesh().positions;
+    const Triangles refinedTriangles = session.mesh().triangles;
 
     REQUIRE(session.undo(report).ok);
     REQUIRE(report.status == OpStatus::Applied);
-    REQUIRE(sameBits(session.positions(), bumped));
-    REQUIRE(sameBits(session.triangles(), coarse));
-    REQUIRE(session.restPositions().rows() == 6);
-    REQUIRE(session.lastMovedAll());
+    REQUIRE(sameBits(session.mesh().positions, bumped));
+    REQUIRE(sameBits(session.mesh().triangles, coarse));
+    REQUIRE(session.mesh().rest.rows() == 6);
+    REQUIRE(session.lastMoved().all);
     REQUIRE(session.redo(report).ok);
-    REQUIRE(sameBits(session.positions(), refinedPositions));
-    REQUIRE(sameBits(session.triangles(), refinedTriangles));
+    REQUIRE(sameBits(session.mesh().positions, refinedPositions));
+    REQUIRE(sameBits(session.mesh().triangles, refinedTriangles));
     // Undo both: the flat rectangle again (the ridge's undo is an inverse manipulation: up to rounding).
     REQUIRE(session.undo(report).ok);
     REQUIRE(session.undo(report).ok);
-    REQUIRE(sameBits(session.triangles(), triangles));
-    REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-12);
+    REQUIRE(sameBits(session.mesh().triangles, triangles));
+    REQUIRE((session.mesh().positions - positions).cwiseAbs().maxCoeff() <= 1e-12);
     // Refining what is already flat does nothing.
     REQUIRE(session.refinement().refine(tolerance, report).ok);
     REQUIRE(report.status == OpStatus::NoOp);
@@ -156,12 +156,12 @@ TEST_CASE("refinement: a bad tolerance is an error and changes nothing", "[refin
     REQUIRE_FALSE(session.refinement().refine(0.01, report).ok);  // no mesh
     REQUIRE(session.setMesh(positions, triangles, ridgeLattice()).ok);
     raiseRidge(session, 0.5, report);
-    const Positions before = session.positions();
+    const Positions before = session.mesh().positions;
     for (double bad : {0.0, -0.01, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
         const Status s = session.refinement().refine(bad, report);
         REQUIRE_FALSE(s.ok);
         REQUIRE(s.message.find("tolerance") != std::string::npos);
-        REQUIRE(sameBits(session.positions(), before));
+        REQUIRE(sameBits(session.mesh().positions, before));
         REQUIRE(session.history().size() == 1);
     }
     RefinementSettings settings;
@@ -202,11 +202,11 @@ TEST_CASE("refinement: random meshes under random drags end within the tolerance
             OpReport report;
             for (int drag = 0; drag < 2; ++drag) {
                 const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
-                const Eigen::Vector3d target = session.positions().row(v).transpose() + 0.15 * diagonal * test::randomVector(rng, -1, 1);
+                const Eigen::Vector3d target = session.mesh().positions.row(v).transpose() + 0.15 * diagonal * test::randomVector(rng, -1, 1);
                 REQUIRE(session.dragVertex(v, target, report).ok);
             }
-            const Positions dragged = session.positions();
-            const Triangles coarse = session.triangles();
+            const Positions dragged = session.mesh().positions;
+            const Triangles coarse = session.mesh().triangles;
             const double tolerance = std::uniform_real_distribution<double>(0.002, 0.01)(rng);
             REQUIRE(session.refinement().refine(tolerance, report).ok);
             INFO("case " << c.nx << "x" << c.ny << " trial " << trial << ": " << report.reason);
@@ -215,28 +215,28 @@ TEST_CASE("refinement: random meshes under random drags end within the tolerance
             ++refined;
             REQUIRE(report.reason.empty());
             requireWithin(session, tolerance * diagonalOf(dragged));
-            requireConforming(session.restPositions(), session.triangles(), coarse);
-            REQUIRE(sameBits(Positions(session.positions().topRows(dragged.rows())), dragged));
-            const Positions after = session.positions();
-            const Triangles afterTriangles = session.triangles();
+            requireConforming(session.mesh().rest, session.mesh().triangles, coarse);
+            REQUIRE(sameBits(Positions(session.mesh().positions.topRows(dragged.rows())), dragged));
+            const Positions after = session.mesh().positions;
+            const Triangles afterTriangles = session.mesh().triangles;
             REQUIRE(session.undo(report).ok);
-            REQUIRE(sameBits(session.positions(), dragged));
-            REQUIRE(sameBits(session.triangles(), coarse));
+            REQUIRE(sameBits(session.mesh().positions, dragged));
+            REQUIRE(sameBits(session.mesh().triangles, coarse));
             REQUIRE(session.redo(report).ok);
-            REQUIRE(sameBits(session.positions(), after));
-            REQUIRE(sameBits(session.triangles(), afterTriangles));
+            REQUIRE(sameBits(session.mesh().positions, after));
+            REQUIRE(sameBits(session.mesh().triangles, afterTriangles));
             // A drag after the refinement moves the new vertices too, and its undo leaves them in place.
             const int v = test::randomInt(rng, 0, static_cast<int>(after.rows()) - 1);
             REQUIRE(session.dragVertex(v, after.row(v).transpose() + 0.05 * diagonal * test::randomVector(rng, -1, 1), report).ok);
-            REQUIRE(session.positions().rows() == after.rows());
+            REQUIRE(session.mesh().positions.rows() == after.rows());
             if (report.status == OpStatus::Applied) {
                 REQUIRE(session.undo(report).ok);
-                REQUIRE(session.positions().rows() == after.rows());
-                REQUIRE((session.positions() - after).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+                REQUIRE(session.mesh().positions.rows() == after.rows());
+                REQUIRE((session.mesh().positions - after).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
             }
             REQUIRE(session.undo(report).ok);
-            REQUIRE(sameBits(session.triangles(), coarse));
-            REQUIRE(session.positions().rows() == dragged.rows());
+            REQUIRE(sameBits(session.mesh().triangles, coarse));
+            REQUIRE(session.mesh().positions.rows() == dragged.rows());
         }
     }
     REQUIRE(refined >= 10);
@@ -368,41 +368,41 @@ TEST_CASE("refinement: the automatic option refines every edit in the same histo
     REQUIRE(session.history().size() == 1);
     REQUIRE(session.history().back().kind == OperationKind::ControlPointEdit);
     REQUIRE_FALSE(session.history().back().refinement.empty());
-    requireWithin(session, 0.004 * diagonalOf(session.positions().topRows(6)));
-    const Positions after = session.positions();
-    const Triangles afterTriangles = session.triangles();
+    requireWithin(session, 0.004 * diagonalOf(session.mesh().positions.topRows(6)));
+    const Positions after = session.mesh().positions;
+    const Triangles afterTriangles = session.mesh().triangles;
     // One undo takes back the edit and its refinement.
     REQUIRE(session.undo(report).ok);
-    REQUIRE(sameBits(session.triangles(), triangles));
-    REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-12);
+    REQUIRE(sameBits(session.mesh().triangles, triangles));
+    REQUIRE((session.mesh().positions - positions).cwiseAbs().maxCoeff() <= 1e-12);
     REQUIRE(session.redo(report).ok);
-    REQUIRE(sameBits(session.triangles(), afterTriangles));
-    REQUIRE((session.positions() - after).cwiseAbs().maxCoeff() <= 1e-12);
+    REQUIRE(sameBits(session.mesh().triangles, afterTriangles));
+    REQUIRE((session.mesh().positions - after).cwiseAbs().maxCoeff() <= 1e-12);
 
     // An interactive (control-point) drag is refined when it ends, in its own history entry.
     const int entries = static_cast<int>(session.history().size());
-    const int vertices = static_cast<int>(session.positions().rows());
+    const int vertices = static_cast<int>(session.mesh().positions.rows());
     std::vector<int> slab;
     for (int k = 0; k < session.lattice().count[2]; ++k)
         for (int j = 0; j < session.lattice().count[1]; ++j) slab.push_back(session.lattice().index(4, j, k));
     REQUIRE(session.stroke().beginControl(slab).ok);
     for (int step = 1; step <= 4; ++step) REQUIRE(session.stroke().updateControl(Eigen::Vector3d(0.0, 0.0, 0.08 * step), report).ok);
     REQUIRE(report.status == OpStatus::Applied);
-    REQUIRE(session.positions().rows() == vertices);  // not while dragging
+    REQUIRE(session.mesh().positions.rows() == vertices);  // not while dragging
     session.stroke().end();
     REQUIRE(static_cast<int>(session.history().size()) == entries + 1);
-    REQUIRE(session.positions().rows() > vertices);
+    REQUIRE(session.mesh().positions.rows() > vertices);
     REQUIRE(session.history().back().kind == OperationKind::ControlPointEdit);
     REQUIRE_FALSE(session.history().back().refinement.empty());
     REQUIRE(session.history().back().interactive);
     REQUIRE(session.undo(report).ok);
-    REQUIRE(session.positions().rows() == vertices);
-    REQUIRE(sameBits(session.triangles(), afterTriangles));
+    REQUIRE(session.mesh().positions.rows() == vertices);
+    REQUIRE(sameBits(session.mesh().triangles, afterTriangles));
     // appliedSplits: the mesh as set, split by them, is the session's.
     REQUIRE(session.redo(report).ok);
     Triangles replayed = triangles;
     REQUIRE(applyEdgeSplits(replayed, 6, session.refinement().appliedSplits()).ok);
-    REQUIRE(sameBits(replayed, session.triangles()));
+    REQUIRE(sameBits(replayed, session.mesh().triangles));
 }
 
 TEST_CASE("refinement: new vertices follow the cage through its layers and after a lattice set-up", "[refine]") {
@@ -426,31 +426,31 @@ TEST_CASE("refinement: new vertices follow the cage through its layers and after
     REQUIRE(session.refinement().set(automatic).ok);
     BrushSettings brush;
     brush.radius = 0.5;
-    REQUIRE(session.dragVertex(7, session.positions().row(7).transpose() + Eigen::Vector3d(0.0, 0.0, 0.3), report, brush).ok);
+    REQUIRE(session.dragVertex(7, session.mesh().positions.row(7).transpose() + Eigen::Vector3d(0.0, 0.0, 0.3), report, brush).ok);
     REQUIRE(report.status == OpStatus::Applied);
     REQUIRE(session.cage().layers().empty());
     REQUIRE(session.history().back().steps.back().baked);
-    for (Eigen::Index v = 0; v < session.positions().rows(); ++v)
-        REQUIRE((session.cage().imageOfRestPoint(session.restPositions().row(v).transpose()) - session.positions().row(v).transpose()).norm() <= 1e-12 * diagonal);
-    REQUIRE(session.positions().rows() > positions.rows());  // refined with the stroke
+    for (Eigen::Index v = 0; v < session.mesh().positions.rows(); ++v)
+        REQUIRE((session.cage().imageOfRestPoint(session.mesh().rest.row(v).transpose()) - session.mesh().positions.row(v).transpose()).norm() <= 1e-12 * diagonal);
+    REQUIRE(session.mesh().positions.rows() > positions.rows());  // refined with the stroke
     REQUIRE(session.refinement().refine(0.003, report).ok);
     REQUIRE(report.status == OpStatus::NoOp);
-    REQUIRE(session.totalJacobianDeterminants().size() == static_cast<size_t>(session.positions().rows()));
-    const Positions refined = session.positions();
+    REQUIRE(session.totalJacobianDeterminants().size() == static_cast<size_t>(session.mesh().positions.rows()));
+    const Positions refined = session.mesh().positions;
     REQUIRE(session.setupLattice(settings, report).ok);
-    const Eigen::Index before = session.positions().rows();
-    REQUIRE(session.dragVertex(12, session.positions().row(12).transpose() + Eigen::Vector3d(0.1, 0.0, -0.2), report, brush).ok);
+    const Eigen::Index before = session.mesh().positions.rows();
+    REQUIRE(session.dragVertex(12, session.mesh().positions.row(12).transpose() + Eigen::Vector3d(0.1, 0.0, -0.2), report, brush).ok);
     REQUIRE(report.status == OpStatus::Applied);
-    REQUIRE(session.positions().rows() > before);
-    for (Eigen::Index v = 0; v < session.positions().rows(); ++v)
-        REQUIRE((session.cage().imageOfRestPoint(session.restPositions().row(v).transpose()) - session.positions().row(v).transpose()).norm() <= 1e-12 * diagonal);
+    REQUIRE(session.mesh().positions.rows() > before);
+    for (Eigen::Index v = 0; v < session.mesh().positions.rows(); ++v)
+        REQUIRE((session.cage().imageOfRestPoint(session.mesh().rest.row(v).transpose()) - session.mesh().positions.row(v).transpose()).norm() <= 1e-12 * diagonal);
     // Undo everything: the input mesh again.
     while (session.history().cursor() > 0) REQUIRE(session.undo(report).ok);
-    REQUIRE(sameBits(session.triangles(), triangles));
-    REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    REQUIRE(sameBits(session.mesh().triangles, triangles));
+    REQUIRE((session.mesh().positions - positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     while (session.history().cursor() < static_cast<int>(session.history().size())) REQUIRE(session.redo(report).ok);
-    REQUIRE(session.positions().rows() > refined.rows());
-    requireConforming(session.restPositions(), session.triangles(), triangles);
+    REQUIRE(session.mesh().positions.rows() > refined.rows());
+    requireConforming(session.mesh().rest, session.mesh().triangles, triangles);
 }
 
 TEST_CASE("refinement: the triangle check refuses a refinement that would make the surface cross itself", "[refine]") {
@@ -481,7 +481,7 @@ TEST_CASE("refinement: the triangle check refuses a refinement that would make t
         OpReport report;
         REQUIRE(session.moveControlPoints(ids, offsets, true, report).ok);
         REQUIRE(report.status == OpStatus::Applied);
-        REQUIRE(sameBits(session.positions(), positions));  // no vertex in reach
+        REQUIRE(sameBits(session.mesh().positions, positions));  // no vertex in reach
         REQUIRE(session.cage().imageOfRestPoint(Eigen::Vector3d(0.5, 0.5, 0.0)).z() > 0.1);
         REQUIRE(session.refinement().refine(0.002, report).ok);
         if (checking) {
@@ -489,12 +489,12 @@ TEST_CASE("refinement: the triangle check refuses a refinement that would make t
             REQUIRE(report.status == OpStatus::Rejected);
             REQUIRE(report.refusedBy == "triangles");
             REQUIRE(report.reason.find("pass through itself") != std::string::npos);
-            REQUIRE(sameBits(session.positions(), positions));
-            REQUIRE(sameBits(session.triangles(), triangles));
+            REQUIRE(sameBits(session.mesh().positions, positions));
+            REQUIRE(sameBits(session.mesh().triangles, triangles));
             REQUIRE(session.history().size() == 1);
         } else {
             REQUIRE(report.status == OpStatus::Applied);
-            REQUIRE(session.positions().rows() > positions.rows());
+            REQUIRE(session.mesh().positions.rows() > positions.rows());
         }
     }
 }
@@ -510,17 +510,17 @@ TEST_CASE("refinement: a group with refinements undoes and redoes as one entry",
     REQUIRE(session.refinement().refine(0.003, report).ok);
     raiseRidge(session, 0.1, report);
     REQUIRE(session.refinement().refine(0.002, report).ok);
-    const Triangles refined = session.triangles();
-    const Positions shape = session.positions();
+    const Triangles refined = session.mesh().triangles;
+    const Positions shape = session.mesh().positions;
     REQUIRE(session.groupOperations(0, "ridge").ok);
     REQUIRE(session.history().size() == 1);
     REQUIRE(session.history().front().kind == OperationKind::ControlPointEdit);
     REQUIRE(session.undo(report).ok);
-    REQUIRE(sameBits(session.triangles(), triangles));
-    REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-12);
+    REQUIRE(sameBits(session.mesh().triangles, triangles));
+    REQUIRE((session.mesh().positions - positions).cwiseAbs().maxCoeff() <= 1e-12);
     REQUIRE(session.redo(report).ok);
-    REQUIRE(sameBits(session.triangles(), refined));
-    REQUIRE((session.positions() - shape).cwiseAbs().maxCoeff() <= 1e-12);
+    REQUIRE(sameBits(session.mesh().triangles, refined));
+    REQUIRE((session.mesh().positions - shape).cwiseAbs().maxCoeff() <= 1e-12);
     // A set-up after a refinement cannot join its group.
     REQUIRE(session.setupLattice(ridgeLattice(), report).ok);
     REQUIRE_FALSE(session.groupOperations(0, "").ok);

@@ -149,7 +149,7 @@ TEST_CASE("certification: a session turns or scales every control point in one m
         REQUIRE(report.status == OpStatus::Applied);
         REQUIRE(report.fractionApplied == 1.0);
         for (int v = 0; v < positions.rows(); ++v)
-            REQUIRE((session.positions().row(v).transpose() - (centre + m * (positions.row(v).transpose() - centre))).norm() <= 1e-9 * scale);
+            REQUIRE((session.mesh().positions.row(v).transpose() - (centre + m * (positions.row(v).transpose() - centre))).norm() <= 1e-9 * scale);
     }
 }
 
@@ -300,7 +300,7 @@ TEST_CASE("certification: T-spline drags of up to 5% of the diagonal on CGAL's e
             REQUIRE(report.reason.find("(0 of them weighted") == std::string::npos);
             for (int drag = 0; drag < 2; ++drag, ++trials) {
                 const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
-                const Eigen::Vector3d from = session.positions().row(v).transpose();
+                const Eigen::Vector3d from = session.mesh().positions.row(v).transpose();
                 const double length = std::uniform_real_distribution<double>(0.01, 0.05)(rng) * diagonal;
                 const Eigen::Vector3d target = from + length * test::randomVector(rng, -1.0, 1.0).normalized();
                 REQUIRE(session.dragVertex(v, target, report));
@@ -312,13 +312,13 @@ TEST_CASE("certification: T-spline drags of up to 5% of the diagonal on CGAL's e
                     continue;
                 }
                 ++applied;
-                REQUIRE((session.positions().row(v).transpose() - target).norm() <= 1e-9 * diagonal);
+                REQUIRE((session.mesh().positions.row(v).transpose() - target).norm() <= 1e-9 * diagonal);
                 // The frame in use (the T-spline, or a fresh box frame of a later substep) passes the exact test
                 // again, and its det J sampled at random is positive.
                 REQUIRE(checkInjectivityExact(session.lattice()).certified);
                 REQUIRE(leastSampledDeterminant(session.lattice(), rng, 300) > 0.0);
             }
-            REQUIRE(test::selfIntersectingPairs(session.positions(), triangles) == 0);
+            REQUIRE(test::selfIntersectingPairs(session.mesh().positions, triangles) == 0);
         }
     REQUIRE(applied >= trials - 2);
 }

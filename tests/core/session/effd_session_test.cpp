@@ -61,14 +61,14 @@ static void runFrozenCylinderDrags(unsigned seed, int firstTrial, int trialCount
     const int trials = test::scaledCount(trialCount, 1);
     for (int trial = firstTrial; trial < firstTrial + trials; ++trial) {
         Session session = sphereSession(3);
-        const Positions original = session.positions();
+        const Positions original = session.mesh().positions;
         OpReport report;
         REQUIRE(session.tools().add(cylinderTool(rng), report));
         REQUIRE(session.tools().freeze(0, trial % 2, report));
         REQUIRE(report.status == OpStatus::Applied);
         REQUIRE(session.tools().frozen() == 0);
         REQUIRE(session.lattice().volume);
-        REQUIRE(session.positions() == original);  // freezing moves nothing
+        REQUIRE(session.mesh().positions == original);  // freezing moves nothing
         // Which vertices are inside the cylinder: only those may ever move.
         std::vector<bool> inside(original.rows());
         for (int v = 0; v < original.rows(); ++v) {
@@ -79,37 +79,37 @@ static void runFrozenCylinderDrags(unsigned seed, int firstTrial, int trialCount
         for (int drag = 0; drag < 4; ++drag) {
             int vertex = test::randomInt(rng, 0, static_cast<int>(original.rows()) - 1);
             while (!inside[vertex]) vertex = test::randomInt(rng, 0, static_cast<int>(original.rows()) - 1);
-            const Eigen::Vector3d target = session.positions().row(vertex).transpose() + test::randomVector(rng, -0.15, 0.15);
+            const Eigen::Vector3d target = session.mesh().positions.row(vertex).transpose() + test::randomVector(rng, -0.15, 0.15);
             REQUIRE(session.dragVertex(vertex, target, report));
             INFO(report.reason << " / " << report.injectivity);
             if (report.status != OpStatus::Applied) continue;
             ++applied;
-            if (!report.rankDeficient) REQUIRE((session.positions().row(vertex).transpose() - target).norm() <= 1e-9);
+            if (!report.rankDeficient) REQUIRE((session.mesh().positions.row(vertex).transpose() - target).norm() <= 1e-9);
             // Certified on the net lattice (exact test, rational chunks included).
             REQUIRE(checkInjectivityExact(session.lattice()).verdict != InjectivityVerdict::Fold);
         }
         INFO(report.reason << " / " << report.injectivity);
         CHECK(applied > 0);
         for (int v = 0; v < original.rows(); ++v)
-            if (!inside[v]) REQUIRE(session.positions().row(v) == original.row(v));  // outside every chunk: never moves
+            if (!inside[v]) REQUIRE(session.mesh().positions.row(v) == original.row(v));  // outside every chunk: never moves
         // Unfreeze keeps the shape; undo everything returns to the original mesh.
-        const Positions sculpted = session.positions();
+        const Positions sculpted = session.mesh().positions;
         {
-            const Positions restBefore = session.restPositions();
+            const Positions restBefore = session.mesh().rest;
             const size_t layersBefore = session.cage().layers().size();
             REQUIRE(session.tools().unfreeze(report));
             REQUIRE(session.undo(report));
             INFO("layers " << layersBefore);
-            REQUIRE((session.restPositions() - restBefore).cwiseAbs().maxCoeff() <= 1e-12);  // the frozen net inverted by Newton
+            REQUIRE((session.mesh().rest - restBefore).cwiseAbs().maxCoeff() <= 1e-12);  // the frozen net inverted by Newton
             REQUIRE(session.redo(report));
             REQUIRE(session.undo(report));
         }
         REQUIRE(session.tools().unfreeze(report));
         REQUIRE(session.tools().frozen() == -1);
-        REQUIRE(session.positions() == sculpted);
+        REQUIRE(session.mesh().positions == sculpted);
         while (session.history().cursor() > 0) REQUIRE(session.undo(report));
         REQUIRE(session.tools().list().empty());
-        REQUIRE((session.positions() - original).cwiseAbs().maxCoeff() <= 1e-9);
+        REQUIRE((session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-9);
     }
 }
 
@@ -134,14 +134,14 @@ TEST_CASE("effd session: several lattices in turn, moved control points, and a r
     REQUIRE(report.status == OpStatus::Applied);
     for (int j = 0; j < cylinder.count[1]; ++j)  // the whole welded group moved
         REQUIRE(session.lattice().displacement.row(cylinder.index(0, j, 2)) == session.lattice().displacement.row(axisPoint));
-    REQUIRE(session.dragVertex(5, session.positions().row(5).transpose() + Eigen::Vector3d(0, 0, 0.1), report));
+    REQUIRE(session.dragVertex(5, session.mesh().positions.row(5).transpose() + Eigen::Vector3d(0, 0, 0.1), report));
     REQUIRE(session.tools().unfreeze(report));
     REQUIRE(session.tools().freeze(1, 1, report));
     REQUIRE(session.tools().frozen() == 1);
-    REQUIRE(session.dragVertex(40, session.positions().row(40).transpose() + Eigen::Vector3d(0.1, 0, 0), report));
+    REQUIRE(session.dragVertex(40, session.mesh().positions.row(40).transpose() + Eigen::Vector3d(0.1, 0, 0), report));
     REQUIRE(session.undo(report));
     REQUIRE(session.redo(report));
-    const Positions final = session.positions();
+    const Positions final = session.mesh().positions;
 
     // The recording replays bitwise on the same mesh, through its JSON text.
     const Script recorded = recordSession(session);
@@ -149,15 +149,15 @@ TEST_CASE("effd session: several lattices in turn, moved control points, and a r
     REQUIRE(io::parseScript(io::scriptToJson(recorded), "recording.json", parsed));
     Session replay = sphereSession(3, InjectivityMode::Conic);
     LatticeSettings start = parsed.lattice;
-    REQUIRE(replay.setMesh(replay.originalPositions(), replay.triangles(), start));
+    REQUIRE(replay.setMesh(replay.mesh().original, replay.mesh().triangles, start));
     ScriptReport scriptReport;
     REQUIRE(runScript(replay, parsed, scriptReport));
-    REQUIRE(replay.positions() == final);
+    REQUIRE(replay.mesh().positions == final);
     REQUIRE(replay.tools().list().size() == 2);
     REQUIRE(replay.tools().frozen() == 1);
     // Undo in the replay walks back through the freezes to the original mesh.
     while (replay.history().cursor() > 0) REQUIRE(replay.undo(report));
-    REQUIRE((replay.positions() - replay.originalPositions()).cwiseAbs().maxCoeff() <= 1e-9);
+    REQUIRE((replay.mesh().positions - replay.mesh().original).cwiseAbs().maxCoeff() <= 1e-9);
 
     // On another mesh (a finer sphere) the same recording is decided again: the lattices are frozen on it.
     Session other = sphereSession(4, InjectivityMode::Conic);
@@ -202,16 +202,16 @@ TEST_CASE("effd session: a welded point pins as one, and pins on a frozen net la
     REQUIRE(session.lattice().pinned[cylinder.index(1, 0, 2)]);
     // Unpinning a pin-layer point and a drag, recorded and replayed through the script's set_pins.
     REQUIRE(session.pins().set({cylinder.index(1, 0, 0)}, false));
-    REQUIRE(session.dragVertex(7, session.positions().row(7).transpose() + Eigen::Vector3d(0.02, 0.03, 0.0), report));
+    REQUIRE(session.dragVertex(7, session.mesh().positions.row(7).transpose() + Eigen::Vector3d(0.02, 0.03, 0.0), report));
     Script parsed;
     REQUIRE(io::parseScript(io::scriptToJson(recordSession(session)), "recording.json", parsed));
     Session replay = sphereSession(3, InjectivityMode::Conic);
-    REQUIRE(replay.setMesh(replay.originalPositions(), replay.triangles(), parsed.lattice));
+    REQUIRE(replay.setMesh(replay.mesh().original, replay.mesh().triangles, parsed.lattice));
     ScriptReport scriptReport;
     const Status ran = runScript(replay, parsed, scriptReport);
     INFO(ran.message);
     REQUIRE(ran);
-    REQUIRE(replay.positions() == session.positions());
+    REQUIRE(replay.mesh().positions == session.mesh().positions);
     REQUIRE(replay.lattice().pinned == session.lattice().pinned);
 }
 
@@ -233,14 +233,14 @@ TEST_CASE("effd session: bad requests on lattices of any shape are errors that c
         REQUIRE(session.history().journal().size() == journal);
         REQUIRE_FALSE(session.lattice().volume);
         // A brush radius beyond all scale of the mesh is an error naming the radius.
-        const Positions before = session.positions();
+        const Positions before = session.mesh().positions;
         BrushSettings brush;
         brush.radius = std::pow(10.0, 10 + 50 * trial);
         const Status huge = session.drag({{before.row(0).transpose(), before.row(0).transpose() + Eigen::Vector3d(0, 0, 0.1)}}, report, brush);
         REQUIRE_FALSE(huge);
         REQUIRE(huge.message.find("brush radius") != std::string::npos);
         REQUIRE(huge.message.find("nan") == std::string::npos);
-        REQUIRE(session.positions() == before);
+        REQUIRE(session.mesh().positions == before);
     }
 }
 

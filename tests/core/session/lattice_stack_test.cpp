@@ -27,19 +27,19 @@ struct StackErrors {
 
 StackErrors stackErrors(const Session& session, std::mt19937& rng) {
     const LatticeStack& stack = session.cage();
-    const double diagonal = diagonalOf(session.positions());
+    const double diagonal = diagonalOf(session.mesh().positions);
     StackErrors e;
-    for (Eigen::Index v = 0; v < session.positions().rows(); ++v) {
-        const Eigen::Vector3d x = session.positions().row(v).transpose();
-        e.restImage = std::max(e.restImage, (stack.imageOfRestPoint(session.restPositions().row(v).transpose()) - x).norm() / diagonal);
+    for (Eigen::Index v = 0; v < session.mesh().positions.rows(); ++v) {
+        const Eigen::Vector3d x = session.mesh().positions.row(v).transpose();
+        e.restImage = std::max(e.restImage, (stack.imageOfRestPoint(session.mesh().rest.row(v).transpose()) - x).norm() / diagonal);
     }
-    std::uniform_int_distribution<Eigen::Index> vertex(0, session.positions().rows() - 1);
+    std::uniform_int_distribution<Eigen::Index> vertex(0, session.mesh().positions.rows() - 1);
     for (int k = 0; k < 20; ++k) {
         const Eigen::Index v = vertex(rng);
         Eigen::Vector3d rest;
         // Only vertices well inside the cage's box: near its faces Newton may start outside.
         if (!session.parametersOfVertex(static_cast<int>(v), rest).ok || (rest.array() < 0.05).any() || (rest.array() > 0.95).any()) continue;
-        const Eigen::Vector3d x = session.positions().row(v).transpose();
+        const Eigen::Vector3d x = session.mesh().positions.row(v).transpose();
         Eigen::Vector3d t;
         if (!stack.parametersOfCurrentPoint(x, t).ok) continue;
         ++e.located;
@@ -51,7 +51,7 @@ StackErrors stackErrors(const Session& session, std::mt19937& rng) {
         REQUIRE(shown.row(p).transpose() == stack.pushThroughLayers(stack.lattice().controlPoint(static_cast<int>(p))));
     // A point of the surface traced back through the layers (as a drag's target is) is carried onto itself again.
     for (int k = 0; k < 20 && !stack.layers().empty(); ++k) {
-        const Eigen::Vector3d x = session.positions().row(vertex(rng)).transpose();
+        const Eigen::Vector3d x = session.mesh().positions.row(vertex(rng)).transpose();
         Eigen::Vector3d back;
         REQUIRE(stack.pullThroughLayers(x, back, stack.layers().size()));
         e.pulled = std::max(e.pulled, (stack.pushThroughLayers(back) - x).norm() / diagonal);
@@ -77,8 +77,8 @@ TEST_CASE("lattice stack: the composition through cage, layers and frames agrees
         std::uniform_real_distribution<double> unit(-1.0, 1.0), share(0.0, 1.0);
         for (int op = 0; op < 10; ++op) {
             OpReport report;
-            const int v = std::uniform_int_distribution<int>(0, static_cast<int>(session.positions().rows()) - 1)(rng);
-            const Eigen::Vector3d x = session.positions().row(v).transpose();
+            const int v = std::uniform_int_distribution<int>(0, static_cast<int>(session.mesh().positions.rows()) - 1)(rng);
+            const Eigen::Vector3d x = session.mesh().positions.row(v).transpose();
             const Eigen::Vector3d direction = Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
             switch (std::uniform_int_distribution<int>(0, 4)(rng)) {
                 case 0:  // a drag, subdivided into fresh layers when one step would fold

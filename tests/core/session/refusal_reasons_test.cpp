@@ -31,12 +31,12 @@ TEST_CASE("refusals: a target outside a lattice whose outer layer is pinned says
         LatticeSettings settings;
         settings.pinLayers = 1 + trial % 2;
         Session session = sphereSession(settings, trial % 2 ? InjectivityMode::Exact : InjectivityMode::Conic);
-        const int v = test::randomInt(rng, 0, static_cast<int>(session.positions().rows()) - 1);
-        const Eigen::Vector3d from = session.positions().row(v).transpose();
+        const int v = test::randomInt(rng, 0, static_cast<int>(session.mesh().positions.rows()) - 1);
+        const Eigen::Vector3d from = session.mesh().positions.row(v).transpose();
         // Outside the box along the vertex's own direction from the centre.
         const Eigen::Vector3d centre = 0.5 * (session.lattice().boxMin + session.lattice().boxMax);
         const Eigen::Vector3d target = centre + (from - centre).normalized() * session.lattice().diagonal();
-        const Positions before = session.positions();
+        const Positions before = session.mesh().positions;
         OpReport report;
         REQUIRE(session.dragVertex(v, target, report).ok);
         REQUIRE(report.status == OpStatus::Rejected);
@@ -45,7 +45,7 @@ TEST_CASE("refusals: a target outside a lattice whose outer layer is pinned says
         CHECK(mentions(report.reason, "pinned"));
         CHECK(mentions(report.reason, "unpin"));
         CHECK(mentions(report.reason, "enlarge the region"));
-        CHECK(session.positions() == before);
+        CHECK(session.mesh().positions == before);
         CHECK(session.history().empty());
     }
 }
@@ -58,7 +58,7 @@ TEST_CASE("refusals: a point only pinned control points can move says so", "[cor
     for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
     REQUIRE(session.pins().set(all, true).ok);
     OpReport report;
-    REQUIRE(session.dragVertex(4, session.positions().row(4).transpose() + Eigen::Vector3d(0.0, 0.1, 0.0), report).ok);
+    REQUIRE(session.dragVertex(4, session.mesh().positions.row(4).transpose() + Eigen::Vector3d(0.0, 0.1, 0.0), report).ok);
     REQUIRE(report.status == OpStatus::Rejected);
     INFO(report.reason);
     CHECK(mentions(report.reason, "is pinned"));
@@ -68,7 +68,7 @@ TEST_CASE("refusals: a point only pinned control points can move says so", "[cor
 
 TEST_CASE("refusals: constraints that contradict each other are met as closely as possible, and it says so", "[core]") {
     Session session = sphereSession({}, InjectivityMode::Off);
-    const Eigen::Vector3d p = session.positions().row(7).transpose();
+    const Eigen::Vector3d p = session.mesh().positions.row(7).transpose();
     OpReport report;
     // One point asked to go two places.
     REQUIRE(session.drag({{p, p + Eigen::Vector3d(0.1, 0, 0)}, {p, p - Eigen::Vector3d(0.1, 0, 0)}}, report).ok);
@@ -83,7 +83,7 @@ TEST_CASE("refusals: a refused fold says where on the mesh it would be", "[core]
     Session session = sphereSession({}, InjectivityMode::Exact);
     session.setInjectivity({InjectivityMode::Exact, 0});  // no subdivision: the first failing step decides
     const int v = 11;
-    const Eigen::Vector3d from = session.positions().row(v).transpose();
+    const Eigen::Vector3d from = session.mesh().positions.row(v).transpose();
     OpReport report;
     REQUIRE(session.dragVertex(v, from - 1.8 * (from - Eigen::Vector3d(0.2, 0.1, -0.3)), report).ok);
     REQUIRE(report.status == OpStatus::Rejected);

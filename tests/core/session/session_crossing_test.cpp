@@ -67,7 +67,7 @@ PinchRun runPinch(int levels, unsigned seed, int drags, InjectivityMode mode, in
         }
         if (checkEveryOp || d + 1 == drags) {
             INFO("levels " << levels << " seed " << seed << " drag " << d << ": " << report.reason);
-            REQUIRE(test::selfIntersectingPairs(session.positions(), triangles) == 0);
+            REQUIRE(test::selfIntersectingPairs(session.mesh().positions, triangles) == 0);
         }
     }
     return run;
@@ -141,9 +141,9 @@ TEST_CASE("session: crossings a mesh was loaded with are reported and never coun
     for (int d = 0; d < 40; ++d) {
         const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
         OpReport report;
-        REQUIRE(session.dragVertex(v, session.positions().row(v).transpose() + 0.15 * test::randomVector(rng, -1, 1), report).ok);
+        REQUIRE(session.dragVertex(v, session.mesh().positions.row(v).transpose() + 0.15 * test::randomVector(rng, -1, 1), report).ok);
         applied += report.status == OpStatus::Applied;
-        const std::vector<std::pair<int, int>> now = test::intersectingPairs(session.positions(), triangles);
+        const std::vector<std::pair<int, int>> now = test::intersectingPairs(session.mesh().positions, triangles);
         INFO("drag " << d << ": " << report.reason);
         for (const auto& pair : now) {
             if (current.count(pair)) continue;
@@ -170,7 +170,7 @@ TEST_CASE("session: a coarse icosphere squeezed by hundreds of random drags neve
     int applied = 0;
     for (int d = 0; d < 300; ++d) {
         const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
-        const Eigen::Vector3d from = session.positions().row(v).transpose();
+        const Eigen::Vector3d from = session.mesh().positions.row(v).transpose();
         // Squeeze: toward the centre and across, by up to the radius.
         const Eigen::Vector3d target = from - std::uniform_real_distribution<double>(0.2, 1.6)(rng) * (from - Eigen::Vector3d(0.1, 0.0, -0.1)) +
                                        test::randomVector(rng, -0.2, 0.2);
@@ -178,7 +178,7 @@ TEST_CASE("session: a coarse icosphere squeezed by hundreds of random drags neve
         REQUIRE(session.dragVertex(v, target, report).ok);
         applied += report.status == OpStatus::Applied;
         INFO("drag " << d << ": " << report.reason);
-        REQUIRE(test::selfIntersectingPairs(session.positions(), triangles) == 0);
+        REQUIRE(test::selfIntersectingPairs(session.mesh().positions, triangles) == 0);
     }
     CHECK(applied > 50);
 }
@@ -231,7 +231,7 @@ TEST_CASE("session: a slab lattice bent until its ends meet stops before they ov
             REQUIRE(session.moveControlPoints(ids, to, false, report).ok);
             INFO(injectivityModeName(mode) << " step " << step << " (" << angle / M_PI << " pi): " << report.reason);
             REQUIRE(boundarySelfIntersections(session.lattice()).empty());
-            REQUIRE(test::selfIntersectingPairs(session.positions(), triangles) == 0);
+            REQUIRE(test::selfIntersectingPairs(session.mesh().positions, triangles) == 0);
             if (report.fractionApplied < 1.0) {
                 stopped = true;
                 CHECK(report.reason.find("stopped") != std::string::npos);
@@ -294,7 +294,7 @@ TEST_CASE("session: under pinch drags the composed map does not fold, only strai
     // whose vertices rest inside the cage's box), with the tracked det J carrying their product either way.
     WARN(steps << " steps in 20 drags, " << session.cage().frameDepth() << " lattice frames left after the cage");
     CHECK(steps > 30);
-    CHECK(test::selfIntersectingPairs(session.positions(), triangles) > 0);
+    CHECK(test::selfIntersectingPairs(session.mesh().positions, triangles) > 0);
 }
 
 }  // namespace
@@ -395,7 +395,7 @@ TEST_CASE("session: parts touching at load keep their contact as it shifts, and 
     int applied = 0;
     for (int d = 0; d < 24; ++d) {
         const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
-        const Eigen::Vector3d target = session.positions().row(v).transpose() + test::randomVector(rng, -0.12, 0.12);
+        const Eigen::Vector3d target = session.mesh().positions.row(v).transpose() + test::randomVector(rng, -0.12, 0.12);
         OpReport report;
         REQUIRE(session.dragVertex(v, target, report).ok);
         applied += report.status == OpStatus::Applied;
@@ -403,7 +403,7 @@ TEST_CASE("session: parts touching at load keep their contact as it shifts, and 
     WARN(applied << " of 24 drags applied");
     CHECK(applied >= 12);
     std::set<std::pair<int, int>> load(atLoad.begin(), atLoad.end());
-    for (const auto& [x, y] : test::intersectingPairs(session.positions(), triangles)) {
+    for (const auto& [x, y] : test::intersectingPairs(session.mesh().positions, triangles)) {
         if (load.count({x, y})) continue;
         INFO("new pair " << x << ", " << y);
         CHECK((x < firstOfB) != (y < firstOfB));  // between the two parts
@@ -440,7 +440,7 @@ TEST_CASE("session: parts touching at load keep their contact as it shifts, and 
         CHECK(report.reason.find("part 1 (") != std::string::npos);
         CHECK(report.reason.find("part 2 (") != std::string::npos);
         named += report.refusedBy == "triangles";
-        CHECK(test::selfIntersectingPairs(squeezed.positions(), nearTriangles) == 0);
+        CHECK(test::selfIntersectingPairs(squeezed.mesh().positions, nearTriangles) == 0);
         if (report.status == OpStatus::Applied) REQUIRE(squeezed.undo(report).ok);
     }
     CHECK(named == 8);

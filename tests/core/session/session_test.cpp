@@ -28,7 +28,7 @@ Session randomSession(std::mt19937& rng, int n, LatticeSettings settings = {}) {
 }
 
 bool sameState(const Session& a, const Positions& positions, const Positions& displacement, int cursor) {
-    return a.positions() == positions && a.lattice().displacement == displacement && a.history().cursor() == cursor;
+    return a.mesh().positions == positions && a.lattice().displacement == displacement && a.history().cursor() == cursor;
 }
 
 }  // namespace
@@ -38,29 +38,29 @@ TEST_CASE("session: a drag puts the source on the target, undo and redo restore"
     for (int trial = 0; trial < 20; ++trial) {
         Session session = randomSession(rng, 3000);
         const double diagonal = session.lattice().diagonal();
-        const Positions original = session.positions();
+        const Positions original = session.mesh().positions;
         std::vector<Positions> states{original};
         for (int op = 0; op < 5; ++op) {
             const int v = test::randomInt(rng, 0, 2999);
-            const Eigen::Vector3d target = session.positions().row(v).transpose() + 0.05 * diagonal * test::randomVector(rng, -1, 1);
+            const Eigen::Vector3d target = session.mesh().positions.row(v).transpose() + 0.05 * diagonal * test::randomVector(rng, -1, 1);
             OpReport report;
             REQUIRE(session.dragVertex(v, target, report).ok);
             REQUIRE(report.status == OpStatus::Applied);
-            REQUIRE((session.positions().row(v).transpose() - target).norm() <= 1e-9 * diagonal);
+            REQUIRE((session.mesh().positions.row(v).transpose() - target).norm() <= 1e-9 * diagonal);
             REQUIRE(report.residuals.size() == 1);
             REQUIRE(report.controlPointsChanged <= 64);
-            states.push_back(session.positions());
+            states.push_back(session.mesh().positions);
         }
         OpReport report;
         for (int op = 5; op > 0; --op) {
             REQUIRE(session.undo(report).ok);
-            REQUIRE((session.positions() - states[op - 1]).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+            REQUIRE((session.mesh().positions - states[op - 1]).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         }
         REQUIRE(session.undo(report).ok);
         REQUIRE(report.status == OpStatus::NoOp);
         for (int op = 1; op <= 5; ++op) {
             REQUIRE(session.redo(report).ok);
-            REQUIRE((session.positions() - states[op]).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+            REQUIRE((session.mesh().positions - states[op]).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         }
         REQUIRE(session.redo(report).ok);
         REQUIRE(report.status == OpStatus::NoOp);
@@ -73,12 +73,12 @@ TEST_CASE("session: a world-space source on a deformed lattice is found and move
         Session session = randomSession(rng, 300);
         const double diagonal = session.lattice().diagonal();
         OpReport report;
-        REQUIRE(session.dragVertex(5, session.positions().row(5).transpose() + Eigen::Vector3d(0.05, 0.02, -0.03) * diagonal, report).ok);
+        REQUIRE(session.dragVertex(5, session.mesh().positions.row(5).transpose() + Eigen::Vector3d(0.05, 0.02, -0.03) * diagonal, report).ok);
         // A second drag given in world coordinates of the deformed shape.
-        const Eigen::Vector3d source = session.positions().row(7).transpose();
+        const Eigen::Vector3d source = session.mesh().positions.row(7).transpose();
         const Eigen::Vector3d target = source + 0.03 * diagonal * test::randomVector(rng, -1, 1);
         REQUIRE(session.drag({PointConstraint{source, target}}, report).ok);
-        REQUIRE((session.positions().row(7).transpose() - target).norm() <= 1e-8 * diagonal);
+        REQUIRE((session.mesh().positions.row(7).transpose() - target).norm() <= 1e-8 * diagonal);
     }
 }
 
@@ -86,11 +86,11 @@ TEST_CASE("session: bad input is refused with a message and changes nothing", "[
     std::mt19937 rng(53);
     Session session = randomSession(rng, 300);
     OpReport report;
-    REQUIRE(session.dragVertex(1, session.positions().row(1).transpose() + Eigen::Vector3d(0.1, 0, 0), report).ok);
-    const Positions positions = session.positions();
+    REQUIRE(session.dragVertex(1, session.mesh().positions.row(1).transpose() + Eigen::Vector3d(0.1, 0, 0), report).ok);
+    const Positions positions = session.mesh().positions;
     const Positions displacement = session.lattice().displacement;
     const double inf = std::numeric_limits<double>::infinity();
-    const Eigen::Vector3d inside = session.positions().row(2).transpose();
+    const Eigen::Vector3d inside = session.mesh().positions.row(2).transpose();
 
     auto refused = [&](Status status, const std::string& fragment) {
         REQUIRE_FALSE(status.ok);
@@ -115,14 +115,14 @@ TEST_CASE("session: bad input is refused with a message and changes nothing", "[
 
     Session empty;
     REQUIRE_FALSE(empty.setMesh(Positions(0, 3), Triangles(0, 3)).ok);
-    REQUIRE_FALSE(empty.hasMesh());
+    REQUIRE(empty.mesh().empty());
 }
 
 TEST_CASE("session: control point edits move exactly those points and undo", "[core]") {
     std::mt19937 rng(54);
     for (int trial = 0; trial < 20; ++trial) {
         Session session = randomSession(rng, 1500);
-        const Positions original = session.positions();
+        const Positions original = session.mesh().positions;
         const int n = session.lattice().controlPointCount();
         std::vector<int> ids{test::randomInt(rng, 0, n - 1), test::randomInt(rng, 0, n - 1)};
         Eigen::MatrixX3d to(2, 3);
@@ -134,7 +134,7 @@ TEST_CASE("session: control point edits move exactly those points and undo", "[c
         for (int idx = 0; idx < n; ++idx)
             if (idx != ids[0] && idx != ids[1]) REQUIRE(session.lattice().displacement.row(idx).isZero(0.0));
         REQUIRE(session.undo(report).ok);
-        REQUIRE((session.positions() - original).cwiseAbs().maxCoeff() <= 1e-12);
+        REQUIRE((session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-12);
     }
 }
 
@@ -146,7 +146,7 @@ TEST_CASE("session: an interactive drag of many small moves is one history entry
         const double diagonal = incremental.lattice().diagonal();
         Eigen::Vector3d params;
         REQUIRE(incremental.parametersOfVertex(10, params).ok);
-        const Eigen::Vector3d start = incremental.positions().row(10).transpose();
+        const Eigen::Vector3d start = incremental.mesh().positions.row(10).transpose();
         const Eigen::Vector3d end = start + 0.1 * diagonal * test::randomVector(rng, -1, 1);
         REQUIRE(incremental.stroke().begin({params}).ok);
         OpReport report;
@@ -155,9 +155,9 @@ TEST_CASE("session: an interactive drag of many small moves is one history entry
         incremental.stroke().end();
         REQUIRE(incremental.history().size() == 1);
         REQUIRE(direct.dragVertex(10, end, report).ok);
-        REQUIRE((incremental.positions() - direct.positions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        REQUIRE((incremental.mesh().positions - direct.mesh().positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         REQUIRE(incremental.undo(report).ok);
-        REQUIRE((incremental.positions() - incremental.restPositions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        REQUIRE((incremental.mesh().positions - incremental.mesh().rest).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     }
 }
 
@@ -168,23 +168,23 @@ TEST_CASE("session: a lattice re-setup is an operation, undo returns to the old 
         session.setInjectivity({InjectivityMode::Conic, 6});
         const double diagonal = session.lattice().diagonal();
         OpReport report;
-        REQUIRE(session.dragVertex(3, session.positions().row(3).transpose() + 0.02 * diagonal * test::randomVector(rng, -1, 1), report).ok);
-        const Positions beforeSetup = session.positions();
+        REQUIRE(session.dragVertex(3, session.mesh().positions.row(3).transpose() + 0.02 * diagonal * test::randomVector(rng, -1, 1), report).ok);
+        const Positions beforeSetup = session.mesh().positions;
         const Lattice oldLattice = session.lattice();
         LatticeSettings finer;
         finer.resolution = {10, 11, 12};
         finer.degree = {2, 3, 2};
         REQUIRE(session.setupLattice(finer, report).ok);
         REQUIRE(session.lattice().count == finer.resolution);
-        REQUIRE(session.positions() == beforeSetup);  // re-embedding keeps the shape
-        REQUIRE(session.dragVertex(9, session.positions().row(9).transpose() + 0.02 * diagonal * test::randomVector(rng, -1, 1), report).ok);
+        REQUIRE(session.mesh().positions == beforeSetup);  // re-embedding keeps the shape
+        REQUIRE(session.dragVertex(9, session.mesh().positions.row(9).transpose() + 0.02 * diagonal * test::randomVector(rng, -1, 1), report).ok);
         REQUIRE(session.undo(report).ok);
         REQUIRE(session.undo(report).ok);  // the set-up
         REQUIRE(session.lattice().count == oldLattice.count);
         REQUIRE((session.lattice().displacement - oldLattice.displacement).cwiseAbs().maxCoeff() <= 1e-15);
-        REQUIRE((session.positions() - beforeSetup).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        REQUIRE((session.mesh().positions - beforeSetup).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         REQUIRE(session.undo(report).ok);
-        REQUIRE((session.positions() - session.originalPositions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        REQUIRE((session.mesh().positions - session.mesh().original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         // Bad settings are refused and change nothing.
         LatticeSettings bad;
         bad.degree = {0, 3, 3};
@@ -198,11 +198,11 @@ TEST_CASE("session: a new operation after undo drops the redo branch", "[core]")
     Session session = randomSession(rng, 300);
     OpReport report;
     for (int op = 0; op < 4; ++op)
-        REQUIRE(session.dragVertex(op, session.positions().row(op).transpose() + Eigen::Vector3d(0.01, 0, 0), report).ok);
+        REQUIRE(session.dragVertex(op, session.mesh().positions.row(op).transpose() + Eigen::Vector3d(0.01, 0, 0), report).ok);
     REQUIRE(session.undo(report).ok);
     REQUIRE(session.undo(report).ok);
     REQUIRE(session.history().size() == 4);
-    REQUIRE(session.dragVertex(7, session.positions().row(7).transpose() + Eigen::Vector3d(0, 0.01, 0), report).ok);
+    REQUIRE(session.dragVertex(7, session.mesh().positions.row(7).transpose() + Eigen::Vector3d(0, 0.01, 0), report).ok);
     REQUIRE(session.history().size() == 3);
     REQUIRE(session.history().cursor() == 3);
     REQUIRE(session.redo(report).ok);
@@ -239,27 +239,27 @@ TEST_CASE("session: an interactive control-point drag is one history entry equal
         Eigen::MatrixX3d offsets(static_cast<Eigen::Index>(unique.size()), 3);
         offsets.rowwise() = total.transpose();
         REQUIRE(direct.moveControlPoints(unique, offsets, true, report).ok);
-        REQUIRE((incremental.positions() - direct.positions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        REQUIRE((incremental.mesh().positions - direct.mesh().positions).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         for (int idx : unique) REQUIRE((incremental.lattice().displacement.row(idx).transpose() - total).norm() <= 1e-12 * diagonal);
 
         // Undo is the inverse manipulation; redo reapplies it.
-        const Positions after = incremental.positions();
+        const Positions after = incremental.mesh().positions;
         REQUIRE(incremental.undo(report).ok);
-        REQUIRE((incremental.positions() - incremental.restPositions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        REQUIRE((incremental.mesh().positions - incremental.mesh().rest).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         REQUIRE(incremental.lattice().displacement.isZero(1e-12 * diagonal));
         REQUIRE(incremental.redo(report).ok);
-        REQUIRE((incremental.positions() - after).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        REQUIRE((incremental.mesh().positions - after).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
 
         // The recording replays it.
         const Script recording = recordSession(incremental);
         Session replayed;
-        const Status set = replayed.setMesh(incremental.originalPositions(), incremental.triangles(), recording.lattice);
+        const Status set = replayed.setMesh(incremental.mesh().original, incremental.mesh().triangles, recording.lattice);
         INFO(set.message);
         REQUIRE(set.ok);
         replayed.setInjectivity(recording.injectivity);
         ScriptReport scriptReport;
         REQUIRE(runScript(replayed, recording, scriptReport).ok);
-        REQUIRE((replayed.positions() - after).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        REQUIRE((replayed.mesh().positions - after).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     }
 }
 
@@ -319,9 +319,9 @@ TEST_CASE("session: a control-point drag with an offset per point equals one edi
         CHECK((incremental.history().front().offsets - applied).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         if (!anyStop) CHECK((applied - offsetsAt(angle)).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         REQUIRE(direct.moveControlPoints(ids, applied, true, report).ok);
-        CHECK((incremental.positions() - direct.positions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        CHECK((incremental.mesh().positions - direct.mesh().positions).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         REQUIRE(incremental.undo(report).ok);
-        CHECK((incremental.positions() - incremental.restPositions()).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        CHECK((incremental.mesh().positions - incremental.mesh().rest).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
     }
     CHECK(stopped >= 1);
 }
@@ -347,7 +347,7 @@ TEST_CASE("session: a control-point drag refuses pinned or unknown points and a 
     REQUIRE(report.status == OpStatus::NoOp);
     session.stroke().end();
     REQUIRE(session.history().empty());
-    REQUIRE(session.positions() == session.restPositions());
+    REQUIRE(session.mesh().positions == session.mesh().rest);
 }
 
 TEST_CASE("session: cancelling a drag takes back what it applied, subdivided steps included", "[core]") {
@@ -360,8 +360,8 @@ TEST_CASE("session: cancelling a drag takes back what it applied, subdivided ste
         injectivity.checkTriangles = false;
         session.setInjectivity(injectivity);
         OpReport report;
-        REQUIRE(session.dragVertex(3, session.positions().row(3).transpose() + 0.05 * session.lattice().diagonal() * test::randomVector(rng, -1, 1), report).ok);
-        const Positions before = session.positions();
+        REQUIRE(session.dragVertex(3, session.mesh().positions.row(3).transpose() + 0.05 * session.lattice().diagonal() * test::randomVector(rng, -1, 1), report).ok);
+        const Positions before = session.mesh().positions;
         const double diagonal = session.lattice().diagonal();
         const int frames = session.cage().frameDepth();
         if (trial % 2 == 0) {
@@ -382,31 +382,31 @@ TEST_CASE("session: cancelling a drag takes back what it applied, subdivided ste
         CHECK_FALSE(session.stroke().active());
         CHECK(session.history().size() == 1);
         CHECK(session.cage().frameDepth() == frames);
-        CHECK((session.positions() - before).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        CHECK((session.mesh().positions - before).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
         REQUIRE(session.stroke().cancel(report).ok);
         CHECK(report.status == OpStatus::NoOp);
         REQUIRE(session.undo(report).ok);  // the history before the drag is intact
-        CHECK((session.positions() - session.originalPositions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        CHECK((session.mesh().positions - session.mesh().original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     }
     CHECK(subdivided >= 2);
 }
 
 TEST_CASE("session: restVersion changes whenever the rest mesh or its embedding does", "[core]") {
     // The renderer's GPU path keeps a copy of restPositions() and the cage cells of every vertex, and uploads it
-    // again only when restVersion() changes: an unchanged version must mean unchanged rest data.
+    // again only when mesh().restVersion changes: an unchanged version must mean unchanged rest data.
     std::mt19937 rng(31);
     for (int trial = 0; trial < 4; ++trial) {
         Session session = randomSession(rng, 600);
         session.setInjectivity({trial % 2 ? InjectivityMode::Conic : InjectivityMode::Off, 4});
-        std::uint64_t version = session.restVersion();
-        Positions rest = session.restPositions();
+        std::uint64_t version = session.mesh().restVersion;
+        Positions rest = session.mesh().rest;
         Embedding embedding = session.cage().embedding();
         int changes = 0;
         for (int op = 0; op < 40; ++op) {
             OpReport report;
             const int kind = test::randomInt(rng, 0, 9);
-            const int vertex = test::randomInt(rng, 0, int(session.positions().rows()) - 1);
-            const Eigen::Vector3d target = session.positions().row(vertex).transpose() + test::randomVector(rng, -0.4, 0.4);
+            const int vertex = test::randomInt(rng, 0, int(session.mesh().positions.rows()) - 1);
+            const Eigen::Vector3d target = session.mesh().positions.row(vertex).transpose() + test::randomVector(rng, -0.4, 0.4);
             if (kind <= 3) {
                 (void)session.dragVertex(vertex, target, report);
             } else if (kind == 4) {
@@ -422,18 +422,18 @@ TEST_CASE("session: restVersion changes whenever the rest mesh or its embedding 
             } else {
                 (void)session.redo(report);
             }
-            if (session.restVersion() == version) {
+            if (session.mesh().restVersion == version) {
                 INFO("trial " << trial << ", op " << op << " (kind " << kind << ")");
-                REQUIRE(session.restPositions().rows() == rest.rows());
-                CHECK(session.restPositions() == rest);
+                REQUIRE(session.mesh().rest.rows() == rest.rows());
+                CHECK(session.mesh().rest == rest);
                 CHECK(session.cage().embedding().order == embedding.order);
                 CHECK(session.cage().embedding().cellStart == embedding.cellStart);
                 CHECK(session.cage().embedding().localX == embedding.localX);
                 CHECK(session.cage().embedding().localZ == embedding.localZ);
             } else {
                 ++changes;
-                version = session.restVersion();
-                rest = session.restPositions();
+                version = session.mesh().restVersion;
+                rest = session.mesh().rest;
                 embedding = session.cage().embedding();
             }
         }

@@ -94,7 +94,7 @@ TEST_CASE("subdivision: seed 003 Fig. 3 failure cases self-intersect without the
             OpReport report;
             REQUIRE(session.drag(c.constraints, report).ok);
             REQUIRE(report.status == OpStatus::Applied);
-            REQUIRE(test::selfIntersectingPairs(session.positions(), s.triangles) > 0);
+            REQUIRE(test::selfIntersectingPairs(session.mesh().positions, s.triangles) > 0);
         }
         for (InjectivityMode mode : {InjectivityMode::Conic, InjectivityMode::Exact}) {
             INFO(injectivityModeName(mode));
@@ -105,7 +105,7 @@ TEST_CASE("subdivision: seed 003 Fig. 3 failure cases self-intersect without the
             session.setInjectivity({mode, 6});
             OpReport report;
             REQUIRE(session.drag(c.constraints, report).ok);
-            REQUIRE(test::selfIntersectingPairs(session.positions(), s.triangles) == 0);
+            REQUIRE(test::selfIntersectingPairs(session.mesh().positions, s.triangles) == 0);
             if (report.status == OpStatus::Applied) {
                 REQUIRE(report.subSteps >= 1);
                 const double diagonal = 2.0 * std::sqrt(3.0);
@@ -114,7 +114,7 @@ TEST_CASE("subdivision: seed 003 Fig. 3 failure cases self-intersect without the
                     for (double r : report.residuals) REQUIRE(r <= 1e-6 * diagonal);
             } else {
                 REQUIRE(report.status == OpStatus::Rejected);
-                REQUIRE(session.positions() == s.positions);  // nothing changed
+                REQUIRE(session.mesh().positions == s.positions);  // nothing changed
                 REQUIRE(session.history().empty());
                 REQUIRE_FALSE(report.reason.empty());
             }
@@ -136,13 +136,13 @@ TEST_CASE("subdivision: a subdivided drag undoes and redoes through its fresh la
     REQUIRE(report.status == OpStatus::Applied);
     REQUIRE(report.subSteps > 1);
     REQUIRE(session.cage().frameDepth() > 0);
-    const Positions after = session.positions();
+    const Positions after = session.mesh().positions;
     REQUIRE(session.undo(report).ok);
     REQUIRE(session.cage().frameDepth() == 0);
     const double diagonal = 2.0 * std::sqrt(3.0);
-    REQUIRE((session.positions() - s.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    REQUIRE((session.mesh().positions - s.positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     REQUIRE(session.redo(report).ok);
-    REQUIRE((session.positions() - after).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    REQUIRE((session.mesh().positions - after).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
 }
 
 // 1000 random operations in four sessions of 250 (each with its own seed), so ctest runs them side by side.
@@ -176,14 +176,14 @@ static void runRandomOperationsUndoRedo(unsigned seed, int operationCount) {
         const double size = kind == 9 ? 0.8 : 0.08;  // some large moves that must be subdivided or rejected
         if (kind < 5) {
             const int v = inside[test::randomInt(rng, 0, static_cast<int>(inside.size()) - 1)];
-            const Status dragged = session.dragVertex(v, session.positions().row(v).transpose() + size * test::randomVector(rng, -1, 1), report);
+            const Status dragged = session.dragVertex(v, session.mesh().positions.row(v).transpose() + size * test::randomVector(rng, -1, 1), report);
             INFO(dragged.message);
             REQUIRE(dragged.ok);
         } else if (kind < 8 || kind == 9) {
             std::vector<PointConstraint> constraints;
             for (int f = 0; f < 3; ++f) {
                 const int v = inside[test::randomInt(rng, 0, static_cast<int>(inside.size()) - 1)];
-                const Eigen::Vector3d p = session.positions().row(v).transpose();
+                const Eigen::Vector3d p = session.mesh().positions.row(v).transpose();
                 constraints.push_back({p, p + size * test::randomVector(rng, -1, 1)});
             }
             REQUIRE(session.drag(constraints, report).ok);
@@ -208,16 +208,16 @@ static void runRandomOperationsUndoRedo(unsigned seed, int operationCount) {
     // hundreds of strong compressions, straight triangles between the images of a 162-vertex sphere's
     // vertices can still cross (a polygonal artifact, not a fold: det J stays positive). The Fig. 3 test
     // above checks intersections on a mesh fine enough for its deformations.
-    const Positions final = session.positions();
+    const Positions final = session.mesh().positions;
     OpReport report;
     for (int i = 0; i < applied; ++i) REQUIRE(session.undo(report).ok);
     REQUIRE(session.undo(report).ok);
     REQUIRE(report.status == OpStatus::NoOp);
-    REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    REQUIRE((session.mesh().positions - positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     for (Eigen::Index v = 0; v < positions.rows(); ++v)
-        if (positions(v, 2) < -0.01) REQUIRE(session.positions().row(v) == positions.row(v));  // outside the region: bitwise
+        if (positions(v, 2) < -0.01) REQUIRE(session.mesh().positions.row(v) == positions.row(v));  // outside the region: bitwise
     for (int i = 0; i < applied; ++i) REQUIRE(session.redo(report).ok);
-    REQUIRE((session.positions() - final).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    REQUIRE((session.mesh().positions - final).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
 }
 
 TEST_CASE("subdivision: 1000 random operations undo to the original and redo to the result, part 1 of 4", "[core]") {
@@ -248,7 +248,7 @@ TEST_CASE("subdivision: a recorded session replays on the same mesh and applies 
         OpReport report;
         const int v = test::randomInt(rng, 0, static_cast<int>(a.rows()) - 1);
         const double size = op % 4 == 3 ? 0.7 : 0.1;
-        REQUIRE(original.dragVertex(v, original.positions().row(v).transpose() + size * test::randomVector(rng, -1, 1), report).ok);
+        REQUIRE(original.dragVertex(v, original.mesh().positions.row(v).transpose() + size * test::randomVector(rng, -1, 1), report).ok);
         if (op == 5) REQUIRE(original.undo(report).ok);  // undone work is not part of the recording
     }
     const Script recording = recordSession(original);
@@ -260,10 +260,10 @@ TEST_CASE("subdivision: a recorded session replays on the same mesh and applies 
         session.setInjectivity(recording.injectivity);
         ScriptReport report;
         REQUIRE(runScript(session, recording, report).ok);
-        return session.positions();
+        return session.mesh().positions;
     };
     const double diagonal = (a.colwise().maxCoeff() - a.colwise().minCoeff()).norm();
-    REQUIRE((replay(a, ta) - original.positions()).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    REQUIRE((replay(a, ta) - original.mesh().positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
 
     // The same deformation of space: B replayed alone moves exactly as B's vertices do when they ride along
     // with A through the recorded operations.
@@ -305,7 +305,7 @@ TEST_CASE("subdivision: the tracked det J of a composed operation matches finite
         const std::vector<double> det = session.totalJacobianDeterminants();
         for (int p = 0; p < 20; ++p) {
             Eigen::Matrix3d jacobian;
-            for (int a = 0; a < 3; ++a) jacobian.col(a) = (session.positions().row(4 * p + 1 + a) - session.positions().row(4 * p)).transpose() / h;
+            for (int a = 0; a < 3; ++a) jacobian.col(a) = (session.mesh().positions.row(4 * p + 1 + a) - session.mesh().positions.row(4 * p)).transpose() / h;
             REQUIRE(det[4 * p] == Approx(jacobian.determinant()).epsilon(1e-3));
         }
         // Undo divides the frames back out: the identity again.
@@ -349,7 +349,7 @@ TEST_CASE("subdivision: undo of large interactive drags through many fresh frame
         session.stroke().end();
         if (session.history().empty()) continue;
         manyFrames += session.cage().frameDepth() >= 5;
-        const Positions dragged = session.positions();
+        const Positions dragged = session.mesh().positions;
         const std::vector<double> dets = session.totalJacobianDeterminants();
         REQUIRE(session.undo(report).ok);
 
@@ -358,14 +358,14 @@ TEST_CASE("subdivision: undo of large interactive drags through many fresh frame
         // million times (det J ~ 1e-8, seen here) the way back is good to ~1e-7; elsewhere to 1e-9.
         for (Eigen::Index v = 0; v < sphere.rows(); ++v) {
             const double allowed = (dets[static_cast<size_t>(v)] >= 1e-3 ? 1e-9 : 1e-6) * diagonal;
-            if ((session.positions().row(v) - sphere.row(v)).norm() > allowed) {
-                FAIL_CHECK("vertex " << v << " is " << (session.positions().row(v) - sphere.row(v)).norm()
+            if ((session.mesh().positions.row(v) - sphere.row(v)).norm() > allowed) {
+                FAIL_CHECK("vertex " << v << " is " << (session.mesh().positions.row(v) - sphere.row(v)).norm()
                                      << " from its start (det J " << dets[static_cast<size_t>(v)] << ")");
                 break;
             }
         }
         REQUIRE(session.redo(report).ok);
-        CHECK((session.positions() - dragged).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+        CHECK((session.mesh().positions - dragged).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     }
     CHECK(manyFrames >= 4);
 }
@@ -404,7 +404,7 @@ TEST_CASE("subdivision: after a subdivided drag, moving the whole cage rigidly m
             cage.padding = 0.5;  // room for what the drag carries, so it rests inside the cage
             cage.resolution = {6, 6, 6};
             REQUIRE(session.setMesh(input.positions, input.triangles, cage).ok);
-            const Positions original = session.positions();
+            const Positions original = session.mesh().positions;
             // Two nearby vertices pulled apart, in opposite directions: the cage's one-step deformation folds
             // between them, so InjectSubdiv splits it.
             const int v = test::randomInt(rng, 0, static_cast<int>(original.rows()) - 1);
@@ -421,7 +421,7 @@ TEST_CASE("subdivision: after a subdivided drag, moving the whole cage rigidly m
             ++subdivided;
             if (!session.cage().layers().empty()) continue;  // something would rest outside the box: kept after the cage
             ++baked;
-            const Positions dragged = session.positions();
+            const Positions dragged = session.mesh().positions;
             CHECK((dragged.row(v).transpose() - target).norm() <= 1e-9 * diagonal);
             std::vector<int> ids;
             for (int idx = 0; idx < session.lattice().controlPointCount(); ++idx)
@@ -430,17 +430,17 @@ TEST_CASE("subdivision: after a subdivided drag, moving the whole cage rigidly m
             REQUIRE(session.moveControlPoints(ids, by.transpose().replicate(static_cast<Eigen::Index>(ids.size()), 1), true, report).ok);
             REQUIRE(report.status == OpStatus::Applied);
             REQUIRE(report.fractionApplied == 1.0);
-            const Positions moved = session.positions();
+            const Positions moved = session.mesh().positions;
             double worst = 0.0;
             for (Eigen::Index r = 0; r < moved.rows(); ++r) worst = std::max(worst, (moved.row(r) - dragged.row(r) - by.transpose()).norm());
             CHECK(worst <= 1e-9 * diagonal);
             REQUIRE(session.undo(report).ok);
             REQUIRE(session.undo(report).ok);
-            CHECK((session.positions() - original).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+            CHECK((session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
             REQUIRE(session.redo(report).ok);
-            CHECK((session.positions() - dragged).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+            CHECK((session.mesh().positions - dragged).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
             REQUIRE(session.redo(report).ok);
-            CHECK((session.positions() - moved).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+            CHECK((session.mesh().positions - moved).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         }
     }
     WARN("subdivided " << subdivided << ", baked " << baked);
@@ -472,7 +472,7 @@ TEST_CASE("one drag path: a scripted drag and the window's drag of one update gi
             std::vector<PointConstraint> constraints;
             const int count = test::randomInt(rng, 1, 3);
             for (int c = 0; c < count; ++c) {
-                const Eigen::Vector3d source = scripted.positions().row(test::randomInt(rng, 0, static_cast<int>(sphere.rows()) - 1)).transpose();
+                const Eigen::Vector3d source = scripted.mesh().positions.row(test::randomInt(rng, 0, static_cast<int>(sphere.rows()) - 1)).transpose();
                 constraints.push_back({source, source + std::uniform_real_distribution<double>(0.05, 0.4)(rng) * diagonal * test::randomVector(rng, -1, 1).normalized()});
             }
             BrushSettings brush;
@@ -493,17 +493,17 @@ TEST_CASE("one drag path: a scripted drag and the window's drag of one update gi
             INFO("trial " << trial << ": " << byScript.reason << " / " << byWindow.reason);
             REQUIRE(byScript.status == byWindow.status);
             CHECK(byScript.subSteps == byWindow.subSteps);
-            REQUIRE(scripted.positions() == window.positions());
+            REQUIRE(scripted.mesh().positions == window.mesh().positions);
             REQUIRE(scripted.history().cursor() == window.history().cursor());
             applied += byScript.status == OpStatus::Applied;
             refused += byScript.status == OpStatus::Rejected;
             subdivided += byScript.subSteps > 1;
             if (byScript.status != OpStatus::Applied || trial % 2) continue;
-            const Positions before = scripted.positions();
+            const Positions before = scripted.mesh().positions;
             OpReport undone;
             REQUIRE(scripted.undo(undone).ok);
             REQUIRE(window.undo(undone).ok);
-            CHECK(scripted.positions() == window.positions());
+            CHECK(scripted.mesh().positions == window.mesh().positions);
         }
     }
     CHECK(applied >= 10);

@@ -51,8 +51,8 @@ PinchCount pinchTSpline(InjectivityMode mode, int depth, unsigned seed, int drag
                 (positions.row(opposite) + positions.row(k) - 2.0 * Eigen::RowVector3d(0.2, -0.1, 0.3)).squaredNorm())
                 opposite = i;
         const double s = std::uniform_real_distribution<double>(0.3, 0.9)(rng);
-        const Eigen::Vector3d from = session.positions().row(k).transpose();
-        const Eigen::Vector3d target = from + s * (session.positions().row(opposite).transpose() - from);
+        const Eigen::Vector3d from = session.mesh().positions.row(k).transpose();
+        const Eigen::Vector3d target = from + s * (session.mesh().positions.row(opposite).transpose() - from);
         REQUIRE(session.dragVertex(k, target, report));
         INFO("mode " << injectivityModeName(mode) << ", depth " << depth << ", drag " << d << ": " << report.reason);
         if (report.status == OpStatus::Applied) {
@@ -64,20 +64,20 @@ PinchCount pinchTSpline(InjectivityMode mode, int depth, unsigned seed, int drag
             const Operation& op = session.history().back();
             for (const Step& step : op.steps) count.freshFrames += step.freshFrame || step.newCage;
             // Applied means the whole drag: the vertex is on its target (seed 000's exact solution per substep).
-            REQUIRE((session.positions().row(k).transpose() - target).norm() <= 1e-9 * diagonal);
+            REQUIRE((session.mesh().positions.row(k).transpose() - target).norm() <= 1e-9 * diagonal);
         } else {
             REQUIRE(report.status == OpStatus::Rejected);
             REQUIRE(report.reason.find("nothing was changed") != std::string::npos);
             ++count.rejected;
         }
-        REQUIRE(session.positions().allFinite());
-        REQUIRE(test::selfIntersectingPairs(session.positions(), triangles) == 0);
+        REQUIRE(session.mesh().positions.allFinite());
+        REQUIRE(test::selfIntersectingPairs(session.mesh().positions, triangles) == 0);
         // The frame now in use (the T-spline, or a fresh box frame on top of it) is injective by the exact test.
         REQUIRE(checkInjectivityExact(session.lattice()).certified);
     }
     OpReport undone;
     while (session.history().cursor() > setupEntries) REQUIRE(session.undo(undone));
-    REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
+    REQUIRE((session.mesh().positions - positions).cwiseAbs().maxCoeff() <= 1e-9 * diagonal);
     return count;
 }
 

@@ -244,10 +244,10 @@ TEST_CASE("composite lattice: JSON round trip, placement, and a session that fre
     REQUIRE(session.dragVertex(vertex, target, report));
     INFO(report.reason);
     REQUIRE(report.status == OpStatus::Applied);
-    REQUIRE((session.positions().row(vertex).transpose() - target).norm() <= 1e-9);
+    REQUIRE((session.mesh().positions.row(vertex).transpose() - target).norm() <= 1e-9);
     // The outer surface of a composite stays put.
     for (int id = 0; id < session.lattice().controlPointCount(); ++id)
         if (eight->onOuterSurface(id)) REQUIRE(session.lattice().displacement.row(id).isZero(0.0));
     REQUIRE(session.undo(report));
-    REQUIRE((session.positions() - positions).cwiseAbs().maxCoeff() <= 1e-12);
+    REQUIRE((session.mesh().positions - positions).cwiseAbs().maxCoeff() <= 1e-12);
 }
