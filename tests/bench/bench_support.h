@@ -80,4 +80,33 @@ inline void printCase(const std::string& name, long long n, double medianMillise
     std::fflush(stdout);
 }
 
+// A closed latitude-longitude sphere mesh of about n vertices (rings x perRing plus the poles). Every ring has the
+// same count, so toward the poles the triangles become slivers (width to height sin(latitude)), whose boxes overlap
+// many neighbours: harder for the triangle check than a scan (geodesicSphereMesh is the scan-like one).
+inline void sphereMesh(int n, Positions& positions, Triangles& triangles) {
+    const int rings = static_cast<int>(std::sqrt(n / 2.0)), perRing = 2 * rings;
+    positions.resize(rings * perRing + 2, 3);
+    for (int r = 0; r < rings; ++r)
+        for (int k = 0; k < perRing; ++k) {
+            const double theta = M_PI * (r + 1) / (rings + 1), phi = 2.0 * M_PI * k / perRing;
+            positions.row(r * perRing + k) << std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta);
+        }
+    const int north = rings * perRing, south = north + 1;
+    positions.row(north) << 0, 0, 1;
+    positions.row(south) << 0, 0, -1;
+    std::vector<Eigen::Vector3i> tris;
+    for (int k = 0; k < perRing; ++k) {
+        const int k1 = (k + 1) % perRing;
+        tris.emplace_back(north, k, k1);
+        tris.emplace_back(south, (rings - 1) * perRing + k1, (rings - 1) * perRing + k);
+        for (int r = 0; r + 1 < rings; ++r) {
+            const int a = r * perRing + k, b = r * perRing + k1, c = (r + 1) * perRing + k1, d = (r + 1) * perRing + k;
+            tris.emplace_back(a, d, c);
+            tris.emplace_back(a, c, b);
+        }
+    }
+    triangles.resize(static_cast<Eigen::Index>(tris.size()), 3);
+    for (size_t t = 0; t < tris.size(); ++t) triangles.row(static_cast<Eigen::Index>(t)) = tris[t].transpose();
+}
+
 }  // namespace sculpt::bench

@@ -1,0 +1,229 @@
+// The brush's benchmark cases (brush_bench.h).
+#include "brush_bench.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "bench_support.h"
+#include "core/deform/brush.h"
+#include "core/deform/vertex_normals.h"
+#include "core/session/session.h"
+#include "../core/cgal_meshes.h"
+#include "../core/mesh_fixtures.h"
+
+namespace sculpt::bench {
+
+using namespace sculpt::core;
+
+void runBrushBenchmarks(const std::vector<std::string>& filters) {
+    const auto wanted = [&](const char* name) { return wantedCase(filters, name); };
+    if (wanted("strokes_real")) {
+        for (const char* name : {"elephant.off", "camel.off", "armadillo.off"}) {
+            Positions positions, normals;
+            Triangles triangles;
+            std::string error;
+            if (!test::loadCgalMesh(name, positions, triangles, error)) {
+                std::fprintf(stderr, "strokes_real: %s\n", error.c_str());
+                continue;
+            }
+            for (int round = 0; getenv("SCULPT_BENCH_SUBDIVIDE") && round < atoi(getenv("SCULPT_BENCH_SUBDIVIDE")); ++round) {
+                std::map<std::pair<int, int>, int> mid;
+                std::vector<Eigen::Vector3d> extra;
+                const auto at = [&](int a, int b) {
+                    const auto key = std::minmax(a, b);
+                    auto it = mid.find(key);
+                    if (it != mid.end()) return it->second;
+                    const int id = static_cast<int>(positions.rows() + extra.size());
+                    extra.push_back(0.5 * (positions.row(a) + positions.row(b)).transpose());
+                    mid.emplace(key, id);
+                    return id;
+                };
+                Triangles finer(triangles.rows() * 4, 3);
+                for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+                    const int a = triangles(t, 0), b = triangles(t, 1), c = triangles(t, 2);
+                    const int ab = at(a, b), bc = at(b, c), ca = at(c, a);
+                    finer.row(4 * t) << a, ab, ca;
+                    finer.row(4 * t + 1) << ab, b, bc;
+                    finer.row(4 * t + 2) << ca, bc, c;
+                    finer.row(4 * t + 3) << ab, bc, ca;
+                }
+                const Eigen::Index old = positions.rows();
+                positions.conservativeResize(old + static_cast<Eigen::Index>(extra.size()), 3);
+                for (size_t k = 0; k < extra.size(); ++k) positions.row(old + static_cast<Eigen::Index>(k)) = extra[k].transpose();
+                triangles = finer;
+            }
+            computeVertexNormals(positions, triangles, normals);
+            const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+            // Crossings at load (CGAL's camel has 20): the product lets such a contact shift within two rings of its
+            // triangles (docs/formats.md, "Parts in contact"); a new pair there is counted apart, any other is a crossing.
+            const std::vector<std::pair<int, int>> loadPairs = test::intersectingPairs(positions, triangles);
+            const size_t initialPairs = loadPairs.size();
+            std::vector<std::uint8_t> contactZone(static_cast<size_t>(triangles.rows()), 0);
+            {
+                std::vector<std::vector<int>> trianglesOf(static_cast<size_t>(positions.rows()));
+                for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+                    for (int k = 0; k < 3; ++k) trianglesOf[static_cast<size_t>(triangles(t, k))].push_back(static_cast<int>(t));
+                std::vector<int> frontier;
+                for (const auto& [a, b] : loadPairs)
+                    for (int t : {a, b})
+                        if (!contactZone[static_cast<size_t>(t)]) contactZone[static_cast<size_t>(t)] = 1, frontier.push_back(t);
+                for (int ring = 0; ring < 2; ++ring) {
+                    std::vector<int> next;
+                    for (int t : frontier)
+                        for (int k = 0; k < 3; ++k)
+                            for (int n : trianglesOf[static_cast<size_t>(triangles(t, k))])
+                                if (!contactZone[static_cast<size_t>(n)]) contactZone[static_cast<size_t>(n)] = 1, next.push_back(n);
+                    frontier = std::move(next);
+                }
+            }
+            const std::set<std::pair<int, int>> atLoad(loadPairs.begin(), loadPairs.end());
+            int shiftedContacts = 0;
+            Session session;
+            session.setMesh(positions, triangles);
+            std::mt19937 rng(2026);
+            std::uniform_real_distribution<double> unit(0.0, 1.0);
+            int full = 0, stopped = 0, refused = 0, crossings = 0, unrestored = 0, shapeCrosses = 0;
+            std::map<std::string, int> stoppedBy;  // what stopped or refused a stroke: "triangles", "lattice", ...
+            int fullByKind[3] = {0, 0, 0}, strokesByKind[3] = {0, 0, 0};
+            std::vector<double> profiles, moveMs, reachedOfShapeLimit;
+            for (int stroke = 0; stroke < 100; ++stroke) {
+                BrushSettings brush;
+                brush.radius = (0.03 + 0.12 * unit(rng)) * diagonal;
+                brush.falloff = static_cast<BrushFalloff>(stroke / 3 % 3);  // independent of the kind (stroke % 3)
+                if (stroke % 4 == 3) brush.symmetry.mirror[0] = true;
+                session.setInjectivity({stroke % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6});
+                const int v = std::uniform_int_distribution<int>(0, static_cast<int>(positions.rows()) - 1)(rng);
+                const Eigen::Vector3d n = normals.row(v).transpose();
+                const int kind = stroke % 3;  // along the normal, a tangent, inward
+                const Eigen::Vector3d direction = kind == 0 ? n : kind == 1 ? n.unitOrthogonal() : Eigen::Vector3d(-n);
+                const double pull = (0.1 + 2.9 * unit(rng)) * brush.radius;
+                const Eigen::Vector3d source = positions.row(v).transpose();
+                OpReport report;
+                session.dragVertex(v, source + pull * direction, report, brush);
+                moveMs.push_back(report.wallMs);
+                ++strokesByKind[kind];
+                if (report.status != OpStatus::Applied || report.fractionApplied < 1.0) {
+                    ++stoppedBy[report.refusedBy.empty() ? std::string("other") : report.refusedBy];
+                    // How hard was it? The falloff shape moves each vertex by the falloff of its rest distance
+                    // from the grabbed point (and from its mirror image), as the profile below measures, and
+                    // nothing else: where its triangles cross at the target (a part pushed into another), the
+                    // pull cannot be carried without moving what lies ahead, which the brush's field does
+                    // (brush_field.h) up to where the mesh's triangles, too coarse for the bend, would cross.
+                    // Reported: how many stops are such strokes, and how far the brush got compared with where
+                    // the falloff shape first crosses.
+                    const Eigen::Vector3d centre = 0.5 * (positions.colwise().minCoeff() + positions.colwise().maxCoeff()).transpose();
+                    const auto falloffShapeCrosses = [&](double share) {
+                        Positions shape = positions;
+                        for (int mask = 0; mask <= (brush.symmetry.any() ? 1 : 0); ++mask) {
+                            const Eigen::Vector3d grab = reflectPoint(source, mask, centre);
+                            const Eigen::Vector3d move = reflectPoint(source + share * pull * direction, mask, centre) - grab;
+                            for (Eigen::Index r = 0; r < positions.rows(); ++r) {
+                                const double rho = (positions.row(r).transpose() - grab).norm();
+                                if (rho < brush.radius) shape.row(r) += brushProfile(brush.falloff, rho / brush.radius) * move.transpose();
+                            }
+                        }
+                        for (const std::pair<int, int>& pair : test::intersectingPairs(shape, triangles))
+                            if (!atLoad.count(pair) && !(contactZone[static_cast<size_t>(pair.first)] && contactZone[static_cast<size_t>(pair.second)]))
+                                return true;
+                        return false;
+                    };
+                    const bool crosses = falloffShapeCrosses(1.0);
+                    shapeCrosses += crosses;
+                    if (crosses) {
+                        // Where the falloff shape first crosses (to 1/64 of the pull): the share the brush reached, of it.
+                        double lo = 0.0, hi = 1.0;
+                        for (int iteration = 0; iteration < 6; ++iteration) (falloffShapeCrosses(0.5 * (lo + hi)) ? hi : lo) = 0.5 * (lo + hi);
+                        const double reached = report.status == OpStatus::Applied ? report.fractionApplied : 0.0;
+                        if (hi > 0.0) reachedOfShapeLimit.push_back(reached / hi);
+                    }
+                    if (getenv("SCULPT_BENCH_VERBOSE"))
+                        std::fprintf(stderr, "  %s stroke %d: the falloff shape at the target %s\n", name, stroke, crosses ? "crosses itself" : "is crossing-free");
+                }
+                if (getenv("SCULPT_BENCH_VERBOSE") && (report.status != OpStatus::Applied || report.fractionApplied < 1.0))
+                    std::fprintf(stderr, "  %s stroke %d kind %d pull %.2f r radius %.3f diag falloff %d sym %d: %s %.3f by %s (%s)\n", name,
+                                 stroke, kind, pull / brush.radius, brush.radius / diagonal, stroke / 3 % 3, brush.symmetry.any() ? 1 : 0,
+                                 opStatusName(report.status), report.fractionApplied, report.refusedBy.c_str(), report.reason.c_str());
+                if (report.status != OpStatus::Applied) {
+                    ++refused;
+                    unrestored += session.mesh().positions != positions;  // a refused stroke changes nothing
+                    continue;
+                }
+                (report.fractionApplied == 1.0 ? full : stopped) += 1;
+                fullByKind[kind] += report.fractionApplied == 1.0;
+                // The independent exact triangle test (tests/core/mesh_fixtures.h), on the whole mesh.
+                int newPairs = 0;
+                for (const std::pair<int, int>& pair : test::intersectingPairs(session.mesh().positions, triangles)) {
+                    if (atLoad.count(pair)) continue;
+                    if (contactZone[static_cast<size_t>(pair.first)] && contactZone[static_cast<size_t>(pair.second)]) ++shiftedContacts;
+                    else ++newPairs;
+                }
+                crossings += newPairs;
+                if (getenv("SCULPT_BENCH_VERBOSE") && newPairs != 0)
+                    std::fprintf(stderr, "  %s stroke %d kind %d pull %.2f r radius %.3f diag falloff %d sym %d: %d new crossing pairs (%d at load)\n", name,
+                                 stroke, kind, pull / brush.radius, brush.radius / diagonal, stroke / 3 % 3, brush.symmetry.any() ? 1 : 0,
+                                 newPairs, static_cast<int>(initialPairs));
+                if (kind == 0 && report.fractionApplied == 1.0 && !brush.symmetry.any()) {
+                    double squares = 0.0;
+                    int within = 0;
+                    for (Eigen::Index r = 0; r < positions.rows(); ++r) {
+                        const double rho = (positions.row(r) - positions.row(v)).norm();
+                        if (rho >= brush.radius) continue;
+                        const double share = (session.mesh().positions.row(r) - positions.row(r)).dot(direction.transpose()) / pull;
+                        squares += std::pow(share - brushProfile(brush.falloff, rho / brush.radius), 2);
+                        ++within;
+                    }
+                    if (within > 0) profiles.push_back(std::sqrt(squares / within));
+                }
+                session.undo(report);
+                unrestored += (session.mesh().positions - positions).cwiseAbs().maxCoeff() > 1e-12 * diagonal;  // undo is exact
+            }
+            std::string by;
+            for (const auto& [what, count] : stoppedBy) by += (by.empty() ? "" : ", ") + ("\"" + what + "\": " + std::to_string(count));
+            char extra[900];
+            std::snprintf(extra, sizeof extra,
+                          "\"mesh\": \"%s\", \"applied_in_full\": %d, \"stopped_short\": %d, \"refused\": %d, \"falloff_shape_crosses_at_target\": %d, \"applied_in_full_of_the_rest\": %.3f, \"reached_of_falloff_shape_limit_median\": %.2f, \"profile_rms_median\": %.3f, "
+                          "\"profiles\": %zu, \"crossing_pairs\": %d, \"shifted_load_contact_pairs\": %d, \"full_normal_tangent_inward\": [\"%d/%d\", \"%d/%d\", \"%d/%d\"], \"stopped_by\": {%s}, \"not_restored\": %d",
+                          name, full, stopped, refused, shapeCrosses, full / std::max(1.0, 100.0 - shapeCrosses),
+                          reachedOfShapeLimit.empty() ? NAN : median(reachedOfShapeLimit), profiles.empty() ? NAN : median(profiles), profiles.size(), crossings, shiftedContacts,
+                          fullByKind[0], strokesByKind[0], fullByKind[1], strokesByKind[1], fullByKind[2], strokesByKind[2], by.c_str(), unrestored);
+            printCase("strokes_real", positions.rows(), median(moveMs), extra);
+        }
+    }
+    if (wanted("brush_move_1m")) {
+        Positions positions;
+        Triangles triangles;
+        sphereMesh(1000000, positions, triangles);
+        Session session;
+        session.setMesh(positions, triangles);
+        const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+        BrushSettings brush;
+        brush.radius = 0.05 * diagonal;
+        const int v = static_cast<int>(positions.rows()) / 3;
+        const Eigen::Vector3d source = positions.row(v).transpose();
+        const Eigen::Vector3d normal = source.normalized();
+        std::vector<double> injectivity, triangle;
+        OpReport report;
+        int step = 0;
+        session.stroke().beginAt({source}, {}, brush);
+        const double ms = medianMs(10, [&] {
+            ++step;
+            session.stroke().update({source + 0.1 * step * brush.radius * normal}, report);
+            injectivity.push_back(report.injectivityMs);
+            triangle.push_back(report.triangleCheckMs);
+        });
+        session.stroke().end();
+        char extra[200];
+        std::snprintf(extra, sizeof extra, "\"status\": \"%s\", \"vertices_moved\": %d, \"injectivity_ms\": %.2f, \"triangle_check_ms\": %.2f",
+                      opStatusName(report.status), report.verticesMoved, median(injectivity), median(triangle));
+        printCase("brush_move_1m", positions.rows(), ms, extra);
+    }
+}
+
+}  // namespace sculpt::bench
