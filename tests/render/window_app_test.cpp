@@ -21,10 +21,12 @@
 #include "app/window/picking.h"
 #include "app/window/sculpt_app.h"
 #include "app/window/ui_style.h"
+#include "app/window/wording.h"
 #include "gl_test_support.h"
 #include "offscreen_window.h"
 #include "window_test_support.h"
 #include "io/png_image.h"
+#include "io/script_ops.h"
 #include "render/offscreen_context.h"
 #include "render/render_target.h"
 
@@ -97,6 +99,10 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, 
     sculptApp.onKey(ctrlKey(app::Key::Z), {});
     CHECK(state.session.history().cursor() == 0);
     CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
+    // The status line names the command in words and counts what it moved.
+    INFO("status: " << state.status);
+    CHECK(state.status == "Undo: " + std::to_string(state.lastReport.verticesMoved) + " vertices moved");
+    CHECK(state.lastReport.verticesMoved > 1);
     sculptApp.onKey(ctrlKey(app::Key::Z, true), {});
     CHECK(state.session.history().cursor() == 1);
     CHECK((state.session.mesh().positions - dragged).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
@@ -296,4 +302,38 @@ TEST_CASE("window: the frame rate counts frames drawn one after another, and a f
         CHECK(stats.frameMs == Approx(1000.0 * interval).epsilon(0.01));  // the sleep is not in the average
     }
     io.DeltaTime = 1.0f / 60.0f;
+}
+
+TEST_CASE("window: the status line names every engine command in words, and a command that moves no vertex says so", "[gl]") {
+    app::SculptApp sculptApp;
+    loadDefault(sculptApp);
+    app::AppState& state = sculptApp.state();
+    // Every op of the script table that reports under its own name has words of its own: none is shown as the
+    // script's snake_case name.
+    for (const io::ScriptOpInfo& info : io::scriptOps()) {
+        const std::string words = app::commandWords(info.name);
+        INFO(info.name << " -> " << words);
+        if (info.kind == io::ScriptOp::Kind::BeginGroup || info.kind == io::ScriptOp::Kind::EndGroup ||
+            info.kind == io::ScriptOp::Kind::Group || info.kind == io::ScriptOp::Kind::SetPins ||
+            info.kind == io::ScriptOp::Kind::SetRefinement || info.kind == io::ScriptOp::Kind::Screenshot)
+            continue;  // settings and groups: the window reports these with words of its own
+        CHECK(words != info.name);
+        CHECK(words.find('_') == std::string::npos);
+    }
+    core::OpReport report;
+    report.op = "setup_lattice";
+    report.status = core::OpStatus::Applied;
+    report.verticesMoved = 0;
+    app::reportOperation(state, report, Status::success());
+    CHECK(state.status == "Lattice set-up: done, no vertex moved");
+    CHECK_FALSE(state.statusIsError);
+    report.op = "redo";
+    report.verticesMoved = 1;
+    app::reportOperation(state, report, Status::success());
+    CHECK(state.status == "Redo: 1 vertex moved");
+    report.op = "freeze";
+    app::reportOperation(state, report, Status::error("lattice 3 does not exist"));
+    CHECK(state.status == "Freezing the lattice failed: lattice 3 does not exist");
+    CHECK(state.statusIsError);
+    CHECK(app::commandWords("no_such_command") == "no_such_command");
 }

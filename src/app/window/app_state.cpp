@@ -63,19 +63,20 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
     state.lastReport = report;
     state.stats.solveMs = report.wallMs;
     if (!status) {
-        setStatus(state, (named.empty() ? report.op : named) + " failed: " + status.message, true);
+        setStatus(state, (named.empty() ? commandWords(report.op) : named) + " failed: " + status.message, true);
         return;
     }
     // In the user's words: what was done, then what happened.
-    const std::string what = !named.empty() ? named
-                           : report.op == "move_control_point" ? "Control point move" : report.op == "drag" ? "Drag" : report.op;
+    const std::string what = !named.empty() ? named : commandWords(report.op);
     std::string text;
     if (report.status == core::OpStatus::Rejected) {
         text = what + ": " + (report.reason.empty() ? report.injectivity : report.reason);
     } else if (report.status == core::OpStatus::NoOp) {
         text = what + ": nothing to do" + (report.reason.empty() ? "" : " (" + report.reason + ")");
     } else {
-        text = what + ": " + countOf(static_cast<size_t>(report.verticesMoved), "vertex", "vertices") + " moved";
+        // A command that changes the lattice, the pins or the history only moves no vertex: said so, not "0 moved".
+        text = what + ": " + (report.verticesMoved > 0 ? countOf(static_cast<size_t>(report.verticesMoved), "vertex", "vertices") + " moved"
+                                                       : std::string("done, no vertex moved"));
         if (report.subSteps > 1) text += ", " + std::to_string(report.subSteps) + " injective steps";
         if (!report.injectivity.empty()) text += ", " + report.injectivity;
         // A move stopped short of where it was asked, or constraints met only as closely as possible: say so.

@@ -1,7 +1,8 @@
-// Counts in the window's words: "1 handle", "2 handles", "1 vertex", "3 vertices".
+// Counts and commands in the window's words: "1 handle", "2 handles", "1 vertex", "3 vertices", "Undo".
 #pragma once
 
 #include <string>
+#include <utility>
 
 namespace sculpt::app {
 
@@ -19,6 +20,21 @@ inline std::string stopCauseWords(const std::string& refusedBy) {
     if (refusedBy == "boundary") return "the lattice boundary would overlap itself";
     if (refusedBy == "symmetry") return "a point would meet its mirror image";
     return "the engine refused to go on";
+}
+
+// An engine command's report name (OpReport::op: the script op's name) in the window's words: "Undo",
+// "Lattice set-up", "Control point move". A name it does not know is returned as it is.
+inline std::string commandWords(const std::string& op) {
+    static const std::pair<const char*, const char*> words[] = {
+        {"drag", "Drag"}, {"drag_vertex", "Drag"}, {"move_control_point", "Control point move"}, {"undo", "Undo"},
+        {"redo", "Redo"}, {"cancel_drag", "Cancelled drag"}, {"setup_lattice", "Lattice set-up"},
+        {"add_lattice", "Adding the lattice"}, {"edit_lattice", "Lattice edit"}, {"remove_lattice", "Removing the lattice"},
+        {"freeze", "Freezing the lattice"}, {"unfreeze", "Unfreezing"}, {"refine", "Refinement"},
+        {"setup_tspline", "T-spline set-up"}, {"subdivide_cells", "Cell subdivision"}, {"set_weights", "Weights"},
+        {"hammer", "Hammer"}, {"crimp", "Crimp"}, {"replay", "Replay"}};
+    for (const auto& [name, text] : words)
+        if (op == name) return text;
+    return op;
 }
 
 }  // namespace sculpt::app
