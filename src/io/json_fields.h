@@ -73,6 +73,11 @@ inline std::string text(const json& value, const std::string& path) {
     return value.get<std::string>();
 }
 
+inline bool boolean(const json& value, const std::string& path) {
+    if (!value.is_boolean()) fail(path, "expected true or false");
+    return value.get<bool>();
+}
+
 inline json vectorJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 }  // namespace sculpt::io::json_fields

@@ -126,13 +126,9 @@ double tolerance(const json& value, const std::string& path) {
     return t;
 }
 
-
 core::RefinementSettings parseRefinementSettings(const json& j, const std::string& path) {
     core::RefinementSettings settings;
-    if (j.contains("automatic")) {
-        if (!j["automatic"].is_boolean()) fail(path + ".automatic", "expected true or false");
-        settings.automatic = j["automatic"].get<bool>();
-    }
+    if (j.contains("automatic")) settings.automatic = boolean(j["automatic"], path + ".automatic");
     if (j.contains("tolerance")) settings.options.tolerance = tolerance(j["tolerance"], path + ".tolerance");
     if (j.contains("max_rounds")) settings.options.maxRounds = integer(j["max_rounds"], path + ".max_rounds");
     if (j.contains("max_vertices")) settings.options.maxVertices = integer(j["max_vertices"], path + ".max_vertices");
@@ -251,16 +247,6 @@ std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path) {
     return edits;
 }
 
-std::string label(const json& value, const std::string& path) {
-    if (!value.is_string()) fail(path, "expected a string");
-    return value.get<std::string>();
-}
-
-bool flag(const json& value, const std::string& path) {
-    if (!value.is_boolean()) fail(path, "expected true or false");
-    return value.get<bool>();
-}
-
 }  // namespace script_fields
 
 namespace {
@@ -297,14 +283,8 @@ core::Operation parseApplied(const json& j, const std::string& path) {
     else if (name == "refine") operation.kind = core::OperationKind::Refine;
     else if (name == "weight_edit") operation.kind = core::OperationKind::WeightEdit;
     else fail(path + ".kind", "expected \"drag\", \"control_point_edit\", \"lattice_setup\", \"refine\" or \"weight_edit\"");
-    if (j.contains("label")) {
-        if (!j["label"].is_string()) fail(path + ".label", "expected a string");
-        operation.label = j["label"].get<std::string>();
-    }
-    if (j.contains("interactive")) {
-        if (!j["interactive"].is_boolean()) fail(path + ".interactive", "expected true or false");
-        operation.interactive = j["interactive"].get<bool>();
-    }
+    if (j.contains("label")) operation.label = text(j["label"], path + ".label");
+    if (j.contains("interactive")) operation.interactive = boolean(j["interactive"], path + ".interactive");
     if (j.contains("depth")) operation.depthReached = integer(j["depth"], path + ".depth");
     if (j.contains("constraints")) operation.constraints = parseConstraints(j["constraints"], path + ".constraints", true);
     if (j.contains("control_points")) operation.controlPoints = intList(j["control_points"], path + ".control_points");
@@ -331,11 +311,7 @@ core::Operation parseApplied(const json& j, const std::string& path) {
         allowOnly(steps[k], sp, {"new_layer", "new_cage", "fresh_frame", "frame", "region_free", "lattice", "indices", "deltas", "constraints", "weights",
                                  "baked"});
         core::Step step;
-        const auto flag = [&](const char* key) {
-            if (!steps[k].contains(key)) return false;
-            if (!steps[k][key].is_boolean()) fail(sp + "." + key, "expected true or false");
-            return steps[k][key].get<bool>();
-        };
+        const auto flag = [&](const char* key) { return steps[k].contains(key) && boolean(steps[k][key], sp + "." + key); };
         step.freshFrame = flag("new_layer");
         step.newCage = flag("new_cage");
         step.baked = flag("baked");
@@ -361,9 +337,7 @@ core::Operation parseApplied(const json& j, const std::string& path) {
             step.frameMin = vector3(required(frame, "min", fp), fp + ".min");
             step.frameMax = vector3(required(frame, "max", fp), fp + ".max");
             if (!(step.frameMin.array() < step.frameMax.array()).all()) fail(fp, "\"min\" must be below \"max\" on every axis");
-            const json& kept = required(frame, "pins_kept", fp);
-            if (!kept.is_boolean()) fail(fp + ".pins_kept", "expected true or false");
-            step.framePinsKept = kept.get<bool>();
+            step.framePinsKept = boolean(required(frame, "pins_kept", fp), fp + ".pins_kept");
         }
         step.settings = parseLattice(required(steps[k], "lattice", sp), sp + ".lattice");
         step.delta.indices = intList(required(steps[k], "indices", sp), sp + ".indices");
@@ -394,8 +368,7 @@ void parseRecorded(const json& j, const std::string& path, io::ScriptOp& op) {
         op.applied = parseApplied(j["applied"], path + ".applied");
     }
     if (j.contains("cancelled")) {
-        if (!j["cancelled"].is_boolean()) fail(path + ".cancelled", "expected true or false");
-        op.cancelled = j["cancelled"].get<bool>();
+        op.cancelled = boolean(j["cancelled"], path + ".cancelled");
         if (op.cancelled && !op.hasApplied) fail(path + ".cancelled", "needs \"applied\"");
     }
 }
@@ -450,14 +423,8 @@ Status parseScript(const std::string& text, const std::string& displayName, io::
     try {
         io::Script script;
         allowOnly(root, "", {"mesh", "mesh_fingerprint", "weld", "lattice", "ops", "injectivity"});
-        if (root.contains("weld")) {
-            if (!root["weld"].is_boolean()) fail("weld", "expected true or false");
-            script.weldMesh = root["weld"].get<bool>();
-        }
-        if (root.contains("mesh_fingerprint")) {
-            if (!root["mesh_fingerprint"].is_string()) fail("mesh_fingerprint", "expected a string");
-            script.meshFingerprint = root["mesh_fingerprint"].get<std::string>();
-        }
+        if (root.contains("weld")) script.weldMesh = boolean(root["weld"], "weld");
+        if (root.contains("mesh_fingerprint")) script.meshFingerprint = json_fields::text(root["mesh_fingerprint"], "mesh_fingerprint");
         if (root.contains("mesh")) {
             const json& mesh = root["mesh"];
             if (!mesh.is_string() || mesh.get<std::string>().empty()) fail("mesh", "expected a file path");
@@ -476,10 +443,7 @@ Status parseScript(const std::string& text, const std::string& displayName, io::
                 if (script.injectivity.maxDepth < 0 || script.injectivity.maxDepth > 12)
                     fail("injectivity.max_depth", "must be in [0, 12]");
             }
-            if (inj.contains("triangles")) {
-                if (!inj["triangles"].is_boolean()) fail("injectivity.triangles", "expected true or false");
-                script.injectivity.checkTriangles = inj["triangles"].get<bool>();
-            }
+            if (inj.contains("triangles")) script.injectivity.checkTriangles = boolean(inj["triangles"], "injectivity.triangles");
         }
         if (root.contains("ops")) {
             const json& ops = root["ops"];

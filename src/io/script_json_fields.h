@@ -45,10 +45,6 @@ core::LatticeTool parseTool(const json& j, const std::string& path, bool edit);
 // {"merge": [slot, slot, ...]}, {"refine": {"axis": a}}, {"insert": {"axis": a, "at": u, "times": m}},
 // {"remove": {"axis": a, "index": i}}.
 std::vector<core::NetEdit> parseEdits(const json& j, const std::string& path);
-// A string field that is present: its text.
-std::string label(const json& value, const std::string& path);
-// A boolean field that is present: its value.
-bool flag(const json& value, const std::string& path);
 
 // Writing (script_json_write.cpp): what the readers above read back bit for bit (doubles in the shortest form
 // that reads back to the same bits).

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 
-#include "core/volume/volume_kinds.h"
 #include "io/json_fields.h"
 #include "io/lattice_json.h"
 #include "io/script_json_fields.h"
@@ -260,7 +259,7 @@ const std::vector<ScriptOpInfo>& scriptOps() {
          runSetPins, nullptr},  // recorded from the journal's pin changes
         {K::BeginGroup, "begin_group", {"label"},
          [](const json& j, const std::string& path, ScriptOp& op) {
-             if (j.contains("label")) op.label = label(j["label"], path + ".label");
+             if (j.contains("label")) op.label = text(j["label"], path + ".label");
          },
          [](const ScriptOp& op, json& j) {
              if (!op.label.empty()) j["label"] = op.label;
@@ -270,7 +269,7 @@ const std::vector<ScriptOpInfo>& scriptOps() {
         {K::Group, "group", {"first", "label"},
          [](const json& j, const std::string& path, ScriptOp& op) {
              op.groupFirst = integer(required(j, "first", path), path + ".first");
-             if (j.contains("label")) op.label = label(j["label"], path + ".label");
+             if (j.contains("label")) op.label = text(j["label"], path + ".label");
          },
          [](const ScriptOp& op, json& j) {
              j["first"] = op.groupFirst;
@@ -390,7 +389,7 @@ const std::vector<ScriptOpInfo>& scriptOps() {
                  if (!(setup.regionMin.array() < setup.regionMax.array()).all()) fail(rp, "\"min\" must be below \"max\" on every axis");
              }
              if (j.contains("name")) setup.name = text(j["name"], path + ".name");
-             if (j.contains("freeze")) setup.freeze = flag(j["freeze"], path + ".freeze");
+             if (j.contains("freeze")) setup.freeze = boolean(j["freeze"], path + ".freeze");
          },
          [](const ScriptOp& op, json& j) {
              const TSplineSetup& setup = op.tspline;
@@ -417,7 +416,7 @@ const std::vector<ScriptOpInfo>& scriptOps() {
                  for (Eigen::Index p = 0; p < points.rows(); ++p) op.cellPoints.push_back(points.row(p).transpose());
              }
              if (op.cells.empty() && op.cellPoints.empty()) fail(path, "\"cells\" and \"at\" name no cell");
-             if (j.contains("balance")) op.balance = flag(j["balance"], path + ".balance");
+             if (j.contains("balance")) op.balance = boolean(j["balance"], path + ".balance");
          },
          [](const ScriptOp& op, json& j) {
              j["index"] = op.toolIndex;
