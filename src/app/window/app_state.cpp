@@ -62,12 +62,12 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
     state.hasReport = true;
     state.lastReport = report;
     state.stats.solveMs = report.wallMs;
-    if (!status) {
-        setStatus(state, (named.empty() ? commandWords(report.op) : named) + " failed: " + status.message, true);
-        return;
-    }
     // In the user's words: what was done, then what happened.
     const std::string what = !named.empty() ? named : commandWords(report.op);
+    if (!status) {
+        setStatus(state, what + " failed: " + status.message, true);
+        return;
+    }
     std::string text;
     if (report.status == core::OpStatus::Rejected) {
         text = what + ": " + (report.reason.empty() ? report.injectivity : report.reason);

@@ -207,7 +207,7 @@ void installSession(AppState& state, core::Session&& session, const std::string&
 // Records what the last session command moved into state.gpu (sparse when the session says so).
 void noteSessionMoved(AppState& state);
 // Puts a command's report on the status line ("what: verdict (why)"). what: the user's words for the operation
-// ("Moving 2 control points"); empty: named after report.op ("Control point move").
+// ("Moving 2 control points"); empty: report.op in words (commandWords, wording.h: "Control point move").
 void reportOperation(AppState& state, const core::OpReport& report, const Status& status, const std::string& what = {});
 void setStatus(AppState& state, const std::string& text, bool isError);
 

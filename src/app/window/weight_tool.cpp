@@ -57,7 +57,7 @@ void weightToolCommand(AppState& state, int vertex, double radius, bool invert) 
         state.stats.solveMs = report.wallMs;
         setStatus(state, what + " (" + report.reason + ").", false);
     } else {
-        reportOperation(state, report, s, brush.kind == BrushTool::Kind::Hammer ? "hammer" : "crimp");
+        reportOperation(state, report, s);  // named from report.op: "Hammer", "Crimp"
     }
     state.gpu.fields = true;
 }
