@@ -292,8 +292,10 @@ private:
     void redoOperationBody(const Operation& operation);
     // How many vertices the last command moved (all of them when a frame was entered or left).
     int movedCount() const;
-    // lastMoved_.vertices = the vertices whose rows differ from `before` (undo, redo).
-    void countChangedVertices(const Positions& before);
+    // The number of vertices whose rows differ from `before`, bitwise (rows added or removed count as changed):
+    // what undo and redo report. Also kept as lastMoved_.vertices, unless lastMoved_.all says a frame was entered
+    // or left (a view then refreshes everything, whatever the count).
+    int countChangedVertices(const Positions& before);
     void redoStep(const Step& step);
 
     SessionMesh mesh_;  // mesh()

@@ -74,15 +74,18 @@ void Session::revertSteps(const std::vector<Step>& steps) {
     undoSteps(steps);
 }
 
-void Session::countChangedVertices(const Positions& before) {
+int Session::countChangedVertices(const Positions& before) {
     // The vertices whose positions differ (a refinement's added or removed vertices count as changed), so undo
-    // and redo of one operation report the same count, never more than the mesh has.
-    if (lastMoved_.all) return;
+    // and redo of one operation report the same count, never more than the mesh has, and an undo that leaves a
+    // frame (a lattice set-up taken back) counts the vertices it moved, not every vertex.
     const Eigen::Index common = std::min(before.rows(), mesh_.positions.rows());
-    lastMoved_.vertices.clear();
+    std::vector<int> changed;
     for (Eigen::Index v = 0; v < common; ++v)
-        if (mesh_.positions.row(v) != before.row(v)) lastMoved_.vertices.push_back(static_cast<int>(v));
-    for (Eigen::Index v = common; v < mesh_.positions.rows(); ++v) lastMoved_.vertices.push_back(static_cast<int>(v));
+        if (mesh_.positions.row(v) != before.row(v)) changed.push_back(static_cast<int>(v));
+    for (Eigen::Index v = common; v < mesh_.positions.rows(); ++v) changed.push_back(static_cast<int>(v));
+    const int count = static_cast<int>(changed.size());
+    if (!lastMoved_.all) lastMoved_.vertices = std::move(changed);
+    return count;
 }
 
 int Session::movedCount() const {
@@ -231,13 +234,13 @@ Status Session::undo(OpReport& report) {
     const Positions before = mesh_.positions;  // to count what changed (not kept: the history holds no mesh)
     undoOperationBody(operation);
     refinement().remove(operation.refinement);
-    countChangedVertices(before);
+    const int changed = countChangedVertices(before);
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
     report.subSteps = static_cast<int>(operation.steps.size());
     report.controlPointsChanged = 0;
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
-    report.verticesMoved = movedCount();
+    report.verticesMoved = changed;
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
@@ -259,12 +262,12 @@ Status Session::redo(OpReport& report) {
     redoOperationBody(operation);
     refinement().reapply(history_.entry(history_.cursor() - 1));  // fills the record's halvings again
     bakeLastStep(operation);
-    countChangedVertices(before);
+    const int changed = countChangedVertices(before);
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;
     report.subSteps = static_cast<int>(operation.steps.size());
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
-    report.verticesMoved = movedCount();
+    report.verticesMoved = changed;
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
