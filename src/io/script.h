@@ -94,7 +94,8 @@ using ScreenshotHook = std::function<Status(const core::Session& session, const 
 using ScriptProgress = std::function<bool(size_t done, size_t total)>;
 
 // Runs one op on the session as runScript does (deciding it again; a recorded op's "applied" steps are not
-// replayed): the window's commands go through this, so they are the script ops themselves.
+// replayed): the window's commands go through this, so they are the script ops themselves. report.op is the
+// op's name (scriptOpName), whichever command ran it. Fails as the op's command fails.
 Status runScriptOp(core::Session& session, const ScriptOp& op, core::OpReport& report);
 
 // Runs the ops in order on a session whose mesh and lattice are already set up. Stops at the first op with

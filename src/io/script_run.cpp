@@ -49,7 +49,11 @@ ScriptOp recordedOp(const Operation& operation) {
 
 }  // namespace
 
-Status runScriptOp(Session& session, const ScriptOp& op, OpReport& report) { return runOp(session, op, report, {}, false); }
+Status runScriptOp(Session& session, const ScriptOp& op, OpReport& report) {
+    const Status s = runOp(session, op, report, {}, false);
+    report.op = scriptOpName(op.kind);  // the op's name, as runScript reports it (the command may name another)
+    return s;
+}
 
 Status runScript(Session& session, const Script& script, ScriptReport& report, const ScreenshotHook& screenshot,
                  const ScriptProgress& progress) {

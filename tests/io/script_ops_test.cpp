@@ -301,3 +301,36 @@ TEST_CASE("script ops: every kind of history entry is recorded by exactly one op
     for (const io::ScriptOpInfo& info : io::scriptOps())
         CHECK((info.run == nullptr) == (info.kind == SK::BeginGroup || info.kind == SK::EndGroup));
 }
+
+// The window runs its commands through runScriptOp; each report names the op that ran (scriptOpName), as
+// runScript's do, also where the command behind it names itself otherwise (a group, pins, undo of a drag).
+TEST_CASE("script ops: runScriptOp's report names the op that ran, as runScript's does", "[io][script]") {
+    core::Session session;
+    Positions positions(8, 3);
+    Triangles triangles(12, 3);
+    positions << -1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1, 1, -1, 1, 1, 1, 1, -1, 1, 1;
+    triangles << 0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7;
+    REQUIRE(session.setMesh(positions, triangles).ok);
+    const std::vector<json> ops = {
+        {{"op", "drag_vertex"}, {"vertex", 6}, {"target", {1.1, 1.1, 1.1}}},
+        {{"op", "drag"}, {"constraints", {{{"source", {-1, -1, -1}}, {"target", {-1.1, -1.0, -1.0}}}}}},
+        {{"op", "group"}, {"first", 0}, {"label", "two drags"}},
+        {{"op", "move_control_point"}, {"index", {1, 1, 1}}, {"by", {0.01, 0.0, 0.0}}},
+        {{"op", "set_pins"}, {"pin", {{0, 0, 0}}}},
+        {{"op", "undo"}},
+        {{"op", "redo"}},
+        {{"op", "refine"}, {"tolerance", 0.01}},
+    };
+    for (const json& op : ops) {
+        io::Script script;
+        const Status parsed = parseOne(op, script);
+        INFO(op.dump() << ": " << parsed.message);
+        REQUIRE(parsed.ok);
+        core::OpReport report;
+        const Status ran = io::runScriptOp(session, script.ops[0], report);
+        INFO(ran.message << " / " << report.reason);
+        CHECK(ran.ok);
+        CHECK(report.op == io::scriptOpName(script.ops[0].kind));
+        CHECK(report.op == op["op"].get<std::string>());
+    }
+}
