@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <random>
+#include <sstream>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -161,6 +162,41 @@ TEST_CASE("window transform: the mouse moves along a locked axis, X Y Z lock and
     CHECK_FALSE(state.transform.negate);
     key(sculptApp, app::Key::Escape);
     CHECK_FALSE(state.transform.active);
+}
+
+TEST_CASE("window transform: a free move in an axis view reads in plain numbers, the depth axis 0", "[gl]") {
+    // Projecting the cursor onto the view plane leaves rounding in the depth component (a trial read
+    // "Move: 0.1, -4.441e-16, 0.3"); the readout shows it as 0, for random cursor moves in each axis view.
+    app::SculptApp sculptApp;
+    startWithAllSelected(sculptApp);
+    app::AppState& state = sculptApp.state();
+    std::mt19937 random(41);
+    std::uniform_real_distribution<double> pixels(-150.0, 150.0);
+    const double cx = 0.5 * kWidth, cy = 0.5 * kHeight;
+    // The default view (turned about Y, looking down) with the mouse moved sideways only: the view plane's
+    // horizontal, so Y is 0; then the front, right and top views with any move: their depth axis is 0.
+    const std::pair<app::Key, int> views[] = {{app::Key::Other, 1}, {app::Key::Numpad1, 2}, {app::Key::Numpad3, 0}, {app::Key::Numpad7, 1}};
+    for (const auto& [view, depth] : views) {
+        if (view != app::Key::Other) key(sculptApp, view);
+        for (int trial = 0; trial < 6; ++trial) {
+            sculptApp.onMouseMove({cx, cy, {}}, {});
+            key(sculptApp, app::Key::G);
+            REQUIRE(state.transform.active);
+            sculptApp.onMouseMove({cx + pixels(random), view == app::Key::Other ? cy : cy + pixels(random), {}}, {});
+            const std::string readout = state.status.substr(0, state.status.find("   "));
+            INFO("view " << static_cast<int>(view) << ": " << readout);
+            CHECK(readout.find("e-") == std::string::npos);
+            // "Move: x, y, z (length)": the depth axis's component reads exactly 0.
+            std::string values = readout.substr(readout.find(": ") + 2);
+            for (char& c : values) if (c == ',' || c == '(' || c == ')') c = ' ';
+            std::istringstream in(values);
+            std::string component[3];
+            in >> component[0] >> component[1] >> component[2];
+            CHECK(component[depth] == "0");
+            key(sculptApp, app::Key::Escape);
+            REQUIRE_FALSE(state.transform.active);
+        }
+    }
 }
 
 TEST_CASE("window transform: Esc or a right click cancels exactly and records nothing, shortcuts wait until it ends", "[gl]") {
@@ -421,4 +457,58 @@ TEST_CASE("window transform: a transform stopped by crossing triangles says so, 
         if (state.session.history().cursor() > 0) key(sculptApp, app::Key::Z, controlKey());
         CHECK((state.session.mesh().positions - before).cwiseAbs().maxCoeff() < 1e-12);  // undo: exact to rounding
     }
+}
+
+// A brush stroke pulled a spike out of the lattice's box; moving the whole cage then tears the surface at the
+// box, and the transform stops where the sphere would run into the spike's tip, which stays. The status names
+// the crossing once (not "would cross itself: the surface would pass through itself") and the vertices left
+// outside the box with the way out, as the stroke's own end did; never jargon ("injective").
+TEST_CASE("window transform: a cage move stopped at vertices a stroke left outside the box names them", "[gl][transform]") {
+    app::SculptApp sculptApp;
+    test::loadDefaultMesh(sculptApp, kWidth, kHeight);
+    app::AppState& state = sculptApp.state();
+    const Positions& rest = state.session.mesh().positions;
+    const double diagonal = test::boundsDiagonal(rest);
+    std::mt19937 random(5);
+    int checked = 0;
+    for (int trial = 0; trial < 3; ++trial) {
+        CAPTURE(trial);
+        // The vertex farthest along a random direction, pulled outward 3 radii (radius 10% of the diagonal).
+        Eigen::Vector3d direction(std::normal_distribution<double>()(random), std::normal_distribution<double>()(random),
+                                  std::normal_distribution<double>()(random));
+        direction.normalize();
+        Eigen::Index vertex = 0;
+        (state.session.mesh().positions * direction).maxCoeff(&vertex);
+        core::BrushSettings brush;
+        brush.radius = 0.1 * diagonal;
+        core::OpReport stroke;
+        const Eigen::Vector3d source = state.session.mesh().positions.row(vertex).transpose();
+        REQUIRE(state.session.dragVertex(static_cast<int>(vertex), source + 3.0 * brush.radius * direction, stroke, brush).ok);
+        app::noteSessionMoved(state);
+        if (state.session.stroke().verticesOutsideCage() == 0) continue;
+        const size_t historyBefore = state.session.history().size();
+        key(sculptApp, app::Key::Tab);
+        key(sculptApp, app::Key::A);
+        // The cage moved along the spike by twice the pull: the sphere runs into the spike's tip.
+        sculptApp.onMouseMove({0.5 * kWidth, 0.5 * kHeight, {}}, {});
+        key(sculptApp, app::Key::G);
+        Eigen::Index major = 0;
+        direction.cwiseAbs().maxCoeff(&major);
+        key(sculptApp, major == 0 ? app::Key::X : major == 1 ? app::Key::Y : app::Key::Z);
+        type(sculptApp, (direction[major] < 0 ? "-" : "") + std::string("0.9"));
+        INFO(state.status);
+        if (state.transform.stopped && state.transform.stopCause == "triangles") {
+            ++checked;
+            CHECK(state.status.find("would cross itself: the surface would pass through itself") == std::string::npos);
+            CHECK(state.status.find("would cross itself near (") != std::string::npos);
+            CHECK(state.status.find("outside the lattice's box stay") != std::string::npos);
+            CHECK(state.status.find("more padding") != std::string::npos);
+        }
+        key(sculptApp, app::Key::Enter);
+        INFO(state.status);
+        CHECK(state.status.find("injective") == std::string::npos);
+        if (state.session.history().size() > historyBefore) key(sculptApp, app::Key::Z, controlKey());
+        key(sculptApp, app::Key::Tab);
+    }
+    CHECK(checked > 0);
 }

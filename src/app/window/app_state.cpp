@@ -77,8 +77,8 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
         // A command that changes the lattice, the pins or the history only moves no vertex: said so, not "0 moved".
         text = what + ": " + (report.verticesMoved > 0 ? countOf(static_cast<size_t>(report.verticesMoved), "vertex", "vertices") + " moved"
                                                        : std::string("done, no vertex moved"));
-        if (report.subSteps > 1) text += ", " + std::to_string(report.subSteps) + " injective steps";
-        if (!report.injectivity.empty()) text += ", " + report.injectivity;
+        if (report.subSteps > 1) text += ", split into " + std::to_string(report.subSteps) + " steps so that none folds";
+        if (!report.injectivity.empty()) text += ", " + checkWords(report.injectivity, state.session.injectivity().checkTriangles);
         // A move stopped short of where it was asked, or constraints met only as closely as possible: say so.
         if (report.fractionApplied < 1.0 || report.rankDeficient) text += ". " + report.reason;
     }

@@ -20,7 +20,7 @@ void drawInjectivityPanel(AppState& state) {
     ImGui::SetNextItemWidth(-ImGui::CalcTextSize("Max depth").x - ImGui::GetStyle().ItemInnerSpacing.x);
     changed |= ImGui::SliderInt("Max depth", &settings.maxDepth, 0, 12);
     if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("How often a failing move may be halved into injective steps before it is refused.");
+        ImGui::SetTooltip("How often a move that would fold may be halved into smaller steps, each free of folds, before it is refused.");
     if (changed) {
         settings.mode = static_cast<core::InjectivityMode>(mode);
         setInjectivityCommand(state, settings);

@@ -38,7 +38,7 @@ void drawStatsPanel(AppState& state) {
         row("Lattice frames", "%d", session.cage().frameDepth() + 1);
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("How many lattices the history has used: an edit that would fold the mesh in one\n"
-                              "lattice is split into injective steps, each later one in a fresh lattice (a frame)\n"
+                              "lattice is split into steps that each pass, each later one in a fresh lattice (a frame)\n"
                               "around the shape the earlier steps made. 1: everything in the first lattice.");
         // note: the CPU path uploads positions and normals too; the count is the vertices sent, which includes
         // the neighbours whose normals a move changed (more than the vertices an undo reports as moved).

@@ -27,6 +27,15 @@ std::string number(double value) {
     return text;
 }
 
+// An offset's components as the readout shows them, "0.1, 0, 0.3": a component below 1e-9 of the offset's length
+// is rounding left by projecting the cursor onto the view plane (a free move in a front view gave
+// "0.1, -4.441e-16, 0.3") and shows as 0.
+std::string components(const Eigen::Vector3d& offset) {
+    const double noise = 1e-9 * offset.norm();
+    const auto shown = [&](double value) { return number(std::abs(value) <= noise ? 0.0 : value); };
+    return shown(offset.x()) + ", " + shown(offset.y()) + ", " + shown(offset.z());
+}
+
 // Where the cursor's ray meets the plane through the pivot facing the eye (as it was at the start).
 bool cursorOnViewPlane(const AppState& state, double x, double y, Eigen::Vector3d& point) {
     const TransformState& t = state.transform;
@@ -139,8 +148,7 @@ std::string valueOf(const TransformState& t, const Pose& pose) {
         case TransformKind::Move: {
             const int axis = t.axis >= 0 ? t.axis : -1;
             if (axis >= 0) return number(pose.offset[axis]);
-            return number(pose.offset.x()) + ", " + number(pose.offset.y()) + ", " + number(pose.offset.z()) + " (" +
-                   number(pose.offset.norm()) + ")";
+            return components(pose.offset) + " (" + number(pose.offset.norm()) + ")";
         }
         case TransformKind::Rotate: return number(pose.value * 180.0 / kPi) + " deg";
         case TransformKind::Scale: return number(pose.value);
@@ -155,7 +163,7 @@ std::string poseWords(const TransformState& t, const Pose& pose) {
     switch (t.kind) {
         case TransformKind::Move:
             if (pose.axis >= 0) return along + "by " + number(pose.offset[pose.axis]);
-            return "by (" + number(pose.offset.x()) + ", " + number(pose.offset.y()) + ", " + number(pose.offset.z()) + ")";
+            return "by (" + components(pose.offset) + ")";
         case TransformKind::Rotate:
             return std::string("about ") + (pose.axis >= 0 ? kAxisNames[pose.axis] : "the view axis") + " by " +
                    number(pose.value * 180.0 / kPi) + " deg";
@@ -228,8 +236,28 @@ Pose blend(TransformKind kind, const Pose& from, const Pose& to, double f) {
     return pose;
 }
 
-// Which parts would cross, in the engine's words, when crossing triangles stopped the transform; "" otherwise.
-std::string crossingParts(const TransformState& t) { return t.stopCause == "triangles" ? t.stopWords : std::string(); }
+// What stopped the transform, in words: stopCauseWords, and where crossing triangles stopped it, where and which
+// parts in the engine's words: "the surface would cross itself near (0.1, 0.2, 0.3)", "the surface would cross
+// itself: part 1 (80 triangles) and part 2 (80 triangles) would cross (of the mesh's 2 parts) near (...)". The
+// engine's own "the surface would pass through itself" is not said a second time.
+std::string stopWhy(const TransformState& t) {
+    const std::string cause = stopCauseWords(t.stopCause);
+    if (t.stopCause != "triangles" || t.stopWords.empty()) return cause;
+    const std::string same = "the surface would pass through itself";
+    if (t.stopWords.rfind(same, 0) == 0) return cause + t.stopWords.substr(same.size());
+    return cause + ": " + t.stopWords;
+}
+
+// Where crossing triangles stopped the transform and vertices resting outside the lattice's box (a brush stroke
+// pulled them out of it) were left behind by the moving cage, which tears the surface there: said, with the way
+// out, as the end of the drag that pulled them out said it. "" otherwise.
+std::string leftBehindWhy(const AppState& state, const TransformState& t) {
+    if (!t.stopped || t.stopCause != "triangles") return {};
+    const int left = state.session.verticesLeftOutsideCage();
+    if (left == 0) return {};
+    return "; " + countOf(static_cast<size_t>(left), "vertex", "vertices") + " outside the lattice's box " + (left == 1 ? "stays" : "stay") +
+           " where " + (left == 1 ? "it is" : "they are") + " (Lattice set-up with more padding takes them in)";
+}
 
 // Sends one pose to the session; the report is the status line's.
 Status sendPose(AppState& state, const Pose& pose, core::OpReport& report) {
@@ -292,13 +320,12 @@ void applyTransform(AppState& state) {
     }
     const Pose identity{t.axis, t.kind == TransformKind::Scale ? 1.0 : 0.0, Eigen::Vector3d::Zero()};
     t.readout = headOf(t) + ": " + (t.digits.empty() && !t.negate ? valueOf(t, t.applied) : typedText(t) + (t.kind == TransformKind::Rotate ? " deg" : ""));
-    const std::string parts = crossingParts(t);
     if (s && t.stopped)
         note = sameGeometry(t, t.applied, identity)
-                   ? "  (refused: " + stopCauseWords(t.stopCause) + " at once" + (parts.empty() ? std::string() : " (" + parts + ")") +
-                         "; nothing moved)"
-                   : "  (stopped at " + valueOf(t, t.applied) + " where " + stopCauseWords(t.stopCause) +
-                         (parts.empty() ? std::string() : ": " + parts) + ")";
+                   ? "  (refused at once: " + stopWhy(t) + leftBehindWhy(state, t) + "; nothing moved)"
+                   // (the readout shows the value reached unless a typed value is shown: not said twice)
+                   : "  (stopped " + (t.digits.empty() && !t.negate ? std::string("there") : "at " + valueOf(t, t.applied)) + " where " +
+                         stopWhy(t) + leftBehindWhy(state, t) + ")";
     std::string text = t.readout + (s ? note : "  (" + s.message + ")");
     text += "   X Y Z: axis, type a value, Enter or click: confirm, Esc or right-click: cancel";
     setStatus(state, text, !s);
@@ -396,8 +423,7 @@ void confirmTransform(AppState& state) {
     const std::string words = poseWords(t, t.applied);
     const std::string points = countOf(t.points.size(), "control point");
     const bool stopped = t.stopped;
-    const std::string parts = crossingParts(t);
-    const std::string why = stopCauseWords(t.stopCause);
+    const std::string why = stopWhy(t) + leftBehindWhy(state, t);
     const std::string typed = t.digits.empty() ? std::string() : typedValueText(t);
     if (Status named = state.session.stroke().setLabel(verb + " " + points + " " + words); !named)
         setStatus(state, "Cannot name the history entry: " + named.message, true);
@@ -411,10 +437,10 @@ void confirmTransform(AppState& state) {
     std::string text;
     if (recorded) {
         text = std::string(verb == "move" ? "Moved " : verb == "rotate" ? "Rotated " : "Scaled ") + points + " " + words;
-        if (stopped) text += " (stopped there: further, " + why + (parts.empty() ? std::string() : ": " + parts) + (typed.empty() ? std::string() : "; " + typed + " was typed") + ")";
+        if (stopped) text += " (stopped there: further, " + why + (typed.empty() ? std::string() : "; " + typed + " was typed") + ")";
         text += ": one undo step.";
     } else {
-        text = stopped ? "Nothing moved: " + why + " at once" + (parts.empty() ? std::string(".") : " (" + parts + ").") : "Nothing moved.";
+        text = stopped ? "Nothing moved: at once, " + why + "." : "Nothing moved.";
     }
     setStatus(state, text, false);
 }

@@ -22,6 +22,15 @@ inline std::string stopCauseWords(const std::string& refusedBy) {
     return "the engine refused to go on";
 }
 
+// OpReport::injectivity of an applied command, for the status line: "injective" is the check's verdict, said as
+// what it means to the user ("checked: nothing folds or crosses"; without the triangle check only folds are
+// tested); other verdicts ("not checked", "as recorded") are already words.
+inline std::string checkWords(const std::string& injectivity, bool trianglesChecked) {
+    if (injectivity == "injective") return trianglesChecked ? "checked: nothing folds or crosses" : "checked: nothing folds";
+    if (injectivity == "not checked") return "not checked for folds";
+    return injectivity;
+}
+
 // An engine command's report name (OpReport::op: the script op's name) in the window's words: "Undo",
 // "Lattice set-up", "Control point move". A name it does not know is returned as it is.
 inline std::string commandWords(const std::string& op) {
@@ -31,7 +40,8 @@ inline std::string commandWords(const std::string& op) {
         {"add_lattice", "Adding the lattice"}, {"edit_lattice", "Lattice edit"}, {"remove_lattice", "Removing the lattice"},
         {"freeze", "Freezing the lattice"}, {"unfreeze", "Unfreezing"}, {"refine", "Refinement"},
         {"setup_tspline", "T-spline set-up"}, {"subdivide_cells", "Cell subdivision"}, {"set_weights", "Weights"},
-        {"hammer", "Hammer"}, {"crimp", "Crimp"}, {"replay", "Replay"}};
+        {"hammer", "Hammer"}, {"crimp", "Crimp"}, {"replay", "Replay"},
+        {"set_pins", "Pinning"}, {"group", "Grouping"}, {"set_refinement", "Refinement setting"}, {"screenshot", "Screenshot"}};
     for (const auto& [name, text] : words)
         if (op == name) return text;
     return op;
