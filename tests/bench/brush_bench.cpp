@@ -147,8 +147,8 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
                         std::fprintf(stderr, "  %s stroke %d: the falloff shape at the target %s\n", name, stroke, crosses ? "crosses itself" : "is crossing-free");
                 }
                 if (getenv("SCULPT_BENCH_VERBOSE") && (report.status != OpStatus::Applied || report.fractionApplied < 1.0))
-                    std::fprintf(stderr, "  %s stroke %d kind %d pull %.2f r radius %.3f diag falloff %d sym %d: %s %.3f by %s (%s)\n", name,
-                                 stroke, kind, pull / brush.radius, brush.radius / diagonal, stroke / 3 % 3, brush.symmetry.any() ? 1 : 0,
+                    std::fprintf(stderr, "  %s stroke %d vertex %d kind %d pull %.2f r radius %.3f diag falloff %d sym %d: %s %.3f by %s (%s)\n", name,
+                                 stroke, v, kind, pull / brush.radius, brush.radius / diagonal, stroke / 3 % 3, brush.symmetry.any() ? 1 : 0,
                                  opStatusName(report.status), report.fractionApplied, report.refusedBy.c_str(), report.reason.c_str());
                 if (report.status != OpStatus::Applied) {
                     ++refused;

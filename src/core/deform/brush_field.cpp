@@ -225,7 +225,44 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
         return sum;
     };
     Positions dense = Positions::Zero(static_cast<Eigen::Index>(free.size()), 3);
-    if (joint) {
+    // Two pulls along one line in opposite directions, each source on the side it is pulled to (mirror images
+    // pulled apart across their plane): one field along the line, u = S(t) a_side phi_side(x) e, with t the
+    // signed distance along e from the midpoint of the sources, S = clamp(t / delta, -1, 1) (delta: half their
+    // distance along e) and side the pull on t's side. Between the sources S rises and each side's phi rises
+    // toward its source (it is the falloff of the distance there), beyond a source S = 1 and phi keeps its slope
+    // bound, so e . grad(u . e) >= -k and det J >= 1 - k > 0 (brushFieldWeight): injective at any pull length,
+    // where a sum of the two fields would meet each source less its neighbour's share, and scaling that up to
+    // the pull folds the space beside close images at once.
+    bool opposed = false;
+    Eigen::Vector3d line = Eigen::Vector3d::Zero();
+    if (m == 2 && !joint) {
+        const BrushPull& p0 = pulls[moving[0]];
+        const BrushPull& p1 = pulls[moving[1]];
+        line = p0.pull.normalized();
+        opposed = line.dot(p1.pull.normalized()) <= -1.0 + 1e-9 && (p0.source - p1.source).dot(line) > 1e-9 * radius;
+    }
+    if (opposed) {
+        const BrushPull& p0 = pulls[moving[0]];
+        const BrushPull& p1 = pulls[moving[1]];
+        const double middle = 0.5 * (p0.source + p1.source).dot(line), half = 0.5 * (p0.source - p1.source).dot(line);
+        Eigen::VectorXd along = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(free.size()));
+        for (size_t c = 0; c < free.size(); ++c) {
+            const double t = region.restControlPoint(free[c]).dot(line) - middle;
+            const double ramp = std::clamp(t / half, -1.0, 1.0);
+            along[static_cast<Eigen::Index>(c)] =
+                ramp * (t >= 0.0 ? p0.pull.norm() * fields[0][static_cast<Eigen::Index>(c)] : p1.pull.norm() * fields[1][static_cast<Eigen::Index>(c)]);
+        }
+        // One scale (the quasi-interpolant lowers a peak), least squares over the two sources; the correction
+        // below meets what is left.
+        double num = 0.0, den = 0.0;
+        for (size_t i = 0; i < 2; ++i) {
+            const double atSource = splineAt(rowOf[i], 0.0, [&](int c) { return along[c]; });
+            num += atSource * pulls[moving[i]].pull.dot(line);
+            den += atSource * atSource;
+        }
+        const double scale = den > 0.0 && std::isfinite(num / den) ? num / den : 1.0;
+        for (size_t c = 0; c < free.size(); ++c) dense.row(static_cast<Eigen::Index>(c)) = (scale * along[static_cast<Eigen::Index>(c)]) * line.transpose();
+    } else if (joint) {
         // One field along the shared direction: the largest pull share at each point (max keeps every pull's
         // slope bound along e; a sum would add them). Each source's own pull is met where its field is largest;
         // what is across e and what the neighbour's field adds are left to the correction below.

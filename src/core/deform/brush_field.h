@@ -76,7 +76,11 @@ Status pullRegionLattice(const std::vector<BrushPull>& pulls, double radius, Reg
 // The control displacement of the stroke in `region` (made from pullRegionLattice's placement, every point
 // but the free ones pinned): the fields of the moving pulls at the free control points' rest (Greville)
 // positions, scaled per pull so each moving source lands on source + pull (several pulls with a shared
-// direction e: one field along e, max_k |d_k| phi_k, unscaled), then corrected by the minimum-norm
+// direction e: one field along e, max_k |d_k| phi_k, one scale; two pulls in opposite directions along one
+// line e, each source on the side it is pulled to (mirror images pulled apart across their plane): one field
+// along e, S(t) |d_side| phi_side with S = clamp(t / delta, -1, 1), t the signed distance along e from the
+// sources' midpoint, delta half their distance, side the pull on t's side; det J >= 1 - k as for one pull,
+// one scale), then corrected by the minimum-norm
 // solution (Hu et al. 2001, eq. 7 / 12) for what the scales leave: the held sources' displacement and the
 // cross-talk of overlapping regions. residual: the largest distance of a source from its target afterwards
 // (world units; 0 up to rounding unless the free points cannot reach a source).

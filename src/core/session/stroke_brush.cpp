@@ -2,6 +2,7 @@
 // from where the stroke began to where the grabbed points are asked to be, or by the largest share of that
 // pull that passes every check; the stroke is one history entry with one injective step.
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 #include "core/deform/brush_field.h"
@@ -72,6 +73,29 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     // direction: their one layer sums the scaled fields (brushFieldDelta), which no bound proves injective, so
     // it is tried only after the layers each failed, and the injectivity test decides it as every layer.
     const bool jointPossible = movingCount > 1 && withinReach;
+    // Two mirror images within reach whose pulls part (a normal pull beside the plane): their pulls differ only
+    // in the component across the mirror plane (axis `splitAxis`), so the stroke can be carried in two layers,
+    // each a field along one line: first the part along the plane, which both share exactly (one field along it,
+    // the larger share at each point: brushFieldDelta's shared direction, proven by the slope bound), then the
+    // part across it, opposite for the two (a field along the plane's normal whose share is the difference of
+    // the two images' shares: moving apart it stretches the space between them). Each layer is mirror
+    // symmetric, so the result is; the directional bound certifies each (injectivity_directional.cpp).
+    int splitAxis = -1;
+    if (jointPossible && movingCount == 2) {
+        std::vector<size_t> movers;
+        for (size_t k = 0; k < pulls.size(); ++k)
+            if (pulls[k].moving()) movers.push_back(k);
+        const BrushPull& a = pulls[movers[0]];
+        const BrushPull& b = pulls[movers[1]];
+        const double tolerance = 1e-9 * std::max(a.pull.norm(), brush.radius);
+        for (int axis = 0; axis < 3 && splitAxis < 0; ++axis) {
+            bool mirrored = std::abs(a.pull[axis] + b.pull[axis]) <= tolerance && std::abs(a.pull[axis]) > tolerance;
+            for (int other = 0; other < 3; ++other)
+                if (other != axis) mirrored = mirrored && std::abs(a.pull[other] - b.pull[other]) <= tolerance;
+            if (mirrored) splitAxis = axis;
+        }
+    }
+    bool split = false;  // the two-layer mode above
     bool joint = false;  // the mode `attempt` uses
     const auto attempt = [&](double share) {
         where.clear();
@@ -87,13 +111,9 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             steps.resize(steps.size() - entered);
             return false;
         };
-        for (size_t k = 0; k < pulls.size(); ++k) {
-            if (!pulls[k].moving()) continue;
-            std::vector<BrushPull> local;
-            for (size_t j = 0; j < pulls.size(); ++j)
-                local.push_back(j == k || (joint && pulls[j].moving()) ? BrushPull{where[j], pulls[j].source + share * pulls[j].pull - where[j]}
-                                                                       : BrushPull{where[j], Eigen::Vector3d::Zero()});
-            if (!local[k].moving()) continue;
+        // Enters one layer for `local` (one field: brushFieldDelta) and passes it through every check; moves
+        // `where` on by it. False, with every layer of this attempt taken back, if any step fails.
+        const auto enter = [&](const std::vector<BrushPull>& local) {
             RegionLattice region;
             if (Status s = pullRegionLattice(local, brush.radius, region); !s) return fail(s);
             Step step;
@@ -125,6 +145,35 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             for (size_t j = 0; j < local.size(); ++j) step.constraints.push_back({local[j].source, local[j].source + local[j].pull});
             steps.push_back(std::move(step));
             ++entered;
+            return true;
+        };
+        if (split) {
+            // Along the plane (both images' share of it is the same vector), then across it to the targets.
+            Eigen::Vector3d along = Eigen::Vector3d::Zero();
+            for (const BrushPull& p : pulls)
+                if (p.moving()) {
+                    along = share * p.pull;
+                    break;
+                }
+            along[splitAxis] = 0.0;
+            if (along.norm() > 1e-12 * brush.radius) {
+                std::vector<BrushPull> local;
+                for (size_t j = 0; j < pulls.size(); ++j) local.push_back(BrushPull{where[j], pulls[j].moving() ? along : Eigen::Vector3d::Zero()});
+                if (!enter(local)) return false;
+            }
+            std::vector<BrushPull> local;
+            for (size_t j = 0; j < pulls.size(); ++j)
+                local.push_back(BrushPull{where[j], pulls[j].moving() ? Eigen::Vector3d(pulls[j].source + share * pulls[j].pull - where[j]) : Eigen::Vector3d::Zero()});
+            return enter(local);
+        }
+        for (size_t k = 0; k < pulls.size(); ++k) {
+            if (!pulls[k].moving()) continue;
+            std::vector<BrushPull> local;
+            for (size_t j = 0; j < pulls.size(); ++j)
+                local.push_back(j == k || (joint && pulls[j].moving()) ? BrushPull{where[j], pulls[j].source + share * pulls[j].pull - where[j]}
+                                                                       : BrushPull{where[j], Eigen::Vector3d::Zero()});
+            if (!local[k].moving()) continue;
+            if (!enter(local)) return false;
             if (joint) break;  // every image is in this one layer
         }
         return true;
@@ -164,47 +213,67 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         return std::make_pair(lo, kept);
     };
     if (moving) {
-        if (attempt(1.0)) {
+        // The modes, in the order they are tried: the split where it applies (mirror symmetric, each layer
+        // proven), a layer per image, one field for the images.
+        enum class Mode { Split, Layers, Joint };
+        std::vector<Mode> modes;
+        if (splitAxis >= 0) modes.push_back(Mode::Split);
+        modes.push_back(Mode::Layers);
+        if (jointPossible) modes.push_back(Mode::Joint);
+        const auto use = [&](Mode mode) {
+            split = mode == Mode::Split;
+            joint = mode == Mode::Joint;
+        };
+        bool whole = false;
+        std::optional<StepFailure> first;  // why the first mode did not carry the whole pull
+        for (Mode mode : modes) {
+            use(mode);
+            failure = StepFailure{};
+            if (attempt(1.0)) {
+                whole = true;
+                break;
+            }
+            if (!first) first = failure;
+            if (first->cause == StepFailure::Cause::SourceLeft) break;  // no mode has a region for it
+        }
+        if (whole) {
             share = 1.0;
-        } else if (failure.cause != StepFailure::Cause::SourceLeft) {
-            const StepFailure stopped = failure;
-            // One layer per image folded; one field for the images may carry the whole pull.
-            joint = jointPossible;
-            if (joint && attempt(1.0)) {
-                share = 1.0;
-            } else {
-                joint = false;
-                // The last injective point along the pull (to 1/64 of it; from a hint, to 1/8 of what is left
-                // past it), as a control-point edit stops.
-                double lo = 0.0, hi = 1.0;
-                int iterations = 6;
-                if (hint > 1.0 / 64.0 && hint < 1.0 - 1.0 / 64.0) {
-                    if (attempt(hint)) {
-                        lo = hint;
-                        iterations = 3;
-                        clearStroke();
-                    } else {
-                        hi = hint;
-                    }
-                }
-                const auto [found, kept] = lastPassing(lo, hi, iterations);
-                if (kept) share = found;
-                else if (found > 0.0 && attempt(found)) share = found;
-                if (jointPossible && share < 1.0) {
-                    // One field for the images may carry them further than a layer each (never less: the layers
-                    // each found stay unless the field passes beyond them).
+        } else if (first->cause != StepFailure::Cause::SourceLeft) {
+            // The last injective point along the pull in the first mode (to 1/64 of it; from a hint, to 1/8 of
+            // what is left past it), as a control-point edit stops.
+            use(modes[0]);
+            double lo = 0.0, hi = 1.0;
+            int iterations = 6;
+            if (hint > 1.0 / 64.0 && hint < 1.0 - 1.0 / 64.0) {
+                if (attempt(hint)) {
+                    lo = hint;
+                    iterations = 3;
                     clearStroke();
-                    joint = true;
-                    const auto [jointFound, jointKept] = lastPassing(share, 1.0, 4);
-                    if (jointKept || (jointFound > share && attempt(jointFound))) {
-                        share = jointFound;
-                    } else {
-                        joint = false;
-                        if (share > 0.0 && !attempt(share)) share = 0.0;  // passed before: cannot happen
-                    }
+                } else {
+                    hi = hint;
                 }
             }
-            failure = stopped;
+            const auto [found, kept] = lastPassing(lo, hi, iterations);
+            if (kept) share = found;
+            else if (found > 0.0 && attempt(found)) share = found;
+            // The other modes may carry the images further (never less: what the first found stays unless
+            // another passes beyond it).
+            bool beaten = false;
+            for (size_t other = 1; other < modes.size() && share < 1.0 && !beaten; ++other) {
+                clearStroke();
+                use(modes[other]);
+                const auto [otherFound, otherKept] = lastPassing(share, 1.0, 4);
+                beaten = otherKept || (otherFound > share && attempt(otherFound));
+                if (beaten) share = otherFound;
+            }
+            if (modes.size() > 1 && share < 1.0 && !beaten) {
+                clearStroke();
+                use(modes[0]);
+                if (share > 0.0 && !attempt(share)) share = 0.0;  // passed before: cannot happen
+            }
+            failure = *first;
+        } else {
+            failure = *first;
         }
     }
     if (share == 0.0 && hadStep && moving) {
