@@ -94,6 +94,13 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, 
     CHECK(state.session.history().cursor() == 1);
     CHECK_FALSE(state.drag.active);
 
+    // The drag's end says how many vertices it moved in all: those whose positions changed, the count its
+    // undo reports (each move's own report counts only what that move changed).
+    size_t changed = 0;
+    for (Eigen::Index v = 0; v < original.rows(); ++v) changed += original.row(v) != state.session.mesh().positions.row(v);
+    const std::string dragStatus = state.status;
+    CHECK(dragStatus.find(", " + std::to_string(changed) + " vertices moved)") != std::string::npos);
+
     // Ctrl+Z restores the positions; Ctrl+Shift+Z and Ctrl+Y redo.
     const Positions dragged = state.session.mesh().positions;
     sculptApp.onKey(ctrlKey(app::Key::Z), {});
@@ -103,6 +110,7 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, 
     INFO("status: " << state.status);
     CHECK(state.status == "Undo: " + std::to_string(state.lastReport.verticesMoved) + " vertices moved");
     CHECK(state.lastReport.verticesMoved > 1);
+    CHECK(static_cast<size_t>(state.lastReport.verticesMoved) == changed);
     sculptApp.onKey(ctrlKey(app::Key::Z, true), {});
     CHECK(state.session.history().cursor() == 1);
     CHECK((state.session.mesh().positions - dragged).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));

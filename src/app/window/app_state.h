@@ -92,6 +92,9 @@ struct DragState {
     int stoppedShort = 0, byFold = 0, byUncertified = 0, byCrossing = 0, byBoundary = 0, byMirror = 0, byOther = 0;
     double brushRadius = 0.0;  // Surface: the brush radius of this drag in world units (0: the whole cage)
     int grabbedConstraint = 0; // Surface: the constraint the cursor carries (the brush circle follows it)
+    // The mesh at the press, so the end of the drag says how many vertices it moved in all: the count its undo
+    // reports (each move's own report counts what that move changed).
+    Positions before;
 };
 
 enum class Navigation { None, Orbit, Pan };

@@ -262,6 +262,7 @@ void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, in
     }
     drag.active = true;
     drag.kind = DragKind::Surface;
+    drag.before = session.mesh().positions;
     drag.starts = session.stroke().userSources();
     drag.brushRadius = brush.radius;
     const int grabbedConstraint = triangle >= 0 ? 0
@@ -325,6 +326,14 @@ void SculptApp::endSculpt() {
     if (finished.moves == 0) return;  // a click (selecting, placing): its own message stays
     std::string text = recorded ? "Drag recorded as one undo step (" + countOf(static_cast<size_t>(finished.moves), "move")
                                 : "Drag changed nothing (" + countOf(static_cast<size_t>(finished.moves), "move");
+    // The vertices the whole drag moved (bitwise, as undo counts them; a refinement that added vertices: the
+    // ones the mesh had).
+    const Positions& now = state_.session.mesh().positions;
+    if (recorded && finished.before.rows() > 0 && finished.before.rows() <= now.rows()) {
+        size_t changed = 0;
+        for (Eigen::Index v = 0; v < finished.before.rows(); ++v) changed += finished.before.row(v) != now.row(v);
+        text += ", " + countOf(changed, "vertex", "vertices") + " moved";
+    }
     // What stopped the moves that did not go all the way, each named as what it is.
     std::vector<std::string> parts;
     if (finished.stoppedShort > 0) parts.push_back(std::to_string(finished.stoppedShort) + " stopped short");
@@ -420,6 +429,7 @@ void SculptApp::pressLattice(const MouseButtonEvent& event) {
     DragState drag;
     drag.active = true;
     drag.kind = DragKind::Control;
+    drag.before = session.mesh().positions;
     drag.planePoint = points.row(hit).transpose();
     drag.planeNormal = towardsEye(state_.camera);
     drag.target = drag.planePoint;
