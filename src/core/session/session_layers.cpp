@@ -515,16 +515,27 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
     // A stroke's layer moves along one line: inverted along it (always converges); other layers by Newton.
     std::vector<Eigen::Vector3d> directions;
     std::vector<double> bounds;
+    std::vector<std::uint8_t> boundaryMoved;
     for (const Layer& layer : stack_.layers_) {
         directions.push_back(sharedDirection(layer.lattice));
         bounds.push_back(layer.lattice.displacement.rowwise().norm().maxCoeff() * (1.0 + 1e-9));
+        boundaryMoved.push_back(!boundaryUnmoved(layer.lattice));
     }
     const auto invert = [&](const Eigen::Vector3d& y, Eigen::Vector3d& x) {
         x = y;
         for (size_t k = stack_.layers_.size(); k-- > 0;) {
             const Lattice& layer = stack_.layers_[k].lattice;
             Eigen::Vector3d below = x;
-            if (directions[k].squaredNorm() > 0.0) {
+            Eigen::Vector3d inBox;
+            if (boundaryMoved[k] && !restParameters(layer, x, inBox)) {
+                // Outside the box of a layer whose boundary moved (an adaptive subdivision's fresh lattice, placed
+                // around the whole mesh, moves its outer control points too): the point is where the layer carried
+                // a point of its box, not a point the layer left alone, since the layer's box held every vertex
+                // when it was entered. Along the line (below) the identity outside the box is a second root at the
+                // point itself, which undid nothing: a drag's undo left a fin of 61 vertices on the camel's head.
+                Eigen::Vector3d params;
+                if (locateDeformedPoint(layer, x, params, 1e-15) || locateDeformedPoint(layer, x, params)) below = restPoint(layer, params);
+            } else if (directions[k].squaredNorm() > 0.0) {
                 if (!invertParallelLayer(layer, directions[k], bounds[k], x, below)) return false;
             } else {
                 // Newton to the last bit (undo is exact to 1e-12 x diagonal over many strokes); outside the region
