@@ -108,12 +108,17 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, 
     CHECK((state.session.mesh().positions - original).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
     // The status line names the command in words and counts what it moved.
     INFO("status: " << state.status);
-    CHECK(state.status == "Undo: " + std::to_string(state.lastReport.verticesMoved) + " vertices moved");
+    // ... and which history entry it took back.
+    const std::string label = state.session.history()[static_cast<size_t>(state.session.history().cursor())].label;
+    CHECK_FALSE(label.empty());
+    CHECK(state.status == "Undo " + label + ": " + std::to_string(state.lastReport.verticesMoved) + " vertices moved");
     CHECK(state.lastReport.verticesMoved > 1);
     CHECK(static_cast<size_t>(state.lastReport.verticesMoved) == changed);
     sculptApp.onKey(ctrlKey(app::Key::Z, true), {});
     CHECK(state.session.history().cursor() == 1);
     CHECK((state.session.mesh().positions - dragged).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
+    // The redo names the entry too, and never says the steps again ("split into ... steps" is the edit's own).
+    CHECK(state.status == "Redo " + label + ": " + std::to_string(changed) + " vertices moved");
     sculptApp.onKey(ctrlKey(app::Key::Z), {});
     sculptApp.onKey(ctrlKey(app::Key::Y), {});
     CHECK(state.session.history().cursor() == 1);

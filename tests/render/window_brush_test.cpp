@@ -190,7 +190,7 @@ TEST_CASE("window brush: with X symmetry the mirror image of the grabbed point f
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 24.0, {}}, {});
     CHECK(checked >= 2);
     REQUIRE(state.session.history().size() == 1);
-    CHECK(state.session.history().front().label.find("symmetric in x") != std::string::npos);
+    CHECK(state.session.history().front().label.find("symmetric in X") != std::string::npos);
 }
 
 TEST_CASE("window brush: a symmetric stroke dragged across its mirror plane stops before it, and the status line says it met its mirror image", "[gl]") {

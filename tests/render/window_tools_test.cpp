@@ -388,6 +388,31 @@ TEST_CASE("window tools: the status line hint says what the cursor would do", "[
     key(sculptApp, app::Key::Tab);
     sculptApp.onMouseMove({2, 2, {}}, {});
     CHECK(state.tools.hint.find("box select") != std::string::npos);
+    // Over a panel (the UI claims the mouse) nothing under it is offered: no control point hovered, no hint,
+    // no brush circle; off the panel again, the hint is back. Every control point in view, each under a panel.
+    int checked = 0;
+    const Positions points = core::controlPointPositions(state.session.lattice());
+    for (Eigen::Index id = 0; id < points.rows(); id += 7) {
+        if (!app::projectToPixel(state.camera, kWidth, kHeight, points.row(id).transpose(), x, y)) continue;
+        if (x < 0 || y < 0 || x >= kWidth || y >= kHeight) continue;
+        sculptApp.onMouseMove({x, y, {}}, {});
+        if (state.tools.lattice.hovered < 0) continue;
+        ++checked;
+        CHECK(state.tools.hint.find("Control point") != std::string::npos);
+        app::CaptureFlags overPanel;
+        overPanel.mouse = true;
+        sculptApp.onMouseMove({x, y, {}}, overPanel);
+        CHECK(state.tools.lattice.hovered == -1);
+        CHECK(state.tools.hint.empty());
+    }
+    CHECK(checked > 0);
+    key(sculptApp, app::Key::Tab);
+    sculptApp.onMouseMove({0.5 * kWidth, 0.5 * kHeight, {}}, {});
+    CHECK(state.tools.brush.hover);
+    app::CaptureFlags overPanel;
+    overPanel.mouse = true;
+    sculptApp.onMouseMove({0.5 * kWidth, 0.5 * kHeight, {}}, overPanel);
+    CHECK_FALSE(state.tools.brush.hover);
 }
 
 TEST_CASE("window tools: frames of both tools render with their markers (written for a look)", "[gl]") {

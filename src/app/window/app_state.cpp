@@ -77,7 +77,9 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
         // A command that changes the lattice, the pins or the history only moves no vertex: said so, not "0 moved".
         text = what + ": " + (report.verticesMoved > 0 ? countOf(static_cast<size_t>(report.verticesMoved), "vertex", "vertices") + " moved"
                                                        : std::string("done, no vertex moved"));
-        if (report.subSteps > 1) text += ", split into " + std::to_string(report.subSteps) + " steps so that none folds";
+        // (an undo or redo takes back or makes again the steps the edit was split into: said by the edit itself)
+        if (report.subSteps > 1 && report.op != "undo" && report.op != "redo")
+            text += ", split into " + std::to_string(report.subSteps) + " steps so that none folds";
         if (!report.injectivity.empty()) text += ", " + checkWords(report.injectivity, state.session.injectivity().checkTriangles);
         // A move stopped short of where it was asked, or constraints met only as closely as possible: say so.
         if (report.fractionApplied < 1.0 || report.rankDeficient) text += ". " + report.reason;
@@ -85,12 +87,21 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
     setStatus(state, text, report.status == core::OpStatus::Rejected);
 }
 
+// "Undo brush drag" / "Redo move 8 control points along X by 0.5": the command and the history entry it took
+// back or made again (the entry at `index`), or the bare command where there is none.
+std::string historyCommandWords(const AppState& state, const char* command, int index) {
+    const core::History& history = state.session.history();
+    if (index < 0 || index >= static_cast<int>(history.size()) || history[static_cast<size_t>(index)].label.empty()) return command;
+    return std::string(command) + " " + history[static_cast<size_t>(index)].label;
+}
+
 void undoCommand(AppState& state) {
     if (state.drag.active) return;  // the drag becomes a history entry on release
     core::OpReport report;
     const Status s = state.session.undo(report);
     if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state);
-    reportOperation(state, report, s);
+    const bool undone = s && report.status == core::OpStatus::Applied;
+    reportOperation(state, report, s, undone ? historyCommandWords(state, "Undo", state.session.history().cursor()) : std::string());
 }
 
 void redoCommand(AppState& state) {
@@ -98,7 +109,8 @@ void redoCommand(AppState& state) {
     core::OpReport report;
     const Status s = state.session.redo(report);
     if (s && report.status == core::OpStatus::Applied) noteSessionMoved(state);
-    reportOperation(state, report, s);
+    const bool redone = s && report.status == core::OpStatus::Applied;
+    reportOperation(state, report, s, redone ? historyCommandWords(state, "Redo", state.session.history().cursor() - 1) : std::string());
 }
 
 void jumpToHistory(AppState& state, int cursor) {

@@ -31,7 +31,7 @@ std::string brushDescription(const BrushTool& brush) {
     char text[160];
     std::snprintf(text, sizeof text, "Brush: radius %.0f px, strength %.2f, %s falloff%s%s.", brush.radiusPixels, brush.settings.strength,
                   core::brushFalloffName(brush.settings.falloff), brush.settings.symmetry.any() ? ", symmetric in " : "",
-                  core::symmetryText(brush.settings.symmetry).c_str());
+                  core::symmetryText(brush.settings.symmetry, true).c_str());
     return text;
 }
 

@@ -134,7 +134,7 @@ void SculptApp::onMouseMove(const MouseMoveEvent& event, CaptureFlags capture) {
     handleMouseMove(event, capture);
 }
 
-void SculptApp::handleMouseMove(const MouseMoveEvent& event, CaptureFlags /*capture*/) {
+void SculptApp::handleMouseMove(const MouseMoveEvent& event, CaptureFlags capture) {
     // note: moves are ours while a drag or orbit we started is in progress, wherever the cursor is (ImGui
     // does not claim a mouse button pressed outside its windows); otherwise moves only track the cursor.
     const double dx = event.x - state_.cursorX, dy = event.y - state_.cursorY;
@@ -143,6 +143,12 @@ void SculptApp::handleMouseMove(const MouseMoveEvent& event, CaptureFlags /*capt
     if (brushMouseMove(event.x, event.y)) return;  // F / Shift+F: the brush radius or strength follows
     if (state_.transform.active) {
         transformMouseMove(state_, event.x, event.y);
+    } else if (!state_.drag.active && !state_.tools.lattice.boxActive && state_.navigation == Navigation::None && capture.mouse) {
+        // Over a panel: a click there is the panel's, so nothing under the panel is offered (no pick ring, no
+        // hint naming a control point, no brush circle).
+        state_.tools.hint.clear();
+        state_.tools.lattice.hovered = -1;
+        state_.tools.brush.hover = false;
     } else if (state_.drag.active || state_.tools.lattice.boxActive || state_.navigation == Navigation::None) {
         moveTool(event.x, event.y);
     } else if (state_.navigation == Navigation::Orbit) {

@@ -142,13 +142,13 @@ std::string headOf(const TransformState& t) {
     return {};
 }
 
-// A pose's value as the readout shows it: "0.5", "0.1, 0, 0.3 (0.316)", "40 deg", "1.14".
+// A pose's value as the readout shows it: "0.5", "0.1, 0, 0.3 (length 0.316)", "40 deg", "1.14".
 std::string valueOf(const TransformState& t, const Pose& pose) {
     switch (t.kind) {
         case TransformKind::Move: {
             const int axis = t.axis >= 0 ? t.axis : -1;
             if (axis >= 0) return number(pose.offset[axis]);
-            return components(pose.offset) + " (" + number(pose.offset.norm()) + ")";
+            return components(pose.offset) + " (length " + number(pose.offset.norm()) + ")";
         }
         case TransformKind::Rotate: return number(pose.value * 180.0 / kPi) + " deg";
         case TransformKind::Scale: return number(pose.value);

@@ -38,10 +38,10 @@ Status parseSymmetry(const std::string& text, Symmetry& out) {
     return Status::success();
 }
 
-std::string symmetryText(const Symmetry& symmetry) {
+std::string symmetryText(const Symmetry& symmetry, bool planes) {
     std::string text;
     for (int a = 0; a < 3; ++a)
-        if (symmetry.mirror[a]) text += static_cast<char>('x' + a);
+        if (symmetry.mirror[a]) text += static_cast<char>((planes ? 'X' : 'x') + a);
     return text;
 }
 

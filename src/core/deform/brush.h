@@ -37,7 +37,8 @@ struct Symmetry {
 // "x", "y", "z" or combinations such as "xz" (any order, each letter once; "" = none). The error names the
 // offending letter.
 Status parseSymmetry(const std::string& text, Symmetry& out);
-std::string symmetryText(const Symmetry& symmetry);
+// The script's spelling ("x", "xz"); with `planes`, the window's (its Symmetry checkboxes: "X", "XZ").
+std::string symmetryText(const Symmetry& symmetry, bool planes = false);
 
 struct BrushSettings {
     double radius = 0.0;        // world units; 0 = no brush: the drag is solved in the whole cage

@@ -69,7 +69,7 @@ void Stroke::startMirrored(const std::string& label, const std::vector<Eigen::Ve
     s_.drag_.operation.kind = OperationKind::Drag;
     s_.drag_.operation.interactive = true;
     s_.drag_.operation.label = label;
-    if (brush.symmetry.any()) s_.drag_.operation.label += ", symmetric in " + symmetryText(brush.symmetry);
+    if (brush.symmetry.any()) s_.drag_.operation.label += ", symmetric in " + symmetryText(brush.symmetry, true);
     s_.drag_.operation.brush = brush;
     for (const Eigen::Vector3d& source : sources) s_.drag_.operation.constraints.push_back({source, source});
     s_.drag_.appliedInFrame = false;
