@@ -28,6 +28,7 @@ void installSession(AppState& state, core::Session&& session, const std::string&
     state.tools.lattice = LatticeSelection{};
     state.tools.setupEdited = false;
     state.hasReport = false;
+    state.stats.solveMs = 0.0;  // the last mesh's command is not this one's
     state.session.setTrackJacobian(state.overlays.jacobian);
     frameMesh(state);
     setStatus(state, "Loaded " + name + ": " + std::to_string(positions.rows()) + " vertices, " +

@@ -55,7 +55,9 @@ void drawStatsPanel(AppState& state) {
             row("Draw calls", "%s", "-- ms");
             row("Frame rate", "%s", "-- fps");
         } else {
-            row("Solve", "%.2f ms", state.stats.solveMs);
+            // (no command on this mesh yet: nothing to time, not the last mesh's figure)
+            if (state.hasReport) row("Solve", "%.2f ms", state.stats.solveMs);
+            else row("Solve", "%s", "none yet");
             row("Upload to GPU", "%.2f ms (%d vtx)", state.stats.updateMs, state.stats.lastUploadVertices);
             uploadTooltip();
             row("Draw calls", "%.2f ms", state.stats.renderMs);
