@@ -88,6 +88,8 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
     setStatus(state, text, report.status == core::OpStatus::Rejected);
 }
 
+namespace {
+
 // "Undo brush drag" / "Redo move 8 control points along X by 0.5": the command and the history entry it took
 // back or made again (the entry at `index`), or the bare command where there is none.
 std::string historyCommandWords(const AppState& state, const char* command, int index) {
@@ -95,6 +97,8 @@ std::string historyCommandWords(const AppState& state, const char* command, int 
     if (index < 0 || index >= static_cast<int>(history.size()) || history[static_cast<size_t>(index)].label.empty()) return command;
     return std::string(command) + " " + history[static_cast<size_t>(index)].label;
 }
+
+}  // namespace
 
 void undoCommand(AppState& state) {
     if (state.drag.active) return;  // the drag becomes a history entry on release

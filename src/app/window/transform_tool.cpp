@@ -239,24 +239,20 @@ Pose blend(TransformKind kind, const Pose& from, const Pose& to, double f) {
 // What stopped the transform, in words: stopCauseWords, and where crossing triangles stopped it, where and which
 // parts in the engine's words: "the surface would cross itself near (0.1, 0.2, 0.3)", "the surface would cross
 // itself: part 1 (80 triangles) and part 2 (80 triangles) would cross (of the mesh's 2 parts) near (...)". The
-// engine's own "the surface would pass through itself" is not said a second time.
-std::string stopWhy(const TransformState& t) {
+// engine's own "the surface would pass through itself" is not said a second time. Where vertices resting outside
+// the lattice's box (a brush stroke pulled them out of it) were left behind by the moving cage, which tears the
+// surface there, they are named with the way out, as the end of the drag that pulled them out named them.
+std::string stopWhy(const AppState& state, const TransformState& t) {
     const std::string cause = stopCauseWords(t.stopCause);
-    if (t.stopCause != "triangles" || t.stopWords.empty()) return cause;
+    if (t.stopCause != "triangles") return cause;
     const std::string same = "the surface would pass through itself";
-    if (t.stopWords.rfind(same, 0) == 0) return cause + t.stopWords.substr(same.size());
-    return cause + ": " + t.stopWords;
-}
-
-// Where crossing triangles stopped the transform and vertices resting outside the lattice's box (a brush stroke
-// pulled them out of it) were left behind by the moving cage, which tears the surface there: said, with the way
-// out, as the end of the drag that pulled them out said it. "" otherwise.
-std::string leftBehindWhy(const AppState& state, const TransformState& t) {
-    if (!t.stopped || t.stopCause != "triangles") return {};
-    const int left = state.session.verticesLeftOutsideCage();
-    if (left == 0) return {};
-    return "; " + countOf(static_cast<size_t>(left), "vertex", "vertices") + " outside the lattice's box " + (left == 1 ? "stays" : "stay") +
-           " where " + (left == 1 ? "it is" : "they are") + " (Lattice set-up with more padding takes them in)";
+    std::string why = t.stopWords.empty() ? cause
+                      : t.stopWords.rfind(same, 0) == 0 ? cause + t.stopWords.substr(same.size())
+                                                        : cause + ": " + t.stopWords;
+    if (const int left = state.session.verticesLeftOutsideCage(); left > 0)
+        why += "; " + countOf(static_cast<size_t>(left), "vertex", "vertices") + " outside the lattice's box " + (left == 1 ? "stays" : "stay") +
+               " where " + (left == 1 ? "it is" : "they are") + " (Lattice set-up with more padding takes them in)";
+    return why;
 }
 
 // Sends one pose to the session; the report is the status line's.
@@ -319,13 +315,13 @@ void applyTransform(AppState& state) {
         if (s) t.applied = reached;
     }
     const Pose identity{t.axis, t.kind == TransformKind::Scale ? 1.0 : 0.0, Eigen::Vector3d::Zero()};
-    t.readout = headOf(t) + ": " + (t.digits.empty() && !t.negate ? valueOf(t, t.applied) : typedText(t) + (t.kind == TransformKind::Rotate ? " deg" : ""));
+    const bool showsReached = t.digits.empty() && !t.negate;  // the readout shows the pose reached, not a typed value
+    t.readout = headOf(t) + ": " + (showsReached ? valueOf(t, t.applied) : typedText(t) + (t.kind == TransformKind::Rotate ? " deg" : ""));
     if (s && t.stopped)
         note = sameGeometry(t, t.applied, identity)
-                   ? "  (refused at once: " + stopWhy(t) + leftBehindWhy(state, t) + "; nothing moved)"
-                   // (the readout shows the value reached unless a typed value is shown: not said twice)
-                   : "  (stopped " + (t.digits.empty() && !t.negate ? std::string("there") : "at " + valueOf(t, t.applied)) + " where " +
-                         stopWhy(t) + leftBehindWhy(state, t) + ")";
+                   ? "  (refused at once: " + stopWhy(state, t) + "; nothing moved)"
+                   // (the value reached, unless the readout shows it already: not said twice)
+                   : "  (stopped " + (showsReached ? std::string("there") : "at " + valueOf(t, t.applied)) + " where " + stopWhy(state, t) + ")";
     std::string text = t.readout + (s ? note : "  (" + s.message + ")");
     text += "   X Y Z: axis, type a value, Enter or click: confirm, Esc or right-click: cancel";
     setStatus(state, text, !s);
@@ -423,7 +419,7 @@ void confirmTransform(AppState& state) {
     const std::string words = poseWords(t, t.applied);
     const std::string points = countOf(t.points.size(), "control point");
     const bool stopped = t.stopped;
-    const std::string why = stopWhy(t) + leftBehindWhy(state, t);
+    const std::string why = stopped ? stopWhy(state, t) : std::string();
     const std::string typed = t.digits.empty() ? std::string() : typedValueText(t);
     if (Status named = state.session.stroke().setLabel(verb + " " + points + " " + words); !named)
         setStatus(state, "Cannot name the history entry: " + named.message, true);

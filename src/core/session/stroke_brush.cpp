@@ -77,8 +77,8 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     // in the component across the mirror plane (axis `splitAxis`), so the stroke can be carried in two layers,
     // each a field along one line: first the part along the plane, which both share exactly (one field along it,
     // the larger share at each point: brushFieldDelta's shared direction, proven by the slope bound), then the
-    // part across it, opposite for the two (a field along the plane's normal whose share is the difference of
-    // the two images' shares: moving apart it stretches the space between them). Each layer is mirror
+    // part across it, opposite for the two (brushFieldDelta's opposed pair: each side's share ramped through
+    // zero between the images, so moving apart stretches the space between them). Each layer is mirror
     // symmetric, so the result is; the directional bound certifies each (injectivity_directional.cpp).
     int splitAxis = -1;
     if (jointPossible && movingCount == 2) {
@@ -95,8 +95,10 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             if (mirrored) splitAxis = axis;
         }
     }
-    bool split = false;  // the two-layer mode above
-    bool joint = false;  // the mode `attempt` uses
+    // The ways `attempt` can carry the pulls: the split above, a layer per image (each holding the images
+    // placed before it), one layer for all images (the scaled fields summed).
+    enum class Mode { Split, Layers, Joint };
+    Mode mode = Mode::Layers;  // the one `attempt` uses
     const auto attempt = [&](double share) {
         where.clear();
         for (const BrushPull& p : pulls) where.push_back(p.source);
@@ -147,7 +149,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             ++entered;
             return true;
         };
-        if (split) {
+        if (mode == Mode::Split) {
             // Along the plane (both images' share of it is the same vector), then across it to the targets.
             Eigen::Vector3d along = Eigen::Vector3d::Zero();
             for (const BrushPull& p : pulls)
@@ -170,11 +172,11 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             if (!pulls[k].moving()) continue;
             std::vector<BrushPull> local;
             for (size_t j = 0; j < pulls.size(); ++j)
-                local.push_back(j == k || (joint && pulls[j].moving()) ? BrushPull{where[j], pulls[j].source + share * pulls[j].pull - where[j]}
+                local.push_back(j == k || (mode == Mode::Joint && pulls[j].moving()) ? BrushPull{where[j], pulls[j].source + share * pulls[j].pull - where[j]}
                                                                        : BrushPull{where[j], Eigen::Vector3d::Zero()});
             if (!local[k].moving()) continue;
             if (!enter(local)) return false;
-            if (joint) break;  // every image is in this one layer
+            if (mode == Mode::Joint) break;  // every image is in this one layer
         }
         return true;
     };
@@ -215,19 +217,14 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     if (moving) {
         // The modes, in the order they are tried: the split where it applies (mirror symmetric, each layer
         // proven), a layer per image, one field for the images.
-        enum class Mode { Split, Layers, Joint };
         std::vector<Mode> modes;
         if (splitAxis >= 0) modes.push_back(Mode::Split);
         modes.push_back(Mode::Layers);
         if (jointPossible) modes.push_back(Mode::Joint);
-        const auto use = [&](Mode mode) {
-            split = mode == Mode::Split;
-            joint = mode == Mode::Joint;
-        };
         bool whole = false;
         std::optional<StepFailure> first;  // why the first mode did not carry the whole pull
-        for (Mode mode : modes) {
-            use(mode);
+        for (Mode tried : modes) {
+            mode = tried;
             failure = StepFailure{};
             if (attempt(1.0)) {
                 whole = true;
@@ -241,7 +238,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         } else if (first->cause != StepFailure::Cause::SourceLeft) {
             // The last injective point along the pull in the first mode (to 1/64 of it; from a hint, to 1/8 of
             // what is left past it), as a control-point edit stops.
-            use(modes[0]);
+            mode = modes[0];
             double lo = 0.0, hi = 1.0;
             int iterations = 6;
             if (hint > 1.0 / 64.0 && hint < 1.0 - 1.0 / 64.0) {
@@ -261,20 +258,18 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             bool beaten = false;
             for (size_t other = 1; other < modes.size() && share < 1.0 && !beaten; ++other) {
                 clearStroke();
-                use(modes[other]);
+                mode = modes[other];
                 const auto [otherFound, otherKept] = lastPassing(share, 1.0, 4);
                 beaten = otherKept || (otherFound > share && attempt(otherFound));
                 if (beaten) share = otherFound;
             }
             if (modes.size() > 1 && share < 1.0 && !beaten) {
                 clearStroke();
-                use(modes[0]);
+                mode = modes[0];
                 if (share > 0.0 && !attempt(share)) share = 0.0;  // passed before: cannot happen
             }
-            failure = *first;
-        } else {
-            failure = *first;
         }
+        if (!whole) failure = *first;  // what stopped the pull is what stopped the first mode
     }
     if (share == 0.0 && hadStep && moving) {
         // Nothing of this pull passes: the stroke stays where the last update left it (already certified).
