@@ -160,6 +160,9 @@ Status Renderer::setGpuDeformation(const core::Lattice& lattice, const core::Emb
         return Status::error("GPU deformation: the embedding was made for another lattice (" +
                              std::to_string(int(embedding.cellStart.size()) - 1) + " cells, the lattice has " +
                              std::to_string(cellCount) + ")");
+    if (embedding.collarCount() > 0)
+        return Status::error("GPU deformation: " + std::to_string(embedding.collarCount()) +
+                             " vertices rest outside the lattice's box, which its collar carries (the CPU path evaluates it)");
 
     // Per vertex: local coordinates in its cell and the cell, or the identity's mark -1 outside the box.
     std::vector<float> cells(size_t(vertexCount) * 4, 0.0f);

@@ -241,7 +241,10 @@ void SculptApp::syncGpu() {
     // cage and box layers after it (a brush's region, a subdivision's steps).
     std::vector<const core::Lattice*> layers;
     for (const core::Layer& layer : session.cage().layers()) layers.push_back(&layer.lattice);
-    const std::string gpuProblem = render::Renderer::gpuDeformationProblem(session.lattice(), layers);
+    std::string gpuProblem = render::Renderer::gpuDeformationProblem(session.lattice(), layers);
+    // The shader carries what lies in the cage's box only; its collar (embedding.h) is evaluated here.
+    if (const int collar = session.cage().embedding().collarCount(); gpuProblem.empty() && collar > 0)
+        gpuProblem = std::to_string(collar) + (collar == 1 ? " vertex rests" : " vertices rest") + " outside the lattice's box (its collar carries them)";
     const bool freshMesh = gpu.mesh;  // a new mesh or session, or a new context (not only a refinement)
     // A refinement (or its undo) changes the triangles: a full upload.
     if (session.refinement().topologyVersion() != uploadedTopology_) gpu.mesh = true;

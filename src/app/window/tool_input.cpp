@@ -242,7 +242,12 @@ void SculptApp::beginSculpt(int triangle, const Eigen::Vector3d& barycentric, in
         grabbed.triangle = triangle;
         grabbed.barycentric = barycentric;
         if (!add(grabbed, true, -1)) {
-            setStatus(state_, "Cannot grab this point: it lies outside the lattice.", true);
+            // A collar point (a stroke pulled it out of the cage's box): carried by the cage, but no drag is solved there.
+            setStatus(state_, session.cage().carriesCollar()
+                                  ? "Cannot grab this point without a radius: a stroke pulled it out of the lattice's box, which carries it "
+                                    "along but solves drags only inside. Turn on Limit to radius (the brush), or set up a lattice around the mesh as it is now."
+                                  : "Cannot grab this point: it lies outside the lattice.",
+                      true);
             return;
         }
         int corner = 0;

@@ -2,6 +2,8 @@
 // backwards per layer by Newton's method.
 #include "core/session/lattice_stack.h"
 
+#include <algorithm>
+
 #include "core/session/session_internal.h"
 
 namespace sculpt::core {
@@ -75,12 +77,23 @@ void LatticeStack::newestLayersBounds(size_t count, Eigen::Vector3d& lo, Eigen::
 }
 
 Eigen::Vector3d LatticeStack::imageOfRestPoint(const Eigen::Vector3d& rest) const {
-    // The cage maps its rest space as the vertices' evaluation does (x = X0 + sum R delta, X0 outside the
-    // box); the layers then take the cage's output as they take cageOut_.
-    Eigen::Vector3d params;
-    Eigen::Vector3d x = rest;
-    if (restParameters(lattice_, rest, params)) x = rest + displacementAt(lattice_, params);
+    // The cage maps its rest space as the vertices' evaluation does (x = X0 + sum R delta; outside the box its
+    // collar, or X0 where it carries none); the layers then take the cage's output as they take cageOut_.
+    const Eigen::Vector3d x = cageImage(rest);
     return layers_.empty() ? x : pushThroughLayers(x);
+}
+
+Eigen::Vector3d LatticeStack::cageImage(const Eigen::Vector3d& rest) const {
+    Eigen::Vector3d params;
+    if (restParameters(lattice_, rest, params)) return rest + displacementAt(lattice_, params);
+    if (!carriesCollar() || !rest.allFinite()) return rest;
+    for (int a = 0; a < 3; ++a) params[a] = std::clamp((rest[a] - lattice_.boxMin[a]) / (lattice_.boxMax[a] - lattice_.boxMin[a]), 0.0, 1.0);
+    return collarPoint(lattice_, params, rest);
+}
+
+void LatticeStack::embedCage(const Positions& rest) {
+    embedVertices(lattice_, rest, embedding_);
+    if (carriesCollar()) embedCollar(lattice_, rest, embedding_);
 }
 
 Status LatticeStack::parametersOfCurrentPoint(const Eigen::Vector3d& point, Eigen::Vector3d& params) const {

@@ -49,15 +49,23 @@ public:
     // or one no point of the layers maps onto.
     Status parametersOfCurrentPoint(const Eigen::Vector3d& point, Eigen::Vector3d& params) const;
     // Where the deformation puts a point of rest space (Session::mesh().rest's space): the cage's FFD
-    // (X0 + sum R(t(X0)) delta inside its box, X0 outside), then the layers. A vertex v is at
+    // (X0 + sum R(t(X0)) delta inside its box; outside, its collar or X0: cageImage), then the layers. A vertex v is at
     // imageOfRestPoint(mesh().rest.row(v)) up to rounding.
     Eigen::Vector3d imageOfRestPoint(const Eigen::Vector3d& rest) const;
+    // The cage's part of that: its FFD inside its box, its collar outside (carriesCollar), else the point itself.
+    Eigen::Vector3d cageImage(const Eigen::Vector3d& rest) const;
     // x carried through layers [first, end).
     Eigen::Vector3d pushThroughLayers(Eigen::Vector3d x, size_t first = 0) const;
     // The point that layers [0, count) carry onto y (Newton per layer, last first); false if there is none.
     bool pullThroughLayers(const Eigen::Vector3d& y, Eigen::Vector3d& x, size_t count) const;
     // Where the newest `count` layers can move anything (deformationBounds of each, together).
     void newestLayersBounds(size_t count, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const;
+
+    // The cage carries the vertices resting outside its box by its collar (embedding.h, embedCollar) when it is
+    // a box lattice that held every vertex when it was set up (setCollarFromSetUp): only a stroke or a bake can
+    // then put a vertex outside it, and what is sculpted travels with the cage. A box set up in a region that
+    // left vertices out, or a lattice of another kind, leaves what it does not hold where it is.
+    bool carriesCollar() const { return collar_; }
 
 private:
     friend class Session;
@@ -66,6 +74,13 @@ private:
     friend class TSplineTools;
     friend class Refiner;
     friend class CagePins;
+
+    // At set-up, with the rest mesh just embedded (embedVertices): whether the cage carries a collar from now on.
+    void setCollarFromSetUp(const Positions& rest) {
+        collar_ = !lattice_.volume && !lattice_.boxTurned() && embedding_.insideCount() == static_cast<int>(rest.rows());
+    }
+    // Embeds the rest mesh in the cage (embedVertices), with the collar where carriesCollar.
+    void embedCage(const Positions& rest);
 
     // The lattice an operation's steps are solved in: the cage, or the newest layer while the operation that
     // made it runs.
@@ -84,6 +99,7 @@ private:
     std::vector<Layer> layers_;
     Positions cageOut_;            // with layers: the cage's image of the rest mesh (the first layer's input)
     bool layerActive_ = false;     // steps are solved in layers_.back() (only during the operation that made it)
+    bool collar_ = false;          // carriesCollar
     Embedding layerEmbedding_;     // with layerActive_: that layer's input (the mesh when it was made) embedded
     Positions beforeCage_;         // #V: rows of cageOut_ a step changes, as they were before it
     std::vector<FrozenFrame> frames_;

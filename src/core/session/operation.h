@@ -268,6 +268,7 @@ struct FrozenFrame {
     ControlDelta displacement;     // its non-zero control displacements at the time it was frozen
     std::vector<int> pinToggles;   // control points whose pin differs from the settings' pin layers
     std::vector<Layer> layers;     // the layers it had
+    bool collar = false;           // it carried a collar (LatticeStack::carriesCollar)
 };
 
 }  // namespace sculpt::core

@@ -165,9 +165,7 @@ void Refiner::apply(RefinementRecord& record) {
     for (int k = 0; k < added; ++k) {
         const Eigen::Index v = first + k;
         const Eigen::Vector3d rest = s_.mesh_.rest.row(v).transpose();
-        Eigen::Vector3d params;
-        Eigen::Vector3d cage = rest;
-        if (restParameters(s_.stack_.lattice_, rest, params)) cage = rest + displacementAt(s_.stack_.lattice_, params);  // as imageOfRestPoint
+        const Eigen::Vector3d cage = s_.stack_.cageImage(rest);
         if (layered) s_.stack_.cageOut_.row(v) = cage.transpose();
         s_.mesh_.positions.row(v) = (layered ? s_.stack_.pushThroughLayers(cage) : cage).transpose();
     }
@@ -205,7 +203,7 @@ void Refiner::remove(const RefinementRecord& record) {
 void Refiner::finishTopologyChange(Eigen::Index count) {
     s_.before_.conservativeResize(count, 3);
     if (s_.stack_.beforeCage_.rows() > 0) s_.stack_.beforeCage_.conservativeResize(count, 3);
-    embedVertices(s_.stack_.lattice_, s_.mesh_.rest, s_.stack_.embedding_);
+    s_.stack_.embedCage(s_.mesh_.rest);
     ++s_.mesh_.restVersion;
     s_.meshIndex_.build(s_.mesh_.positions, s_.mesh_.triangles);
     if (!s_.loadContacts_.empty()) s_.meshIndex_.setLoadContacts(s_.loadContacts_, s_.mesh_.triangles);

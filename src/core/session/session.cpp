@@ -97,7 +97,7 @@ const char* opStatusName(OpStatus status) {
     return "?";
 }
 
-void invertDeformation(const Lattice& lattice, const Positions& deformed, Positions& rest) {
+void invertDeformation(const Lattice& lattice, const Positions& deformed, Positions& rest, bool collar) {
     rest = deformed;  // same size as before: no new pages
     const int n = static_cast<int>(deformed.rows());
     if (lattice.volume) {
@@ -124,8 +124,9 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
     // (below 1e-13 only the full step is tried: rounding level), so no iterations are burnt on noise. Undo chains many inversions: each must be this tight.
     const double tolerance = 1e-14 * lattice.diagonal();
     const double roundingLevel = 1e-13 * lattice.diagonal();  // below this a failed step is rounding, not overshoot
-    // With the boundary where it started, a point outside the box is its own preimage.
-    const bool boundaryFixed = boundaryUnmoved(lattice);
+    // With the boundary where it started, a point outside the box is its own preimage (not so for a collar:
+    // it follows the volume's derivative at the box too).
+    const bool boundaryFixed = boundaryUnmoved(lattice) && !collar;
 #pragma omp parallel for schedule(dynamic, 256) if (n > 2000)
     for (int v = 0; v < n; ++v) {
         const Eigen::Vector3d y = deformed.row(v).transpose();
@@ -144,8 +145,11 @@ void invertDeformation(const Lattice& lattice, const Positions& deformed, Positi
         // Start from the fixed-point guess x = y - d(y): off by |d| |grad d|, so Newton needs two or three steps.
         Eigen::Vector3d x = (yBox - toBoxCoordinates(lattice, displacementAtY)).cwiseMax(lattice.boxMin).cwiseMin(lattice.boxMax), params;
         const double r = newtonPreimageInBox(lattice, yBox, x, params, tolerance, roundingLevel, 40);
-        // Outside the box nothing moved: keep y unless Newton found a genuine preimage inside.
-        rest.row(v) = (r <= 1e-9 * lattice.diagonal() ? fromBoxCoordinates(lattice, x) : y).transpose();
+        // Outside the box nothing moved (or the collar carried it): keep y unless Newton found a genuine
+        // preimage inside.
+        Eigen::Vector3d beyond = y;
+        if (r > 1e-9 * lattice.diagonal() && collar) collarPreimage(lattice, y, beyond);
+        rest.row(v) = (r <= 1e-9 * lattice.diagonal() ? fromBoxCoordinates(lattice, x) : beyond).transpose();
     }
 }
 
@@ -178,6 +182,7 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     stack_.initialBoxMax_ = lattice.boxMax;
     stack_.lattice_ = std::move(lattice);
     embedVertices(stack_.lattice_, mesh_.rest, stack_.embedding_);
+    stack_.setCollarFromSetUp(mesh_.rest);  // every vertex is inside: no collar to embed yet
     ++mesh_.restVersion;
     stack_.frames_.clear();
     stack_.layers_.clear();
@@ -448,7 +453,10 @@ Status Session::dragVertex(int vertex, const Eigen::Vector3d& target, OpReport& 
         // Sculpted out of the cage's box (a brush stroke goes where it is pulled): the cage cannot move it.
         report.status = OpStatus::Rejected;
         report.refusedBy = "setup";
-        report.reason = "vertex " + std::to_string(vertex) + " lies outside the lattice, which moves only what it holds: drag it with the brush, or set up a larger lattice";
+        report.reason = stack_.carriesCollar()
+                            ? "vertex " + std::to_string(vertex) + " rests outside the lattice's box, where a stroke pulled it: the lattice carries it along "
+                              "but solves drags only inside its box; drag it with the brush (a radius), or set up a lattice around the mesh as it is now"
+                            : "vertex " + std::to_string(vertex) + " lies outside the lattice, which moves only what it holds: drag it with the brush, or set up a larger lattice";
         return Status::success();
     }
     Eigen::Vector3d current;

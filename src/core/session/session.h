@@ -337,8 +337,9 @@ private:
 
 // Inverts an injective lattice deformation per point: finds X with X + sum R(t(X)) delta = y for each row y of
 // `deformed` (Newton from X = y; a point whose displacement is exactly zero is its own preimage, which keeps
-// untouched vertices bitwise identical). Points outside the box are unchanged. Parallel.
+// untouched vertices bitwise identical). Points outside the box are unchanged, or with `collar` (a cage that
+// carries one, LatticeStack::carriesCollar) the collar's preimage (collarPreimage, embedding.h). Parallel.
 // rest: resized to match; reusing the same buffer avoids faulting in fresh pages on every undo.
-void invertDeformation(const Lattice& lattice, const Positions& deformed, Positions& rest);
+void invertDeformation(const Lattice& lattice, const Positions& deformed, Positions& rest, bool collar = false);
 
 }  // namespace sculpt::core

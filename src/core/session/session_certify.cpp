@@ -180,8 +180,7 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
         if (meshIndex_.built()) positionsChanged(&changed);  // a point cloud has no triangle index to tell
         return true;
     }
-    for (int cell : cells)
-        changed.insert(changed.end(), embedding.order.begin() + embedding.cellStart[cell], embedding.order.begin() + embedding.cellStart[cell + 1]);
+    appendVerticesOfCells(embedding, cells, changed);  // the collar's too: the triangle check is what certifies it
     for (int v : changed) before_.row(v) = mesh_.positions.row(v);
     if (layered) {
         if (stack_.beforeCage_.rows() != mesh_.positions.rows()) stack_.beforeCage_.resize(mesh_.positions.rows(), 3);

@@ -148,6 +148,7 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
         frozen.displacement.deltas.row(static_cast<Eigen::Index>(c)) = stack_.lattice_.displacement.row(frozen.displacement.indices[c]);
     frozen.pinToggles = pins().toggles();
     frozen.layers = std::move(stack_.layers_);
+    frozen.collar = stack_.carriesCollar();
     stack_.layers_.clear();
     stack_.cageOut_.resize(0, 3);
     stack_.layerActive_ = false;
@@ -173,6 +174,7 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
     stack_.lattice_ = std::move(fresh);
     mesh_.rest = mesh_.positions;
     embedVertices(stack_.lattice_, mesh_.rest, stack_.embedding_);
+    stack_.setCollarFromSetUp(mesh_.rest);  // every vertex it holds is inside: no collar to embed yet
     ++mesh_.restVersion;
     pins().pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
     lastMoved_.all = true;
@@ -191,11 +193,12 @@ void Session::leaveCage() {
     for (int idx : frozen.pinToggles) previous.pinned[static_cast<size_t>(idx)] ^= 1;
     stack_.lattice_ = std::move(previous);
     stack_.settings_ = frozen.settings;
+    stack_.collar_ = frozen.collar;
     stack_.layers_ = std::move(frozen.layers);
     stack_.layerActive_ = false;
     positionsChanged(nullptr);
     if (stack_.layers_.empty()) {
-        invertDeformation(stack_.lattice_, mesh_.positions, mesh_.rest);
+        invertDeformation(stack_.lattice_, mesh_.positions, mesh_.rest, stack_.carriesCollar());
     } else {
         Positions input = mesh_.positions, preimage;
         for (size_t k = stack_.layers_.size(); k-- > 0;) {
@@ -203,9 +206,9 @@ void Session::leaveCage() {
             input.swap(preimage);
         }
         stack_.cageOut_ = std::move(input);
-        invertDeformation(stack_.lattice_, stack_.cageOut_, mesh_.rest);
+        invertDeformation(stack_.lattice_, stack_.cageOut_, mesh_.rest, stack_.carriesCollar());
     }
-    embedVertices(stack_.lattice_, mesh_.rest, stack_.embedding_);
+    stack_.embedCage(mesh_.rest);
     ++mesh_.restVersion;
     pins().pinBoundaryIfPartial(stack_.lattice_, stack_.embedding_);
     if (trackJacobian_) {
@@ -314,26 +317,26 @@ std::vector<double> Session::totalJacobianDeterminants() const {
 
 namespace {
 
-// The rest point the cage carries onto y: X0 with C(X0) = y (Newton, tight tolerance first), or, outside the box,
-// y itself (the cage leaves every point outside its box where it is; a vertex there is never embedded). Once
-// the cage's boundary has moved, a point outside the box can have both; `outsideFirst` picks the one on the
-// side the vertex's rest point was on, so baking and unbaking a vertex keep it on its side. False if none.
-bool cagePreimage(const Lattice& cage, const Eigen::Vector3d& y, bool outsideFirst, Eigen::Vector3d& rest) {
+// The rest point the cage carries onto y: X0 with C(X0) = y (Newton, tight tolerance first), or a point outside
+// the box: the one the cage's collar carries onto y (collarPreimage) where it has one, else y itself (a cage
+// without a collar leaves every point outside its box where it is). Once the cage has moved, a point can have
+// a preimage on both sides; `outsideFirst` picks the one on the side the vertex's rest point was on, so baking
+// and unbaking a vertex keep it on its side. False if none.
+bool cagePreimage(const Lattice& cage, bool collar, const Eigen::Vector3d& y, bool outsideFirst, Eigen::Vector3d& rest) {
     const bool outside = !cage.volume && ((y.array() < cage.boxMin.array()).any() || (y.array() > cage.boxMax.array()).any());
-    if (outside && outsideFirst) {
+    const auto beyond = [&] {
+        if (collar && collarPreimage(cage, y, rest)) return true;
+        if (!outside) return false;
         rest = y;
         return true;
-    }
+    };
+    if (outsideFirst && beyond()) return true;
     Eigen::Vector3d t;
     if (locateDeformedPoint(cage, y, t, 1e-15) || locateDeformedPoint(cage, y, t, 1e-12)) {
         rest = restPoint(cage, t);
         return true;
     }
-    if (outside) {
-        rest = y;
-        return true;
-    }
-    return false;
+    return !outsideFirst && beyond();
 }
 
 bool outsideBox(const Lattice& cage, const Eigen::Vector3d& rest) {
@@ -407,7 +410,8 @@ double cageJacobianAt(const Lattice& cage, const Eigen::Vector3d& rest) {
 }  // namespace
 
 int Session::verticesLeftOutsideCage() const {
-    if (stack_.lattice_.volume || mesh_.triangles.rows() == 0) return 0;
+    // A cage with a collar carries every vertex (embedding.h, embedCollar): none is left behind.
+    if (stack_.lattice_.volume || stack_.carriesCollar() || mesh_.triangles.rows() == 0) return 0;
     const int n = static_cast<int>(mesh_.rest.rows());
     std::vector<std::uint8_t> outside(static_cast<size_t>(n), 0);
     bool any = false;
@@ -463,7 +467,7 @@ bool Session::bakeAllLayers(std::vector<int>* outside, bool allowOutside) {
     for (int c = 0; c < count; ++c) {
         Eigen::Vector3d x = Eigen::Vector3d::Zero();
         const int v = moved[static_cast<size_t>(c)];
-        const bool found = cagePreimage(stack_.lattice_, mesh_.positions.row(v).transpose(), outsideBox(stack_.lattice_, mesh_.rest.row(v).transpose()), x);
+        const bool found = cagePreimage(stack_.lattice_, stack_.carriesCollar(), mesh_.positions.row(v).transpose(), outsideBox(stack_.lattice_, mesh_.rest.row(v).transpose()), x);
         ok = ok && found;
         rest.row(c) = x.transpose();
     }
@@ -488,11 +492,11 @@ bool Session::bakeAllLayers(std::vector<int>* outside, bool allowOutside) {
     drag_.outsideCage = 0;
     for (int c = 0; c < count; ++c) {
         mesh_.rest.row(moved[static_cast<size_t>(c)]) = rest.row(c);
-        drag_.outsideCage += outsideBox(stack_.lattice_, rest.row(c).transpose());
+        drag_.outsideCage += !stack_.carriesCollar() && outsideBox(stack_.lattice_, rest.row(c).transpose());
     }
     stack_.layers_.clear();
     stack_.cageOut_.resize(0, 3);
-    embedVertices(stack_.lattice_, mesh_.rest, stack_.embedding_);
+    stack_.embedCage(mesh_.rest);
     ++mesh_.restVersion;
     return true;
 }
@@ -563,7 +567,7 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
         Eigen::Vector3d x = y, rest = y;
         const bool inverted = invert(y, x);
         const bool wasOutside = std::binary_search(steps[last].bakedOutside.begin(), steps[last].bakedOutside.end(), v);
-        if (!inverted || x == y || !cagePreimage(stack_.lattice_, x, wasOutside, rest)) continue;
+        if (!inverted || x == y || !cagePreimage(stack_.lattice_, stack_.carriesCollar(), x, wasOutside, rest)) continue;
         if (trackJacobian_) {
             const double baked = cageJacobianAt(stack_.lattice_, mesh_.rest.row(v).transpose());
             const double unbaked = cageJacobianAt(stack_.lattice_, rest) * layersJacobian(stack_.layers_, x);
@@ -572,7 +576,7 @@ void Session::unbakeLayers(const std::vector<Step>& steps, size_t last) {
         mesh_.rest.row(v) = rest.transpose();
         stack_.cageOut_.row(v) = x.transpose();
     }
-    embedVertices(stack_.lattice_, mesh_.rest, stack_.embedding_);
+    stack_.embedCage(mesh_.rest);
     ++mesh_.restVersion;
 }
 

@@ -76,8 +76,9 @@ public:
     // of a brush drag stays where it was), or sources() after begin.
     std::vector<Eigen::Vector3d> userSources() const;
     // After the last brush stroke was baked into the rest shape (end, a scripted drag with a radius): how many of
-    // the vertices it moved now rest outside the cage's box. The cage does not hold them, so later edits of it
-    // leave them where they are (a lattice set-up with more padding takes them in). 0 otherwise.
+    // the vertices it moved now rest outside the box of a cage without a collar (one set up in a region the user
+    // gave: LatticeStack::carriesCollar). It does not hold them, so later edits of it leave them where they are
+    // (a lattice set-up with more padding takes them in). 0 otherwise: a cage around the whole mesh carries them.
     int verticesOutsideCage() const;
 
 private:

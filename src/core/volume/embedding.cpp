@@ -4,6 +4,8 @@
 #include <limits>
 #include <numeric>
 
+#include <Eigen/LU>
+
 #include "core/spline/evaluation_kernel.h"
 
 namespace sculpt::core {
@@ -62,6 +64,10 @@ void embedVertexSet(const Lattice& lattice, const Positions& rest, Embedding& e,
     const int tested = only ? static_cast<int>(only->size()) : n;
     const auto vertexAt = [&](int i) { return only ? (*only)[static_cast<size_t>(i)] : i; };
     e.vertexCount = n;
+    e.collarVertex.clear();  // a cage's collar is embedded apart (embedCollar), after this
+    e.collarCell.clear();
+    e.collarParams.clear();
+    e.collarRest.clear();
     const std::array<int, 3> spans = lattice.spans();
     const int cellCount = lattice.cellCount();
     const double lo[3] = {lattice.boxMin.x(), lattice.boxMin.y(), lattice.boxMin.z()};
@@ -176,6 +182,107 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e, 
     embedVertexSet(lattice, rest, e, lattice.volume ? nullptr : &candidates);
 }
 
+void embedCollar(const Lattice& lattice, const Positions& rest, Embedding& e) {
+    e.collarVertex.clear();
+    e.collarCell.clear();
+    e.collarParams.clear();
+    e.collarRest.clear();
+    if (lattice.volume || lattice.boxTurned()) return;
+    const std::array<int, 3> spans = lattice.spans();
+    const int n = static_cast<int>(rest.rows());
+    for (int v = 0; v < n; ++v) {
+        const Eigen::Vector3d x = rest.row(v).transpose();
+        // Inside: the same closed-box test as the embedding's (every vertex is in exactly one of the two).
+        if (!x.allFinite() || ((x.array() >= lattice.boxMin.array()).all() && (x.array() <= lattice.boxMax.array()).all())) continue;
+        Eigen::Vector3d t;
+        double local = 0.0;
+        for (int a = 0; a < 3; ++a) t[a] = std::clamp((x[a] - lattice.boxMin[a]) / (lattice.boxMax[a] - lattice.boxMin[a]), 0.0, 1.0);
+        e.collarVertex.push_back(v);
+        e.collarCell.push_back(spanOf(t[0], spans[0], local) + spans[0] * (spanOf(t[1], spans[1], local) + spans[1] * spanOf(t[2], spans[2], local)));
+        e.collarParams.push_back(t);
+        e.collarRest.push_back(x);
+    }
+}
+
+Eigen::Vector3d collarPoint(const Lattice& lattice, const Eigen::Vector3d& params, const Eigen::Vector3d& rest) {
+    Eigen::Vector3d displacement;
+    Eigen::Matrix3d jacobian;
+    deformationJacobian(lattice, params, displacement, jacobian);
+    if (lattice.volume) return rest + displacement;
+    // note: undeformed, D = 0 and J - I = 0 exactly, so the point is X0 bitwise.
+    return rest + displacement + (jacobian - Eigen::Matrix3d::Identity()) * (rest - restPoint(lattice, params));
+}
+
+namespace {
+
+Eigen::Vector3d clampedParameters(const Lattice& lattice, const Eigen::Vector3d& x) {
+    Eigen::Vector3d t;
+    for (int a = 0; a < 3; ++a) t[a] = std::clamp((x[a] - lattice.boxMin[a]) / (lattice.boxMax[a] - lattice.boxMin[a]), 0.0, 1.0);
+    return t;
+}
+
+bool insideBox(const Lattice& lattice, const Eigen::Vector3d& x) {
+    return (x.array() >= lattice.boxMin.array()).all() && (x.array() <= lattice.boxMax.array()).all();
+}
+
+}  // namespace
+
+bool collarPreimage(const Lattice& lattice, const Eigen::Vector3d& y, Eigen::Vector3d& rest) {
+    if (lattice.volume || lattice.boxTurned() || !y.allFinite()) return false;
+    const double diagonal = lattice.diagonal();
+    const auto image = [&](const Eigen::Vector3d& x) { return collarPoint(lattice, clampedParameters(lattice, x), x); };
+    Eigen::Vector3d x = y - displacementAt(lattice, clampedParameters(lattice, y));
+    Eigen::Vector3d residual = image(x) - y;
+    double size = residual.norm();
+    // The derivative: J(p) first (exact across the face; along it the collar also turns with J, a term of the
+    // offset's size times D's second derivative, so Newton converges linearly); where that step no longer
+    // descends (a knot of a degree-1 or -2 axis puts a kink in the collar) or converges slowly, central
+    // differences over a growing width, which see across the kink.
+    int widthStep = 0;
+    for (int iteration = 0; iteration < 80 && size > 1e-15 * diagonal; ++iteration) {
+        Eigen::Matrix3d jacobian;
+        if (widthStep == 0) {
+            Eigen::Vector3d displacement;
+            deformationJacobian(lattice, clampedParameters(lattice, x), displacement, jacobian);
+        } else {
+            const double h = (widthStep == 1 ? 1e-7 : widthStep == 2 ? 1e-5 : 1e-3) * diagonal;
+            for (int a = 0; a < 3; ++a) {
+                Eigen::Vector3d e = Eigen::Vector3d::Zero();
+                e[a] = h;
+                jacobian.col(a) = (image(x + e) - image(x - e)) / (2.0 * h);
+            }
+        }
+        const Eigen::Vector3d step = jacobian.partialPivLu().solve(residual);
+        const double before = size;
+        // Damped: halve the step until the residual drops.
+        bool improved = false;
+        double scale = 1.0;
+        for (int halving = 0; step.allFinite() && halving < 30 && !improved; ++halving, scale *= 0.5) {
+            const Eigen::Vector3d next = x - scale * step;
+            const Eigen::Vector3d nextResidual = image(next) - y;
+            if (nextResidual.norm() < size) {
+                x = next, residual = nextResidual, size = nextResidual.norm();
+                improved = true;
+            }
+        }
+        if (improved) {
+            // Slow (a long offset along a strongly curved face): the true derivative, by differences, from here on.
+            if (widthStep == 0 && size > 0.25 * before) widthStep = 1;
+            continue;
+        }
+        if (++widthStep > 3) break;  // no derivative descends any more: at rounding level, or stuck
+    }
+    if (!(size <= 1e-13 * diagonal) || insideBox(lattice, x)) return false;
+    rest = x;
+    return true;
+}
+
+void appendVerticesOfCells(const Embedding& embedding, const std::vector<int>& cells, std::vector<int>& out) {
+    for (int cell : cells) out.insert(out.end(), embedding.order.begin() + embedding.cellStart[cell], embedding.order.begin() + embedding.cellStart[cell + 1]);
+    for (size_t c = 0; c < embedding.collarVertex.size(); ++c)
+        if (std::binary_search(cells.begin(), cells.end(), embedding.collarCell[c])) out.push_back(embedding.collarVertex[c]);
+}
+
 Eigen::Vector3d embeddedParameters(const Lattice& lattice, const Embedding& embedding, int cell, int entry) {
     if (lattice.volume && !lattice.tensorNet())
         return lattice.volume->chunkParameters(cell, {embedding.localX[entry], embedding.localY[entry], embedding.localZ[entry]});
@@ -242,6 +349,18 @@ void evaluateChunksGeneric(const Lattice& lattice, const Embedding& embedding, c
 
 bool chunkedVolume(const Lattice& lattice) { return lattice.volume && !lattice.tensorNet(); }
 
+// The collar's vertices in `cells` (ascending; null: all) evaluated in full (collarPoint): a few spike tips, so
+// the increment's bookkeeping is not worth it, and a full evaluation is exact whatever came before.
+void evaluateCollar(const Lattice& lattice, const Embedding& embedding, const std::vector<int>* cells, Positions& positions,
+                    std::vector<int>* movedVertices) {
+    for (size_t c = 0; c < embedding.collarVertex.size(); ++c) {
+        if (cells && !std::binary_search(cells->begin(), cells->end(), embedding.collarCell[c])) continue;
+        const int v = embedding.collarVertex[c];
+        positions.row(v) = collarPoint(lattice, embedding.collarParams[c], embedding.collarRest[c]).transpose();
+        if (movedVertices) movedVertices->push_back(v);
+    }
+}
+
 }  // namespace
 
 void evaluateIncrement(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& controlPoints,
@@ -266,6 +385,7 @@ void evaluateIncrement(const Lattice& lattice, const Embedding& embedding, const
         for (int cell : cells)
             movedVertices->insert(movedVertices->end(), embedding.order.begin() + embedding.cellStart[cell],
                                   embedding.order.begin() + embedding.cellStart[cell + 1]);
+    evaluateCollar(lattice, embedding, &cells, positions, movedVertices);
 }
 
 void controlPointInfluence(const Lattice& lattice, const Embedding& embedding, const std::vector<int>& controlPoints,
@@ -291,6 +411,7 @@ void evaluateAll(const Lattice& lattice, const Embedding& embedding, Positions& 
     std::iota(cells.begin(), cells.end(), 0);
     if (chunkedVolume(lattice)) return evaluateChunksGeneric(lattice, embedding, cells, positions);
     gKernel(lattice, embedding, cells.data(), static_cast<int>(cells.size()), positions.data());
+    evaluateCollar(lattice, embedding, nullptr, positions, nullptr);
 }
 
 void evaluateAllInCellOrder(const Lattice& lattice, const Embedding& embedding, double* out) {
@@ -307,6 +428,7 @@ void evaluateCells(const Lattice& lattice, const Embedding& embedding, const std
         for (int cell : cells)
             movedVertices->insert(movedVertices->end(), embedding.order.begin() + embedding.cellStart[cell],
                                   embedding.order.begin() + embedding.cellStart[cell + 1]);
+    evaluateCollar(lattice, embedding, &cells, positions, movedVertices);
 }
 
 }  // namespace sculpt::core

@@ -26,6 +26,12 @@ struct Embedding {
     // Working storage kept between re-embeddings (fresh pages cost ~10 us each on this machine class).
     std::vector<int> scratchCell, scratchCursor;
     std::vector<double> scratchParams;  // net lattices: 3 frozen parameters per vertex (NaN outside)
+    // The collar (embedCollar): vertices resting outside a box lattice's box that it still carries, each with
+    // the cell and the parameters p of its nearest point on the box (clamped t) and its rest position X0.
+    // Empty for every embedding but a cage's that holds the whole mesh.
+    std::vector<int> collarVertex, collarCell;
+    std::vector<Eigen::Vector3d> collarParams, collarRest;
+    int collarCount() const { return static_cast<int>(collarVertex.size()); }
 };
 
 // rest: #V x 3. Vertices outside the lattice box are left out (they never move). A net lattice freezes every
@@ -39,6 +45,24 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& emb
 // box that the lattice can move must be among them): the others are left out as if outside. A brush stroke's
 // region holds a few thousand of a million vertices. A net lattice tests every vertex.
 void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& embedding, const std::vector<int>& candidates);
+
+// The collar of a box lattice: every vertex of `rest` outside the box (embedding.order has the rest) is carried
+// by the box surface's first-order extension, collarPoint. A sculpted spike pulled out of the cage's box then
+// travels with the cage: a rigid or affine cage motion moves it by the same motion, exactly. Replaces the
+// collar `embedding` had; a lattice of another kind (net, chunks) or a turned box gets none.
+void embedCollar(const Lattice& lattice, const Positions& rest, Embedding& embedding);
+// The cage's map outside its box (Sederberg & Parry 1986's FFD continued by its Taylor expansion at the box):
+// x = C(P) + J(P) (X0 - P) = X0 + D(p) + (J(p) - I)(X0 - P), with p = clamp(t(X0), 0, 1) the parameters of the
+// nearest box point P = X0(p), D = sum R(p) delta (Hu et al. 2001 eq. 1) and J = dx/dX0 (deformationJacobian).
+// Continuous with the FFD on the box's faces; X0 itself where the lattice is undeformed (bitwise); C itself
+// for X0 inside. Units: world. Box lattices only (the result is X0 + D(p) otherwise).
+Eigen::Vector3d collarPoint(const Lattice& lattice, const Eigen::Vector3d& params, const Eigen::Vector3d& rest);
+// Its inverse for a point y: the X0 outside the box with collarPoint(p(X0), X0) = y, by Newton's method with
+// J(p) as the derivative (exact across the box's face, first-order along it), from X0 = y - D(p(y)). False if
+// it does not converge to 1e-13 x diagonal, or converges into the box (then the FFD's own preimage holds).
+bool collarPreimage(const Lattice& lattice, const Eigen::Vector3d& y, Eigen::Vector3d& rest);
+// The vertices of `cells` (ascending), the collar's among them, appended to `out`.
+void appendVerticesOfCells(const Embedding& embedding, const std::vector<int>& cells, std::vector<int>& out);
 
 // Lattice parameters of entry `entry` of `order`, which lies in cell `cell` (from its local coordinates).
 Eigen::Vector3d embeddedParameters(const Lattice& lattice, const Embedding& embedding, int cell, int entry);

@@ -6,6 +6,8 @@
 
 #include <random>
 
+#include <Eigen/Geometry>
+
 #include "../cgal_meshes.h"
 #include "core/deform/brush_field.h"
 #include "core/session/session.h"
@@ -55,19 +57,19 @@ std::vector<int> unpinned(const Lattice& lattice) {
 }  // namespace
 
 TEST_CASE("brush detail: after a stroke, moving the whole cage rigidly moves the sculpted mesh rigidly, and undo and redo are exact", "[core][brush]") {
+    // The default cage (padding 0.05): the longer pulls carry the spike out of the cage's box, where the cage's
+    // collar carries it (embedding.h, embedCollar). Before the collar, those vertices stayed where they were and
+    // the spike tore off the moved mesh. Translations and turns about a random axis, as a user moves a cage.
     std::mt19937 rng(5);
+    int outsideTrials = 0;
     for (const Mesh& mesh : {sphere(), realMesh("elephant.off"), realMesh("camel.off")}) {
-        for (int trial = 0; trial < 3; ++trial) {
+        for (int trial = 0; trial < 4; ++trial) {
             INFO(mesh.name << " trial " << trial);
             Session session;
-            // A cage with room for the spike: a vertex pulled out of the cage's box is outside the cage, which
-            // carries only what it holds (docs/window.md, "The brush").
-            LatticeSettings cage;
-            cage.padding = 0.4;
-            REQUIRE(session.setMesh(mesh.positions, mesh.triangles, cage).ok);
+            REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
             const Positions original = session.mesh().positions;
             BrushSettings brush;
-            brush.radius = (0.05 + 0.03 * trial) * mesh.diagonal;
+            brush.radius = (0.05 + 0.03 * (trial % 3)) * mesh.diagonal;
             brush.falloff = static_cast<BrushFalloff>(trial % 3);
             const int v = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
             const Eigen::Vector3d target = mesh.positions.row(v).transpose() + (0.4 + trial) * brush.radius * mesh.normals.row(v).transpose();
@@ -78,17 +80,35 @@ TEST_CASE("brush detail: after a stroke, moving the whole cage rigidly moves the
             const double spike = (sculpted.row(v) - original.row(v)).norm();
             CHECK(spike > 0.3 * brush.radius);
             CHECK(session.cage().layers().empty());  // the stroke is part of the rest shape now
-            // Every free control point of the cage by the same vector: a translation of the whole shape.
-            const std::vector<int> ids = unpinned(session.lattice());
+            const Lattice& cage = session.lattice();
+            bool outside = false;
+            for (Eigen::Index r = 0; r < sculpted.rows(); ++r)
+                outside = outside || (session.mesh().rest.row(r).transpose().array() > cage.boxMax.array()).any() ||
+                          (session.mesh().rest.row(r).transpose().array() < cage.boxMin.array()).any();
+            outsideTrials += outside;
+            // Every free control point by one rigid motion x -> R (x - c) + c + by.
+            const std::vector<int> ids = unpinned(cage);
             const Eigen::Vector3d by = 0.07 * mesh.diagonal * test::randomVector(rng, -1.0, 1.0).normalized();
-            REQUIRE(session.moveControlPoints(ids, by.transpose().replicate(static_cast<Eigen::Index>(ids.size()), 1), true, report).ok);
+            const Eigen::Vector3d axis = test::randomVector(rng, -1.0, 1.0).normalized();
+            const Eigen::Matrix3d turn = Eigen::AngleAxisd(trial % 2 == 0 ? 0.0 : 0.35, axis).toRotationMatrix();
+            const Eigen::Vector3d c = 0.5 * (cage.boxMin + cage.boxMax);
+            const Positions points = controlPointPositions(cage);
+            Positions displacement(static_cast<Eigen::Index>(ids.size()), 3);
+            for (size_t k = 0; k < ids.size(); ++k) {
+                const Eigen::Vector3d q = points.row(ids[k]).transpose();
+                displacement.row(static_cast<Eigen::Index>(k)) = (turn * (q - c) + c + by - q).transpose();
+            }
+            REQUIRE(session.moveControlPoints(ids, displacement, true, report).ok);
             REQUIRE(report.status == OpStatus::Applied);
             REQUIRE(report.fractionApplied == 1.0);
             const Positions moved = session.mesh().positions;
             double worst = 0.0;
-            for (Eigen::Index r = 0; r < moved.rows(); ++r) worst = std::max(worst, (moved.row(r) - sculpted.row(r) - by.transpose()).norm());
+            for (Eigen::Index r = 0; r < moved.rows(); ++r) {
+                const Eigen::Vector3d expected = turn * (sculpted.row(r).transpose() - c) + c + by;
+                worst = std::max(worst, (moved.row(r).transpose() - expected).norm());
+            }
             CHECK(worst <= 1e-9 * mesh.diagonal);
-            CHECK((moved.row(v) - original.row(v) - by.transpose()).norm() >= spike - 1e-9 * mesh.diagonal);  // the spike kept its height
+            CHECK((moved.row(v) - (turn * (original.row(v).transpose() - c) + c + by).transpose()).norm() >= spike - 1e-9 * mesh.diagonal);  // the spike kept its height
             // Undo both: the original to 1e-12 x diagonal; redo both: where they were.
             REQUIRE(session.undo(report).ok);
             REQUIRE(session.undo(report).ok);
@@ -100,6 +120,7 @@ TEST_CASE("brush detail: after a stroke, moving the whole cage rigidly moves the
             CHECK((session.mesh().positions - moved).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
         }
     }
+    CHECK(outsideTrials >= 4);  // the collar is what carried those spikes
 }
 
 TEST_CASE("brush detail: a drag that bends the part carrying a spike carries the spike, its offset from the surface turned with it", "[core][brush]") {
@@ -300,22 +321,35 @@ TEST_CASE("brush crossings: strokes on a real mesh make no triangle pair cross, 
     }
 }
 
-TEST_CASE("brush detail: a stroke says how many of its vertices it pulled out of the cage's box", "[core][brush]") {
-    // The cage holds what lies in its box; a spike pulled beyond it is not carried by later cage edits, and the
-    // session counts such vertices so the window can say so. Counted independently: the cage is undeformed, so
-    // a baked vertex rests where it is.
+TEST_CASE("brush detail: a cage around the mesh carries what a stroke pulled out of its box, and a cage in a region that left vertices out counts what it leaves", "[core][brush]") {
+    // A cage set up around the whole mesh carries vertices outside its box by its collar: a stroke reports none
+    // left outside, and a translation of the cage moves every vertex by it. A cage set up in a region the user
+    // gave that leaves some vertices out (here the mesh's bounds less 2% at both ends of x, unpadded) holds only
+    // what lies in it: the session counts the stroke's vertices outside it, and those a cage move leaves next to
+    // moved ones, so the window can say so. Counted independently: the cage is undeformed, so a baked vertex
+    // rests where it is.
     std::mt19937 rng(41);
     int strokesOut = 0;
     for (const Mesh& mesh : {sphere(), realMesh("elephant.off")}) {
-        for (int trial = 0; trial < 6; ++trial) {
+        for (int trial = 0; trial < 12; ++trial) {
+            const bool region = trial % 2 == 1;
+            INFO(mesh.name << " trial " << trial << (region ? " (region cage)" : " (cage around the mesh)"));
             Session session;
-            REQUIRE(session.setMesh(mesh.positions, mesh.triangles));
+            LatticeSettings cageSettings;
+            cageSettings.hasRegion = region;
+            cageSettings.regionMin = mesh.positions.colwise().minCoeff().transpose();
+            cageSettings.regionMax = mesh.positions.colwise().maxCoeff().transpose();
+            const double shrink = 0.02 * (cageSettings.regionMax.x() - cageSettings.regionMin.x());
+            cageSettings.regionMin.x() += shrink;
+            cageSettings.regionMax.x() -= shrink;
+            if (region) cageSettings.padding = 0.0;
+            REQUIRE(session.setMesh(mesh.positions, mesh.triangles, cageSettings));
             const int v = std::uniform_int_distribution<int>(0, static_cast<int>(mesh.positions.rows()) - 1)(rng);
             BrushSettings brush;
-            brush.radius = (0.04 + 0.02 * trial) * mesh.diagonal;
+            brush.radius = (0.04 + 0.02 * (trial / 2)) * mesh.diagonal;
             const Eigen::Vector3d source = mesh.positions.row(v).transpose();
             OpReport report;
-            REQUIRE(session.dragVertex(v, source + (0.5 + 0.5 * trial) * brush.radius * mesh.normals.row(v).transpose(), report, brush));
+            REQUIRE(session.dragVertex(v, source + (0.5 + 0.5 * (trial / 2)) * brush.radius * mesh.normals.row(v).transpose(), report, brush));
             if (report.status != OpStatus::Applied) continue;
             const Lattice& cage = session.lattice();
             int outside = 0;
@@ -324,19 +358,26 @@ TEST_CASE("brush detail: a stroke says how many of its vertices it pulled out of
                 outside += session.mesh().positions.row(r) != mesh.positions.row(r) &&
                            ((x.array() < cage.boxMin.array()).any() || (x.array() > cage.boxMax.array()).any());
             }
-            INFO(mesh.name << " trial " << trial);
-            CHECK(session.stroke().verticesOutsideCage() == outside);
+            CHECK(session.stroke().verticesOutsideCage() == (region ? outside : 0));
             strokesOut += outside > 0;
             // The cage has not moved: nothing is left behind yet.
             CHECK(session.verticesLeftOutsideCage() == 0);
             if (outside == 0) continue;
-            // A translation of the cage moves what it holds; the vertices outside its box stay, and those next to
-            // moved ones are counted: independently, the unmoved corners of triangles with a moved corner.
+            // A translation of the cage moves what it holds (and, around the mesh, its collar: everything).
             const Positions before = session.mesh().positions;
             const std::vector<int> ids = unpinned(session.lattice());
             const Eigen::Vector3d by = 0.03 * mesh.diagonal * test::randomVector(rng, -1.0, 1.0).normalized();
             REQUIRE(session.moveControlPoints(ids, by.transpose().replicate(static_cast<Eigen::Index>(ids.size()), 1), true, report).ok);
+            if (!region) {
+                REQUIRE(report.status == OpStatus::Applied);
+                CHECK(report.fractionApplied == 1.0);
+                CHECK(((session.mesh().positions - before).rowwise() - by.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * mesh.diagonal);
+                CHECK(session.verticesLeftOutsideCage() == 0);
+                continue;
+            }
             if (report.status != OpStatus::Applied || report.fractionApplied < 1.0) continue;
+            // The region cage: the vertices outside its box stay, and those next to moved ones are counted:
+            // independently, the unmoved corners of triangles with a moved corner.
             std::vector<std::uint8_t> left(static_cast<size_t>(mesh.positions.rows()), 0);
             for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
                 bool anyMoved = false;
@@ -350,7 +391,7 @@ TEST_CASE("brush detail: a stroke says how many of its vertices it pulled out of
             CHECK(session.verticesLeftOutsideCage() == expected);
         }
     }
-    CHECK(strokesOut >= 3);  // long pulls leave the 5% padding
+    CHECK(strokesOut >= 6);  // long pulls leave the 5% padding
 }
 
 TEST_CASE("brush: mirror images within reach whose pulls part (outward beside the plane) apply in full, split along and across the plane", "[core][brush]") {
