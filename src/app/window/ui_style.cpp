@@ -28,6 +28,10 @@ void applyTheme(ImGuiStyle& style) {
     // A neutral slate palette with one blue accent, close to the viewport's background gradient.
     const ImVec4 accent(0.26f, 0.52f, 0.86f, 1.0f);
     c[ImGuiCol_WindowBg] = ImVec4(0.11f, 0.12f, 0.14f, 1.0f);
+    // Dialogs and menus opaque (ImGui's default popup is 94% opaque: the mesh showed through the Open dialog's
+    // file list), and what a modal dialog covers dimmed enough to read as inactive.
+    c[ImGuiCol_PopupBg] = ImVec4(0.13f, 0.14f, 0.16f, 1.0f);
+    c[ImGuiCol_ModalWindowDimBg] = ImVec4(0.0f, 0.0f, 0.0f, 0.45f);
     c[ImGuiCol_TitleBg] = ImVec4(0.09f, 0.10f, 0.12f, 1.0f);
     c[ImGuiCol_TitleBgActive] = ImVec4(0.09f, 0.10f, 0.12f, 1.0f);
     c[ImGuiCol_FrameBg] = ImVec4(0.18f, 0.19f, 0.22f, 1.0f);

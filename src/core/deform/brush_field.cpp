@@ -270,6 +270,22 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
         for (size_t c = 0; c < free.size(); ++c)
             for (size_t k = 0; k < m; ++k)
                 along[static_cast<Eigen::Index>(c)] = std::max(along[static_cast<Eigen::Index>(c)], fields[k][static_cast<Eigen::Index>(c)] * pulls[moving[k]].pull.dot(shared));
+        // Two sources within half a radius (a point grabbed just beside a mirror plane and its image): the max
+        // of their two bumps dips between them (to f(d / 2r) of the pull: 0.87 at d = 0.45 r), and the user sees
+        // two peaks where they grabbed one. The field is the max over sources all along the segment between
+        // them instead: a ridge, one bump. Each has the slope bound along e, so their max keeps it; each
+        // vanishes beyond a radius of its segment, within 1.12 r of the two sources' (free as theirs are).
+        if (m == 2 && (pulls[moving[0]].source - pulls[moving[1]].source).norm() <= kBrushBridgeDistance * radius) {
+            const double share = 0.5 * (pulls[moving[0]].pull.dot(shared) + pulls[moving[1]].pull.dot(shared));
+            constexpr int kBridgeSources = 7;
+            for (int b = 1; b <= kBridgeSources; ++b) {
+                const double s = static_cast<double>(b) / (kBridgeSources + 1);
+                const BrushPull bridge{(1.0 - s) * pulls[moving[0]].source + s * pulls[moving[1]].source, share * shared};
+                for (size_t c = 0; c < free.size(); ++c)
+                    along[static_cast<Eigen::Index>(c)] =
+                        std::max(along[static_cast<Eigen::Index>(c)], share * brushFieldWeight(bridge, radius, falloff, region.restControlPoint(free[c])));
+            }
+        }
         // One scale for the field (the quasi-interpolant lowers a peak), least squares over the moving sources'
         // pulls along e: mirror images are met exactly by it, the rest by the correction.
         double num = 0.0, den = 0.0;

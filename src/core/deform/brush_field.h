@@ -47,6 +47,10 @@ struct BrushPull {
 
 constexpr int kBrushFieldSpansPerRadius = 8;
 constexpr double kBrushReach = 1.25;  // in radii, from the segment of each pull
+// Two moving pulls that share a direction and whose sources are at most this far apart (in radii) are carried
+// by one ridge along the segment between them (brushFieldDelta): a point grabbed beside a mirror plane makes
+// one bump with its image, not two peaks.
+constexpr double kBrushBridgeDistance = 0.5;
 
 // The falloff as the field uses it: brushProfile, with sharp's peak rounded (a flat-topped parabola inside 0.15,
 // the rest scaled by 1 / 0.85) and medium's rim slope limited to 3 (min(sqrt(1 - x^2), 3 (1 - x)): 0.07 RMS from the curve over a disc), so the

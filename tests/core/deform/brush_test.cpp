@@ -409,3 +409,47 @@ TEST_CASE("layers: after subdivided drags the cage is carried through the layers
         CHECK((session.cage().cagePoints() - shown).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
     }
 }
+
+TEST_CASE("brush: a point grabbed beside a mirror plane and its image make one bump, not two peaks", "[core][brush]") {
+    // A flat sheet (a 41 x 41 grid on y = 0, centred on the X plane), a grid vertex a fifth of a radius or so off
+    // the plane pulled one radius up with X symmetry: the two images are closer than half a radius, and the grid
+    // vertex on the plane midway between them rises as high as they do (one ridge). The max of two bumps dipped
+    // there to about f(d / 2r) of the pull (smooth: 0.90 at a fifth of a radius; sharp: lower).
+    const int n = 41;
+    const double spacing = 0.05;
+    Positions positions(n * n, 3);
+    Triangles triangles(2 * (n - 1) * (n - 1), 3);
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < n; ++k) positions.row(i + n * k) << (i - n / 2) * spacing, 0.0, (k - n / 2) * spacing;
+    int t = 0;
+    for (int i = 0; i + 1 < n; ++i)
+        for (int k = 0; k + 1 < n; ++k) {
+            triangles.row(t++) << i + n * k, i + n * (k + 1), i + 1 + n * k;
+            triangles.row(t++) << i + 1 + n * k, i + n * (k + 1), i + 1 + n * (k + 1);
+        }
+    std::mt19937 rng(61);
+    for (int trial = 0; trial < 9; ++trial) {
+        BrushSettings brush;
+        const int offset = 1 + trial % 2;  // grid columns off the plane
+        brush.radius = offset * spacing / std::uniform_real_distribution<double>(0.12, 0.22)(rng);
+        brush.falloff = static_cast<BrushFalloff>(trial % 3);
+        brush.symmetry.mirror[0] = true;
+        const int row = n / 2 + test::randomInt(rng, -3, 3);
+        const int v = n / 2 + offset + n * row, middle = n / 2 + n * row;
+        INFO("trial " << trial << ", " << offset * spacing / brush.radius << " radius off the plane, falloff " << trial % 3);
+        Session session;
+        REQUIRE(session.setMesh(positions, triangles).ok);
+        OpReport report;
+        REQUIRE(session.dragVertex(v, positions.row(v).transpose() + Eigen::Vector3d(0.0, brush.radius, 0.0), report, brush).ok);
+        REQUIRE(report.status == OpStatus::Applied);
+        REQUIRE(report.fractionApplied == 1.0);
+        const double grabbed = session.mesh().positions(v, 1), between = session.mesh().positions(middle, 1);
+        INFO("grabbed point rose " << grabbed << ", the point on the plane between the images " << between);
+        CHECK(std::abs(grabbed - brush.radius) <= 1e-9);
+        CHECK(between >= 0.97 * grabbed);
+        CHECK(between <= 1.03 * grabbed);
+        // Still mirror symmetric.
+        const int image = n / 2 - offset + n * row;
+        CHECK((session.mesh().positions.row(image) - Eigen::RowVector3d(-session.mesh().positions(v, 0), session.mesh().positions(v, 1), session.mesh().positions(v, 2))).norm() <= 1e-9);
+    }
+}
