@@ -122,8 +122,8 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
                     const auto falloffShapeCrosses = [&](double share) {
                         Positions shape = positions;
                         for (int mask = 0; mask <= (brush.symmetry.any() ? 1 : 0); ++mask) {
-                            const Eigen::Vector3d grab = reflectPoint(source, mask, centre);
-                            const Eigen::Vector3d move = reflectPoint(source + share * pull * direction, mask, centre) - grab;
+                            const Eigen::Vector3d grab = reflectPoint(source, mask, SymmetryFrame{centre});
+                            const Eigen::Vector3d move = reflectPoint(source + share * pull * direction, mask, SymmetryFrame{centre}) - grab;
                             for (Eigen::Index r = 0; r < positions.rows(); ++r) {
                                 const double rho = (positions.row(r).transpose() - grab).norm();
                                 if (rho < brush.radius) shape.row(r) += brushProfile(brush.falloff, rho / brush.radius) * move.transpose();

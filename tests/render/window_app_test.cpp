@@ -111,14 +111,14 @@ TEST_CASE("window: a drag on the mesh moves the picked point toward the cursor, 
     // ... and which history entry it took back.
     const std::string label = state.session.history()[static_cast<size_t>(state.session.history().cursor())].label;
     CHECK_FALSE(label.empty());
-    CHECK(state.status == "Undo " + label + ": " + std::to_string(state.lastReport.verticesMoved) + " vertices moved");
+    CHECK(state.status == "Undo " + label + ": " + std::to_string(state.lastReport.verticesMoved) + " vertices moved.");
     CHECK(state.lastReport.verticesMoved > 1);
     CHECK(static_cast<size_t>(state.lastReport.verticesMoved) == changed);
     sculptApp.onKey(ctrlKey(app::Key::Z, true), {});
     CHECK(state.session.history().cursor() == 1);
     CHECK((state.session.mesh().positions - dragged).cwiseAbs().maxCoeff() <= 1e-9 * diagonal(original));
     // The redo names the entry too, and never says the steps again ("split into ... steps" is the edit's own).
-    CHECK(state.status == "Redo " + label + ": " + std::to_string(changed) + " vertices moved");
+    CHECK(state.status == "Redo " + label + ": " + std::to_string(changed) + " vertices moved.");
     sculptApp.onKey(ctrlKey(app::Key::Z), {});
     sculptApp.onKey(ctrlKey(app::Key::Y), {});
     CHECK(state.session.history().cursor() == 1);
@@ -338,12 +338,12 @@ TEST_CASE("window: the status line names every engine command in words, and a co
     report.status = core::OpStatus::Applied;
     report.verticesMoved = 0;
     app::reportOperation(state, report, Status::success());
-    CHECK(state.status == "Lattice set-up: done, no vertex moved");
+    CHECK(state.status == "Lattice set-up: done, no vertex moved.");
     CHECK_FALSE(state.statusIsError);
     report.op = "redo";
     report.verticesMoved = 1;
     app::reportOperation(state, report, Status::success());
-    CHECK(state.status == "Redo: 1 vertex moved");
+    CHECK(state.status == "Redo: 1 vertex moved.");
     report.op = "freeze";
     app::reportOperation(state, report, Status::error("lattice 3 does not exist"));
     CHECK(state.status == "Freezing the lattice failed: lattice 3 does not exist");

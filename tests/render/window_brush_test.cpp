@@ -111,6 +111,19 @@ TEST_CASE("window brush: F and a mouse move set the radius, Shift+F the strength
     CHECK(brush.resize == app::BrushTool::Resize::None);
     CHECK(brush.settings.strength == Approx(0.5));
 
+    // Off the mesh the circle is still drawn while resizing (a trial saw none there), round its centre, at the
+    // depth of the orbit centre.
+    move(sculptApp, kWidth - 5.0, 8.0);
+    REQUIRE(!brush.hover);  // nothing under the cursor
+    press(sculptApp, app::Key::F);
+    REQUIRE(brush.resize == app::BrushTool::Resize::Radius);
+    CHECK(brush.hover);
+    CHECK((pixelOf(state, brush.hoverPoint) - Eigen::Vector2d(brush.centreX, brush.centreY)).norm() < 1.0);
+    const double offMesh = brush.hoverRadius;
+    move(sculptApp, kWidth - 5.0 + 40.0, 8.0);
+    CHECK(brush.hoverRadius > offMesh);
+    press(sculptApp, app::Key::Escape);
+
     // In the lattice tool F frames, as before.
     press(sculptApp, app::Key::Tab);
     press(sculptApp, app::Key::F);
@@ -180,7 +193,7 @@ TEST_CASE("window brush: with X symmetry the mirror image of the grabbed point f
         move(sculptApp, cx, cy - 6.0 * m);
         if (state.lastReport.status != core::OpStatus::Applied) continue;
         const Eigen::Vector3d target = state.drag.targets.front();
-        const Eigen::Vector3d mirroredTarget = core::reflectPoint(target, 1, centre);
+        const Eigen::Vector3d mirroredTarget = core::reflectPoint(target, 1, core::SymmetryFrame{centre});
         // Among the drag's constraints is the mirror image of the grabbed point, met exactly.
         double nearest = INFINITY;
         for (const Eigen::Vector3d& source : state.session.stroke().sources()) nearest = std::min(nearest, (source - mirroredTarget).norm());
@@ -254,7 +267,7 @@ TEST_CASE("window brush: the affected-region overlay shows what a finished strok
             if (changed) CHECK(scene.affectedWeight[size_t(r)] > 0.0f);
             // Far beyond every pull's reach (and its region's box): untinted.
             const double far = std::min((mesh.positions.row(r).transpose() - source).norm(),
-                                        (mesh.positions.row(r).transpose() - core::reflectPoint(source, 1, Eigen::Vector3d::Zero())).norm());
+                                        (mesh.positions.row(r).transpose() - core::reflectPoint(source, 1, core::SymmetryFrame{Eigen::Vector3d::Zero()})).norm());
             if (far > pull + 3.0 * brush.radius) CHECK(scene.affectedWeight[size_t(r)] == 0.0f);
         }
         CHECK(moved > 0);

@@ -85,6 +85,7 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
         // A move stopped short of where it was asked, or constraints met only as closely as possible: say so.
         if (report.fractionApplied < 1.0 || report.rankDeficient) text += ". " + report.reason;
     }
+    if (!text.empty() && text.back() != '.') text += '.';  // a sentence, as every other status message
     setStatus(state, text, report.status == core::OpStatus::Rejected);
 }
 

@@ -79,7 +79,18 @@ bool SculptApp::brushKey(const KeyEvent& event) {
     // cursor sits on its rim as the radius follows it: a new user found it drawn round the cursor while the
     // radius was measured from a point one radius left, and then, lying on the tilted surface, short of it.
     Eigen::Vector3d centre, normal;
-    if (!strength && surfaceUnderPixel(brush.centreX, brush.centreY, centre, normal)) {
+    // Off the mesh (the centre one radius left of the cursor can be beside it), the circle is drawn at the
+    // depth of the orbit centre: a trial saw no circle at all while resizing there.
+    Ray centreRay;
+    bool placed = !strength && surfaceUnderPixel(brush.centreX, brush.centreY, centre, normal);
+    if (!strength && !placed && !state_.session.mesh().empty() &&
+        rayThroughPixel(state_.camera, state_.framebufferWidth, state_.framebufferHeight, brush.centreX, brush.centreY, centreRay)) {
+        const Eigen::Vector3d target(state_.camera.target.x, state_.camera.target.y, state_.camera.target.z);
+        const double along = (target - centreRay.origin).dot(centreRay.direction) / centreRay.direction.squaredNorm();
+        centre = centreRay.origin + std::max(along, 0.0) * centreRay.direction;
+        placed = centre.allFinite();
+    }
+    if (placed) {
         const glm::dvec3 eye = state_.camera.towardEye();
         brush.hover = true;
         brush.hoverPoint = centre;

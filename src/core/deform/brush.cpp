@@ -52,15 +52,38 @@ Status validateBrush(const BrushSettings& brush) {
     return Status::success();
 }
 
-Eigen::Vector3d reflectPoint(const Eigen::Vector3d& p, int mask, const Eigen::Vector3d& centre) {
+Eigen::Vector3d reflectPoint(const Eigen::Vector3d& p, int mask, const SymmetryFrame& frame) {
     Eigen::Vector3d q = p;
-    for (int a = 0; a < 3; ++a)
-        if (mask & (1 << a)) q[a] = 2.0 * centre[a] - q[a];
+    const bool aligned = frame.axes == Eigen::Matrix3d::Identity();
+    for (int a = 0; a < 3; ++a) {
+        if (!(mask & (1 << a))) continue;
+        if (aligned) {
+            q[a] = 2.0 * frame.centre[a] - q[a];
+        } else {
+            const Eigen::Vector3d n = frame.axes.col(a);
+            q -= 2.0 * (q - frame.centre).dot(n) * n;  // the normals are orthogonal: the reflections commute
+        }
+    }
     return q;
 }
 
+Eigen::Vector3d reflectVector(const Eigen::Vector3d& d, int mask, const SymmetryFrame& frame) {
+    Eigen::Vector3d v = d;
+    const bool aligned = frame.axes == Eigen::Matrix3d::Identity();
+    for (int a = 0; a < 3; ++a) {
+        if (!(mask & (1 << a))) continue;
+        if (aligned) {
+            v[a] = -v[a];
+        } else {
+            const Eigen::Vector3d n = frame.axes.col(a);
+            v -= 2.0 * v.dot(n) * n;
+        }
+    }
+    return v;
+}
+
 std::vector<MirroredConstraint> mirrorConstraints(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held,
-                                                  const Symmetry& symmetry, const Eigen::Vector3d& centre, double mergeDistance) {
+                                                  const Symmetry& symmetry, const SymmetryFrame& frame, double mergeDistance) {
     std::vector<MirroredConstraint> out;
     for (size_t f = 0; f < sources.size(); ++f) out.push_back({sources[f], {{static_cast<int>(f), 0}}});
     for (int mask = 1; mask < 8; ++mask) {
@@ -69,7 +92,7 @@ std::vector<MirroredConstraint> mirrorConstraints(const std::vector<Eigen::Vecto
         if (!usable) continue;
         for (size_t f = 0; f < sources.size(); ++f) {
             if (f < held.size() && held[f]) continue;
-            const Eigen::Vector3d s = reflectPoint(sources[f], mask, centre);
+            const Eigen::Vector3d s = reflectPoint(sources[f], mask, frame);
             auto near = std::find_if(out.begin(), out.end(), [&](const MirroredConstraint& c) { return (c.source - s).norm() <= mergeDistance; });
             if (near != out.end()) near->images.emplace_back(static_cast<int>(f), mask);
             else out.push_back({s, {{static_cast<int>(f), mask}}});
@@ -79,14 +102,11 @@ std::vector<MirroredConstraint> mirrorConstraints(const std::vector<Eigen::Vecto
 }
 
 Eigen::Vector3d mirroredTarget(const MirroredConstraint& constraint, const std::vector<Eigen::Vector3d>& userTargets,
-                               const std::vector<Eigen::Vector3d>& userSources) {
+                               const std::vector<Eigen::Vector3d>& userSources, const SymmetryFrame& frame) {
     Eigen::Vector3d move = Eigen::Vector3d::Zero();
     for (const auto& [user, mask] : constraint.images) {
-        // A reflection is affine: the image of a move is the move with the mirrored axes negated.
-        Eigen::Vector3d d = userTargets[static_cast<size_t>(user)] - userSources[static_cast<size_t>(user)];
-        for (int a = 0; a < 3; ++a)
-            if (mask & (1 << a)) d[a] = -d[a];
-        move += d;
+        // A reflection is affine: the image of a move is the move reflected by its linear part.
+        move += reflectVector(userTargets[static_cast<size_t>(user)] - userSources[static_cast<size_t>(user)], mask, frame);
     }
     return constraint.source + move / static_cast<double>(constraint.images.size());
 }

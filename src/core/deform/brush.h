@@ -28,8 +28,10 @@ const char* brushFalloffName(BrushFalloff falloff);
 // Parses a name brushFalloffName gives; the error lists the accepted names.
 Status parseBrushFalloff(const std::string& name, BrushFalloff& out);
 
-// Mirror planes: axis a is mirrored in the plane x_a = centre_a. centre: the centre of the mesh's bounding
-// box when it was loaded (Session::meshAsSet().symmetryCentre).
+// Mirror planes: axis a is mirrored in the plane through the frame's centre whose normal is column a of its
+// axes (SymmetryFrame). At load: the planes x_a = centre_a through the centre of the mesh's bounding box
+// (Session::meshAsSet().symmetryCentre); the planes are the mesh's own, so where the cage moves or turns the
+// mesh they move and turn with it (Session::symmetryFrame).
 struct Symmetry {
     std::array<bool, 3> mirror{false, false, false};
     bool any() const { return mirror[0] || mirror[1] || mirror[2]; }
@@ -70,15 +72,23 @@ struct MirroredConstraint {
 // The constraints of a drag with their mirror images added: for every non-empty subset of the mirrored axes,
 // each constraint not `held` reflected in those planes (held constraints, e.g. pins, are not mirrored). The
 // user's constraints come first, in order.
+// Where the mirror planes are (world units): through `centre`, plane a with the unit normal axes.col(a) (the
+// columns orthonormal). The identity axes give the axis-aligned planes x_a = centre_a, computed exactly so.
+struct SymmetryFrame {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+};
 std::vector<MirroredConstraint> mirrorConstraints(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held,
-                                                  const Symmetry& symmetry, const Eigen::Vector3d& centre, double mergeDistance);
-// The point p reflected in the planes of `mask` through `centre`.
-Eigen::Vector3d reflectPoint(const Eigen::Vector3d& p, int mask, const Eigen::Vector3d& centre);
+                                                  const Symmetry& symmetry, const SymmetryFrame& frame, double mergeDistance);
+// The point p reflected in the planes of `mask` (bit a: plane a) of `frame`.
+Eigen::Vector3d reflectPoint(const Eigen::Vector3d& p, int mask, const SymmetryFrame& frame);
+// A vector (a move) reflected in those planes: the reflection's linear part.
+Eigen::Vector3d reflectVector(const Eigen::Vector3d& d, int mask, const SymmetryFrame& frame);
 // The target of a constraint given the user's sources and targets (one each per user constraint): its source
 // moved by the mean of its images' moves, each reflected by its mask (for a source on the images: the mean of
 // the mirrored targets).
 Eigen::Vector3d mirroredTarget(const MirroredConstraint& constraint, const std::vector<Eigen::Vector3d>& userTargets,
-                               const std::vector<Eigen::Vector3d>& userSources);
+                               const std::vector<Eigen::Vector3d>& userSources, const SymmetryFrame& frame);
 
 // The falloff's profile: the fraction of the grabbed point's move wanted at distance x (in radii) from it,
 // 1 at 0 and 0 at 1, as Blender's brush curves: smooth 1 - (3x^2 - 2x^3), medium (sphere) sqrt(1 - x^2),

@@ -32,6 +32,7 @@ struct DragState {
     std::vector<MirroredConstraint> mirror;
     std::vector<bool> pulled;  // a stroke's, per constraint of `mirror`: pulled (not held)
     BrushSettings brush;
+    SymmetryFrame symmetry;  // the mirror planes where the drag began (Session::symmetryFrame)
     std::vector<Eigen::Vector3d> strokeReached;  // applyBrushPulls: where each grabbed image is now
     // The cage's points as shown when a control-point drag began (with layers: the drag moves those).
     Positions controlStart;

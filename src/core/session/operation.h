@@ -269,6 +269,7 @@ struct FrozenFrame {
     std::vector<int> pinToggles;   // control points whose pin differs from the settings' pin layers
     std::vector<Layer> layers;     // the layers it had
     bool collar = false;           // it carried a collar (LatticeStack::carriesCollar)
+    SymmetryFrame symmetry;        // the mirror planes in its rest space (Session::symmetryFrame)
 };
 
 }  // namespace sculpt::core

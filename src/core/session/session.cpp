@@ -191,6 +191,7 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
     {
         const Eigen::Vector3d lo = positions.colwise().minCoeff().transpose(), hi = positions.colwise().maxCoeff().transpose();
         asSet_.symmetryCentre = 0.5 * (lo + hi);
+        symmetryRest_ = SymmetryFrame{asSet_.symmetryCentre, Eigen::Matrix3d::Identity()};
     }
     if (trackJacobian_) frozenJacobian_.assign(static_cast<size_t>(mesh_.rest.rows()), 1.0);
     // The triangle check's index, and the pairs that already cross (they never count against an edit).
@@ -322,10 +323,11 @@ Status Session::drag(const std::vector<PointConstraint>& constraints, OpReport& 
     // With symmetry, the mirror images join as further constraints (Hu et al. 2001, eq. 12). (A drag with a
     // radius is a brush stroke: it went the stroke's way above.)
     Manipulation m;
-    std::vector<MirroredConstraint> solved = mirrorConstraints(sources, {}, brush.symmetry, asSet_.symmetryCentre, mirrorMergeDistance(brush));
+    const SymmetryFrame frame = symmetryFrame();
+    std::vector<MirroredConstraint> solved = mirrorConstraints(sources, {}, brush.symmetry, frame, mirrorMergeDistance(brush));
     for (const MirroredConstraint& c : solved) {
         m.sources.push_back(c.source);
-        m.targets.push_back(mirroredTarget(c, targets, sources));
+        m.targets.push_back(mirroredTarget(c, targets, sources, frame));
     }
     bool moves = false;
     for (size_t f = 0; f < m.sources.size(); ++f) {

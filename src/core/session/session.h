@@ -167,6 +167,12 @@ public:
     // The mesh as set: its fingerprint, symmetry centre, and the crossings and degenerate triangles it came with
     // (operation.h).
     const MeshAsSet& meshAsSet() const { return asSet_; }
+    // Where the mirror planes of a symmetric drag or stroke are now (brush.h): the planes through the centre of
+    // the mesh's bounds at load, carried by the deformation since, as Blender keeps them in the object's own
+    // space: a move or turn of the whole cage moves and turns them (exactly, for a rigid or affine cage motion;
+    // otherwise by the deformation's derivative at the centre, its rotation part). Planes of the loaded mesh
+    // while nothing has moved it.
+    SymmetryFrame symmetryFrame() const;
     // Bytes held by the history (operations and frozen frames), not counting the mesh itself.
     size_t historyBytes() const;
     // The vertices whose position the last command changed (for sparse normal and buffer updates).
@@ -303,6 +309,7 @@ private:
     Snapshot scratch_;
     IncrementScratch increment_;
     MeshAsSet asSet_;  // meshAsSet()
+    SymmetryFrame symmetryRest_;  // the mirror planes in the cage's rest space (symmetryFrame); frames keep theirs
     History history_;  // the operations and the journal (history.h)
     MovedVertices lastMoved_;  // lastMoved()
     bool trackJacobian_ = false;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdint>
 
+#include <Eigen/SVD>
+
 #include "core/injectivity/injectivity.h"
 #include "core/session/session.h"
 
@@ -149,6 +151,9 @@ void Session::enterNewCage(const LatticeSettings& settings, Step* placed, const 
     frozen.pinToggles = pins().toggles();
     frozen.layers = std::move(stack_.layers_);
     frozen.collar = stack_.carriesCollar();
+    // The new cage's rest space is the shape as it is now: the mirror planes are where the deformation put them.
+    frozen.symmetry = symmetryRest_;
+    symmetryRest_ = symmetryFrame();
     stack_.layers_.clear();
     stack_.cageOut_.resize(0, 3);
     stack_.layerActive_ = false;
@@ -194,6 +199,7 @@ void Session::leaveCage() {
     stack_.lattice_ = std::move(previous);
     stack_.settings_ = frozen.settings;
     stack_.collar_ = frozen.collar;
+    symmetryRest_ = frozen.symmetry;
     stack_.layers_ = std::move(frozen.layers);
     stack_.layerActive_ = false;
     positionsChanged(nullptr);
@@ -311,6 +317,30 @@ std::vector<double> Session::totalJacobianDeterminants() const {
         for (int v = 0; v < n; ++v) det[static_cast<size_t>(v)] *= layersJacobian(stack_.layers_, stack_.cageOut_.row(v).transpose());
     }
     return det;
+}
+
+// ---- the mirror planes ---------------------------------------------------------------------------------
+
+SymmetryFrame Session::symmetryFrame() const {
+    if (stack_.layers_.empty() && isUndeformed(stack_.lattice_)) return symmetryRest_;  // exactly as they rest
+    SymmetryFrame frame;
+    const Eigen::Vector3d c = symmetryRest_.centre;
+    frame.centre = stack_.imageOfRestPoint(c);
+    // The derivative at the centre by central differences (exact for an affine map up to rounding), then the
+    // rotation nearest to it times the rest axes (the polar decomposition's orthogonal factor, by the SVD).
+    const double h = 1e-4 * std::max(stack_.lattice_.diagonal(), 1e-300);
+    Eigen::Matrix3d jacobian;
+    for (int a = 0; a < 3; ++a) {
+        Eigen::Vector3d e = Eigen::Vector3d::Zero();
+        e[a] = h;
+        jacobian.col(a) = (stack_.imageOfRestPoint(c + e) - stack_.imageOfRestPoint(c - e)) / (2.0 * h);
+    }
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(jacobian * symmetryRest_.axes, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d u = svd.matrixU();
+    if ((u * svd.matrixV().transpose()).determinant() < 0.0) u.col(2) = -u.col(2);
+    frame.axes = u * svd.matrixV().transpose();
+    if (!frame.centre.allFinite() || !frame.axes.allFinite()) return symmetryRest_;
+    return frame;
 }
 
 // ---- baking layers into the rest shape -----------------------------------------------------------------

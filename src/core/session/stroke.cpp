@@ -17,8 +17,10 @@ using detail::vectorText;
 
 namespace {
 
-std::string dragLabel(size_t constraints) {
-    return constraints == 1 ? "drag" : "drag (" + std::to_string(constraints) + " points)";
+// "drag", "drag (2 points)", "drag (1 point, 6 held)": the points pulled, and the held ones (pins) apart.
+std::string dragLabel(size_t moving, size_t held) {
+    if (held == 0) return moving == 1 ? "drag" : "drag (" + std::to_string(moving) + " points)";
+    return "drag (" + std::to_string(moving) + (moving == 1 ? " point, " : " points, ") + std::to_string(held) + " held)";
 }
 
 // The operation's constraint targets (what a recording writes) after an update of a drag begun with beginAt:
@@ -49,7 +51,7 @@ Status Stroke::begin(const std::vector<Eigen::Vector3d>& sourceParams) {
     s_.drag_.operation = Operation{};
     s_.drag_.operation.kind = OperationKind::Drag;
     s_.drag_.operation.interactive = true;
-    s_.drag_.operation.label = dragLabel(sourceParams.size());
+    s_.drag_.operation.label = dragLabel(sourceParams.size(), 0);
     s_.drag_.sourceWorld.clear();
     for (const Eigen::Vector3d& t : sourceParams) {
         s_.drag_.sourceWorld.push_back(s_.stack_.currentImage(t));
@@ -89,7 +91,9 @@ Status Stroke::beginAt(const std::vector<Eigen::Vector3d>& sources, const std::v
         if (!sources[f].allFinite()) return Status::error("constraint " + std::to_string(f) + " source has non-finite coordinates");
     s_.stack_.layerActive_ = false;
     const auto isHeld = [&](size_t f) { return f < held.size() && held[f]; };
-    std::vector<MirroredConstraint> mirror = mirrorConstraints(sources, held, brush.symmetry, s_.asSet_.symmetryCentre, s_.mirrorMergeDistance(brush));
+    const SymmetryFrame frame = s_.symmetryFrame();
+    std::vector<MirroredConstraint> mirror = mirrorConstraints(sources, held, brush.symmetry, frame, s_.mirrorMergeDistance(brush));
+    s_.drag_.symmetry = frame;  // the updates mirror the targets in these planes
     if (brush.active()) {
         // A stroke (stroke_brush.cpp): no lattice is solved at the start; every update places the pull field.
         std::vector<bool> moving;
@@ -99,7 +103,9 @@ Status Stroke::beginAt(const std::vector<Eigen::Vector3d>& sources, const std::v
         for (const MirroredConstraint& c : mirror) s_.drag_.sourceWorld.push_back(c.source);
         s_.drag_.params.clear();
         s_.drag_.pulled = std::move(moving);
-        startMirrored("brush " + dragLabel(sources.size()), sources, std::move(mirror), brush);
+        // A brush stroke is named by what it pulls: held points (pins) only keep their place where it reaches.
+        const size_t heldCount = static_cast<size_t>(std::count_if(held.begin(), held.end(), [](bool h) { return h; }));
+        startMirrored("brush " + dragLabel(sources.size() - std::min(heldCount, sources.size()), 0), sources, std::move(mirror), brush);
         return Status::success();
     }
     std::vector<Eigen::Vector3d> params(mirror.size());
@@ -117,7 +123,8 @@ Status Stroke::beginAt(const std::vector<Eigen::Vector3d>& sources, const std::v
     s_.drag_.sourceWorld.clear();
     for (const Eigen::Vector3d& t : params) s_.drag_.sourceWorld.push_back(s_.stack_.currentImage(t));
     s_.drag_.params = std::move(params);
-    startMirrored(dragLabel(sources.size()), sources, std::move(mirror), brush);
+    const size_t heldCount = static_cast<size_t>(std::count_if(held.begin(), held.end(), [](bool h) { return h; }));
+    startMirrored(dragLabel(sources.size() - std::min(heldCount, sources.size()), heldCount), sources, std::move(mirror), brush);
     return Status::success();
 }
 
@@ -256,7 +263,7 @@ Status Stroke::update(const std::vector<Eigen::Vector3d>& userTargets, OpReport&
         for (size_t u = 0; u < userTargets.size(); ++u)
             scaled[u] = s_.drag_.brush.scaledTarget(s_.drag_.userStarts[u], userTargets[u]);
         targets.clear();
-        for (const MirroredConstraint& c : s_.drag_.mirror) targets.push_back(mirroredTarget(c, scaled, s_.drag_.userStarts));
+        for (const MirroredConstraint& c : s_.drag_.mirror) targets.push_back(mirroredTarget(c, scaled, s_.drag_.userStarts, s_.drag_.symmetry));
     }
 
     if (s_.drag_.mirrored && s_.drag_.brush.active()) {
@@ -332,7 +339,8 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
             if (!pulls[e].moving()) continue;
             for (int a = 0; a < 3; ++a) {
                 if (!s_.drag_.brush.symmetry.mirror[static_cast<size_t>(a)]) continue;
-                const double from = pulls[e].source[a] - s_.asSet_.symmetryCentre[a], to = from + pulls[e].pull[a];
+                const Eigen::Vector3d normal = s_.drag_.symmetry.axes.col(a);
+                const double from = (pulls[e].source - s_.drag_.symmetry.centre).dot(normal), to = from + pulls[e].pull.dot(normal);
                 if (std::abs(from) > merge && (to == 0.0 || (to > 0.0) != (from > 0.0))) {
                     failure.cause = StepFailure::Cause::MirrorPlane;
                     failure.plane = std::string(1, static_cast<char>('X' + a));

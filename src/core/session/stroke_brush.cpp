@@ -88,10 +88,13 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         const BrushPull& a = pulls[movers[0]];
         const BrushPull& b = pulls[movers[1]];
         const double tolerance = 1e-9 * std::max(a.pull.norm(), brush.radius);
+        // In the mirror planes' frame (the identity while the cage has not moved or turned the mesh).
+        const Eigen::Matrix3d& axes = s_.drag_.symmetry.axes;
+        const Eigen::Vector3d pa = axes.transpose() * a.pull, pb = axes.transpose() * b.pull;
         for (int axis = 0; axis < 3 && splitAxis < 0; ++axis) {
-            bool mirrored = std::abs(a.pull[axis] + b.pull[axis]) <= tolerance && std::abs(a.pull[axis]) > tolerance;
+            bool mirrored = std::abs(pa[axis] + pb[axis]) <= tolerance && std::abs(pa[axis]) > tolerance;
             for (int other = 0; other < 3; ++other)
-                if (other != axis) mirrored = mirrored && std::abs(a.pull[other] - b.pull[other]) <= tolerance;
+                if (other != axis) mirrored = mirrored && std::abs(pa[other] - pb[other]) <= tolerance;
             if (mirrored) splitAxis = axis;
         }
     }
@@ -157,7 +160,8 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
                     along = share * p.pull;
                     break;
                 }
-            along[splitAxis] = 0.0;
+            const Eigen::Vector3d normal = s_.drag_.symmetry.axes.col(splitAxis);
+            along -= along.dot(normal) * normal;
             if (along.norm() > 1e-12 * brush.radius) {
                 std::vector<BrushPull> local;
                 for (size_t j = 0; j < pulls.size(); ++j) local.push_back(BrushPull{where[j], pulls[j].moving() ? along : Eigen::Vector3d::Zero()});

@@ -422,7 +422,7 @@ TEST_CASE("brush: mirror images within reach whose pulls part (outward beside th
         // The falloff shape of both images at the target crosses nothing new.
         Positions shape = mesh.positions;
         for (int mask = 0; mask <= 1; ++mask) {
-            const Eigen::Vector3d grab = reflectPoint(source, mask, centre), move = reflectPoint(source + pull * n, mask, centre) - grab;
+            const Eigen::Vector3d grab = reflectPoint(source, mask, SymmetryFrame{centre}), move = reflectPoint(source + pull * n, mask, SymmetryFrame{centre}) - grab;
             for (Eigen::Index r = 0; r < shape.rows(); ++r) {
                 const double rho = (mesh.positions.row(r).transpose() - grab).norm();
                 if (rho < brush.radius) shape.row(r) += brushProfile(brush.falloff, rho / brush.radius) * move.transpose();

@@ -4,8 +4,11 @@
 
 #include <random>
 
+#include <Eigen/Geometry>
+
 #include "core/deform/brush.h"
 #include "core/deform/brush_field.h"
+#include "core/deform/vertex_normals.h"
 #include "io/script.h"
 #include "core/session/session.h"
 #include "io/script_json.h"
@@ -171,10 +174,10 @@ TEST_CASE("brush: with symmetry the mirror images land on the mirrored targets, 
             for (int a = 0; a < 3; ++a) usable = usable && (!(mask & (1 << a)) || brush.symmetry.mirror[a]);
             if (!usable) continue;
             double distance = 0.0;
-            const int mirror = nearestVertex(mesh.positions, reflectPoint(source, mask, centre), &distance);
+            const int mirror = nearestVertex(mesh.positions, reflectPoint(source, mask, SymmetryFrame{centre}), &distance);
             REQUIRE(distance <= 1e-12 * mesh.diagonal);
             INFO("trial " << trial << " mask " << mask);
-            CHECK((session.mesh().positions.row(mirror).transpose() - reflectPoint(target, mask, centre)).norm() <= 1e-9 * mesh.diagonal);
+            CHECK((session.mesh().positions.row(mirror).transpose() - reflectPoint(target, mask, SymmetryFrame{centre})).norm() <= 1e-9 * mesh.diagonal);
             ++checked;
         }
     }
@@ -284,9 +287,9 @@ TEST_CASE("brush: mirror images near the plane pulled along it move as one field
         // The grabbed point and its mirror image land exactly.
         CHECK((mirrored.mesh().positions.row(vertex).transpose() - target).norm() <= 1e-9 * mesh.diagonal);
         double distance = 0.0;
-        const int image = nearestVertex(mesh.positions, reflectPoint(source, 1, centre), &distance);
+        const int image = nearestVertex(mesh.positions, reflectPoint(source, 1, SymmetryFrame{centre}), &distance);
         REQUIRE(distance <= 1e-12 * mesh.diagonal);
-        CHECK((mirrored.mesh().positions.row(image).transpose() - reflectPoint(target, 1, centre)).norm() <= 1e-9 * mesh.diagonal);
+        CHECK((mirrored.mesh().positions.row(image).transpose() - reflectPoint(target, 1, SymmetryFrame{centre})).norm() <= 1e-9 * mesh.diagonal);
         // Undo is exact.
         REQUIRE(mirrored.undo(withSymmetry).ok);
         CHECK((mirrored.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
@@ -297,15 +300,15 @@ TEST_CASE("brush: mirror images near the plane pulled along it move as one field
 
 TEST_CASE("brush: a point on the mirror plane is one constraint moving in the plane", "[core]") {
     std::vector<MirroredConstraint> mirrored = mirrorConstraints({Eigen::Vector3d(0.0, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)}, {}, Symmetry{{true, false, false}},
-                                                                 Eigen::Vector3d::Zero(), 1e-6);
+                                                                 SymmetryFrame{}, 1e-6);
     REQUIRE(mirrored.size() == 3);
     CHECK(mirrored[0].images.size() == 2);  // on the plane x = 0: its image is itself
     const Eigen::Vector3d target = mirroredTarget(mirrored[0], {Eigen::Vector3d(0.3, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)},
-                                                  {Eigen::Vector3d(0.0, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)});
+                                                  {Eigen::Vector3d(0.0, 1.0, 2.0), Eigen::Vector3d(0.5, 0.0, 0.0)}, SymmetryFrame{});
     CHECK(target.isApprox(Eigen::Vector3d(0.0, 1.0, 2.0)));
     CHECK(mirrored[2].source.isApprox(Eigen::Vector3d(-0.5, 0.0, 0.0)));
     // Held constraints (pins) are not mirrored.
-    CHECK(mirrorConstraints({Eigen::Vector3d(1, 1, 1)}, {true}, Symmetry{{true, true, true}}, Eigen::Vector3d::Zero(), 1e-6).size() == 1);
+    CHECK(mirrorConstraints({Eigen::Vector3d(1, 1, 1)}, {true}, Symmetry{{true, true, true}}, SymmetryFrame{}, 1e-6).size() == 1);
     Symmetry s;
     CHECK(!parseSymmetry("xq", s).ok);
     CHECK(parseSymmetry("xq", s).message.find("'q'") != std::string::npos);
@@ -452,4 +455,63 @@ TEST_CASE("brush: a point grabbed beside a mirror plane and its image make one b
         const int image = n / 2 - offset + n * row;
         CHECK((session.mesh().positions.row(image) - Eigen::RowVector3d(-session.mesh().positions(v, 0), session.mesh().positions(v, 1), session.mesh().positions(v, 2))).norm() <= 1e-9);
     }
+}
+
+TEST_CASE("brush: the mirror planes move and turn with the cage, as the mesh's own planes", "[core][brush]") {
+    // A symmetric icosphere (centre c), the whole cage moved by a random rigid motion T(x) = R (x - c) + c + b,
+    // then a symmetric stroke: the grabbed vertex's image is the vertex that was its mirror image at load,
+    // carried by T, and it lands on the target mirrored in the carried planes. With the planes left where the
+    // mesh was loaded (a window trial), the image landed on the face after a move of the cage.
+    std::mt19937 rng(67);
+    const Eigen::Vector3d c(0.3, -0.2, 0.1);
+    const Mesh mesh = sphereMesh(3, 1.0, c);
+    Positions normals;
+    computeVertexNormals(mesh.positions, mesh.triangles, normals);
+    int checked = 0;
+    for (int trial = 0; trial < 8; ++trial) {
+        INFO("trial " << trial);
+        Session session;
+        REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
+        const Eigen::Matrix3d turn = trial == 0 ? Eigen::Matrix3d::Identity()
+                                                : Eigen::AngleAxisd(0.6 * test::randomVector(rng, -1.0, 1.0).x(), test::randomVector(rng, -1.0, 1.0).normalized()).toRotationMatrix();
+        const Eigen::Vector3d by = 0.5 * test::randomVector(rng, -1.0, 1.0);
+        const auto carried = [&](const Eigen::Vector3d& x) { return Eigen::Vector3d(turn * (x - c) + c + by); };
+        std::vector<int> ids;
+        for (int idx = 0; idx < session.lattice().controlPointCount(); ++idx) ids.push_back(idx);
+        const Positions points = controlPointPositions(session.lattice());
+        Positions displacement(static_cast<Eigen::Index>(ids.size()), 3);
+        for (size_t k = 0; k < ids.size(); ++k) displacement.row(static_cast<Eigen::Index>(k)) = (carried(points.row(ids[k]).transpose()) - points.row(ids[k]).transpose()).transpose();
+        OpReport report;
+        REQUIRE(session.moveControlPoints(ids, displacement, true, report).ok);
+        REQUIRE(report.status == OpStatus::Applied);
+        // The planes are carried: the frame's centre and axes are T's.
+        const SymmetryFrame frame = session.symmetryFrame();
+        CHECK((frame.centre - carried(c)).norm() <= 1e-9);
+        CHECK((frame.axes - turn).cwiseAbs().maxCoeff() <= 1e-9);
+        // A vertex off the planes, pulled along its (carried) normal with X symmetry.
+        int v = -1;
+        while (v < 0) {
+            const int u = test::randomInt(rng, 0, static_cast<int>(mesh.positions.rows()) - 1);
+            if (std::abs(mesh.positions(u, 0) - c.x()) > 0.4) v = u;
+        }
+        const Eigen::Vector3d mirrorRest(2.0 * c.x() - mesh.positions(v, 0), mesh.positions(v, 1), mesh.positions(v, 2));
+        double distance = 0.0;
+        const int image = nearestVertex(mesh.positions, mirrorRest, &distance);
+        REQUIRE(distance <= 1e-12);
+        BrushSettings brush;
+        brush.radius = 0.3;
+        brush.symmetry.mirror[0] = true;
+        const Eigen::Vector3d pull = 0.4 * brush.radius * (turn * normals.row(v).transpose());
+        const Eigen::Vector3d source = session.mesh().positions.row(v).transpose();
+        REQUIRE(session.dragVertex(v, source + pull, report, brush).ok);
+        REQUIRE(report.status == OpStatus::Applied);
+        REQUIRE(report.fractionApplied == 1.0);
+        ++checked;
+        // The image's pull: the grabbed one mirrored in the carried X plane.
+        const Eigen::Vector3d n = turn.col(0);
+        const Eigen::Vector3d mirroredPull = pull - 2.0 * pull.dot(n) * n;
+        CHECK((session.mesh().positions.row(v).transpose() - (source + pull)).norm() <= 1e-9);
+        CHECK((session.mesh().positions.row(image).transpose() - (carried(mirrorRest) + mirroredPull)).norm() <= 1e-9);
+    }
+    CHECK(checked == 8);
 }
