@@ -68,18 +68,7 @@ Eigen::Vector3d reflectPoint(const Eigen::Vector3d& p, int mask, const SymmetryF
 }
 
 Eigen::Vector3d reflectVector(const Eigen::Vector3d& d, int mask, const SymmetryFrame& frame) {
-    Eigen::Vector3d v = d;
-    const bool aligned = frame.axes == Eigen::Matrix3d::Identity();
-    for (int a = 0; a < 3; ++a) {
-        if (!(mask & (1 << a))) continue;
-        if (aligned) {
-            v[a] = -v[a];
-        } else {
-            const Eigen::Vector3d n = frame.axes.col(a);
-            v -= 2.0 * v.dot(n) * n;
-        }
-    }
-    return v;
+    return reflectPoint(d, mask, SymmetryFrame{Eigen::Vector3d::Zero(), frame.axes});  // the planes through the origin
 }
 
 std::vector<MirroredConstraint> mirrorConstraints(const std::vector<Eigen::Vector3d>& sources, const std::vector<bool>& held,
