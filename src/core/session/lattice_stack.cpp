@@ -2,8 +2,6 @@
 // backwards per layer by Newton's method.
 #include "core/session/lattice_stack.h"
 
-#include <algorithm>
-
 #include "core/session/session_internal.h"
 
 namespace sculpt::core {
@@ -87,8 +85,7 @@ Eigen::Vector3d LatticeStack::cageImage(const Eigen::Vector3d& rest) const {
     Eigen::Vector3d params;
     if (restParameters(lattice_, rest, params)) return rest + displacementAt(lattice_, params);
     if (!carriesCollar() || !rest.allFinite()) return rest;
-    for (int a = 0; a < 3; ++a) params[a] = std::clamp((rest[a] - lattice_.boxMin[a]) / (lattice_.boxMax[a] - lattice_.boxMin[a]), 0.0, 1.0);
-    return collarPoint(lattice_, params, rest);
+    return collarImage(lattice_, rest);
 }
 
 void LatticeStack::embedCage(const Positions& rest) {

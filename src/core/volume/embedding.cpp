@@ -50,6 +50,29 @@ inline int spanOf(double u, int spans, double& local) {
 
 }  // namespace
 
+namespace {
+
+// A box lattice's parameters of x clamped to [0,1]^3: those of the nearest point of the box.
+Eigen::Vector3d clampedParameters(const Lattice& lattice, const Eigen::Vector3d& x) {
+    Eigen::Vector3d t;
+    for (int a = 0; a < 3; ++a) t[a] = std::clamp((x[a] - lattice.boxMin[a]) / (lattice.boxMax[a] - lattice.boxMin[a]), 0.0, 1.0);
+    return t;
+}
+
+// The closed-box test of the embedding (every vertex is either embedded or in the collar).
+bool insideBox(const Lattice& lattice, const Eigen::Vector3d& x) {
+    return (x.array() >= lattice.boxMin.array()).all() && (x.array() <= lattice.boxMax.array()).all();
+}
+
+void clearCollar(Embedding& e) {
+    e.collarVertex.clear();
+    e.collarCell.clear();
+    e.collarParams.clear();
+    e.collarRest.clear();
+}
+
+}  // namespace
+
 Embedding embedVertices(const Lattice& lattice, const Positions& rest) {
     Embedding e;
     embedVertices(lattice, rest, e);
@@ -64,10 +87,7 @@ void embedVertexSet(const Lattice& lattice, const Positions& rest, Embedding& e,
     const int tested = only ? static_cast<int>(only->size()) : n;
     const auto vertexAt = [&](int i) { return only ? (*only)[static_cast<size_t>(i)] : i; };
     e.vertexCount = n;
-    e.collarVertex.clear();  // a cage's collar is embedded apart (embedCollar), after this
-    e.collarCell.clear();
-    e.collarParams.clear();
-    e.collarRest.clear();
+    clearCollar(e);  // a cage's collar is embedded apart (embedCollar), after this
     const std::array<int, 3> spans = lattice.spans();
     const int cellCount = lattice.cellCount();
     const double lo[3] = {lattice.boxMin.x(), lattice.boxMin.y(), lattice.boxMin.z()};
@@ -183,20 +203,15 @@ void embedVertices(const Lattice& lattice, const Positions& rest, Embedding& e, 
 }
 
 void embedCollar(const Lattice& lattice, const Positions& rest, Embedding& e) {
-    e.collarVertex.clear();
-    e.collarCell.clear();
-    e.collarParams.clear();
-    e.collarRest.clear();
+    clearCollar(e);
     if (lattice.volume || lattice.boxTurned()) return;
     const std::array<int, 3> spans = lattice.spans();
     const int n = static_cast<int>(rest.rows());
     for (int v = 0; v < n; ++v) {
         const Eigen::Vector3d x = rest.row(v).transpose();
-        // Inside: the same closed-box test as the embedding's (every vertex is in exactly one of the two).
-        if (!x.allFinite() || ((x.array() >= lattice.boxMin.array()).all() && (x.array() <= lattice.boxMax.array()).all())) continue;
-        Eigen::Vector3d t;
+        if (!x.allFinite() || insideBox(lattice, x)) continue;
+        const Eigen::Vector3d t = clampedParameters(lattice, x);
         double local = 0.0;
-        for (int a = 0; a < 3; ++a) t[a] = std::clamp((x[a] - lattice.boxMin[a]) / (lattice.boxMax[a] - lattice.boxMin[a]), 0.0, 1.0);
         e.collarVertex.push_back(v);
         e.collarCell.push_back(spanOf(t[0], spans[0], local) + spans[0] * (spanOf(t[1], spans[1], local) + spans[1] * spanOf(t[2], spans[2], local)));
         e.collarParams.push_back(t);
@@ -213,24 +228,14 @@ Eigen::Vector3d collarPoint(const Lattice& lattice, const Eigen::Vector3d& param
     return rest + displacement + (jacobian - Eigen::Matrix3d::Identity()) * (rest - restPoint(lattice, params));
 }
 
-namespace {
-
-Eigen::Vector3d clampedParameters(const Lattice& lattice, const Eigen::Vector3d& x) {
-    Eigen::Vector3d t;
-    for (int a = 0; a < 3; ++a) t[a] = std::clamp((x[a] - lattice.boxMin[a]) / (lattice.boxMax[a] - lattice.boxMin[a]), 0.0, 1.0);
-    return t;
+Eigen::Vector3d collarImage(const Lattice& lattice, const Eigen::Vector3d& rest) {
+    return collarPoint(lattice, clampedParameters(lattice, rest), rest);
 }
-
-bool insideBox(const Lattice& lattice, const Eigen::Vector3d& x) {
-    return (x.array() >= lattice.boxMin.array()).all() && (x.array() <= lattice.boxMax.array()).all();
-}
-
-}  // namespace
 
 bool collarPreimage(const Lattice& lattice, const Eigen::Vector3d& y, Eigen::Vector3d& rest) {
     if (lattice.volume || lattice.boxTurned() || !y.allFinite()) return false;
     const double diagonal = lattice.diagonal();
-    const auto image = [&](const Eigen::Vector3d& x) { return collarPoint(lattice, clampedParameters(lattice, x), x); };
+    const auto image = [&](const Eigen::Vector3d& x) { return collarImage(lattice, x); };
     Eigen::Vector3d x = y - displacementAt(lattice, clampedParameters(lattice, y));
     Eigen::Vector3d residual = image(x) - y;
     double size = residual.norm();

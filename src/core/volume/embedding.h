@@ -57,6 +57,8 @@ void embedCollar(const Lattice& lattice, const Positions& rest, Embedding& embed
 // Continuous with the FFD on the box's faces; X0 itself where the lattice is undeformed (bitwise); C itself
 // for X0 inside. Units: world. Box lattices only (the result is X0 + D(p) otherwise).
 Eigen::Vector3d collarPoint(const Lattice& lattice, const Eigen::Vector3d& params, const Eigen::Vector3d& rest);
+// The same for a rest point X0 anywhere, p its parameters clamped to the box (C itself inside it).
+Eigen::Vector3d collarImage(const Lattice& lattice, const Eigen::Vector3d& rest);
 // Its inverse for a point y: the X0 outside the box with collarPoint(p(X0), X0) = y, by Newton's method with
 // J(p) as the derivative (exact across the box's face, first-order along it), from X0 = y - D(p(y)). False if
 // it does not converge to 1e-13 x diagonal, or converges into the box (then the FFD's own preimage holds).
