@@ -69,6 +69,7 @@ void addOperation(Fingerprint& f, const core::Operation& op) {
     f.add(op.settings);
     f.add(static_cast<std::uint64_t>(op.steps.size()));
     f.add(static_cast<std::uint64_t>(op.refinement.splits.size()));
+    f.add(static_cast<std::uint64_t>(op.refinementBefore.splits.size()));
     for (const core::Step& step : op.steps) {
         f.add(step.freshFrame);
         f.add(step.constraints);

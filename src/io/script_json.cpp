@@ -132,6 +132,7 @@ core::RefinementSettings parseRefinementSettings(const json& j, const std::strin
     if (j.contains("tolerance")) settings.options.tolerance = tolerance(j["tolerance"], path + ".tolerance");
     if (j.contains("max_rounds")) settings.options.maxRounds = integer(j["max_rounds"], path + ".max_rounds");
     if (j.contains("max_vertices")) settings.options.maxVertices = integer(j["max_vertices"], path + ".max_vertices");
+    if (j.contains("under_brush")) settings.underBrush = boolean(j["under_brush"], path + ".under_brush");
     if (Status s = core::validateRefinementOptions(settings.options); !s) fail(path, s.message);
     return settings;
 }
@@ -273,7 +274,7 @@ core::RefinementRecord parseRefinementRecord(const json& j, const std::string& p
 
 // A recorded operation as it was applied (ScriptOp::applied): its steps in their lattices.
 core::Operation parseApplied(const json& j, const std::string& path) {
-    allowOnly(j, path, {"kind", "label", "interactive", "depth", "constraints", "control_points", "offsets", "lattice", "steps", "brush", "frozen", "refinement"});
+    allowOnly(j, path, {"kind", "label", "interactive", "depth", "constraints", "control_points", "offsets", "lattice", "steps", "brush", "frozen", "refinement", "refinement_before"});
     core::Operation operation;
     const json& kind = required(j, "kind", path);
     const std::string name = kind.is_string() ? kind.get<std::string>() : "";
@@ -302,6 +303,7 @@ core::Operation parseApplied(const json& j, const std::string& path) {
         operation.brush = parseBrush(j["brush"], path + ".brush");
     }
     if (j.contains("refinement")) operation.refinement = parseRefinementRecord(j["refinement"], path + ".refinement");
+    if (j.contains("refinement_before")) operation.refinementBefore = parseRefinementRecord(j["refinement_before"], path + ".refinement_before");
     if (operation.kind == core::OperationKind::Refine && operation.refinement.empty()) fail(path + ".refinement", "a refine splits at least one edge");
     const json& steps = required(j, "steps", path);
     // A refine has no lattice steps, only its splits.

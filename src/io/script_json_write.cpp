@@ -123,11 +123,13 @@ json appliedJson(const core::Operation& operation) {
         steps.push_back(k);
     }
     j["steps"] = steps;
-    if (!operation.refinement.empty()) {
+    const auto refinementJson = [](const core::RefinementRecord& record) {
         json splits = json::array();
-        for (const core::EdgeSplit& split : operation.refinement.splits) splits.push_back(json::array({split.a, split.b}));
-        j["refinement"] = {{"tolerance", operation.refinement.tolerance}, {"splits", splits}};
-    }
+        for (const core::EdgeSplit& split : record.splits) splits.push_back(json::array({split.a, split.b}));
+        return json{{"tolerance", record.tolerance}, {"splits", splits}};
+    };
+    if (!operation.refinement.empty()) j["refinement"] = refinementJson(operation.refinement);
+    if (!operation.refinementBefore.empty()) j["refinement_before"] = refinementJson(operation.refinementBefore);
     return j;
 }
 

@@ -292,13 +292,14 @@ const std::vector<ScriptOpInfo>& scriptOps() {
              op.tolerance = o.refinement.tolerance;
              return true;
          }},
-        {K::SetRefinement, "set_refinement", {"automatic", "tolerance", "max_rounds", "max_vertices"},
+        {K::SetRefinement, "set_refinement", {"automatic", "tolerance", "max_rounds", "max_vertices", "under_brush"},
          [](const json& j, const std::string& path, ScriptOp& op) { op.refinement = parseRefinementSettings(j, path); },
          [](const ScriptOp& op, json& j) {
              j["automatic"] = op.refinement.automatic;
              j["tolerance"] = op.refinement.options.tolerance;
              j["max_rounds"] = op.refinement.options.maxRounds;
              j["max_vertices"] = op.refinement.options.maxVertices;
+             j["under_brush"] = op.refinement.underBrush;
          },
          [](S& s, const ScriptOp& op, R& r, const H&) { return setting(r, [&] { return s.refinement().set(op.refinement); }); },
          nullptr},  // recorded from the journal's setting changes

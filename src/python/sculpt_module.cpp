@@ -229,12 +229,18 @@ private:
         const int cursor = session.history().cursor();
         switch (op.kind) {
             case io::ScriptOp::Kind::Refine: return true;
-            case io::ScriptOp::Kind::Undo: return cursor > 0 && !history[static_cast<size_t>(cursor - 1)].refinement.empty();
+            case io::ScriptOp::Kind::Undo:
+                return cursor > 0 && !(history[static_cast<size_t>(cursor - 1)].refinement.empty() && history[static_cast<size_t>(cursor - 1)].refinementBefore.empty());
             case io::ScriptOp::Kind::Redo:
-                return cursor < static_cast<int>(history.size()) && !history[static_cast<size_t>(cursor)].refinement.empty();
+                return cursor < static_cast<int>(history.size()) &&
+                       !(history[static_cast<size_t>(cursor)].refinement.empty() && history[static_cast<size_t>(cursor)].refinementBefore.empty());
             case io::ScriptOp::Kind::Screenshot:
             case io::ScriptOp::Kind::SetRefinement:
             case io::ScriptOp::Kind::SetPins: return false;
+            // a brush stroke may be split under its pull
+            case io::ScriptOp::Kind::Drag:
+            case io::ScriptOp::Kind::DragVertex:
+                return session.refinement().settings().automatic || (op.brush.active() && session.refinement().settings().underBrush);
             default: return session.refinement().settings().automatic;  // any edit may be refined after it
         }
     }

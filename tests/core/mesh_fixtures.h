@@ -216,33 +216,29 @@ inline bool exactTrianglesIntersect(const std::array<Eigen::Vector3d, 3>& pa, co
 }  // namespace detail
 
 // The intersecting pairs of triangles (what two triangles share by vertex id or position does not count), exactly, as
-// sorted (lower, higher) id pairs. A uniform grid over the triangles' bounding boxes prunes pairs, so meshes
-// of a few thousand triangles take well under a second.
+// sorted (lower, higher) id pairs. Sweep and prune over the triangles' bounding boxes prunes pairs, so meshes
+// of tens of thousands of triangles take well under a second.
 inline std::vector<std::pair<int, int>> intersectingPairs(const Positions& positions, const Triangles& triangles) {
     const int n = static_cast<int>(triangles.rows());
     std::vector<Eigen::AlignedBox3d> boxes(n);
-    Eigen::AlignedBox3d all;
-    for (int t = 0; t < n; ++t) {
+    for (int t = 0; t < n; ++t)
         for (int c = 0; c < 3; ++c) boxes[t].extend(positions.row(triangles(t, c)).transpose());
-        all.extend(boxes[t]);
-    }
-    const int g = std::max(1, static_cast<int>(std::cbrt(n)));
-    const Eigen::Vector3d cell = (all.sizes() / g).cwiseMax(1e-300);
-    std::unordered_map<long long, std::vector<int>> grid;
-    auto key = [&](int x, int y, int z) { return (static_cast<long long>(x) * (g + 1) + y) * (g + 1) + z; };
-    for (int t = 0; t < n; ++t) {
-        const Eigen::Vector3i lo = ((boxes[t].min() - all.min()).cwiseQuotient(cell)).cast<int>().cwiseMin(g - 1);
-        const Eigen::Vector3i hi = ((boxes[t].max() - all.min()).cwiseQuotient(cell)).cast<int>().cwiseMin(g - 1);
-        for (int x = lo.x(); x <= hi.x(); ++x)
-            for (int y = lo.y(); y <= hi.y(); ++y)
-                for (int z = lo.z(); z <= hi.z(); ++z) grid[key(x, y, z)].push_back(t);
-    }
+    // Sweep and prune along x (boxes sorted by their low x; each meets those that start before it ends), then y
+    // and z: a locally refined mesh (a brush stroke splits thousands of triangles in one spot) stays n log n plus
+    // the overlaps, where a uniform grid put them all in one cell.
+    std::vector<int> order(static_cast<size_t>(n));
+    for (int t = 0; t < n; ++t) order[static_cast<size_t>(t)] = t;
+    std::sort(order.begin(), order.end(), [&](int p, int q) { return boxes[p].min().x() < boxes[q].min().x(); });
     std::vector<std::pair<int, int>> pairs;
-    for (const auto& [k, list] : grid)
-        for (size_t i = 0; i < list.size(); ++i)
-            for (size_t j = i + 1; j < list.size(); ++j) pairs.emplace_back(std::min(list[i], list[j]), std::max(list[i], list[j]));
+    for (size_t i = 0; i < order.size(); ++i) {
+        const Eigen::AlignedBox3d& bi = boxes[order[i]];
+        for (size_t j = i + 1; j < order.size() && boxes[order[j]].min().x() <= bi.max().x(); ++j) {
+            const Eigen::AlignedBox3d& bj = boxes[order[j]];
+            if (bj.min().y() <= bi.max().y() && bi.min().y() <= bj.max().y() && bj.min().z() <= bi.max().z() && bi.min().z() <= bj.max().z())
+                pairs.emplace_back(std::min(order[i], order[j]), std::max(order[i], order[j]));
+        }
+    }
     std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     std::vector<std::pair<int, int>> hits;
     for (const auto& [a, b] : pairs) {
         if (!(boxes[a].min().array() <= boxes[b].max().array()).all() || !(boxes[b].min().array() <= boxes[a].max().array()).all()) continue;

@@ -100,6 +100,14 @@ void drawBrushSection(AppState& state) {
     }
     helpMarker("Mirror every drag in the planes through the centre of the mesh's bounds at load: the mirror\n"
                "image of the grabbed point moves to the mirror image of its target, exactly.");
+    // The engine's setting (the script's set_refinement "under_brush"), journaled so recordings keep it.
+    core::RefinementSettings refinement = state.session.refinement().settings();
+    ImGui::BeginDisabled(!brush.limited || !dragBrush);
+    if (ImGui::Checkbox("Split under the brush", &refinement.underBrush)) state.session.refinement().set(refinement);
+    ImGui::EndDisabled();
+    helpMarker("On: where a long pull would make the mesh's long straight triangles cut through each other,\n"
+               "the triangles under the pull are split (part of the stroke: undo removes them) and the pull\n"
+               "goes on. Off: the stroke stops short there and the mesh keeps its triangles.");
     ImGui::PopItemWidth();
     if (changed) state.gpu.fields = true;
 }

@@ -51,6 +51,12 @@ constexpr double kBrushReach = 1.25;  // in radii, from the segment of each pull
 // by one ridge along the segment between them (brushFieldDelta): a point grabbed beside a mirror plane makes
 // one bump with its image, not two peaks.
 constexpr double kBrushBridgeDistance = 0.5;
+// Refinement under a pull (Stroke::applyBrushPulls): where the mesh's triangles would cross under a pull whose
+// field is injective, the triangles it bends more than this share of the radius from flat are split, and the pull
+// tried again; up to kBrushRefinements times, each to half the tolerance before.
+constexpr double kBrushRefineTolerance = 0.02;
+constexpr int kBrushRefinements = 2;
+constexpr double kBrushRefineShortestEdge = 0.04;  // in radii: no shorter rest-space edge is split
 
 // The falloff as the field uses it: brushProfile, with sharp's peak rounded (a flat-topped parabola inside 0.15,
 // the rest scaled by 1 / 0.85) and medium's rim slope limited to 3 (min(sqrt(1 - x^2), 3 (1 - x)): 0.07 RMS from the curve over a disc), so the

@@ -172,6 +172,7 @@ Status validateRefinementOptions(const RefinementOptions& options) {
                              std::to_string(options.tolerance));
     if (options.maxRounds < 1 || options.maxRounds > 64) return Status::error("refinement max_rounds must be in [1, 64]");
     if (options.maxVertices < 1) return Status::error("refinement max_vertices must be >= 1");
+    if (!std::isfinite(options.shortestEdge) || options.shortestEdge < 0.0) return Status::error("refinement's shortest edge must be a finite number >= 0");
     return Status::success();
 }
 
@@ -244,7 +245,7 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
     // stretch it by 1 / tolerance for it to stray that far; where one does (the image jumps, e.g. at the box
     // of a lattice whose outer control points moved, outside which nothing moves), splitting never converges.
     const double restDiagonal = rest.rows() > 0 ? (rest.colwise().maxCoeff() - rest.colwise().minCoeff()).norm() : 0.0;
-    const double shortestSplit = options.tolerance * restDiagonal;
+    const double shortestSplit = options.shortestEdge > 0.0 ? options.shortestEdge : options.tolerance * restDiagonal;
 
     SplittableMesh mesh(triangles, static_cast<int>(rest.rows()));
     // Per edge of the mesh, once evaluated: the images at 1/4, 1/2, 3/4 from its smaller vertex id to the
@@ -376,7 +377,8 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
     const auto bisect = [&](int t) {
         for (int splits = 0; !halvedThisRound[static_cast<size_t>(t)]; ++splits) {
             int a = -1, b = -1;
-            for (int at = t; splits < kMaxPathSplits;) {  // the path, until kMaxPathSplits were made
+            // (the path's edges grow strictly, so it ends; the step count guards against a non-finite image)
+            for (int at = t, step = 0; splits < kMaxPathSplits && step < mesh.triangleCount(); ++step) {  // the path, until kMaxPathSplits were made
                 const int k = longestCorner(at);
                 const Corners& c = mesh.triangle(at);
                 const int u = c[static_cast<size_t>(k)], v = c[static_cast<size_t>((k + 1) % 3)];

@@ -56,6 +56,8 @@ struct RefinementOptions {
     int maxRounds = 24;          // rounds of bisection (each halves every triangle still over the tolerance
                                  // once); in [1, 64]
     int maxVertices = 2000000;   // stop splitting when the mesh has this many vertices; >= 1
+    double shortestEdge = 0.0;   // no edge shorter than this in rest space (world units) is split; 0: tolerance
+                                 // times the rest bounding-box diagonal; finite and >= 0
 };
 
 // The session's refinement setting: the options, and whether every applied drag or control-point edit is
@@ -63,6 +65,10 @@ struct RefinementOptions {
 struct RefinementSettings {
     bool automatic = false;
     RefinementOptions options;
+    // A brush stroke whose whole pull the mesh's triangles would stop (long flat triangles cutting through each
+    // other where the field bends them) splits them under the pull and goes on (Stroke::applyBrushPulls; the
+    // splits are part of its history entry). Off: such a stroke stops short and the mesh keeps its triangles.
+    bool underBrush = true;
 };
 
 // Checks ranges and finiteness; the message names the offending field.
@@ -133,8 +139,8 @@ struct RefinementResult {
 // LEPP bisection: the neighbour across the edge is bisected first where the edge is not its own longest), so
 // the mesh stays conforming, keeps its orientation, and its triangles do not degenerate into slivers. New
 // vertices get rest position = the midpoint of the rest edge and current position = image(that midpoint).
-// A triangle whose rest-space edges are all shorter than options.tolerance times the rest bounding-box diagonal
-// is not split (only a jump in the image keeps one that small over the tolerance: "smallest size").
+// A triangle whose rest-space edges are all shorter than options.shortestEdge (0: options.tolerance times the rest
+// bounding-box diagonal) is not split (only a jump in the image keeps one that small over the tolerance: "smallest size").
 // Triangles with a repeated vertex id are left as they are. Bad options or arrays of different sizes are
 // errors (result untouched). Cost: about 11.5 image evaluations per triangle evaluated (edge samples are shared),
 // in parallel.

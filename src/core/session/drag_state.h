@@ -2,6 +2,7 @@
 // changes, and end or cancel ends. One per session; a scripted drag is one update of it (Session::drag).
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include <Eigen/Core>
@@ -34,6 +35,10 @@ struct DragState {
     BrushSettings brush;
     SymmetryFrame symmetry;  // the mirror planes where the drag began (Session::symmetryFrame)
     std::vector<Eigen::Vector3d> strokeReached;  // applyBrushPulls: where each grabbed image is now
+    // The shortest pull (the first moving image's, world units) for which splitting under it did not let the whole
+    // pull through: a longer one is not split again in this stroke (each try costs a refinement and its removal,
+    // and the mouse keeps moving past such a limit). Infinity: none yet.
+    double splitFailedAt = INFINITY;
     // The cage's points as shown when a control-point drag began (with layers: the drag moves those).
     Positions controlStart;
     // After the last brush stroke was baked: how many of the vertices it moved rest outside the cage's box

@@ -213,6 +213,10 @@ struct Operation {
     LatticeTool toolBefore, toolAfter;
     int frozenBefore = -1, frozenAfter = -1;
     RefinementRecord refinement;  // edges split after the steps: a Refine, or an edit refined automatically
+    // Edges split before the steps: a brush stroke refined under its pull, where its field bends the mesh's
+    // triangles so far from flat that they would cross (Stroke::applyBrushPulls). Applied to the mesh as it was
+    // when the stroke began (redo and replay split them first), removed after the steps are undone.
+    RefinementRecord refinementBefore;
     WeightToolSettings weightTool;  // WeightEdit: the tool as asked
     // A group of operations that change the lattice tools or the frozen one (e.g. setup_tspline: add the tool,
     // freeze it): the operations themselves, undone in reverse and redone in order as one history entry. Their

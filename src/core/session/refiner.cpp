@@ -46,10 +46,13 @@ Status Refiner::set(const RefinementSettings& settings) {
 
 std::vector<EdgeSplit> Refiner::appliedSplits() const {
     std::vector<EdgeSplit> splits;
+    const auto add = [&](const RefinementRecord& record) { splits.insert(splits.end(), record.splits.begin(), record.splits.end()); };
     for (int i = 0; i < s_.history_.cursor(); ++i) {
-        const RefinementRecord& record = s_.history_.entries()[static_cast<size_t>(i)].refinement;
-        splits.insert(splits.end(), record.splits.begin(), record.splits.end());
+        const Operation& operation = s_.history_.entries()[static_cast<size_t>(i)];
+        add(operation.refinementBefore);
+        add(operation.refinement);
     }
+    if (s_.drag_.active) add(s_.drag_.operation.refinementBefore);  // a stroke in progress refined under its pull
     return splits;
 }
 
@@ -107,9 +110,17 @@ bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& reco
         report.reason = "every triangle is within the tolerance (largest deviation " + deviationText(plan.worstBefore, diagonal) + ")";
         return false;
     }
-    const Eigen::Index vertexCount = s_.mesh_.positions.rows(), triangleCount = s_.mesh_.triangles.rows();
     record.tolerance = options.tolerance;
     record.splits = std::move(plan.splits);
+    if (!applyChecked(record, report)) return false;
+    if (!plan.converged)
+        report.reason = "stopped at " + plan.stopped + " with " + std::to_string(plan.trianglesOver) +
+                        " triangles still over the tolerance (largest deviation " + deviationText(plan.worstAfter, diagonal) + ")";
+    return true;
+}
+
+bool Refiner::applyChecked(RefinementRecord& record, OpReport& report) {
+    const Eigen::Index vertexCount = s_.mesh_.positions.rows(), triangleCount = s_.mesh_.triangles.rows();
     apply(record);
 
     // The triangle check (what injectivity means for the user): the refined triangles must not cross any
@@ -122,11 +133,12 @@ bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& reco
         for (Eigen::Index v = vertexCount; v < s_.mesh_.positions.rows(); ++v) {
             const EdgeSplit& split = record.splits[static_cast<size_t>(v - vertexCount)];
             s_.before_.row(v) = 0.5 * (flat(split.a) + flat(split.b));
-            added.push_back(static_cast<int>(v));
+            // (a vertex exactly on the flat triangles changes no triangle's shape: an undeformed region's)
+            if (s_.mesh_.positions.row(v) != s_.before_.row(v)) added.push_back(static_cast<int>(v));
         }
         const SelfIntersectionIndex::Result crossing = s_.meshIndex_.findNewIntersection(s_.mesh_.positions, s_.mesh_.triangles, added, s_.before_);
-        report.triangleCheckMs = millisecondsSince(checkStart);
-        report.injectivityMs = report.triangleCheckMs;
+        report.triangleCheckMs += millisecondsSince(checkStart);
+        report.injectivityMs += millisecondsSince(checkStart);
         if (crossing.found) {
             Eigen::Vector3d where = Eigen::Vector3d::Zero();
             for (int k = 0; k < 3; ++k) where += s_.mesh_.positions.row(s_.mesh_.triangles(crossing.pair.first, k)).transpose() / 3.0;
@@ -145,9 +157,55 @@ bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& reco
     report.verticesAdded = static_cast<int>(s_.mesh_.positions.rows() - vertexCount);
     report.trianglesAdded = static_cast<int>(s_.mesh_.triangles.rows() - triangleCount);
     report.verticesMoved = 0;
-    if (!plan.converged)
-        report.reason = "stopped at " + plan.stopped + " with " + std::to_string(plan.trianglesOver) +
-                        " triangles still over the tolerance (largest deviation " + deviationText(plan.worstAfter, diagonal) + ")";
+    return true;
+}
+
+bool Refiner::refineUnderPull(const std::vector<int>& triangles, const RestImage& target, double tolerance, double shortestEdge,
+                              RefinementRecord& record, OpReport& report) {
+    // The triangles' own mesh: their vertices, numbered in order of first use, rest points and images at the target.
+    std::vector<int> global, local(static_cast<size_t>(s_.mesh_.rest.rows()), -1);
+    Triangles part(static_cast<Eigen::Index>(triangles.size()), 3);
+    for (size_t t = 0; t < triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const int v = s_.mesh_.triangles(triangles[t], k);
+            if (local[static_cast<size_t>(v)] < 0) {
+                local[static_cast<size_t>(v)] = static_cast<int>(global.size());
+                global.push_back(v);
+            }
+            part(static_cast<Eigen::Index>(t), k) = local[static_cast<size_t>(v)];
+        }
+    if (global.empty()) return false;
+    const int count = static_cast<int>(global.size());
+    Positions rest(count, 3), atTarget(count, 3);
+    for (int c = 0; c < count; ++c) rest.row(c) = s_.mesh_.rest.row(global[static_cast<size_t>(c)]);
+#pragma omp parallel for schedule(static) if (count > 2048)
+    for (int c = 0; c < count; ++c) atTarget.row(c) = target(rest.row(c).transpose()).transpose();
+    RefinementOptions options = s_.refinement_.settings.options;
+    const double diagonal = boundingDiagonal(atTarget);
+    if (!(diagonal > 0.0) || !(tolerance > 0.0)) return false;
+    options.tolerance = std::min(tolerance / diagonal, 1.0);
+    options.shortestEdge = shortestEdge;
+    options.maxRounds = std::min(options.maxRounds, 6);
+    // Growth stops at a few times the triangles under the pull (a jump in the image, or a pull too long for the
+    // tolerance, would otherwise split without end).
+    options.maxVertices = std::min(options.maxVertices, 4 * count + 5000);
+    RefinementResult plan;
+    if (Status s = refineMesh(rest, atTarget, part, target, options, plan); !s || plan.splits.empty()) return false;
+    // The splits in the whole mesh's numbering: a vertex the plan added is numbered after the mesh's.
+    RefinementRecord piece;
+    piece.tolerance = tolerance;
+    const int first = static_cast<int>(s_.mesh_.rest.rows());
+    const auto toGlobal = [&](int v) { return v < count ? global[static_cast<size_t>(v)] : first + (v - count); };
+    for (const EdgeSplit& split : plan.splits) piece.splits.push_back({toGlobal(split.a), toGlobal(split.b)});
+    OpReport refined;
+    if (!applyChecked(piece, refined)) return false;
+    report.verticesAdded += refined.verticesAdded;
+    report.trianglesAdded += refined.trianglesAdded;
+    report.triangleCheckMs += refined.triangleCheckMs;
+    report.injectivityMs += refined.injectivityMs;
+    record.tolerance = tolerance;
+    record.splits.insert(record.splits.end(), piece.splits.begin(), piece.splits.end());
+    record.halvings.insert(record.halvings.end(), piece.halvings.begin(), piece.halvings.end());
     return true;
 }
 
@@ -216,6 +274,8 @@ Status Refiner::checkGroup(int first) const {
     bool refined = false;
     for (int i = first; i < s_.history_.cursor(); ++i) {
         const Operation& op = s_.history_.entries()[static_cast<size_t>(i)];
+        if (i > first && !op.refinementBefore.empty())
+            return Status::error("a group cannot hold a stroke refined under its pull after its first operation");
         for (const Step& step : op.steps)
             if (refined && step.newCage) return Status::error("a group cannot hold a lattice set-up after a refinement");
         refined = refined || !op.refinement.empty();
@@ -224,13 +284,17 @@ Status Refiner::checkGroup(int first) const {
 }
 
 Status Refiner::checkRecorded(const Operation& operation, bool cancelled) const {
-    if (operation.refinement.empty()) {
+    if (operation.refinement.empty() && operation.refinementBefore.empty()) {
         if (operation.kind == OperationKind::Refine) return Status::error("the recorded refinement splits no edge");
         return Status::success();
     }
-    if (cancelled) return Status::error("a drag that was taken back has no refinement");
+    if (cancelled && !operation.refinement.empty()) return Status::error("a drag that was taken back has no refinement after it");
     Triangles triangles = s_.mesh_.triangles;
-    if (Status s = applyEdgeSplits(triangles, static_cast<int>(s_.mesh_.rest.rows()), operation.refinement.splits); !s)
+    int vertexCount = static_cast<int>(s_.mesh_.rest.rows());
+    if (Status s = applyEdgeSplits(triangles, vertexCount, operation.refinementBefore.splits); !s)
+        return Status::error("the recorded refinement under the stroke does not fit this mesh: " + s.message);
+    vertexCount += static_cast<int>(operation.refinementBefore.splits.size());
+    if (Status s = applyEdgeSplits(triangles, vertexCount, operation.refinement.splits); !s)
         return Status::error("the recorded refinement does not fit this mesh: " + s.message);
     return Status::success();
 }

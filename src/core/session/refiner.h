@@ -58,6 +58,19 @@ private:
     bool refineNow(const RefinementOptions& options, RefinementRecord& record, OpReport& report);
     // An applied drag or edit about to be pushed: refined when the setting is automatic (report may be null).
     void afterEdit(Operation& operation, OpReport* report);
+    // apply, then the triangle check of the new vertices against where they lay on the flat triangles they split:
+    // true, or (a new crossing) everything taken back, `record` emptied and report saying why.
+    bool applyChecked(RefinementRecord& record, OpReport& report);
+    // A brush stroke's refinement under its pull (Stroke::applyBrushPulls): splits the mesh's triangles listed in
+    // `triangles` (ids) where their image under `target` (rest point -> world, the shape at the stroke's whole
+    // pull) strays from flat by more than `tolerance` (world units), as refineMesh does (longest-edge bisection,
+    // at most 6 rounds, no rest edge shorter than `shortestEdge` split (world units, > 0), and at most 4 times the
+    // listed triangles' vertices plus 5000 more, within settings().options.maxVertices), applied now (each new vertex where the
+    // deformation as it is now takes its rest point) with the triangle check, and appended to `record` (splits
+    // and halvings). False when nothing was split or the check refused it (nothing changed then);
+    // report.verticesAdded and trianglesAdded grow by what was added.
+    bool refineUnderPull(const std::vector<int>& triangles, const RestImage& target, double tolerance, double shortestEdge,
+                         RefinementRecord& record, OpReport& report);
     // Splits record.splits (filling record.halvings) and brings every per-vertex array of the session along.
     void apply(RefinementRecord& record);
     // The inverse of apply (no-op for an empty record).
@@ -70,9 +83,11 @@ private:
         if (!operation.refinement.empty()) apply(operation.refinement);
     }
     // A group redoes its steps, then its refinements: none may come before a lattice set-up in it (whose rest
-    // positions would then lack the refined vertices' images).
+    // positions would then lack the refined vertices' images), and only its first operation may be a stroke
+    // refined under its pull (Operation::refinementBefore, split before the group's steps).
     Status checkGroup(int first) const;
-    // A recorded refinement fits the mesh as it is now (replay); cancelled drags have none.
+    // A recorded refinement fits the mesh as it is now (replay): the one under a stroke, then the one after it;
+    // a cancelled drag has none after it.
     Status checkRecorded(const Operation& operation, bool cancelled) const;
 
     Session& s_;

@@ -189,6 +189,10 @@ Status Session::groupOperations(int first, const std::string& label) {
         merged.interactive = true;
         merged.label = label.empty() ? (firstEdit ? firstEdit->label : history_.entry(first).label) : label;
     }
+    // A stroke refined under its pull splits its triangles before its steps: only the group's first operation can
+    // (redo splits them before the whole group, undo removes them after it).
+    merged.refinementBefore = std::move(history_.entry(first).refinementBefore);
+    history_.entry(first).refinementBefore = RefinementRecord{};
     for (int i = first; i < cursor; ++i) {
         Operation& op = history_.entry(i);
         merged.depthReached = std::max(merged.depthReached, op.depthReached);
@@ -234,6 +238,7 @@ Status Session::undo(OpReport& report) {
     const Positions before = mesh_.positions;  // to count what changed (not kept: the history holds no mesh)
     undoOperationBody(operation);
     refinement().remove(operation.refinement);
+    refinement().remove(operation.refinementBefore);  // split when the stroke began: removed last
     const int changed = countChangedVertices(before);
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
@@ -259,6 +264,8 @@ Status Session::redo(OpReport& report) {
     lastMoved_.vertices.clear();
     lastMoved_.all = false;
     const Positions before = mesh_.positions;
+    Operation& entry = history_.entry(history_.cursor() - 1);
+    if (!entry.refinementBefore.empty()) refinement().apply(entry.refinementBefore);  // as the stroke began
     redoOperationBody(operation);
     refinement().reapply(history_.entry(history_.cursor() - 1));  // fills the record's halvings again
     bakeLastStep(operation);
@@ -309,6 +316,8 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     }
     lastMoved_.vertices.clear();
     lastMoved_.all = false;
+    RefinementRecord refinedBefore = operation.refinementBefore;  // split as the stroke began (fills its halvings)
+    if (!refinedBefore.empty()) refinement().apply(refinedBefore);
     for (size_t k = 0; k < operation.steps.size(); ++k) {
         redoStep(operation.steps[k]);
         if (k + 1 < operation.steps.size() && !cancelled) bakeAfter(operation.steps[k]);
@@ -322,10 +331,12 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
     if (cancelled) {
         revertSteps(operation.steps);
+        refinement().remove(refinedBefore);
         history_.note(JournalEntry{JournalEntry::Kind::CancelledDrag, operation, 0, {}, {}, {}}, false);
         report.reason = "replayed the steps of a drag that was taken back, and took them back";
     } else {
         pushOperation(operation);
+        history_.last().refinementBefore = std::move(refinedBefore);
         refinement().reapply(history_.last());
         bakeLastStep(history_.last());
         report.reason = "replayed " + operation.label + " as recorded (" + std::to_string(report.subSteps) + " steps)";

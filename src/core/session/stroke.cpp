@@ -79,6 +79,7 @@ void Stroke::startMirrored(const std::string& label, const std::vector<Eigen::Ve
     s_.drag_.userStarts = sources;
     s_.drag_.mirror = std::move(mirror);
     s_.drag_.brush = brush;
+    s_.drag_.splitFailedAt = INFINITY;
     s_.drag_.active = true;
 }
 
@@ -471,6 +472,8 @@ void Stroke::finish(OpReport* report) {
         s_.refinement().afterEdit(s_.drag_.operation, report);
         if (s_.bakeLayers(s_.drag_.operation.steps)) s_.drag_.operation.steps.back().baked = true;  // the detail travels with the surface
         s_.pushOperation(std::move(s_.drag_.operation));
+    } else {
+        s_.refinement().remove(s_.drag_.operation.refinementBefore);  // split for a pull that moved nothing
     }
     s_.drag_.operation = Operation{};
 }
@@ -486,6 +489,7 @@ Status Stroke::cancel(OpReport& report) {
     }
     s_.drag_.active = false;
     s_.revertSteps(s_.drag_.operation.steps);
+    s_.refinement().remove(s_.drag_.operation.refinementBefore);  // the triangles split under its pull
     s_.stack_.layerActive_ = false;
     // Taking it back is an inverse manipulation, exact only up to rounding: the replay repeats it.
     if (!s_.drag_.operation.steps.empty()) s_.history_.note(JournalEntry{JournalEntry::Kind::CancelledDrag, s_.drag_.operation, 0, {}, {}, {}}, false);

@@ -35,12 +35,17 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         reachHi = reachHi.cwiseMax(p.source.cwiseMax(p.source + p.pull) + reach);
     }
     std::vector<int> candidates;
-    for (Eigen::Index v = 0; v < s_.mesh_.positions.rows(); ++v)
-        if ((s_.mesh_.positions.row(v).transpose().array() >= reachLo.array()).all() && (s_.mesh_.positions.row(v).transpose().array() <= reachHi.array()).all())
-            candidates.push_back(static_cast<int>(v));
+    Positions rowsBefore;
+    const auto findCandidates = [&] {
+        candidates.clear();
+        for (Eigen::Index v = 0; v < s_.mesh_.positions.rows(); ++v)
+            if ((s_.mesh_.positions.row(v).transpose().array() >= reachLo.array()).all() && (s_.mesh_.positions.row(v).transpose().array() <= reachHi.array()).all())
+                candidates.push_back(static_cast<int>(v));
+        rowsBefore.resize(static_cast<Eigen::Index>(candidates.size()), 3);
+        for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = s_.mesh_.positions.row(candidates[c]);
+    };
+    findCandidates();
     s_.layerCandidates_ = &candidates;
-    Positions rowsBefore(static_cast<Eigen::Index>(candidates.size()), 3);
-    for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = s_.mesh_.positions.row(candidates[c]);
     std::vector<Step> previous;
     if (hadStep) {
         previous = steps;
@@ -102,6 +107,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     // placed before it), one layer for all images (the scaled fields summed).
     enum class Mode { Split, Layers, Joint };
     Mode mode = Mode::Layers;  // the one `attempt` uses
+    bool planning = false;     // `attempt` only puts the layers in place, unchecked, the mesh left as it is
     const auto attempt = [&](double share) {
         where.clear();
         for (const BrushPull& p : pulls) where.push_back(p.source);
@@ -136,7 +142,9 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
                 s_.popLayer(nullptr);
                 return fail(solved);
             }
-            if (!s_.tryDelta(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs)) {
+            if (planning) {
+                core::applyControlDelta(s_.stack_.layers_.back().lattice, step.delta, 1.0);
+            } else if (!s_.tryDelta(step.delta, &moved, failure, report.injectivityMs, report.triangleCheckMs)) {
                 s_.popLayer(nullptr);
                 return fail(Status::success());
             }
@@ -218,24 +226,113 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         }
         return std::make_pair(lo, kept);
     };
+    // The mesh refined under the pull (Refiner::refineUnderPull), as the stroke began: the triangles the first
+    // mode's whole pull would bend further from flat than `tolerance` (world units) are split, so that the mesh
+    // follows the field (injective in space: a surface fine enough cannot cross itself under it) instead of
+    // cutting through itself with long flat triangles. The splits go into the operation's refinementBefore.
+    // False when nothing was split (or the split surface would cross itself as it is now).
+    std::vector<Mode> modes;
+    const auto refineUnderPull = [&](double tolerance) {
+        mode = modes[0];
+        planning = true;
+        const bool planned = attempt(1.0);
+        planning = false;
+        if (!planned) return false;
+        std::vector<Lattice> field;  // the pull's layers, in order
+        Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
+        for (size_t k = 0; k < steps.size(); ++k) {
+            field.push_back(s_.stack_.layers_[s_.stack_.layers_.size() - steps.size() + k].lattice);
+            Eigen::Vector3d regionLo, regionHi;
+            deformationBounds(field.back(), regionLo, regionHi);
+            lo = lo.cwiseMin(regionLo);
+            hi = hi.cwiseMax(regionHi);
+        }
+        clearStroke();
+        // Every triangle whose box meets the region the field moves (a triangle larger than the brush moves there
+        // with none of its corners).
+        std::vector<int> near;
+        for (Eigen::Index t = 0; t < s_.mesh_.triangles.rows(); ++t) {
+            Eigen::Vector3d tLo = s_.mesh_.positions.row(s_.mesh_.triangles(t, 0)).transpose(), tHi = tLo;
+            for (int k = 1; k < 3; ++k) {
+                tLo = tLo.cwiseMin(s_.mesh_.positions.row(s_.mesh_.triangles(t, k)).transpose());
+                tHi = tHi.cwiseMax(s_.mesh_.positions.row(s_.mesh_.triangles(t, k)).transpose());
+            }
+            if ((tLo.array() <= hi.array()).all() && (tHi.array() >= lo.array()).all()) near.push_back(static_cast<int>(t));
+        }
+        const LatticeStack& stack = s_.stack_;
+        const RestImage target = [&stack, &field](const Eigen::Vector3d& rest) {
+            Eigen::Vector3d x = stack.imageOfRestPoint(rest);
+            for (const Lattice& layer : field) {
+                Eigen::Vector3d t;
+                if (restParameters(layer, x, t)) x += displacementAt(layer, t);
+            }
+            return x;
+        };
+        if (!s_.refinement().refineUnderPull(near, target, tolerance, kBrushRefineShortestEdge * brush.radius, s_.drag_.operation.refinementBefore,
+                                             report))
+            return false;
+        findCandidates();
+        return true;
+    };
     if (moving) {
         // The modes, in the order they are tried: the split where it applies (mirror symmetric, each layer
         // proven), a layer per image, one field for the images.
-        std::vector<Mode> modes;
         if (splitAxis >= 0) modes.push_back(Mode::Split);
         modes.push_back(Mode::Layers);
         if (jointPossible) modes.push_back(Mode::Joint);
         bool whole = false;
         std::optional<StepFailure> first;  // why the first mode did not carry the whole pull
-        for (Mode tried : modes) {
-            mode = tried;
-            failure = StepFailure{};
-            if (attempt(1.0)) {
-                whole = true;
+        // Each mode in turn on the whole pull: whole when one carries it (its layers in place), else `first`.
+        const auto tryWhole = [&] {
+            first.reset();
+            for (Mode tried : modes) {
+                mode = tried;
+                failure = StepFailure{};
+                if (attempt(1.0)) {
+                    whole = true;
+                    return;
+                }
+                if (!first) first = failure;
+                if (first->cause == StepFailure::Cause::SourceLeft) return;  // no mode has a region for it
+            }
+        };
+        // Where the triangles stopped the whole pull, the mesh is refined under it and the modes tried again, each
+        // time to half the tolerance (kBrushRefinements times at most).
+        double tolerance = kBrushRefineTolerance * brush.radius;
+        // What this update splits is kept only where the whole pull then passes: elsewhere (a pull that really
+        // cannot be carried, or a field too steep for the smallest edge) it is taken back and the stroke stops
+        // short on the mesh as it was.
+        RefinementRecord& splitBefore = s_.drag_.operation.refinementBefore;
+        const size_t splitsBefore = splitBefore.splits.size(), halvingsBefore = splitBefore.halvings.size();
+        const int addedBefore = report.verticesAdded, trianglesBefore = report.trianglesAdded;
+        double pullLength = 0.0;  // the first moving image's
+        for (const BrushPull& p : pulls)
+            if (p.moving()) {
+                pullLength = p.pull.norm();
                 break;
             }
-            if (!first) first = failure;
-            if (first->cause == StepFailure::Cause::SourceLeft) break;  // no mode has a region for it
+        bool triedSplitting = false;
+        for (int refined = 0;; ++refined) {
+            tryWhole();
+            if (whole || refined == kBrushRefinements || first->cause != StepFailure::Cause::Triangles || !s_.refinement_.settings.underBrush ||
+                pullLength >= s_.drag_.splitFailedAt)
+                break;
+            triedSplitting = true;
+            if (!refineUnderPull(tolerance)) break;
+            tolerance *= 0.5;
+        }
+        if (!whole && triedSplitting) s_.drag_.splitFailedAt = std::min(s_.drag_.splitFailedAt, pullLength);
+        if (!whole && splitBefore.splits.size() > splitsBefore) {
+            RefinementRecord added;
+            added.splits.assign(splitBefore.splits.begin() + static_cast<std::ptrdiff_t>(splitsBefore), splitBefore.splits.end());
+            added.halvings.assign(splitBefore.halvings.begin() + static_cast<std::ptrdiff_t>(halvingsBefore), splitBefore.halvings.end());
+            s_.refinement().remove(added);
+            splitBefore.splits.resize(splitsBefore);
+            splitBefore.halvings.resize(halvingsBefore);
+            report.verticesAdded = addedBefore;
+            report.trianglesAdded = trianglesBefore;
+            findCandidates();
+            tryWhole();  // what stopped the whole pull on the mesh as it was (it failed there before)
         }
         if (whole) {
             share = 1.0;

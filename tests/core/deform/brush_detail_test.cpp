@@ -315,7 +315,7 @@ TEST_CASE("brush crossings: strokes on a real mesh make no triangle pair cross, 
         OpReport report;
         REQUIRE(session.dragVertex(v, mesh.positions.row(v).transpose() + (0.2 + 0.12 * stroke) * brush.radius * direction, report, brush).ok);
         INFO("stroke " << stroke << " vertex " << v << ": " << report.reason);
-        CHECK(test::intersectingPairs(session.mesh().positions, mesh.triangles).size() == initial);
+        CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles).size() == initial);
         REQUIRE(session.undo(report).ok);
         CHECK((session.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
     }
@@ -439,7 +439,7 @@ TEST_CASE("brush: mirror images within reach whose pulls part (outward beside th
         full += report.fractionApplied == 1.0;
         const Eigen::Vector3d reached = source + report.fractionApplied * pull * n;
         CHECK((session.mesh().positions.row(v).transpose() - reached).norm() <= 1e-9 * mesh.diagonal);
-        CHECK(test::intersectingPairs(session.mesh().positions, mesh.triangles) == atLoad);
+        CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles) == atLoad);
         REQUIRE(session.undo(report).ok);
         CHECK((session.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
     }

@@ -1,0 +1,163 @@
+// Refinement under a brush stroke (issue "Sculpting as a sculptor expects", point 2; Stroke::applyBrushPulls,
+// Refiner::refineUnderPull): a long pull whose field is injective in space, but whose bend the mesh's long flat
+// triangles cannot follow without cutting through each other, splits the triangles under it and applies in full.
+// Before, such strokes stopped short "where the surface would pass through itself" (CGAL's elephant: 26 of 100
+// in sculpt_bench strokes_real).
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include "../cgal_meshes.h"
+#include "../mesh_fixtures.h"
+#include "../refinement_checks.h"
+#include "../test_support.h"
+#include "core/deform/brush_field.h"
+#include "core/deform/vertex_normals.h"
+#include "core/session/session.h"
+#include "io/script.h"
+#include "io/script_json.h"
+
+using namespace sculpt;
+using namespace sculpt::core;
+
+namespace {
+
+struct Pull {
+    int vertex = -1;
+    Eigen::Vector3d target;
+    BrushSettings brush;
+};
+
+// One pull of the kinds strokes_real draws (normal, tangent, inward; 2 to 3 radii), on the mesh as it is now.
+Pull randomStroke(std::mt19937& rng, const Session& session, const Positions& normals, int index, double diagonal) {
+    Pull s;
+    s.vertex = test::randomInt(rng, 0, static_cast<int>(normals.rows()) - 1);
+    s.brush.radius = std::uniform_real_distribution<double>(0.06, 0.14)(rng) * diagonal;
+    s.brush.falloff = static_cast<BrushFalloff>(index % 3);
+    const Eigen::Vector3d n = normals.row(s.vertex).transpose();
+    const Eigen::Vector3d direction = index % 3 == 0 ? n : index % 3 == 1 ? n.unitOrthogonal() : Eigen::Vector3d(-n);
+    const double pull = std::uniform_real_distribution<double>(2.0, 3.0)(rng) * s.brush.radius;
+    s.target = session.mesh().positions.row(s.vertex).transpose() + pull * direction;
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("brush refinement: long pulls the triangles stopped split the mesh under them and apply in full, uncrossed, conforming, undone and replayed exactly", "[core][brush]") {
+    std::mt19937 rng(2027);
+    Positions positions, normals;
+    Triangles triangles;
+    std::string error;
+    REQUIRE(test::loadCgalMesh("elephant.off", positions, triangles, error));
+    computeVertexNormals(positions, triangles, normals);
+    const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+    const size_t crossingAtLoad = test::intersectingPairs(positions, triangles).size();
+    const test::EdgeCensus censusAtLoad = test::edgeCensus(triangles);
+
+    Session session;
+    REQUIRE(session.setMesh(positions, triangles).ok);
+    int refined = 0, stoppedWithout = 0;
+    Pull firstSplit;
+    for (int index = 0; index < 12 && refined < 3; ++index) {
+        const Pull stroke = randomStroke(rng, session, normals, index, diagonal);
+        const Positions before = session.mesh().positions;
+        const Triangles trianglesBefore = session.mesh().triangles;
+        OpReport report;
+        REQUIRE(session.dragVertex(stroke.vertex, stroke.target, report, stroke.brush).ok);
+        INFO("stroke " << index << " vertex " << stroke.vertex << ": " << report.reason);
+        REQUIRE(report.status == OpStatus::Applied);
+        const Operation& entry = session.history()[static_cast<size_t>(session.history().cursor() - 1)];
+        if (entry.refinementBefore.empty()) {
+            // Nothing split: the mesh keeps its triangles (a pull that passed, or one that stops short anyway).
+            CHECK(session.mesh().triangles == trianglesBefore);
+            continue;
+        }
+        if (refined++ == 0) firstSplit = stroke;
+        // Split only where the whole pull then passes: the grabbed point lands on its target.
+        CHECK(report.fractionApplied == 1.0);
+        CHECK(report.verticesAdded == static_cast<int>(session.mesh().positions.rows() - before.rows()));
+        CHECK((session.mesh().positions.row(stroke.vertex).transpose() - stroke.target).norm() <= 1e-9 * diagonal);
+        // Conforming and closed as it was (a T-junction or a crack leaves boundary edges; one orientation; the
+        // Euler characteristic kept), and uncrossed by the independent exact test.
+        const test::EdgeCensus census = test::edgeCensus(session.mesh().triangles);
+        CHECK(census.boundaryEdges == censusAtLoad.boundaryEdges);
+        CHECK(census.nonManifoldEdges == 0);
+        CHECK(census.inconsistentEdges == 0);
+        CHECK(census.euler() + session.mesh().triangles.rows() == censusAtLoad.euler() + triangles.rows());
+        CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles).size() == crossingAtLoad);
+        // The old vertices beyond 1.25 radius of the pull's path stay where they were.
+        const Eigen::Vector3d source = before.row(stroke.vertex).transpose();
+        for (Eigen::Index v = 0; v < before.rows(); ++v)
+            if (segmentDistance(before.row(v).transpose(), source, stroke.target) > kBrushReach * stroke.brush.radius * (1.0 + 1e-9))
+                CHECK(session.mesh().positions.row(v) == before.row(v));
+
+        // The same stroke without splitting stops short, where the triangles would cross.
+        {
+            Session unsplit;
+            REQUIRE(unsplit.setMesh(positions, triangles).ok);
+            RefinementSettings settings = unsplit.refinement().settings();
+            settings.underBrush = false;
+            REQUIRE(unsplit.refinement().set(settings).ok);
+            OpReport r;
+            for (int k = 0; k < session.history().cursor() - 1; ++k) {  // the strokes kept so far, as recorded
+                const Operation& kept = session.history()[static_cast<size_t>(k)];
+                REQUIRE(unsplit.replayOperation(kept, false, r).ok);
+            }
+            REQUIRE(unsplit.dragVertex(stroke.vertex, stroke.target, r, stroke.brush).ok);
+            CHECK(unsplit.mesh().triangles.rows() == trianglesBefore.rows());
+            stoppedWithout += r.fractionApplied < 1.0 && r.refusedBy == "triangles";
+        }
+
+        // Undo takes back the stroke and its splits; redo puts both back.
+        const Positions after = session.mesh().positions;
+        const Triangles trianglesAfter = session.mesh().triangles;
+        REQUIRE(session.undo(report).ok);
+        REQUIRE(session.mesh().positions.rows() == before.rows());
+        CHECK(session.mesh().triangles == trianglesBefore);
+        CHECK((session.mesh().positions - before).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        CHECK(report.verticesMoved <= static_cast<int>(after.rows()));
+        REQUIRE(session.redo(report).ok);
+        REQUIRE(session.mesh().positions.rows() == after.rows());
+        CHECK(session.mesh().triangles == trianglesAfter);
+        CHECK((session.mesh().positions - after).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+    }
+    INFO(refined << " strokes split the mesh; " << stoppedWithout << " of them stop short without splitting");
+    REQUIRE(refined >= 3);
+    CHECK(stoppedWithout == refined);
+
+    // The first stroke that split, made again interactively (four mouse moves) on the mesh it split, then taken
+    // back (Esc): the mesh and the history are as they were.
+    {
+        Session again;
+        REQUIRE(again.setMesh(positions, triangles).ok);
+        OpReport report;
+        for (size_t k = 0; session.history()[k].refinementBefore.empty(); ++k) REQUIRE(again.replayOperation(session.history()[k], false, report).ok);
+        const Positions before = again.mesh().positions;
+        const Triangles trianglesBefore = again.mesh().triangles;
+        const int cursor = again.history().cursor();
+        const Pull& stroke = firstSplit;
+        const Eigen::Vector3d source = before.row(stroke.vertex).transpose();
+        REQUIRE(again.stroke().beginAt({source}, {}, stroke.brush).ok);
+        for (int move = 1; move <= 4; ++move) REQUIRE(again.stroke().update({source + move / 4.0 * (stroke.target - source)}, report).ok);
+        CHECK(again.mesh().positions.rows() > before.rows());
+        CHECK((again.mesh().positions.row(stroke.vertex).transpose() - stroke.target).norm() <= 1e-9 * diagonal);
+        REQUIRE(again.stroke().cancel(report).ok);
+        REQUIRE(again.mesh().positions.rows() == before.rows());
+        CHECK(again.mesh().triangles == trianglesBefore);
+        CHECK((again.mesh().positions - before).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        CHECK(again.history().cursor() == cursor);
+    }
+
+    // A recording replays the strokes with their splits bit for bit, through the JSON text.
+    const io::Script recording = io::recordSession(session);
+    io::Script parsed;
+    REQUIRE(io::parseScript(io::scriptToJson(recording), "recording", parsed).ok);
+    Session replayed;
+    REQUIRE(replayed.setMesh(positions, triangles, parsed.lattice).ok);
+    replayed.setInjectivity(parsed.injectivity);
+    io::ScriptReport scriptReport;
+    REQUIRE(io::runScript(replayed, parsed, scriptReport).ok);
+    REQUIRE(replayed.mesh().positions.rows() == session.mesh().positions.rows());
+    CHECK(replayed.mesh().triangles == session.mesh().triangles);
+    CHECK(replayed.mesh().positions == session.mesh().positions);
+}
