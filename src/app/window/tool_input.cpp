@@ -338,6 +338,9 @@ void SculptApp::endSculpt() {
         size_t changed = 0;
         for (Eigen::Index v = 0; v < finished.before.rows(); ++v) changed += finished.before.row(v) != now.row(v);
         text += ", " + countOf(changed, "vertex", "vertices") + " moved";
+        // A long pull split the triangles under it (Split under the brush): the vertices it added.
+        if (now.rows() > finished.before.rows())
+            text += ", " + countOf(static_cast<size_t>(now.rows() - finished.before.rows()), "vertex", "vertices") + " added where it split the mesh";
     }
     // What stopped the moves that did not go all the way, each named as what it is.
     std::vector<std::string> parts;

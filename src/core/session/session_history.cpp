@@ -83,7 +83,8 @@ int Session::countChangedVertices(const Positions& before) {
     for (Eigen::Index v = 0; v < common; ++v)
         if (mesh_.positions.row(v) != before.row(v)) changed.push_back(static_cast<int>(v));
     for (Eigen::Index v = common; v < mesh_.positions.rows(); ++v) changed.push_back(static_cast<int>(v));
-    const int count = static_cast<int>(changed.size());
+    // Removed vertices (an undone refinement's) count too, though no row is left to list them.
+    const int count = static_cast<int>(changed.size() + static_cast<size_t>(before.rows() - common));
     if (!lastMoved_.all) lastMoved_.vertices = std::move(changed);
     return count;
 }

@@ -116,7 +116,11 @@ TEST_CASE("brush refinement: long pulls the triangles stopped split the mesh und
         CHECK(session.mesh().triangles == trianglesBefore);
         CHECK((session.mesh().positions - before).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
         CHECK(report.verticesMoved <= static_cast<int>(after.rows()));
+        // Both ways the same count: the vertices whose positions changed, the split ones (added, removed) among them.
+        const int undone = report.verticesMoved;
+        CHECK(undone > static_cast<int>(after.rows() - before.rows()));
         REQUIRE(session.redo(report).ok);
+        CHECK(report.verticesMoved == undone);
         REQUIRE(session.mesh().positions.rows() == after.rows());
         CHECK(session.mesh().triangles == trianglesAfter);
         CHECK((session.mesh().positions - after).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
