@@ -9,10 +9,7 @@ namespace sculpt::core {
 using detail::vectorText;
 
 Eigen::Vector3d LatticeStack::pushThroughLayers(Eigen::Vector3d x, size_t first) const {
-    for (size_t k = first; k < layers_.size(); ++k) {
-        Eigen::Vector3d t;
-        if (restParameters(layers_[k].lattice, x, t)) x += displacementAt(layers_[k].lattice, t);
-    }
+    for (size_t k = first; k < layers_.size(); ++k) x = layerImage(layers_[k].lattice, x);
     return x;
 }
 

@@ -265,10 +265,10 @@ Status Session::redo(OpReport& report) {
     lastMoved_.vertices.clear();
     lastMoved_.all = false;
     const Positions before = mesh_.positions;
-    Operation& entry = history_.entry(history_.cursor() - 1);
+    Operation& entry = history_.entry(history_.cursor() - 1);  // `operation`, to fill its records' halvings again
     if (!entry.refinementBefore.empty()) refinement().apply(entry.refinementBefore);  // as the stroke began
     redoOperationBody(operation);
-    refinement().reapply(history_.entry(history_.cursor() - 1));  // fills the record's halvings again
+    refinement().reapply(entry);
     bakeLastStep(operation);
     const int changed = countChangedVertices(before);
     report.status = OpStatus::Applied;

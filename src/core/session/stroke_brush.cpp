@@ -151,10 +151,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             s_.stack_.layerActive_ = false;
             residual = std::max(residual, miss);
             const Lattice& layer = s_.stack_.layers_.back().lattice;
-            for (Eigen::Vector3d& w : where) {
-                Eigen::Vector3d t;
-                if (restParameters(layer, w, t)) w += displacementAt(layer, t);
-            }
+            for (Eigen::Vector3d& w : where) w = layerImage(layer, w);
             for (size_t j = 0; j < local.size(); ++j) step.constraints.push_back({local[j].source, local[j].source + local[j].pull});
             steps.push_back(std::move(step));
             ++entered;
@@ -262,10 +259,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         const LatticeStack& stack = s_.stack_;
         const RestImage target = [&stack, &field](const Eigen::Vector3d& rest) {
             Eigen::Vector3d x = stack.imageOfRestPoint(rest);
-            for (const Lattice& layer : field) {
-                Eigen::Vector3d t;
-                if (restParameters(layer, x, t)) x += displacementAt(layer, t);
-            }
+            for (const Lattice& layer : field) x = layerImage(layer, x);
             return x;
         };
         if (!s_.refinement().refineUnderPull(near, target, tolerance, kBrushRefineShortestEdge * brush.radius, s_.drag_.operation.refinementBefore,

@@ -11,10 +11,7 @@ Positions carryThroughLayers(const std::vector<Layer>& layers, const Positions& 
     for (Eigen::Index p = 0; p < out.rows(); ++p) {
         Eigen::Vector3d x = out.row(p).transpose();
         // note: the same map as LatticeStack::pushThroughLayers, which cagePoints() uses, so curves and points agree.
-        for (const Layer& layer : layers) {
-            Eigen::Vector3d t;
-            if (restParameters(layer.lattice, x, t)) x += displacementAt(layer.lattice, t);
-        }
+        for (const Layer& layer : layers) x = layerImage(layer.lattice, x);
         out.row(p) = x.transpose();
     }
     return out;

@@ -319,6 +319,11 @@ Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& pa
     return d;
 }
 
+Eigen::Vector3d layerImage(const Lattice& lattice, const Eigen::Vector3d& point) {
+    Eigen::Vector3d t;
+    return restParameters(lattice, point, t) ? Eigen::Vector3d(point + displacementAt(lattice, t)) : point;
+}
+
 Eigen::Vector3d restPoint(const Lattice& lattice, const Eigen::Vector3d& params) {
     if (!lattice.volume) return fromBoxCoordinates(lattice, lattice.boxMin + params.cwiseProduct(lattice.boxMax - lattice.boxMin));
     Eigen::Vector3d rest;

@@ -155,6 +155,10 @@ Eigen::Vector3d restPoint(const Lattice& lattice, const Eigen::Vector3d& params)
 // sum_ijk R_ijk(t) delta_ijk.
 Eigen::Vector3d displacementAt(const Lattice& lattice, const Eigen::Vector3d& params);
 
+// The map of a layer (a lattice applied after the cage: operation.h, Layer), world units in and out: point +
+// displacementAt(t(point)) inside its box (restParameters), the point itself outside.
+Eigen::Vector3d layerImage(const Lattice& lattice, const Eigen::Vector3d& point);
+
 // The NURBS volume itself, Q(t) = sum R_ijk(t) (P0_ijk + delta_ijk) (eq. 1). Equals the rest point for an
 // undeformed lattice with unit weights.
 Eigen::Vector3d volumePoint(const Lattice& lattice, const Eigen::Vector3d& params);
