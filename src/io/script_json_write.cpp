@@ -198,6 +198,7 @@ std::string reportToJson(const io::ScriptReport& report, const core::Session& se
             op["triangles_added"] = r.trianglesAdded;
             op["max_deviation"] = r.deviation;
         }
+        if (r.verticesRemoved > 0) op["vertices_removed"] = r.verticesRemoved;
         op["wall_ms"] = r.wallMs;
         ops.push_back(op);
     }

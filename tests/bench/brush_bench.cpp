@@ -26,6 +26,7 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
     const auto wanted = [&](const char* name) { return wantedCase(filters, name); };
     if (wanted("strokes_real")) {
         for (const char* name : {"elephant.off", "camel.off", "armadillo.off"}) {
+            if (getenv("SCULPT_BENCH_MESH") && std::string(getenv("SCULPT_BENCH_MESH")) + ".off" != name) continue;  // one mesh, to look at it
             Positions positions, normals;
             Triangles triangles;
             std::string error;

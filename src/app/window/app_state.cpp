@@ -78,6 +78,11 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
         // A command that changes the lattice, the pins or the history only moves no vertex: said so, not "0 moved".
         text = what + ": " + (report.verticesMoved > 0 ? countOf(static_cast<size_t>(report.verticesMoved), "vertex", "vertices") + " moved"
                                                        : std::string("done, no vertex moved"));
+        // Undo and redo of a stroke that split the mesh (or of a refinement): the vertices taken away or put back.
+        if ((report.op == "undo" || report.op == "redo") && report.verticesRemoved > 0)
+            text += ", " + countOf(static_cast<size_t>(report.verticesRemoved), "vertex", "vertices") + " removed where it split the mesh";
+        if ((report.op == "undo" || report.op == "redo") && report.verticesAdded > 0)
+            text += ", " + countOf(static_cast<size_t>(report.verticesAdded), "vertex", "vertices") + " added again where it split the mesh";
         // (an undo or redo takes back or makes again the steps the edit was split into: said by the edit itself)
         if (report.subSteps > 1 && report.op != "undo" && report.op != "redo")
             text += ", split into " + std::to_string(report.subSteps) + " steps so that none folds";

@@ -205,9 +205,14 @@ void SculptApp::pressSculpt(const MouseButtonEvent& event) {
         tools.handles.push_back(placed);
         state_.gpu.fields = true;
         const size_t pins = pinCount(tools);
-        setStatus(state_, std::string(control ? "Pin placed" : "Handle placed") + " (" + countOf(tools.handles.size() - pins, "handle") +
-                              ", " + countOf(pins, "pin") + "). Drag a handle to move " +
-                              (tools.moveHandlesTogether ? "all handles together" : "it alone") + " (G toggles); pins hold still.",
+        // With "Limit to radius" on a handle's drag is a brush stroke: only pins within its reach hold there.
+        setStatus(state_,
+                  std::string(control ? "Pin placed" : "Handle placed") + " (" + countOf(tools.handles.size() - pins, "handle") + ", " + countOf(pins, "pin") +
+                      "). " +
+                      (tools.brush.limited ? std::string("\"Limit to radius\" is on: dragging a handle is a brush stroke, and only pins within its radius hold. "
+                                                         "Turn it off to move the handles with the whole lattice while the pins hold still.")
+                                           : "Drag a handle to move " + std::string(tools.moveHandlesTogether ? "all handles together" : "it alone") +
+                                                 " (G toggles); pins hold still."),
                   false);
         return;
     }
@@ -506,6 +511,8 @@ void SculptApp::updateHint(double x, double y) {
         const int handle = handleAtPixel(tools, session.mesh().positions, session.mesh().triangles, state_.camera, width, height, x, y, pickRadius());
         if (handle >= 0 && tools.handles[static_cast<size_t>(handle)].pin)
             tools.hint = "Pin: holds its point. Ctrl+click: make it a handle. Shift+click: remove.";
+        else if (handle >= 0 && tools.brush.limited)
+            tools.hint = "Handle: drag to pull it with the brush (turn off \"Limit to radius\" to move the handles with the lattice). Ctrl+click: pin. Shift+click: remove.";
         else if (handle >= 0)
             tools.hint = std::string("Handle: drag to move ") + (tools.moveHandlesTogether ? "all handles" : "it") +
                          " (G). Ctrl+click: make it a pin. Shift+click: remove.";

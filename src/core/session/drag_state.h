@@ -39,6 +39,12 @@ struct DragState {
     // pull through: a longer one is not split again in this stroke (each try costs a refinement and its removal,
     // and the mouse keeps moving past such a limit). Infinity: none yet.
     double splitFailedAt = INFINITY;
+    // A stroke's grabbed images (per `mirror` entry) on the mesh where the stroke began: the triangle each lies
+    // on and its barycentric weights there (-1: not on the surface, as a mirror image of an asymmetric mesh), so
+    // an update can tell how far the flat triangles put it from its target (applyBrushPulls). Empty until the
+    // first update.
+    std::vector<int> grabbedTriangle;
+    std::vector<Eigen::Vector3d> grabbedWeights;
     // The cage's points as shown when a control-point drag began (with layers: the drag moves those).
     Positions controlStart;
     // After the last brush stroke was baked: how many of the vertices it moved rest outside the cage's box

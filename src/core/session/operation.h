@@ -63,6 +63,7 @@ struct OpReport {
     // of a triangle from its curved image afterwards (world units; refinement.h).
     int verticesAdded = 0;
     int trianglesAdded = 0;
+    int verticesRemoved = 0;  // undo of a refinement (or of a stroke that split the mesh): the vertices it took away
     double deviation = 0.0;
 };
 

@@ -298,10 +298,11 @@ private:
     void redoOperationBody(const Operation& operation);
     // How many vertices the last command moved (all of them when a frame was entered or left).
     int movedCount() const;
-    // The number of vertices whose rows differ from `before`, bitwise (rows added or removed count as changed):
-    // what undo and redo report. Also kept as lastMoved_.vertices, unless lastMoved_.all says a frame was entered
-    // or left (a view then refreshes everything, whatever the count).
-    int countChangedVertices(const Positions& before);
+    // What undo and redo report: report.verticesMoved, the vertices whose rows differ from `before`, bitwise,
+    // among the rows both have; report.verticesAdded and verticesRemoved, the rows a refinement added or took
+    // away. The changed and added rows are kept as lastMoved_.vertices, unless lastMoved_.all says a frame was
+    // entered or left (a view then refreshes everything, whatever the count).
+    void countChangedVertices(const Positions& before, OpReport& report);
     void redoStep(const Step& step);
 
     SessionMesh mesh_;  // mesh()

@@ -74,19 +74,21 @@ void Session::revertSteps(const std::vector<Step>& steps) {
     undoSteps(steps);
 }
 
-int Session::countChangedVertices(const Positions& before) {
-    // The vertices whose positions differ (a refinement's added or removed vertices count as changed), so undo
-    // and redo of one operation report the same count, never more than the mesh has, and an undo that leaves a
-    // frame (a lattice set-up taken back) counts the vertices it moved, not every vertex.
+void Session::countChangedVertices(const Positions& before, OpReport& report) {
+    // The vertices whose positions differ, among the rows both have: undo and redo of one operation report the
+    // same count, never more than the mesh has, and an undo that leaves a frame (a lattice set-up taken back)
+    // counts the vertices it moved, not every vertex. Rows a refinement added or removed are counted apart
+    // (report.verticesAdded, report.verticesRemoved), the same both ways too.
     const Eigen::Index common = std::min(before.rows(), mesh_.positions.rows());
     std::vector<int> changed;
     for (Eigen::Index v = 0; v < common; ++v)
         if (mesh_.positions.row(v) != before.row(v)) changed.push_back(static_cast<int>(v));
-    for (Eigen::Index v = common; v < mesh_.positions.rows(); ++v) changed.push_back(static_cast<int>(v));
-    // Removed vertices (an undone refinement's) count too, though no row is left to list them.
-    const int count = static_cast<int>(changed.size() + static_cast<size_t>(before.rows() - common));
+    const int moved = static_cast<int>(changed.size());
+    for (Eigen::Index v = common; v < mesh_.positions.rows(); ++v) changed.push_back(static_cast<int>(v));  // to redraw
+    report.verticesMoved = moved;
+    report.verticesAdded = static_cast<int>(mesh_.positions.rows() - common);
+    report.verticesRemoved = static_cast<int>(before.rows() - common);
     if (!lastMoved_.all) lastMoved_.vertices = std::move(changed);
-    return count;
 }
 
 int Session::movedCount() const {
@@ -240,13 +242,12 @@ Status Session::undo(OpReport& report) {
     undoOperationBody(operation);
     refinement().remove(operation.refinement);
     refinement().remove(operation.refinementBefore);  // split when the stroke began: removed last
-    const int changed = countChangedVertices(before);
+    countChangedVertices(before, report);
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
     report.subSteps = static_cast<int>(operation.steps.size());
     report.controlPointsChanged = 0;
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
-    report.verticesMoved = changed;
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }
@@ -270,12 +271,11 @@ Status Session::redo(OpReport& report) {
     redoOperationBody(operation);
     refinement().reapply(entry);
     bakeLastStep(operation);
-    const int changed = countChangedVertices(before);
+    countChangedVertices(before, report);
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;
     report.subSteps = static_cast<int>(operation.steps.size());
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
-    report.verticesMoved = changed;
     report.wallMs = millisecondsSince(start);
     return Status::success();
 }

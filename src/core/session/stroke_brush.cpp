@@ -14,6 +14,43 @@ namespace sculpt::core {
 using detail::Clock;
 using detail::millisecondsSince;
 
+namespace {
+
+// The point of the triangle (a, b, c) nearest p, as its barycentric weights (Ericson, Real-Time Collision
+// Detection, 2005, section 5.1.5: the Voronoi regions of the corners, the edges and the face). Not finite for a
+// degenerate triangle.
+Eigen::Vector3d nearestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0.0 && d2 <= 0.0) return {1.0, 0.0, 0.0};
+    const Eigen::Vector3d bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0.0 && d4 <= d3) return {0.0, 1.0, 0.0};
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        const double v = d1 / (d1 - d3);
+        return {1.0 - v, v, 0.0};
+    }
+    const Eigen::Vector3d cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0.0 && d5 <= d6) return {0.0, 0.0, 1.0};
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        const double w = d2 / (d2 - d6);
+        return {1.0 - w, 0.0, w};
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return {0.0, 1.0 - w, w};
+    }
+    const double denominator = 1.0 / (va + vb + vc);
+    const double v = vb * denominator, w = vc * denominator;
+    return {1.0 - v - w, v, w};
+}
+
+}  // namespace
+
 double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps,
                                 OpReport& report, StepFailure& failure) {
     std::vector<int> moved;
@@ -52,6 +89,53 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         s_.popLayers(steps.size(), &moved);  // the stroke's layers are the newest: back to where the stroke began
         steps.clear();
     }
+    // Each grabbed image's triangle on the mesh as the stroke began (the mesh is there now): the nearest among
+    // `among` (all triangles when null), where it lies within the refinement's tolerance of the surface.
+    std::vector<int>& grabbedTriangle = s_.drag_.grabbedTriangle;
+    std::vector<Eigen::Vector3d>& grabbedWeights = s_.drag_.grabbedWeights;
+    const auto locateGrabbed = [&](const std::vector<int>* among) {
+        grabbedTriangle.assign(pulls.size(), -1);
+        grabbedWeights.assign(pulls.size(), Eigen::Vector3d::Zero());
+        const Triangles& triangles = s_.mesh_.triangles;
+        const Positions& x = s_.mesh_.positions;
+        const double onSurface = kBrushRefineTolerance * brush.radius;
+        for (size_t k = 0; k < pulls.size(); ++k) {
+            double best = onSurface;
+            const Eigen::Vector3d& p = pulls[k].source;
+            const auto consider = [&](int t) {
+                const Eigen::Vector3d a = x.row(triangles(t, 0)).transpose(), b = x.row(triangles(t, 1)).transpose(), c = x.row(triangles(t, 2)).transpose();
+                if (((p.array() < a.cwiseMin(b).cwiseMin(c).array() - best) || (p.array() > a.cwiseMax(b).cwiseMax(c).array() + best)).any()) return;
+                const Eigen::Vector3d w = nearestOnTriangle(p, a, b, c);
+                if (!w.allFinite()) return;
+                const double distance = (w[0] * a + w[1] * b + w[2] * c - p).norm();
+                if (distance <= best) {
+                    best = distance;
+                    grabbedTriangle[k] = t;
+                    grabbedWeights[k] = w;
+                }
+            };
+            if (among) {
+                for (int t : *among) consider(t);
+            } else {
+                for (Eigen::Index t = 0; t < triangles.rows(); ++t) consider(static_cast<int>(t));
+            }
+        }
+    };
+    if (grabbedTriangle.size() != pulls.size()) locateGrabbed(nullptr);
+    // How far the flat triangles put a grabbed image from its target, with the pull's layers in place (world
+    // units; 0 for images off the surface or held): the field lands the point exactly, the flat mesh between
+    // its moved corners only as well as its triangles follow the bend (a coarse mesh's long triangle not at all).
+    const auto grabbedMiss = [&] {
+        double miss = 0.0;
+        for (size_t k = 0; k < pulls.size(); ++k) {
+            const int t = grabbedTriangle[k];
+            if (!pulls[k].moving() || t < 0) continue;
+            Eigen::Vector3d flat = Eigen::Vector3d::Zero();
+            for (int c = 0; c < 3; ++c) flat += grabbedWeights[k][c] * s_.mesh_.positions.row(s_.mesh_.triangles(t, c)).transpose();
+            miss = std::max(miss, (flat - (pulls[k].source + pulls[k].pull)).norm());
+        }
+        return miss;
+    };
     double residual = 0.0;
     std::vector<Eigen::Vector3d> where;  // each grabbed image, where the layers entered so far put it
     // One layer per moving image, each a field along its own pull (brush_field.h), so every layer is proven by
@@ -306,13 +390,34 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
                 break;
             }
         bool triedSplitting = false;
+        const std::vector<int> grabbedTriangleBefore = grabbedTriangle;
+        const std::vector<Eigen::Vector3d> grabbedWeightsBefore = grabbedWeights;
         for (int refined = 0;; ++refined) {
             tryWhole();
-            if (whole || refined == kBrushRefinements || first->cause != StepFailure::Cause::Triangles || !s_.refinement_.settings.underBrush ||
+            // Split where the triangles stop the whole pull, or where it passes but the flat triangles leave a
+            // grabbed point further than the tolerance from its target (a point grabbed inside a coarse mesh's
+            // long triangle: a trial saw a horn's tip 25% short of the cursor).
+            const bool stoppedByTriangles = !whole && first->cause == StepFailure::Cause::Triangles;
+            const bool missed = whole && grabbedMiss() > kBrushRefineTolerance * brush.radius;
+            if (!(stoppedByTriangles || missed) || refined == kBrushRefinements || !s_.refinement_.settings.underBrush ||
                 pullLength >= s_.drag_.splitFailedAt)
                 break;
+            if (whole) {
+                clearStroke();
+                whole = false;
+            }
             triedSplitting = true;
-            if (!refineUnderPull(tolerance)) break;
+            const int trianglesThen = static_cast<int>(s_.mesh_.triangles.rows());
+            if (!refineUnderPull(tolerance)) {
+                if (missed) tryWhole();  // nothing to split: the whole pull as it passed
+                break;
+            }
+            // The grabbed triangles are split too: each grabbed image is on its old triangle's half or on a new one.
+            std::vector<int> among;
+            for (int t : grabbedTriangle)
+                if (t >= 0) among.push_back(t);
+            for (int t = trianglesThen; t < static_cast<int>(s_.mesh_.triangles.rows()); ++t) among.push_back(t);
+            locateGrabbed(&among);
             tolerance *= 0.5;
         }
         if (!whole && triedSplitting) s_.drag_.splitFailedAt = std::min(s_.drag_.splitFailedAt, pullLength);
@@ -325,6 +430,8 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             splitBefore.halvings.resize(halvingsBefore);
             report.verticesAdded = addedBefore;
             report.trianglesAdded = trianglesBefore;
+            grabbedTriangle = grabbedTriangleBefore;
+            grabbedWeights = grabbedWeightsBefore;
             findCandidates();
             tryWhole();  // what stopped the whole pull on the mesh as it was (it failed there before)
         }
