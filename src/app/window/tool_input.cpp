@@ -184,7 +184,12 @@ void SculptApp::pressSculpt(const MouseButtonEvent& event) {
     Ray ray;
     if (!rayThroughPixel(state_.camera, width, height, event.x, event.y, ray)) return;
     const SurfaceHit hit = intersectMesh(ray, session.mesh().positions, session.mesh().triangles);
-    if (hit.triangle < 0) return;  // a click on the background does nothing
+    if (hit.triangle < 0) {
+        // Nothing to grab there; said, so that a drag begun just off the silhouette is not taken for a stroke
+        // (a trial pressed Ctrl+Z after one and undid an earlier stroke).
+        setStatus(state_, "Nothing under the cursor to sculpt: start a stroke on the mesh. Middle-drag orbits, the wheel zooms.", false);
+        return;
+    }
     if (tools.brush.kind != BrushTool::Kind::Drag) {
         // The hammer or crimp at the clicked triangle's corner nearest the hit.
         int corner = 0;
@@ -334,8 +339,11 @@ void SculptApp::endSculpt() {
     updateBrushHover(state_.cursorX, state_.cursorY);  // the circle goes back under the cursor
     const bool recorded = state_.session.history().journal().size() > before;
     if (finished.moves == 0) return;  // a click (selecting, placing): its own message stays
-    std::string text = recorded ? "Drag recorded as one undo step (" + countOf(static_cast<size_t>(finished.moves), "move")
-                                : "Drag changed nothing (" + countOf(static_cast<size_t>(finished.moves), "move");
+    // With symmetry, the mirror images were pulled too: said, as the history entry says it.
+    const core::Symmetry& symmetry = state_.tools.brush.settings.symmetry;
+    const std::string mirrored = symmetry.any() ? "symmetric in " + core::symmetryText(symmetry, true) + ", " : std::string();
+    std::string text = recorded ? "Drag recorded as one undo step (" + mirrored + countOf(static_cast<size_t>(finished.moves), "move")
+                                : "Drag changed nothing (" + mirrored + countOf(static_cast<size_t>(finished.moves), "move");
     // The vertices the whole drag moved (bitwise, as undo counts them; a refinement that added vertices: the
     // ones the mesh had).
     const Positions& now = state_.session.mesh().positions;
@@ -354,7 +362,10 @@ void SculptApp::endSculpt() {
     if (!parts.empty()) {
         std::vector<std::string> causes;
         // note: the words of stopCauseWords, as the status of each move and of a transform say them.
-        if (finished.byFold > 0) causes.push_back(std::to_string(finished.byFold) + " where " + stopCauseWords("lattice"));
+        // (a brush stroke's lattice is the brush's own region: there the space around the pull would fold)
+        if (finished.byFold > 0)
+            causes.push_back(std::to_string(finished.byFold) + " where " +
+                             (finished.brushRadius > 0.0 ? std::string("the space around the pull would fold") : stopCauseWords("lattice")));
         if (finished.byUncertified > 0) causes.push_back(std::to_string(finished.byUncertified) + " where " + stopCauseWords("uncertified"));
         if (finished.byCrossing > 0) causes.push_back(std::to_string(finished.byCrossing) + " where " + stopCauseWords("triangles"));
         if (finished.byBoundary > 0) causes.push_back(std::to_string(finished.byBoundary) + " where " + stopCauseWords("boundary"));

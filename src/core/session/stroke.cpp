@@ -368,16 +368,22 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
         return;
     }
     detail::noteFailure(report, failure, true);
+    // A stroke's lattice is the brush's own region, placed for each pull: what helps is the brush, not the cage.
+    const std::string advice = failure.cause == StepFailure::Cause::Lattice
+                                   ? "the pull is too steep for the brush there: try a larger radius, a smoother falloff or a shorter pull"
+                                   : failure.cause == StepFailure::Cause::Triangles
+                                         ? "try a larger radius or a shorter pull; with \"Split under the brush\" off, turn it on"
+                                         : stepFailureAdvice(failure.cause);
     if (share > 0.0) {
         report.status = OpStatus::Applied;
         report.reason = "Stopped at " + detail::percentText(share) + " of the pull, the last injective point: beyond it " +
-                        report.failureWords + " (" + stepFailureAdvice(failure.cause) + ").";
+                        report.failureWords + " (" + advice + ").";
         return;
     }
     report.status = OpStatus::Rejected;
     report.reason = failure.cause == StepFailure::Cause::SourceLeft
                         ? "Refused: " + failure.technical + "."
-                        : "Refused: " + report.failureWords + ". The stroke stays where it was; " + stepFailureAdvice(failure.cause) + ".";
+                        : "Refused: " + report.failureWords + ". The stroke stays where it was; " + advice + ".";
     report.injectivity = "rejected: " + failure.technical;
 }
 
