@@ -213,10 +213,14 @@ Status buildConstraintInstances(const ConstraintView& constraints, const LocalFr
     for (const ConstraintView::AxisLine& line : constraints.axisLines)
         if (!line.from.allFinite() || !line.to.allFinite() || line.axis < 0 || line.axis > 2)
             return Status::error("axis line: non-finite end or axis " + std::to_string(line.axis) + " (0, 1 or 2)");
+    const Eigen::Index loop = constraints.outlineLoop > 0 ? constraints.outlineLoop : constraints.outline.rows();
+    if (loop > 0 && constraints.outline.rows() % loop != 0)
+        return Status::error("brush outline: " + std::to_string(constraints.outline.rows()) + " points, not a multiple of its loops' " +
+                             std::to_string(loop));
     std::vector<float> lines, points;
     for (Eigen::Index c = 0; c < constraints.outline.rows(); ++c) {
         appendPoint(lines, frame, constraints.outline, c);
-        appendPoint(lines, frame, constraints.outline, (c + 1) % constraints.outline.rows());
+        appendPoint(lines, frame, constraints.outline, c - c % loop + (c % loop + 1) % loop);  // the next point round its loop
         appendColor(lines, kBrushOutlineColor);
         appendColor(lines, kBrushOutlineColor);
     }

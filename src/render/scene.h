@@ -58,7 +58,8 @@ struct ConstraintView {
     Positions targets;  // #C x 3, drawn blue, joined to its source by a red-to-blue line
     Positions handles;  // #H x 3, placed handles not being dragged: red discs
     Positions pins;     // #P x 3, pinned surface points: green squares
-    Positions outline;  // #O x 3, a closed polyline drawn white: the sculpt brush's circle on the surface
+    Positions outline;  // #O x 3, closed polylines drawn white: the sculpt brush's circle on the surface (and its mirror images)
+    int outlineLoop = 0;  // points per closed polyline of `outline` (its rows a multiple of it); 0: one polyline of every row
     // Guide lines of a transform in progress, e.g. the locked axis through the pivot: from, to (finite), and
     // the world axis (0, 1, 2) whose colour they take, red / green / blue as Blender draws X / Y / Z.
     struct AxisLine {

@@ -74,6 +74,33 @@ TEST_CASE("overlay geometry: constraints give a red-to-blue segment and two hand
     CHECK_FALSE(render::buildConstraintInstances(constraints, {}, segments, markers).ok);
 }
 
+TEST_CASE("overlay geometry: the brush outline is drawn as closed loops of outlineLoop points each (the circle and its mirror images)", "[gl]") {
+    std::mt19937 rng(17);
+    for (int trial = 0; trial < 20; ++trial) {
+        const int loops = std::uniform_int_distribution<int>(1, 4)(rng), loop = std::uniform_int_distribution<int>(3, 40)(rng);
+        render::ConstraintView constraints;
+        constraints.outline = Positions::Random(loops * loop, 3);
+        constraints.outlineLoop = trial == 0 ? 0 : loop;  // 0: one loop of every point
+        const int perLoop = trial == 0 ? loops * loop : loop;
+        std::vector<float> segments, markers;
+        REQUIRE(render::buildConstraintInstances(constraints, {}, segments, markers).ok);
+        REQUIRE(segments.size() == size_t(loops * loop) * size_t(render::kLineFloats));
+        for (int c = 0; c < loops * loop; ++c) {
+            const float* segment = segments.data() + size_t(c) * render::kLineFloats;
+            const int next = c - c % perLoop + (c % perLoop + 1) % perLoop;  // round its own loop, never to another
+            for (int k = 0; k < 3; ++k) {
+                CHECK(segment[k] == float(constraints.outline(c, k)));
+                CHECK(segment[3 + k] == float(constraints.outline(next, k)));
+            }
+            CHECK(segment[6] == render::kBrushOutlineColor.r);
+        }
+        if (loops * loop % (loop + 1) != 0) {
+            constraints.outlineLoop = loop + 1;  // not a whole number of loops: refused
+            CHECK_FALSE(render::buildConstraintInstances(constraints, {}, segments, markers).ok);
+        }
+    }
+}
+
 TEST_CASE("overlay geometry: placed handles are red discs and surface pins green squares, no segments", "[gl]") {
     std::mt19937 rng(91);
     for (int trial = 0; trial < 20; ++trial) {

@@ -639,13 +639,33 @@ render::ConstraintView SculptApp::constraintView() const {
         }
         return loop;
     };
+    // With symmetry, the circle's mirror images too (in the session's mirror planes), so the user sees where the
+    // mirrored stroke will pull: a trial looked for the mirror image of a stroke and could not find it.
+    // (`facing`: the circles face the eye, as while dragging; otherwise each lies on the mirrored surface)
+    const auto withMirrors = [&](const Eigen::Vector3d& centre, const Eigen::Vector3d& normal, double radius, bool facing) {
+        const core::Symmetry& symmetry = tools.brush.settings.symmetry;
+        const core::SymmetryFrame frame = session.symmetryFrame();
+        std::vector<Positions> loops{circle(centre, normal, radius)};
+        for (int mask = 1; mask < 8; ++mask) {
+            bool on = true;
+            for (int a = 0; a < 3; ++a) on = on && (!(mask & (1 << a)) || symmetry.mirror[static_cast<size_t>(a)]);
+            const Eigen::Vector3d image = core::reflectPoint(centre, mask, frame);
+            // (an image on the circle itself, the grabbed point on the plane, is drawn once)
+            if (on && (image - centre).norm() > 1e-3 * radius)
+                loops.push_back(circle(image, facing ? normal : core::reflectVector(normal, mask, frame), radius));
+        }
+        Positions all(static_cast<Eigen::Index>(loops.size()) * loops.front().rows(), 3);
+        for (size_t k = 0; k < loops.size(); ++k) all.middleRows(static_cast<Eigen::Index>(k) * loops.front().rows(), loops.front().rows()) = loops[k];
+        view.outlineLoop = static_cast<int>(loops.front().rows());
+        view.outline = std::move(all);
+    };
     if (tools.mode == ToolMode::Sculpt && drag.active && drag.kind == DragKind::Surface && drag.brushRadius > 0.0) {
         const std::vector<Eigen::Vector3d> current = session.stroke().userSources();
         const glm::dvec3 eye = state_.camera.towardEye();
         if (static_cast<size_t>(drag.grabbedConstraint) < current.size())
-            view.outline = circle(current[static_cast<size_t>(drag.grabbedConstraint)], Eigen::Vector3d(eye.x, eye.y, eye.z), drag.brushRadius);
+            withMirrors(current[static_cast<size_t>(drag.grabbedConstraint)], Eigen::Vector3d(eye.x, eye.y, eye.z), drag.brushRadius, true);
     } else if (tools.mode == ToolMode::Sculpt && !drag.active && tools.brush.hover && tools.brush.hoverRadius > 0.0) {
-        view.outline = circle(tools.brush.hoverPoint, tools.brush.hoverNormal, tools.brush.hoverRadius);
+        withMirrors(tools.brush.hoverPoint, tools.brush.hoverNormal, tools.brush.hoverRadius, false);
     }
     if (drag.active && drag.kind == DragKind::Surface) {
         const std::vector<Eigen::Vector3d> current = session.stroke().userSources();
