@@ -302,7 +302,7 @@ TEST_CASE("scene: a scripted drag's target is drawn where its strength took the 
     CHECK(drawn >= 10);
 }
 
-TEST_CASE("window brush: on a coarse mesh the stroke splits the triangles under it so the drawn tip reaches the cursor; undo and redo name the split vertices apart", "[gl]") {
+TEST_CASE("window brush: on a coarse mesh the stroke splits the triangles under it so the drawn tip reaches the cursor, and undo and redo name the split vertices apart", "[gl]") {
     // A trial on CGAL's elephant saw a horn's tip stop 25% short of the cursor: the point grabbed inside a long
     // triangle landed on its target, but the flat triangle through its moved corners did not.
     const test::TestMesh sphere = test::makeIcosphere(1);  // 42 vertices, 80 long triangles
