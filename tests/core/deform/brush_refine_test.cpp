@@ -43,17 +43,36 @@ Pull randomStroke(std::mt19937& rng, const Session& session, const Positions& no
     return s;
 }
 
+// CGAL's elephant (2,775 vertices, coarse), its bounding diagonal and the crossing pairs it was loaded with.
+struct Elephant {
+    Positions positions;
+    Triangles triangles;
+    double diagonal = 0.0;
+    size_t crossingAtLoad = 0;
+};
+
+Elephant loadElephant() {
+    Elephant e;
+    std::string error;
+    const bool loaded = test::loadCgalMesh("elephant.off", e.positions, e.triangles, error);
+    INFO(error);
+    REQUIRE(loaded);
+    e.diagonal = (e.positions.colwise().maxCoeff() - e.positions.colwise().minCoeff()).norm();
+    e.crossingAtLoad = test::intersectingPairs(e.positions, e.triangles).size();
+    return e;
+}
+
 }  // namespace
 
 TEST_CASE("brush refinement: long pulls the triangles stopped split the mesh under them and apply in full, uncrossed, conforming, undone and replayed exactly", "[core][brush]") {
     std::mt19937 rng(2027);
-    Positions positions, normals;
-    Triangles triangles;
-    std::string error;
-    REQUIRE(test::loadCgalMesh("elephant.off", positions, triangles, error));
+    const Elephant elephant = loadElephant();
+    const Positions& positions = elephant.positions;
+    const Triangles& triangles = elephant.triangles;
+    const double diagonal = elephant.diagonal;
+    const size_t crossingAtLoad = elephant.crossingAtLoad;
+    Positions normals;
     computeVertexNormals(positions, triangles, normals);
-    const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
-    const size_t crossingAtLoad = test::intersectingPairs(positions, triangles).size();
     const test::EdgeCensus censusAtLoad = test::edgeCensus(triangles);
 
     Session session;
@@ -206,12 +225,11 @@ TEST_CASE("brush refinement: a point grabbed inside a coarse mesh's long triangl
     // trial on the elephant: a horn's tip 25% short of a 3-radius pull). The triangles under such a pull are
     // split until the flat mesh passes within the refinement's tolerance of the target.
     std::mt19937 rng(4242);
-    Positions positions, normals;
-    Triangles triangles;
-    std::string error;
-    REQUIRE(test::loadCgalMesh("elephant.off", positions, triangles, error));
-    const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
-    const size_t crossingAtLoad = test::intersectingPairs(positions, triangles).size();
+    const Elephant elephant = loadElephant();
+    const Positions& positions = elephant.positions;
+    const Triangles& triangles = elephant.triangles;
+    const double diagonal = elephant.diagonal;
+    const size_t crossingAtLoad = elephant.crossingAtLoad;
     // The largest triangles, where the gap shows most.
     std::vector<int> order(static_cast<size_t>(triangles.rows()));
     std::iota(order.begin(), order.end(), 0);
