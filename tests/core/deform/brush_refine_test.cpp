@@ -66,11 +66,7 @@ Elephant loadElephant() {
 
 TEST_CASE("brush refinement: long pulls the triangles stopped split the mesh under them and apply in full, uncrossed, conforming, undone and replayed exactly", "[core][brush]") {
     std::mt19937 rng(2027);
-    const Elephant elephant = loadElephant();
-    const Positions& positions = elephant.positions;
-    const Triangles& triangles = elephant.triangles;
-    const double diagonal = elephant.diagonal;
-    const size_t crossingAtLoad = elephant.crossingAtLoad;
+    const auto& [positions, triangles, diagonal, crossingAtLoad] = loadElephant();
     Positions normals;
     computeVertexNormals(positions, triangles, normals);
     const test::EdgeCensus censusAtLoad = test::edgeCensus(triangles);
@@ -225,11 +221,7 @@ TEST_CASE("brush refinement: a point grabbed inside a coarse mesh's long triangl
     // trial on the elephant: a horn's tip 25% short of a 3-radius pull). The triangles under such a pull are
     // split until the flat mesh passes within the refinement's tolerance of the target.
     std::mt19937 rng(4242);
-    const Elephant elephant = loadElephant();
-    const Positions& positions = elephant.positions;
-    const Triangles& triangles = elephant.triangles;
-    const double diagonal = elephant.diagonal;
-    const size_t crossingAtLoad = elephant.crossingAtLoad;
+    const auto& [positions, triangles, diagonal, crossingAtLoad] = loadElephant();
     // The largest triangles, where the gap shows most.
     std::vector<int> order(static_cast<size_t>(triangles.rows()));
     std::iota(order.begin(), order.end(), 0);
