@@ -62,11 +62,22 @@ Elephant loadElephant() {
     return e;
 }
 
+// A session on the mesh with "Split under the brush" on or off.
+void startSession(Session& session, const Positions& positions, const Triangles& triangles, bool splitUnderBrush) {
+    REQUIRE(session.setMesh(positions, triangles).ok);
+    RefinementSettings settings = session.refinement().settings();
+    settings.underBrush = splitUnderBrush;
+    REQUIRE(session.refinement().set(settings).ok);
+}
+
 }  // namespace
 
 TEST_CASE("brush refinement: long pulls the triangles stopped split the mesh under them and apply in full, uncrossed, conforming, undone and replayed exactly", "[core][brush]") {
     std::mt19937 rng(2027);
-    const auto& [positions, triangles, diagonal, crossingAtLoad] = loadElephant();
+    const Elephant elephant = loadElephant();
+    const Positions& positions = elephant.positions;  // (not structured bindings: C++17 lambdas cannot capture those)
+    const Triangles& triangles = elephant.triangles;
+    const double diagonal = elephant.diagonal;
     Positions normals;
     computeVertexNormals(positions, triangles, normals);
     const test::EdgeCensus censusAtLoad = test::edgeCensus(triangles);
@@ -101,7 +112,7 @@ TEST_CASE("brush refinement: long pulls the triangles stopped split the mesh und
         CHECK(census.nonManifoldEdges == 0);
         CHECK(census.inconsistentEdges == 0);
         CHECK(census.euler() + session.mesh().triangles.rows() == censusAtLoad.euler() + triangles.rows());
-        CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles).size() == crossingAtLoad);
+        CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles).size() == elephant.crossingAtLoad);
         // The old vertices beyond 1.25 radius of the pull's path stay where they were.
         const Eigen::Vector3d source = before.row(stroke.vertex).transpose();
         for (Eigen::Index v = 0; v < before.rows(); ++v)
@@ -111,10 +122,7 @@ TEST_CASE("brush refinement: long pulls the triangles stopped split the mesh und
         // The same stroke without splitting stops short, where the triangles would cross.
         {
             Session unsplit;
-            REQUIRE(unsplit.setMesh(positions, triangles).ok);
-            RefinementSettings settings = unsplit.refinement().settings();
-            settings.underBrush = false;
-            REQUIRE(unsplit.refinement().set(settings).ok);
+            startSession(unsplit, positions, triangles, false);
             OpReport r;
             for (int k = 0; k < session.history().cursor() - 1; ++k) {  // the strokes kept so far, as recorded
                 const Operation& kept = session.history()[static_cast<size_t>(k)];
@@ -221,7 +229,10 @@ TEST_CASE("brush refinement: a point grabbed inside a coarse mesh's long triangl
     // trial on the elephant: a horn's tip 25% short of a 3-radius pull). The triangles under such a pull are
     // split until the flat mesh passes within the refinement's tolerance of the target.
     std::mt19937 rng(4242);
-    const auto& [positions, triangles, diagonal, crossingAtLoad] = loadElephant();
+    const Elephant elephant = loadElephant();
+    const Positions& positions = elephant.positions;  // (not structured bindings: C++17 lambdas cannot capture those)
+    const Triangles& triangles = elephant.triangles;
+    const double diagonal = elephant.diagonal;
     // The largest triangles, where the gap shows most.
     std::vector<int> order(static_cast<size_t>(triangles.rows()));
     std::iota(order.begin(), order.end(), 0);
@@ -246,10 +257,7 @@ TEST_CASE("brush refinement: a point grabbed inside a coarse mesh's long triangl
         INFO("trial " << trial << " triangle " << t << " radius " << brush.radius / diagonal << " diagonal, pull " << pull / brush.radius << " radii");
         for (const bool split : {false, true}) {
             Session session;
-            REQUIRE(session.setMesh(positions, triangles).ok);
-            RefinementSettings settings = session.refinement().settings();
-            settings.underBrush = split;
-            REQUIRE(session.refinement().set(settings).ok);
+            startSession(session, positions, triangles, split);
             OpReport report;
             REQUIRE(session.drag({{source, target}}, report, brush).ok);
             if (report.status != OpStatus::Applied || report.fractionApplied < 1.0) continue;  // stopped: not this test's kind
@@ -262,7 +270,7 @@ TEST_CASE("brush refinement: a point grabbed inside a coarse mesh's long triangl
             CHECK(miss <= 0.025 * brush.radius);
             landed += miss <= 0.025 * brush.radius;
             CHECK(report.verticesAdded > 0);
-            CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles).size() <= crossingAtLoad);
+            CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles).size() <= elephant.crossingAtLoad);
             // Undo takes the splits back with the stroke.
             REQUIRE(session.undo(report).ok);
             CHECK(session.mesh().triangles == triangles);
