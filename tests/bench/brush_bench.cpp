@@ -2,6 +2,7 @@
 #include "brush_bench.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -244,6 +245,53 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
         std::snprintf(extra, sizeof extra, "\"status\": \"%s\", \"vertices_moved\": %d, \"injectivity_ms\": %.2f, \"triangle_check_ms\": %.2f",
                       opStatusName(report.status), report.verticesMoved, median(injectivity), median(triangle));
         printCase("brush_move_1m", positions.rows(), ms, extra);
+    }
+    if (wanted("stroke_coarse")) {
+        // As the window strokes a coarse mesh: the point grabbed inside one of the elephant's 10 largest
+        // triangles (its centroid), pulled along the triangle's normal to 3 radii in 20 mouse moves, radius 5%
+        // of the diagonal; the triangles under the pull are split where the flat mesh would leave the tip short
+        // of the cursor (or the triangles would cross). Reported: ms per move (median, max), vertices added per
+        // stroke (median), and the strokes applied in full.
+        Positions positions;
+        Triangles triangles;
+        std::string error;
+        if (!test::loadCgalMesh("elephant.off", positions, triangles, error)) {
+            std::fprintf(stderr, "stroke_coarse: %s\n", error.c_str());
+            return;
+        }
+        const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+        std::vector<std::pair<double, int>> bySize;
+        for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+            const Eigen::Vector3d a = positions.row(triangles(t, 0)), b = positions.row(triangles(t, 1)), c = positions.row(triangles(t, 2));
+            bySize.push_back({-(b - a).cross(c - a).norm(), static_cast<int>(t)});
+        }
+        std::sort(bySize.begin(), bySize.end());
+        Session session;
+        session.setMesh(positions, triangles);
+        BrushSettings brush;
+        brush.radius = 0.05 * diagonal;
+        std::vector<double> moveMs, added;
+        int full = 0;
+        for (int k = 0; k < 10; ++k) {
+            const int t = bySize[static_cast<size_t>(k)].second;
+            const Eigen::Vector3d a = positions.row(triangles(t, 0)), b = positions.row(triangles(t, 1)), c = positions.row(triangles(t, 2));
+            const Eigen::Vector3d source = (a + b + c) / 3.0, normal = (b - a).cross(c - a).normalized();
+            if (!session.stroke().beginAt({source}, {}, brush)) continue;
+            OpReport report;
+            for (int move = 1; move <= 20; ++move) {
+                const auto start = std::chrono::steady_clock::now();
+                session.stroke().update({source + 3.0 * brush.radius * move / 20.0 * normal}, report);
+                moveMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+            }
+            full += report.status == OpStatus::Applied && report.fractionApplied == 1.0;
+            session.stroke().end();
+            added.push_back(static_cast<double>(session.mesh().positions.rows() - positions.rows()));
+            session.undo(report);
+        }
+        char extra[300];
+        std::snprintf(extra, sizeof extra, "\"max_ms\": %.1f, \"vertices_added_median\": %.0f, \"applied_in_full\": %d, \"strokes\": 10",
+                      moveMs.empty() ? 0.0 : *std::max_element(moveMs.begin(), moveMs.end()), added.empty() ? 0.0 : median(added), full);
+        printCase("stroke_coarse", positions.rows(), moveMs.empty() ? 0.0 : median(moveMs), extra);
     }
 }
 

@@ -16,6 +16,8 @@ namespace sculpt::bench {
 //                   times; SCULPT_BENCH_VERBOSE=1 names each stroke that stops or adds pairs.
 //   brush_move_1m   one brush move on a 1M-vertex sphere (radius 5% of the diagonal, with the test and the
 //                   triangle check)
+//   stroke_coarse   window-like strokes on the coarse elephant: the point grabbed inside a large triangle pulled to
+//                   3 radii in 20 moves; ms per move and the vertices split in under the pull
 void runBrushBenchmarks(const std::vector<std::string>& filters = {});
 
 }  // namespace sculpt::bench
