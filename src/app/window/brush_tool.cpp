@@ -41,7 +41,6 @@ void finishBrushResize(AppState& state, bool keep) {
     if (!keep) (brush.resize == BrushTool::Resize::Radius ? brush.radiusPixels : brush.settings.strength) = brush.oldValue;
     setStatus(state, (keep ? "" : "Brush unchanged. ") + brushDescription(brush), false);
     brush.resize = BrushTool::Resize::None;
-    state.tools.hint.clear();  // the next mouse move says what it does again
     state.gpu.fields = true;
 }
 
@@ -100,9 +99,6 @@ bool SculptApp::brushKey(const KeyEvent& event) {
         state_.gpu.fields = true;
     }
     brush.limited = brush.limited || !strength;
-    // The hint beside the cursor says what the mouse does now (a trial read "Drag: sculpt ..." there while resizing).
-    state_.tools.hint = std::string("Move the mouse to set the brush's ") + (strength ? "strength" : "radius") +
-                        ". Click or Enter: keep it. Esc or right click: put it back.";
     setStatus(state_, strength ? "Move the mouse to set the brush strength; click or Enter keeps it, Esc cancels."
                                : "Move the mouse to set the brush radius; click or Enter keeps it, Esc cancels.",
               false);

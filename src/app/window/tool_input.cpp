@@ -214,8 +214,7 @@ void SculptApp::pressSculpt(const MouseButtonEvent& event) {
         setStatus(state_,
                   std::string(control ? "Pin placed" : "Handle placed") + " (" + countOf(tools.handles.size() - pins, "handle") + ", " + countOf(pins, "pin") +
                       "). " +
-                      (tools.brush.limited ? std::string("\"Limit to radius\" is on: dragging a handle is a brush stroke, and only pins within its radius hold. "
-                                                         "Turn it off to move the handles with the whole lattice while the pins hold still.")
+                      (tools.brush.limited ? std::string("With Limit to radius on its drag is a brush stroke; turn that off to drag the lattice, pins holding.")
                                            : "Drag a handle to move " + std::string(tools.moveHandlesTogether ? "all handles together" : "it alone") +
                                                  " (G toggles); pins hold still."),
                   false);
@@ -518,12 +517,17 @@ void SculptApp::updateHint(double x, double y) {
         return;
     }
     const int width = state_.framebufferWidth, height = state_.framebufferHeight;
+    if (tools.mode == ToolMode::Sculpt && tools.brush.resize != BrushTool::Resize::None) {
+        // F or Shift+F is resizing the brush (a trial read "Drag: sculpt ..." here while resizing).
+        tools.hint = "Click or Enter: keep it. Esc or right click: put it back.";
+        return;
+    }
     if (tools.mode == ToolMode::Sculpt) {
         const int handle = handleAtPixel(tools, session.mesh().positions, session.mesh().triangles, state_.camera, width, height, x, y, pickRadius());
         if (handle >= 0 && tools.handles[static_cast<size_t>(handle)].pin)
             tools.hint = "Pin: holds its point. Ctrl+click: make it a handle. Shift+click: remove.";
         else if (handle >= 0 && tools.brush.limited)
-            tools.hint = "Handle: drag to pull it with the brush (turn off \"Limit to radius\" to move the handles with the lattice). Ctrl+click: pin. Shift+click: remove.";
+            tools.hint = "Handle: a drag is a brush stroke (Limit to radius is on). Ctrl+click: pin. Shift+click: remove.";
         else if (handle >= 0)
             tools.hint = std::string("Handle: drag to move ") + (tools.moveHandlesTogether ? "all handles" : "it") +
                          " (G). Ctrl+click: make it a pin. Shift+click: remove.";
