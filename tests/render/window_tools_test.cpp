@@ -384,7 +384,12 @@ TEST_CASE("window tools: the status line hint says what the cursor would do", "[
     REQUIRE(app::projectToPixel(state.camera, kWidth, kHeight,
                                 app::handlePosition(state.tools.handles[0], state.session.mesh().positions, state.session.mesh().triangles), x, y));
     sculptApp.onMouseMove({x, y, {}}, {});
-    CHECK(state.tools.hint.find("Handle: drag") != std::string::npos);
+    // With Limit to radius on (as at start) a handle's drag is a brush stroke; off, it moves the lattice.
+    CHECK(state.tools.hint.find("Handle: a drag is a brush stroke") != std::string::npos);
+    state.tools.brush.limited = false;
+    sculptApp.onMouseMove({x, y, {}}, {});
+    CHECK(state.tools.hint.find("Handle: drag to move all handles") != std::string::npos);
+    state.tools.brush.limited = true;
     key(sculptApp, app::Key::Tab);
     sculptApp.onMouseMove({2, 2, {}}, {});
     CHECK(state.tools.hint.find("box select") != std::string::npos);
