@@ -322,7 +322,18 @@ TEST_CASE("window brush: on a coarse mesh the stroke splits the triangles under 
         const double radius = state.drag.brushRadius;
         const Eigen::Index rowsBefore = state.session.mesh().positions.rows();
         const double reach = 1.2 * state.tools.brush.radiusPixels;  // pixels pulled, about 1.2 radii in the view plane
-        for (int m = 1; m <= 6; ++m) move(sculptApp, cx + reach * m / 6.0 * direction.x(), cy + reach * m / 6.0 * direction.y());
+        int splitMoves = 0;
+        for (int m = 1; m <= 6; ++m) {
+            const Eigen::Index rowsThen = state.session.mesh().positions.rows();
+            move(sculptApp, cx + reach * m / 6.0 * direction.x(), cy + reach * m / 6.0 * direction.y());
+            // A move that split the mesh says how many vertices it added, apart from the ones it moved.
+            CHECK(state.lastReport.verticesMoved <= rowsThen);
+            if (state.lastReport.verticesAdded == 0) continue;
+            ++splitMoves;
+            CHECK(state.session.mesh().positions.rows() == rowsThen + state.lastReport.verticesAdded);
+            CHECK(state.status.find(std::to_string(state.lastReport.verticesAdded) + " vertices added where it split the mesh") != std::string::npos);
+        }
+        CHECK(splitMoves > 0);
         const core::OpReport last = state.lastReport;
         const Eigen::Vector3d target = state.drag.targets.front();
         sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx + reach * direction.x(), cy + reach * direction.y(), {}}, {});

@@ -78,6 +78,9 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
         // A command that changes the lattice, the pins or the history only moves no vertex: said so, not "0 moved".
         text = what + ": " + (report.verticesMoved > 0 ? countOf(static_cast<size_t>(report.verticesMoved), "vertex", "vertices") + " moved"
                                                        : std::string("done, no vertex moved"));
+        // A stroke's move that split the mesh under its pull: the vertices it added, apart from those it moved.
+        if ((report.op == "drag" || report.op == "drag_vertex") && report.verticesAdded > 0)
+            text += ", " + countOf(static_cast<size_t>(report.verticesAdded), "vertex", "vertices") + " added where it split the mesh";
         // Undo and redo of a stroke that split the mesh (or of a refinement): the vertices taken away or put back.
         if ((report.op == "undo" || report.op == "redo") && report.verticesRemoved > 0)
             text += ", " + countOf(static_cast<size_t>(report.verticesRemoved), "vertex", "vertices") + " removed where it split the mesh";

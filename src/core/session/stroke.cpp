@@ -331,7 +331,13 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
     for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
         pulls.push_back({s_.drag_.mirror[e].source, s_.drag_.pulled[e] ? Eigen::Vector3d(targets[e] - s_.drag_.mirror[e].source) : Eigen::Vector3d::Zero()});
     StepFailure failure;
+    const Eigen::Index rowsAtStart = s_.mesh_.positions.rows();
     const double share = applyBrushPulls(pulls, s_.drag_.brush, s_.drag_.operation.steps, report, failure);
+    // The vertices this update moved, among those the mesh had before it: the ones it split in under the pull
+    // are report.verticesAdded (a trial read "1259 vertices moved" live, then "20 moved, 1272 added" at the end).
+    const int movedHere = s_.lastMoved_.all ? static_cast<int>(rowsAtStart)
+                                            : static_cast<int>(std::count_if(s_.lastMoved_.vertices.begin(), s_.lastMoved_.vertices.end(),
+                                                                             [rowsAtStart](int v) { return v < rowsAtStart; }));
     if (share < 1.0 && s_.drag_.brush.symmetry.any() &&
         (failure.cause == StepFailure::Cause::Lattice || failure.cause == StepFailure::Cause::Triangles ||
          failure.cause == StepFailure::Cause::Uncertified)) {
@@ -359,7 +365,7 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
     report.subSteps = static_cast<int>(s_.drag_.operation.steps.size());
     report.controlPointsChanged = 0;
     for (const Step& step : s_.drag_.operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
-    report.verticesMoved = s_.movedCount();
+    report.verticesMoved = movedHere;
     report.injectivity = s_.injectivity_.mode == InjectivityMode::Off ? "not checked" : "injective";
     for (size_t e = 0; e < s_.drag_.mirror.size(); ++e)
         if (s_.drag_.mirror[e].images.front().second == 0) report.residuals.push_back((s_.drag_.sourceWorld[e] - targets[e]).norm());
