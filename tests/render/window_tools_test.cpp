@@ -377,6 +377,8 @@ TEST_CASE("window tools: the status line hint says what the cursor would do", "[
     loadDefault(sculptApp);
     app::AppState& state = sculptApp.state();
     sculptApp.onMouseMove({10, 10, {}}, {});
+    CHECK(state.tools.hint.rfind("Off the mesh", 0) == 0);  // nothing to sculpt there
+    sculptApp.onMouseMove({0.5 * kWidth, 0.5 * kHeight, {}}, {});
     CHECK(state.tools.hint.find("Shift+click: add handle") != std::string::npos);
     click(sculptApp, 0.5 * kWidth, 0.5 * kHeight, shiftKey());
     REQUIRE(state.tools.handles.size() == 1);

@@ -504,8 +504,8 @@ void SculptApp::moveTool(double x, double y) {
         selection.boxY1 = y;
         return;
     }
-    updateHint(x, y);
     updateBrushHover(x, y);
+    updateHint(x, y);  // after the circle: off the mesh the hint says a drag sculpts nothing
 }
 
 void SculptApp::updateHint(double x, double y) {
@@ -537,6 +537,9 @@ void SculptApp::updateHint(double x, double y) {
             tools.hint = "Click: raise the surface there by the step. Ctrl+click: lower it. Tab: lattice tool.";
         else if (tools.brush.kind == BrushTool::Kind::Crimp)
             tools.hint = "Click: broaden the bump there, height kept. Ctrl+click: sharpen it. Tab: lattice tool.";
+        else if (tools.brush.limited && !tools.brush.hover)
+            // Off the mesh (the brush circle finds no surface under the cursor) a drag sculpts nothing.
+            tools.hint = "Off the mesh: a drag here sculpts nothing. Middle-drag: orbit. Wheel: zoom.";
         else
             tools.hint = std::string(tools.brush.limited ? "Drag: sculpt within the brush radius (F: radius)."
                                                          : "Drag: deform with the whole lattice (\"Limit to radius\" is off).") +
