@@ -650,17 +650,13 @@ render::ConstraintView SculptApp::constraintView() const {
     // mirrored stroke will pull: a trial looked for the mirror image of a stroke and could not find it.
     // (`facing`: the circles face the eye, as while dragging; otherwise each lies on the mirrored surface)
     const auto withMirrors = [&](const Eigen::Vector3d& centre, const Eigen::Vector3d& normal, double radius, bool facing) {
-        const core::Symmetry& symmetry = tools.brush.settings.symmetry;
+        // The stroke's own mirroring (mirrorConstraints): the centre first (mask 0), then each image, an image
+        // on the circle's centre itself (the grabbed point on a plane) drawn once.
         const core::SymmetryFrame frame = session.symmetryFrame();
-        std::vector<Positions> loops{circle(centre, normal, radius)};
-        for (int mask = 1; mask < 8; ++mask) {
-            bool on = true;
-            for (int a = 0; a < 3; ++a) on = on && (!(mask & (1 << a)) || symmetry.mirror[static_cast<size_t>(a)]);
-            const Eigen::Vector3d image = core::reflectPoint(centre, mask, frame);
-            // (an image on the circle itself, the grabbed point on the plane, is drawn once)
-            if (on && (image - centre).norm() > 1e-3 * radius)
-                loops.push_back(circle(image, facing ? normal : core::reflectVector(normal, mask, frame), radius));
-        }
+        const std::vector<core::MirroredConstraint> images = core::mirrorConstraints({centre}, {}, tools.brush.settings.symmetry, frame, 1e-3 * radius);
+        std::vector<Positions> loops;
+        for (const core::MirroredConstraint& image : images)
+            loops.push_back(circle(image.source, facing ? normal : core::reflectVector(normal, image.images.front().second, frame), radius));
         Positions all(static_cast<Eigen::Index>(loops.size()) * loops.front().rows(), 3);
         for (size_t k = 0; k < loops.size(); ++k) all.middleRows(static_cast<Eigen::Index>(k) * loops.front().rows(), loops.front().rows()) = loops[k];
         view.outlineLoop = static_cast<int>(loops.front().rows());
