@@ -318,8 +318,16 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
         return w;
     };
 
-    // The longest edge of t in the current shape, as its local corner; ties go to the larger id pair, so
-    // "longer" is a strict order on edges and a longest-edge path never comes back (it ends).
+    const auto restLengthSq = [&](int a, int b) { return (restPoint(a) - restPoint(b)).squaredNorm(); };
+    // The longest edge of t in rest space, as its local corner; ties go to the larger id pair, so "longer" is a
+    // strict order on edges and a longest-edge path never comes back (it ends).
+    // note: in rest space, where each split puts its vertex at the edge's midpoint, Rivara's bound holds: the
+    // triangles keep their angles and the edges shrink. In the current shape the new vertex is the image of
+    // that midpoint, not the midpoint of the edge's image: where a field squeezes space to a quarter along one
+    // direction (brush_field.h, ahead of a long pull), the current shape's longest edge was split again and
+    // again towards a fixed pair of points (a stroke's plan on CGAL's camel held 6,852 triangles with coinciding
+    // corners). The image of a well-shaped rest triangle is as well shaped as the map's gradient allows; a
+    // triangle stretched along one edge is split again in a later round while it strays over the tolerance.
     const auto longestCorner = [&](int t) {
         const Corners& c = mesh.triangle(t);
         int best = 0;
@@ -327,7 +335,7 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
         std::uint64_t bestKey = 0;
         for (int k = 0; k < 3; ++k) {
             const int a = c[static_cast<size_t>(k)], b = c[static_cast<size_t>((k + 1) % 3)];
-            const double length = (currentPoints[static_cast<size_t>(a)] - currentPoints[static_cast<size_t>(b)]).squaredNorm();
+            const double length = restLengthSq(a, b);
             const std::uint64_t key = edgeKey(a, b);
             if (length > bestLength || (length == bestLength && key > bestKey)) {
                 best = k;
@@ -363,7 +371,6 @@ Status refineMesh(const Positions& rest, const Positions& current, const Triangl
         }
         return true;
     };
-    const auto restLengthSq = [&](int a, int b) { return (restPoint(a) - restPoint(b)).squaredNorm(); };
     // Rivara's LEPP bisection of t: follow the longest-edge propagation path from t to its terminal edge (the
     // longest edge of both triangles sharing it, or a boundary edge), split that, and repeat until t itself
     // is halved. False at the vertex limit.

@@ -135,7 +135,7 @@ struct RefinementResult {
 // Refines the mesh (rest positions, current positions = image(rest) at the vertices, triangles) until every
 // triangle's triangleDeviation is within options.tolerance times the diagonal of the current bounding box, or
 // a limit of `options` is reached (result.stopped says which). Each round bisects every triangle over the
-// tolerance once by its longest edge in the current shape, along its longest-edge propagation path (Rivara's
+// tolerance once by its longest edge in rest space, along its longest-edge propagation path (Rivara's
 // LEPP bisection: the neighbour across the edge is bisected first where the edge is not its own longest), so
 // the mesh stays conforming, keeps its orientation, and its triangles do not degenerate into slivers. New
 // vertices get rest position = the midpoint of the rest edge and current position = image(that midpoint).

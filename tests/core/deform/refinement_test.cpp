@@ -3,11 +3,13 @@
 // the mesh stays conforming and consistently oriented; undo takes back exactly what was added, bitwise.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
 
+#include "core/deform/brush_field.h"
 #include "core/deform/refinement.h"
 #include "core/session/session.h"
 #include "../mesh_fixtures.h"
@@ -524,4 +526,61 @@ TEST_CASE("refinement: a group with refinements undoes and redoes as one entry",
     // A set-up after a refinement cannot join its group.
     REQUIRE(session.setupLattice(ridgeLattice(), report).ok);
     REQUIRE_FALSE(session.groupOperations(0, "").ok);
+}
+
+// A brush's field squeezes the space ahead of a long pull to a quarter of its length (brush_field.h), so the image
+// of a rest edge's midpoint lies far from the middle of the edge's image. Splitting the longest edge of the current
+// shape then split the edges of one triangle towards a fixed pair of points, again and again (a stroke's plan on
+// CGAL's camel held 6,852 triangles whose corners coincided, and its crossing search took 15 s): the longest-edge
+// bisection is made in rest space, where Rivara's bound keeps every triangle's angles.
+TEST_CASE("refinement: under a brush field that squeezes space, no split makes triangles with coinciding corners, and rest angles keep Rivara's bound", "[refine]") {
+    std::mt19937 rng(4242);
+    for (int trial = 0; trial < 12; ++trial) {
+        Positions rest;
+        Triangles triangles;
+        test::icosphere(2 + trial % 2, 1.0, Eigen::Vector3d::Zero(), rest, triangles);
+        // A pull of 2-3 radii from a random vertex, along its normal, a tangent or inward, with a random falloff.
+        const int v = test::randomInt(rng, 0, static_cast<int>(rest.rows()) - 1);
+        const double radius = std::uniform_real_distribution<double>(0.2, 0.5)(rng);
+        const Eigen::Vector3d n = rest.row(v).transpose().normalized();
+        const Eigen::Vector3d direction = trial % 3 == 0 ? n : trial % 3 == 1 ? n.unitOrthogonal() : Eigen::Vector3d(-n);
+        const BrushPull pull{rest.row(v).transpose(), std::uniform_real_distribution<double>(2.0, 3.0)(rng) * radius * direction};
+        const BrushFalloff falloff = static_cast<BrushFalloff>(trial / 3 % 3);
+        const RestImage image = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+            return x + brushFieldWeight(pull, radius, falloff, x) * pull.pull;
+        };
+        Positions current(rest.rows(), 3);
+        for (Eigen::Index r = 0; r < rest.rows(); ++r) current.row(r) = image(rest.row(r).transpose()).transpose();
+        RefinementOptions options;
+        options.tolerance = 0.02 * radius / diagonalOf(current);
+        options.maxRounds = 6;
+        options.shortestEdge = 0.04 * radius;
+        RefinementResult result;
+        REQUIRE(refineMesh(rest, current, triangles, image, options, result).ok);
+        INFO("trial " << trial << ": " << result.splits.size() << " splits, " << result.rounds << " rounds");
+        REQUIRE(!result.splits.empty());
+        requireConforming(result.rest, result.triangles, triangles);
+        // The smallest angle of a triangle in rest space; Rivara: longest-edge bisection keeps at least half the
+        // smallest angle the mesh began with.
+        const auto smallestAngle = [](const Positions& x, const Triangles& t, Eigen::Index row) {
+            double smallest = M_PI;
+            for (int k = 0; k < 3; ++k) {
+                const Eigen::Vector3d a = x.row(t(row, k)).transpose(), b = x.row(t(row, (k + 1) % 3)).transpose(), c = x.row(t(row, (k + 2) % 3)).transpose();
+                smallest = std::min(smallest, std::acos(std::clamp((b - a).normalized().dot((c - a).normalized()), -1.0, 1.0)));
+            }
+            return smallest;
+        };
+        double before = M_PI, after = M_PI;
+        for (Eigen::Index t = 0; t < triangles.rows(); ++t) before = std::min(before, smallestAngle(rest, triangles, t));
+        for (Eigen::Index t = 0; t < result.triangles.rows(); ++t) after = std::min(after, smallestAngle(result.rest, result.triangles, t));
+        CHECK(after >= 0.5 * before);
+        // No triangle has coinciding or collinear corners at the image (the field is injective: det J >= 0.25).
+        int degenerate = 0;
+        for (Eigen::Index t = 0; t < result.triangles.rows(); ++t) {
+            const Eigen::Vector3d a = result.current.row(result.triangles(t, 0)).transpose(), b = result.current.row(result.triangles(t, 1)).transpose(),
+                                  c = result.current.row(result.triangles(t, 2)).transpose();
+            degenerate += (b - a).cross(c - a).norm() <= 1e-12 * (b - a).squaredNorm() + 1e-300;
+        }
+        CHECK(degenerate == 0);
+    }
 }
