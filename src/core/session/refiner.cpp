@@ -5,7 +5,11 @@
 #include <algorithm>
 #include <cassert>
 #include <cstdio>
+#include <limits>
+#include <optional>
 
+#include "core/injectivity/self_intersection.h"
+#include "core/injectivity/triangle_pair.h"
 #include "core/session/session.h"
 #include "core/session/session_internal.h"
 
@@ -26,6 +30,94 @@ std::string deviationText(double deviation, double diagonal) {
 double boundingDiagonal(const Positions& positions) {
     if (positions.rows() == 0) return 0.0;
     return (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+}
+
+// Refines `plan` (refineMesh's result: rest, current = target(rest), triangles) further where two of its
+// triangles cross at the target while the target map is injective: a brush's field pushes what lies ahead of
+// the pull on to (1 - k) of its distance (brush_field.h), and flat triangles long against the squeezed gap cut
+// through each other however closely they follow the field. Each round bisects every triangle of such a pair
+// once (refineMesh, one round, longest edge first, no rest edge shorter than shortestEdge), each new vertex at
+// its image, until no pair crosses, `rounds` rounds, or plan holds maxVertices vertices. A pair whose
+// triangles cross as the mesh is now (`now`: rest point -> world, the shape before the pull; the first
+// `nowKnown.rows()` vertices' positions given) was there before the pull (a mesh loaded with parts in
+// contact) and does not count. Since the image is injective, the crossings close as the triangles shrink.
+constexpr int kCrossingRounds = 8;
+constexpr double kCrossingShortestEdge = 0.25;  // of refineUnderPull's shortest edge
+
+void refineWhereCrossing(RefinementResult& plan, const RestImage& target, const RestImage& now, const Positions& nowKnown,
+                         double shortestEdge, int maxVertices, int rounds) {
+    std::vector<std::optional<Eigen::Vector3d>> nowAt;
+    const auto nowPosition = [&](int v) -> Eigen::Vector3d {
+        if (v < nowKnown.rows()) return nowKnown.row(v).transpose();
+        if (nowAt.size() <= static_cast<size_t>(v)) nowAt.resize(static_cast<size_t>(v) + 1);
+        if (!nowAt[static_cast<size_t>(v)]) nowAt[static_cast<size_t>(v)] = now(plan.rest.row(v).transpose());
+        return *nowAt[static_cast<size_t>(v)];
+    };
+    const auto corners = [&](int t, bool before) {
+        TriangleCorners c;
+        for (int k = 0; k < 3; ++k) {
+            c.vertex[static_cast<size_t>(k)] = plan.triangles(t, k);
+            c.point[static_cast<size_t>(k)] = before ? nowPosition(plan.triangles(t, k)) : Eigen::Vector3d(plan.current.row(plan.triangles(t, k)).transpose());
+        }
+        return c;
+    };
+    int firstCount = std::numeric_limits<int>::max() / 4;
+    for (int round = 0; round < rounds && plan.rest.rows() < maxVertices; ++round) {
+        std::vector<std::uint8_t> selected(static_cast<size_t>(plan.triangles.rows()), 0);
+        int selectedCount = 0;
+        for (const TrianglePairHit& hit : findSelfIntersections(plan.current, plan.triangles)) {
+            if (trianglesIntersect(corners(hit.first, true), corners(hit.second, true))) continue;
+            for (int t : {hit.first, hit.second})
+                if (!selected[static_cast<size_t>(t)]) selected[static_cast<size_t>(t)] = 1, ++selectedCount;
+        }
+        // Crossings that multiply as the triangles shrink are not the flat triangles' (the planned image folds
+        // there): the pull's own check will say so. (Where the sheets touch, as at a load contact, they stay: the
+        // rounds and the shortest edge bound the splits.)
+        if (selectedCount == 0 || selectedCount > 4 * firstCount) return;
+        if (round == 0) firstCount = selectedCount;
+        // The selected triangles' own mesh, in plan's numbering through `global`.
+        std::vector<int> global, local(static_cast<size_t>(plan.rest.rows()), -1);
+        Triangles part(selectedCount, 3);
+        int row = 0;
+        for (Eigen::Index t = 0; t < plan.triangles.rows(); ++t) {
+            if (!selected[static_cast<size_t>(t)]) continue;
+            for (int k = 0; k < 3; ++k) {
+                const int v = plan.triangles(t, k);
+                if (local[static_cast<size_t>(v)] < 0) {
+                    local[static_cast<size_t>(v)] = static_cast<int>(global.size());
+                    global.push_back(v);
+                }
+                part(row, k) = local[static_cast<size_t>(v)];
+            }
+            ++row;
+        }
+        const int count = static_cast<int>(global.size());
+        Positions rest(count, 3), current(count, 3);
+        for (int c = 0; c < count; ++c) {
+            rest.row(c) = plan.rest.row(global[static_cast<size_t>(c)]);
+            current.row(c) = plan.current.row(global[static_cast<size_t>(c)]);
+        }
+        RefinementOptions options;
+        options.tolerance = 1e-12;  // every selected triangle is over it: each is bisected once
+        options.maxRounds = 1;
+        options.shortestEdge = shortestEdge;
+        options.maxVertices = count + (maxVertices - static_cast<int>(plan.rest.rows()));
+        RefinementResult split;
+        if (Status s = refineMesh(rest, current, part, target, options, split); !s || split.splits.empty()) return;
+        // The bisections in plan's numbering (applyEdgeSplits halves the neighbours outside the selection too,
+        // so plan stays conforming); the new vertices keep the images refineMesh found.
+        const int first = static_cast<int>(plan.rest.rows());
+        std::vector<EdgeSplit> splits;
+        for (const EdgeSplit& e : split.splits) {
+            const auto toPlan = [&](int v) { return v < count ? global[static_cast<size_t>(v)] : first + (v - count); };
+            splits.push_back({toPlan(e.a), toPlan(e.b)});
+        }
+        if (Status s = applyEdgeSplits(plan.triangles, first, splits); !s) return;
+        appendSplitMidpoints(plan.rest, splits);
+        plan.current.conservativeResize(plan.rest.rows(), 3);
+        for (size_t k = 0; k < splits.size(); ++k) plan.current.row(first + static_cast<Eigen::Index>(k)) = split.current.row(count + static_cast<Eigen::Index>(k));
+        plan.splits.insert(plan.splits.end(), splits.begin(), splits.end());
+    }
 }
 
 }  // namespace
@@ -190,7 +282,14 @@ bool Refiner::refineUnderPull(const std::vector<int>& triangles, const RestImage
     // tolerance, would otherwise split without end).
     options.maxVertices = std::min(options.maxVertices, 4 * count + 5000);
     RefinementResult plan;
-    if (Status s = refineMesh(rest, atTarget, part, target, options, plan); !s || plan.splits.empty()) return false;
+    if (Status s = refineMesh(rest, atTarget, part, target, options, plan); !s) return false;
+    // Then where the field squeezes two sheets closer than the flat triangles follow it.
+    Positions nowKnown(count, 3);
+    for (int c = 0; c < count; ++c) nowKnown.row(c) = s_.mesh_.positions.row(global[static_cast<size_t>(c)]);
+    const LatticeStack& stack = s_.stack_;
+    const RestImage now = [&stack](const Eigen::Vector3d& point) { return stack.imageOfRestPoint(point); };
+    refineWhereCrossing(plan, target, now, nowKnown, kCrossingShortestEdge * shortestEdge, options.maxVertices, kCrossingRounds);
+    if (plan.splits.empty()) return false;
     // The splits in the whole mesh's numbering: a vertex the plan added is numbered after the mesh's.
     RefinementRecord piece;
     piece.tolerance = tolerance;

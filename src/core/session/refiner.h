@@ -65,7 +65,10 @@ private:
     // `triangles` (ids) where their image under `target` (rest point -> world, the shape at the stroke's whole
     // pull) strays from flat by more than `tolerance` (world units), as refineMesh does (longest-edge bisection,
     // at most 6 rounds, no rest edge shorter than `shortestEdge` split (world units, > 0), and at most 4 times the
-    // listed triangles' vertices plus 5000 more, within settings().options.maxVertices), applied now (each new vertex where the
+    // listed triangles' vertices plus 5000 more, within settings().options.maxVertices); then, where two of the
+    // split triangles still cross at the target while they did not before (the field squeezes the space ahead of a
+    // long pull to a quarter: brush_field.h), those two are bisected again, down to a quarter of `shortestEdge`,
+    // up to 8 rounds while the crossings become fewer. Applied now (each new vertex where the
     // deformation as it is now takes its rest point) with the triangle check, and appended to `record` (splits
     // and halvings). False when nothing was split or the check refused it (nothing changed then);
     // report.verticesAdded and trianglesAdded grow by what was added.
