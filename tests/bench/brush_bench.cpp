@@ -92,6 +92,12 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
             std::mt19937 rng(2026);
             std::uniform_real_distribution<double> unit(0.0, 1.0);
             int full = 0, stopped = 0, refused = 0, crossings = 0, unrestored = 0, shapeCrosses = 0;
+            // Symmetric strokes whose pull carries the grabbed point across the mirror plane (x through the box's
+            // centre): its mirror image is pulled across the other way, and the two meet on the plane, which no
+            // injective symmetric deformation does (they stop there, "by symmetry", unless the mesh's sides differ
+            // enough that the images miss each other). Counted apart, with the share in full of the others.
+            int acrossMirror = 0, fullNotAcross = 0;
+            const double mirrorX = 0.5 * (positions.col(0).maxCoeff() + positions.col(0).minCoeff());
             std::map<std::string, int> stoppedBy;  // what stopped or refused a stroke: "triangles", "lattice", ...
             int fullByKind[3] = {0, 0, 0}, strokesByKind[3] = {0, 0, 0};
             std::vector<double> profiles, moveMs, reachedOfShapeLimit, addedVertices;
@@ -111,6 +117,9 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
                 OpReport report;
                 session.dragVertex(v, source + pull * direction, report, brush);
                 moveMs.push_back(report.wallMs);
+                const bool across = brush.symmetry.any() && (source.x() - mirrorX) * (source.x() + pull * direction.x() - mirrorX) <= 0.0;
+                acrossMirror += across;
+                fullNotAcross += !across && report.status == OpStatus::Applied && report.fractionApplied == 1.0;
                 ++strokesByKind[kind];
                 if (report.status != OpStatus::Applied || report.fractionApplied < 1.0) {
                     ++stoppedBy[report.refusedBy.empty() ? std::string("other") : report.refusedBy];
@@ -207,11 +216,11 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
             }
             std::string by;
             for (const auto& [what, count] : stoppedBy) by += (by.empty() ? "" : ", ") + ("\"" + what + "\": " + std::to_string(count));
-            char extra[1000];
+            char extra[1400];
             std::snprintf(extra, sizeof extra,
-                          "\"mesh\": \"%s\", \"applied_in_full\": %d, \"stopped_short\": %d, \"refused\": %d, \"falloff_shape_crosses_at_target\": %d, \"applied_in_full_of_the_rest\": %.3f, \"reached_of_falloff_shape_limit_median\": %.2f, \"profile_rms_median\": %.3f, "
+                          "\"mesh\": \"%s\", \"applied_in_full\": %d, \"stopped_short\": %d, \"refused\": %d, \"falloff_shape_crosses_at_target\": %d, \"applied_in_full_of_the_rest\": %.3f, \"across_mirror_plane\": %d, \"applied_in_full_not_across_mirror_plane\": \"%d/%d\", \"reached_of_falloff_shape_limit_median\": %.2f, \"profile_rms_median\": %.3f, "
                           "\"profiles\": %zu, \"vertices_added_median_max\": [%.0f, %.0f], \"crossing_pairs\": %d, \"shifted_load_contact_pairs\": %d, \"full_normal_tangent_inward\": [\"%d/%d\", \"%d/%d\", \"%d/%d\"], \"stopped_by\": {%s}, \"not_restored\": %d",
-                          name, full, stopped, refused, shapeCrosses, full / std::max(1.0, 100.0 - shapeCrosses),
+                          name, full, stopped, refused, shapeCrosses, full / std::max(1.0, 100.0 - shapeCrosses), acrossMirror, fullNotAcross, 100 - acrossMirror,
                           reachedOfShapeLimit.empty() ? NAN : median(reachedOfShapeLimit), profiles.empty() ? NAN : median(profiles), profiles.size(),
                           addedVertices.empty() ? 0.0 : median(addedVertices), addedVertices.empty() ? 0.0 : *std::max_element(addedVertices.begin(), addedVertices.end()), crossings, shiftedContacts,
                           fullByKind[0], strokesByKind[0], fullByKind[1], strokesByKind[1], fullByKind[2], strokesByKind[2], by.c_str(), unrestored);

@@ -327,8 +327,13 @@ private:
     friend class ToolLibrary;
     friend class TSplineTools;
     // While applyBrushPulls runs: the vertices its regions can reach (ascending), the only ones a region layer
-    // entered then embeds (a stroke's region holds thousands of a million vertices).
+    // entered then embeds and the only ones popping its layers can move (a stroke's region holds thousands of a
+    // million vertices).
     const std::vector<int>* layerCandidates_ = nullptr;
+    // While applyBrushPulls runs, its layers popped down to none: the cage's output is kept (it equals the
+    // positions then, and nothing but the stroke moves them before its next layer), so entering that layer
+    // copies no million rows (brush_move_1m: a 24 MB copy into fresh pages, and their release, each update).
+    bool cageOutKept_ = false;
 
 public:
     // Refinement where the surface stretches (Coquillart 1990, 3.4; refiner.h): refine, the automatic setting,

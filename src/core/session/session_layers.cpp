@@ -88,7 +88,8 @@ Status Session::enterLayer(Progress* progress, Step* placed, const Step* recorde
         placed->region = region;
         placed->regionFree = free;
     }
-    if (stack_.layers_.empty()) stack_.cageOut_ = mesh_.positions;
+    if (stack_.layers_.empty() && !(cageOutKept_ && stack_.cageOut_.rows() == mesh_.positions.rows())) stack_.cageOut_ = mesh_.positions;
+    cageOutKept_ = false;
     layer.settings = settings;
     stack_.layers_.push_back(std::move(layer));
     if (region && layerCandidates_) embedVertices(stack_.layers_.back().lattice, mesh_.positions, stack_.layerEmbedding_, *layerCandidates_);
@@ -112,24 +113,30 @@ void Session::popLayers(size_t count, std::vector<int>* moved) {
     stack_.newestLayersBounds(count, lo, hi);
     stack_.layers_.resize(stack_.layers_.size() - count);
     stack_.layerActive_ = false;
-    const int n = static_cast<int>(mesh_.positions.rows());
+    // In a brush stroke only its candidates can have moved (applyBrushPulls: its layers are its regions).
+    const std::vector<int>* among = layerCandidates_;
+    const int n = among ? static_cast<int>(among->size()) : static_cast<int>(mesh_.positions.rows());
     std::vector<std::uint8_t> changed(static_cast<size_t>(n), 0);
 #pragma omp parallel for schedule(static) if (n > 4096)
-    for (int v = 0; v < n; ++v) {
+    for (int c = 0; c < n; ++c) {
+        const int v = among ? (*among)[static_cast<size_t>(c)] : c;
         const Eigen::Vector3d y = mesh_.positions.row(v).transpose();
         if (!((y.array() >= lo.array()).all() && (y.array() <= hi.array()).all())) continue;
         const Eigen::Vector3d x = stack_.pushThroughLayers(stack_.cageOut_.row(v).transpose());
         if (x != y) {
             mesh_.positions.row(v) = x.transpose();
-            changed[static_cast<size_t>(v)] = 1;
+            changed[static_cast<size_t>(c)] = 1;
         }
     }
     std::vector<int> list;
-    for (int v = 0; v < n; ++v)
-        if (changed[static_cast<size_t>(v)]) list.push_back(v);
+    for (int c = 0; c < n; ++c)
+        if (changed[static_cast<size_t>(c)]) list.push_back(among ? (*among)[static_cast<size_t>(c)] : c);
     positionsChanged(&list);
     if (moved) moved->insert(moved->end(), list.begin(), list.end());
-    if (stack_.layers_.empty()) stack_.cageOut_.resize(0, 3);
+    if (stack_.layers_.empty()) {
+        if (layerCandidates_) cageOutKept_ = true;
+        else stack_.cageOut_.resize(0, 3);
+    }
 }
 
 // ---- frames (lattice set-ups) ---------------------------------------------------------------------------

@@ -74,10 +74,21 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     std::vector<int> candidates;
     Positions rowsBefore;
     const auto findCandidates = [&] {
+        // (a scan of every vertex, in chunks in parallel, each chunk's in order: on a million vertices the scan is
+        // a sixth of a brush move)
+        const Positions& x = s_.mesh_.positions;
+        const int n = static_cast<int>(x.rows());
+        constexpr int kChunk = 65536;
+        const int chunks = (n + kChunk - 1) / kChunk;
+        std::vector<std::vector<int>> found(static_cast<size_t>(chunks));
+#pragma omp parallel for schedule(dynamic, 1) if (chunks > 1)
+        for (int chunk = 0; chunk < chunks; ++chunk)
+            for (int v = chunk * kChunk; v < std::min(n, (chunk + 1) * kChunk); ++v)
+                if (x(v, 0) >= reachLo[0] && x(v, 0) <= reachHi[0] && x(v, 1) >= reachLo[1] && x(v, 1) <= reachHi[1] && x(v, 2) >= reachLo[2] &&
+                    x(v, 2) <= reachHi[2])
+                    found[static_cast<size_t>(chunk)].push_back(v);
         candidates.clear();
-        for (Eigen::Index v = 0; v < s_.mesh_.positions.rows(); ++v)
-            if ((s_.mesh_.positions.row(v).transpose().array() >= reachLo.array()).all() && (s_.mesh_.positions.row(v).transpose().array() <= reachHi.array()).all())
-                candidates.push_back(static_cast<int>(v));
+        for (const std::vector<int>& part : found) candidates.insert(candidates.end(), part.begin(), part.end());
         rowsBefore.resize(static_cast<Eigen::Index>(candidates.size()), 3);
         for (size_t c = 0; c < candidates.size(); ++c) rowsBefore.row(static_cast<Eigen::Index>(c)) = s_.mesh_.positions.row(candidates[c]);
     };
@@ -497,6 +508,10 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     }
     (void)moved;
     s_.layerCandidates_ = nullptr;
+    if (s_.cageOutKept_) {  // the stroke ends this update with no layer: no cage output without layers
+        s_.cageOutKept_ = false;
+        if (s_.stack_.layers_.empty()) s_.stack_.cageOut_.resize(0, 3);
+    }
     s_.lastMoved_.vertices.clear();
     for (size_t c = 0; c < candidates.size(); ++c)
         if (s_.mesh_.positions.row(candidates[c]) != rowsBefore.row(static_cast<Eigen::Index>(c))) s_.lastMoved_.vertices.push_back(candidates[c]);
