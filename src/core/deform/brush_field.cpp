@@ -233,15 +233,49 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
     // bound, so e . grad(u . e) >= -k and det J >= 1 - k > 0 (brushFieldWeight): injective at any pull length,
     // where a sum of the two fields would meet each source less its neighbour's share, and scaling that up to
     // the pull folds the space beside close images at once.
-    bool opposed = false;
+    bool opposed = false, converging = false;
     Eigen::Vector3d line = Eigen::Vector3d::Zero();
     if (m == 2 && !joint) {
         const BrushPull& p0 = pulls[moving[0]];
         const BrushPull& p1 = pulls[moving[1]];
         line = p0.pull.normalized();
-        opposed = line.dot(p1.pull.normalized()) <= -1.0 + 1e-9 && (p0.source - p1.source).dot(line) > 1e-9 * radius;
+        const bool alongOneLine = line.dot(p1.pull.normalized()) <= -1.0 + 1e-9;
+        opposed = alongOneLine && (p0.source - p1.source).dot(line) > 1e-9 * radius;
+        converging = alongOneLine && (p1.source - p0.source).dot(line) > 1e-9 * radius;
     }
-    if (opposed) {
+    if (converging) {
+        // Two pulls along one line towards each other (mirror images pulled inward beside their plane, each at
+        // distance h from the midpoint): each side's field is the falloff of the distance behind its source and,
+        // ahead of it, the falloff of the lateral distance times a ramp that falls to 0 over
+        // L = min(h, |d| + 0.75 r) (so the two ramps never overlap, and nothing beyond 1.25 r of the pull's segment
+        // moves). At any point one side's field acts, rising towards its source from behind and falling by at most
+        // 1 / L per unit ahead, so e . grad(u . e) >= -|d| / L and det J >= 1 - |d| / L > 0 while |d| < h: every
+        // pull that stops short of the midpoint (the mirror plane) is injective, where the two fields summed, each
+        // falling by up to k / |d| ahead, fold the space between them at once (k >= 0.7: 1 - 2k < 0).
+        const BrushPull& p0 = pulls[moving[0]];
+        const BrushPull& p1 = pulls[moving[1]];
+        const double h = 0.5 * (p1.source - p0.source).dot(line);
+        const auto side = [&](const BrushPull& p, const Eigen::Vector3d& e, const Eigen::Vector3d& x) {
+            const Eigen::Vector3d offset = x - p.source;
+            const double z = offset.dot(e), lateral = (offset - z * e).norm();
+            if (z <= 0.0) return brushFieldProfile(falloff, offset.norm() / radius);
+            const double ramp = std::min(h, p.pull.norm() + 0.75 * radius);
+            return brushFieldProfile(falloff, lateral / radius) * std::max(0.0, 1.0 - z / ramp);
+        };
+        Eigen::VectorXd along = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(free.size()));
+        for (size_t c = 0; c < free.size(); ++c) {
+            const Eigen::Vector3d x = region.restControlPoint(free[c]);
+            along[static_cast<Eigen::Index>(c)] = p0.pull.norm() * side(p0, line, x) - p1.pull.norm() * side(p1, -line, x);
+        }
+        double num = 0.0, den = 0.0;
+        for (size_t i = 0; i < 2; ++i) {
+            const double atSource = splineAt(rowOf[i], 0.0, [&](int c) { return along[c]; });
+            num += atSource * pulls[moving[i]].pull.dot(line);
+            den += atSource * atSource;
+        }
+        const double scale = den > 0.0 && std::isfinite(num / den) ? num / den : 1.0;
+        for (size_t c = 0; c < free.size(); ++c) dense.row(static_cast<Eigen::Index>(c)) = (scale * along[static_cast<Eigen::Index>(c)]) * line.transpose();
+    } else if (opposed) {
         const BrushPull& p0 = pulls[moving[0]];
         const BrushPull& p1 = pulls[moving[1]];
         const double middle = 0.5 * (p0.source + p1.source).dot(line), half = 0.5 * (p0.source - p1.source).dot(line);

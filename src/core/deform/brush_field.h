@@ -90,7 +90,11 @@ Status pullRegionLattice(const std::vector<BrushPull>& pulls, double radius, Reg
 // line e, each source on the side it is pulled to (mirror images pulled apart across their plane): one field
 // along e, S(t) |d_side| phi_side with S = clamp(t / delta, -1, 1), t the signed distance along e from the
 // sources' midpoint, delta half their distance, side the pull on t's side; det J >= 1 - k as for one pull,
-// one scale), then corrected by the minimum-norm
+// one scale; two pulls along one line towards each other, each source at h from their midpoint (mirror images
+// pulled inward beside their plane): one field along e, each side the falloff of the distance behind its source
+// and, ahead of it, the falloff of the lateral distance times a ramp to 0 over min(h, |d| + 0.75 r), the two
+// ramps apart; det J >= 1 - |d| / min(h, |d| + 0.75 r), > 0 while the pull stops short of the midpoint, one
+// scale), then corrected by the minimum-norm
 // solution (Hu et al. 2001, eq. 7 / 12) for what the scales leave: the held sources' displacement and the
 // cross-talk of overlapping regions. residual: the largest distance of a source from its target afterwards
 // (world units; 0 up to rounding unless the free points cannot reach a source).
