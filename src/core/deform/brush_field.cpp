@@ -233,8 +233,20 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
     // bound, so e . grad(u . e) >= -k and det J >= 1 - k > 0 (brushFieldWeight): injective at any pull length,
     // where a sum of the two fields would meet each source less its neighbour's share, and scaling that up to
     // the pull folds the space beside close images at once.
-    bool opposed = false, converging = false;
+    // The field `along` (per free point) along `line` for two pulls on that line: one scale (the quasi-interpolant
+    // lowers a peak), least squares over the two sources; the correction below meets what is left.
     Eigen::Vector3d line = Eigen::Vector3d::Zero();
+    const auto alongLine = [&](const Eigen::VectorXd& along) {
+        double num = 0.0, den = 0.0;
+        for (size_t i = 0; i < 2; ++i) {
+            const double atSource = splineAt(rowOf[i], 0.0, [&](int c) { return along[c]; });
+            num += atSource * pulls[moving[i]].pull.dot(line);
+            den += atSource * atSource;
+        }
+        const double scale = den > 0.0 && std::isfinite(num / den) ? num / den : 1.0;
+        for (size_t c = 0; c < free.size(); ++c) dense.row(static_cast<Eigen::Index>(c)) = (scale * along[static_cast<Eigen::Index>(c)]) * line.transpose();
+    };
+    bool opposed = false, converging = false;
     if (m == 2 && !joint) {
         const BrushPull& p0 = pulls[moving[0]];
         const BrushPull& p1 = pulls[moving[1]];
@@ -267,14 +279,7 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
             const Eigen::Vector3d x = region.restControlPoint(free[c]);
             along[static_cast<Eigen::Index>(c)] = p0.pull.norm() * side(p0, line, x) - p1.pull.norm() * side(p1, -line, x);
         }
-        double num = 0.0, den = 0.0;
-        for (size_t i = 0; i < 2; ++i) {
-            const double atSource = splineAt(rowOf[i], 0.0, [&](int c) { return along[c]; });
-            num += atSource * pulls[moving[i]].pull.dot(line);
-            den += atSource * atSource;
-        }
-        const double scale = den > 0.0 && std::isfinite(num / den) ? num / den : 1.0;
-        for (size_t c = 0; c < free.size(); ++c) dense.row(static_cast<Eigen::Index>(c)) = (scale * along[static_cast<Eigen::Index>(c)]) * line.transpose();
+        alongLine(along);
     } else if (opposed) {
         const BrushPull& p0 = pulls[moving[0]];
         const BrushPull& p1 = pulls[moving[1]];
@@ -286,16 +291,7 @@ Status brushFieldDelta(const Lattice& region, const std::vector<BrushPull>& pull
             along[static_cast<Eigen::Index>(c)] =
                 ramp * (t >= 0.0 ? p0.pull.norm() * fields[0][static_cast<Eigen::Index>(c)] : p1.pull.norm() * fields[1][static_cast<Eigen::Index>(c)]);
         }
-        // One scale (the quasi-interpolant lowers a peak), least squares over the two sources; the correction
-        // below meets what is left.
-        double num = 0.0, den = 0.0;
-        for (size_t i = 0; i < 2; ++i) {
-            const double atSource = splineAt(rowOf[i], 0.0, [&](int c) { return along[c]; });
-            num += atSource * pulls[moving[i]].pull.dot(line);
-            den += atSource * atSource;
-        }
-        const double scale = den > 0.0 && std::isfinite(num / den) ? num / den : 1.0;
-        for (size_t c = 0; c < free.size(); ++c) dense.row(static_cast<Eigen::Index>(c)) = (scale * along[static_cast<Eigen::Index>(c)]) * line.transpose();
+        alongLine(along);
     } else if (joint) {
         // One field along the shared direction: the largest pull share at each point (max keeps every pull's
         // slope bound along e; a sum would add them). Each source's own pull is met where its field is largest;

@@ -48,6 +48,40 @@ Mesh sphere() {
     return m;
 }
 
+// The plain falloff shape of a symmetric stroke at its target (each vertex moved by the falloff of its rest distance
+// from the grabbed point and from its mirror image, along the mirrored pull, nothing else): true when it crosses
+// nothing the mesh did not cross at load (the stroke asks nothing the falloff alone cannot carry).
+bool mirroredFalloffShapeClear(const Mesh& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& source, const Eigen::Vector3d& target,
+                               const BrushSettings& brush, const std::vector<std::pair<int, int>>& atLoad) {
+    Positions shape = mesh.positions;
+    for (int mask = 0; mask <= 1; ++mask) {
+        const Eigen::Vector3d grab = reflectPoint(source, mask, SymmetryFrame{centre}), move = reflectPoint(target, mask, SymmetryFrame{centre}) - grab;
+        for (Eigen::Index r = 0; r < shape.rows(); ++r) {
+            const double rho = (mesh.positions.row(r).transpose() - grab).norm();
+            if (rho < brush.radius) shape.row(r) += brushProfile(brush.falloff, rho / brush.radius) * move.transpose();
+        }
+    }
+    return test::intersectingPairs(shape, mesh.triangles) == atLoad;
+}
+
+// A scripted stroke of vertex v to `target` on a fresh session: it applies (in full or stopped short), the grabbed
+// point lands on the share it reached, no triangle crosses that did not at load, and undo is exact. True when in full.
+bool strokeLandsUncrossed(const Mesh& mesh, int v, const Eigen::Vector3d& target, const BrushSettings& brush, const std::vector<std::pair<int, int>>& atLoad) {
+    const Eigen::Vector3d source = mesh.positions.row(v).transpose();
+    Session session;
+    REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
+    OpReport report;
+    REQUIRE(session.dragVertex(v, target, report, brush).ok);
+    INFO("vertex " << v << ", pull " << (target - source).norm() / brush.radius << " r, radius " << brush.radius / mesh.diagonal << ": " << report.reason);
+    REQUIRE(report.status == OpStatus::Applied);
+    const Eigen::Vector3d reached = source + report.fractionApplied * (target - source);
+    CHECK((session.mesh().positions.row(v).transpose() - reached).norm() <= 1e-9 * mesh.diagonal);
+    CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles) == atLoad);
+    REQUIRE(session.undo(report).ok);
+    CHECK((session.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+    return report.fractionApplied == 1.0;
+}
+
 std::vector<int> unpinned(const Lattice& lattice) {
     std::vector<int> ids;
     for (int idx = 0; idx < lattice.controlPointCount(); ++idx)
@@ -421,28 +455,9 @@ TEST_CASE("brush: mirror images within reach whose pulls part (outward beside th
         if (offPlane < 0.2 * brush.radius || 2.0 * offPlane > 2.0 * kBrushReach * brush.radius || n.dot(imageNormal) > std::cos(30.0 * M_PI / 180.0)) continue;
         const double pull = std::uniform_real_distribution<double>(0.3, 2.5)(rng) * brush.radius;
         // The falloff shape of both images at the target crosses nothing new.
-        Positions shape = mesh.positions;
-        for (int mask = 0; mask <= 1; ++mask) {
-            const Eigen::Vector3d grab = reflectPoint(source, mask, SymmetryFrame{centre}), move = reflectPoint(source + pull * n, mask, SymmetryFrame{centre}) - grab;
-            for (Eigen::Index r = 0; r < shape.rows(); ++r) {
-                const double rho = (mesh.positions.row(r).transpose() - grab).norm();
-                if (rho < brush.radius) shape.row(r) += brushProfile(brush.falloff, rho / brush.radius) * move.transpose();
-            }
-        }
-        if (test::intersectingPairs(shape, mesh.triangles) != atLoad) continue;
+        if (!mirroredFalloffShapeClear(mesh, centre, source, source + pull * n, brush, atLoad)) continue;
         ++trials;
-        Session session;
-        REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
-        OpReport report;
-        REQUIRE(session.dragVertex(v, source + pull * n, report, brush).ok);
-        INFO("vertex " << v << ", pull " << pull / brush.radius << " r, radius " << brush.radius / mesh.diagonal << ": " << report.reason);
-        REQUIRE(report.status == OpStatus::Applied);
-        full += report.fractionApplied == 1.0;
-        const Eigen::Vector3d reached = source + report.fractionApplied * pull * n;
-        CHECK((session.mesh().positions.row(v).transpose() - reached).norm() <= 1e-9 * mesh.diagonal);
-        CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles) == atLoad);
-        REQUIRE(session.undo(report).ok);
-        CHECK((session.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+        full += strokeLandsUncrossed(mesh, v, source + pull * n, brush, atLoad);
     }
     CHECK(trials == 40);
     CHECK(full >= 37);
@@ -476,29 +491,10 @@ TEST_CASE("brush: mirror images within reach pulled towards each other (inward b
         // Up to 90% of the way to the plane, and at most 2 radii.
         const double toPlane = std::abs(offPlane / inward.x());
         const double pull = std::uniform_real_distribution<double>(0.2, 0.9)(rng) * std::min(toPlane, 2.0 * brush.radius / 0.9);
-        Positions shape = mesh.positions;
-        for (int mask = 0; mask <= 1; ++mask) {
-            const Eigen::Vector3d grab = reflectPoint(source, mask, SymmetryFrame{centre}), move = reflectPoint(source + pull * inward, mask, SymmetryFrame{centre}) - grab;
-            for (Eigen::Index r = 0; r < shape.rows(); ++r) {
-                const double rho = (mesh.positions.row(r).transpose() - grab).norm();
-                if (rho < brush.radius) shape.row(r) += brushProfile(brush.falloff, rho / brush.radius) * move.transpose();
-            }
-        }
-        if (test::intersectingPairs(shape, mesh.triangles) != atLoad) continue;
+        if (!mirroredFalloffShapeClear(mesh, centre, source, source + pull * inward, brush, atLoad)) continue;
         ++trials;
-        Session session;
-        REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
-        OpReport report;
-        REQUIRE(session.dragVertex(v, source + pull * inward, report, brush).ok);
-        INFO("vertex " << v << ", pull " << pull / brush.radius << " r, " << offPlane / brush.radius << " r from the plane, radius "
-                       << brush.radius / mesh.diagonal << ": " << report.reason);
-        REQUIRE(report.status == OpStatus::Applied);
-        full += report.fractionApplied == 1.0;
-        const Eigen::Vector3d reached = source + report.fractionApplied * pull * inward;
-        CHECK((session.mesh().positions.row(v).transpose() - reached).norm() <= 1e-9 * mesh.diagonal);
-        CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles) == atLoad);
-        REQUIRE(session.undo(report).ok);
-        CHECK((session.mesh().positions - mesh.positions).cwiseAbs().maxCoeff() <= 1e-12 * mesh.diagonal);
+        INFO(offPlane / brush.radius << " r from the plane");
+        full += strokeLandsUncrossed(mesh, v, source + pull * inward, brush, atLoad);
     }
     INFO(full << " of " << trials << " applied in full");  // 30 of 30 (26 with the two fields summed)
     CHECK(trials == wanted);
