@@ -7,6 +7,7 @@
 #include <random>
 
 #include "app/window/sculpt_app.h"
+#include "app/window/panels.h"
 #include "app/window/tools.h"
 #include "core/deform/brush.h"
 #include "core/deform/brush_field.h"
@@ -374,4 +375,47 @@ TEST_CASE("window brush: on a coarse mesh the stroke splits the triangles under 
         const std::string moved = std::to_string(movedBack) + (movedBack == 1 ? " vertex moved, " : " vertices moved, ");
         CHECK(state.status.find(moved + std::to_string(added) + " vertices added again where it split the mesh") != std::string::npos);
     }
+}
+
+// The history list names the injective steps a drag was split into, not a brush stroke's region layers: a trial
+// read "brush drag, symmetric in X [2 steps]" for one stroke of seven moves (the two layers are the part of a
+// symmetric pull along the mirror plane and the part across it, brush_field.h).
+TEST_CASE("window history: a brush stroke's region layers are not listed as steps, a drag split into injective steps is", "[gl]") {
+    std::mt19937 rng(5);
+    const test::TestMesh mesh = test::makeIcosphere(3);
+    Positions normals = mesh.positions.rowwise().normalized();
+    int layered = 0;
+    for (int trial = 0; trial < 8; ++trial) {
+        core::Session session;
+        REQUIRE(session.setMesh(mesh.positions, mesh.triangles).ok);
+        // A vertex 0.1-0.3 from the X plane pulled outward: its mirror image's pull parts from its own.
+        int v = -1;
+        while (v < 0 || std::abs(mesh.positions(v, 0)) < 0.1 || std::abs(mesh.positions(v, 0)) > 0.3)
+            v = std::uniform_int_distribution<int>(0, static_cast<int>(mesh.positions.rows()) - 1)(rng);
+        core::BrushSettings brush;
+        brush.radius = std::uniform_real_distribution<double>(0.4, 0.6)(rng);
+        brush.symmetry.mirror[0] = true;
+        const Eigen::Vector3d target = mesh.positions.row(v).transpose() + std::uniform_real_distribution<double>(0.2, 0.5)(rng) * normals.row(v).transpose();
+        core::OpReport report;
+        REQUIRE(session.dragVertex(v, target, report, brush).ok);
+        REQUIRE(report.status == core::OpStatus::Applied);
+        const core::Operation& op = session.history()[0];
+        layered += op.steps.size() > 1;
+        INFO("vertex " << v << ": " << op.steps.size() << " layers, listed as \"" << app::historyEntryLabel(op) << "\"");
+        CHECK(app::historyEntryLabel(op) == op.label);
+    }
+    CHECK(layered > 0);
+    // A drag whose lattice would fold at once, split into injective steps (Gain & Dodgson 2001).
+    core::Session session;
+    core::LatticeSettings settings;
+    settings.resolution = {6, 6, 6};
+    REQUIRE(session.setMesh(mesh.positions, mesh.triangles, settings).ok);
+    Eigen::Index top = 0;
+    mesh.positions.col(2).maxCoeff(&top);
+    core::OpReport report;
+    REQUIRE(session.dragVertex(static_cast<int>(top), mesh.positions.row(top).transpose() + Eigen::Vector3d(0.9, 0.3, 0.5), report).ok);
+    REQUIRE(report.status == core::OpStatus::Applied);
+    REQUIRE(report.subSteps > 1);
+    const core::Operation& op = session.history()[0];
+    CHECK(app::historyEntryLabel(op) == op.label + "  [" + std::to_string(op.steps.size()) + " injective steps]");
 }

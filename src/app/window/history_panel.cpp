@@ -6,6 +6,17 @@
 #include "app/window/panels.h"
 
 namespace sculpt::app {
+
+std::string historyEntryLabel(const core::Operation& op) {
+    std::string label = op.label;
+    // The injective steps a drag was split into (Gain & Dodgson 2001's adaptive subdivision); a brush stroke's
+    // steps are its region layers (one per field, brush_field.h), no concern of the user's (a trial read "brush
+    // drag, symmetric in X [2 steps]" for one stroke of seven moves).
+    const bool brushLayers = std::all_of(op.steps.begin(), op.steps.end(), [](const core::Step& step) { return step.region; });
+    if (op.steps.size() > 1 && !brushLayers) label += "  [" + std::to_string(op.steps.size()) + " injective steps]";
+    return label;
+}
+
 namespace {
 
 // The text broken into lines at spaces so that each fits `width` pixels (a word longer than that keeps its own
@@ -73,9 +84,7 @@ void drawHistoryPanel(AppState& state) {
             if (i == 0) {
                 label = "Loaded mesh";
             } else {
-                const core::Operation& op = session.history()[static_cast<size_t>(i - 1)];
-                label = std::to_string(i) + ". " + op.label;
-                if (op.steps.size() > 1) label += "  [" + std::to_string(op.steps.size()) + " steps]";
+                label = std::to_string(i) + ". " + historyEntryLabel(session.history()[static_cast<size_t>(i - 1)]);
             }
             label = wrapAtSpaces(label, wrap);
             const ImVec2 size = ImGui::CalcTextSize(label.c_str());

@@ -22,6 +22,9 @@ void drawStatsPanel(AppState& state);        // stats_panel.cpp: mesh, lattice, 
 void drawOverlaysPanel(AppState& state);     // overlays_panel.cpp: wireframe, lattice, det J, affected region
 void drawInjectivityPanel(AppState& state);  // injectivity_panel.cpp: off / conic / exact, subdivision depth
 void drawHistoryPanel(AppState& state);      // history_panel.cpp: undo, redo, the list (click to jump)
+// An entry of the history list: the operation's label, and "[N injective steps]" where a drag was split into
+// injective steps (a brush stroke's region layers are not counted).
+std::string historyEntryLabel(const core::Operation& op);
 // lattices_panel.cpp: lattice tools of any shape (list, library, place, freeze / unfreeze, remove, save), the
 // last section of the Tools window; its file dialogs are the window's (FileCommands).
 void drawLatticesPanel(AppState& state, FileCommands& files);
