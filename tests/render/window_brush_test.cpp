@@ -199,6 +199,10 @@ TEST_CASE("window brush: with X symmetry the mirror image of the grabbed point f
         double nearest = INFINITY;
         for (const Eigen::Vector3d& source : state.session.stroke().sources()) nearest = std::min(nearest, (source - mirroredTarget).norm());
         CHECK(nearest <= 1e-9 * diagonal);
+        // The status line speaks of this move, and not of the stroke's layers (a field per image) as steps.
+        INFO(state.status);
+        CHECK(state.status.rfind("This move: ", 0) == 0);
+        CHECK(state.status.find("steps") == std::string::npos);
         ++checked;
     }
     sculptApp.onMouseButton({app::MouseButton::Left, app::ButtonAction::Release, cx, cy - 24.0, {}}, {});
