@@ -9,11 +9,7 @@ namespace sculpt::app {
 
 std::string historyEntryLabel(const core::Operation& op) {
     std::string label = op.label;
-    // The injective steps a drag was split into (Gain & Dodgson 2001's adaptive subdivision); a brush stroke's
-    // steps are its region layers (one per field, brush_field.h), no concern of the user's (a trial read "brush
-    // drag, symmetric in X [2 steps]" for one stroke of seven moves).
-    const bool brushLayers = std::all_of(op.steps.begin(), op.steps.end(), [](const core::Step& step) { return step.region; });
-    if (op.steps.size() > 1 && !brushLayers) label += "  [" + std::to_string(op.steps.size()) + " injective steps]";
+    if (op.injectiveSteps() > 1) label += "  [" + std::to_string(op.injectiveSteps()) + " injective steps]";
     return label;
 }
 

@@ -323,17 +323,12 @@ void SculptApp::updateSculpt(double x, double y) {
            : by == "symmetry"    ? drag.byMirror
                                  : drag.byOther);
     }
-    if (drag.kind == DragKind::Surface && drag.brushRadius > 0.0) {
-        // A brush stroke's move: its counts are this move's (the stroke's whole are said when it ends: a trial read
-        // "1451 vertices moved" during a stroke that ended "815 vertices moved"), and its steps are its region
-        // layers (brush_field.h), not steps the injectivity test split it into.
-        core::OpReport shown = report;
-        shown.subSteps = 1;
-        reportOperation(state_, shown, s, "This move");
-    } else {
-        reportOperation(state_, report, s,
-                        drag.kind == DragKind::Control ? "Moving " + countOf(drag.controlPoints.size(), "control point") : std::string());
-    }
+    // A brush stroke's move: its counts are this move's, the stroke's whole are said when it ends (a trial read
+    // "1451 vertices moved" during a stroke that ended "815 vertices moved").
+    reportOperation(state_, report, s,
+                    drag.kind == DragKind::Control ? "Moving " + countOf(drag.controlPoints.size(), "control point")
+                    : drag.brushRadius > 0.0       ? std::string("This move")
+                                                   : std::string());
     state_.gpu.fields = true;
 }
 

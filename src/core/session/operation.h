@@ -3,6 +3,8 @@
 // steps), the journal of what was asked, and the layers and frozen frames of the lattice stack.
 #pragma once
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -223,6 +225,14 @@ struct Operation {
     // freeze it): the operations themselves, undone in reverse and redone in order as one history entry. Their
     // refinements are this operation's `refinement`; `steps` is empty.
     std::vector<Operation> parts;
+
+    // How many injective steps it was applied as (Gain & Dodgson 2001's subdivision; OpReport::subSteps): its
+    // steps, except that a brush stroke's are its region layers (a field per pull, brush_field.h, each proven
+    // whole), which are one step (a history read "brush drag, symmetric in X [2 steps]" for one stroke).
+    int injectiveSteps() const {
+        const bool brushLayers = !steps.empty() && std::all_of(steps.begin(), steps.end(), [](const Step& step) { return step.region; });
+        return brushLayers ? 1 : static_cast<int>(steps.size());
+    }
 };
 
 // One command as the session carried it out, in order: what a recording writes so that a replay on the same

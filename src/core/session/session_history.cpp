@@ -245,7 +245,7 @@ Status Session::undo(OpReport& report) {
     countChangedVertices(before, report);
     report.status = OpStatus::Applied;
     report.reason = "undid " + operation.label;
-    report.subSteps = static_cast<int>(operation.steps.size());
+    report.subSteps = operation.injectiveSteps();
     report.controlPointsChanged = 0;
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
     report.wallMs = millisecondsSince(start);
@@ -274,7 +274,7 @@ Status Session::redo(OpReport& report) {
     countChangedVertices(before, report);
     report.status = OpStatus::Applied;
     report.reason = "redid " + operation.label;
-    report.subSteps = static_cast<int>(operation.steps.size());
+    report.subSteps = operation.injectiveSteps();
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
     report.wallMs = millisecondsSince(start);
     return Status::success();
@@ -326,7 +326,7 @@ Status Session::replayOperation(const Operation& operation, bool cancelled, OpRe
     if (operation.kind == OperationKind::LatticeSetup && !cancelled) tools_.frozen = operation.frozenAfter;
     stack_.layerActive_ = false;
     report.status = OpStatus::Applied;
-    report.subSteps = static_cast<int>(operation.steps.size());
+    report.subSteps = operation.injectiveSteps();
     report.depthReached = operation.depthReached;
     report.injectivity = "as recorded";
     for (const Step& step : operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());

@@ -362,7 +362,7 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
         s_.drag_.sourceWorld[e] = s_.drag_.strokeReached[e];
     recordAskedTargets(s_.drag_);
     report.fractionApplied = share;
-    report.subSteps = static_cast<int>(s_.drag_.operation.steps.size());
+    report.subSteps = s_.drag_.operation.injectiveSteps();
     report.controlPointsChanged = 0;
     for (const Step& step : s_.drag_.operation.steps) report.controlPointsChanged += static_cast<int>(step.delta.indices.size());
     report.verticesMoved = movedHere;
@@ -509,7 +509,7 @@ Status Stroke::cancel(OpReport& report) {
     if (!s_.drag_.operation.steps.empty()) s_.history_.note(JournalEntry{JournalEntry::Kind::CancelledDrag, s_.drag_.operation, 0, {}, {}, {}}, false);
     report.status = s_.drag_.operation.steps.empty() ? OpStatus::NoOp : OpStatus::Applied;
     report.reason = s_.drag_.operation.steps.empty() ? "the drag had not moved anything" : "the drag was taken back";
-    report.subSteps = static_cast<int>(s_.drag_.operation.steps.size());
+    report.subSteps = s_.drag_.operation.injectiveSteps();
     report.verticesMoved = s_.movedCount();
     s_.drag_.operation = Operation{};
     report.wallMs = millisecondsSince(start);
