@@ -32,6 +32,39 @@ double boundingDiagonal(const Positions& positions) {
     return (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
 }
 
+// The listed triangles of `triangles` as a mesh of their own: `global` holds their vertices' ids in order of first
+// use, `part` the triangles in that numbering.
+struct Submesh {
+    std::vector<int> global;
+    Triangles part;
+};
+
+Submesh submeshOf(const Triangles& triangles, const std::vector<int>& listed, Eigen::Index vertexCount) {
+    Submesh out;
+    std::vector<int> local(static_cast<size_t>(vertexCount), -1);
+    out.part.resize(static_cast<Eigen::Index>(listed.size()), 3);
+    for (size_t t = 0; t < listed.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const int v = triangles(listed[t], k);
+            if (local[static_cast<size_t>(v)] < 0) {
+                local[static_cast<size_t>(v)] = static_cast<int>(out.global.size());
+                out.global.push_back(v);
+            }
+            out.part(static_cast<Eigen::Index>(t), k) = local[static_cast<size_t>(v)];
+        }
+    return out;
+}
+
+// A submesh's splits (refineMesh on it) in the whole mesh's numbering: a vertex the splits added is numbered
+// after the whole mesh's `first` vertices.
+std::vector<EdgeSplit> splitsInWhole(const std::vector<EdgeSplit>& splits, const std::vector<int>& global, int first) {
+    const int count = static_cast<int>(global.size());
+    const auto toWhole = [&](int v) { return v < count ? global[static_cast<size_t>(v)] : first + (v - count); };
+    std::vector<EdgeSplit> out;
+    for (const EdgeSplit& e : splits) out.push_back({toWhole(e.a), toWhole(e.b)});
+    return out;
+}
+
 // Refines `plan` (refineMesh's result: rest, current = target(rest), triangles) further where two of its
 // triangles cross at the target while the target map is injective: a brush's field pushes what lies ahead of
 // the pull on to (1 - k) of its distance (brush_field.h), and flat triangles long against the squeezed gap cut
@@ -64,33 +97,22 @@ void refineWhereCrossing(RefinementResult& plan, const RestImage& target, const 
     int firstCount = std::numeric_limits<int>::max() / 4;
     for (int round = 0; round < rounds && plan.rest.rows() < maxVertices; ++round) {
         std::vector<std::uint8_t> selected(static_cast<size_t>(plan.triangles.rows()), 0);
-        int selectedCount = 0;
+        std::vector<int> listed;
         for (const TrianglePairHit& hit : findSelfIntersections(plan.current, plan.triangles)) {
             if (trianglesIntersect(corners(hit.first, true), corners(hit.second, true))) continue;
             for (int t : {hit.first, hit.second})
-                if (!selected[static_cast<size_t>(t)]) selected[static_cast<size_t>(t)] = 1, ++selectedCount;
+                if (!selected[static_cast<size_t>(t)]) selected[static_cast<size_t>(t)] = 1, listed.push_back(t);
         }
+        const int selectedCount = static_cast<int>(listed.size());
         // Crossings that multiply as the triangles shrink are not the flat triangles' (the planned image folds
         // there): the pull's own check will say so. (Where the sheets touch, as at a load contact, they stay: the
         // rounds and the shortest edge bound the splits.)
         if (selectedCount == 0 || selectedCount > 4 * firstCount) return;
         if (round == 0) firstCount = selectedCount;
-        // The selected triangles' own mesh, in plan's numbering through `global`.
-        std::vector<int> global, local(static_cast<size_t>(plan.rest.rows()), -1);
-        Triangles part(selectedCount, 3);
-        int row = 0;
-        for (Eigen::Index t = 0; t < plan.triangles.rows(); ++t) {
-            if (!selected[static_cast<size_t>(t)]) continue;
-            for (int k = 0; k < 3; ++k) {
-                const int v = plan.triangles(t, k);
-                if (local[static_cast<size_t>(v)] < 0) {
-                    local[static_cast<size_t>(v)] = static_cast<int>(global.size());
-                    global.push_back(v);
-                }
-                part(row, k) = local[static_cast<size_t>(v)];
-            }
-            ++row;
-        }
+        // The selected triangles' own mesh (in ascending order, as the bisection's order depends on it).
+        std::sort(listed.begin(), listed.end());
+        const Submesh sub = submeshOf(plan.triangles, listed, plan.rest.rows());
+        const std::vector<int>& global = sub.global;
         const int count = static_cast<int>(global.size());
         Positions rest(count, 3), current(count, 3);
         for (int c = 0; c < count; ++c) {
@@ -103,15 +125,11 @@ void refineWhereCrossing(RefinementResult& plan, const RestImage& target, const 
         options.shortestEdge = shortestEdge;
         options.maxVertices = count + (maxVertices - static_cast<int>(plan.rest.rows()));
         RefinementResult split;
-        if (Status s = refineMesh(rest, current, part, target, options, split); !s || split.splits.empty()) return;
+        if (Status s = refineMesh(rest, current, sub.part, target, options, split); !s || split.splits.empty()) return;
         // The bisections in plan's numbering (applyEdgeSplits halves the neighbours outside the selection too,
         // so plan stays conforming); the new vertices keep the images refineMesh found.
         const int first = static_cast<int>(plan.rest.rows());
-        std::vector<EdgeSplit> splits;
-        for (const EdgeSplit& e : split.splits) {
-            const auto toPlan = [&](int v) { return v < count ? global[static_cast<size_t>(v)] : first + (v - count); };
-            splits.push_back({toPlan(e.a), toPlan(e.b)});
-        }
+        const std::vector<EdgeSplit> splits = splitsInWhole(split.splits, global, first);
         if (Status s = applyEdgeSplits(plan.triangles, first, splits); !s) return;
         appendSplitMidpoints(plan.rest, splits);
         plan.current.conservativeResize(plan.rest.rows(), 3);
@@ -255,17 +273,8 @@ bool Refiner::applyChecked(RefinementRecord& record, OpReport& report) {
 bool Refiner::refineUnderPull(const std::vector<int>& triangles, const RestImage& target, double tolerance, double shortestEdge,
                               RefinementRecord& record, OpReport& report) {
     // The triangles' own mesh: their vertices, numbered in order of first use, rest points and images at the target.
-    std::vector<int> global, local(static_cast<size_t>(s_.mesh_.rest.rows()), -1);
-    Triangles part(static_cast<Eigen::Index>(triangles.size()), 3);
-    for (size_t t = 0; t < triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const int v = s_.mesh_.triangles(triangles[t], k);
-            if (local[static_cast<size_t>(v)] < 0) {
-                local[static_cast<size_t>(v)] = static_cast<int>(global.size());
-                global.push_back(v);
-            }
-            part(static_cast<Eigen::Index>(t), k) = local[static_cast<size_t>(v)];
-        }
+    const Submesh sub = submeshOf(s_.mesh_.triangles, triangles, s_.mesh_.rest.rows());
+    const std::vector<int>& global = sub.global;
     if (global.empty()) return false;
     const int count = static_cast<int>(global.size());
     Positions rest(count, 3), atTarget(count, 3);
@@ -282,7 +291,7 @@ bool Refiner::refineUnderPull(const std::vector<int>& triangles, const RestImage
     // tolerance, would otherwise split without end).
     options.maxVertices = std::min(options.maxVertices, 4 * count + 5000);
     RefinementResult plan;
-    if (Status s = refineMesh(rest, atTarget, part, target, options, plan); !s) return false;
+    if (Status s = refineMesh(rest, atTarget, sub.part, target, options, plan); !s) return false;
     // Then where the field squeezes two sheets closer than the flat triangles follow it.
     Positions nowKnown(count, 3);
     for (int c = 0; c < count; ++c) nowKnown.row(c) = s_.mesh_.positions.row(global[static_cast<size_t>(c)]);
@@ -294,8 +303,7 @@ bool Refiner::refineUnderPull(const std::vector<int>& triangles, const RestImage
     RefinementRecord piece;
     piece.tolerance = tolerance;
     const int first = static_cast<int>(s_.mesh_.rest.rows());
-    const auto toGlobal = [&](int v) { return v < count ? global[static_cast<size_t>(v)] : first + (v - count); };
-    for (const EdgeSplit& split : plan.splits) piece.splits.push_back({toGlobal(split.a), toGlobal(split.b)});
+    piece.splits = splitsInWhole(plan.splits, global, first);
     OpReport refined;
     if (!applyChecked(piece, refined)) return false;
     report.verticesAdded += refined.verticesAdded;
