@@ -43,11 +43,13 @@ double brushFieldProfile(BrushFalloff falloff, double x) {
     x = std::clamp(x, 0.0, 1.0);
     switch (falloff) {
         case BrushFalloff::Smooth: return brushProfile(falloff, x);
-        case BrushFalloff::Medium: return std::min(brushProfile(falloff, x), 3.0 * (1.0 - x));  // meets it at x = 0.8
+        case BrushFalloff::Medium: return std::min(brushProfile(falloff, x), 6.0 * (1.0 - x));  // meets it at x = 35 / 37
         case BrushFalloff::Sharp: {
-            constexpr double a = 0.15;  // (1 - x)^2 beyond a, a parabola with a flat top inside, scaled to 1 at 0
-            const double top = 1.0 - a;
-            return (x >= a ? (1.0 - x) * (1.0 - x) : top - (1.0 - a) / a * x * x) / top;
+            // (1 - x)^2 beyond a, inside it the parabola through its value at a with the same peak: 1 at 0, no
+            // scale. (A parabola meeting it with its slope peaks at 1 - a and needed the rest scaled by 1 / (1 - a),
+            // which moved the whole bump 18% above the curve: 0.06-0.10 RMS.)
+            constexpr double a = 0.25;
+            return x >= a ? (1.0 - x) * (1.0 - x) : 1.0 - (2.0 / a - 1.0) * x * x;
         }
     }
     return 0.0;
@@ -88,7 +90,120 @@ double brushFieldWeight(const BrushPull& pull, double radius, BrushFalloff fallo
     return std::clamp(best - k * z, 0.0, 1.0);
 }
 
-Status pullRegionLattice(const std::vector<BrushPull>& pulls, double radius, RegionLattice& out) {
+namespace {
+constexpr double kWideningShareTolerance = 0.02;  // the share above the falloff the column may keep ahead
+constexpr double kWideningFall = 0.6;             // E falls by at most this per unit outward: d(l + E)/dl >= 0.4
+constexpr double kWideningRatio = 2.0;            // E <= 2 l: nothing leaves the pull's line
+constexpr double kWideningLateral = 0.85;         // in radii: E = 0 beyond (free points' supports reach 1.25)
+constexpr double kWideningAxial = 1.25;           // in radii: E = 0 ahead beyond, ramped in from 1 radius
+constexpr int kWideningLateralSpans = 50, kWideningAxialSpans = 40;
+}  // namespace
+
+double BrushWidening::widenedLateral(double lateral, double axial) const {
+    if (empty() || !(axial > 0.0) || !(lateral > 0.0)) return lateral;
+    const double li = lateral / lateralStep, zj = axial / axialStep;
+    if (li >= lateralNodes - 1 || zj >= axialNodes - 1) return lateral;
+    const int i = static_cast<int>(li), j = static_cast<int>(zj);
+    const double t = li - i, s = zj - j;
+    const auto at = [&](int a, int b) { return push[static_cast<size_t>(a + lateralNodes * b)]; };
+    const double below = (1.0 - t) * at(i, j) + t * at(i + 1, j), above = (1.0 - t) * at(i, j + 1) + t * at(i + 1, j + 1);
+    return lateral + (1.0 - s) * below + s * above;
+}
+
+BrushWidening brushWidening(const BrushPull& pull, double radius, BrushFalloff falloff) {
+    BrushWidening out;
+    if (!pull.moving() || !(radius > 0.0) || !std::isfinite(radius) || !pull.source.allFinite() || !pull.pull.allFinite()) return out;
+    out.source = pull.source;
+    out.direction = pull.pull.normalized();
+    out.radius = radius;
+    const Eigen::Vector3d across = out.direction.unitOrthogonal();
+    const int nl = kWideningLateralSpans + 1, nz = kWideningAxialSpans + 1;
+    const double dl = kBrushReach * radius / kWideningLateralSpans, dz = kWideningAxial * radius / kWideningAxialSpans;
+    std::vector<double> push(static_cast<size_t>(nl * nz), 0.0), column(static_cast<size_t>(nl)), wanted(static_cast<size_t>(nl));
+    double largest = 0.0;
+    for (int j = 1; j < nz; ++j) {
+        const double z = j * dz;
+        for (int i = 0; i < nl; ++i)
+            column[static_cast<size_t>(i)] = brushFieldWeight(pull, radius, falloff, pull.source + z * out.direction + (i * dl) * across);
+        // 1 up to 1 radius ahead, falling smoothly to 0 at 1.25 radius.
+        const double x = std::clamp((kWideningAxial * radius - z) / ((kWideningAxial - 1.0) * radius), 0.0, 1.0);
+        const double ramp = x * x * (3.0 - 2.0 * x);
+        // E*: the least l' >= l where the column's share (falling in l') is at most the falloff of the rest
+        // distance, read linearly between the nodes; then the bounds, then the least E above it that falls by at
+        // most kWideningFall per unit outward.
+        double previous = 0.0;
+        for (int i = 0; i < nl; ++i) {
+            const double l = i * dl;
+            const double target = brushFieldProfile(falloff, std::hypot(l, z) / radius) + kWideningShareTolerance;
+            double needed = 0.0;
+            if (column[static_cast<size_t>(i)] > target) {
+                int m = i + 1;
+                while (m < nl && column[static_cast<size_t>(m)] > target) ++m;
+                const double hi = column[static_cast<size_t>(m - 1)], lo = m < nl ? column[static_cast<size_t>(m)] : 0.0;
+                needed = (m - 1) * dl + dl * (hi - target) / std::max(hi - lo, 1e-300) - l;
+            }
+            needed = std::min({needed * ramp, kWideningRatio * l, kWideningFall * std::max(0.0, kWideningLateral * radius - l)});
+            const double value = std::max({needed, previous - kWideningFall * dl, 0.0});
+            push[static_cast<size_t>(i + nl * j)] = value;
+            previous = value;
+            largest = std::max(largest, value);
+        }
+    }
+    if (!(largest > 0.01 * radius)) return out;  // a short pull: the column is the falloff ahead
+    out.lateralNodes = nl;
+    out.axialNodes = nz;
+    out.lateralStep = dl;
+    out.axialStep = dz;
+    out.push = std::move(push);
+    return out;
+}
+
+Status brushWideningDelta(const Lattice& region, const BrushWidening& widening, int axis, ControlDelta& out) {
+    out = ControlDelta{};
+    if (widening.empty()) return Status::success();
+    if (axis != 0 && axis != 1) return Status::error("a widening layer moves along the region's first or second axis");
+    const Eigen::Vector3d u = region.boxAxes.row(0).transpose(), v = region.boxAxes.row(1).transpose(), e = region.boxAxes.row(2).transpose();
+    if (!(e.dot(widening.direction) > 1.0 - 1e-9)) return Status::error("the widening's region is not turned to its pull");
+    // x_u (l' / l - 1): the radial map's component along u at lateral offset (a, b).
+    const auto stretch = [&](double a, double b, double z) {
+        const double l = std::hypot(a, b);
+        return l > 0.0 ? a * (widening.widenedLateral(l, z) / l - 1.0) : 0.0;
+    };
+    std::vector<int> indices;
+    std::vector<Eigen::Vector3d> moves;
+    const int n = region.controlPointCount();
+    for (int idx = 0; idx < n; ++idx) {
+        if (region.pinned[static_cast<size_t>(idx)]) continue;
+        const Eigen::Vector3d offset = region.restControlPoint(idx) - widening.source;
+        const double a = offset.dot(u), b = offset.dot(v), z = offset.dot(e);
+        double move = 0.0;
+        if (axis == 0) {
+            move = stretch(a, b, z);
+        } else {
+            // The point the first layer moved to (a, b): a0 + stretch(a0) = a, monotone in a0, |a0| <= |a|.
+            double lo = -std::abs(a), hi = std::abs(a);
+            for (int iteration = 0; iteration < 60 && hi - lo > 1e-15 * widening.radius; ++iteration) {
+                const double mid = 0.5 * (lo + hi);
+                if (mid + stretch(mid, b, z) < a) lo = mid;
+                else hi = mid;
+            }
+            move = stretch(b, 0.5 * (lo + hi), z);  // symmetric in its two lateral arguments
+        }
+        if (move != 0.0) {
+            indices.push_back(idx);
+            moves.push_back(move * (axis == 0 ? u : v));
+        }
+    }
+    out.indices = std::move(indices);
+    out.deltas.resize(static_cast<Eigen::Index>(moves.size()), 3);
+    for (size_t c = 0; c < moves.size(); ++c) out.deltas.row(static_cast<Eigen::Index>(c)) = moves[c].transpose();
+    if (!out.deltas.allFinite()) return Status::error("the brush's widening is not finite");
+    return Status::success();
+}
+
+int brushFieldSpansPerRadius(BrushFalloff falloff) { return falloff == BrushFalloff::Medium ? 12 : kBrushFieldSpansPerRadius; }
+
+Status pullRegionLattice(const std::vector<BrushPull>& pulls, double radius, RegionLattice& out, int spansPerRadius) {
     if (!std::isfinite(radius) || radius <= 0.0) return Status::error("brush radius must be a finite number > 0");
     const double reach = kBrushReach * radius;
     std::vector<const BrushPull*> moving;
@@ -126,7 +241,7 @@ Status pullRegionLattice(const std::vector<BrushPull>& pulls, double radius, Reg
     region.settings.pinLayers = 0;
     // One knot spacing for every axis (the field's derivative bound holds best on cubes), the finest of
     // 8 spans a radius that keeps every axis within 64 control points.
-    double span = radius / kBrushFieldSpansPerRadius;
+    double span = radius / std::max(spansPerRadius, 1);
     for (int a = 0; a < 3; ++a) span = std::max(span, (hi[a] - lo[a] + 2.0 * reach) / (kMaxControlPointsPerAxis - degree));
     for (int a = 0; a < 3; ++a) {
         const double extent = hi[a] - lo[a] + 2.0 * reach;

@@ -200,9 +200,10 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     }
     // The ways `attempt` can carry the pulls: the split above, a layer per image (each holding the images
     // placed before it), one layer for all images (the scaled fields summed).
-    enum class Mode { Split, Layers, Joint };
+    enum class Mode { Split, Widened, Layers, Joint };  // Widened: Layers, each pull's space ahead widened first
     Mode mode = Mode::Layers;  // the one `attempt` uses
     bool planning = false;     // `attempt` only puts the layers in place, unchecked, the mesh left as it is
+    bool widened = false;      // some attempt in Widened mode widened the space ahead of a pull (else it is Layers)
     const auto attempt = [&](double share) {
         where.clear();
         for (const BrushPull& p : pulls) where.push_back(p.source);
@@ -219,9 +220,10 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         };
         // Enters one layer for `local` (one field: brushFieldDelta) and passes it through every check; moves
         // `where` on by it. False, with every layer of this attempt taken back, if any step fails.
-        const auto enter = [&](const std::vector<BrushPull>& local) {
+        // `widening`: the layer holds no pull (each image's constraint is where the layer put it).
+        const auto enterWith = [&](const std::vector<BrushPull>& local, bool widening, const auto& makeDelta) {
             RegionLattice region;
-            if (Status s = pullRegionLattice(local, brush.radius, region); !s) return fail(s);
+            if (Status s = pullRegionLattice(local, brush.radius, region, brushFieldSpansPerRadius(brush.falloff)); !s) return fail(s);
             Step step;
             step.freshFrame = true;
             step.region = true;
@@ -232,7 +234,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             step.regionFree = std::move(region.freePoints);
             if (Status s = s_.enterLayer(nullptr, nullptr, &step); !s) return fail(s);
             double miss = 0.0;
-            Status solved = brushFieldDelta(s_.stack_.layers_.back().lattice, local, brush.radius, brush.falloff, step.delta, miss);
+            Status solved = makeDelta(s_.stack_.layers_.back().lattice, step.delta, miss);
             if (!solved) {
                 s_.popLayer(nullptr);
                 return fail(solved);
@@ -247,9 +249,37 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             residual = std::max(residual, miss);
             const Lattice& layer = s_.stack_.layers_.back().lattice;
             for (Eigen::Vector3d& w : where) w = layerImage(layer, w);
-            for (size_t j = 0; j < local.size(); ++j) step.constraints.push_back({local[j].source, local[j].source + local[j].pull});
+            for (size_t j = 0; j < local.size(); ++j)
+                step.constraints.push_back({local[j].source, widening ? where[j] : Eigen::Vector3d(local[j].source + local[j].pull)});
             steps.push_back(std::move(step));
             ++entered;
+            return true;
+        };
+        const auto enter = [&](const std::vector<BrushPull>& local) {
+            return enterWith(local, false, [&](const Lattice& layer, ControlDelta& delta, double& miss) {
+                return brushFieldDelta(layer, local, brush.radius, brush.falloff, delta, miss);
+            });
+        };
+        // The space ahead of image k's pull widened about its line (brush_field.h: BrushWidening), in two layers
+        // each parallel to one lateral axis of the pull's region, before its field: where no other image lies
+        // within the pull's reach (the widening would move it, and no correction holds it). False, with every
+        // layer of this attempt taken back, if a layer fails a check.
+        const auto widen = [&](size_t k) {
+            const BrushPull pull{where[k], pulls[k].source + share * pulls[k].pull - where[k]};
+            if (!pull.moving()) return true;
+            for (size_t j = 0; j < pulls.size(); ++j)
+                if (j != k && segmentDistance(where[j], pull.source, pull.source + pull.pull) <= kBrushReach * brush.radius * (1.0 + 1e-9)) return true;
+            const BrushWidening widening = brushWidening(pull, brush.radius, brush.falloff);
+            if (widening.empty()) return true;
+            widened = true;
+            std::vector<BrushPull> local;
+            for (size_t j = 0; j < pulls.size(); ++j) local.push_back(j == k ? pull : BrushPull{where[j], Eigen::Vector3d::Zero()});
+            for (int axis = 0; axis < 2; ++axis)
+                if (!enterWith(local, true, [&](const Lattice& layer, ControlDelta& delta, double& miss) {
+                        miss = 0.0;
+                        return brushWideningDelta(layer, widening, axis, delta);
+                    }))
+                    return false;
             return true;
         };
         if (mode == Mode::Split) {
@@ -274,6 +304,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         }
         for (size_t k = 0; k < pulls.size(); ++k) {
             if (!pulls[k].moving()) continue;
+            if (mode == Mode::Widened && !widen(k)) return false;
             std::vector<BrushPull> local;
             for (size_t j = 0; j < pulls.size(); ++j)
                 local.push_back(j == k || (mode == Mode::Joint && pulls[j].moving()) ? BrushPull{where[j], pulls[j].source + share * pulls[j].pull - where[j]}
@@ -367,6 +398,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         // The modes, in the order they are tried: the split where it applies (mirror symmetric, each layer
         // proven), a layer per image, one field for the images.
         if (splitAxis >= 0) modes.push_back(Mode::Split);
+        modes.push_back(Mode::Widened);
         modes.push_back(Mode::Layers);
         if (jointPossible) modes.push_back(Mode::Joint);
         bool whole = false;
@@ -375,6 +407,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         const auto tryWhole = [&] {
             first.reset();
             for (Mode tried : modes) {
+                if (tried == Mode::Layers && !widened && first) continue;  // Widened was this, and failed
                 mode = tried;
                 failure = StepFailure{};
                 if (attempt(1.0)) {
@@ -408,7 +441,9 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             // Split where the triangles stop the whole pull, or where it passes but the flat triangles leave a
             // grabbed point further than the tolerance from its target (a point grabbed inside a coarse mesh's
             // long triangle: a trial saw a horn's tip 25% short of the cursor).
-            const bool stoppedByTriangles = !whole && first->cause == StepFailure::Cause::Triangles;
+            // (Also where the widened field crossed triangles and only the plain one passed: split, the widened
+            // field keeps the surface ahead on its falloff.)
+            const bool stoppedByTriangles = first && first->cause == StepFailure::Cause::Triangles && (!whole || (modes[0] == Mode::Widened && mode != modes[0]));
             const bool missed = whole && grabbedMiss() > kBrushRefineTolerance * brush.radius;
             if (!(stoppedByTriangles || missed) || refined == kBrushRefinements || !s_.refinement_.settings.underBrush ||
                 pullLength >= s_.drag_.splitFailedAt)
@@ -470,6 +505,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             // another passes beyond it).
             bool beaten = false;
             for (size_t other = 1; other < modes.size() && share < 1.0 && !beaten; ++other) {
+                if (modes[other] == Mode::Layers && !widened) continue;  // Widened was this
                 clearStroke();
                 mode = modes[other];
                 const auto [otherFound, otherKept] = lastPassing(share, 1.0, 4);

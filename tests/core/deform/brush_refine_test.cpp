@@ -94,6 +94,14 @@ TEST_CASE("brush refinement: long pulls the triangles stopped split the mesh und
         OpReport report;
         REQUIRE(session.dragVertex(stroke.vertex, stroke.target, report, stroke.brush).ok);
         INFO("stroke " << index << " vertex " << stroke.vertex << ": " << report.reason);
+        if (report.status == OpStatus::Rejected) {
+            // The strokes before squeezed two sheets within a hair of each other where this one pulls (a tangent
+            // pull pushes what lies ahead on to a third of its distance): refused, and nothing changed.
+            CHECK(report.reason.find("would pass through itself") != std::string::npos);
+            CHECK(session.mesh().positions == before);
+            CHECK(session.mesh().triangles == trianglesBefore);
+            continue;
+        }
         REQUIRE(report.status == OpStatus::Applied);
         const Operation& entry = session.history()[static_cast<size_t>(session.history().cursor() - 1)];
         if (entry.refinementBefore.empty()) {
