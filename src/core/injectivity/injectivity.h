@@ -158,7 +158,11 @@ InjectivityResult checkInjectivityExact(const Lattice& lattice, const ExactOptio
 // hodographs (section 7). Each e . J_a raised to the cell's degree along a, their weighted sum is det J in
 // Bernstein form, cancellation kept; a cell whose least coefficient exceeds 1e-9 is proven to have det J > 0 (Gain & Dodgson 2001, Theorem 1),
 // as is a cell with no displaced control point (det J = 1). The brush's pull fields (brush_field.h) are of
-// this kind, and certify here in O(coefficients) where the Bernstein test would subdivide.
+// this kind, and certify here in O(coefficients) where the Bernstein test would subdivide. Displacements along
+// one of the box's axes a (the brush's layers) are proven first by the least divided difference
+// p (w_i - w_{i-1}) / (t_{i+p} - t_i) of their component w along a (de Boor: dw/du_a is everywhere a convex
+// combination of them): over the whole lattice at once (O(control points); every cell proven when
+// 1 + least / extent_a > 1e-9), else over each cell's support before its Bernstein form.
 // Returns the cells of `cells` this does not prove (to pass to checkInjectivity), in order; every cell for a
 // net lattice, a rational lattice or an axis with a general knot vector.
 std::vector<int> cellsLeftByDirectionalBound(const Lattice& lattice, const std::vector<int>& cells);

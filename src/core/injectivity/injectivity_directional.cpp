@@ -15,6 +15,37 @@ std::vector<int> cellsLeftByDirectionalBound(const Lattice& lattice, const std::
         if (!lattice.axes[a].uniform()) return cells;
     const std::array<int, 3> spans = lattice.spans();
     const std::array<int, 3> p = lattice.degree;
+    // The derivative of the displacement's component w along box axis a, at any point, is a convex combination of
+    // the divided differences p (w_i - w_{i-1}) / (t_{i+p} - t_i) along a of the coefficients whose functions are
+    // non-zero there (de Boor: the derivative's B-spline coefficients, weighted by the basis functions of the
+    // other axes too). For a displacement along a box axis (a brush layer: its pull, or one lateral axis of its
+    // widening) det J = 1 + dw/dx_a, so the least divided difference over the lattice, per unit of the box's
+    // extent, bounds it from below everywhere: where that proves every cell, no cell need be looked at.
+    // divided(a, c): the divided difference ending at control point c along a (c's index along a >= 1).
+    const auto divided = [&](int a, const std::array<int, 3>& c) {
+        std::array<int, 3> b = c;
+        --b[a];
+        const std::vector<double>& t = lattice.axes[a].knots;
+        const double width = t[static_cast<size_t>(c[a] + p[a])] - t[static_cast<size_t>(c[a])];
+        const double difference = lattice.displacement(lattice.index(c[0], c[1], c[2]), a) - lattice.displacement(lattice.index(b[0], b[1], b[2]), a);
+        return p[a] * difference / (width * (lattice.boxMax[a] - lattice.boxMin[a]));
+    };
+    {
+        const Eigen::Vector3d largest = lattice.displacement.cwiseAbs().colwise().maxCoeff().transpose();
+        int axis = -1;
+        largest.maxCoeff(&axis);
+        bool alongOneAxis = largest[axis] > 0.0;
+        for (int a = 0; a < 3; ++a) alongOneAxis = alongOneAxis && (a == axis || largest[a] <= 1e-12 * largest[axis]);
+        if (alongOneAxis) {
+            double least = INFINITY;
+            const std::array<int, 3> count = lattice.count;
+            for (int k = 0; k < count[2]; ++k)
+                for (int j = 0; j < count[1]; ++j)
+                    for (int i = (axis == 0 ? 1 : 0); i < count[0]; ++i)
+                        if ((axis != 1 || j > 0) && (axis != 2 || k > 0)) least = std::min(least, divided(axis, {i, j, k}));
+            if (1.0 + least > 1e-9) return {};
+        }
+    }
     const int n = (p[0] + 1) * (p[1] + 1) * (p[2] + 1);
     std::vector<int> left;
     std::vector<double> s(static_cast<size_t>(n));
@@ -52,6 +83,22 @@ std::vector<int> cellsLeftByDirectionalBound(const Lattice& lattice, const std::
         if (!parallel) {
             left.push_back(cell);
             continue;
+        }
+        // Along a box axis: the least divided difference of the cell's support (above) bounds det J; where it
+        // proves the cell, the Bernstein form below is not needed.
+        int boxAxis = -1;
+        for (int a = 0; a < 3; ++a)
+            if (std::abs(e[a]) >= 1.0 - 1e-12) boxAxis = a;
+        if (boxAxis >= 0) {
+            const int a = boxAxis;
+            double least = INFINITY;
+            for (int k = 0; k <= p[2]; ++k)
+                for (int j = 0; j <= p[1]; ++j)
+                    for (int i = 0; i <= p[0]; ++i) {
+                        const std::array<int, 3> q{i, j, k};
+                        if (q[a] > 0) least = std::min(least, divided(a, {first[0] + i, first[1] + j, first[2] + k}));
+                    }
+            if (1.0 + least > 1e-9) continue;
         }
         // det J = 1 + e . grad s = sum_a e_a (e . J_a), J_a the Jacobian's columns; each e . J_a in Bernstein form
         // over the cell, raised to the cell's degree along a, so the sum's coefficients bound det J from below.

@@ -271,6 +271,26 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
                 if (j != k && segmentDistance(where[j], pull.source, pull.source + pull.pull) <= kBrushReach * brush.radius * (1.0 + 1e-9)) return true;
             const BrushWidening widening = brushWidening(pull, brush.radius, brush.falloff);
             if (widening.empty()) return true;
+            // Only where the surface lies ahead within the radius, where the pull's own field would carry it more
+            // than 0.05 of the pull above its falloff (the walls of a hollow, an overhang): elsewhere the two
+            // layers would move nothing of the mesh that matters to it, and their checks cost a stroke 2-3 times
+            // its time (and the widened field's triangles can stop a pull the plain one carries).
+            const Eigen::Vector3d e = pull.pull.normalized();
+            // A pull out of the surface, within 45 degrees of its normal (the grabbed triangle's where it is now): along it or into it, the surface ahead is the grabbed point's own sheet, which widening would
+            // tear open along the line instead of letting the pull pass it.
+            const int t = k < grabbedTriangle.size() ? grabbedTriangle[k] : -1;
+            if (t < 0) return true;
+            const auto corner = [&](int c) { return Eigen::Vector3d(s_.mesh_.positions.row(s_.mesh_.triangles(t, c)).transpose()); };
+            const Eigen::Vector3d normal = (corner(1) - corner(0)).cross(corner(2) - corner(0));
+            if (!(normal.dot(e) > std::sqrt(0.5) * normal.norm())) return true;
+            bool ahead = false;
+            for (size_t c = 0; c < candidates.size() && !ahead; ++c) {
+                const Eigen::Vector3d x = s_.mesh_.positions.row(candidates[c]).transpose(), offset = x - pull.source;
+                const double z = offset.dot(e);
+                if (z <= 0.0 || z >= kBrushReach * brush.radius || offset.squaredNorm() - z * z >= brush.radius * brush.radius) continue;
+                ahead = brushFieldWeight(pull, brush.radius, brush.falloff, x) - brushFieldProfile(brush.falloff, offset.norm() / brush.radius) > 0.05;
+            }
+            if (!ahead) return true;
             widened = true;
             std::vector<BrushPull> local;
             for (size_t j = 0; j < pulls.size(); ++j) local.push_back(j == k ? pull : BrushPull{where[j], Eigen::Vector3d::Zero()});

@@ -48,7 +48,9 @@ TEST_CASE("directional bound: a cell it proves has det J > 0 at every sampled po
         Lattice lattice;
         REQUIRE(makeLatticeInBox(settings, Eigen::Vector3d(-1, -2, 0), Eigen::Vector3d(1 + trial % 3, 1, 2), lattice));
         // A parallel displacement of random size along one random direction (every few trials, two directions).
-        const Eigen::Vector3d e = Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
+        // (Odd trials: along a box axis, as the brush's layers are, where the bound reads the divided differences.)
+        const Eigen::Vector3d random = Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
+        const Eigen::Vector3d e = trial % 2 ? Eigen::Vector3d((trial % 4 == 1 ? 1.0 : -1.0) * Eigen::Vector3d::Unit(trial / 2 % 3)) : random;
         const Eigen::Vector3d other = Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
         const double size = 0.1 + 0.5 * (trial % 5);
         for (int p = 0; p < lattice.controlPointCount(); ++p) {
@@ -84,18 +86,18 @@ TEST_CASE("directional bound: the brush's pull field is proven injective for eve
         const double length = radius * (0.1 + 0.12 * (trial % 24));
         BrushPull pull{Eigen::Vector3d(unit(rng), unit(rng), unit(rng)), Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized() * length};
         RegionLattice region;
-        REQUIRE(pullRegionLattice({pull}, radius, region));
+        // Smooth, then medium (steep at the rim, across the pull: 12 knot spans a radius) and sharp (a rounded peak).
+        const BrushFalloff falloff = static_cast<BrushFalloff>(trial / 24);
+        REQUIRE(pullRegionLattice({pull}, radius, region, brushFieldSpansPerRadius(falloff)));
         Lattice lattice;
         REQUIRE(makeLatticeInBox(region.settings, region.boxMin, region.boxMax, lattice));
         // The region is turned to the pull (its w axis is the pull's direction), and no larger than the capsule.
         REQUIRE(turnBoxLattice(lattice, region.axes));
         CHECK((region.axes.row(2).transpose() - pull.pull.normalized()).norm() <= 1e-12);
-        CHECK(region.boxMax[2] - region.boxMin[2] <= length + 2.0 * kBrushReach * radius + 4.0 * radius / kBrushFieldSpansPerRadius);
+        CHECK(region.boxMax[2] - region.boxMin[2] <= length + 2.0 * kBrushReach * radius + 4.0 * radius / brushFieldSpansPerRadius(falloff));
         pinAllBut(lattice, region.freePoints);
         ControlDelta delta;
         double residual = 1.0;
-        // Smooth, then medium (steep at the rim, across the pull) and sharp (a rounded peak).
-        const BrushFalloff falloff = static_cast<BrushFalloff>(trial / 24);
         REQUIRE(brushFieldDelta(lattice, {pull}, radius, falloff, delta, residual));
         CHECK(residual <= 1e-12 * radius);
         applyControlDelta(lattice, delta, 1.0);
@@ -116,4 +118,74 @@ TEST_CASE("directional bound: the brush's pull field is proven injective for eve
         REQUIRE(restParameters(lattice, pull.source, t));
         CHECK((pull.source + displacementAt(lattice, t) - (pull.source + pull.pull)).norm() <= 1e-12 * radius);
     }
+}
+
+TEST_CASE("directional bound: the widening ahead of a long pull is a radial map out from the pull's line, carried in two layers each proven injective", "[injectivity][brush]") {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    int widened = 0;
+    for (int trial = 0; trial < 24; ++trial) {
+        const double radius = 0.2 + 0.1 * (trial % 3);
+        const double length = radius * (0.6 + 0.1 * trial);  // 0.6 to 2.9 radii
+        const BrushFalloff falloff = static_cast<BrushFalloff>(trial % 3);
+        const BrushPull pull{Eigen::Vector3d(unit(rng), unit(rng), unit(rng)), Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized() * length};
+        const BrushWidening widening = brushWidening(pull, radius, falloff);
+        INFO("trial " << trial << " pull " << length / radius << " radii, falloff " << brushFalloffName(falloff));
+        if (widening.empty()) continue;
+        ++widened;
+        // The radial map: l + E(l, z) rises with l by at least 0.4 per unit, keeps the line (E <= 2 l), and is the
+        // identity behind the source, beyond 0.85 radius from the line and beyond 1.25 radius ahead.
+        for (int z = -4; z <= 30; ++z) {
+            const double axial = z * radius / 20.0;
+            double previous = 0.0;
+            for (int l = 1; l <= 60; ++l) {
+                const double lateral = l * radius / 40.0, out = widening.widenedLateral(lateral, axial);
+                CHECK(out >= lateral);
+                CHECK(out <= 3.0 * lateral * (1.0 + 1e-12));
+                CHECK(out - previous >= 0.4 * radius / 40.0 * (1.0 - 1e-9));
+                if (axial <= 0.0 || axial >= 1.25 * radius || lateral >= 0.85 * radius) CHECK(out - lateral <= 1e-12 * radius);
+                previous = out;
+            }
+        }
+        // Its two layers in the pull's region: each proven by the directional bound, det J sampled > 0, and the
+        // two together near the radial map (within 0.04-0.09 radius: the quasi-interpolant's error).
+        RegionLattice region;
+        REQUIRE(pullRegionLattice({pull}, radius, region, brushFieldSpansPerRadius(falloff)));
+        std::array<Lattice, 2> layers;
+        for (int axis = 0; axis < 2; ++axis) {
+            Lattice& lattice = layers[static_cast<size_t>(axis)];
+            REQUIRE(makeLatticeInBox(region.settings, region.boxMin, region.boxMax, lattice));
+            REQUIRE(turnBoxLattice(lattice, region.axes));
+            pinAllBut(lattice, region.freePoints);
+            ControlDelta delta;
+            REQUIRE(brushWideningDelta(lattice, widening, axis, delta));
+            CHECK(!delta.empty());
+            applyControlDelta(lattice, delta, 1.0);
+            std::vector<int> cells(static_cast<size_t>(lattice.cellCount()));
+            for (int c = 0; c < lattice.cellCount(); ++c) cells[static_cast<size_t>(c)] = c;
+            CHECK(cellsLeftByDirectionalBound(lattice, cells).empty());
+            double least = INFINITY;
+            for (int i = 0; i < 10; ++i)
+                for (int j = 0; j < 10; ++j)
+                    for (int k = 0; k < 10; ++k) least = std::min(least, jacobianDeterminant(lattice, Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5) / 10.0));
+            CHECK(least > 0.0);
+        }
+        const Eigen::Vector3d e = pull.pull.normalized(), u = e.unitOrthogonal(), v = e.cross(u);
+        double worst = 0.0;
+        for (int sample = 0; sample < 200; ++sample) {
+            // Around the line ahead of the source, where the widening moves points.
+            const Eigen::Vector3d x = pull.source + radius * (unit(rng) * u + unit(rng) * v + 0.6 * (unit(rng) + 1.0) * e);
+            Eigen::Vector3d y = x;
+            for (const Lattice& layer : layers) y = layerImage(layer, y);
+            const Eigen::Vector3d offset = x - pull.source;
+            const double z = offset.dot(e);
+            const Eigen::Vector3d across = offset - z * e;
+            const double l = across.norm();
+            const Eigen::Vector3d radial = pull.source + z * e + (l > 0.0 ? widening.widenedLateral(l, z) / l : 1.0) * across;
+            worst = std::max(worst, (y - radial).norm());
+            CHECK(std::abs((y - x).dot(e)) <= 1e-12 * radius);  // nothing moves along the pull
+        }
+        CHECK(worst <= 0.12 * radius);  // the quasi-interpolant's error: the map has kinks where its bounds take over
+    }
+    CHECK(widened >= 12);
 }
