@@ -200,7 +200,9 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     }
     // The ways `attempt` can carry the pulls: the split above, a layer per image (each holding the images
     // placed before it), one layer for all images (the scaled fields summed).
-    enum class Mode { Split, Widened, Layers, Joint };  // Widened: Layers, each pull's space ahead widened first
+    // Widened: Layers, each pull's space ahead widened first; HalfWidened: by half as much (where the widened
+    // field's triangles cross even split, a gentler widening keeps most of its profile).
+    enum class Mode { Split, Widened, HalfWidened, Layers, Joint };
     Mode mode = Mode::Layers;  // the one `attempt` uses
     bool planning = false;     // `attempt` only puts the layers in place, unchecked, the mesh left as it is
     bool widened = false;      // some attempt in Widened mode widened the space ahead of a pull (else it is Layers)
@@ -269,8 +271,10 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             if (!pull.moving()) return true;
             for (size_t j = 0; j < pulls.size(); ++j)
                 if (j != k && segmentDistance(where[j], pull.source, pull.source + pull.pull) <= kBrushReach * brush.radius * (1.0 + 1e-9)) return true;
-            const BrushWidening widening = brushWidening(pull, brush.radius, brush.falloff);
+            BrushWidening widening = brushWidening(pull, brush.radius, brush.falloff);
             if (widening.empty()) return true;
+            if (mode == Mode::HalfWidened)
+                for (double& push : widening.push) push *= 0.5;  // keeps every bound: l + E / 2 rises at least 0.7 per unit
             // Only where the surface lies ahead within the radius, where the pull's own field would carry it more
             // than 0.05 of the pull above its falloff (the walls of a hollow, an overhang): elsewhere the two
             // layers would move nothing of the mesh that matters to it, and their checks cost a stroke 2-3 times
@@ -324,7 +328,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         }
         for (size_t k = 0; k < pulls.size(); ++k) {
             if (!pulls[k].moving()) continue;
-            if (mode == Mode::Widened && !widen(k)) return false;
+            if ((mode == Mode::Widened || mode == Mode::HalfWidened) && !widen(k)) return false;
             std::vector<BrushPull> local;
             for (size_t j = 0; j < pulls.size(); ++j)
                 local.push_back(j == k || (mode == Mode::Joint && pulls[j].moving()) ? BrushPull{where[j], pulls[j].source + share * pulls[j].pull - where[j]}
@@ -419,6 +423,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         // proven), a layer per image, one field for the images.
         if (splitAxis >= 0) modes.push_back(Mode::Split);
         modes.push_back(Mode::Widened);
+        modes.push_back(Mode::HalfWidened);
         modes.push_back(Mode::Layers);
         if (jointPossible) modes.push_back(Mode::Joint);
         bool whole = false;
@@ -427,7 +432,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         const auto tryWhole = [&] {
             first.reset();
             for (Mode tried : modes) {
-                if (tried == Mode::Layers && !widened && first) continue;  // Widened was this, and failed
+                if ((tried == Mode::Layers || tried == Mode::HalfWidened) && !widened && first) continue;  // Widened was this, and failed
                 mode = tried;
                 failure = StepFailure{};
                 if (attempt(1.0)) {
@@ -525,7 +530,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             // another passes beyond it).
             bool beaten = false;
             for (size_t other = 1; other < modes.size() && share < 1.0 && !beaten; ++other) {
-                if (modes[other] == Mode::Layers && !widened) continue;  // Widened was this
+                if ((modes[other] == Mode::Layers || modes[other] == Mode::HalfWidened) && !widened) continue;  // Widened was this
                 clearStroke();
                 mode = modes[other];
                 const auto [otherFound, otherKept] = lastPassing(share, 1.0, 4);
