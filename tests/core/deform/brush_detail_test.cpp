@@ -83,6 +83,26 @@ bool strokeLandsUncrossed(const Mesh& mesh, int v, const Eigen::Vector3d& target
     return report.fractionApplied == 1.0;
 }
 
+// After a pull of `pull` world units along the unit `direction` that reached `reached` from `source`: CHECKs that
+// nothing farther than 1.25 radius from the path moved, and returns the profile: the RMS over the vertices within
+// the radius of (displacement along the pull / the pull) - f(rho / r), rho the rest distance from the source
+// (measure.py's measure; NaN with no vertex within the radius).
+double pullProfile(const Mesh& mesh, const Positions& after, const Eigen::Vector3d& source, const Eigen::Vector3d& reached,
+                   const Eigen::Vector3d& direction, double pull, const BrushSettings& brush) {
+    double squares = 0.0;
+    int within = 0;
+    for (Eigen::Index r = 0; r < mesh.positions.rows(); ++r) {
+        const Eigen::Vector3d rest = mesh.positions.row(r).transpose();
+        const Eigen::Vector3d moved = after.row(r).transpose() - rest;
+        if (segmentDistance(rest, source, reached) > kBrushReach * brush.radius) CHECK(moved.norm() == 0.0);
+        const double rho = (rest - source).norm();
+        if (rho >= brush.radius) continue;
+        squares += std::pow(moved.dot(direction) / pull - brushProfile(brush.falloff, rho / brush.radius), 2);
+        ++within;
+    }
+    return within > 0 ? std::sqrt(squares / within) : NAN;
+}
+
 std::vector<int> unpinned(const Lattice& lattice) {
     std::vector<int> ids;
     for (int idx = 0; idx < lattice.controlPointCount(); ++idx)
@@ -230,21 +250,10 @@ TEST_CASE("brush reach: on real meshes, pulls of 0.5 to 3 radii along the normal
                 CHECK((session.mesh().positions.row(v).transpose() - reached).norm() <= 1e-9 * mesh.diagonal);
                 if (report.fractionApplied == 1.0) ++full;
                 // Nothing beyond 1.25 radius of the path moved; the profile over the radius.
-                double squares = 0.0;
-                int within = 0;
-                for (Eigen::Index r = 0; r < mesh.positions.rows(); ++r) {
-                    const Eigen::Vector3d rest = mesh.positions.row(r).transpose();
-                    const Eigen::Vector3d moved = session.mesh().positions.row(r).transpose() - rest;
-                    if (segmentDistance(rest, source, reached) > kBrushReach * brush.radius) CHECK(moved.norm() == 0.0);
-                    const double rho = (rest - source).norm();
-                    if (rho >= brush.radius || length < 0) continue;
-                    const double share = moved.dot(direction) / (report.fractionApplied * pull);
-                    squares += std::pow(share - brushProfile(BrushFalloff::Smooth, rho / brush.radius), 2);
-                    ++within;
-                }
-                if (length > 0 && within > 0 && report.fractionApplied == 1.0) {
+                const double profile = pullProfile(mesh, session.mesh().positions, source, reached, direction, report.fractionApplied * pull, brush);
+                if (length > 0 && std::isfinite(profile) && report.fractionApplied == 1.0) {
                     ++profiled;
-                    withinProfile += std::sqrt(squares / within) <= 0.08;
+                    withinProfile += profile <= 0.08;
                 }
             }
         }
@@ -280,18 +289,7 @@ TEST_CASE("brush reach: every falloff keeps its curve over the radius, for norma
             if (report.fractionApplied < 1.0) continue;
             ++full;
             CHECK((session.mesh().positions.row(v).transpose() - target).norm() <= 1e-9 * mesh.diagonal);
-            double squares = 0.0;
-            int within = 0;
-            for (Eigen::Index r = 0; r < mesh.positions.rows(); ++r) {
-                const Eigen::Vector3d rest = mesh.positions.row(r).transpose();
-                const Eigen::Vector3d moved = session.mesh().positions.row(r).transpose() - rest;
-                if (segmentDistance(rest, source, target) > kBrushReach * brush.radius) CHECK(moved.norm() == 0.0);
-                const double rho = (rest - source).norm();
-                if (rho >= brush.radius) continue;
-                squares += std::pow(moved.dot(n) / (length * brush.radius) - brushProfile(brush.falloff, rho / brush.radius), 2);
-                ++within;
-            }
-            const double profile = std::sqrt(squares / std::max(within, 1));
+            const double profile = pullProfile(mesh, session.mesh().positions, source, target, n, length * brush.radius, brush);
             pulls << mesh.name << " vertex " << v << " " << length << " r " << brushFalloffName(brush.falloff) << ": profile " << profile << "\n";
             worst = std::max(worst, profile);
             withinProfile += profile <= 0.08;
@@ -350,20 +348,9 @@ TEST_CASE("brush reach: a long normal pull out of a hollow, with surface ahead o
                 const Eigen::Vector3d reached = source + report.fractionApplied * (target - source);
                 CHECK((session.mesh().positions.row(v).transpose() - reached).norm() <= 1e-9 * mesh.diagonal);
                 CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles) == atLoad);
-                double squares = 0.0;
-                int within = 0;
-                for (Eigen::Index r = 0; r < mesh.positions.rows(); ++r) {
-                    const Eigen::Vector3d rest = mesh.positions.row(r).transpose();
-                    const Eigen::Vector3d moved = session.mesh().positions.row(r).transpose() - rest;
-                    if (segmentDistance(rest, source, reached) > kBrushReach * radius) CHECK(moved.norm() == 0.0);
-                    const double rho = (rest - source).norm();
-                    if (rho >= radius) continue;
-                    squares += std::pow(moved.dot(n) / (report.fractionApplied * length * radius) - brushProfile(brush.falloff, rho / radius), 2);
-                    ++within;
-                }
+                const double profile = pullProfile(mesh, session.mesh().positions, source, reached, n, report.fractionApplied * length * radius, brush);
                 if (report.fractionApplied == 1.0) {
                     ++full;
-                    const double profile = std::sqrt(squares / within);
                     worst = std::max(worst, profile);
                     withinProfile += profile <= 0.08;
                     pulls << mesh.name << " vertex " << v << " " << length << " r " << brushFalloffName(brush.falloff) << ": profile " << profile << "\n";
