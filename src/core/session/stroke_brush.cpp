@@ -199,13 +199,14 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         }
     }
     // The ways `attempt` can carry the pulls: the split above, a layer per image (each holding the images
-    // placed before it), one layer for all images (the scaled fields summed).
+    // placed before it; its space ahead widened first, by all or half the widening, or not), one layer for all
+    // images (the scaled fields summed).
     // Widened: Layers, each pull's space ahead widened first; HalfWidened: by half as much (where the widened
     // field's triangles cross even split, a gentler widening keeps most of its profile).
     enum class Mode { Split, Widened, HalfWidened, Layers, Joint };
     Mode mode = Mode::Layers;  // the one `attempt` uses
     bool planning = false;     // `attempt` only puts the layers in place, unchecked, the mesh left as it is
-    bool widened = false;      // some attempt in Widened mode widened the space ahead of a pull (else it is Layers)
+    bool widened = false;      // some attempt widened the space ahead of a pull (else Widened was Layers)
     const auto attempt = [&](double share) {
         where.clear();
         for (const BrushPull& p : pulls) where.push_back(p.source);
@@ -275,13 +276,13 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             if (widening.empty()) return true;
             if (mode == Mode::HalfWidened)
                 for (double& push : widening.push) push *= 0.5;  // keeps every bound: l + E / 2 rises at least 0.7 per unit
-            // Only where the surface lies ahead within the radius, where the pull's own field would carry it more
-            // than 0.05 of the pull above its falloff (the walls of a hollow, an overhang): elsewhere the two
-            // layers would move nothing of the mesh that matters to it, and their checks cost a stroke 2-3 times
-            // its time (and the widened field's triangles can stop a pull the plain one carries).
+            // Only for a pull out of the surface, within 45 degrees of its normal (the grabbed triangle's where it
+            // is now): along it or into it, the surface ahead is the grabbed point's own sheet, which widening would
+            // tear open along the line instead of letting the pull pass it. And only where the surface lies ahead
+            // within the radius, where the pull's own field would carry it more than 0.05 of the pull above its
+            // falloff (the walls of a hollow, an overhang): elsewhere the two layers move nothing of the mesh that
+            // matters, and their checks cost a stroke 2-3 times its time.
             const Eigen::Vector3d e = pull.pull.normalized();
-            // A pull out of the surface, within 45 degrees of its normal (the grabbed triangle's where it is now): along it or into it, the surface ahead is the grabbed point's own sheet, which widening would
-            // tear open along the line instead of letting the pull pass it.
             const int t = k < grabbedTriangle.size() ? grabbedTriangle[k] : -1;
             if (t < 0) return true;
             const auto corner = [&](int c) { return Eigen::Vector3d(s_.mesh_.positions.row(s_.mesh_.triangles(t, c)).transpose()); };
@@ -420,7 +421,8 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     };
     if (moving) {
         // The modes, in the order they are tried: the split where it applies (mirror symmetric, each layer
-        // proven), a layer per image, one field for the images.
+        // proven), a layer per image with the space ahead widened, with half the widening, without it, one field
+        // for the images.
         if (splitAxis >= 0) modes.push_back(Mode::Split);
         modes.push_back(Mode::Widened);
         modes.push_back(Mode::HalfWidened);
