@@ -119,7 +119,7 @@ BrushWidening brushWidening(const BrushPull& pull, double radius, BrushFalloff f
     const Eigen::Vector3d across = out.direction.unitOrthogonal();
     const int nl = kWideningLateralSpans + 1, nz = kWideningAxialSpans + 1;
     const double dl = kBrushReach * radius / kWideningLateralSpans, dz = kWideningAxial * radius / kWideningAxialSpans;
-    std::vector<double> push(static_cast<size_t>(nl * nz), 0.0), column(static_cast<size_t>(nl)), wanted(static_cast<size_t>(nl));
+    std::vector<double> push(static_cast<size_t>(nl * nz), 0.0), column(static_cast<size_t>(nl));
     double largest = 0.0;
     for (int j = 1; j < nz; ++j) {
         const double z = j * dz;

@@ -38,11 +38,11 @@ std::vector<int> cellsLeftByDirectionalBound(const Lattice& lattice, const std::
         for (int a = 0; a < 3; ++a) alongOneAxis = alongOneAxis && (a == axis || largest[a] <= 1e-12 * largest[axis]);
         if (alongOneAxis) {
             double least = INFINITY;
-            const std::array<int, 3> count = lattice.count;
-            for (int k = 0; k < count[2]; ++k)
-                for (int j = 0; j < count[1]; ++j)
-                    for (int i = (axis == 0 ? 1 : 0); i < count[0]; ++i)
-                        if ((axis != 1 || j > 0) && (axis != 2 || k > 0)) least = std::min(least, divided(axis, {i, j, k}));
+            std::array<int, 3> from{0, 0, 0};  // every control point but the first along the axis ends a difference
+            from[static_cast<size_t>(axis)] = 1;
+            for (int k = from[2]; k < lattice.count[2]; ++k)
+                for (int j = from[1]; j < lattice.count[1]; ++j)
+                    for (int i = from[0]; i < lattice.count[0]; ++i) least = std::min(least, divided(axis, {i, j, k}));
             if (1.0 + least > 1e-9) return {};
         }
     }

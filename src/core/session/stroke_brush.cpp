@@ -272,10 +272,6 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             if (!pull.moving()) return true;
             for (size_t j = 0; j < pulls.size(); ++j)
                 if (j != k && segmentDistance(where[j], pull.source, pull.source + pull.pull) <= kBrushReach * brush.radius * (1.0 + 1e-9)) return true;
-            BrushWidening widening = brushWidening(pull, brush.radius, brush.falloff);
-            if (widening.empty()) return true;
-            if (mode == Mode::HalfWidened)
-                for (double& push : widening.push) push *= 0.5;  // keeps every bound: l + E / 2 rises at least 0.7 per unit
             // Only for a pull out of the surface, within 45 degrees of its normal (the grabbed triangle's where it
             // is now): along it or into it, the surface ahead is the grabbed point's own sheet, which widening would
             // tear open along the line instead of letting the pull pass it. And only where the surface lies ahead
@@ -296,6 +292,11 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
                 ahead = brushFieldWeight(pull, brush.radius, brush.falloff, x) - brushFieldProfile(brush.falloff, offset.norm() / brush.radius) > 0.05;
             }
             if (!ahead) return true;
+            // (The table last: the two tests above turn most pulls away for less.)
+            BrushWidening widening = brushWidening(pull, brush.radius, brush.falloff);
+            if (widening.empty()) return true;
+            if (mode == Mode::HalfWidened)
+                for (double& push : widening.push) push *= 0.5;  // keeps every bound: l + E / 2 rises at least 0.7 per unit
             widened = true;
             std::vector<BrushPull> local;
             for (size_t j = 0; j < pulls.size(); ++j) local.push_back(j == k ? pull : BrushPull{where[j], Eigen::Vector3d::Zero()});
