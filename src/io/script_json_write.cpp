@@ -208,6 +208,7 @@ std::string reportToJson(const io::ScriptReport& report, const core::Session& se
     root["injectivity"] = injectivityJson(session.injectivity());
     root["self_intersecting_pairs_at_load"] = session.meshAsSet().intersectingPairs;
     root["degenerate_triangles_at_load"] = session.meshAsSet().degenerateTriangles;
+    root["near_contact_pairs_at_load"] = session.meshAsSet().nearContactPairs;
     return root.dump(2) + "\n";
 }
 

@@ -24,6 +24,7 @@
 
 namespace sculpt::core {
 
+
 // A pair of intersecting triangles (ids, first < second) and a point where they are (the first's centroid).
 struct TrianglePairHit {
     int first = -1, second = -1;
@@ -86,6 +87,10 @@ public:
     // triangles): zoneVertex #V flags the corners of the contact's triangles and their rings; partPairs holds a
     // vertex of each of two parts in contact.
     static constexpr int kContactRings = 2;
+    // Pairs within this share of the mesh's bounding-box diagonal at load touch as the intersecting ones do
+    // (allIntersections' near pairs): a sliver folded over its neighbour 1e-8 of the diagonal above its face (CGAL's
+    // mannequin-devil.off), or a CAD seam's near-equal vertices (4e-6 of the diagonal apart), crosses under any move.
+    static constexpr double kNearContactTolerance = 1e-5;
     struct LoadContacts {
         std::vector<std::uint8_t> zoneVertex;
         std::vector<std::pair<int, int>> partPairs;
@@ -98,8 +103,12 @@ public:
     bool shiftedLoadContact(int a, int b) const;
 
     // Every intersecting pair at `positions` (as findSelfIntersections), using this index (refitted first).
+    // With `near`, also every pair that does not intersect but comes within `nearTolerance` (world units) of each
+    // other apart from what they share (trianglesWithin: a sliver folded over its neighbour), sorted: these touch
+    // as the intersecting ones do (Session adds both to the load contacts; kNearContactTolerance).
     std::vector<TrianglePairHit> allIntersections(const Positions& positions, const Triangles& triangles,
-                                                  size_t limit = static_cast<size_t>(-1));
+                                                  size_t limit = static_cast<size_t>(-1), double nearTolerance = 0.0,
+                                                  std::vector<TrianglePairHit>* near = nullptr);
 
     // Triangles that have vertex v as a corner (CSR): ids vertexTriangles_[start[v] .. start[v+1]).
     template <typename F>

@@ -215,38 +215,53 @@ SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const P
     return result;
 }
 
-std::vector<TrianglePairHit> SelfIntersectionIndex::allIntersections(const Positions& positions, const Triangles& triangles,
-                                                                      size_t limit) {
+std::vector<TrianglePairHit> SelfIntersectionIndex::allIntersections(const Positions& positions, const Triangles& triangles, size_t limit,
+                                                                      double nearTolerance, std::vector<TrianglePairHit>* near) {
     std::vector<TrianglePairHit> hits;
+    if (near) near->clear();
     const int nt = static_cast<int>(triangles.rows());
     if (nt < 2 || limit == 0 || nodes_.empty()) return hits;
     refit(positions, triangles);
-    // Every triangle against the hierarchy; a pair is kept from its lower id.
+    // Every triangle against the hierarchy (its box grown by the near tolerance); a pair is kept from its lower id.
     const auto now = [&](int v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
+    const double tolerance = near ? std::max(nearTolerance, 0.0) : 0.0;
+    const Eigen::Vector3d grow = Eigen::Vector3d::Constant(tolerance);
     std::atomic<size_t> total{0};
 #pragma omp parallel
     {
-        std::vector<TrianglePairHit> local;
+        std::vector<TrianglePairHit> local, localNear;
 #pragma omp for schedule(dynamic, 256)
         for (int e = 0; e < nt; ++e) {
             const int a = leafTriangles_[e];  // in leaf order, so neighbouring queries share cached nodes
             if (total.load(std::memory_order_relaxed) >= limit) continue;
-            const Eigen::AlignedBox3d box = triangleBox(positions, triangles, a);
+            Eigen::AlignedBox3d box = triangleBox(positions, triangles, a);
+            box.min() -= grow;
+            box.max() += grow;
             const TriangleCorners cornersA = corners(triangles, a, now);
+            const Eigen::Vector3d centroid = (cornersA.point[0] + cornersA.point[1] + cornersA.point[2]) / 3.0;
             forEachCandidate(box, [&](int b) {
                 if (b <= a || !overlaps(triangleBox(positions, triangles, b), box)) return true;
-                if (!trianglesIntersect(cornersA, corners(triangles, b, now))) return true;
-                local.push_back({a, b, (cornersA.point[0] + cornersA.point[1] + cornersA.point[2]) / 3.0});
-                ++total;
+                const TriangleCorners cornersB = corners(triangles, b, now);
+                if (trianglesIntersect(cornersA, cornersB)) {
+                    local.push_back({a, b, centroid});
+                    ++total;
+                } else if (near && trianglesWithin(cornersA, cornersB, tolerance)) {
+                    localNear.push_back({a, b, centroid});
+                }
                 return true;
             });
         }
 #pragma omp critical(sculpt_self_intersections_merge)
-        hits.insert(hits.end(), local.begin(), local.end());
+        {
+            hits.insert(hits.end(), local.begin(), local.end());
+            if (near) near->insert(near->end(), localNear.begin(), localNear.end());
+        }
     }
-    std::sort(hits.begin(), hits.end(), [](const TrianglePairHit& x, const TrianglePairHit& y) {
+    const auto byIds = [](const TrianglePairHit& x, const TrianglePairHit& y) {
         return x.first != y.first ? x.first < y.first : x.second < y.second;
-    });
+    };
+    std::sort(hits.begin(), hits.end(), byIds);
+    if (near) std::sort(near->begin(), near->end(), byIds);
     if (hits.size() > limit) hits.resize(limit);
     return hits;
 }

@@ -8,6 +8,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/intersections.h>
+#include <CGAL/squared_distance_3.h>
 
 namespace sculpt::core {
 
@@ -187,6 +188,68 @@ bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& bIn) {
         if (b.vertex[j] == -1) b.vertex[j] = -10 - j;  // matches none of a's
     if (quickDecision(aIds, b) == 0) return false;
     return exactDecision(aIds, b);
+}
+
+bool trianglesWithin(const TriangleCorners& a, const TriangleCorners& b, double tolerance) {
+    const Eigen::Vector3d normalA = (a.point[1] - a.point[0]).cross(a.point[2] - a.point[0]);
+    const Eigen::Vector3d normalB = (b.point[1] - b.point[0]).cross(b.point[2] - b.point[0]);
+    if (!(normalA.squaredNorm() > 0.0) || !(normalB.squaredNorm() > 0.0)) return false;  // no area (or none in doubles)
+    // Which corners are one vertex (by id, or at the very same position).
+    bool sharedA[3] = {false, false, false}, sharedB[3] = {false, false, false};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if ((a.vertex[i] >= 0 && a.vertex[i] == b.vertex[j]) || a.point[i] == b.point[j]) sharedA[i] = sharedB[j] = true;
+    // Each triangle's corners not shared, beyond `tolerance` on one side of the other's plane: then every
+    // corner and edge of the other is too, apart from the shared corners, which lie on that plane (a shared
+    // corner's edges run from the plane into the far side). Most neighbours of a curved surface part here.
+    const auto parted = [tolerance](const TriangleCorners& plane, const Eigen::Vector3d& normalOfPlane, const TriangleCorners& other,
+                                    const bool* shared) {
+        const Eigen::Vector3d normal = normalOfPlane.normalized();
+        int above = 0, below = 0, free = 0;
+        for (int k = 0; k < 3; ++k) {
+            if (shared[k]) continue;
+            ++free;
+            const double side = normal.dot(other.point[k] - plane.point[0]);
+            above += side > tolerance;
+            below += side < -tolerance;
+        }
+        return free > 0 && (above == free || below == free);
+    };
+    if (parted(a, normalA, b, sharedB) || parted(b, normalB, a, sharedA)) return false;
+    const double squared = tolerance * tolerance;
+    const Triangle ta(toPoint(a.point[0]), toPoint(a.point[1]), toPoint(a.point[2]));
+    const Triangle tb(toPoint(b.point[0]), toPoint(b.point[1]), toPoint(b.point[2]));
+    // A point beyond `tolerance` outside one of the triangle's edges (in the plane through that edge normal to the
+    // triangle) is farther than `tolerance` from it: most corners of a flat neighbour stop here.
+    const auto pointNear = [&](const Eigen::Vector3d& p, const TriangleCorners& t, const Eigen::Vector3d& normal, const Triangle& triangle) {
+        for (int e = 0; e < 3; ++e) {
+            const Eigen::Vector3d edge = t.point[(e + 1) % 3] - t.point[e];
+            const Eigen::Vector3d outward = edge.cross(normal).normalized();  // (corners counter-clockwise about normal)
+            if (outward.dot(p - t.point[e]) > tolerance) return false;
+        }
+        return CGAL::to_double(CGAL::squared_distance(toPoint(p), triangle)) <= squared;
+    };
+    for (int k = 0; k < 3; ++k) {
+        if (!sharedB[k] && pointNear(b.point[k], a, normalA, ta)) return true;
+        if (!sharedA[k] && pointNear(a.point[k], b, normalB, tb)) return true;
+    }
+    // Edges i (corners i, i + 1) of a and j of b with no common corner.
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            const int i1 = (i + 1) % 3, j1 = (j + 1) % 3;
+            bool common = false;
+            for (int u : {i, i1})
+                for (int w : {j, j1})
+                    common = common || (sharedA[u] && sharedB[w] && ((a.vertex[u] >= 0 && a.vertex[u] == b.vertex[w]) || a.point[u] == b.point[w]));
+            if (common) continue;
+            // (apart by more than `tolerance` along an axis: farther)
+            const Eigen::Vector3d loA = a.point[i].cwiseMin(a.point[i1]), hiA = a.point[i].cwiseMax(a.point[i1]);
+            const Eigen::Vector3d loB = b.point[j].cwiseMin(b.point[j1]), hiB = b.point[j].cwiseMax(b.point[j1]);
+            if (((loA.array() - hiB.array()) > tolerance).any() || ((loB.array() - hiA.array()) > tolerance).any()) continue;
+            const Segment ea(toPoint(a.point[i]), toPoint(a.point[i1])), eb(toPoint(b.point[j]), toPoint(b.point[j1]));
+            if (CGAL::to_double(CGAL::squared_distance(ea, eb)) <= squared) return true;
+        }
+    return false;
 }
 
 bool triangleDegenerate(const TriangleCorners& t) {

@@ -30,6 +30,14 @@ struct TriangleCorners {
 // Never throws; coordinates must be finite (the engine never produces others).
 bool trianglesIntersect(const TriangleCorners& a, const TriangleCorners& b);
 
+// True if a and b, not intersecting, still come within `tolerance` (world units, >= 0) of each other apart from what
+// they share (a vertex shared by id or by position, as trianglesIntersect): a corner of one within `tolerance` of
+// the other's face (a sliver folded over its neighbour, a vertex hovering on a face), or two edges without a common
+// corner within `tolerance` of each other. Such a pair touches to within a file's precision: any move may cross it.
+// The distances are CGAL's (point-triangle, segment-segment) in doubles; a triangle with no area (its corners' cross product
+// zero in doubles) is never within (it is counted apart: triangleDegenerate). Coordinates must be finite.
+bool trianglesWithin(const TriangleCorners& a, const TriangleCorners& b, double tolerance);
+
 // True if the triangle has no area: its corners are collinear or coincide (CGAL's exact collinear predicate on
 // the double coordinates, no tolerance). A mesh file's zero-area facets are such triangles: the load counts them
 // apart from crossings (Session::meshAsSet().degenerateTriangles).

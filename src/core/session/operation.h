@@ -274,6 +274,9 @@ struct MeshAsSet {
     // (collinear or coincident corners, decided exactly).
     int intersectingPairs = 0;
     int degenerateTriangles = 0;
+    // Pairs that do not intersect but touch to within SelfIntersectionIndex::kNearContactTolerance of the
+    // diagonal (a sliver folded over its neighbour): contacts too, which may shift as they move.
+    int nearContactPairs = 0;
 };
 
 // A cage that was replaced by a fresh one (lattice set-up), kept compactly so undo can return to it.

@@ -210,11 +210,18 @@ Status Session::setMesh(const Positions& positions, const Triangles& triangles, 
         }
         asSet_.degenerateTriangles = degenerateCount;
         asSet_.intersectingPairs = 0;
-        const std::vector<TrianglePairHit> initial = meshIndex_.allIntersections(mesh_.positions, mesh_.triangles);
+        // Parts touching at load (an assembly's), or within a file's precision of touching (kNearContactTolerance):
+        // their contact may shift as they move (self_intersection.h).
+        const double diagonal = (mesh_.positions.colwise().maxCoeff() - mesh_.positions.colwise().minCoeff()).norm();
+        std::vector<TrianglePairHit> near;
+        const std::vector<TrianglePairHit> initial = meshIndex_.allIntersections(
+            mesh_.positions, mesh_.triangles, static_cast<size_t>(-1), SelfIntersectionIndex::kNearContactTolerance * diagonal, &near);
         for (const TrianglePairHit& hit : initial)
             asSet_.intersectingPairs += !degenerate[static_cast<size_t>(hit.first)] && !degenerate[static_cast<size_t>(hit.second)];
-        // Parts touching at load (an assembly's): their contact may shift as they move (self_intersection.h).
-        loadContacts_ = meshIndex_.findLoadContacts(initial, mesh_.triangles);
+        std::vector<TrianglePairHit> contacts = initial;
+        contacts.insert(contacts.end(), near.begin(), near.end());
+        asSet_.nearContactPairs = static_cast<int>(near.size());
+        loadContacts_ = meshIndex_.findLoadContacts(contacts, mesh_.triangles);
         meshIndex_.setLoadContacts(loadContacts_, mesh_.triangles);
     }
     before_.resize(mesh_.positions.rows(), 3);

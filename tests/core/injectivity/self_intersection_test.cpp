@@ -393,3 +393,55 @@ TEST_CASE("self_intersection: sheets proven whole as height fields, and folded o
 }
 
 }  // namespace
+
+// trianglesWithin (the load's near contacts: a sliver folded over its neighbour a file's precision above its face)
+// on pairs built at a known distance d apart from what they share, at random shapes, orientations and scales: a
+// corner hovering d above the other's face (the pairs share nothing, or a corner), and an edge passing d over the
+// other's face and across its edges (closest there edge to edge). Within a tolerance iff d is at most it (d at
+// half and twice the tolerance); and a pair that intersects is not asked about (trianglesIntersect decides it).
+TEST_CASE("self_intersection: trianglesWithin finds a pair within a tolerance of each other exactly when the distance apart from what they share is within it", "[core]") {
+    std::mt19937 rng(1205);
+    int within = 0, apart = 0;
+    for (int trial = 0; trial < 600; ++trial) {
+        const double scale = std::pow(10.0, test::randomVector(rng, -3.0, 3.0).x());
+        TriangleCorners a, b;
+        for (int k = 0; k < 3; ++k) {
+            a.point[static_cast<size_t>(k)] = scale * test::randomVector(rng, -1.0, 1.0);
+            a.vertex[static_cast<size_t>(k)] = k;
+        }
+        const Eigen::Vector3d normal = (a.point[1] - a.point[0]).cross(a.point[2] - a.point[0]);
+        // (a triangle with a fair shape: its smallest height at least 10% of its longest edge)
+        double longest = 0.0;
+        for (int k = 0; k < 3; ++k) longest = std::max(longest, (a.point[static_cast<size_t>((k + 1) % 3)] - a.point[static_cast<size_t>(k)]).norm());
+        if (normal.norm() / longest < 0.1 * longest) continue;
+        const Eigen::Vector3d n = normal.normalized();
+        const double tolerance = scale * std::pow(10.0, test::randomVector(rng, -7.0, -3.0).x());
+        const bool near = trial % 2 == 0;
+        const double d = near ? 0.5 * tolerance : 2.0 * tolerance;
+        // A point inside a (barycentric weights at least 0.15).
+        Eigen::Vector3d w = test::randomVector(rng, 0.15, 1.0);
+        w /= w.sum();
+        if (w.minCoeff() < 0.1) continue;
+        const Eigen::Vector3d inside = w[0] * a.point[0] + w[1] * a.point[1] + w[2] * a.point[2];
+        const Eigen::Vector3d up = scale * (n + 0.3 * test::randomVector(rng, -1.0, 1.0).cross(n));  // away from a
+        const int kind = trial / 2 % 3;
+        for (int k = 0; k < 3; ++k) b.vertex[static_cast<size_t>(k)] = 10 + k;
+        if (kind == 0) {  // a corner of b hovers over a's face; b shares nothing
+            b.point = {inside + d * n, inside + d * n + up + 0.5 * scale * n.unitOrthogonal(), inside + d * n + up - 0.5 * scale * n.unitOrthogonal()};
+        } else if (kind == 1) {  // b shares a's corner 0 and folds over a: its corner 1 hovers over a's face
+            b.point = {a.point[0], inside + d * n, inside + d * n + up};
+            b.vertex[0] = 0;
+        } else {  // an edge of b parallel to a, d above it, running across a from outside to outside
+            const Eigen::Vector3d across = n.cross(a.point[2] - a.point[1]).normalized();
+            const Eigen::Vector3d start = inside + d * n - 3.0 * longest * across, end = inside + d * n + 3.0 * longest * across;
+            b.point = {start, end, 0.5 * (start + end) + up};
+        }
+        INFO("trial " << trial << " kind " << kind << " scale " << scale << " tolerance " << tolerance << " d " << d);
+        REQUIRE_FALSE(trianglesIntersect(a, b));
+        CHECK(trianglesWithin(a, b, tolerance) == near);
+        CHECK(trianglesWithin(b, a, tolerance) == near);
+        (near ? within : apart) += 1;
+    }
+    CHECK(within > 150);
+    CHECK(apart > 150);
+}
