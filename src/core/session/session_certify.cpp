@@ -104,8 +104,14 @@ bool Session::noNewCrossing(const std::vector<int>& changed, StepFailure& failur
                                        : named(std::min(partA, partB)) + " and " + named(std::max(partA, partB)) + " would cross";
         failure.parts += " (of the mesh's " + std::to_string(meshIndex_.partCount()) + " parts)";
     }
+    // Where the first triangle is now (before the move): before_ holds the moved vertices' rows only, the others are
+    // where they were (a triangle none of whose corners moved read as the origin).
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) centroid += before_.row(mesh_.triangles(crossing.pair.first, k)).transpose();  // where it is now
+    for (int k = 0; k < 3; ++k) {
+        const int corner = mesh_.triangles(crossing.pair.first, k);
+        const bool moved = std::find(changed.begin(), changed.end(), corner) != changed.end();
+        centroid += (moved ? before_.row(corner) : mesh_.positions.row(corner)).transpose();
+    }
     failure.where = centroid / 3.0;
     return false;
 }

@@ -2,6 +2,7 @@
 // where on the mesh the fold would be.
 #include <catch2/catch.hpp>
 
+#include <cstdio>
 #include <random>
 
 #include "core/session/session.h"
@@ -130,3 +131,43 @@ TEST_CASE("refusals: a control-point edit that had to stop short says where the 
 }
 
 }  // namespace
+
+// A crossing the triangle check refuses is placed at the first triangle of the pair, where it is before the move:
+// when that triangle did not move (a part pushed into a still one of lower ids), its corners are where they were
+// (they read as the origin once). Two spheres a hair apart, away from the origin, the cage around the right one
+// only, all its control points moved into the left one by random vectors: each refusal by the triangles names a
+// point on the left sphere's surface or the right one's, never the origin.
+TEST_CASE("refusals: a crossing into a part that did not move says where on the mesh it would be", "[core]") {
+    Positions positions;
+    Triangles triangles;
+    const Eigen::Vector3d left(6.0, 2.0, -1.0), right(8.02, 2.0, -1.0);
+    test::twoIcospheres(1, 1.0, left, right, positions, triangles);
+    LatticeSettings rightOnly;
+    rightOnly.hasRegion = true;
+    rightOnly.regionMin = right - Eigen::Vector3d(1.005, 1.05, 1.05);
+    rightOnly.regionMax = right + Eigen::Vector3d(1.05, 1.05, 1.05);
+    rightOnly.padding = 0.0;
+    rightOnly.pinLayers = 0;
+    Session session;
+    REQUIRE(session.setMesh(positions, triangles, rightOnly).ok);
+    std::vector<int> all(static_cast<size_t>(session.lattice().controlPointCount()));
+    for (size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+    std::mt19937 rng(82);
+    int placed = 0;
+    for (int trial = 0; trial < 6; ++trial) {
+        const Eigen::Vector3d by = Eigen::Vector3d(-0.3 - 0.1 * trial, 0, 0) + test::randomVector(rng, -0.1, 0.1);
+        OpReport report;
+        REQUIRE(session.moveControlPoints(all, by.transpose().replicate(static_cast<Eigen::Index>(all.size()), 1), true, report).ok);
+        INFO(report.reason);
+        REQUIRE(report.refusedBy == "triangles");
+        const size_t at = report.reason.find("near (");
+        REQUIRE(at != std::string::npos);
+        Eigen::Vector3d where;
+        REQUIRE(std::sscanf(report.reason.c_str() + at, "near (%lf, %lf, %lf)", &where.x(), &where.y(), &where.z()) == 3);
+        const double fromLeft = (where - left).norm(), fromRight = (where - right).norm();
+        CHECK(std::min(std::abs(fromLeft - 1.0), std::abs(fromRight - 1.0)) < 0.2);
+        placed += where.norm() > 1.0;
+        if (report.status == OpStatus::Applied) REQUIRE(session.undo(report).ok);
+    }
+    CHECK(placed == 6);
+}
