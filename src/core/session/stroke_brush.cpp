@@ -281,8 +281,23 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             const Eigen::Vector3d e = pull.pull.normalized();
             const int t = k < grabbedTriangle.size() ? grabbedTriangle[k] : -1;
             if (t < 0) return true;
-            const auto corner = [&](int c) { return Eigen::Vector3d(s_.mesh_.positions.row(s_.mesh_.triangles(t, c)).transpose()); };
-            const Eigen::Vector3d normal = (corner(1) - corner(0)).cross(corner(2) - corner(0));
+            // (The surface's normal there: the area-weighted normals of the triangles around the grabbed one's
+            // corners. One triangle's own normal misleads at a vertex grabbed on a crease, where the triangle the
+            // point is found on may face away from the others: a femur's vertex pulled along its normal read as a
+            // pull 109 degrees from it.)
+            const auto normalOf = [&](int triangle) {
+                const auto corner = [&](int c) { return Eigen::Vector3d(s_.mesh_.positions.row(s_.mesh_.triangles(triangle, c)).transpose()); };
+                return Eigen::Vector3d((corner(1) - corner(0)).cross(corner(2) - corner(0)));
+            };
+            Eigen::Vector3d normal = normalOf(t);
+            if (s_.meshIndex_.built()) {
+                std::vector<int> around;
+                for (int c = 0; c < 3; ++c) s_.meshIndex_.forEachTriangleOf(s_.mesh_.triangles(t, c), [&](int n) { around.push_back(n); });
+                std::sort(around.begin(), around.end());
+                around.erase(std::unique(around.begin(), around.end()), around.end());
+                normal.setZero();
+                for (int n : around) normal += normalOf(n);
+            }
             if (!(normal.dot(e) > std::sqrt(0.5) * normal.norm())) return true;
             bool ahead = false;
             for (size_t c = 0; c < candidates.size() && !ahead; ++c) {
@@ -476,6 +491,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             if (!(stoppedByTriangles || missed) || refined == kBrushRefinements || !s_.refinement_.settings.underBrush ||
                 pullLength >= s_.drag_.splitFailedAt)
                 break;
+            const bool passed = whole;  // (a later mode carried it, or it passed with the grabbed point missed)
             if (whole) {
                 clearStroke();
                 whole = false;
@@ -483,7 +499,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             triedSplitting = true;
             const int trianglesThen = static_cast<int>(s_.mesh_.triangles.rows());
             if (!refineUnderPull(tolerance)) {
-                if (missed) tryWhole();  // nothing to split: the whole pull as it passed
+                if (passed) tryWhole();  // nothing to split: the whole pull as it passed (a later mode's, or missed)
                 break;
             }
             // The grabbed triangles are split too: each grabbed image is on its old triangle's half or on a new one.
