@@ -24,7 +24,6 @@
 
 namespace sculpt::core {
 
-
 // A pair of intersecting triangles (ids, first < second) and a point where they are (the first's centroid).
 struct TrianglePairHit {
     int first = -1, second = -1;
