@@ -195,10 +195,12 @@ bool trianglesWithin(const TriangleCorners& a, const TriangleCorners& b, double 
     const Eigen::Vector3d normalB = (b.point[1] - b.point[0]).cross(b.point[2] - b.point[0]);
     if (!(normalA.squaredNorm() > 0.0) || !(normalB.squaredNorm() > 0.0)) return false;  // no area (or none in doubles)
     // Which corners are one vertex (by id, or at the very same position).
-    bool sharedA[3] = {false, false, false}, sharedB[3] = {false, false, false};
+    bool same[3][3], sharedA[3] = {false, false, false}, sharedB[3] = {false, false, false};
     for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            if ((a.vertex[i] >= 0 && a.vertex[i] == b.vertex[j]) || a.point[i] == b.point[j]) sharedA[i] = sharedB[j] = true;
+        for (int j = 0; j < 3; ++j) {
+            same[i][j] = (a.vertex[i] >= 0 && a.vertex[i] == b.vertex[j]) || a.point[i] == b.point[j];
+            if (same[i][j]) sharedA[i] = sharedB[j] = true;
+        }
     // Each triangle's corners not shared, beyond `tolerance` on one side of the other's plane: then every
     // corner and edge of the other is too, apart from the shared corners, which lie on that plane (a shared
     // corner's edges run from the plane into the far side). Most neighbours of a curved surface part here.
@@ -237,11 +239,7 @@ bool trianglesWithin(const TriangleCorners& a, const TriangleCorners& b, double 
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
             const int i1 = (i + 1) % 3, j1 = (j + 1) % 3;
-            bool common = false;
-            for (int u : {i, i1})
-                for (int w : {j, j1})
-                    common = common || (sharedA[u] && sharedB[w] && ((a.vertex[u] >= 0 && a.vertex[u] == b.vertex[w]) || a.point[u] == b.point[w]));
-            if (common) continue;
+            if (same[i][j] || same[i][j1] || same[i1][j] || same[i1][j1]) continue;
             // (apart by more than `tolerance` along an axis: farther)
             const Eigen::Vector3d loA = a.point[i].cwiseMin(a.point[i1]), hiA = a.point[i].cwiseMax(a.point[i1]);
             const Eigen::Vector3d loB = b.point[j].cwiseMin(b.point[j1]), hiB = b.point[j].cwiseMax(b.point[j1]);

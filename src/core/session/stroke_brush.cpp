@@ -272,9 +272,9 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             if (!pull.moving()) return true;
             for (size_t j = 0; j < pulls.size(); ++j)
                 if (j != k && segmentDistance(where[j], pull.source, pull.source + pull.pull) <= kBrushReach * brush.radius * (1.0 + 1e-9)) return true;
-            // Only for a pull out of the surface, within 45 degrees of its normal (the grabbed triangle's where it
-            // is now): along it or into it, the surface ahead is the grabbed point's own sheet, which widening would
-            // tear open along the line instead of letting the pull pass it. And only where the surface lies ahead
+            // Only for a pull out of the surface, within 45 degrees of its normal there (as it is now): along it or
+            // into it, the surface ahead is the grabbed point's own sheet, which widening would tear open along the
+            // line instead of letting the pull pass it. And only where the surface lies ahead
             // within the radius, where the pull's own field would carry it more than 0.05 of the pull above its
             // falloff (the walls of a hollow, an overhang): elsewhere the two layers move nothing of the mesh that
             // matters, and their checks cost a stroke 2-3 times its time.
@@ -289,15 +289,13 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
                 const auto corner = [&](int c) { return Eigen::Vector3d(s_.mesh_.positions.row(s_.mesh_.triangles(triangle, c)).transpose()); };
                 return Eigen::Vector3d((corner(1) - corner(0)).cross(corner(2) - corner(0)));
             };
-            Eigen::Vector3d normal = normalOf(t);
-            if (s_.meshIndex_.built()) {
-                std::vector<int> around;
+            std::vector<int> around{t};  // (the triangle alone where the mesh has no triangle index)
+            if (s_.meshIndex_.built())
                 for (int c = 0; c < 3; ++c) s_.meshIndex_.forEachTriangleOf(s_.mesh_.triangles(t, c), [&](int n) { around.push_back(n); });
-                std::sort(around.begin(), around.end());
-                around.erase(std::unique(around.begin(), around.end()), around.end());
-                normal.setZero();
-                for (int n : around) normal += normalOf(n);
-            }
+            std::sort(around.begin(), around.end());
+            around.erase(std::unique(around.begin(), around.end()), around.end());
+            Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+            for (int n : around) normal += normalOf(n);
             if (!(normal.dot(e) > std::sqrt(0.5) * normal.norm())) return true;
             bool ahead = false;
             for (size_t c = 0; c < candidates.size() && !ahead; ++c) {

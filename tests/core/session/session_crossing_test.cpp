@@ -464,12 +464,13 @@ TEST_CASE("session: a vertex a file's precision above a neighbouring face is a c
         std::string error;
         if (!test::loadCgalMesh(name, positions, triangles, error)) FAIL(error);
         const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
-        // The edges and their two triangles.
+        // The edges and their two triangles, as loaded (a junction's two triangles are not picked again).
         std::map<std::pair<int, int>, std::vector<int>> edgeTriangles;
         for (Eigen::Index t = 0; t < triangles.rows(); ++t)
             for (int k = 0; k < 3; ++k)
                 edgeTriangles[std::minmax(triangles(t, k), triangles(t, (k + 1) % 3))].push_back(static_cast<int>(t));
-        // Junctions at random edges 0.3 diagonal apart at least: (u, v, w1) kept, (v, u, w2) split at m, which lies
+        std::vector<bool> touched(static_cast<size_t>(triangles.rows()), false);
+        // Junctions at random edges 0.12 diagonal apart at least: (u, v, w1) kept, (v, u, w2) split at m, which lies
         // 5% of the edge inside (u, v, w1) and 1e-8 of the diagonal above it.
         std::vector<int> hovering;
         std::vector<std::array<int, 3>> added;
@@ -481,6 +482,7 @@ TEST_CASE("session: a vertex a file's precision above a neighbouring face is a c
             const std::vector<int>& both = edgeTriangles[std::minmax(u, v)];
             if (both.size() != 2) continue;
             const int t2 = both[0] == t1 ? both[1] : both[0];
+            if (touched[static_cast<size_t>(t1)] || touched[static_cast<size_t>(t2)]) continue;
             const Eigen::Vector3d pu = positions.row(u).transpose(), pv = positions.row(v).transpose(), pw = positions.row(w1).transpose();
             bool apart = true;
             for (int h : hovering) apart = apart && (positions.row(h).transpose() - 0.5 * (pu + pv)).norm() > 0.12 * diagonal;
@@ -501,12 +503,7 @@ TEST_CASE("session: a vertex a file's precision above a neighbouring face is a c
             added.push_back({id, u, w2});
             junctionTriangles.insert(junctionTriangles.end(), {t1, t2});
             hovering.push_back(id);
-            edgeTriangles.clear();  // (rebuilt below for the next pick)
-            for (Eigen::Index t = 0; t < triangles.rows(); ++t)
-                for (int c = 0; c < 3; ++c)
-                    edgeTriangles[std::minmax(triangles(t, c), triangles(t, (c + 1) % 3))].push_back(static_cast<int>(t));
-            for (const std::array<int, 3>& a : added)
-                for (int c = 0; c < 3; ++c) edgeTriangles[std::minmax(a[c], a[(c + 1) % 3])].push_back(-1);  // not picked again
+            touched[static_cast<size_t>(t1)] = touched[static_cast<size_t>(t2)] = true;
         }
         for (const std::array<int, 3>& a : added) {
             junctionTriangles.push_back(static_cast<int>(triangles.rows()));
