@@ -9,6 +9,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 
 namespace sculpt::core {
@@ -165,6 +166,89 @@ double deviationFromSamples(const Eigen::Vector3d x[3], const TriangleSamples& s
 }
 
 }  // namespace
+
+std::vector<int> seamCopiesOf(const Positions& rest) {
+    struct PointHash {
+        size_t operator()(const std::array<double, 3>& p) const {
+            size_t h = 0;
+            for (double x : p) h = h * 1000003u ^ std::hash<double>()(x);
+            return h;
+        }
+    };
+    std::unordered_map<std::array<double, 3>, int, PointHash> first;
+    first.reserve(static_cast<size_t>(rest.rows()));
+    std::vector<int> canonical(static_cast<size_t>(rest.rows()));
+    bool shared = false;
+    for (Eigen::Index v = 0; v < rest.rows(); ++v) {
+        std::array<double, 3> p;
+        for (int k = 0; k < 3; ++k) p[static_cast<size_t>(k)] = rest(v, k) == 0.0 ? 0.0 : rest(v, k);  // (-0 is +0)
+        const auto [at, added] = first.emplace(p, static_cast<int>(v));
+        canonical[static_cast<size_t>(v)] = at->second;
+        shared = shared || !added;
+    }
+    if (!shared) canonical.clear();
+    return canonical;
+}
+
+Triangles weldedAtSeams(const Triangles& triangles, const std::vector<int>& canonical) {
+    if (canonical.empty()) return triangles;
+    Triangles welded(triangles.rows(), 3);
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+        for (int k = 0; k < 3; ++k) welded(t, k) = canonical[static_cast<size_t>(triangles(t, k))];
+    return welded;
+}
+
+std::vector<EdgeSplit> splitsOnSeamCopies(const Triangles& triangles, int vertexCount, const std::vector<int>& canonical,
+                                          const std::vector<EdgeSplit>& welded) {
+    if (canonical.empty() || welded.empty()) return welded;
+    assert(canonical.size() == static_cast<size_t>(vertexCount));
+    // Only triangles with an edge whose two corners' copies a welded split joins can be halved (a new vertex
+    // lies only in triangles halved before): the simulation runs on those alone.
+    std::vector<std::uint8_t> named(static_cast<size_t>(vertexCount), 0);
+    for (const EdgeSplit& s : welded)
+        for (int v : {s.a, s.b})
+            if (v < vertexCount) named[static_cast<size_t>(v)] = 1;
+    Triangles involved(triangles.rows(), 3);
+    Eigen::Index count = 0;
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+        int hits = 0;
+        for (int k = 0; k < 3; ++k) hits += named[static_cast<size_t>(canonical[static_cast<size_t>(triangles(t, k))])];
+        if (hits >= 2) involved.row(count++) = triangles.row(t);
+    }
+    involved.conservativeResize(count, 3);
+    SplittableMesh mesh(involved, vertexCount);
+    // Each vertex's welded id (new ones: the welded split's), and per welded edge the mesh's edges on it.
+    std::vector<int> weldedOf(canonical);
+    std::unordered_map<std::uint64_t, std::vector<std::uint64_t>> onEdge;
+    const auto note = [&](int t) {
+        const Corners& c = mesh.triangle(t);
+        if (repeatsVertex(c)) return;
+        for (int k = 0; k < 3; ++k) {
+            const int a = c[static_cast<size_t>(k)], b = c[static_cast<size_t>((k + 1) % 3)];
+            std::vector<std::uint64_t>& list = onEdge[edgeKey(weldedOf[static_cast<size_t>(a)], weldedOf[static_cast<size_t>(b)])];
+            if (std::find(list.begin(), list.end(), edgeKey(a, b)) == list.end()) list.push_back(edgeKey(a, b));
+        }
+    };
+    for (int t = 0; t < mesh.triangleCount(); ++t) note(t);
+    std::vector<EdgeSplit> out;
+    std::vector<int> halved;
+    for (size_t k = 0; k < welded.size(); ++k) {
+        const int middle = vertexCount + static_cast<int>(k);
+        assert(welded[k].a < middle && welded[k].b < middle);
+        const auto found = onEdge.find(edgeKey(welded[k].a, welded[k].b));
+        if (found == onEdge.end()) continue;
+        const std::vector<std::uint64_t> copies = found->second;  // (copied: the splits note new edges)
+        for (std::uint64_t edge : copies) {
+            const int a = static_cast<int>(edge >> 32), b = static_cast<int>(edge & 0xffffffffu);
+            halved.clear();
+            if (!mesh.split(a, b, nullptr, &halved)) continue;  // (split before, as another copy's)
+            out.push_back({a, b});
+            weldedOf.push_back(middle);
+            for (int t : halved) note(t);
+        }
+    }
+    return out;
+}
 
 Status validateRefinementOptions(const RefinementOptions& options) {
     if (!std::isfinite(options.tolerance) || options.tolerance <= 0.0)

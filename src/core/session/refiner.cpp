@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cstdio>
-#include <limits>
 #include <optional>
 
 #include "core/injectivity/self_intersection.h"
@@ -33,19 +32,22 @@ double boundingDiagonal(const Positions& positions) {
 }
 
 // The listed triangles of `triangles` as a mesh of their own: `global` holds their vertices' ids in order of first
-// use, `part` the triangles in that numbering.
+// use, `part` the triangles in that numbering; with seamCopies (seamCopiesOf), welded at the seams (each corner
+// its first copy).
 struct Submesh {
     std::vector<int> global;
     Triangles part;
 };
 
-Submesh submeshOf(const Triangles& triangles, const std::vector<int>& listed, Eigen::Index vertexCount) {
+Submesh submeshOf(const Triangles& triangles, const std::vector<int>& listed, Eigen::Index vertexCount,
+                  const std::vector<int>& seamCopies = {}) {
     Submesh out;
     std::vector<int> local(static_cast<size_t>(vertexCount), -1);
     out.part.resize(static_cast<Eigen::Index>(listed.size()), 3);
     for (size_t t = 0; t < listed.size(); ++t)
         for (int k = 0; k < 3; ++k) {
-            const int v = triangles(listed[t], k);
+            int v = triangles(listed[t], k);
+            if (!seamCopies.empty()) v = seamCopies[static_cast<size_t>(v)];
             if (local[static_cast<size_t>(v)] < 0) {
                 local[static_cast<size_t>(v)] = static_cast<int>(out.global.size());
                 out.global.push_back(v);
@@ -74,8 +76,15 @@ std::vector<EdgeSplit> splitsInWhole(const std::vector<EdgeSplit>& splits, const
 // triangles cross as the mesh is now (`now`: rest point -> world, the shape before the pull; the first
 // `nowKnown.rows()` vertices' positions given) was there before the pull (a mesh loaded with parts in
 // contact) and does not count. Since the image is injective, the crossings close as the triangles shrink.
-constexpr int kCrossingRounds = 8;
-constexpr double kCrossingShortestEdge = 0.25;  // of refineUnderPull's shortest edge
+// note: a CAD model's slivers (CGAL's boeing.off: 0.005 high over 0.35, a 1/500 of the radius across) flip
+// wherever the field bends more than their height over their length; longest-edge bisection keeps that height,
+// so each needs its long edge halved three or four times, and the crossings first double with each round
+// before they close (251, 596, 936, 1,161, 1,550 triangles, then fewer). Hence 12 rounds, edges down to a
+// 1/16 of refineUnderPull's shortest, and a stop only where the crossings grow past 16 times the first round's
+// (8 rounds, 1/4 and 4 times stopped boeing's one-radius pulls; the vertex limit still bounds the work).
+constexpr int kCrossingRounds = 12;
+constexpr double kCrossingShortestEdge = 0.0625;  // of refineUnderPull's shortest edge
+constexpr int kCrossingGrowth = 16;               // the most crossing triangles, in multiples of the first round's
 
 void refineWhereCrossing(RefinementResult& plan, const RestImage& target, const RestImage& now, const Positions& nowKnown,
                          double shortestEdge, int maxVertices, int rounds) {
@@ -94,7 +103,7 @@ void refineWhereCrossing(RefinementResult& plan, const RestImage& target, const 
         }
         return c;
     };
-    int firstCount = std::numeric_limits<int>::max() / 4;
+    int firstCount = 0;
     for (int round = 0; round < rounds && plan.rest.rows() < maxVertices; ++round) {
         std::vector<std::uint8_t> selected(static_cast<size_t>(plan.triangles.rows()), 0);
         std::vector<int> listed;
@@ -107,7 +116,7 @@ void refineWhereCrossing(RefinementResult& plan, const RestImage& target, const 
         // Crossings that multiply as the triangles shrink are not the flat triangles' (the planned image folds
         // there): the pull's own check will say so. (Where the sheets touch, as at a load contact, they stay: the
         // rounds and the shortest edge bound the splits.)
-        if (selectedCount == 0 || selectedCount > 4 * firstCount) return;
+        if (selectedCount == 0 || (round > 0 && selectedCount > kCrossingGrowth * firstCount)) return;
         if (round == 0) firstCount = selectedCount;
         // The selected triangles' own mesh (in ascending order, as the bisection's order depends on it).
         std::sort(listed.begin(), listed.end());
@@ -209,7 +218,9 @@ bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& reco
     const double diagonal = boundingDiagonal(s_.mesh_.positions);
     RefinementResult plan;
     const RestImage image = [this](const Eigen::Vector3d& rest) { return s_.stack_.imageOfRestPoint(rest); };
-    if (Status s = refineMesh(s_.mesh_.rest, s_.mesh_.positions, s_.mesh_.triangles, image, options, plan); !s) {
+    // (planned on the mesh welded at its seams, then made on every copy of each split edge)
+    const std::vector<int> seamCopies = seamCopiesOf(s_.mesh_.rest);
+    if (Status s = refineMesh(s_.mesh_.rest, s_.mesh_.positions, weldedAtSeams(s_.mesh_.triangles, seamCopies), image, options, plan); !s) {
         report.status = OpStatus::Rejected;  // not expected: the arrays are the session's own
         report.reason = s.message;
         return false;
@@ -221,7 +232,7 @@ bool Refiner::refineNow(const RefinementOptions& options, RefinementRecord& reco
         return false;
     }
     record.tolerance = options.tolerance;
-    record.splits = std::move(plan.splits);
+    record.splits = splitsOnSeamCopies(s_.mesh_.triangles, static_cast<int>(s_.mesh_.rest.rows()), seamCopies, plan.splits);
     if (!applyChecked(record, report)) return false;
     if (!plan.converged)
         report.reason = "stopped at " + plan.stopped + " with " + std::to_string(plan.trianglesOver) +
@@ -272,8 +283,10 @@ bool Refiner::applyChecked(RefinementRecord& record, OpReport& report) {
 
 bool Refiner::refineUnderPull(const std::vector<int>& triangles, const RestImage& target, double tolerance, double shortestEdge,
                               RefinementRecord& record, OpReport& report) {
-    // The triangles' own mesh: their vertices, numbered in order of first use, rest points and images at the target.
-    const Submesh sub = submeshOf(s_.mesh_.triangles, triangles, s_.mesh_.rest.rows());
+    // The triangles' own mesh, welded at its seams: their vertices, numbered in order of first use, rest points
+    // and images at the target.
+    const std::vector<int> seamCopies = seamCopiesOf(s_.mesh_.rest);
+    const Submesh sub = submeshOf(s_.mesh_.triangles, triangles, s_.mesh_.rest.rows(), seamCopies);
     const std::vector<int>& global = sub.global;
     if (global.empty()) return false;
     const int count = static_cast<int>(global.size());
@@ -303,7 +316,7 @@ bool Refiner::refineUnderPull(const std::vector<int>& triangles, const RestImage
     RefinementRecord piece;
     piece.tolerance = tolerance;
     const int first = static_cast<int>(s_.mesh_.rest.rows());
-    piece.splits = splitsInWhole(plan.splits, global, first);
+    piece.splits = splitsOnSeamCopies(s_.mesh_.triangles, first, seamCopies, splitsInWhole(plan.splits, global, first));
     OpReport refined;
     if (!applyChecked(piece, refined)) return false;
     report.verticesAdded += refined.verticesAdded;

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -242,6 +243,83 @@ TEST_CASE("refinement: random meshes under random drags end within the tolerance
         }
     }
     REQUIRE(refined >= 10);
+}
+
+TEST_CASE("refinement: a mesh split at random seams refines as the welded mesh does, every copy of a split edge split alike", "[refine]") {
+    // Seams (a soup's, or a mesh split for its normals or texture): vertices at one point. The refinement plans on
+    // the mesh welded at them and splits every copy of each split edge at the same rest midpoint; splitting one
+    // side only left T-junctions, the other side's straight edge parting from the bent one.
+    std::mt19937 rng(31337);
+    int refined = 0;
+    for (int trial = 0; trial < 6; ++trial) {
+        Positions positions;
+        Triangles triangles;
+        if (trial % 2 == 0) test::icosphere(1 + trial / 2, 0.7, Eigen::Vector3d(0.2, -0.1, 0.3), positions, triangles);
+        else test::jitteredGrid(rng, 4 + 2 * trial, 3 + trial, 2.0, 1.5, positions, triangles);
+        // Seams: a random third of the triangles get corners of their own, numbered after the mesh's, so each
+        // point's first copy is the welded mesh's own vertex.
+        Positions seamedPositions = positions;
+        Triangles seamed = triangles;
+        std::vector<int> origin(static_cast<size_t>(positions.rows()));  // each vertex's welded one
+        for (Eigen::Index v = 0; v < positions.rows(); ++v) origin[static_cast<size_t>(v)] = static_cast<int>(v);
+        for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+            if (std::uniform_real_distribution<double>(0.0, 1.0)(rng) > 1.0 / 3.0) continue;
+            for (int k = 0; k < 3; ++k) {
+                seamedPositions.conservativeResize(seamedPositions.rows() + 1, 3);
+                seamedPositions.row(seamedPositions.rows() - 1) = positions.row(triangles(t, k));
+                seamed(t, k) = static_cast<int>(seamedPositions.rows() - 1);
+                origin.push_back(triangles(t, k));
+            }
+        }
+        const std::vector<int> copies = seamCopiesOf(seamedPositions);
+        CHECK(copies == origin);
+        CHECK(seamCopiesOf(positions).empty());
+        REQUIRE(weldedAtSeams(seamed, copies) == triangles);
+        LatticeSettings settings;
+        settings.resolution = {test::randomInt(rng, 5, 8), test::randomInt(rng, 5, 8), test::randomInt(rng, 4, 6)};
+        settings.pinLayers = 1;
+        Session welded, split;
+        REQUIRE(welded.setMesh(positions, triangles, settings).ok);
+        REQUIRE(split.setMesh(seamedPositions, seamed, settings).ok);
+        const double diagonal = diagonalOf(positions);
+        OpReport report, splitReport;
+        for (int drag = 0; drag < 2; ++drag) {
+            const int v = test::randomInt(rng, 0, static_cast<int>(positions.rows()) - 1);
+            const Eigen::Vector3d target = welded.mesh().positions.row(v).transpose() + 0.15 * diagonal * test::randomVector(rng, -1, 1);
+            REQUIRE(welded.dragVertex(v, target, report).ok);
+            REQUIRE(split.dragVertex(v, target, splitReport).ok);
+            REQUIRE(splitReport.status == report.status);
+        }
+        const Triangles coarse = split.mesh().triangles;
+        const Positions dragged = split.mesh().positions;
+        const double tolerance = std::uniform_real_distribution<double>(0.002, 0.01)(rng);
+        REQUIRE(welded.refinement().refine(tolerance, report).ok);
+        REQUIRE(split.refinement().refine(tolerance, splitReport).ok);
+        INFO("trial " << trial << ": " << report.reason << " / " << splitReport.reason);
+        REQUIRE(splitReport.status == report.status);
+        if (report.status != OpStatus::Applied) continue;
+        ++refined;
+        // The same surface: each triangle of the seamed result, by its corners' points, is one of the welded
+        // result's, and the other way round (as sorted lists of point triples, bit for bit).
+        const auto pointTriples = [](const Positions& x, const Triangles& t) {
+            std::vector<std::array<double, 9>> out;
+            for (Eigen::Index i = 0; i < t.rows(); ++i) {
+                std::array<double, 9> p;
+                for (int k = 0; k < 3; ++k)
+                    for (int c = 0; c < 3; ++c) p[static_cast<size_t>(3 * k + c)] = x(t(i, k), c);
+                out.push_back(p);
+            }
+            std::sort(out.begin(), out.end());
+            return out;
+        };
+        CHECK(pointTriples(split.mesh().positions, split.mesh().triangles) == pointTriples(welded.mesh().positions, welded.mesh().triangles));
+        CHECK(splitReport.verticesAdded >= report.verticesAdded);
+        // Undo takes every copy's split back, bit for bit.
+        REQUIRE(split.undo(splitReport).ok);
+        CHECK(sameBits(split.mesh().triangles, coarse));
+        CHECK(sameBits(split.mesh().positions, dragged));
+    }
+    CHECK(refined >= 4);
 }
 
 TEST_CASE("refinement: the planner follows an analytic bump, its splits replay, revert and stop at the limits", "[refine]") {
