@@ -167,7 +167,7 @@ double deviationFromSamples(const Eigen::Vector3d x[3], const TriangleSamples& s
 
 }  // namespace
 
-std::vector<int> seamCopiesOf(const Positions& rest) {
+std::vector<int> seamCopiesOf(const Positions& rest, const std::vector<int>& among) {
     struct PointHash {
         size_t operator()(const std::array<double, 3>& p) const {
             size_t h = 0;
@@ -175,16 +175,38 @@ std::vector<int> seamCopiesOf(const Positions& rest) {
             return h;
         }
     };
+    const auto point = [&rest](Eigen::Index v) {
+        std::array<double, 3> p;
+        for (int k = 0; k < 3; ++k) p[static_cast<size_t>(k)] = rest(v, k) == 0.0 ? 0.0 : rest(v, k);  // (-0 is +0)
+        return p;
+    };
+    // The points that matter, each with the first vertex found there (scanning in id order: the smallest).
     std::unordered_map<std::array<double, 3>, int, PointHash> first;
-    first.reserve(static_cast<size_t>(rest.rows()));
+    Eigen::RowVector3d lo = Eigen::RowVector3d::Constant(INFINITY), hi = -lo;  // the box of the points that matter
+    if (among.empty()) {
+        first.reserve(static_cast<size_t>(rest.rows()));
+    } else {
+        first.reserve(among.size());
+        for (int v : among) {
+            first.emplace(point(v), -1);
+            lo = lo.cwiseMin(rest.row(v));
+            hi = hi.cwiseMax(rest.row(v));
+        }
+    }
     std::vector<int> canonical(static_cast<size_t>(rest.rows()));
     bool shared = false;
     for (Eigen::Index v = 0; v < rest.rows(); ++v) {
-        std::array<double, 3> p;
-        for (int k = 0; k < 3; ++k) p[static_cast<size_t>(k)] = rest(v, k) == 0.0 ? 0.0 : rest(v, k);  // (-0 is +0)
-        const auto [at, added] = first.emplace(p, static_cast<int>(v));
-        canonical[static_cast<size_t>(v)] = at->second;
-        shared = shared || !added;
+        int id = static_cast<int>(v);
+        if (among.empty()) {
+            id = first.emplace(point(v), id).first->second;
+        } else if (!((rest.row(v).array() >= lo.array()).all() && (rest.row(v).array() <= hi.array()).all())) {
+            // (outside their box: not one of them)
+        } else if (const auto found = first.find(point(v)); found != first.end()) {
+            if (found->second < 0) found->second = id;
+            id = found->second;
+        }
+        shared = shared || id != static_cast<int>(v);
+        canonical[static_cast<size_t>(v)] = id;
     }
     if (!shared) canonical.clear();
     return canonical;

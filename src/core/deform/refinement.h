@@ -135,11 +135,13 @@ struct RefinementResult {
 // Seams: vertices at exactly the same rest point (a triangle soup, as CAD exports and STL give, or a mesh split
 // at seams for its normals or texture). For each vertex of `rest` (#V x 3) the smallest id of a vertex at the
 // same point (itself where none is); empty when no two vertices share a point. -0 and +0 are one point.
+// `among` (empty: every vertex) limits the points looked at to those of the vertices listed: a vertex elsewhere
+// is its own (one lookup per vertex, not a table of every point: 1M vertices cost 0.85 s that way).
 // Refinement plans on the mesh welded by this map (each triangle's corners replaced by their first copies), so
 // that the two sides of a seam are one surface to it, and splitsOnSeamCopies then splits every copy of each
 // edge: split on one side only, the other side's straight edge parts from the bent one, and the two cut through
 // each other's neighbours (CGAL's boeing.off stopped a one-radius brush pull at 4.7% that way).
-std::vector<int> seamCopiesOf(const Positions& rest);
+std::vector<int> seamCopiesOf(const Positions& rest, const std::vector<int>& among = {});
 
 // The mesh `triangles` (#T x 3 ids into vertexCount vertices) with each corner replaced by canonical[corner]
 // (seamCopiesOf; empty: unchanged).

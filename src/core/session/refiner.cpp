@@ -285,7 +285,11 @@ bool Refiner::refineUnderPull(const std::vector<int>& triangles, const RestImage
                               RefinementRecord& record, OpReport& report) {
     // The triangles' own mesh, welded at its seams: their vertices, numbered in order of first use, rest points
     // and images at the target.
-    const std::vector<int> seamCopies = seamCopiesOf(s_.mesh_.rest);
+    std::vector<int> corners;
+    corners.reserve(3 * triangles.size());
+    for (int t : triangles)
+        for (int k = 0; k < 3; ++k) corners.push_back(s_.mesh_.triangles(t, k));
+    const std::vector<int> seamCopies = seamCopiesOf(s_.mesh_.rest, corners);
     const Submesh sub = submeshOf(s_.mesh_.triangles, triangles, s_.mesh_.rest.rows(), seamCopies);
     const std::vector<int>& global = sub.global;
     if (global.empty()) return false;

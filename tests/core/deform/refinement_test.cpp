@@ -274,6 +274,19 @@ TEST_CASE("refinement: a mesh split at random seams refines as the welded mesh d
         const std::vector<int> copies = seamCopiesOf(seamedPositions);
         CHECK(copies == origin);
         CHECK(seamCopiesOf(positions).empty());
+        // Limited to the points of some vertices (the corners of a random half of the triangles): those points'
+        // copies as before, every other vertex its own.
+        std::vector<int> among;
+        std::vector<std::uint8_t> point(static_cast<size_t>(positions.rows()), 0);  // a welded vertex's point is among
+        for (Eigen::Index t = 0; t < seamed.rows(); ++t)
+            if (std::uniform_real_distribution<double>(0.0, 1.0)(rng) < 0.5)
+                for (int k = 0; k < 3; ++k) among.push_back(seamed(t, k)), point[static_cast<size_t>(origin[static_cast<size_t>(seamed(t, k))])] = 1;
+        std::vector<int> expected(origin.size());
+        for (size_t v = 0; v < origin.size(); ++v) expected[v] = point[static_cast<size_t>(origin[v])] ? origin[v] : static_cast<int>(v);
+        std::vector<int> limited = seamCopiesOf(seamedPositions, among);
+        if (limited.empty())  // (no point among them has two copies: every vertex its own)
+            for (size_t v = 0; v < origin.size(); ++v) limited.push_back(static_cast<int>(v));
+        CHECK(limited == expected);
         REQUIRE(weldedAtSeams(seamed, copies) == triangles);
         LatticeSettings settings;
         settings.resolution = {test::randomInt(rng, 5, 8), test::randomInt(rng, 5, 8), test::randomInt(rng, 4, 6)};
