@@ -1,40 +1,29 @@
 #include "io/mesh_weld.h"
 
-#include <cstdint>
-#include <cstring>
-#include <unordered_map>
 #include <vector>
+
+#include "core/deform/refinement.h"
 
 namespace sculpt::io {
 
 namespace {
 
-// Vertex v -> its welded number (the order of first use); firstOf: the first vertex of each welded one.
+// Vertex v -> its welded number (the order of first use); firstOf: the first vertex of each welded one. The
+// vertices at one position are the engine's seam copies (core::seamCopiesOf: exactly equal, -0 as 0).
 void weldMap(const Positions& positions, std::vector<int>& remap, std::vector<Eigen::Index>& firstOf) {
-    struct Key {
-        double x, y, z;
-        bool operator==(const Key& o) const { return std::memcmp(this, &o, sizeof(Key)) == 0; }
-    };
-    struct KeyHash {
-        size_t operator()(const Key& k) const {
-            uint64_t h = 1469598103934665603ull;
-            const unsigned char* p = reinterpret_cast<const unsigned char*>(&k);
-            for (size_t i = 0; i < sizeof(Key); ++i) h = (h ^ p[i]) * 1099511628211ull;
-            return static_cast<size_t>(h);
-        }
-    };
+    const std::vector<int> first = core::seamCopiesOf(positions);
     const Eigen::Index n = positions.rows();
-    std::unordered_map<Key, int, KeyHash> index;
-    index.reserve(static_cast<size_t>(n));
     remap.assign(static_cast<size_t>(n), 0);
     firstOf.clear();
     firstOf.reserve(static_cast<size_t>(n));
     for (Eigen::Index v = 0; v < n; ++v) {
-        // + 0.0 turns -0.0 into +0.0: a writer may print a shared corner as "-0" in one facet and "0" in another.
-        const Key key{positions(v, 0) + 0.0, positions(v, 1) + 0.0, positions(v, 2) + 0.0};
-        const auto [it, inserted] = index.emplace(key, static_cast<int>(firstOf.size()));
-        if (inserted) firstOf.push_back(v);
-        remap[static_cast<size_t>(v)] = it->second;
+        const int at = first.empty() ? static_cast<int>(v) : first[static_cast<size_t>(v)];
+        if (at == v) {
+            remap[static_cast<size_t>(v)] = static_cast<int>(firstOf.size());
+            firstOf.push_back(v);
+        } else {
+            remap[static_cast<size_t>(v)] = remap[static_cast<size_t>(at)];  // (at < v: numbered already)
+        }
     }
 }
 

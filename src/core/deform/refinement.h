@@ -141,6 +141,7 @@ struct RefinementResult {
 // that the two sides of a seam are one surface to it, and splitsOnSeamCopies then splits every copy of each
 // edge: split on one side only, the other side's straight edge parts from the bent one, and the two cut through
 // each other's neighbours (CGAL's boeing.off stopped a one-radius brush pull at 4.7% that way).
+// Welding on load (io/mesh_weld.h) makes the same copies one vertex.
 std::vector<int> seamCopiesOf(const Positions& rest, const std::vector<int>& among = {});
 
 // The mesh `triangles` (#T x 3 ids into vertexCount vertices) with each corner replaced by canonical[corner]
