@@ -250,6 +250,20 @@ bool trianglesWithin(const TriangleCorners& a, const TriangleCorners& b, double 
     return false;
 }
 
+Eigen::Vector3d nearestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    const Eigen::Vector3d ab = b - a, ac = c - a, normal = ab.cross(ac);
+    const double area2 = normal.squaredNorm();
+    if (!(area2 > 0.0)) return Eigen::Vector3d::Constant(NAN);
+    const Point q = Kernel().construct_projected_point_3_object()(Triangle(toPoint(a), toPoint(b), toPoint(c)), toPoint(p));
+    // Barycentric coordinates of q (on the triangle) as ratios of signed areas to the whole (cross products: a
+    // sliver's are as accurate as its normal, where the normal equations' d00 d11 - d01^2 would cancel).
+    const Eigen::Vector3d aq = Eigen::Vector3d(q.x(), q.y(), q.z()) - a;
+    Eigen::Vector3d w(0.0, aq.cross(ac).dot(normal) / area2, ab.cross(aq).dot(normal) / area2);
+    w[0] = 1.0 - w[1] - w[2];
+    w = w.cwiseMax(0.0);  // rounding of a point on an edge or a corner
+    return w / w.sum();
+}
+
 bool triangleDegenerate(const TriangleCorners& t) {
     return CGAL::collinear(toPoint(t.point[0]), toPoint(t.point[1]), toPoint(t.point[2]));
 }

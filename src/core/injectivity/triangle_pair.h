@@ -1,4 +1,5 @@
-// Exact intersection test of two triangles of a mesh, counting only what they do not share.
+// Exact intersection test of two triangles of a mesh, counting only what they do not share; and the nearest
+// point of a triangle, on the same library.
 //
 // Two triangles of one mesh that share an edge or a vertex always touch there; that is not a
 // self-intersection. What counts is any other common point: a shared-edge pair that folds flat onto itself,
@@ -42,5 +43,12 @@ bool trianglesWithin(const TriangleCorners& a, const TriangleCorners& b, double 
 // the double coordinates, no tolerance). A mesh file's zero-area facets are such triangles: the load counts them
 // apart from crossings (Session::meshAsSet().degenerateTriangles).
 bool triangleDegenerate(const TriangleCorners& t);
+
+// The point of the triangle (a, b, c) nearest p, as its barycentric weights (w_a, w_b, w_c), each in [0, 1],
+// summing to 1: CGAL's projection of a point on a triangle (Kernel::Construct_projected_point_3, the corners', edges'
+// and face's Voronoi regions), in doubles; the weights are the nearest point's barycentric coordinates in the
+// triangle's plane, clamped to the triangle. Not finite (NaN) for a triangle with no area in doubles (collinear or
+// coinciding corners), which has no such weights. Coordinates must be finite.
+Eigen::Vector3d nearestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 }  // namespace sculpt::core

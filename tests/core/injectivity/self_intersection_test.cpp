@@ -445,3 +445,44 @@ TEST_CASE("self_intersection: trianglesWithin finds a pair within a tolerance of
     CHECK(within > 150);
     CHECK(apart > 150);
 }
+
+// nearestOnTriangle (the grabbed point's triangle and weights under a brush): random triangles at scales 1e-3 to
+// 1e3, fair ones and slivers, random points over the face, beyond its edges and corners, above and below. The
+// weights are checked against the characterisation of the nearest point of a convex set, independent of how it
+// is found: q (the weights' point) is nearest p iff (p - q) . (x - q) <= 0 for every point x of the triangle,
+// which, linear in x, is for its three corners. And no point of a 40 x 40 barycentric grid on the triangle is nearer.
+// A triangle with no area has no weights (not finite).
+TEST_CASE("self_intersection: nearestOnTriangle's weights give the triangle's point nearest any point", "[core]") {
+    std::mt19937 rng(20261207);
+    int onFace = 0, onEdge = 0, onCorner = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const double scale = std::pow(10.0, test::randomVector(rng, -3.0, 3.0).x());
+        std::array<Eigen::Vector3d, 3> t;
+        for (Eigen::Vector3d& x : t) x = scale * test::randomVector(rng, -1.0, 1.0);
+        if (trial % 4 == 1) t[2] = 0.5 * (t[0] + t[1]) + 1e-3 * scale * test::randomVector(rng, -1.0, 1.0);  // a sliver
+        const Eigen::Vector3d centre = (t[0] + t[1] + t[2]) / 3.0;
+        const Eigen::Vector3d p = centre + 2.0 * scale * test::randomVector(rng, -1.0, 1.0);
+        const Eigen::Vector3d w = nearestOnTriangle(p, t[0], t[1], t[2]);
+        INFO("trial " << trial << " scale " << scale << " weights " << w.transpose());
+        REQUIRE(w.allFinite());
+        CHECK(w.minCoeff() >= 0.0);
+        CHECK(std::abs(w.sum() - 1.0) <= 1e-12);
+        const Eigen::Vector3d q = w[0] * t[0] + w[1] * t[1] + w[2] * t[2];
+        const double span = std::max({(t[1] - t[0]).norm(), (t[2] - t[0]).norm(), (t[2] - t[1]).norm()});
+        for (const Eigen::Vector3d& x : t) CHECK((p - q).dot(x - q) <= 1e-9 * span * (span + (p - q).norm()));
+        double grid = INFINITY;
+        for (int i = 0; i <= 40; ++i)
+            for (int j = 0; i + j <= 40; ++j) grid = std::min(grid, (p - (t[0] + i / 40.0 * (t[1] - t[0]) + j / 40.0 * (t[2] - t[0]))).norm());
+        CHECK((p - q).norm() <= grid + 1e-12 * scale);
+        const int zeros = (w.array() == 0.0).count();
+        (zeros == 0 ? onFace : zeros == 1 ? onEdge : onCorner) += 1;
+    }
+    CHECK(onFace > 100);
+    CHECK(onEdge > 300);
+    CHECK(onCorner > 300);
+    // No area: collinear corners, coinciding ones.
+    const Eigen::Vector3d a(0.0, 0.0, 0.0), b(1.0, 2.0, 3.0);
+    CHECK_FALSE(nearestOnTriangle(Eigen::Vector3d(1.0, 0.0, 0.0), a, b, 2.0 * b).allFinite());
+    CHECK_FALSE(nearestOnTriangle(Eigen::Vector3d(1.0, 0.0, 0.0), a, a, b).allFinite());
+    CHECK_FALSE(nearestOnTriangle(Eigen::Vector3d(1.0, 0.0, 0.0), b, b, b).allFinite());
+}
