@@ -225,6 +225,18 @@ private:
     // added to injectivityMs, the triangle check's share also to triangleMs.
     bool tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure, double& injectivityMs,
                   double& triangleMs, bool keep = true);
+    // Several layers that show as one result (a brush update's layers: brush_field.h): the triangle check of each
+    // tryDelta (keep = true) is deferred to finishDeferredTriangles, which checks the union of the vertices they
+    // moved against their rows as the first of them found them. The mesh shows only that result, and each layer's
+    // map is injective on its own (their composition is), so what the layers between would show is not checked:
+    // a bend made in two layers (along and across a mirror plane, a widening then its pull) may pass through a
+    // state whose flat triangles cross where the result's do not.
+    void beginDeferredTriangles();
+    // The deferred check (true when no triangle among the layers' vertices crosses one it did not cross before
+    // them, or `failure` says which); ends the deferral either way. The caller takes the layers back on false.
+    bool finishDeferredTriangles(StepFailure& failure, double& injectivityMs, double& triangleMs);
+    // Ends a deferral without its check (the layers were taken back).
+    void abandonDeferredTriangles();
     // The largest fraction s in [0, 1] of `delta` (to 1/1024) that passes tryDelta, applied (bisection on the move:
     // design.md "The cage is the user's object": a control-point edit stops at the injective limit).
     double applyLargestInjectiveFraction(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure,
@@ -317,6 +329,10 @@ private:
     std::vector<double> frozenJacobian_;  // #V, product of the frozen frames' det J (when tracking)
     SelfIntersectionIndex meshIndex_;     // broad phase of the triangle check, refitted where vertices move
     Positions before_;                    // #V: the rows of the vertices a step moves, as they were before it
+    // beginDeferredTriangles: the vertices the deferred layers moved, and which of them have their row in before_.
+    bool deferTriangles_ = false;
+    std::vector<int> deferredChanged_;
+    std::vector<std::uint8_t> deferredSaved_;
     // Parts touching at load and where (self_intersection.h), carried across refinements.
     SelfIntersectionIndex::LoadContacts loadContacts_;
     void accumulateFrameJacobian(bool divide);

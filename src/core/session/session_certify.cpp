@@ -187,6 +187,21 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
         return true;
     }
     appendVerticesOfCells(embedding, cells, changed);  // the collar's too: the triangle check is what certifies it
+    if (checkTriangles && deferTriangles_ && keep) {
+        // (beginDeferredTriangles) Each vertex's row as the first deferred layer found it; the check at the end.
+        if (deferredSaved_.size() < static_cast<size_t>(mesh_.positions.rows())) deferredSaved_.resize(static_cast<size_t>(mesh_.positions.rows()), 0);
+        for (int v : changed)
+            if (!deferredSaved_[static_cast<size_t>(v)]) {
+                deferredSaved_[static_cast<size_t>(v)] = 1;
+                deferredChanged_.push_back(v);
+                before_.row(v) = mesh_.positions.row(v);
+            }
+        evaluateIncrement(lattice, embedding, delta.indices, delta.deltas, 1.0, output, increment_, nullptr);
+        if (layered) refreshLayerOutput(changed);
+        positionsChanged(&changed);
+        if (moved) moved->insert(moved->end(), changed.begin(), changed.end());
+        return true;
+    }
     for (int v : changed) before_.row(v) = mesh_.positions.row(v);
     if (layered) {
         if (stack_.beforeCage_.rows() != mesh_.positions.rows()) stack_.beforeCage_.resize(mesh_.positions.rows(), 3);
@@ -211,6 +226,24 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
     }
     if (moved) moved->insert(moved->end(), changed.begin(), changed.end());
     return true;
+}
+
+void Session::beginDeferredTriangles() {
+    abandonDeferredTriangles();
+    deferTriangles_ = true;
+}
+
+void Session::abandonDeferredTriangles() {
+    for (int v : deferredChanged_) deferredSaved_[static_cast<size_t>(v)] = 0;
+    deferredChanged_.clear();
+    deferTriangles_ = false;
+}
+
+bool Session::finishDeferredTriangles(StepFailure& failure, double& injectivityMs, double& triangleMs) {
+    deferTriangles_ = false;
+    const bool passed = deferredChanged_.empty() || noNewCrossing(deferredChanged_, failure, injectivityMs, triangleMs);
+    abandonDeferredTriangles();
+    return passed;
 }
 
 double Session::applyLargestInjectiveFraction(const ControlDelta& delta, std::vector<int>* moved, StepFailure& failure,

@@ -167,11 +167,18 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     // images (the scaled fields summed).
     // Widened: Layers, each pull's space ahead widened first; HalfWidened: by half as much (where the widened
     // field's triangles cross even split, a gentler widening keeps most of its profile).
-    enum class Mode { Split, Widened, HalfWidened, Layers, Joint };
+    // Stepped (images within each other's reach): the split (or a layer per image) in kSteps steps, each from
+    // where the last left the images to the next quarter of the pull. Each step's pull is a quarter as long, so
+    // its field's slope bound (brushFieldSlope) is gentler and its region follows the images along the pull: two
+    // mirror images pulled three radii beside the plane fold the space between them in one field (a held image
+    // inside the other's region), not a step at a time (CGAL's camel, elephant and armadillo: strokes_real).
+    enum class Mode { Split, Widened, HalfWidened, Layers, Joint, Stepped };
     Mode mode = Mode::Layers;  // the one `attempt` uses
+    constexpr int kSteps = 4;  // Stepped's
     bool planning = false;     // `attempt` only puts the layers in place, unchecked, the mesh left as it is
     bool widened = false;      // some attempt widened the space ahead of a pull (else Widened was Layers)
-    const auto attempt = [&](double share) {
+    const auto attemptLayers = [&](double shareAsked) {
+        double share = shareAsked;  // (Stepped: each step's)
         where.clear();
         for (const BrushPull& p : pulls) where.push_back(p.source);
         residual = 0.0;
@@ -291,38 +298,64 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
                     return false;
             return true;
         };
-        if (mode == Mode::Split) {
-            // Along the plane (both images' share of it is the same vector), then across it to the targets.
-            Eigen::Vector3d along = Eigen::Vector3d::Zero();
-            for (const BrushPull& p : pulls)
-                if (p.moving()) {
-                    along = share * p.pull;
-                    break;
+        const auto pass = [&] {
+            if (mode == Mode::Split) {
+                // Along the plane (both images' share of it is the same vector), then across it to the targets.
+                Eigen::Vector3d along = Eigen::Vector3d::Zero();
+                for (size_t j = 0; j < pulls.size(); ++j)
+                    if (pulls[j].moving()) {
+                        along = pulls[j].source + share * pulls[j].pull - where[j];
+                        break;
+                    }
+                const Eigen::Vector3d normal = s_.drag_.symmetry.axes.col(splitAxis);
+                along -= along.dot(normal) * normal;
+                if (along.norm() > 1e-12 * brush.radius) {
+                    std::vector<BrushPull> local;
+                    for (size_t j = 0; j < pulls.size(); ++j) local.push_back(BrushPull{where[j], pulls[j].moving() ? along : Eigen::Vector3d::Zero()});
+                    if (!enter(local)) return false;
                 }
-            const Eigen::Vector3d normal = s_.drag_.symmetry.axes.col(splitAxis);
-            along -= along.dot(normal) * normal;
-            if (along.norm() > 1e-12 * brush.radius) {
                 std::vector<BrushPull> local;
-                for (size_t j = 0; j < pulls.size(); ++j) local.push_back(BrushPull{where[j], pulls[j].moving() ? along : Eigen::Vector3d::Zero()});
-                if (!enter(local)) return false;
+                for (size_t j = 0; j < pulls.size(); ++j)
+                    local.push_back(BrushPull{where[j], pulls[j].moving() ? Eigen::Vector3d(pulls[j].source + share * pulls[j].pull - where[j]) : Eigen::Vector3d::Zero()});
+                return enter(local);
             }
-            std::vector<BrushPull> local;
-            for (size_t j = 0; j < pulls.size(); ++j)
-                local.push_back(BrushPull{where[j], pulls[j].moving() ? Eigen::Vector3d(pulls[j].source + share * pulls[j].pull - where[j]) : Eigen::Vector3d::Zero()});
-            return enter(local);
+            for (size_t k = 0; k < pulls.size(); ++k) {
+                if (!pulls[k].moving()) continue;
+                if ((mode == Mode::Widened || mode == Mode::HalfWidened) && !widen(k)) return false;
+                std::vector<BrushPull> local;
+                for (size_t j = 0; j < pulls.size(); ++j)
+                    local.push_back(j == k || (mode == Mode::Joint && pulls[j].moving()) ? BrushPull{where[j], pulls[j].source + share * pulls[j].pull - where[j]}
+                                                                           : BrushPull{where[j], Eigen::Vector3d::Zero()});
+                if (!local[k].moving()) continue;
+                if (!enter(local)) return false;
+                if (mode == Mode::Joint) break;  // every image is in this one layer
+            }
+            return true;
+        };
+        if (mode != Mode::Stepped) return pass();
+        mode = splitAxis >= 0 ? Mode::Split : Mode::Layers;
+        bool passed = true;
+        for (int step = 1; step <= kSteps && passed; ++step) {
+            share = shareAsked * step / kSteps;
+            passed = pass();
         }
-        for (size_t k = 0; k < pulls.size(); ++k) {
-            if (!pulls[k].moving()) continue;
-            if ((mode == Mode::Widened || mode == Mode::HalfWidened) && !widen(k)) return false;
-            std::vector<BrushPull> local;
-            for (size_t j = 0; j < pulls.size(); ++j)
-                local.push_back(j == k || (mode == Mode::Joint && pulls[j].moving()) ? BrushPull{where[j], pulls[j].source + share * pulls[j].pull - where[j]}
-                                                                       : BrushPull{where[j], Eigen::Vector3d::Zero()});
-            if (!local[k].moving()) continue;
-            if (!enter(local)) return false;
-            if (mode == Mode::Joint) break;  // every image is in this one layer
+        mode = Mode::Stepped;
+        return passed;
+    };
+    // attemptLayers with the triangle check of its layers on their result only (Session::beginDeferredTriangles):
+    // the user sees the result, and each layer's map is proven injective on its own.
+    const auto attempt = [&](double share) {
+        if (planning) return attemptLayers(share);
+        const size_t stepsBefore = steps.size();
+        s_.beginDeferredTriangles();
+        if (!attemptLayers(share)) {
+            s_.abandonDeferredTriangles();
+            return false;
         }
-        return true;
+        if (s_.finishDeferredTriangles(failure, report.injectivityMs, report.triangleCheckMs)) return true;
+        s_.popLayers(steps.size() - stepsBefore, &moved);
+        steps.resize(stepsBefore);
+        return false;
     };
     double share = 0.0;
     bool moving = false;
@@ -364,8 +397,11 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     // cutting through itself with long flat triangles. The splits go into the operation's refinementBefore.
     // False when nothing was split (or the split surface would cross itself as it is now).
     std::vector<Mode> modes;
-    const auto refineUnderPull = [&](double tolerance) {
-        mode = modes[0];
+    // The modes whose triangles crossed (tryWhole), whose fields the refinement plans on: the first such, and
+    // Stepped where it crossed too (its steps bend the mesh otherwise than one field does).
+    std::vector<Mode> crossedIn;
+    const auto refineUnderPull = [&](double tolerance, Mode planOn) {
+        mode = planOn;
         planning = true;
         const bool planned = attempt(1.0);
         planning = false;
@@ -412,11 +448,13 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         modes.push_back(Mode::HalfWidened);
         modes.push_back(Mode::Layers);
         if (jointPossible) modes.push_back(Mode::Joint);
+        if (jointPossible) modes.push_back(Mode::Stepped);
         bool whole = false;
         std::optional<StepFailure> first;  // why the first mode did not carry the whole pull
         // Each mode in turn on the whole pull: whole when one carries it (its layers in place), else `first`.
         const auto tryWhole = [&] {
             first.reset();
+            crossedIn.clear();
             for (Mode tried : modes) {
                 if ((tried == Mode::Layers || tried == Mode::HalfWidened) && !widened && first) continue;  // Widened was this, and failed
                 mode = tried;
@@ -426,6 +464,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
                     return;
                 }
                 if (!first) first = failure;
+                if ((crossedIn.empty() || tried == Mode::Stepped) && failure.cause == StepFailure::Cause::Triangles) crossedIn.push_back(tried);
                 if (first->cause == StepFailure::Cause::SourceLeft) return;  // no mode has a region for it
             }
         };
@@ -454,7 +493,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             // long triangle: a trial saw a horn's tip 25% short of the cursor).
             // (Also where the widened field crossed triangles and only the plain one passed: split, the widened
             // field keeps the surface ahead on its falloff.)
-            const bool stoppedByTriangles = first && first->cause == StepFailure::Cause::Triangles && (!whole || (modes[0] == Mode::Widened && mode != modes[0]));
+            const bool stoppedByTriangles = !crossedIn.empty() && (!whole || (modes[0] == Mode::Widened && mode != modes[0] && crossedIn[0] == modes[0]));
             const bool missed = whole && grabbedMiss() > kBrushRefineTolerance * brush.radius;
             if (!(stoppedByTriangles || missed) || refined == kBrushRefinements || !s_.refinement_.settings.underBrush ||
                 pullLength >= s_.drag_.splitFailedAt)
@@ -466,7 +505,10 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             }
             triedSplitting = true;
             const int trianglesThen = static_cast<int>(s_.mesh_.triangles.rows());
-            if (!refineUnderPull(tolerance)) {
+            bool split = false;
+            const std::vector<Mode> planOn = crossedIn.empty() ? std::vector<Mode>{modes[0]} : crossedIn;
+            for (Mode planned : planOn) split = refineUnderPull(tolerance, planned) || split;
+            if (!split) {
                 if (passed) tryWhole();  // nothing to split: the whole pull as it passed (a later mode's, or missed)
                 break;
             }
