@@ -89,7 +89,7 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
             int shiftedContacts = 0;
             Session session;
             session.setMesh(positions, triangles);
-            std::mt19937 rng(2026);
+            std::mt19937 rng(getenv("SCULPT_BENCH_SEED") ? atoi(getenv("SCULPT_BENCH_SEED")) : 2026);
             std::uniform_real_distribution<double> unit(0.0, 1.0);
             int full = 0, stopped = 0, refused = 0, crossings = 0, unrestored = 0, shapeCrosses = 0;
             // Symmetric strokes whose pull carries the grabbed point across the mirror plane (x through the box's
