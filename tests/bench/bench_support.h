@@ -8,6 +8,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/mesh_types.h"
@@ -52,12 +53,15 @@ inline double medianMs(int runs, const std::function<void()>& work, const std::f
     return times[times.size() / 2];
 }
 
-// The median of a list of samples (0 for none).
-inline double median(std::vector<double> values) {
+// The sample at quantile q in [0, 1] of a list (the nearest rank; 0 for none): 0.5 the median, 1 the largest.
+inline double percentile(std::vector<double> values, double q) {
     if (values.empty()) return 0.0;
     std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
+    return values[std::min(values.size() - 1, static_cast<size_t>(q * static_cast<double>(values.size())))];
 }
+
+// The median of a list of samples (0 for none).
+inline double median(std::vector<double> values) { return percentile(std::move(values), 0.5); }
 
 // JSON string contents: quotes and backslashes escaped, control characters dropped.
 inline std::string jsonText(const std::string& text) {

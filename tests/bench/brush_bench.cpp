@@ -216,13 +216,14 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
             }
             std::string by;
             for (const auto& [what, count] : stoppedBy) by += (by.empty() ? "" : ", ") + ("\"" + what + "\": " + std::to_string(count));
-            char extra[1600];
+            char extra[1800];
             std::snprintf(extra, sizeof extra,
                           "\"mesh\": \"%s\", \"applied_in_full\": %d, \"stopped_short\": %d, \"refused\": %d, \"falloff_shape_crosses_at_target\": %d, \"applied_in_full_of_the_rest\": %.3f, \"across_mirror_plane\": %d, \"applied_in_full_not_across_mirror_plane\": \"%d/%d\", \"reached_of_falloff_shape_limit_median\": %.2f, \"profile_rms_median\": %.3f, \"profile_rms_max\": %.3f, "
-                          "\"profiles\": %zu, \"profiles_within_0.08\": %d, \"vertices_added_median_max\": [%.0f, %.0f], \"crossing_pairs\": %d, \"shifted_load_contact_pairs\": %d, \"full_normal_tangent_inward\": [\"%d/%d\", \"%d/%d\", \"%d/%d\"], \"stopped_by\": {%s}, \"not_restored\": %d",
+                          "\"ms_p95_max\": [%.0f, %.0f], \"profiles\": %zu, \"profiles_within_0.08\": %d, \"vertices_added_median_max\": [%.0f, %.0f], \"crossing_pairs\": %d, \"shifted_load_contact_pairs\": %d, \"full_normal_tangent_inward\": [\"%d/%d\", \"%d/%d\", \"%d/%d\"], \"stopped_by\": {%s}, \"not_restored\": %d",
                           name, full, stopped, refused, shapeCrosses, full / std::max(1.0, 100.0 - shapeCrosses), acrossMirror, fullNotAcross, 100 - acrossMirror,
                           reachedOfShapeLimit.empty() ? NAN : median(reachedOfShapeLimit), profiles.empty() ? NAN : median(profiles),
-                          profiles.empty() ? NAN : *std::max_element(profiles.begin(), profiles.end()), profiles.size(),
+                          profiles.empty() ? NAN : *std::max_element(profiles.begin(), profiles.end()), percentile(moveMs, 0.95),
+                          percentile(moveMs, 1.0), profiles.size(),
                           static_cast<int>(std::count_if(profiles.begin(), profiles.end(), [](double p) { return p <= 0.08; })),
                           addedVertices.empty() ? 0.0 : median(addedVertices), addedVertices.empty() ? 0.0 : *std::max_element(addedVertices.begin(), addedVertices.end()), crossings, shiftedContacts,
                           fullByKind[0], strokesByKind[0], fullByKind[1], strokesByKind[1], fullByKind[2], strokesByKind[2], by.c_str(), unrestored);
