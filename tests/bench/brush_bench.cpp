@@ -117,6 +117,10 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
                 OpReport report;
                 session.dragVertex(v, source + pull * direction, report, brush);
                 moveMs.push_back(report.wallMs);
+                if (getenv("SCULPT_BENCH_VERBOSE") && report.wallMs > 1000.0)
+                    std::fprintf(stderr, "  %s stroke %d vertex %d kind %d pull %.2f r radius %.3f diag falloff %d sym %d: %.0f ms, %s %.3f, %d vertices added\n", name, stroke, v,
+                                 stroke % 3, pull / brush.radius, brush.radius / diagonal, stroke / 3 % 3, brush.symmetry.any() ? 1 : 0, report.wallMs,
+                                 opStatusName(report.status), report.fractionApplied, report.verticesAdded);
                 const bool across = brush.symmetry.any() && (source.x() - mirrorX) * (source.x() + pull * direction.x() - mirrorX) <= 0.0;
                 acrossMirror += across;
                 fullNotAcross += !across && report.status == OpStatus::Applied && report.fractionApplied == 1.0;
@@ -131,9 +135,9 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
                     // Reported: how many stops are such strokes, and how far the brush got compared with where
                     // the falloff shape first crosses.
                     const Eigen::Vector3d centre = 0.5 * (positions.colwise().minCoeff() + positions.colwise().maxCoeff()).transpose();
-                    const auto falloffShapeCrosses = [&](double share) {
+                    const auto falloffShapeCrosses = [&](double share, bool oneSide = false) {
                         Positions shape = positions;
-                        for (int mask = 0; mask <= (brush.symmetry.any() ? 1 : 0); ++mask) {
+                        for (int mask = 0; mask <= (brush.symmetry.any() && !oneSide ? 1 : 0); ++mask) {
                             const Eigen::Vector3d grab = reflectPoint(source, mask, SymmetryFrame{centre});
                             const Eigen::Vector3d move = reflectPoint(source + share * pull * direction, mask, SymmetryFrame{centre}) - grab;
                             for (Eigen::Index r = 0; r < positions.rows(); ++r) {
@@ -156,7 +160,8 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
                         if (hi > 0.0) reachedOfShapeLimit.push_back(reached / hi);
                     }
                     if (getenv("SCULPT_BENCH_VERBOSE"))
-                        std::fprintf(stderr, "  %s stroke %d: the falloff shape at the target %s\n", name, stroke, crosses ? "crosses itself" : "is crossing-free");
+                        std::fprintf(stderr, "  %s stroke %d: the falloff shape at the target %s%s\n", name, stroke, crosses ? "crosses itself" : "is crossing-free",
+                                     !brush.symmetry.any() || !crosses ? "" : falloffShapeCrosses(1.0, true) ? " (on one side alone too)" : " (not on one side alone)");
                 }
                 if (getenv("SCULPT_BENCH_VERBOSE") && (report.status != OpStatus::Applied || report.fractionApplied < 1.0))
                     std::fprintf(stderr, "  %s stroke %d vertex %d kind %d pull %.2f r radius %.3f diag falloff %d sym %d: %s %.3f by %s (%s)\n", name,

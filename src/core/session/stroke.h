@@ -100,9 +100,10 @@ private:
     // image, each its own pull; or none) is replaced by the pull field for `pulls` (brush_field.h; each from where
     // the stroke began), or by the largest share of it, to 1/64, that passes every check; with no share passing,
     // the stroke stays as it was. Returns the share applied (0: none of this pull); failure: what stopped it
-    // when below 1. Sets the session's last moved vertices.
+    // when below 1. Sets the session's last moved vertices. wholeOnly: the whole pull or nothing (1 or 0), with no
+    // splits under it and no search for its last injective point.
     double applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps, OpReport& report,
-                           StepFailure& failure);
+                           StepFailure& failure, bool wholeOnly = false);
     // A control-point drag's increment (per point, in the cage), with the offsets as shown.
     void applyControlDelta(ControlDelta delta, const Eigen::MatrixX3d& shownOffsets, OpReport& report);
 

@@ -16,7 +16,7 @@ using detail::Clock;
 using detail::millisecondsSince;
 
 double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushSettings& brush, std::vector<Step>& steps,
-                                OpReport& report, StepFailure& failure) {
+                                OpReport& report, StepFailure& failure, bool wholeOnly) {
     std::vector<int> moved;
     const bool hadStep = !steps.empty();
     // Only vertices in the last step's box or within reach of the new pulls can change: their rows as they are,
@@ -495,7 +495,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             // field keeps the surface ahead on its falloff.)
             const bool stoppedByTriangles = !crossedIn.empty() && (!whole || (modes[0] == Mode::Widened && mode != modes[0] && crossedIn[0] == modes[0]));
             const bool missed = whole && grabbedMiss() > kBrushRefineTolerance * brush.radius;
-            if (!(stoppedByTriangles || missed) || refined == kBrushRefinements || !s_.refinement_.settings.underBrush ||
+            if (!(stoppedByTriangles || missed) || refined == kBrushRefinements || !s_.refinement_.settings.underBrush || wholeOnly ||
                 pullLength >= s_.drag_.splitFailedAt)
                 break;
             const bool passed = whole;  // (a later mode carried it, or it passed with the grabbed point missed)
@@ -536,7 +536,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         }
         if (whole) {
             share = 1.0;
-        } else if (first->cause != StepFailure::Cause::SourceLeft) {
+        } else if (first->cause != StepFailure::Cause::SourceLeft && !wholeOnly) {
             // The last injective point along the pull in the first mode (to 1/64 of it; from a hint, to 1/8 of
             // what is left past it), as a control-point edit stops.
             mode = modes[0];
