@@ -187,8 +187,10 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
         return true;
     }
     appendVerticesOfCells(embedding, cells, changed);  // the collar's too: the triangle check is what certifies it
-    if (checkTriangles && deferTriangles_ && keep) {
-        // (beginDeferredTriangles) Each vertex's row as the first deferred layer found it; the check at the end.
+    // Deferred (beginDeferredTriangles): each vertex's row as the first deferred layer found it; the check at the
+    // end, and nothing here to refuse or put back.
+    const bool deferred = checkTriangles && deferTriangles_ && keep;
+    if (deferred) {
         if (deferredSaved_.size() < static_cast<size_t>(mesh_.positions.rows())) deferredSaved_.resize(static_cast<size_t>(mesh_.positions.rows()), 0);
         for (int v : changed)
             if (!deferredSaved_[static_cast<size_t>(v)]) {
@@ -196,21 +198,17 @@ bool Session::tryDelta(const ControlDelta& delta, std::vector<int>* moved, StepF
                 deferredChanged_.push_back(v);
                 before_.row(v) = mesh_.positions.row(v);
             }
-        evaluateIncrement(lattice, embedding, delta.indices, delta.deltas, 1.0, output, increment_, nullptr);
-        if (layered) refreshLayerOutput(changed);
-        positionsChanged(&changed);
-        if (moved) moved->insert(moved->end(), changed.begin(), changed.end());
-        return true;
-    }
-    for (int v : changed) before_.row(v) = mesh_.positions.row(v);
-    if (layered) {
-        if (stack_.beforeCage_.rows() != mesh_.positions.rows()) stack_.beforeCage_.resize(mesh_.positions.rows(), 3);
-        for (int v : changed) stack_.beforeCage_.row(v) = stack_.cageOut_.row(v);
+    } else {
+        for (int v : changed) before_.row(v) = mesh_.positions.row(v);
+        if (layered) {
+            if (stack_.beforeCage_.rows() != mesh_.positions.rows()) stack_.beforeCage_.resize(mesh_.positions.rows(), 3);
+            for (int v : changed) stack_.beforeCage_.row(v) = stack_.cageOut_.row(v);
+        }
     }
     evaluateIncrement(lattice, embedding, delta.indices, delta.deltas, 1.0, output, increment_, nullptr);
     if (layered) refreshLayerOutput(changed);
     bool refused = false;
-    if (checkTriangles) {
+    if (checkTriangles && !deferred) {
         // The triangles the step moved must not cross any triangle they did not cross before.
         refused = !noNewCrossing(changed, failure, injectivityMs, triangleMs);
     } else {
