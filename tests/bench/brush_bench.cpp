@@ -310,6 +310,57 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
                       moveMs.empty() ? 0.0 : *std::max_element(moveMs.begin(), moveMs.end()), added.empty() ? 0.0 : median(added), full);
         printCase("stroke_coarse", positions.rows(), moveMs.empty() ? 0.0 : median(moveMs), extra);
     }
+    if (wanted("stroke_past_stop")) {
+        // As the window strokes a pull that cannot be carried all the way: random long pulls on CGAL's camel
+        // (radius 6-14% of the diagonal, 2-3 radii along the normal, a tangent or inward; every fourth
+        // symmetric, every other under the exact test), each dragged in 12 mouse moves along its line to twice
+        // its length, until 6 strokes have stopped short. Every move past the first that stopped searches again
+        // from where the last left it. Reported: ms of the move that first stopped (median), of the moves past
+        // it (median, max), and their count.
+        Positions positions, normals;
+        Triangles triangles;
+        std::string error;
+        if (!test::loadCgalMesh("camel.off", positions, triangles, error)) {
+            std::fprintf(stderr, "stroke_past_stop: %s\n", error.c_str());
+            return;
+        }
+        computeVertexNormals(positions, triangles, normals);
+        const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+        std::mt19937 rng(2026);
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        std::vector<double> firstStopMs, pastStopMs;
+        int stoppedStrokes = 0;
+        for (int stroke = 0; stroke < 60 && stoppedStrokes < 6; ++stroke) {
+            Session session;
+            session.setMesh(positions, triangles);
+            session.setInjectivity({stroke % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6});
+            BrushSettings brush;
+            brush.radius = (0.06 + 0.08 * unit(rng)) * diagonal;
+            brush.falloff = static_cast<BrushFalloff>(stroke / 3 % 3);
+            if (stroke % 4 == 3) brush.symmetry.mirror[0] = true;
+            const int v = std::uniform_int_distribution<int>(0, static_cast<int>(positions.rows()) - 1)(rng);
+            const Eigen::Vector3d n = normals.row(v).transpose();
+            const Eigen::Vector3d direction = stroke % 3 == 0 ? n : stroke % 3 == 1 ? n.unitOrthogonal() : Eigen::Vector3d(-n);
+            const double pull = (2.0 + unit(rng)) * brush.radius;
+            const Eigen::Vector3d source = positions.row(v).transpose();
+            if (!session.stroke().beginAt({source}, {}, brush)) continue;
+            bool stopped = false;
+            for (int move = 1; move <= 12; ++move) {
+                OpReport report;
+                const auto start = std::chrono::steady_clock::now();
+                session.stroke().update({source + 2.0 * pull * move / 12.0 * direction}, report);
+                const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+                if (stopped) pastStopMs.push_back(ms);
+                else if (report.fractionApplied < 1.0 || report.status != OpStatus::Applied) firstStopMs.push_back(ms), stopped = true;
+            }
+            stoppedStrokes += stopped;
+        }
+        char extra[300];
+        std::snprintf(extra, sizeof extra, "\"strokes_stopped\": %d, \"first_stop_ms_median\": %.0f, \"past_stop_ms_max\": %.0f, \"moves_past_stop\": %zu",
+                      stoppedStrokes, firstStopMs.empty() ? 0.0 : median(firstStopMs),
+                      pastStopMs.empty() ? 0.0 : *std::max_element(pastStopMs.begin(), pastStopMs.end()), pastStopMs.size());
+        printCase("stroke_past_stop", positions.rows(), pastStopMs.empty() ? 0.0 : median(pastStopMs), extra);
+    }
 }
 
 }  // namespace sculpt::bench

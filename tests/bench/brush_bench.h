@@ -18,6 +18,8 @@ namespace sculpt::bench {
 //                   triangle check)
 //   stroke_coarse   window-like strokes on the coarse elephant: the point grabbed inside a large triangle pulled to
 //                   3 radii in 20 moves; ms per move and the vertices split in under the pull
+//   stroke_past_stop  window-like long strokes on CGAL's camel dragged on to twice their pull: ms per move past
+//                   where a stroke stops (median, max) and of the move that first stopped
 void runBrushBenchmarks(const std::vector<std::string>& filters = {});
 
 }  // namespace sculpt::bench

@@ -39,6 +39,9 @@ struct DragState {
     // pull through: a longer one is not split again in this stroke (each try costs a refinement and its removal,
     // and the mouse keeps moving past such a limit). Infinity: none yet.
     double splitFailedAt = INFINITY;
+    // The way the layers in place carried the pull (applyBrushPulls' Mode, as a number; -1: none yet): a later
+    // update's search for the last injective point starts in it, where the stroke stopped.
+    int strokeMode = -1;
     // A stroke's grabbed images (per `mirror` entry) on the mesh where the stroke began: the triangle each lies
     // on and its barycentric weights there (-1: not on the surface, as a mirror image of an asymmetric mesh), so
     // an update can tell how far the flat triangles put it from its target (applyBrushPulls). Empty until the

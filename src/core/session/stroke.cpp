@@ -80,6 +80,7 @@ void Stroke::startMirrored(const std::string& label, const std::vector<Eigen::Ve
     s_.drag_.mirror = std::move(mirror);
     s_.drag_.brush = brush;
     s_.drag_.splitFailedAt = INFINITY;
+    s_.drag_.strokeMode = -1;
     s_.drag_.grabbedTriangle.clear();
     s_.drag_.grabbedWeights.clear();
     s_.drag_.active = true;

@@ -374,22 +374,41 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         s_.popLayers(steps.size(), &moved);
         steps.clear();
     };
-    // Bisection on the share between lo (passes, or 0) and hi (fails), `iterations` trials: the last passing
-    // share, and whether its layers are in place (the last trial passed); otherwise none are.
-    const auto lastPassing = [&](double lo, double hi, int iterations) {
-        bool kept = false;
-        for (int iteration = 0; iteration < iterations; ++iteration) {
-            const double mid = 0.5 * (lo + hi);
-            if (attempt(mid)) {
-                lo = mid;
-                kept = iteration + 1 == iterations;
-                if (kept) break;
-                clearStroke();
-            } else {
-                hi = mid;
-            }
+    // Puts back layers that passed every check before, in this update or the last (certified: applied as they
+    // were, not tried again).
+    const auto reenter = [&](const std::vector<Step>& certified) {
+        for (const Step& step : certified) {
+            s_.enterLayer(nullptr, nullptr, &step);
+            s_.applyDelta(step.delta, 1.0, &moved);
+            s_.stack_.layerActive_ = false;
         }
-        return std::make_pair(lo, kept);
+        steps = certified;
+    };
+    // The last passing share on [lo, hi], to (hi - lo) / 2^iterations, by bisection: lo passes with the layers
+    // `atLo` (none at 0), hi fails. probeFirst: the least share past lo that the bisection could find is tried
+    // first, and where it fails the search ends there (a stroke dragged on past where it stops fails there: one
+    // trial, not `iterations`). Leaves the share found with its layers in place, put back as they passed (not
+    // tried again).
+    struct Passed {
+        std::vector<Step> steps;
+        double residual = 0.0;
+    };
+    const auto lastPassing = [&](double lo, double hi, int iterations, Passed atLo, bool probeFirst) {
+        const auto passes = [&](double tried) {
+            if (!attempt(tried)) return false;
+            lo = tried;
+            atLo = {steps, residual};
+            clearStroke();
+            return true;
+        };
+        bool searching = !probeFirst || passes(lo + (hi - lo) / static_cast<double>(1 << iterations));
+        for (int iteration = 0; searching && iteration < iterations; ++iteration) {
+            const double mid = 0.5 * (lo + hi);
+            if (!passes(mid)) hi = mid;
+        }
+        reenter(atLo.steps);
+        residual = atLo.residual;
+        return lo;
     };
     // The mesh refined under the pull (Refiner::refineUnderPull), as the stroke began: the triangles the first
     // mode's whole pull would bend further from flat than `tolerance` (world units) are split, so that the mesh
@@ -397,6 +416,7 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
     // cutting through itself with long flat triangles. The splits go into the operation's refinementBefore.
     // False when nothing was split (or the split surface would cross itself as it is now).
     std::vector<Mode> modes;
+    Mode carriedBy = Mode::Layers;  // the mode whose layers are in place
     // The modes whose triangles crossed (tryWhole), whose fields the refinement plans on, a round each in turn:
     // the first such, and Stepped where it crossed too (its steps bend the mesh otherwise than one field does).
     std::vector<Mode> crossedIn;
@@ -536,52 +556,55 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         }
         if (whole) {
             share = 1.0;
+            carriedBy = mode;
         } else if (first->cause != StepFailure::Cause::SourceLeft && !wholeOnly) {
-            // The last injective point along the pull in the first mode (to 1/64 of it; from a hint, to 1/8 of
-            // what is left past it), as a control-point edit stops.
-            mode = modes[0];
+            // The last injective point along the pull (to 1/64 of it; from a hint, to 1/8 of what is left past
+            // it), as a control-point edit stops: in the first mode, or from a hint in the mode that carried the
+            // last update, where its share passes again as it did (the same field), so a stroke dragged on past
+            // where it stops keeps the ground it gained.
+            const bool hinted = hint > 1.0 / 64.0 && hint < 1.0 - 1.0 / 64.0;
+            const Mode searchedFirst =
+                hinted && std::find(modes.begin(), modes.end(), static_cast<Mode>(s_.drag_.strokeMode)) != modes.end()
+                    ? static_cast<Mode>(s_.drag_.strokeMode)
+                    : modes[0];
+            mode = searchedFirst;
             double lo = 0.0, hi = 1.0;
             int iterations = 6;
-            if (hint > 1.0 / 64.0 && hint < 1.0 - 1.0 / 64.0) {
+            Passed atHint;
+            if (hinted) {
                 if (attempt(hint)) {
                     lo = hint;
+                    atHint = {steps, residual};
                     iterations = 3;
                     clearStroke();
                 } else {
                     hi = hint;
                 }
             }
-            const auto [found, kept] = lastPassing(lo, hi, iterations);
-            if (kept) share = found;
-            else if (found > 0.0 && attempt(found)) share = found;
+            share = lastPassing(lo, hi, iterations, atHint, lo > 0.0);
+            carriedBy = searchedFirst;
             // The other modes may carry the images further (never less: what the first found stays unless
-            // another passes beyond it).
-            bool beaten = false;
-            for (size_t other = 1; other < modes.size() && share < 1.0 && !beaten; ++other) {
+            // another passes beyond it). Each is tried first at the least share past it that its search would
+            // find: a mode that fails there costs one trial, not four (a stroke dragged on past where it stops
+            // tries every mode on every mouse move: 1.8 s a move on CGAL's camel, strokes_real's stroke 75).
+            for (size_t other = 0; other < modes.size() && share < 1.0; ++other) {
+                if (modes[other] == searchedFirst) continue;
                 if ((modes[other] == Mode::Layers || modes[other] == Mode::HalfWidened) && !widened) continue;  // Widened was this
+                Passed best{steps, residual};
                 clearStroke();
                 mode = modes[other];
-                const auto [otherFound, otherKept] = lastPassing(share, 1.0, 4);
-                beaten = otherKept || (otherFound > share && attempt(otherFound));
-                if (beaten) share = otherFound;
-            }
-            if (modes.size() > 1 && share < 1.0 && !beaten) {
-                clearStroke();
-                mode = modes[0];
-                if (share > 0.0 && !attempt(share)) share = 0.0;  // passed before: cannot happen
+                const double found = lastPassing(share, 1.0, 4, std::move(best), true);
+                if (found > share) {
+                    share = found;
+                    carriedBy = mode;
+                    break;
+                }
             }
         }
         if (!whole) failure = *first;  // what stopped the pull is what stopped the first mode
     }
-    if (share == 0.0 && hadStep && moving) {
-        // Nothing of this pull passes: the stroke stays where the last update left it (already certified).
-        for (const Step& step : previous) {
-            s_.enterLayer(nullptr, nullptr, &step);
-            s_.applyDelta(step.delta, 1.0, &moved);
-            s_.stack_.layerActive_ = false;
-        }
-        steps = previous;
-    }
+    if (share == 0.0 && hadStep && moving) reenter(previous);  // nothing of this pull passes: the stroke stays where the last update left it
+    if (share > 0.0) s_.drag_.strokeMode = static_cast<int>(carriedBy);
     // Where the grabbed images are now: the last layer's constraints hold every image's place.
     s_.drag_.strokeReached.clear();
     if (!steps.empty())

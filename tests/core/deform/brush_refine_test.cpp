@@ -417,3 +417,61 @@ TEST_CASE("brush refinement: on a triangle soup, long pulls split both sides of 
     CHECK(split >= 3);
     CHECK(inFull >= 7);
 }
+
+TEST_CASE("brush: a stroke dragged on past where it stops keeps the ground it gained on the pull's line, uncrossed, and Esc restores the mesh", "[core][brush]") {
+    // As the window drags: a stroke of eight mouse moves along one line to twice a long pull, so that moves
+    // past where the stroke stops search again from where the last left it (Stroke::applyBrushPulls' hint, in
+    // the way the last move carried it; the layers found are put back as they passed, not tried again).
+    std::mt19937 rng(2031);
+    const Elephant elephant = loadElephant();
+    const double diagonal = elephant.diagonal;
+    Positions normals;
+    computeVertexNormals(elephant.positions, elephant.triangles, normals);
+    const int wanted = test::scaledCount(4, 1);
+    int stoppedStrokes = 0, movesPastStop = 0;
+    for (int index = 0; index < 40 && stoppedStrokes < wanted; ++index) {
+        Session session;
+        REQUIRE(session.setMesh(elephant.positions, elephant.triangles).ok);
+        session.setInjectivity({index % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6});
+        Pull stroke = randomStroke(rng, session, normals, index, diagonal);
+        if (index % 4 == 3) stroke.brush.symmetry.mirror[0] = true;
+        const Eigen::Vector3d source = elephant.positions.row(stroke.vertex).transpose();
+        const Eigen::Vector3d direction = (stroke.target - source).normalized();
+        REQUIRE(session.stroke().beginAt({source}, {}, stroke.brush).ok);
+        double gained = 0.0;  // along the line, world units
+        bool stopped = false;
+        for (int move = 1; move <= 8; ++move) {
+            const Eigen::Vector3d target = source + 2.0 * move / 8.0 * (stroke.target - source);
+            OpReport report;
+            REQUIRE(session.stroke().update({target}, report).ok);
+            INFO("stroke " << index << " vertex " << stroke.vertex << " move " << move << ": " << report.fractionApplied << " " << report.reason);
+            if (report.status == OpStatus::Rejected) {
+                // Nothing of it passes: the stroke stays where the last move left it.
+                CHECK(gained == 0.0);
+                continue;
+            }
+            REQUIRE(report.status == OpStatus::Applied);
+            // The grabbed vertex is on the pull's line, at the share the report gives, exactly.
+            const Eigen::Vector3d at = session.mesh().positions.row(stroke.vertex).transpose();
+            CHECK((at - (source + report.fractionApplied * (target - source))).norm() <= 1e-9 * diagonal);
+            const double along = (at - source).dot(direction);
+            CHECK(along >= gained - 1e-9 * diagonal);
+            if (stopped) ++movesPastStop;
+            stopped = stopped || report.fractionApplied < 1.0;
+            gained = std::max(gained, along);
+        }
+        // Uncrossed by the independent exact test.
+        CHECK(test::intersectingPairs(session.mesh().positions, session.mesh().triangles).size() == elephant.crossingAtLoad);
+        // Esc: the mesh as it was loaded (splits taken back), the history empty.
+        OpReport report;
+        REQUIRE(session.stroke().cancel(report).ok);
+        REQUIRE(session.mesh().positions.rows() == elephant.positions.rows());
+        CHECK(session.mesh().triangles == elephant.triangles);
+        CHECK((session.mesh().positions - elephant.positions).cwiseAbs().maxCoeff() <= 1e-12 * diagonal);
+        CHECK(session.history().cursor() == 0);
+        stoppedStrokes += stopped;
+    }
+    INFO(stoppedStrokes << " strokes stopped, " << movesPastStop << " moves past their stop");
+    REQUIRE(stoppedStrokes == wanted);
+    CHECK(movesPastStop >= wanted);
+}
