@@ -2,6 +2,7 @@
 // from where the stroke began to where the grabbed points are asked to be, or by the largest share of that
 // pull that passes every check; the stroke is one history entry with one injective step.
 #include <algorithm>
+#include <map>
 #include <optional>
 #include <utility>
 
@@ -472,6 +473,11 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
         bool whole = false;
         std::optional<StepFailure> first;  // why the first mode did not carry the whole pull
         // Each mode in turn on the whole pull: whole when one carries it (its layers in place), else `first`.
+        // Modes whose whole pull failed a check of its lattices alone (a fold, an undecided test, the boundary):
+        // their fields do not depend on the mesh (all but the widened ones, which look at the surface ahead), so
+        // after the mesh is split under the pull they fail again as they did, and are not tried again (CGAL's
+        // camel, strokes_real's stroke 75: three of four modes folded in each of three rounds).
+        std::map<Mode, StepFailure> latticeFailed;
         const auto tryWhole = [&] {
             first.reset();
             crossedIn.clear();
@@ -479,9 +485,15 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
                 if ((tried == Mode::Layers || tried == Mode::HalfWidened) && !widened && first) continue;  // Widened was this, and failed
                 mode = tried;
                 failure = StepFailure{};
-                if (attempt(1.0)) {
+                if (const auto known = latticeFailed.find(tried); known != latticeFailed.end()) {
+                    failure = known->second;
+                } else if (attempt(1.0)) {
                     whole = true;
                     return;
+                } else if (tried != Mode::Widened && tried != Mode::HalfWidened &&
+                           (failure.cause == StepFailure::Cause::Lattice || failure.cause == StepFailure::Cause::Uncertified ||
+                            failure.cause == StepFailure::Cause::Boundary)) {
+                    latticeFailed.emplace(tried, failure);
                 }
                 if (!first) first = failure;
                 if ((crossedIn.empty() || tried == Mode::Stepped) && failure.cause == StepFailure::Cause::Triangles) crossedIn.push_back(tried);
