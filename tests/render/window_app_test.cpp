@@ -344,6 +344,15 @@ TEST_CASE("window: the status line names every engine command in words, and a co
     report.verticesMoved = 1;
     app::reportOperation(state, report, Status::success());
     CHECK(state.status == "Redo: 1 vertex moved.");
+    // A stroke's move past where it stopped, which left the surface where it was: held, not "done".
+    report.op = "drag";
+    report.verticesMoved = 0;
+    report.fractionApplied = 0.868;
+    report.reason = "Stopped at 86.8% of the pull, the last injective point: beyond it the mesh would fold over itself near (1, 2, 3).";
+    app::reportOperation(state, report, Status::success(), "This move");
+    CHECK(state.status == "This move: held where the stroke stopped, no vertex moved. " + report.reason);
+    report.fractionApplied = 1.0;
+    report.reason.clear();
     report.op = "freeze";
     app::reportOperation(state, report, Status::error("lattice 3 does not exist"));
     CHECK(state.status == "Freezing the lattice failed: lattice 3 does not exist");

@@ -76,7 +76,10 @@ void reportOperation(AppState& state, const core::OpReport& report, const Status
         text = what + ": nothing to do" + (report.reason.empty() ? "" : " (" + report.reason + ")");
     } else {
         // A command that changes the lattice, the pins or the history only moves no vertex: said so, not "0 moved".
+        // A stroke's move past where it stopped holds the surface there: said so, not "done".
+        const bool held = (report.op == "drag" || report.op == "drag_vertex") && report.fractionApplied < 1.0;
         text = what + ": " + (report.verticesMoved > 0 ? countOf(static_cast<size_t>(report.verticesMoved), "vertex", "vertices") + " moved"
+                              : held                   ? std::string("held where the stroke stopped, no vertex moved")
                                                        : std::string("done, no vertex moved"));
         // A stroke's move that split the mesh under its pull: the vertices it added, apart from those it moved.
         if ((report.op == "drag" || report.op == "drag_vertex") && report.verticesAdded > 0)

@@ -365,10 +365,10 @@ void SculptApp::endSculpt() {
     if (!parts.empty()) {
         std::vector<std::string> causes;
         // note: the words of stopCauseWords, as the status of each move and of a transform say them.
-        // (a brush stroke's lattice is the brush's own region: there the space around the pull would fold)
+        // (a brush stroke's lattice is the brush's own region: the mesh would fold, as each move's status says)
         if (finished.byFold > 0)
             causes.push_back(std::to_string(finished.byFold) + " where " +
-                             (finished.brushRadius > 0.0 ? std::string("the space around the pull would fold") : stopCauseWords("lattice")));
+                             (finished.brushRadius > 0.0 ? std::string("the mesh would fold over itself") : stopCauseWords("lattice")));
         if (finished.byUncertified > 0) causes.push_back(std::to_string(finished.byUncertified) + " where " + stopCauseWords("uncertified"));
         if (finished.byCrossing > 0) causes.push_back(std::to_string(finished.byCrossing) + " where " + stopCauseWords("triangles"));
         if (finished.byBoundary > 0) causes.push_back(std::to_string(finished.byBoundary) + " where " + stopCauseWords("boundary"));

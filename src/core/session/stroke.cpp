@@ -397,7 +397,8 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
     const std::string advice = failure.cause == StepFailure::Cause::Lattice
                                    ? "the pull is too steep for the brush there: try a larger radius, a smoother falloff or a shorter pull"
                                    : failure.cause == StepFailure::Cause::Triangles
-                                         ? "try a larger radius or a shorter pull; with \"Split under the brush\" off, turn it on"
+                                         ? (s_.refinement_.settings.underBrush ? "try a larger radius or a shorter pull"
+                                                                                : "try a larger radius or a shorter pull, or turn \"Split under the brush\" on")
                                          : stepFailureAdvice(failure.cause);
     if (share > 0.0) {
         report.status = OpStatus::Applied;

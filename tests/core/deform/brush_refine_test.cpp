@@ -142,6 +142,8 @@ TEST_CASE("brush refinement: long pulls the triangles stopped split the mesh und
             REQUIRE(unsplit.dragVertex(stroke.vertex, stroke.target, r, stroke.brush).ok);
             CHECK(unsplit.mesh().triangles.rows() == trianglesBefore.rows());
             stoppedWithout += r.fractionApplied < 1.0 && r.refusedBy == "triangles";
+            // The advice names the setting that is off.
+            if (r.fractionApplied < 1.0 && r.refusedBy == "triangles") CHECK(r.reason.find("or turn \"Split under the brush\" on") != std::string::npos);
         }
 
         // Undo takes back the stroke and its splits; redo puts both back.
@@ -457,6 +459,8 @@ TEST_CASE("brush: a stroke dragged on past where it stops keeps the ground it ga
             const double along = (at - source).dot(direction);
             CHECK(along >= gained - 1e-9 * diagonal);
             if (stopped) ++movesPastStop;
+            // "Split under the brush" is on: the advice does not ask to turn it on.
+            if (report.fractionApplied < 1.0) CHECK(report.reason.find("Split under the brush") == std::string::npos);
             stopped = stopped || report.fractionApplied < 1.0;
             gained = std::max(gained, along);
         }
