@@ -42,6 +42,7 @@ struct DragState {
     // The way the layers in place carried the pull (applyBrushPulls' Mode, as a number; -1: none yet): a later
     // update's search for the last injective point starts in it, where the stroke stopped.
     int strokeMode = -1;
+    Eigen::Index rowsAtBegin = 0;  // the mesh's vertices when the stroke began (a move's count of the moved is among them)
     // A stroke's grabbed images (per `mirror` entry) on the mesh where the stroke began: the triangle each lies
     // on and its barycentric weights there (-1: not on the surface, as a mirror image of an asymmetric mesh), so
     // an update can tell how far the flat triangles put it from its target (applyBrushPulls). Empty until the

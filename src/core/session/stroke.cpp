@@ -81,6 +81,7 @@ void Stroke::startMirrored(const std::string& label, const std::vector<Eigen::Ve
     s_.drag_.brush = brush;
     s_.drag_.splitFailedAt = INFINITY;
     s_.drag_.strokeMode = -1;
+    s_.drag_.rowsAtBegin = s_.mesh_.positions.rows();
     s_.drag_.grabbedTriangle.clear();
     s_.drag_.grabbedWeights.clear();
     s_.drag_.active = true;
@@ -356,7 +357,9 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
         }
     }
     StepFailure failure;
-    const Eigen::Index rowsAtStart = s_.mesh_.positions.rows();
+    // The mesh's vertices as the stroke began: those a move counts as moved (the ones its splits added, in this
+    // move or an earlier one, are counted apart, as the stroke's end and its undo count them).
+    const Eigen::Index rowsAtStart = std::min<Eigen::Index>(s_.drag_.rowsAtBegin, s_.mesh_.positions.rows());
     double share = 0.0;
     if (reach < 1.0 && applyBrushPulls(pulls, s_.drag_.brush, s_.drag_.operation.steps, report, failure, true) == 1.0) {
         share = reach = 1.0;
@@ -372,8 +375,9 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
         failure.cause = StepFailure::Cause::MirrorPlane;  // (what stopped it short of the plane is the plane's)
         failure.plane = std::string(1, static_cast<char>('X' + crossedPlane));
     }
-    // The vertices this update moved, among those the mesh had before it: the ones it split in under the pull
-    // are report.verticesAdded (a trial read "1259 vertices moved" live, then "20 moved, 1272 added" at the end).
+    // The vertices this update moved, among those the mesh had when the stroke began: the ones it split in under
+    // the pull are report.verticesAdded (a trial read "1259 vertices moved" live, then "20 moved, 1272 added" at
+    // the end; another, a later move's "1125 moved" after splits of earlier moves, then "416 moved, 702 added").
     const int movedHere = s_.lastMoved_.all ? static_cast<int>(rowsAtStart)
                                             : static_cast<int>(std::count_if(s_.lastMoved_.vertices.begin(), s_.lastMoved_.vertices.end(),
                                                                              [rowsAtStart](int v) { return v < rowsAtStart; }));
