@@ -23,6 +23,37 @@ namespace sculpt::bench {
 
 using namespace sculpt::core;
 
+namespace {
+
+// One random stroke as strokes_real draws them (stroke_past_stop too, with other ranges): stroke index i picks
+// the falloff (i / 3 % 3), the direction (i % 3: along the vertex normal, a tangent, inward), symmetry in X for
+// every fourth (i % 4 == 3) and the injectivity test (exact for odd i, else conic); the radius, the vertex and
+// the pull's length come from rng, in that order (radius lo + span * u times the diagonal; pull likewise, in radii).
+struct DrawnStroke {
+    BrushSettings brush;
+    InjectivitySettings injectivity;
+    int vertex = -1;
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+    double pull = 0.0;  // world units
+};
+
+DrawnStroke drawStroke(std::mt19937& rng, int i, const Positions& normals, double diagonal, double radiusLo, double radiusSpan, double pullLo,
+                       double pullSpan) {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    DrawnStroke d;
+    d.brush.radius = (radiusLo + radiusSpan * unit(rng)) * diagonal;
+    d.brush.falloff = static_cast<BrushFalloff>(i / 3 % 3);
+    if (i % 4 == 3) d.brush.symmetry.mirror[0] = true;
+    d.injectivity = {i % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6};
+    d.vertex = std::uniform_int_distribution<int>(0, static_cast<int>(normals.rows()) - 1)(rng);
+    const Eigen::Vector3d n = normals.row(d.vertex).transpose();
+    d.direction = i % 3 == 0 ? n : i % 3 == 1 ? n.unitOrthogonal() : Eigen::Vector3d(-n);
+    d.pull = (pullLo + pullSpan * unit(rng)) * d.brush.radius;
+    return d;
+}
+
+}  // namespace
+
 void runBrushBenchmarks(const std::vector<std::string>& filters) {
     const auto wanted = [&](const char* name) { return wantedCase(filters, name); };
     if (wanted("strokes_real")) {
@@ -90,7 +121,6 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
             Session session;
             session.setMesh(positions, triangles);
             std::mt19937 rng(getenv("SCULPT_BENCH_SEED") ? atoi(getenv("SCULPT_BENCH_SEED")) : 2026);
-            std::uniform_real_distribution<double> unit(0.0, 1.0);
             int full = 0, stopped = 0, refused = 0, crossings = 0, unrestored = 0, shapeCrosses = 0;
             // Symmetric strokes whose pull carries the grabbed point across the mirror plane (x through the box's
             // centre): its mirror image is pulled across the other way, and the two meet on the plane, which no
@@ -102,16 +132,13 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
             int fullByKind[3] = {0, 0, 0}, strokesByKind[3] = {0, 0, 0};
             std::vector<double> profiles, moveMs, reachedOfShapeLimit, addedVertices;
             for (int stroke = 0; stroke < 100; ++stroke) {
-                BrushSettings brush;
-                brush.radius = (0.03 + 0.12 * unit(rng)) * diagonal;
-                brush.falloff = static_cast<BrushFalloff>(stroke / 3 % 3);  // independent of the kind (stroke % 3)
-                if (stroke % 4 == 3) brush.symmetry.mirror[0] = true;
-                session.setInjectivity({stroke % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6});
-                const int v = std::uniform_int_distribution<int>(0, static_cast<int>(positions.rows()) - 1)(rng);
-                const Eigen::Vector3d n = normals.row(v).transpose();
-                const int kind = stroke % 3;  // along the normal, a tangent, inward
-                const Eigen::Vector3d direction = kind == 0 ? n : kind == 1 ? n.unitOrthogonal() : Eigen::Vector3d(-n);
-                const double pull = (0.1 + 2.9 * unit(rng)) * brush.radius;
+                const DrawnStroke drawn = drawStroke(rng, stroke, normals, diagonal, 0.03, 0.12, 0.1, 2.9);
+                const BrushSettings& brush = drawn.brush;
+                session.setInjectivity(drawn.injectivity);
+                const int v = drawn.vertex;
+                const int kind = stroke % 3;  // along the normal, a tangent, inward (independent of the falloff, stroke / 3 % 3)
+                const Eigen::Vector3d& direction = drawn.direction;
+                const double pull = drawn.pull;
                 const Eigen::Vector3d source = positions.row(v).transpose();
                 if (getenv("SCULPT_BENCH_STROKE") && atoi(getenv("SCULPT_BENCH_STROKE")) != stroke) continue;  // one stroke, to look at it
                 OpReport report;
@@ -327,23 +354,16 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
         computeVertexNormals(positions, triangles, normals);
         const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
         std::mt19937 rng(2026);
-        std::uniform_real_distribution<double> unit(0.0, 1.0);
         std::vector<double> firstStopMs, pastStopMs;
         int stoppedStrokes = 0;
         for (int stroke = 0; stroke < 60 && stoppedStrokes < 6; ++stroke) {
             Session session;
             session.setMesh(positions, triangles);
-            session.setInjectivity({stroke % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6});
-            BrushSettings brush;
-            brush.radius = (0.06 + 0.08 * unit(rng)) * diagonal;
-            brush.falloff = static_cast<BrushFalloff>(stroke / 3 % 3);
-            if (stroke % 4 == 3) brush.symmetry.mirror[0] = true;
-            const int v = std::uniform_int_distribution<int>(0, static_cast<int>(positions.rows()) - 1)(rng);
-            const Eigen::Vector3d n = normals.row(v).transpose();
-            const Eigen::Vector3d direction = stroke % 3 == 0 ? n : stroke % 3 == 1 ? n.unitOrthogonal() : Eigen::Vector3d(-n);
-            const double pull = (2.0 + unit(rng)) * brush.radius;
-            const Eigen::Vector3d source = positions.row(v).transpose();
-            if (!session.stroke().beginAt({source}, {}, brush)) continue;
+            const DrawnStroke drawn = drawStroke(rng, stroke, normals, diagonal, 0.06, 0.08, 2.0, 1.0);
+            session.setInjectivity(drawn.injectivity);
+            const Eigen::Vector3d source = positions.row(drawn.vertex).transpose(), direction = drawn.direction;
+            const double pull = drawn.pull;
+            if (!session.stroke().beginAt({source}, {}, drawn.brush)) continue;
             bool stopped = false;
             for (int move = 1; move <= 12; ++move) {
                 OpReport report;
