@@ -437,17 +437,32 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             hi = hi.cwiseMax(regionHi);
         }
         clearStroke();
-        // Every triangle whose box meets the region the field moves (a triangle larger than the brush moves there
-        // with none of its corners).
-        std::vector<int> near;
-        for (Eigen::Index t = 0; t < s_.mesh_.triangles.rows(); ++t) {
-            Eigen::Vector3d tLo = s_.mesh_.positions.row(s_.mesh_.triangles(t, 0)).transpose(), tHi = tLo;
-            for (int k = 1; k < 3; ++k) {
-                tLo = tLo.cwiseMin(s_.mesh_.positions.row(s_.mesh_.triangles(t, k)).transpose());
-                tHi = tHi.cwiseMax(s_.mesh_.positions.row(s_.mesh_.triangles(t, k)).transpose());
-            }
-            if ((tLo.array() <= hi.array()).all() && (tHi.array() >= lo.array()).all()) near.push_back(static_cast<int>(t));
+        // Every triangle that may meet the reach of a moving pull (brush_field.h: nothing farther than 1.25 radius
+        // from a pull's segment moves, whatever the layers' coefficients), whose box meets the region the field
+        // moves (a triangle larger than the brush moves there with none of its corners). A triangle is out of reach
+        // when its centroid is farther from every segment than the reach and the farthest corner from the
+        // centroid together: the rest of the field's box (a pull's region lattice is long and turned to the pull:
+        // on CGAL's armadillo its world box held three times the triangles that move) is left out of the splits.
+        const double reach = kBrushReach * brush.radius * (1.0 + 1e-6);
+        const Triangles& faces = s_.mesh_.triangles;
+        const Positions& at = s_.mesh_.positions;
+        std::vector<char> meets(static_cast<size_t>(faces.rows()), 0);
+#pragma omp parallel for schedule(static) if (faces.rows() > 65536)
+        for (Eigen::Index t = 0; t < faces.rows(); ++t) {
+            const Eigen::Vector3d a = at.row(faces(t, 0)).transpose(), b = at.row(faces(t, 1)).transpose(), c = at.row(faces(t, 2)).transpose();
+            const Eigen::Vector3d tLo = a.cwiseMin(b).cwiseMin(c), tHi = a.cwiseMax(b).cwiseMax(c);
+            if (!((tLo.array() <= hi.array()).all() && (tHi.array() >= lo.array()).all())) continue;
+            const Eigen::Vector3d centroid = (a + b + c) / 3.0;
+            const double spread = std::sqrt(std::max({(a - centroid).squaredNorm(), (b - centroid).squaredNorm(), (c - centroid).squaredNorm()}));
+            for (const BrushPull& p : pulls)
+                if (p.moving() && segmentDistance(centroid, p.source, p.source + p.pull) <= reach + spread) {
+                    meets[static_cast<size_t>(t)] = 1;
+                    break;
+                }
         }
+        std::vector<int> near;
+        for (Eigen::Index t = 0; t < faces.rows(); ++t)
+            if (meets[static_cast<size_t>(t)]) near.push_back(static_cast<int>(t));
         const LatticeStack& stack = s_.stack_;
         const RestImage target = [&stack, &field](const Eigen::Vector3d& rest) {
             Eigen::Vector3d x = stack.imageOfRestPoint(rest);
