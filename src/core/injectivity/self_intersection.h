@@ -109,6 +109,16 @@ public:
                                                   size_t limit = static_cast<size_t>(-1), double nearTolerance = 0.0,
                                                   std::vector<TrianglePairHit>* near = nullptr);
 
+    // Every intersecting pair (as allIntersections) of the mesh `triangles` at `positions` that holds a triangle
+    // flagged in `changed` (#T of `triangles`, nonzero: flagged), sorted, where this index was built on an earlier
+    // state of the same mesh whose rows `triangles` still holds where unflagged, at the same vertex positions
+    // (a mesh split since: rows halved in place or appended, vertices appended, none moved). The pairs of two
+    // unflagged rows are the built mesh's and are not looked at. A flagged row against the rest: through this
+    // index; flagged rows among themselves: by a sweep over their boxes. Fewer rows than the index was built
+    // on, or a flag vector of another size, is a caller's error (asserted).
+    std::vector<TrianglePairHit> intersectionsOfChanged(const Positions& positions, const Triangles& triangles,
+                                                        const std::vector<std::uint8_t>& changed) const;
+
     // Triangles that have vertex v as a corner (CSR): ids vertexTriangles_[start[v] .. start[v+1]).
     template <typename F>
     void forEachTriangleOf(int v, F f) const {

@@ -3,6 +3,7 @@
 #include "core/injectivity/self_intersection.h"
 
 #include <algorithm>
+#include <cassert>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -263,6 +264,71 @@ std::vector<TrianglePairHit> SelfIntersectionIndex::allIntersections(const Posit
     std::sort(hits.begin(), hits.end(), byIds);
     if (near) std::sort(near->begin(), near->end(), byIds);
     if (hits.size() > limit) hits.resize(limit);
+    return hits;
+}
+
+std::vector<TrianglePairHit> SelfIntersectionIndex::intersectionsOfChanged(const Positions& positions, const Triangles& triangles,
+                                                                           const std::vector<std::uint8_t>& changed) const {
+    std::vector<TrianglePairHit> hits;
+    const int nt = static_cast<int>(triangles.rows());
+    const int built = static_cast<int>(leafOfTriangle_.size());
+    assert(nt >= built && changed.size() == static_cast<size_t>(nt));
+    std::vector<int> flagged;
+    for (int t = 0; t < nt; ++t)
+        if (changed[static_cast<size_t>(t)] || t >= built) flagged.push_back(t);
+    if (flagged.empty()) return hits;
+    const auto now = [&](int v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
+    const auto isFlagged = [&](int t) { return t >= built || changed[static_cast<size_t>(t)] != 0; };
+    // A pair as allIntersections gives it: the lower id first, at its centroid.
+    const auto orderedHit = [](int a, const TriangleCorners& ca, int b, const TriangleCorners& cb) {
+        const TriangleCorners& low = a < b ? ca : cb;
+        return TrianglePairHit{std::min(a, b), std::max(a, b), (low.point[0] + low.point[1] + low.point[2]) / 3.0};
+    };
+    const int count = static_cast<int>(flagged.size());
+    std::vector<Eigen::AlignedBox3d> boxes(static_cast<size_t>(count));
+    for (int i = 0; i < count; ++i) boxes[static_cast<size_t>(i)] = triangleBox(positions, triangles, flagged[static_cast<size_t>(i)]);
+    // Flagged rows among themselves: sorted by the boxes' low x, each against those that start before it ends.
+    std::vector<int> order(static_cast<size_t>(count));
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return boxes[static_cast<size_t>(a)].min().x() < boxes[static_cast<size_t>(b)].min().x(); });
+#pragma omp parallel
+    {
+        std::vector<TrianglePairHit> local;
+#pragma omp for schedule(dynamic, 64)
+        for (int i = 0; i < count; ++i) {
+            const int a = flagged[static_cast<size_t>(i)];
+            const Eigen::AlignedBox3d& box = boxes[static_cast<size_t>(i)];
+            const TriangleCorners cornersA = corners(triangles, a, now);
+            // against the unflagged rows, as the index holds them
+            if (!nodes_.empty())
+                forEachCandidate(box, [&](int b) {
+                    if (isFlagged(b) || !overlaps(triangleBox(positions, triangles, b), box)) return true;
+                    const TriangleCorners cornersB = corners(triangles, b, now);
+                    if (trianglesIntersect(cornersA, cornersB)) local.push_back(orderedHit(a, cornersA, b, cornersB));
+                    return true;
+                });
+        }
+#pragma omp for schedule(dynamic, 64)
+        for (int k = 0; k < count; ++k) {
+            const int i = order[static_cast<size_t>(k)];
+            const int a = flagged[static_cast<size_t>(i)];
+            const Eigen::AlignedBox3d& box = boxes[static_cast<size_t>(i)];
+            const TriangleCorners cornersA = corners(triangles, a, now);
+            for (int l = k + 1; l < count; ++l) {
+                const int j = order[static_cast<size_t>(l)];
+                if (boxes[static_cast<size_t>(j)].min().x() > box.max().x()) break;
+                if (!overlaps(boxes[static_cast<size_t>(j)], box)) continue;
+                const int b = flagged[static_cast<size_t>(j)];
+                const TriangleCorners cornersB = corners(triangles, b, now);
+                if (trianglesIntersect(cornersA, cornersB)) local.push_back(orderedHit(a, cornersA, b, cornersB));
+            }
+        }
+#pragma omp critical(sculpt_self_intersections_merge)
+        hits.insert(hits.end(), local.begin(), local.end());
+    }
+    std::sort(hits.begin(), hits.end(), [](const TrianglePairHit& x, const TrianglePairHit& y) {
+        return x.first != y.first ? x.first < y.first : x.second < y.second;
+    });
     return hits;
 }
 

@@ -104,10 +104,31 @@ void refineWhereCrossing(RefinementResult& plan, const RestImage& target, const 
         return c;
     };
     int firstCount = 0;
+    // The crossings: every pair at round 0 (through an index of the plan as it was then); in each later round the
+    // pairs that hold a triangle split since (the rows halved in place and the new ones, flagged against the
+    // plan's rows at round 0), and the pairs of round 0 whose rows are both unchanged (each pair of two unchanged
+    // rows is as it was then): the same pairs as a full search, the same splits. (A full search each round cost
+    // 40 ms on 27k triangles, ten rounds for a long inward pull on CGAL's armadillo.)
+    SelfIntersectionIndex index;
+    Triangles atFirstRound;
+    std::vector<TrianglePairHit> firstHits;
     for (int round = 0; round < rounds && plan.rest.rows() < maxVertices; ++round) {
         std::vector<std::uint8_t> selected(static_cast<size_t>(plan.triangles.rows()), 0);
         std::vector<int> listed;
-        for (const TrianglePairHit& hit : findSelfIntersections(plan.current, plan.triangles)) {
+        std::vector<TrianglePairHit> hits;
+        if (round == 0) {
+            index.build(plan.current, plan.triangles);
+            hits = index.allIntersections(plan.current, plan.triangles);
+            atFirstRound = plan.triangles;
+            firstHits = hits;
+        } else {
+            std::vector<std::uint8_t> changed(static_cast<size_t>(plan.triangles.rows()), 1);
+            for (Eigen::Index t = 0; t < atFirstRound.rows(); ++t) changed[static_cast<size_t>(t)] = plan.triangles.row(t) != atFirstRound.row(t);
+            hits = index.intersectionsOfChanged(plan.current, plan.triangles, changed);
+            for (const TrianglePairHit& hit : firstHits)
+                if (!changed[static_cast<size_t>(hit.first)] && !changed[static_cast<size_t>(hit.second)]) hits.push_back(hit);
+        }
+        for (const TrianglePairHit& hit : hits) {
             if (trianglesIntersect(corners(hit.first, true), corners(hit.second, true))) continue;
             for (int t : {hit.first, hit.second})
                 if (!selected[static_cast<size_t>(t)]) selected[static_cast<size_t>(t)] = 1, listed.push_back(t);

@@ -9,6 +9,7 @@
 #include <random>
 #include <set>
 
+#include "core/deform/refinement.h"
 #include "core/volume/lattice_boundary.h"
 #include "core/injectivity/self_intersection.h"
 #include "core/session/session.h"
@@ -153,6 +154,80 @@ TEST_CASE("self_intersection: the index finds exactly the intersecting pairs", "
         REQUIRE(found == expected);
         CHECK(findSelfIntersections(positions, triangles, 1).size() == std::min<size_t>(1, expected.size()));
     }
+}
+
+// A mesh split after its index was built (refinement's rounds, refiner.cpp: edges halved, new vertices put
+// anywhere): the pairs holding a halved or new triangle, through the old index, are exactly the brute force's
+// pairs holding one, on random soups with welded corners and on an icosphere, over many sizes and scales.
+TEST_CASE("self_intersection: the pairs of triangles split since the index was built match the brute force", "[core]") {
+    std::mt19937 rng(20261207);
+    int withPairs = 0;
+    const int trials = test::scaledCount(24, 8);
+    for (int trial = 0; trial < trials; ++trial) {
+        Positions positions;
+        Triangles triangles;
+        const double scale = std::pow(10.0, test::randomInt(rng, -4, 4));
+        if (trial % 3 == 0) {
+            test::icosphere(test::randomInt(rng, 1, 3), scale, Eigen::Vector3d::Zero(), positions, triangles);
+        } else {
+            const int n = test::randomInt(rng, 20, 400);
+            positions.resize(3 * n, 3);
+            triangles.resize(n, 3);
+            for (int t = 0; t < n; ++t) {
+                const Eigen::Vector3d corner = test::randomVector(rng, 0.0, 1.0);
+                for (int k = 0; k < 3; ++k) {
+                    positions.row(3 * t + k) = (scale * (corner + test::randomVector(rng, -0.08, 0.08))).transpose();
+                    triangles(t, k) = 3 * t + k;
+                }
+            }
+            for (int t = 1; t < n; t += 4) triangles(t, 0) = triangles(t - 1, 1);
+        }
+        SelfIntersectionIndex index;
+        index.build(positions, triangles);
+        const std::vector<TrianglePairHit> all = index.allIntersections(positions, triangles);
+        const Triangles built = triangles;
+        // Random edges halved, over one to three rounds; each new vertex off its edge's midpoint.
+        const int rounds = test::randomInt(rng, 1, 3);
+        for (int round = 0; round < rounds; ++round) {
+            std::vector<EdgeSplit> splits;
+            std::set<std::pair<int, int>> edges;  // each edge once a round (a split edge is gone)
+            const int count = test::randomInt(rng, 1, std::max(1, static_cast<int>(triangles.rows()) / 8));
+            for (int s = 0; s < count; ++s) {
+                const int t = test::randomInt(rng, 0, static_cast<int>(triangles.rows()) - 1), k = test::randomInt(rng, 0, 2);
+                const int a = triangles(t, k), b = triangles(t, (k + 1) % 3);
+                if (edges.insert({std::min(a, b), std::max(a, b)}).second) splits.push_back({a, b});
+            }
+            const int first = static_cast<int>(positions.rows());
+            REQUIRE(applyEdgeSplits(triangles, first, splits));
+            positions.conservativeResize(first + static_cast<Eigen::Index>(splits.size()), 3);
+            for (size_t s = 0; s < splits.size(); ++s)
+                positions.row(first + static_cast<Eigen::Index>(s)) =
+                    0.5 * (positions.row(splits[s].a) + positions.row(splits[s].b)) + scale * test::randomVector(rng, -0.1, 0.1).transpose();
+        }
+        std::vector<std::uint8_t> changed(static_cast<size_t>(triangles.rows()), 1);
+        for (Eigen::Index t = 0; t < built.rows(); ++t) changed[static_cast<size_t>(t)] = triangles.row(t) != built.row(t);
+        std::vector<std::pair<int, int>> expected;
+        for (const auto& pair : test::intersectingPairs(positions, triangles))
+            if (changed[static_cast<size_t>(pair.first)] || changed[static_cast<size_t>(pair.second)]) expected.push_back(pair);
+        std::vector<std::pair<int, int>> found;
+        for (const TrianglePairHit& hit : index.intersectionsOfChanged(positions, triangles, changed)) {
+            found.emplace_back(hit.first, hit.second);
+            // reported as allIntersections reports a pair: at the lower id's centroid
+            Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+            for (int k = 0; k < 3; ++k) centroid += positions.row(triangles(hit.first, k)).transpose() / 3.0;
+            REQUIRE((hit.where - centroid).norm() <= 1e-12 * scale);
+        }
+        INFO("trial " << trial << ", " << triangles.rows() << " triangles, " << built.rows() << " when built");
+        REQUIRE(found == expected);
+        // the unchanged pairs are the built mesh's: with them the whole brute force
+        std::set<std::pair<int, int>> whole(found.begin(), found.end());
+        for (const TrianglePairHit& hit : all)
+            if (!changed[static_cast<size_t>(hit.first)] && !changed[static_cast<size_t>(hit.second)]) whole.insert({hit.first, hit.second});
+        const std::vector<std::pair<int, int>> brute = test::intersectingPairs(positions, triangles);
+        REQUIRE(std::vector<std::pair<int, int>>(whole.begin(), whole.end()) == brute);
+        withPairs += !expected.empty();
+    }
+    CHECK(withPairs * 2 > trials);  // the splits moved enough to make new pairs in most trials
 }
 
 // Moving random vertices of a sphere: findNewIntersection reports a pair exactly when the brute force finds a
