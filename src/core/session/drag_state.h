@@ -39,6 +39,10 @@ struct DragState {
     // pull through: a longer one is not split again in this stroke (each try costs a refinement and its removal,
     // and the mouse keeps moving past such a limit). Infinity: none yet.
     double splitFailedAt = INFINITY;
+    // How far past its mirror plane a symmetric pull's target lay (world units) when the whole pull, tried as it
+    // is, did not pass (Stroke::updatePulls): one that goes as far or farther is carried only up to the plane
+    // without that try. Infinity: none yet.
+    double acrossFailedAt = INFINITY;
     // The way the layers in place carried the pull (applyBrushPulls' Mode, as a number; -1: none yet): a later
     // update's search for the last injective point starts in it, where the stroke stopped.
     int strokeMode = -1;

@@ -80,6 +80,7 @@ void Stroke::startMirrored(const std::string& label, const std::vector<Eigen::Ve
     s_.drag_.mirror = std::move(mirror);
     s_.drag_.brush = brush;
     s_.drag_.splitFailedAt = INFINITY;
+    s_.drag_.acrossFailedAt = INFINITY;
     s_.drag_.strokeMode = -1;
     s_.drag_.rowsAtBegin = s_.mesh_.positions.rows();
     s_.drag_.grabbedTriangle.clear();
@@ -338,7 +339,10 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
     // is tried whole as it is (no splits, no search); failing that, it is carried only up to 1/64 of it short of
     // the plane (`reach`, the share of the pull asked): its splits and the search for its last injective point are
     // tried on that, not on what cannot pass (strokes_real's slowest stroke, on the armadillo: 9.5 s before, 2.5 s now).
-    double reach = 1.0;
+    // A stroke dragged on past the plane tries the whole pull as it is only while its target lies less far past
+    // the plane than where that last failed (`deepest`: the farthest any target lies past its plane; each try of
+    // every mode cost a third of a second a mouse move on CGAL's armadillo, strokes_real's stroke 67).
+    double reach = 1.0, deepest = 0.0;
     const double merge = s_.mirrorMergeDistance(s_.drag_.brush);
     int crossedPlane = -1;
     for (size_t e = 0; e < pulls.size() && s_.drag_.brush.symmetry.any(); ++e) {
@@ -349,6 +353,7 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
             const double from = (pulls[e].source - s_.drag_.symmetry.centre).dot(normal), to = from + pulls[e].pull.dot(normal);
             if (std::abs(from) > merge && (to == 0.0 || (to > 0.0) != (from > 0.0))) {
                 const double atPlane = from / (from - to);  // the share of the pull on the plane, in (0, 1]
+                deepest = std::max(deepest, std::abs(to));
                 if (atPlane * (1.0 - 1.0 / 64.0) < reach) {
                     reach = atPlane * (1.0 - 1.0 / 64.0);
                     crossedPlane = a;
@@ -361,9 +366,10 @@ void Stroke::updatePulls(const std::vector<Eigen::Vector3d>& targets, OpReport& 
     // move or an earlier one, are counted apart, as the stroke's end and its undo count them).
     const Eigen::Index rowsAtStart = std::min<Eigen::Index>(s_.drag_.rowsAtBegin, s_.mesh_.positions.rows());
     double share = 0.0;
-    if (reach < 1.0 && applyBrushPulls(pulls, s_.drag_.brush, s_.drag_.operation.steps, report, failure, true) == 1.0) {
+    if (reach < 1.0 && deepest < s_.drag_.acrossFailedAt && applyBrushPulls(pulls, s_.drag_.brush, s_.drag_.operation.steps, report, failure, true) == 1.0) {
         share = reach = 1.0;
     } else if (reach < 1.0) {
+        s_.drag_.acrossFailedAt = std::min(s_.drag_.acrossFailedAt, deepest);
         for (BrushPull& p : pulls) p.pull *= reach;
         failure = StepFailure{};
         share = reach * applyBrushPulls(pulls, s_.drag_.brush, s_.drag_.operation.steps, report, failure);
