@@ -588,8 +588,9 @@ double Stroke::applyBrushPulls(const std::vector<BrushPull>& pulls, const BrushS
             // The last injective point along the pull (to 1/64 of it; from a hint, to 1/8 of what is left past
             // it), as a control-point edit stops: in the first mode, or from a hint in the mode that carried the
             // last update, where its share passes again as it did (the same field), so a stroke dragged on past
-            // where it stops keeps the ground it gained.
-            const bool hinted = hint > 1.0 / 64.0 && hint < 1.0 - 1.0 / 64.0;
+            // where it stops keeps the ground it gained. (Also where the last update reached nearly all of this
+            // pull, a slow hand's small mouse moves: searched from the start, a share short of it passed first.)
+            const bool hinted = hint > 1.0 / 64.0 && hint < 1.0;
             const Mode searchedFirst =
                 hinted && std::find(modes.begin(), modes.end(), static_cast<Mode>(s_.drag_.strokeMode)) != modes.end()
                     ? static_cast<Mode>(s_.drag_.strokeMode)
