@@ -52,6 +52,24 @@ DrawnStroke drawStroke(std::mt19937& rng, int i, const Positions& normals, doubl
     return d;
 }
 
+// One of CGAL's meshes with its vertex normals and bounding diagonal; false (said on stderr, under the case's
+// name) where it cannot be read.
+struct BenchMesh {
+    Positions positions, normals;
+    Triangles triangles;
+    double diagonal = 0.0;
+};
+bool loadBenchMesh(const std::string& name, const char* benchCase, BenchMesh& mesh) {
+    std::string error;
+    if (!test::loadCgalMesh(name, mesh.positions, mesh.triangles, error)) {
+        std::fprintf(stderr, "%s: %s\n", benchCase, error.c_str());
+        return false;
+    }
+    computeVertexNormals(mesh.positions, mesh.triangles, mesh.normals);
+    mesh.diagonal = (mesh.positions.colwise().maxCoeff() - mesh.positions.colwise().minCoeff()).norm();
+    return true;
+}
+
 }  // namespace
 
 void runBrushBenchmarks(const std::vector<std::string>& filters) {
@@ -337,6 +355,37 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
                       moveMs.empty() ? 0.0 : *std::max_element(moveMs.begin(), moveMs.end()), added.empty() ? 0.0 : median(added), full);
         printCase("stroke_coarse", positions.rows(), moveMs.empty() ? 0.0 : median(moveMs), extra);
     }
+    if (wanted("strokes_moves")) {
+        // strokes_real's strokes as the window makes them: each of the 100 drawn on CGAL's armadillo (or
+        // SCULPT_BENCH_MESH) dragged in 10 mouse moves along its line to its pull. Reported: ms per move (median,
+        // 95th and 99th percentile, the slowest) and the strokes whose last move applied in full.
+        const std::string name = getenv("SCULPT_BENCH_MESH") ? std::string(getenv("SCULPT_BENCH_MESH")) + ".off" : "armadillo.off";
+        BenchMesh mesh;
+        if (!loadBenchMesh(name, "strokes_moves", mesh)) return;
+        const Positions& positions = mesh.positions;
+        std::mt19937 rng(getenv("SCULPT_BENCH_SEED") ? static_cast<unsigned>(atoi(getenv("SCULPT_BENCH_SEED"))) : 2026u);
+        std::vector<double> moveMs;
+        int inFull = 0;
+        for (int stroke = 0; stroke < 100; ++stroke) {
+            const DrawnStroke drawn = drawStroke(rng, stroke, mesh.normals, mesh.diagonal, 0.03, 0.12, 0.1, 2.9);
+            Session session;
+            session.setMesh(positions, mesh.triangles);
+            session.setInjectivity(drawn.injectivity);
+            const Eigen::Vector3d source = positions.row(drawn.vertex).transpose();
+            if (!session.stroke().beginAt({source}, {}, drawn.brush)) continue;
+            OpReport report;
+            for (int move = 1; move <= 10; ++move) {
+                const auto start = std::chrono::steady_clock::now();
+                session.stroke().update({source + drawn.pull * move / 10.0 * drawn.direction}, report);
+                moveMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+            }
+            inFull += report.status == OpStatus::Applied && report.fractionApplied == 1.0;
+        }
+        char extra[200];
+        std::snprintf(extra, sizeof extra, "\"mesh\": \"%s\", \"moves\": %zu, \"ms_p95_p99_max\": [%.0f, %.0f, %.0f], \"applied_in_full\": %d", name.c_str(),
+                      moveMs.size(), percentile(moveMs, 0.95), percentile(moveMs, 0.99), percentile(moveMs, 1.0), inFull);
+        printCase("strokes_moves", positions.rows(), moveMs.empty() ? 0.0 : median(moveMs), extra);
+    }
     if (wanted("stroke_past_stop")) {
         // As the window strokes a pull that cannot be carried all the way: random long pulls on CGAL's camel
         // (radius 6-14% of the diagonal, 2-3 radii along the normal, a tangent or inward; every fourth
@@ -344,15 +393,12 @@ void runBrushBenchmarks(const std::vector<std::string>& filters) {
         // its length, until 6 strokes have stopped short. Every move past the first that stopped searches again
         // from where the last left it. Reported: ms of the move that first stopped (median), of the moves past
         // it (median, max), and their count.
-        Positions positions, normals;
-        Triangles triangles;
-        std::string error;
-        if (!test::loadCgalMesh("camel.off", positions, triangles, error)) {
-            std::fprintf(stderr, "stroke_past_stop: %s\n", error.c_str());
-            return;
-        }
-        computeVertexNormals(positions, triangles, normals);
-        const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+        BenchMesh mesh;
+        if (!loadBenchMesh("camel.off", "stroke_past_stop", mesh)) return;
+        const Positions& positions = mesh.positions;
+        const Triangles& triangles = mesh.triangles;
+        const Positions& normals = mesh.normals;
+        const double diagonal = mesh.diagonal;
         std::mt19937 rng(2026);
         std::vector<double> firstStopMs, pastStopMs;
         int stoppedStrokes = 0;

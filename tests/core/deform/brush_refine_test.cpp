@@ -46,9 +46,10 @@ Pull randomStroke(std::mt19937& rng, const Session& session, const Positions& no
     return s;
 }
 
-// CGAL's elephant (2,775 vertices, coarse), its bounding diagonal and the crossing pairs it was loaded with.
+// CGAL's elephant (2,775 vertices, coarse), its vertex normals, its bounding diagonal and the crossing pairs it
+// was loaded with.
 struct Elephant {
-    Positions positions;
+    Positions positions, normals;
     Triangles triangles;
     double diagonal = 0.0;
     size_t crossingAtLoad = 0;
@@ -60,6 +61,7 @@ Elephant loadElephant() {
     const bool loaded = test::loadCgalMesh("elephant.off", e.positions, e.triangles, error);
     INFO(error);
     REQUIRE(loaded);
+    computeVertexNormals(e.positions, e.triangles, e.normals);
     e.diagonal = (e.positions.colwise().maxCoeff() - e.positions.colwise().minCoeff()).norm();
     e.crossingAtLoad = test::intersectingPairs(e.positions, e.triangles).size();
     return e;
@@ -420,6 +422,29 @@ TEST_CASE("brush refinement: on a triangle soup, long pulls split both sides of 
     CHECK(inFull >= 7);
 }
 
+namespace {
+
+// A random stroke on the elephant, set up as the window sets one up: the session on the loaded mesh, every other
+// stroke under the exact test, every `symmetricEvery`-th symmetric in X (the last of each run).
+Pull elephantStroke(std::mt19937& rng, Session& session, const Elephant& elephant, int index, int symmetricEvery) {
+    REQUIRE(session.setMesh(elephant.positions, elephant.triangles).ok);
+    session.setInjectivity({index % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6});
+    Pull stroke = randomStroke(rng, session, elephant.normals, index, elephant.diagonal);
+    if (index % symmetricEvery == symmetricEvery - 1) stroke.brush.symmetry.mirror[0] = true;
+    return stroke;
+}
+
+// How far along its line (unit `direction` from `source`, world units) a stroke's grabbed vertex is after a move
+// to `target` that applied: checked on the pull's line, at the share the report gives, to 1e-9 x diagonal.
+double alongLine(const Session& session, int vertex, const Eigen::Vector3d& source, const Eigen::Vector3d& direction, const Eigen::Vector3d& target,
+                 const OpReport& report, double diagonal) {
+    const Eigen::Vector3d at = session.mesh().positions.row(vertex).transpose();
+    CHECK((at - (source + report.fractionApplied * (target - source))).norm() <= 1e-9 * diagonal);
+    return (at - source).dot(direction);
+}
+
+}  // namespace
+
 TEST_CASE("brush: a stroke dragged on past where it stops keeps the ground it gained on the pull's line, uncrossed, and Esc restores the mesh", "[core][brush]") {
     // As the window drags: a stroke of eight mouse moves along one line to twice a long pull, so that moves
     // past where the stroke stops search again from where the last left it (Stroke::applyBrushPulls' hint, in
@@ -427,16 +452,11 @@ TEST_CASE("brush: a stroke dragged on past where it stops keeps the ground it ga
     std::mt19937 rng(2031);
     const Elephant elephant = loadElephant();
     const double diagonal = elephant.diagonal;
-    Positions normals;
-    computeVertexNormals(elephant.positions, elephant.triangles, normals);
     const int wanted = test::scaledCount(4, 1);
     int stoppedStrokes = 0, movesPastStop = 0;
     for (int index = 0; index < 40 && stoppedStrokes < wanted; ++index) {
         Session session;
-        REQUIRE(session.setMesh(elephant.positions, elephant.triangles).ok);
-        session.setInjectivity({index % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6});
-        Pull stroke = randomStroke(rng, session, normals, index, diagonal);
-        if (index % 4 == 3) stroke.brush.symmetry.mirror[0] = true;
+        const Pull stroke = elephantStroke(rng, session, elephant, index, 4);
         const Eigen::Vector3d source = elephant.positions.row(stroke.vertex).transpose();
         const Eigen::Vector3d direction = (stroke.target - source).normalized();
         REQUIRE(session.stroke().beginAt({source}, {}, stroke.brush).ok);
@@ -454,9 +474,7 @@ TEST_CASE("brush: a stroke dragged on past where it stops keeps the ground it ga
             }
             REQUIRE(report.status == OpStatus::Applied);
             // The grabbed vertex is on the pull's line, at the share the report gives, exactly.
-            const Eigen::Vector3d at = session.mesh().positions.row(stroke.vertex).transpose();
-            CHECK((at - (source + report.fractionApplied * (target - source))).norm() <= 1e-9 * diagonal);
-            const double along = (at - source).dot(direction);
+            const double along = alongLine(session, stroke.vertex, source, direction, target, report, diagonal);
             CHECK(along >= gained - 1e-9 * diagonal);
             if (stopped) ++movesPastStop;
             // "Split under the brush" is on: the advice does not ask to turn it on.
@@ -488,16 +506,11 @@ TEST_CASE("brush: a stroke that stops then creeps on in small mouse moves keeps 
     std::mt19937 rng(2032);
     const Elephant elephant = loadElephant();
     const double diagonal = elephant.diagonal;
-    Positions normals;
-    computeVertexNormals(elephant.positions, elephant.triangles, normals);
     const int wanted = test::scaledCount(5, 2);
     int stoppedStrokes = 0;
     for (int index = 0; index < 60 && stoppedStrokes < wanted; ++index) {
         Session session;
-        REQUIRE(session.setMesh(elephant.positions, elephant.triangles).ok);
-        session.setInjectivity({index % 2 ? InjectivityMode::Exact : InjectivityMode::Conic, 6});
-        Pull stroke = randomStroke(rng, session, normals, index, diagonal);
-        if (index % 3 == 2) stroke.brush.symmetry.mirror[0] = true;
+        Pull stroke = elephantStroke(rng, session, elephant, index, 3);
         const Eigen::Vector3d source = elephant.positions.row(stroke.vertex).transpose();
         stroke.target = source + 3.0 * (stroke.target - source);  // long: most stop
         const Eigen::Vector3d direction = (stroke.target - source).normalized();
@@ -523,9 +536,7 @@ TEST_CASE("brush: a stroke that stops then creeps on in small mouse moves keeps 
             INFO("stroke " << index << " vertex " << stroke.vertex << " stopped at " << stop << ", back " << back.fractionApplied << ", move " << move
                            << ": " << report.fractionApplied << " " << report.reason);
             REQUIRE(report.status == OpStatus::Applied);
-            const Eigen::Vector3d at = session.mesh().positions.row(stroke.vertex).transpose();
-            CHECK((at - (source + report.fractionApplied * (target - source))).norm() <= 1e-9 * diagonal);
-            const double along = (at - source).dot(direction);
+            const double along = alongLine(session, stroke.vertex, source, direction, target, report, diagonal);
             CHECK(along >= gained - 1e-9 * diagonal);
             gained = std::max(gained, along);
         }

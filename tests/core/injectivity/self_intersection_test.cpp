@@ -24,6 +24,21 @@ using namespace sculpt::core;
 
 namespace {
 
+// A soup of n small triangles (each within 0.08 x scale of a random corner of the box [0, scale]^3), every
+// `weldEvery`-th sharing a corner with the one before, so shared vertices occur.
+void randomSoup(std::mt19937& rng, int n, double scale, int weldEvery, Positions& positions, Triangles& triangles) {
+    positions.resize(3 * n, 3);
+    triangles.resize(n, 3);
+    for (int t = 0; t < n; ++t) {
+        const Eigen::Vector3d corner = test::randomVector(rng, 0.0, 1.0);
+        for (int k = 0; k < 3; ++k) {
+            positions.row(3 * t + k) = (scale * (corner + test::randomVector(rng, -0.08, 0.08))).transpose();
+            triangles(t, k) = 3 * t + k;
+        }
+    }
+    for (int t = 1; t < n; t += weldEvery) triangles(t, 0) = triangles(t - 1, 1);
+}
+
 // Random triangle pairs on a small integer grid: coplanar, touching and collinear configurations are common,
 // so the exact case analysis is exercised, not just generic positions. Some share a vertex or an edge.
 TEST_CASE("self_intersection: the engine's pair test agrees with an independent exact test", "[core]") {
@@ -135,17 +150,9 @@ TEST_CASE("self_intersection: the index finds exactly the intersecting pairs", "
     for (int trial = 0; trial < 12; ++trial) {
         const int n = test::randomInt(rng, 20, 600);
         const double scale = std::pow(10.0, test::randomInt(rng, -6, 6));
-        Positions positions(3 * n, 3);
-        Triangles triangles(n, 3);
-        for (int t = 0; t < n; ++t) {
-            const Eigen::Vector3d corner = test::randomVector(rng, 0.0, 1.0);
-            for (int k = 0; k < 3; ++k) {
-                positions.row(3 * t + k) = (scale * (corner + test::randomVector(rng, -0.08, 0.08))).transpose();
-                triangles(t, k) = 3 * t + k;
-            }
-        }
-        // Weld a few corners so shared vertices occur.
-        for (int t = 1; t < n; t += 5) triangles(t, 0) = triangles(t - 1, 1);
+        Positions positions;
+        Triangles triangles;
+        randomSoup(rng, n, scale, 5, positions, triangles);
         const std::vector<std::pair<int, int>> expected = test::intersectingPairs(positions, triangles);
         const std::vector<TrianglePairHit> hits = findSelfIntersections(positions, triangles);
         std::vector<std::pair<int, int>> found;
@@ -170,17 +177,7 @@ TEST_CASE("self_intersection: the pairs of triangles split since the index was b
         if (trial % 3 == 0) {
             test::icosphere(test::randomInt(rng, 1, 3), scale, Eigen::Vector3d::Zero(), positions, triangles);
         } else {
-            const int n = test::randomInt(rng, 20, 400);
-            positions.resize(3 * n, 3);
-            triangles.resize(n, 3);
-            for (int t = 0; t < n; ++t) {
-                const Eigen::Vector3d corner = test::randomVector(rng, 0.0, 1.0);
-                for (int k = 0; k < 3; ++k) {
-                    positions.row(3 * t + k) = (scale * (corner + test::randomVector(rng, -0.08, 0.08))).transpose();
-                    triangles(t, k) = 3 * t + k;
-                }
-            }
-            for (int t = 1; t < n; t += 4) triangles(t, 0) = triangles(t - 1, 1);
+            randomSoup(rng, test::randomInt(rng, 20, 400), scale, 4, positions, triangles);
         }
         SelfIntersectionIndex index;
         index.build(positions, triangles);
