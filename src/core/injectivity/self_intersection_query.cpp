@@ -3,9 +3,9 @@
 #include "core/injectivity/self_intersection.h"
 
 #include <algorithm>
-#include <cassert>
 #include <array>
 #include <atomic>
+#include <cassert>
 #include <chrono>
 #include <functional>
 #include <limits>
@@ -17,6 +17,13 @@
 namespace sculpt::core {
 
 using namespace self_intersection_detail;
+
+namespace {
+
+// Pairs in the order the queries return them: by the lower id, then the higher.
+bool byIds(const TrianglePairHit& x, const TrianglePairHit& y) { return x.first != y.first ? x.first < y.first : x.second < y.second; }
+
+}  // namespace
 
 SelfIntersectionIndex::Result SelfIntersectionIndex::findNewIntersection(const Positions& positions, const Triangles& triangles,
                                                                           const std::vector<int>& moved, const Positions& before) {
@@ -258,9 +265,6 @@ std::vector<TrianglePairHit> SelfIntersectionIndex::allIntersections(const Posit
             if (near) near->insert(near->end(), localNear.begin(), localNear.end());
         }
     }
-    const auto byIds = [](const TrianglePairHit& x, const TrianglePairHit& y) {
-        return x.first != y.first ? x.first < y.first : x.second < y.second;
-    };
     std::sort(hits.begin(), hits.end(), byIds);
     if (near) std::sort(near->begin(), near->end(), byIds);
     if (hits.size() > limit) hits.resize(limit);
@@ -273,12 +277,12 @@ std::vector<TrianglePairHit> SelfIntersectionIndex::intersectionsOfChanged(const
     const int nt = static_cast<int>(triangles.rows());
     const int built = static_cast<int>(leafOfTriangle_.size());
     assert(nt >= built && changed.size() == static_cast<size_t>(nt));
+    const auto isFlagged = [&](int t) { return t >= built || changed[static_cast<size_t>(t)] != 0; };
     std::vector<int> flagged;
     for (int t = 0; t < nt; ++t)
-        if (changed[static_cast<size_t>(t)] || t >= built) flagged.push_back(t);
+        if (isFlagged(t)) flagged.push_back(t);
     if (flagged.empty()) return hits;
     const auto now = [&](int v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
-    const auto isFlagged = [&](int t) { return t >= built || changed[static_cast<size_t>(t)] != 0; };
     // A pair as allIntersections gives it: the lower id first, at its centroid.
     const auto orderedHit = [](int a, const TriangleCorners& ca, int b, const TriangleCorners& cb) {
         const TriangleCorners& low = a < b ? ca : cb;
@@ -326,9 +330,7 @@ std::vector<TrianglePairHit> SelfIntersectionIndex::intersectionsOfChanged(const
 #pragma omp critical(sculpt_self_intersections_merge)
         hits.insert(hits.end(), local.begin(), local.end());
     }
-    std::sort(hits.begin(), hits.end(), [](const TrianglePairHit& x, const TrianglePairHit& y) {
-        return x.first != y.first ? x.first < y.first : x.second < y.second;
-    });
+    std::sort(hits.begin(), hits.end(), byIds);
     return hits;
 }
 
